@@ -1,0 +1,106 @@
+# sunmc - Monte Carlo tolerance, calibration and design-trade tool for sun sensors.
+#   make            build build/sunmc
+#   make run        install missing packages, build, run the shipped configs, print Table 1
+#   make test       install missing packages, build, run the cmocka suite (plain and ASan+UBSan)
+#   make plots RUN=DIR   draw every figure a run directory holds
+#   make figures    regenerate the papers' figures into build/figures/
+#   make install PREFIX=/usr/local DESTDIR=
+# User CFLAGS/LDFLAGS are added to ours.
+
+PREFIX  ?= /usr/local
+BUILD   ?= build
+VERSION := 0.1.0
+
+PKG_CFLAGS := $(shell pkg-config --cflags gsl 2>/dev/null)
+PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null)
+CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
+
+OPT ?= -O2
+SUNMC_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DSUNMC_VERSION='"$(VERSION)"' -Wall -Wextra \
+                -Wshadow -Wno-unused-parameter -g $(OPT) -fopenmp -Iinclude $(PKG_CFLAGS)
+ALL_CFLAGS := $(SUNMC_CFLAGS) $(CFLAGS)
+ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
+
+MAIN_SRC := $(wildcard src/main*.c)
+LIB_SRC  := $(filter-out $(MAIN_SRC),$(wildcard src/*.c))
+TEST_SRC := $(wildcard tests/test_*.c)
+
+LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
+TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+
+ASAN     := $(BUILD)/asan
+ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
+ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
+
+.PHONY: all run test test-plain test-asan deps clean install plots figures bench reference
+
+all: $(BUILD)/sunmc
+
+# Install system packages only when something is missing.
+deps:
+	@if ! pkg-config --exists gsl cmocka 2>/dev/null || \
+	    [ ! -f /usr/include/Random123/philox.h ] || ! command -v gnuplot >/dev/null 2>&1 || \
+	    ! command -v cc >/dev/null 2>&1; then \
+	  echo "sunmc: installing missing system packages (scripts/install-deps.sh)"; \
+	  bash scripts/install-deps.sh; \
+	fi
+
+$(BUILD)/obj/%.o: src/%.c $(wildcard include/*.h) | $(BUILD)/obj
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(BUILD)/libsunmc.a: $(LIB_OBJ)
+	ar rcs $@ $^
+
+$(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c tests/test_util.h $(BUILD)/libsunmc.a | $(BUILD)/tests
+	$(CC) $(ALL_CFLAGS) -Itests -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+
+$(ASAN)/obj/%.o: src/%.c $(wildcard include/*.h) | $(ASAN)/obj
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -c $< -o $@
+
+$(ASAN)/libsunmc.a: $(ASAN_OBJ)
+	ar rcs $@ $^
+
+$(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
+
+$(ASAN)/tests/%: tests/%.c tests/test_util.h $(ASAN)/libsunmc.a | $(ASAN)/tests
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -Itests -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+
+$(BUILD)/obj $(BUILD)/tests $(ASAN)/obj $(ASAN)/tests:
+	mkdir -p $@
+
+run: deps
+	$(MAKE) --no-print-directory all
+	$(BUILD)/sunmc run configs/ess_type_a.ini --out runs/ess_type_a
+	$(BUILD)/sunmc run configs/ess_type_b.ini --out runs/ess_type_b
+
+test: deps
+	$(MAKE) --no-print-directory test-plain test-asan
+	@bash tests/summarize.sh $(BUILD)/test-plain.log $(ASAN)/test-asan.log
+
+test-plain: $(BUILD)/sunmc $(TEST_BIN)
+	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(TEST_BIN) | tee $(BUILD)/test-plain.log
+
+test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
+	@mkdir -p $(ASAN)
+	@ASAN_OPTIONS=detect_leaks=1 SUNMC=$(ASAN)/sunmc bash tests/run-suite.sh $(ASAN_TEST_BIN) | tee $(ASAN)/test-asan.log
+
+# The reference config is generated from the key table; a test checks it is current.
+reference: $(BUILD)/sunmc
+	$(BUILD)/sunmc config --reference > configs/reference.ini
+
+bench: $(BUILD)/sunmc
+	bash scripts/bench.sh $(BUILD)/sunmc
+
+install: $(BUILD)/sunmc
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/sunmc/configs $(DESTDIR)$(PREFIX)/share/sunmc/scripts
+	install -m 755 $(BUILD)/sunmc $(DESTDIR)$(PREFIX)/bin/sunmc
+	install -m 644 configs/*.ini $(DESTDIR)$(PREFIX)/share/sunmc/configs/
+	install -m 644 $(wildcard scripts/*.gp) $(DESTDIR)$(PREFIX)/share/sunmc/scripts/
+
+clean:
+	rm -rf $(BUILD)

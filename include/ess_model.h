@@ -1,0 +1,75 @@
+/* ess_model.h - the ESS compensation model of the ESS paper (eq. 9, 12, 13)
+ * inside the turntable calibration model (eq. 14, corrected), with analytic
+ * derivatives and the exact inverse used for compensation.
+ *
+ * Forward model of the raw output for turntable angles (alpha, beta):
+ *     s       = R_inst rot_x(alpha) rot_y(beta) v_sun            (unit vector)
+ *     R_inst  = rot_x(roll) rot_y(inst_y) rot_z(inst_z)
+ *     v_sun   = rot_y(sun_x) rot_x(sun_y) (0, 0, 1)
+ *     T       = s_y / s_z                         = tan(incidence alpha)
+ *     alpha_d = atan((a T + b) / (c T + d))       eq. 12 with d = 1
+ *     raw     = alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d)
+ * with w = 2 pi / (theta0/4), so that eq. 9's k sin(4 pi alpha + t) (alpha in
+ * degrees, theta0 = 2 deg) is k sin(w alpha + t) = ks sin + kc cos with
+ * ks = k cos t, kc = k sin t.
+ *
+ * Fixed, not fitted (identifiability, see ess_calib.h): d = 1 (the common
+ * scale of a, b, c, d), roll (a rotation inside eq. 12: fixed at its
+ * measured value), sun_x (a beta offset: invisible to an alpha sensor).
+ * The ESS paper writes R_rs after R(alpha, beta) in eq. 14; in that order
+ * R_rs and V0 only enter as their product and cannot be calibrated.
+ */
+#ifndef SUNMC_ESS_MODEL_H
+#define SUNMC_ESS_MODEL_H
+
+#include "rotation.h"
+
+enum ess_param {
+    ESS_P_A = 0, /* eq. 12 a (d = 1): 1 + dH/H for a pure height error */
+    ESS_P_B,     /* eq. 12 b: -dd/H for a pure offset */
+    ESS_P_C,     /* eq. 12 c */
+    ESS_P_KS,    /* fine-code term k cos t (rad) */
+    ESS_P_KC,    /* fine-code term k sin t (rad) */
+    ESS_P_INST_Y,/* installation rotation about Y (rad) */
+    ESS_P_INST_Z,/* installation rotation about Z (rad) */
+    ESS_P_SUN_Y, /* sun-simulator tilt toward Y (rad) */
+    ESS_NP
+};
+
+extern const char *const ess_param_names[ESS_NP];
+
+typedef struct {
+    double p[ESS_NP];
+    double roll_rad;     /* fixed installation roll about X */
+    double sun_x_rad;    /* fixed sun tilt toward X */
+    double omega;        /* 2 pi / fine-error period, 1/rad */
+    /* derived by ess_model_prepare() */
+    mat3 R, dR_y, dR_z;
+    double v[3], dv[3];
+} ess_model;
+
+/* Identity model (a = 1, all else 0) for fine-code period theta0_rad. */
+void ess_model_init(ess_model *m, double theta0_rad, double roll_rad);
+
+/* Recompute the rotation matrices after changing m->p; call before predict. */
+void ess_model_prepare(ess_model *m);
+
+/* The incidence-to-raw part: raw (rad) for sensor-frame incidence T = tan(alpha). */
+double ess_model_structural(const ess_model *m, double T);
+
+/* Predicted raw output (rad) at turntable angles (rad); grad (may be NULL)
+ * receives d raw / d p[ESS_NP]. */
+double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
+                         double grad[ESS_NP]);
+
+/* Compensation, the exact inverse of the model: solve
+ * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton, then
+ * eq. 13: tan(alpha) = (b - d tan alpha_d) / (c tan alpha_d - a).
+ * SUNMC_EDOM when the fine-code term is not invertible (w k >= 1) or the
+ * iteration fails. */
+int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad);
+
+/* Paper-style k (rad, >= 0) and t (rad) from ks, kc. */
+void ess_model_kt(const ess_model *m, double *k_rad, double *t_rad);
+
+#endif

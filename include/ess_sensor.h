@@ -1,0 +1,122 @@
+/* ess_sensor.h - the physical encoded sun sensor (ESS): what one built unit
+ * outputs for a sun direction.  This generates the data; the compensation
+ * model of ess_model.h only fits them.
+ *
+ * Frames: sensor X across the code rows, Y along them (the sensing
+ * direction), Z the boresight.  s is the unit vector toward the sun in the
+ * sensor frame; incident angle alpha = atan2(s_y, s_z), incoming angle
+ * beta = asin(s_x).
+ *
+ * Geometry (ess_slit.c): the entrance slit lies at height H + dH over the
+ * code dial, offset dd along Y and tilted dphi about Z.  The slit image
+ * crosses the row at x = x_r at the dial coordinate
+ *     eta(x_r) = (H+dH) tan(alpha) - dd - (x_r + (H+dH) s_x/s_z) tan(dphi),
+ * and every row is etched by the rule eta = H tan(angle), so a row reads the
+ * angle atan(eta/H).  dH alone gives alpha' = atan((H+dH)/H tan alpha).
+ *
+ * Coarse code (ess_coarse.c): Gray-coded rows of cells coarse_resolution
+ * wide, each bit read at its own row position.
+ *
+ * Fine code (ess_finecode.c): 4 rows of period theta0 in quarter-period
+ * steps; row m's current is the Fourier series of ESS paper eq. 2 with the
+ * row's gain and etching error, harmonics derived from slit width, dial duty
+ * and the sun's disc (or given), scaled by the illumination cos(incidence).
+ * The four currents are demodulated by the four-quadrant chopper of Fig. 8:
+ * the phase of the fundamental (DFT bin 1) of the chopped sequence.
+ */
+#ifndef SUNMC_ESS_SENSOR_H
+#define SUNMC_ESS_SENSOR_H
+
+#include "config.h"
+#include "rng.h"
+
+#define ESS_FINE_ROWS 4
+#define ESS_MAX_COARSE_ROWS CONFIG_LIST_MAX
+#define ESS_HARMONICS 3 /* odd harmonics 1, 3, 5 */
+
+/* The sampled deviations of one unit, in the units of their names. */
+typedef struct {
+    double dH_um, dd_um, dphi_deg, slit_width_um, harmonic_phase_deg;
+    double gain_pct[ESS_FINE_ROWS];
+    double etch_um[ESS_FINE_ROWS];
+    double install_x_arcsec, install_y_arcsec, install_z_arcsec;
+    double sun_x_arcsec, sun_y_arcsec;
+    double roll_measured_arcsec; /* the alignment measurement of install_x */
+} ess_deviations;
+
+/* Number of columns ess_deviations_columns() describes. */
+#define ESS_N_DEV 19
+
+/* Column names (with units) of the deviations, in the order of
+ * ess_deviations_values(). */
+extern const char *const ess_deviation_names[ESS_N_DEV];
+void ess_deviations_values(const ess_deviations *d, double out[ESS_N_DEV]);
+
+/* Draw unit `unit`'s deviations: deviation i comes from its own stream
+ * (RNG_STREAM_TOLERANCE + i), so it depends only on (seed, unit, i). */
+void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_deviations *d);
+
+/* One built sensor, ready to read: lengths in mm, angles in radians. */
+typedef struct {
+    double H_mm;        /* design height: the etching rule */
+    double Hr_mm;       /* actual height H + dH */
+    double dd_mm;
+    double tan_dphi;
+    double theta0_rad;
+    double coarse_res_rad;
+    int n_coarse;
+    double coarse_x_mm[ESS_MAX_COARSE_ROWS];
+    double fine_x_mm[ESS_FINE_ROWS];
+    double gain[ESS_FINE_ROWS];       /* 1 + gain error */
+    double etch_mm[ESS_FINE_ROWS];    /* etching position error */
+    int harmonics_given;
+    double given_ratio[ESS_HARMONICS];/* 1, a3/a1, a5/a1 when given */
+    double slit_width_mm;             /* actual slit width */
+    double duty;
+    double sun_diameter_rad;
+    double harmonic_phase_rad;        /* phase of the 3rd harmonic */
+    double dc_ratio;                  /* DC / a1 of the fine-row currents */
+    double norm1;                     /* fundamental transfer at normal incidence */
+} ess_sensor;
+
+/* Build the sensor from its design and deviations. */
+void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev);
+
+/* Dial coordinate (mm) where the slit image crosses the row at x_mm, for a
+ * sun vector with s_x/s_z = u and s_y/s_z = v (ess_slit.c). */
+double ess_slit_eta_mm(const ess_sensor *s, double x_mm, double u, double v);
+
+/* Relative amplitudes c_n (n = 1, 3, 5) of the fine-row currents at dial
+ * angle psi (radians), normalised to the fundamental at normal incidence
+ * (ess_finecode.c). */
+void ess_finecode_harmonics(const ess_sensor *s, double psi_rad, double c[ESS_HARMONICS]);
+
+/* Fundamental transfer (unnormalised) at normal incidence: s->norm1. */
+double ess_finecode_norm1(const ess_sensor *s);
+
+/* Fine-code phase in [0, 2 pi) demodulated from the four row currents
+ * (ESS paper Fig. 8): atan2(I4 - I2, I3 - I1) with rows numbered 1..4. */
+double ess_finecode_demodulate(const double current[ESS_FINE_ROWS]);
+
+/* The four row currents (units of a1 at normal incidence) for row readings
+ * psi_rad[m] (dial angle at each fine row), illumination factor `illum`
+ * and additive noise[m] (NULL for none). */
+void ess_finecode_currents(const ess_sensor *s, const double psi_rad[ESS_FINE_ROWS], double illum,
+                           const double noise[ESS_FINE_ROWS], double current[ESS_FINE_ROWS]);
+
+/* Coarse estimate (radians, cell centre) from the Gray rows at their
+ * readings psi_rad[j] (ess_coarse.c). */
+double ess_coarse_read(const ess_sensor *s, const double psi_rad[]);
+
+/* Combine coarse estimate and fine phase into the output angle (radians):
+ * the fine period nearest the coarse estimate. */
+double ess_combine(double coarse_rad, double fine_phase, double theta0_rad);
+
+/* Raw output angle (radians) for sun vector sv (unit, toward the sun, s_z >
+ * 0).  row_noise (NULL = noiseless) is the additive noise of the 4 fine-row
+ * currents in units of a1 at normal incidence.  Returns SUNMC_EDOM when the
+ * sun is behind or at grazing incidence. */
+int ess_sensor_output(const ess_sensor *s, const double sv[3], const double row_noise[ESS_FINE_ROWS],
+                      double *out_rad);
+
+#endif

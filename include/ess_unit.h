@@ -1,0 +1,46 @@
+/* ess_unit.h - one simulated ESS unit on the turntable: its deviations, its
+ * physical sensor and installation, its calibration campaign and its
+ * validation.  The ESS family of the Monte Carlo (ess_family) is built from
+ * these; `simulate` and `curve` use them directly. */
+#ifndef SUNMC_ESS_UNIT_H
+#define SUNMC_ESS_UNIT_H
+
+#include "config.h"
+#include "ess_calib.h"
+#include "ess_model.h"
+#include "ess_sensor.h"
+#include "rng.h"
+
+typedef struct {
+    ess_deviations dev;
+    ess_sensor sensor;
+    mat3 R_install;        /* true ESS-to-turntable rotation */
+    double v_sun[3];       /* true sun-simulator direction */
+} ess_unit;
+
+/* Build a unit from given deviations. */
+void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *u);
+
+/* Turntable at (alpha, beta) rad: the sun vector in the sensor frame, the true
+ * incidence (rad) and the raw output (rad) with row noise (NULL: none).
+ * SUNMC_EDOM when the sun is not seen. */
+int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
+                  const double row_noise[ESS_FINE_ROWS], double *raw_rad, double *truth_rad);
+
+/* Number of campaign points of config c (alphas x betas). */
+size_t ess_campaign_size(const sunmc_config *c);
+
+/* Simulate the campaign of unit `unit` into cw (alpha, beta as recorded by
+ * the turntable; raw averaged over campaign.repeats; weight 0 for a point
+ * with a gross error or no sun).  *gross counts the dropped points. */
+void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
+                       ess_calib_workspace *cw, int *gross);
+
+/* Draw the 4 fine-row current noises (units of a1) from stream r. */
+void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_ROWS]);
+
+/* Fitted parameters in the units of ess_family's par columns. */
+#define ESS_N_PAR 8
+void ess_model_report(const ess_model *m, double out[ESS_N_PAR]);
+
+#endif

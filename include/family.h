@@ -1,0 +1,83 @@
+/* family.h - what the Monte Carlo engine needs from a sensor family.
+ *
+ * A family (ess, dss) samples one unit's deviations, simulates its
+ * calibration campaign with its physical model, fits its calibration model
+ * and validates it on a grid it was not calibrated on, filling a unit_result.
+ * The engine (montecarlo.h) runs units in parallel; the report (report.h)
+ * aggregates in unit order.
+ */
+#ifndef SUNMC_FAMILY_H
+#define SUNMC_FAMILY_H
+
+#include "config.h"
+
+#include <stddef.h>
+
+#define UNIT_MAX_DEV 32
+#define UNIT_MAX_PAR 48
+#define UNIT_MAX_ANGLES 3
+
+/* Fit status of a unit, as written in units.tsv. */
+enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
+
+typedef struct {
+    long unit;
+    double dev[UNIT_MAX_DEV];       /* sampled deviations (family's dev columns) */
+    double par[UNIT_MAX_PAR];       /* fitted parameters (family's par columns) */
+    /* RMS errors in the family's rms unit, per measured angle and band; NaN
+     * when the band holds no validation point. */
+    double rms_before[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    double rms_after[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    double fit_rms;                 /* fit residual RMS, rms unit */
+    int fit_status;                 /* enum unit_fit_status */
+    int fit_gsl_status;             /* GSL's status code of the fit */
+    int fit_iterations;
+    int alias_weak;                 /* calibration directions regularised for aliasing */
+    int gross_cal;                  /* campaign points dropped as gross errors */
+    int gross_val;                  /* validation points with a gross error */
+} unit_result;
+
+typedef struct sensor_family {
+    const char *name;               /* "ess", "dss" */
+    const char *rms_unit;           /* unit of every RMS: "deg" or "arcsec" */
+    double arcsec_per_rms_unit;     /* to compare with report.spec_arcsec */
+
+    /* Measured angles reported (ESS: alpha; DSS: alpha, beta, total). */
+    int (*n_angles)(const sunmc_config *c);
+    const char *const *angle_names;
+
+    /* Column names of unit_result.dev and .par for this config. */
+    int (*dev_columns)(const sunmc_config *c, const char **names, int max);
+    int (*par_columns)(const sunmc_config *c, const char **names, int max);
+
+    /* Per-thread workspace, reused for every unit the thread runs. */
+    void *(*workspace_alloc)(const sunmc_config *c, char *err, size_t errlen);
+    void (*workspace_free)(void *ws);
+
+    /* Run unit `unit` end to end.  A failed fit is recorded in r and is not
+     * an error; only a failure of the machinery returns non-zero. */
+    int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
+} sensor_family;
+
+extern const sensor_family ess_family;
+extern const sensor_family dss_family;
+
+/* The family of c->family. */
+const sensor_family *family_of(const sunmc_config *c);
+
+/* Sum of squared errors per report band, for one unit and one angle. */
+typedef struct {
+    double sum2[CONFIG_BANDS_MAX];
+    long n[CONFIG_BANDS_MAX];
+} band_acc;
+
+void band_acc_reset(band_acc *b);
+/* Add error err at |angle| = abs_deg to every band that holds abs_deg. */
+void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err);
+/* RMS per band times scale into out[bands->n]; NaN for an empty band. */
+void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
+
+/* Count of alpha grid points from lo to hi in steps (with offset from lo). */
+long grid_count(double lo, double hi, double step, double offset);
+
+#endif

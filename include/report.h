@@ -1,0 +1,51 @@
+/* report.h - aggregating unit results in unit order: Table 1 of the ESS
+ * paper (per band: RMS after compensation max/min, times of accuracy
+ * improvement mean/max/min) plus mean RMS before/after, the 95th percentile,
+ * yield against the spec, fit failures and gross errors.  Writers for
+ * summary.tsv and units.tsv (tab-separated, one header line). */
+#ifndef SUNMC_REPORT_H
+#define SUNMC_REPORT_H
+
+#include "config.h"
+#include "family.h"
+
+#include <stdio.h>
+
+typedef struct {
+    int angle;              /* index into the family's angle names */
+    int band;               /* index into c->bands_deg */
+    long units;             /* units in the run */
+    long fit_failures;      /* units whose fit failed (excluded from the statistics) */
+    long gross_errors;      /* validation readings with a gross error, all units */
+    long alias_units;       /* units whose campaign could not resolve the fine-code term */
+    double rms_before_mean, rms_after_mean, rms_after_max, rms_after_min, rms_after_p95;
+    double improvement_mean, improvement_max, improvement_min;
+    double yield;           /* fraction of all units with RMS after <= spec */
+} summary_row;
+
+/* Number of rows = angles x bands. */
+int report_n_rows(const sunmc_config *c, const sensor_family *fam);
+
+/* Fill rows[report_n_rows] from results[n] (in unit order).  SUNMC_ENOMEM. */
+int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
+                     long n, summary_row *rows);
+
+/* Table 1 and the extra statistics, for people. */
+void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const summary_row *rows);
+
+/* summary.tsv: header then one row per angle and band.  `lead` (may be NULL)
+ * prefixes extra columns: lead_names in the header, lead_values per row (for
+ * sweeps). */
+void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names);
+void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                               const summary_row *rows, int n_lead, const double *lead_values);
+
+/* units.tsv: header then one row per unit. */
+void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const unit_result *results, long n);
+
+/* Band label "0:30" of band i. */
+void report_band_label(const sunmc_config *c, int i, char *buf, size_t len);
+
+#endif

@@ -1,0 +1,40 @@
+/* rng.h - counter-based random streams: unit u's draws depend only on
+ * (seed, u, stream), never on the thread or the order units run in.
+ *
+ * Philox4x32-10 (Random123) keyed by the 64-bit seed; the counter is
+ * (unit low, unit high, stream, index).  A stream is a cheap value on the
+ * stack: no allocation, no shared state, so any thread may draw any unit.
+ */
+#ifndef SUNMC_RNG_H
+#define SUNMC_RNG_H
+
+#include <stdint.h>
+
+/* Stream identifiers: each purpose of a unit draws from its own stream, so
+ * changing one part of a config (a campaign step, say) does not reshuffle
+ * the draws of another (the tolerances): common random numbers in sweeps. */
+enum rng_stream_id {
+    RNG_STREAM_TOLERANCE = 0x100, /* + tolerance index: one stream per deviation */
+    RNG_STREAM_CAL_NOISE = 0x200, /* sensor and encoder noise of the campaign */
+    RNG_STREAM_VAL_NOISE = 0x201, /* noise of the validation readings */
+    RNG_STREAM_ALIGNMENT = 0x202  /* the roll alignment measurement */
+};
+
+typedef struct {
+    uint32_t key[2];
+    uint32_t ctr[4];
+    uint32_t buf[4];
+    int left; /* words left in buf */
+} rng_stream;
+
+/* Start stream `stream` of unit `unit` for `seed`. */
+void rng_stream_init(rng_stream *r, uint64_t seed, uint64_t unit, uint32_t stream);
+
+/* Uniform double in the open interval (0, 1), 53 random bits. */
+double rng_uniform(rng_stream *r);
+
+/* Standard normal deviate (Box-Muller, no cached second value so the k-th
+ * draw of a stream is always the same). */
+double rng_normal(rng_stream *r);
+
+#endif

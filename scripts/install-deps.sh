@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the system packages sunmc needs to build, test and plot.
+# Debian/Ubuntu: apt-get as root, through sudo otherwise. Elsewhere: prints the
+# list and exits 1, so the caller knows nothing was installed.
+set -euo pipefail
+
+PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev gnuplot-nox"
+
+if ! command -v apt-get >/dev/null 2>&1; then
+  echo "install-deps: no apt-get on this machine; please install: $PACKAGES" >&2
+  exit 1
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=""
+elif command -v sudo >/dev/null 2>&1; then
+  SUDO="sudo"
+else
+  echo "install-deps: not root and no sudo; please install: $PACKAGES" >&2
+  exit 1
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+# shellcheck disable=SC2086
+$SUDO apt-get install -y -qq --no-install-recommends $PACKAGES

@@ -1,0 +1,141 @@
+/* ess_model.c - forward ESS calibration model, its gradient and inverse. */
+#include "ess_model.h"
+#include "status.h"
+
+#include <math.h>
+#include <string.h>
+
+#define COMP_MAX_ITER 50
+#define COMP_TOL_RAD 1e-15
+
+const char *const ess_param_names[ESS_NP] = {"a", "b", "c", "ks_deg", "kc_deg",
+                                             "fit_install_y_arcsec", "fit_install_z_arcsec",
+                                             "fit_sun_y_arcsec"};
+
+void ess_model_init(ess_model *m, double theta0_rad, double roll_rad)
+{
+    memset(m, 0, sizeof *m);
+    m->p[ESS_P_A] = 1.0;
+    m->roll_rad = roll_rad;
+    m->omega = 2.0 * M_PI / (theta0_rad / 4.0);
+    ess_model_prepare(m);
+}
+
+void ess_model_prepare(ess_model *m)
+{
+    mat3 rx, ry, rz, dry, drz, t;
+    rot_x(m->roll_rad, rx);
+    rot_y(m->p[ESS_P_INST_Y], ry);
+    rot_z(m->p[ESS_P_INST_Z], rz);
+    drot_y(m->p[ESS_P_INST_Y], dry);
+    drot_z(m->p[ESS_P_INST_Z], drz);
+    mat3_mul(rx, ry, t);
+    mat3_mul(t, rz, m->R);
+    mat3_mul(t, drz, m->dR_z);
+    mat3_mul(rx, dry, t);
+    mat3_mul(t, rz, m->dR_y);
+    double sx = m->sun_x_rad, sy = m->p[ESS_P_SUN_Y];
+    sun_direction(sx, sy, m->v);
+    m->dv[0] = -sin(sy) * sin(sx);
+    m->dv[1] = cos(sy);
+    m->dv[2] = -sin(sy) * cos(sx);
+}
+
+/* alpha_d and the raw output from T; optional partials. */
+static double structural(const ess_model *m, double T, double *G, double *dad_dT, double *q_out,
+                         double *N_out, double *D_out, double *ad_out)
+{
+    const double *p = m->p;
+    double N = p[ESS_P_A] * T + p[ESS_P_B];
+    double D = p[ESS_P_C] * T + 1.0;
+    double ad = atan2(N, D);
+    double wa = m->omega * ad;
+    double raw = ad - p[ESS_P_KS] * sin(wa) - p[ESS_P_KC] * cos(wa);
+    if (G) {
+        double q = N * N + D * D;
+        *G = 1.0 - m->omega * (p[ESS_P_KS] * cos(wa) - p[ESS_P_KC] * sin(wa));
+        *dad_dT = (p[ESS_P_A] * D - N * p[ESS_P_C]) / q;
+        *q_out = q;
+        *N_out = N;
+        *D_out = D;
+        *ad_out = ad;
+    }
+    return raw;
+}
+
+double ess_model_structural(const ess_model *m, double T)
+{
+    return structural(m, T, NULL, NULL, NULL, NULL, NULL, NULL);
+}
+
+double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
+                         double grad[ESS_NP])
+{
+    mat3 rx, ry, M;
+    rot_x(alpha_rad, rx);
+    rot_y(beta_rad, ry);
+    mat3_mul(rx, ry, M);
+    double w[3], s[3];
+    mat3_vec(M, m->v, w);
+    mat3_vec(m->R, w, s);
+    double T = s[1] / s[2];
+    if (!grad)
+        return structural(m, T, NULL, NULL, NULL, NULL, NULL, NULL);
+
+    double G, dad_dT, q, N, D, ad;
+    double raw = structural(m, T, &G, &dad_dT, &q, &N, &D, &ad);
+    double wa = m->omega * ad;
+    grad[ESS_P_A] = G * (D / q) * T;
+    grad[ESS_P_B] = G * (D / q);
+    grad[ESS_P_C] = G * (-N / q) * T;
+    grad[ESS_P_KS] = -sin(wa);
+    grad[ESS_P_KC] = -cos(wa);
+
+    /* d raw / d s through T = s_y / s_z */
+    double k = G * dad_dT;
+    double g1 = k / s[2], g2 = -k * s[1] / (s[2] * s[2]);
+    double ds[3], mdv[3];
+    mat3_vec(m->dR_y, w, ds);
+    grad[ESS_P_INST_Y] = g1 * ds[1] + g2 * ds[2];
+    mat3_vec(m->dR_z, w, ds);
+    grad[ESS_P_INST_Z] = g1 * ds[1] + g2 * ds[2];
+    mat3_vec(M, m->dv, mdv);
+    mat3_vec(m->R, mdv, ds);
+    grad[ESS_P_SUN_Y] = g1 * ds[1] + g2 * ds[2];
+    return raw;
+}
+
+int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad)
+{
+    const double *p = m->p;
+    double ks = p[ESS_P_KS], kc = p[ESS_P_KC];
+    if (m->omega * hypot(ks, kc) >= 1.0)
+        return SUNMC_EDOM;
+    double x = raw_rad;
+    int converged = 0;
+    for (int i = 0; i < COMP_MAX_ITER; i++) {
+        double wa = m->omega * x;
+        double f = x - ks * sin(wa) - kc * cos(wa) - raw_rad;
+        double fp = 1.0 - m->omega * (ks * cos(wa) - kc * sin(wa));
+        double dx = f / fp;
+        x -= dx;
+        if (fabs(dx) < COMP_TOL_RAD) {
+            converged = 1;
+            break;
+        }
+    }
+    if (!converged)
+        return SUNMC_EDOM;
+    double td = tan(x);
+    double den = p[ESS_P_C] * td - p[ESS_P_A];
+    if (den == 0.0)
+        return SUNMC_EDOM;
+    *alpha_rad = atan((p[ESS_P_B] - td) / den);
+    return SUNMC_OK;
+}
+
+void ess_model_kt(const ess_model *m, double *k_rad, double *t_rad)
+{
+    *k_rad = hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]);
+    *t_rad = atan2(m->p[ESS_P_KC], m->p[ESS_P_KS]);
+}

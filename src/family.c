@@ -1,0 +1,48 @@
+/* family.c - choosing a family, grids and per-band RMS accumulation. */
+#include "family.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Slack so that a grid end hit exactly in decimal is not lost to rounding. */
+#define GRID_EPS 1e-9
+
+const sensor_family *family_of(const sunmc_config *c)
+{
+    return c->family == FAMILY_DSS ? &dss_family : &ess_family;
+}
+
+long grid_count(double lo, double hi, double step, double offset)
+{
+    double span = hi - (lo + offset);
+    if (span < -GRID_EPS * step)
+        return 0;
+    return (long)floor(span / step + GRID_EPS) + 1;
+}
+
+void band_acc_reset(band_acc *b)
+{
+    memset(b, 0, sizeof *b);
+}
+
+static int in_band(const band_list *bands, int i, double abs_deg)
+{
+    if (bands->lo[i] == 0.0)
+        return abs_deg <= bands->hi[i] + GRID_EPS;
+    return abs_deg > bands->lo[i] + GRID_EPS && abs_deg <= bands->hi[i] + GRID_EPS;
+}
+
+void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err)
+{
+    for (int i = 0; i < bands->n; i++)
+        if (in_band(bands, i, abs_deg)) {
+            b->sum2[i] += err * err;
+            b->n[i]++;
+        }
+}
+
+void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out)
+{
+    for (int i = 0; i < bands->n; i++)
+        out[i] = b->n[i] ? scale * sqrt(b->sum2[i] / (double)b->n[i]) : NAN;
+}

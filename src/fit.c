@@ -1,0 +1,108 @@
+/* fit.c - the gsl_multifit_nlinear wrapper shared by all calibration models. */
+#include "fit.h"
+#include "status.h"
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_errno.h>
+#include <stdlib.h>
+
+#define FIT_XTOL 1e-12
+#define FIT_GTOL 1e-12
+#define FIT_FTOL 0.0
+#define FIT_COVAR_EPS 1e-12
+
+fit_workspace *fit_workspace_alloc(size_t n, size_t p)
+{
+    if (n < p || p == 0)
+        return NULL;
+    fit_workspace *fw = calloc(1, sizeof *fw);
+    if (!fw)
+        return NULL;
+    gsl_multifit_nlinear_parameters params = gsl_multifit_nlinear_default_parameters();
+    params.trs = gsl_multifit_nlinear_trs_lm;
+    params.scale = gsl_multifit_nlinear_scale_more;
+    params.solver = gsl_multifit_nlinear_solver_qr;
+    fw->n = n;
+    fw->p = p;
+    fw->w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &params, n, p);
+    fw->x0 = gsl_vector_alloc(p);
+    fw->covar = gsl_matrix_alloc(p, p);
+    if (!fw->w || !fw->x0 || !fw->covar) {
+        fit_workspace_free(fw);
+        return NULL;
+    }
+    return fw;
+}
+
+void fit_workspace_free(fit_workspace *fw)
+{
+    if (!fw)
+        return;
+    if (fw->w)
+        gsl_multifit_nlinear_free(fw->w);
+    if (fw->x0)
+        gsl_vector_free(fw->x0);
+    if (fw->covar)
+        gsl_matrix_free(fw->covar);
+    free(fw);
+}
+
+int fit_solve(fit_workspace *fw, fit_f f, fit_df df, void *params, double *x, int max_iter,
+              fit_result *res)
+{
+    gsl_multifit_nlinear_fdf fdf;
+    fdf.f = f;
+    fdf.df = df;
+    fdf.fvv = NULL;
+    fdf.n = fw->n;
+    fdf.p = fw->p;
+    fdf.params = params;
+    for (size_t i = 0; i < fw->p; i++)
+        gsl_vector_set(fw->x0, i, x[i]);
+
+    res->iterations = 0;
+    res->info = 0;
+    res->chisq = GSL_NAN;
+    res->rcond = GSL_NAN;
+    int st = gsl_multifit_nlinear_init(fw->x0, &fdf, fw->w);
+    if (st == GSL_SUCCESS)
+        st = gsl_multifit_nlinear_driver((size_t)max_iter, FIT_XTOL, FIT_GTOL, FIT_FTOL, NULL, NULL,
+                                         &res->info, fw->w);
+    res->status = st;
+    res->iterations = gsl_multifit_nlinear_niter(fw->w);
+    gsl_vector *xs = gsl_multifit_nlinear_position(fw->w);
+    gsl_vector *fr = gsl_multifit_nlinear_residual(fw->w);
+    for (size_t i = 0; i < fw->p; i++)
+        x[i] = gsl_vector_get(xs, i);
+    double chisq;
+    gsl_blas_ddot(fr, fr, &chisq);
+    res->chisq = chisq;
+    double rc;
+    if (gsl_multifit_nlinear_rcond(&rc, fw->w) == GSL_SUCCESS)
+        res->rcond = rc;
+    if (st != GSL_SUCCESS || !gsl_finite(chisq))
+        return SUNMC_EFIT;
+    for (size_t i = 0; i < fw->p; i++)
+        if (!gsl_finite(x[i]))
+            return SUNMC_EFIT;
+    return SUNMC_OK;
+}
+
+int fit_covariance(fit_workspace *fw)
+{
+    gsl_matrix *J = gsl_multifit_nlinear_jac(fw->w);
+    int st = gsl_multifit_nlinear_covar(J, FIT_COVAR_EPS, fw->covar);
+    return st == GSL_SUCCESS ? SUNMC_OK : SUNMC_EFIT;
+}
+
+const char *fit_reason(const fit_result *res)
+{
+    if (res->status == GSL_SUCCESS)
+        return res->info == 1 ? "converged: step below tolerance"
+                              : "converged: gradient below tolerance";
+    if (res->status == GSL_EMAXITER)
+        return "did not converge within calibration.max_iterations";
+    if (res->status == GSL_ENOPROG)
+        return "no further progress possible (singular or flat problem)";
+    return gsl_strerror(res->status);
+}

@@ -1,0 +1,80 @@
+/* main.h - the command-line front end: the only code that prints to the
+ * user and decides exit codes.  One file per command (main_*.c). */
+#ifndef SUNMC_MAIN_H
+#define SUNMC_MAIN_H
+
+#include "config.h"
+
+#include <stdio.h>
+
+#define CLI_MAX_SETS 128
+#define CLI_MAX_VARY 2
+
+/* Exit codes. */
+#define EXIT_BAD_INPUT 2
+
+/* Options shared by the commands. */
+typedef struct {
+    const char *config;               /* positional CONFIG */
+    const char *positional[4];        /* further positionals (data files) */
+    int n_positional;
+    const char *sets[CLI_MAX_SETS];   /* "section.key=value", in order */
+    int n_sets;
+    char set_buf[CLI_MAX_SETS][128];  /* storage for sets made from options */
+    long first, end;                  /* unit range; end < 0: from run.units */
+    int threads;                      /* -1: from run.threads */
+    const char *out;                  /* --out DIR */
+    int quiet;
+    int reference;                    /* config --reference */
+    const char *vary[CLI_MAX_VARY];   /* sweep --vary */
+    int n_vary;
+    long unit;                        /* curve/simulate --unit */
+    const char *only;                 /* curve --only KEY=VALUE */
+    const char *sensor;               /* calibrate --sensor */
+} cli_options;
+
+/* Parse argv[first..] for a command; allowed is a string of the options the
+ * command takes ("units seed threads set out ..."). Prints the error and
+ * returns EXIT_BAD_INPUT on bad usage, 0 otherwise. */
+int cli_parse(int argc, char **argv, int first, const char *command, const char *allowed,
+              cli_options *o);
+
+/* Build the effective config from o (file + sets); prints and returns
+ * EXIT_BAD_INPUT (or 1) on error. */
+int cli_config(const cli_options *o, config_state *st);
+
+/* Run the Monte Carlo of st over o's unit range and report; used by run. */
+int cmd_run(int argc, char **argv);
+int cmd_config(int argc, char **argv);
+int cmd_sweep(int argc, char **argv);
+int cmd_budget(int argc, char **argv);
+int cmd_curve(int argc, char **argv);
+int cmd_simulate(int argc, char **argv);
+int cmd_calibrate(int argc, char **argv);
+int cmd_compensate(int argc, char **argv);
+
+/* Progress line on stderr when it is a terminal. */
+typedef struct {
+    double t0;
+    double last; /* time of the last refresh */
+    int tty;
+    int quiet;
+} cli_progress;
+void cli_progress_start(cli_progress *p, int quiet);
+void cli_progress_update(long done, long total, void *ctx);
+double cli_progress_end(cli_progress *p, long units, int threads);
+
+/* Run units [first, end) of c with progress and timing on stderr; fills
+ * *results (n = end - first) and *rows (report_n_rows).  Prints errors and
+ * returns an exit code. */
+struct unit_result_s;
+int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
+                    void **results, void **rows);
+
+/* Threads to use: o->threads, else run.threads, else OpenMP's default. */
+int cli_threads(const cli_options *o, const sunmc_config *c);
+
+/* Exit status for a module status. */
+int cli_exit_code(int status);
+
+#endif

@@ -1,0 +1,182 @@
+/* main_cli.c - option parsing, config building, progress and exit codes
+ * shared by the commands. */
+#include "main.h"
+#include "status.h"
+
+#include <errno.h>
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+/* Seconds between progress-line refreshes. */
+#define PROGRESS_INTERVAL_S 0.25
+
+static int allowed_has(const char *allowed, const char *opt)
+{
+    size_t n = strlen(opt);
+    for (const char *p = allowed; (p = strstr(p, opt)) != NULL; p += n)
+        if ((p == allowed || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+static int parse_long_arg(const char *s, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int bad(const char *command, const char *msg, const char *arg)
+{
+    fprintf(stderr, "sunmc %s: %s%s%s (see sunmc %s --help)\n", command, msg, arg ? ": " : "",
+            arg ? arg : "", command);
+    return EXIT_BAD_INPUT;
+}
+
+int cli_parse(int argc, char **argv, int first, const char *command, const char *allowed,
+              cli_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->end = -1;
+    o->threads = -1;
+    o->unit = -1;
+    for (int i = first; i < argc; i++) {
+        const char *a = argv[i];
+        if (strncmp(a, "--", 2) != 0) {
+            if (!o->config && allowed_has(allowed, "CONFIG"))
+                o->config = a;
+            else if (o->n_positional < 4)
+                o->positional[o->n_positional++] = a;
+            else
+                return bad(command, "too many arguments", a);
+            continue;
+        }
+        const char *name = a + 2;
+        if (!allowed_has(allowed, name))
+            return bad(command, "unknown option", a);
+        if (strcmp(name, "quiet") == 0) {
+            o->quiet = 1;
+            continue;
+        }
+        if (strcmp(name, "reference") == 0) {
+            o->reference = 1;
+            continue;
+        }
+        if (i + 1 >= argc)
+            return bad(command, "option needs a value", a);
+        const char *v = argv[++i];
+        if (strcmp(name, "set") == 0) {
+            if (o->n_sets >= CLI_MAX_SETS)
+                return bad(command, "too many --set options", v);
+            o->sets[o->n_sets++] = v;
+        } else if (strcmp(name, "seed") == 0 || strcmp(name, "units") == 0) {
+            const char *colon = strchr(v, ':');
+            if (strcmp(name, "units") == 0 && colon) {
+                char lo[64];
+                size_t n = (size_t)(colon - v);
+                if (n >= sizeof lo)
+                    return bad(command, "--units FIRST:END is malformed", v);
+                memcpy(lo, v, n);
+                lo[n] = '\0';
+                if (parse_long_arg(lo, &o->first) != 0 || parse_long_arg(colon + 1, &o->end) != 0 ||
+                    o->first < 0 || o->end <= o->first)
+                    return bad(command, "--units FIRST:END needs 0 <= FIRST < END", v);
+                continue;
+            }
+            if (o->n_sets >= CLI_MAX_SETS)
+                return bad(command, "too many options", v);
+            snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%s", name, v);
+            o->sets[o->n_sets] = o->set_buf[o->n_sets];
+            o->n_sets++;
+        } else if (strcmp(name, "threads") == 0) {
+            long t;
+            if (parse_long_arg(v, &t) != 0 || t < 1 || t > 1024)
+                return bad(command, "--threads needs a whole number from 1 to 1024", v);
+            o->threads = (int)t;
+        } else if (strcmp(name, "out") == 0) {
+            o->out = v;
+        } else if (strcmp(name, "vary") == 0) {
+            if (o->n_vary >= CLI_MAX_VARY)
+                return bad(command, "at most two --vary axes", v);
+            o->vary[o->n_vary++] = v;
+        } else if (strcmp(name, "unit") == 0) {
+            if (parse_long_arg(v, &o->unit) != 0 || o->unit < 0)
+                return bad(command, "--unit needs a unit index >= 0", v);
+        } else if (strcmp(name, "only") == 0) {
+            o->only = v;
+        } else if (strcmp(name, "sensor") == 0) {
+            o->sensor = v;
+        } else if (strcmp(name, "config") == 0) {
+            o->config = v;
+        } else {
+            return bad(command, "unknown option", a);
+        }
+    }
+    return 0;
+}
+
+int cli_exit_code(int status)
+{
+    return status == SUNMC_OK ? 0 : status == SUNMC_EINPUT ? EXIT_BAD_INPUT : 1;
+}
+
+int cli_config(const cli_options *o, config_state *st)
+{
+    char err[SUNMC_ERRLEN];
+    int s = config_build(st, o->config, o->sets, o->n_sets, err, sizeof err);
+    if (s != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", err);
+        return cli_exit_code(s);
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    return (double)tv.tv_sec + 1e-6 * (double)tv.tv_usec;
+}
+
+void cli_progress_start(cli_progress *p, int quiet)
+{
+    p->t0 = now_s();
+    p->last = 0;
+    p->tty = isatty(STDERR_FILENO);
+    p->quiet = quiet;
+}
+
+void cli_progress_update(long done, long total, void *ctx)
+{
+    cli_progress *p = ctx;
+    if (p->quiet || !p->tty)
+        return;
+    double t = now_s();
+    if (t - p->last < PROGRESS_INTERVAL_S && done < total)
+        return;
+    p->last = t;
+    double rate = done / fmax(t - p->t0, 1e-9);
+    fprintf(stderr, "\r  %ld/%ld units  %.0f units/s  ETA %.1f s   ", done, total, rate,
+            (double)(total - done) / fmax(rate, 1e-9));
+    fflush(stderr);
+}
+
+double cli_progress_end(cli_progress *p, long units, int threads)
+{
+    double dt = now_s() - p->t0;
+    if (!p->quiet) {
+        if (p->tty)
+            fprintf(stderr, "\r%60s\r", "");
+        fprintf(stderr, "sunmc: %ld units in %.2f s (%.0f units/s, %d threads)\n", units, dt,
+                units / fmax(dt, 1e-9), threads);
+    }
+    return dt;
+}

@@ -1,0 +1,152 @@
+/* main_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
+#include "main.h"
+#include "montecarlo.h"
+#include "output.h"
+#include "report.h"
+#include "status.h"
+
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char run_help[] =
+    "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
+    "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
+    "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
+    "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
+    "--out DIR writes summary.tsv, units.tsv and config.ini (all or nothing).\n";
+
+static const char config_help[] =
+    "usage: sunmc config [CONFIG] [--set SECTION.KEY=VALUE]... [--reference]\n"
+    "Prints the effective config (every key of the family, defaults filled in, origin of each\n"
+    "value), or with --reference the commented reference config of every key.\n";
+
+static int wants_help(int argc, char **argv, const char *text)
+{
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            fputs(text, stdout);
+            return 1;
+        }
+    return 0;
+}
+
+int cli_threads(const cli_options *o, const sunmc_config *c)
+{
+    if (o->threads > 0)
+        return o->threads;
+    if (c->threads > 0)
+        return c->threads;
+    return omp_get_max_threads();
+}
+
+int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
+                    void **results_out, void **rows_out)
+{
+    const sensor_family *fam = family_of(c);
+    long n = end - first;
+    unit_result *results = calloc((size_t)n, sizeof *results);
+    summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
+    if (!results || !rows) {
+        free(results);
+        free(rows);
+        fprintf(stderr, "sunmc: out of memory for %ld units\n", n);
+        return 1;
+    }
+    cli_progress prog;
+    cli_progress_start(&prog, quiet);
+    char err[SUNMC_ERRLEN];
+    int st = mc_run(c, fam, first, end, threads, results, cli_progress_update, &prog, err,
+                    sizeof err);
+    if (st == SUNMC_OK)
+        st = report_summarize(c, fam, results, n, rows);
+    cli_progress_end(&prog, n, threads);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", st == SUNMC_ENOMEM ? "out of memory" : err);
+        free(results);
+        free(rows);
+        return cli_exit_code(st);
+    }
+    *results_out = results;
+    *rows_out = rows;
+    return 0;
+}
+
+int cmd_run(int argc, char **argv)
+{
+    if (wants_help(argc, argv, run_help))
+        return 0;
+    cli_options o;
+    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet", &o);
+    if (rc)
+        return rc;
+    if (!o.config) {
+        fprintf(stderr, "sunmc run: missing CONFIG file (see sunmc run --help)\n");
+        return EXIT_BAD_INPUT;
+    }
+    config_state st;
+    if ((rc = cli_config(&o, &st)))
+        return rc;
+    const sunmc_config *c = &st.cfg;
+    const sensor_family *fam = family_of(c);
+    long first = o.end >= 0 ? o.first : 0;
+    long end = o.end >= 0 ? o.end : c->units;
+    int threads = cli_threads(&o, c);
+
+    unit_result *results;
+    summary_row *rows;
+    if ((rc = cli_monte_carlo(c, first, end, threads, o.quiet, (void **)&results, (void **)&rows))) {
+        config_state_free(&st);
+        return rc;
+    }
+
+    int status = SUNMC_OK;
+    char err[SUNMC_ERRLEN];
+    if (o.out) {
+        out_set os;
+        FILE *fs, *fu, *fc;
+        status = out_begin(&os, o.out, err, sizeof err);
+        if (status == SUNMC_OK)
+            status = out_open(&os, o.out, "summary.tsv", &fs, err, sizeof err);
+        if (status == SUNMC_OK)
+            status = out_open(&os, o.out, "units.tsv", &fu, err, sizeof err);
+        if (status == SUNMC_OK)
+            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+        if (status == SUNMC_OK) {
+            report_write_summary_header(fs, 0, NULL);
+            report_write_summary_rows(fs, c, fam, rows, 0, NULL);
+            report_write_units(fu, c, fam, results, end - first);
+            fprintf(fc, "# units %ld:%ld of this config\n", first, end);
+            config_write(fc, &st);
+            status = out_commit(&os, err, sizeof err);
+        } else {
+            out_abort(&os);
+        }
+    }
+    if (status == SUNMC_OK)
+        report_print_table(stdout, c, fam, rows);
+    else
+        fprintf(stderr, "sunmc run: %s\n", err);
+    free(results);
+    free(rows);
+    config_state_free(&st);
+    return cli_exit_code(status);
+}
+
+int cmd_config(int argc, char **argv)
+{
+    if (wants_help(argc, argv, config_help))
+        return 0;
+    cli_options o;
+    int rc = cli_parse(argc, argv, 2, "config", "CONFIG set reference", &o);
+    if (rc)
+        return rc;
+    if (o.reference)
+        return config_write_reference(stdout) == SUNMC_OK ? 0 : 1;
+    config_state st;
+    if ((rc = cli_config(&o, &st)))
+        return rc;
+    int s = config_write(stdout, &st);
+    config_state_free(&st);
+    return s == SUNMC_OK ? 0 : 1;
+}

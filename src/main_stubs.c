@@ -1,0 +1,15 @@
+/* main_stubs.c - commands not built yet. */
+#include "main.h"
+
+static int not_yet(const char *name)
+{
+    fprintf(stderr, "sunmc %s: not available in this version\n", name);
+    return 1;
+}
+
+int cmd_sweep(int argc, char **argv) { return not_yet("sweep"); }
+int cmd_budget(int argc, char **argv) { return not_yet("budget"); }
+int cmd_curve(int argc, char **argv) { return not_yet("curve"); }
+int cmd_simulate(int argc, char **argv) { return not_yet("simulate"); }
+int cmd_calibrate(int argc, char **argv) { return not_yet("calibrate"); }
+int cmd_compensate(int argc, char **argv) { return not_yet("compensate"); }
