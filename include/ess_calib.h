@@ -44,6 +44,7 @@ typedef struct {
     double *beta_rad;     /* turntable outer-frame angle, n */
     double *raw_rad;      /* sensor output, n */
     double *weight;       /* 1 / variance scale; 0 drops a point (gross error) */
+    mat3 *table;          /* n turntable matrices, computed by ess_calibrate */
     fit_workspace *fw;    /* n + ESS_CALIB_PRIOR_ROWS residuals, ESS_NP parameters */
     ess_model model;      /* working model of the residual function */
     ess_alias alias;

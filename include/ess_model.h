@@ -62,6 +62,11 @@ double ess_model_structural(const ess_model *m, double T);
 double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
                          double grad[ESS_NP]);
 
+/* The same from the turntable matrix M = rot_x(alpha) rot_y(beta), which a
+ * fit computes once per point (ess_turntable_matrix). */
+double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP]);
+void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M);
+
 /* Compensation, the exact inverse of the model: solve
  * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton, then
  * eq. 13: tan(alpha) = (b - d tan alpha_d) / (c tan alpha_d - a).

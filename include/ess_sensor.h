@@ -75,6 +75,7 @@ typedef struct {
     double duty;
     double sun_diameter_rad;
     double harmonic_phase_rad;        /* phase of the 3rd harmonic */
+    double dial_sun[ESS_HARMONICS];   /* dial x sun-disc transfer of n = 1, 3, 5 */
     double dc_ratio;                  /* DC / a1 of the fine-row currents */
     double norm1;                     /* fundamental transfer at normal incidence */
 } ess_sensor;
@@ -91,8 +92,9 @@ double ess_slit_eta_mm(const ess_sensor *s, double x_mm, double u, double v);
  * (ess_finecode.c). */
 void ess_finecode_harmonics(const ess_sensor *s, double psi_rad, double c[ESS_HARMONICS]);
 
-/* Fundamental transfer (unnormalised) at normal incidence: s->norm1. */
-double ess_finecode_norm1(const ess_sensor *s);
+/* Precompute the fine-code constants (dial_sun, norm1, dc_ratio) from the
+ * sensor's duty, sun diameter, slit width and period. */
+void ess_finecode_init(ess_sensor *s);
 
 /* Fine-code phase in [0, 2 pi) demodulated from the four row currents
  * (ESS paper Fig. 8): atan2(I4 - I2, I3 - I1) with rows numbered 1..4. */

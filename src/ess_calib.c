@@ -64,8 +64,9 @@ ess_calib_workspace *ess_calib_alloc(size_t n)
     cw->beta_rad = calloc(n, sizeof(double));
     cw->raw_rad = calloc(n, sizeof(double));
     cw->weight = calloc(n, sizeof(double));
+    cw->table = calloc(n, sizeof(mat3));
     cw->fw = fit_workspace_alloc(n + ESS_CALIB_PRIOR_ROWS, ESS_NP);
-    if (!cw->alpha_rad || !cw->beta_rad || !cw->raw_rad || !cw->weight || !cw->fw) {
+    if (!cw->alpha_rad || !cw->beta_rad || !cw->raw_rad || !cw->weight || !cw->table || !cw->fw) {
         ess_calib_free(cw);
         return NULL;
     }
@@ -80,6 +81,7 @@ void ess_calib_free(ess_calib_workspace *cw)
     free(cw->beta_rad);
     free(cw->raw_rad);
     free(cw->weight);
+    free(cw->table);
     fit_workspace_free(cw->fw);
     free(cw);
 }
@@ -104,7 +106,7 @@ static int residual_f(const gsl_vector *x, void *params, gsl_vector *f)
         double r = 0.0;
         if (cw->weight[i] > 0)
             r = sqrt(cw->weight[i]) *
-                (ess_model_predict(&cw->model, cw->alpha_rad[i], cw->beta_rad[i], NULL) -
+                (ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], NULL) -
                  cw->raw_rad[i]);
         gsl_vector_set(f, i, r);
     }
@@ -123,7 +125,7 @@ static int residual_df(const gsl_vector *x, void *params, gsl_matrix *J)
     for (size_t i = 0; i < cw->n; i++) {
         if (cw->weight[i] > 0) {
             double sw = sqrt(cw->weight[i]);
-            ess_model_predict(&cw->model, cw->alpha_rad[i], cw->beta_rad[i], g);
+            ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], g);
             for (int j = 0; j < ESS_NP; j++)
                 gsl_matrix_set(J, i, (size_t)j, sw * g[j]);
         } else {
@@ -145,6 +147,8 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
                   double alias_threshold, int max_iter, ess_model *out, fit_result *res)
 {
     ess_model_init(&cw->model, theta0_rad, roll_rad);
+    for (size_t i = 0; i < cw->n; i++)
+        ess_turntable_matrix(cw->alpha_rad[i], cw->beta_rad[i], cw->table[i]);
     ess_alias_check(cw->alpha_rad, cw->n, cw->model.omega, alias_threshold, &cw->alias);
     double x[ESS_NP];
     for (int j = 0; j < ESS_NP; j++)

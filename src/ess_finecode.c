@@ -39,20 +39,25 @@ static double disc_transfer(double z) /* 2 J1(z)/z, the projected uniform disc *
     return 2.0 * gsl_sf_bessel_J1(z) / z;
 }
 
-/* Unnormalised amplitude of harmonic n at dial angle psi. */
-static double harmonic_raw(const ess_sensor *s, int n, double psi_rad)
+/* Unnormalised amplitude of harmonic index i at dial angle psi: the dial
+ * and sun factors do not depend on psi (precomputed), the slit's does. */
+static double harmonic_raw(const ess_sensor *s, int i, double psi_rad)
 {
     double cos_psi = cos(psi_rad);
     double slit_ang = s->slit_width_mm * cos_psi * cos_psi / s->H_mm;
-    double dial = sin(n * M_PI * s->duty) / n;
-    double slit = sinc_pi(n * slit_ang / s->theta0_rad);
-    double sun = disc_transfer(M_PI * n * s->sun_diameter_rad / s->theta0_rad);
-    return dial * slit * sun;
+    return s->dial_sun[i] * sinc_pi(harmonic_order[i] * slit_ang / s->theta0_rad);
 }
 
-double ess_finecode_norm1(const ess_sensor *s)
+void ess_finecode_init(ess_sensor *s)
 {
-    return harmonic_raw(s, 1, 0.0);
+    for (int i = 0; i < ESS_HARMONICS; i++) {
+        int n = harmonic_order[i];
+        s->dial_sun[i] = sin(n * M_PI * s->duty) / n *
+                         disc_transfer(M_PI * n * s->sun_diameter_rad / s->theta0_rad);
+    }
+    s->norm1 = harmonic_raw(s, 0, 0.0);
+    /* Square wave of duty D: DC = D, a1 = (2/pi) sin(pi D) x transfer. */
+    s->dc_ratio = M_PI * s->duty / (2.0 * s->norm1);
 }
 
 void ess_finecode_harmonics(const ess_sensor *s, double psi_rad, double c[ESS_HARMONICS])
@@ -61,7 +66,7 @@ void ess_finecode_harmonics(const ess_sensor *s, double psi_rad, double c[ESS_HA
         if (s->harmonics_given)
             c[i] = s->given_ratio[i];
         else
-            c[i] = harmonic_raw(s, harmonic_order[i], psi_rad) / s->norm1;
+            c[i] = harmonic_raw(s, i, psi_rad) / s->norm1;
     }
 }
 

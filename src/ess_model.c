@@ -68,13 +68,24 @@ double ess_model_structural(const ess_model *m, double T)
     return structural(m, T, NULL, NULL, NULL, NULL, NULL, NULL);
 }
 
-double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
-                         double grad[ESS_NP])
+void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M)
 {
-    mat3 rx, ry, M;
+    mat3 rx, ry;
     rot_x(alpha_rad, rx);
     rot_y(beta_rad, ry);
     mat3_mul(rx, ry, M);
+}
+
+double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
+                         double grad[ESS_NP])
+{
+    mat3 M;
+    ess_turntable_matrix(alpha_rad, beta_rad, M);
+    return ess_model_predict_m(m, (const double(*)[3])M, grad);
+}
+
+double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
+{
     double w[3], s[3];
     mat3_vec(M, m->v, w);
     mat3_vec(m->R, w, s);

@@ -89,9 +89,7 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->duty = d->dial_duty;
     s->sun_diameter_rad = d->sun_diameter_deg * RAD_PER_DEG;
     s->harmonic_phase_rad = dev->harmonic_phase_deg * RAD_PER_DEG;
-    s->norm1 = ess_finecode_norm1(s);
-    /* Square wave of duty D: DC = D, a1 = (2/pi) sin(pi D) x transfer. */
-    s->dc_ratio = M_PI * s->duty / (2.0 * s->norm1);
+    ess_finecode_init(s);
 }
 
 int ess_sensor_output(const ess_sensor *s, const double sv[3], const double row_noise[ESS_FINE_ROWS],
