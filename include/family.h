@@ -57,6 +57,40 @@ typedef struct sensor_family {
     /* Run unit `unit` end to end.  A failed fit is recorded in r and is not
      * an error; only a failure of the machinery returns non-zero. */
     int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
+
+    /* ---- Error curves and maps (`sunmc curve`); all NULL when the family
+     * has none.  A curve is one unit's error at every point of a 2-D grid
+     * of table angles: axis 0 is the fast axis (ESS: alpha; DSS: b1), axis 1
+     * the series / slow axis (ESS: beta; DSS: b2).  The grid is the
+     * config's validation grid. ---- */
+
+    /* Column names of the two table axes, with units: {"alpha_deg", "beta_deg"}. */
+    const char *const *curve_axis_names;
+
+    /* Grid values (deg) of axis `axis` (0 or 1) into values[max]; returns
+     * the number of values (may exceed max: then only max are written). */
+    long (*curve_axis)(const sunmc_config *c, int axis, double *values_deg, long max);
+
+    /* Workspace holding one built unit, its campaign and its fitted model. */
+    void *(*curve_alloc)(const sunmc_config *c, char *err, size_t errlen);
+    void (*curve_free)(void *cv);
+
+    /* Build unit `unit` of c: its deviations drawn exactly as unit_run draws
+     * them, each multiplied by dev_sign (+1, or -1 for the mirror unit: a
+     * fixed tolerance of -V), simulate its calibration campaign (with c's
+     * noise) and fit.  *fit_ok = 0 when the fit failed (after-errors are
+     * then NaN).  Non-zero only for a failure of the machinery. */
+    int (*curve_prepare)(const sunmc_config *c, long unit, double dev_sign, void *cv,
+                         int *fit_ok);
+
+    /* One noiseless reading of the prepared unit at table angles (deg)
+     * axis0_deg, axis1_deg: for each measured angle a (n_angles of them)
+     * before[a] = raw - truth and after[a] = compensated - truth, in the
+     * family's rms_unit.  SUNMC_EDOM when the sun is not seen there or the
+     * reading is a gross error (wrong code period). */
+    int (*curve_eval)(const sunmc_config *c, const void *cv, double axis0_deg,
+                      double axis1_deg, double before[UNIT_MAX_ANGLES],
+                      double after[UNIT_MAX_ANGLES]);
 } sensor_family;
 
 extern const sensor_family ess_family;
