@@ -1,6 +1,7 @@
 /* ess_unit.c - the ESS family: sample -> physical sensor -> turntable
  * campaign -> fit -> validation, for one unit. */
 #include "ess_unit.h"
+#include "ess_curve.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -218,4 +219,11 @@ const sensor_family ess_family = {
     .workspace_alloc = ess_ws_alloc,
     .workspace_free = ess_ws_free,
     .unit_run = ess_unit_run,
+    /* curve hooks: ess_curve.c */
+    .curve_axis_names = ess_curve_axis_names,
+    .curve_axis = ess_curve_axis,
+    .curve_alloc = ess_curve_alloc,
+    .curve_free = ess_curve_free,
+    .curve_prepare = ess_curve_prepare,
+    .curve_eval = ess_curve_eval,
 };

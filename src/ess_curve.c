@@ -1,0 +1,119 @@
+/* ess_curve.c - one ESS unit's error curves (the family's curve hooks). */
+#include "ess_curve.h"
+#include "ess_unit.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const ess_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
+
+typedef struct {
+    ess_calib_workspace *cw;
+    ess_unit u;
+    ess_model m;
+    int fit_ok;
+} ess_curve_ws;
+
+long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
+{
+    if (axis == 1) {
+        for (long i = 0; i < c->val_beta_deg.n && i < max; i++)
+            values_deg[i] = c->val_beta_deg.v[i];
+        return c->val_beta_deg.n;
+    }
+    long n = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
+                        c->val_alpha_offset_deg);
+    for (long j = 0; j < n && j < max; j++)
+        values_deg[j] = c->val_alpha_min_deg + c->val_alpha_offset_deg +
+                        (double)j * c->val_alpha_step_deg;
+    return n;
+}
+
+void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    size_t n = ess_campaign_size(c);
+    if (n <= ESS_NP) {
+        sunmc_fail(err, errlen, SUNMC_EINPUT,
+                   "campaign has %zu points, fewer than the %d parameters to fit", n, ESS_NP + 1);
+        return NULL;
+    }
+    ess_curve_ws *w = calloc(1, sizeof *w);
+    if (w)
+        w->cw = ess_calib_alloc(n);
+    if (!w || !w->cw) {
+        free(w);
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
+        return NULL;
+    }
+    return w;
+}
+
+void ess_curve_free(void *cv)
+{
+    ess_curve_ws *w = cv;
+    if (!w)
+        return;
+    ess_calib_free(w->cw);
+    free(w);
+}
+
+/* Every deviation times s (the mirror unit of a signed fixed tolerance). */
+static void deviations_scale(ess_deviations *d, double s)
+{
+    d->dH_um *= s;
+    d->dd_um *= s;
+    d->dphi_deg *= s;
+    d->slit_width_um *= s;
+    d->harmonic_phase_deg *= s;
+    for (int m = 0; m < ESS_FINE_ROWS; m++) {
+        d->gain_pct[m] *= s;
+        d->etch_um[m] *= s;
+    }
+    d->install_x_arcsec *= s;
+    d->install_y_arcsec *= s;
+    d->install_z_arcsec *= s;
+    d->sun_x_arcsec *= s;
+    d->sun_y_arcsec *= s;
+    d->roll_measured_arcsec *= s;
+}
+
+int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
+{
+    ess_curve_ws *w = cv;
+    ess_deviations dev;
+    ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    deviations_scale(&dev, dev_sign);
+    ess_unit_build(c, &dev, &w->u);
+    int gross;
+    ess_unit_campaign(c, &w->u, unit, w->cw, &gross);
+    fit_result fr;
+    int st = ess_calibrate(w->cw, c->ess.theta0_deg * RAD_PER_DEG,
+                           dev.roll_measured_arcsec * RAD_PER_ARCSEC, c->alias_threshold,
+                           c->max_iterations, &w->m, &fr);
+    w->fit_ok = st == SUNMC_OK;
+    *fit_ok = w->fit_ok;
+    return SUNMC_OK;
+}
+
+int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
+                   double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
+{
+    const ess_curve_ws *w = cv;
+    double raw, truth, comp;
+    int st = ess_unit_read(&w->u, alpha_deg * RAD_PER_DEG, beta_deg * RAD_PER_DEG, NULL, &raw,
+                           &truth);
+    if (st != SUNMC_OK)
+        return st;
+    /* The coarse code picked the wrong fine period: a gross error, not a
+     * point of the curve (the validation drops it the same way). */
+    if (fabs(raw - truth) > 0.5 * c->ess.theta0_deg * RAD_PER_DEG)
+        return SUNMC_EDOM;
+    before[0] = (raw - truth) * DEG_PER_RAD;
+    after[0] = NAN;
+    if (w->fit_ok && ess_model_compensate(&w->m, raw, &comp) == SUNMC_OK)
+        after[0] = (comp - truth) * DEG_PER_RAD;
+    return SUNMC_OK;
+}
