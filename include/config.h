@@ -146,6 +146,9 @@ typedef struct {
     /* [report] */
     band_list bands_deg;
     double spec_arcsec;
+    double yield_target;                /* budget: yield the inverse limits must keep */
+    long budget_units;                  /* budget: units per bisection step */
+    int budget_steps;                   /* budget: bisection steps per source */
 } sunmc_config;
 
 /* One row of the key table. */

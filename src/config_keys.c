@@ -222,6 +222,13 @@ const config_key config_keys[] = {
      "RMS bands on |alpha| (ESS; ESS paper Table 1) or on the field angle (DSS)"},
     {"report", "spec_arcsec", KEY_DOUBLE, B, "arcsec", "54", "10", 0, 36000, NULL, OFF(spec_arcsec),
      "after-calibration RMS a unit must meet per band (yield); 54\" = 0.015 deg"},
+    {"report", "yield_target", KEY_DOUBLE, B, "", "0.95", NULL, 0.01, 1, NULL, OFF(yield_target),
+     "`budget`: the yield (fraction of units meeting spec_arcsec in the widest band) each "
+     "inverse tolerance limit must keep"},
+    {"report", "budget_units", KEY_LONG, B, "", "100", NULL, 10, 1000000, NULL,
+     OFF(budget_units), "`budget`: units per Monte Carlo step of the inverse-limit bisection"},
+    {"report", "budget_steps", KEY_INT, B, "", "6", NULL, 1, 40, NULL, OFF(budget_steps),
+     "`budget`: bisection steps per source for the inverse limit"},
 };
 
 const size_t config_key_count = sizeof config_keys / sizeof config_keys[0];
