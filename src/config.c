@@ -393,11 +393,11 @@ static int split_set(const char *arg, char *section, char *name, char *value, ch
     return SUNMC_OK;
 }
 
-static int apply_defaults(config_state *st, char *err, size_t errlen)
+static int apply_defaults(config_state *st, int family, char *err, size_t errlen)
 {
     for (size_t i = 0; i < config_key_count; i++) {
         const config_key *k = &config_keys[i];
-        const char *def = (st->cfg.family == FAMILY_DSS && k->def_dss) ? k->def_dss : k->def;
+        const char *def = (family == FAMILY_DSS && k->def_dss) ? k->def_dss : k->def;
         int s = set_parsed(k, &st->cfg, def, "default", err, errlen);
         if (s != SUNMC_OK)
             return s;
@@ -439,7 +439,7 @@ int config_build(config_state *st, const char *path, const char *const *sets, in
             goto done;
     }
     int family = st->cfg.family;
-    if ((status = apply_defaults(st, err, errlen)) != SUNMC_OK)
+    if ((status = apply_defaults(st, family, err, errlen)) != SUNMC_OK)
         goto done;
     st->cfg.family = family;
 
