@@ -55,7 +55,7 @@ const config_key config_keys[] = {
      "7 rows as in the ESS paper"},
     {"design", "fine_rows_x_mm", KEY_LIST, E, "mm", "0.6, 1.2, 1.8, 2.4", NULL, -20, 20, NULL,
      OFF(ess.fine_rows_x_mm), "x position of the 4 fine rows F1..F4 (quarter-period steps)"},
-    {"design", "slit_width_um", KEY_DOUBLE, E, "um", "24", NULL, 0, 500, NULL,
+    {"design", "slit_width_um", KEY_DOUBLE, E, "um", "20", NULL, 0, 500, NULL,
      OFF(ess.slit_width_um),
      "entrance slit width; with the sun's diameter it sets the fine-code harmonics (derived "
      "mode); chosen so type A's error before compensation has the paper's size"},
