@@ -1,0 +1,133 @@
+/* test_rng.c - Philox streams, tolerance distributions and rotations. */
+#include "test_util.h"
+
+#include "config.h"
+#include "rng.h"
+#include "rotation.h"
+#include "tolerance.h"
+#include "units.h"
+
+/* Known answer: Philox4x32-10 with key 0 and counter 0 gives the words
+ * 6627e8d5 e169c58d bc57ac4c 9b00dbd8 (Random123 kat_vectors); our first
+ * uniform is built from the first two words as (hi>>5 <<26 | lo>>6 + 0.5)/2^53. */
+static void test_philox_known_answer(void **state)
+{
+    rng_stream r;
+    rng_stream_init(&r, 0, 0, 0);
+    uint64_t hi = 0x6627e8d5u >> 5, lo = 0xe169c58du >> 6;
+    double expect = ((double)((hi << 26) | lo) + 0.5) / 9007199254740992.0;
+    assert_near(rng_uniform(&r), expect, 0);
+}
+
+/* Draws depend only on (seed, unit, stream): any order gives the same. */
+static void test_streams_independent_of_order(void **state)
+{
+    double fwd[50], back[50];
+    for (int u = 0; u < 50; u++) {
+        rng_stream r;
+        rng_stream_init(&r, 42, (uint64_t)u, 7);
+        fwd[u] = rng_normal(&r);
+    }
+    for (int u = 49; u >= 0; u--) {
+        rng_stream r;
+        rng_stream_init(&r, 42, (uint64_t)u, 7);
+        back[u] = rng_normal(&r);
+    }
+    assert_memory_equal(fwd, back, sizeof fwd);
+    rng_stream a, b;
+    rng_stream_init(&a, 42, 3, 7);
+    rng_stream_init(&b, 42, 3, 8);
+    assert_true(rng_uniform(&a) != rng_uniform(&b));
+}
+
+/* Moments of 200000 draws (fixed seed: deterministic). */
+static void test_moments(void **state)
+{
+    rng_stream r;
+    rng_stream_init(&r, 1, 0, 0);
+    const int n = 200000;
+    double su = 0, sn = 0, sn2 = 0, umin = 1, umax = 0;
+    for (int i = 0; i < n; i++) {
+        double u = rng_uniform(&r), z = rng_normal(&r);
+        su += u;
+        umin = fmin(umin, u);
+        umax = fmax(umax, u);
+        sn += z;
+        sn2 += z * z;
+    }
+    assert_near(su / n, 0.5, 0.003);
+    assert_true(umin > 0 && umax < 1);
+    assert_near(sn / n, 0, 0.01);
+    assert_near(sn2 / n, 1, 0.01);
+}
+
+static void test_tolerance_distributions(void **state)
+{
+    rng_stream r;
+    rng_stream_init(&r, 5, 0, 0);
+    tolerance fixed = {2.5, DIST_FIXED}, uni = {2, DIST_UNIFORM}, nor = {1.5, DIST_NORMAL},
+              tn = {1, DIST_TRUNCNORMAL};
+    double s2 = 0, tmax = 0, umax = 0;
+    const int n = 100000;
+    for (int i = 0; i < n; i++) {
+        assert_near(tolerance_draw(&fixed, 3, &r), 2.5, 0);
+        double u = tolerance_draw(&uni, 3, &r);
+        assert_true(fabs(u) <= 2);
+        umax = fmax(umax, fabs(u));
+        double z = tolerance_draw(&nor, 3, &r);
+        s2 += z * z;
+        double t = tolerance_draw(&tn, 2, &r);
+        assert_true(fabs(t) <= 2);
+        tmax = fmax(tmax, fabs(t));
+    }
+    assert_true(umax > 1.99);
+    assert_near(sqrt(s2 / n), 1.5, 0.015);
+    assert_true(tmax > 1.95); /* reaches the cut */
+}
+
+static void test_rotations(void **state)
+{
+    mat3 r, rt, p, d;
+    double a = 0.3;
+    void (*rots[3])(double, mat3) = {rot_x, rot_y, rot_z};
+    void (*drots[3])(double, mat3) = {drot_x, drot_y, drot_z};
+    for (int k = 0; k < 3; k++) {
+        rots[k](a, r);
+        mat3_transpose(r, rt);
+        mat3_mul(r, rt, p);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                assert_near(p[i][j], i == j, 1e-15);
+        /* derivative by central difference */
+        mat3 rp, rm;
+        rots[k](a + 1e-6, rp);
+        rots[k](a - 1e-6, rm);
+        drots[k](a, d);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                assert_near(d[i][j], (rp[i][j] - rm[i][j]) / 2e-6, 1e-9);
+    }
+    /* rot_x(alpha) rot_y(beta) (0,0,1) = (sin b, cos b sin a, cos b cos a) */
+    double v[3] = {0, 0, 1}, w[3];
+    mat3 rx, ry, m;
+    rot_x(0.4, rx);
+    rot_y(-0.2, ry);
+    mat3_mul(rx, ry, m);
+    mat3_vec(m, v, w);
+    assert_near(w[0], sin(-0.2), 1e-15);
+    assert_near(w[1], cos(-0.2) * sin(0.4), 1e-15);
+    assert_near(w[2], cos(-0.2) * cos(0.4), 1e-15);
+    sun_direction(0.1, 0.2, w);
+    assert_near(w[0] * w[0] + w[1] * w[1] + w[2] * w[2], 1, 1e-15);
+    assert_near(atan2(w[1], w[2] / cos(0.1)), 0.2, 1e-15);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_philox_known_answer), cmocka_unit_test(test_streams_independent_of_order),
+        cmocka_unit_test(test_moments),             cmocka_unit_test(test_tolerance_distributions),
+        cmocka_unit_test(test_rotations),
+    };
+    return cmocka_run_group_tests_name("rng_rotation", tests, NULL, NULL);
+}
