@@ -227,7 +227,7 @@ const config_key config_keys[] = {
      "inverse tolerance limit must keep"},
     {"report", "budget_units", KEY_LONG, B, "", "100", NULL, 10, 1000000, NULL,
      OFF(budget_units), "`budget`: units per Monte Carlo step of the inverse-limit bisection"},
-    {"report", "budget_steps", KEY_INT, B, "", "6", NULL, 1, 40, NULL, OFF(budget_steps),
+    {"report", "budget_steps", KEY_INT, B, "", "5", NULL, 1, 40, NULL, OFF(budget_steps),
      "`budget`: bisection steps per source for the inverse limit"},
 };
 

@@ -7,7 +7,6 @@ static int not_yet(const char *name)
     return 1;
 }
 
-int cmd_budget(int argc, char **argv) { return not_yet("budget"); }
 int cmd_curve(int argc, char **argv) { return not_yet("curve"); }
 int cmd_simulate(int argc, char **argv) { return not_yet("simulate"); }
 int cmd_calibrate(int argc, char **argv) { return not_yet("calibrate"); }
