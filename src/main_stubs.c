@@ -8,6 +8,3 @@ static int not_yet(const char *name)
 }
 
 int cmd_curve(int argc, char **argv) { return not_yet("curve"); }
-int cmd_simulate(int argc, char **argv) { return not_yet("simulate"); }
-int cmd_calibrate(int argc, char **argv) { return not_yet("calibrate"); }
-int cmd_compensate(int argc, char **argv) { return not_yet("compensate"); }

@@ -1,0 +1,116 @@
+/* calreport.h - what `sunmc calibrate` reports about a fit, for any sensor
+ * family: parameters with standard errors, correlation matrix, condition
+ * numbers, warnings (each with its reason and what to do), residual RMS and
+ * predicted after-calibration accuracy per band, and cross-validation.
+ *
+ * The family's calibration code (ess_calfit.h, ...) fills a calreport;
+ * calreport_print writes it for a person.
+ *
+ * Units: parameter values and standard errors are in the unit of the
+ * parameter's name (name[i]); every RMS and sigma is in arcsec.
+ */
+#ifndef SUNMC_CALREPORT_H
+#define SUNMC_CALREPORT_H
+
+#include "config.h"
+#include "fit.h"
+
+#include <gsl/gsl_matrix.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#define CALREPORT_MAX_PAR 16
+#define CALREPORT_MAX_WARN 24
+#define CALREPORT_MAX_FOLDS 64
+#define CALREPORT_MAX_ANGLES 2
+#define CALREPORT_TEXT_MAX 400
+#define CALREPORT_NAME_MAX 40
+
+/* |correlation| above which a parameter pair is named as near-unidentifiable. */
+#define CALREPORT_CORR_WARN 0.98
+
+typedef struct {
+    char reason[CALREPORT_TEXT_MAX];  /* what was found and why it matters */
+    char action[CALREPORT_TEXT_MAX];  /* what to do about it */
+} calreport_warning;
+
+/* One cross-validation fold: a part of the data held out, the rest refitted. */
+typedef struct {
+    char label[CALREPORT_NAME_MAX];   /* e.g. "beta = 20 deg" */
+    size_t n_out;                     /* points held out */
+    int ok;                           /* refit converged */
+    double rms_in_arcsec;             /* refit's residual on the points it used */
+    double rms_out_arcsec;            /* its error on the held-out points */
+} calreport_fold;
+
+typedef struct {
+    const char *sensor;               /* "ess", "dss" */
+    const char *model;                /* model name as in params.ini */
+
+    /* data */
+    size_t n_rows;                    /* rows in the file */
+    size_t n_used;                    /* rows with weight > 0 after gross-error checks */
+    int dof;                          /* degrees of freedom of the residual variance */
+
+    /* fit */
+    fit_result fit;
+    int fit_ok;
+    double sigma_arcsec;              /* residual standard deviation, sqrt(chi2 / dof) */
+
+    /* parameters, in the units of their names */
+    int np;
+    char name[CALREPORT_MAX_PAR][CALREPORT_NAME_MAX];
+    double value[CALREPORT_MAX_PAR];
+    double se[CALREPORT_MAX_PAR];     /* standard error (scaled covariance) */
+    double corr[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR];
+    double cond_jacobian;             /* 1 / GSL's rcond of J at the solution */
+    double cond_correlation;          /* largest / smallest eigenvalue of corr */
+
+    int nw;
+    calreport_warning w[CALREPORT_MAX_WARN];
+
+    /* per measured angle and band (config report.bands_deg) */
+    int n_angles;
+    const char *angle_name[CALREPORT_MAX_ANGLES];
+    band_list bands;
+    long band_n[CALREPORT_MAX_ANGLES][CONFIG_BANDS_MAX];            /* data points */
+    double resid_rms[CALREPORT_MAX_ANGLES][CONFIG_BANDS_MAX];       /* in-sample, arcsec */
+    double cal_sigma_rms[CALREPORT_MAX_ANGLES][CONFIG_BANDS_MAX];   /* propagated, arcsec */
+    double cal_sigma_max[CALREPORT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    double predicted_rms[CALREPORT_MAX_ANGLES][CONFIG_BANDS_MAX];   /* sqrt(noise^2 + cal^2) */
+
+    /* cross-validation */
+    int n_folds;
+    calreport_fold fold[CALREPORT_MAX_FOLDS];
+    double cv_rms_in_arcsec;          /* pooled over folds */
+    double cv_rms_out_arcsec;
+    char cv_note[CALREPORT_TEXT_MAX]; /* why there is no cross-validation, else "" */
+} calreport;
+
+/* Zero r and set its family names. */
+void calreport_init(calreport *r, const char *sensor, const char *model);
+
+/* Add a warning (formatted reason, formatted action); dropped when full. */
+void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* From the unscaled covariance cov (p x p, (J^T J)^-1 in the fit's internal
+ * units) and the residual variance s2: standard errors se[i] = sqrt(s2
+ * cov_ii) * scale[i] (scale converts internal units to those of name[i]),
+ * the correlation matrix and its condition number.  r->np must be set.
+ * SUNMC_EFIT when a variance is not positive or the eigen-solve fails. */
+int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const double *scale);
+
+/* Add one warning for each pair with |corr| > threshold, naming both. */
+void calreport_check_correlations(calreport *r, double threshold);
+
+/* Print the report for a person. */
+int calreport_print(FILE *f, const calreport *r);
+
+/* Write the band table (one row per angle and band) as TSV with a header. */
+int calreport_write_bands(FILE *f, const calreport *r);
+
+/* Write the cross-validation folds as TSV with a header. */
+int calreport_write_folds(FILE *f, const calreport *r);
+
+#endif

@@ -1,0 +1,82 @@
+/* ess_calfit.h - calibrating a real ESS from turntable data (`sunmc
+ * calibrate --sensor ess`): the fit itself is ess_calibrate (ess_calib.h),
+ * the very code path of the Monte Carlo; this adds what a lab needs around
+ * it: gross-error checks, standard errors and correlations, the residual
+ * per band in the angle domain, the parameter covariance propagated to the
+ * compensated angle, cross-validation by beta line, and params.ini.
+ *
+ * Angle-domain error of a reading: the compensated output minus the
+ * incidence that the fitted installation predicts at the recorded table
+ * angles, i.e. what the Monte Carlo's validation measures against the truth.
+ */
+#ifndef SUNMC_ESS_CALFIT_H
+#define SUNMC_ESS_CALFIT_H
+
+#include "calreport.h"
+#include "config.h"
+#include "ess_calib.h"
+#include "ess_model.h"
+#include "params_io.h"
+
+#include <stdio.h>
+
+/* Model name written to params.ini. */
+#define ESS_CALFIT_MODEL "ess_eq12_finecode"
+
+/* Step of the field grid on which the covariance is propagated. */
+#define ESS_FIELD_STEP_DEG 0.1
+
+typedef struct {
+    ess_model m;                    /* fitted model (prepared) */
+    double cov[ESS_NP][ESS_NP];     /* scaled parameter covariance, internal units (rad) */
+    double s2;                      /* residual variance, rad^2 */
+    int n_gross;                    /* rows dropped by the half-period check */
+} ess_calfit_result;
+
+/* Calibrate from cw's data: alpha_rad, beta_rad, raw_rad as recorded and
+ * weight (1 / relative variance; 0 drops a row).  line[n] is each row's line
+ * in the data file for messages (may be NULL).  Rows whose output is off the
+ * table alpha by more than half a fine period get weight 0 (as in the Monte
+ * Carlo).  Roll: calibration.roll_measured_arcsec of c.  Fills res and rep.
+ * SUNMC_EINPUT (message in err) when n_used <= ESS_NP; a failed fit is not an
+ * error (rep->fit_ok = 0, with a warning). */
+int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
+                   ess_calfit_result *res, calreport *rep, char *err, size_t errlen);
+
+/* Derivative of the compensated angle with respect to the parameters
+ * p[ESS_NP] (internal units), at the reading that incidence alpha_rad
+ * produces under m (implicit differentiation of the structural model; only
+ * a, b, c, ks, kc are non-zero: the installation does not enter
+ * compensation). */
+void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP]);
+
+/* Standard deviation (rad) of the compensated angle at incidence alpha_rad
+ * from the parameter covariance cov (internal units): sqrt(h^T cov h). */
+double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP][ESS_NP], double alpha_rad);
+
+/* Angle-domain error (rad) of reading raw_rad at recorded table angles:
+ * compensate(raw) - incidence under m's installation.  SUNMC_EDOM when the
+ * reading cannot be compensated. */
+int ess_angle_error(const ess_model *m, double alpha_rad, double beta_rad, double raw_rad,
+                    double *err_rad);
+
+/* TSV: every row of the data with its residual (raw - predicted) and
+ * angle-domain error in arcsec; line[] may be NULL. */
+int ess_calfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int *line,
+                               const ess_model *m);
+
+/* TSV: alpha_deg, sigma_arcsec of the compensated angle across
+ * [alpha_min_deg, alpha_max_deg] in steps of ESS_FIELD_STEP_DEG. */
+int ess_calfit_write_field(FILE *f, const ess_calfit_result *res, double alpha_min_deg,
+                           double alpha_max_deg);
+
+/* params.ini content: [design] theta0_deg, [parameters] (with standard
+ * errors from rep, may be NULL), [fixed] roll and d, [derived] k_deg, t_rad. */
+int ess_params_fill(params_file *p, const ess_calfit_result *res, const calreport *rep,
+                    double theta0_deg);
+
+/* The model a params.ini describes (checks sensor and model names).
+ * Messages "FILE:LINE: ..." / "FILE: missing key ...". */
+int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen);
+
+#endif

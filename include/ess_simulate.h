@@ -1,0 +1,41 @@
+/* ess_simulate.h - one simulated ESS unit's data as a lab records them
+ * (`sunmc simulate`): the truth behind its calibration campaign and the
+ * validation readings the Monte Carlo scores it on.
+ *
+ * Both replay the Monte Carlo's random streams for (seed, unit) in the
+ * Monte Carlo's order, so the files `simulate` writes are exactly what unit
+ * `unit` of `sunmc run` sees (ess_unit.c is the reference; the tests compare
+ * the replay with ess_unit_campaign and with run's units.tsv).
+ */
+#ifndef SUNMC_ESS_SIMULATE_H
+#define SUNMC_ESS_SIMULATE_H
+
+#include "config.h"
+#include "ess_unit.h"
+
+#include <stddef.h>
+
+/* Truth behind each of the ess_campaign_size(c) campaign points of unit
+ * `unit` (same order as ess_unit_campaign): the table's true angles (the
+ * recorded ones plus encoder error), the true incidence alpha in the sensor
+ * frame, the averaged raw output (equal to ess_unit_campaign's), and seen[i]
+ * = 0 when the sun was not seen.  All angles in rad; arrays of n. */
+void ess_campaign_truth(const sunmc_config *c, const ess_unit *u, long unit,
+                        double *alpha_true_rad, double *beta_true_rad, double *incidence_rad,
+                        double *raw_rad, int *seen);
+
+/* Number of validation grid points of config c (alphas x betas). */
+size_t ess_validation_size(const sunmc_config *c);
+
+/* The validation readings of unit `unit`, as ess_family's unit_run makes
+ * them: table angles, raw output and true incidence (rad), and status[i]:
+ * 0 valid, 1 sun not seen, 2 gross error (off the truth by more than half a
+ * fine period; the Monte Carlo leaves these out).  Arrays of
+ * ess_validation_size(c). */
+void ess_validation_readings(const sunmc_config *c, const ess_unit *u, long unit,
+                             double *alpha_rad, double *beta_rad, double *raw_rad,
+                             double *truth_rad, int *status);
+
+enum ess_reading_status { ESS_READING_OK = 0, ESS_READING_UNSEEN = 1, ESS_READING_GROSS = 2 };
+
+#endif

@@ -1,0 +1,86 @@
+/* params_io.h - params.ini: a calibration as `sunmc calibrate` writes it and
+ * `sunmc compensate` (and a person) reads it.
+ *
+ * An INI file of sections and `key = value` lines, each optionally followed
+ * by `# comment` (the unit and the standard error, for the reader).  Keys
+ * carry their unit in their name (_deg, _arcsec, _px).  Numbers are written
+ * with 17 significant digits so that a write/read round trip is exact.
+ *
+ * Typical content ([calibration] is common to every family):
+ *     [calibration]
+ *     sunmc_version = 0.1.0
+ *     sensor = ess
+ *     model = ess_eq12_finecode
+ *     data_file = runs/u3/campaign.csv
+ *     data_fnv1a64 = 3f2a...          (FNV-1a 64 of the data file's bytes)
+ *     [design]  ...  [parameters]  ...
+ */
+#ifndef SUNMC_PARAMS_IO_H
+#define SUNMC_PARAMS_IO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define PARAMS_MAX_ENTRIES 160
+#define PARAMS_SECTION_MAX 32
+#define PARAMS_KEY_MAX 64
+#define PARAMS_VALUE_MAX 512
+#define PARAMS_COMMENT_MAX 160
+#define PARAMS_PATH_MAX 1024
+
+typedef struct {
+    char section[PARAMS_SECTION_MAX];
+    char key[PARAMS_KEY_MAX];
+    char value[PARAMS_VALUE_MAX];
+    char comment[PARAMS_COMMENT_MAX];  /* written after '#', may be empty */
+    int line;                          /* line in the file it was read from; 0 when built */
+} params_entry;
+
+typedef struct {
+    char path[PARAMS_PATH_MAX];        /* file read from ("" when built) */
+    int n;
+    params_entry e[PARAMS_MAX_ENTRIES];
+} params_file;
+
+/* Empty set. */
+void params_init(params_file *p);
+
+/* Add section.key = text (or a double, %.17g) with an optional comment (NULL:
+ * none).  SUNMC_EINPUT when full, a name is too long or the key exists. */
+int params_set_text(params_file *p, const char *section, const char *key, const char *text,
+                    const char *comment);
+int params_set_double(params_file *p, const char *section, const char *key, double v,
+                      const char *comment);
+
+/* Write every entry, grouped by section in order of first appearance, after
+ * the header comment `title` (may hold several lines; each gets "# "). */
+int params_write(FILE *f, const params_file *p, const char *title);
+
+/* Read path.  "FILE:LINE: message" for a line that is not `[section]`,
+ * `key = value`, blank or a comment, a key outside a section, or a key given
+ * twice.  SUNMC_EIO when unreadable. */
+int params_read(const char *path, params_file *p, char *err, size_t errlen);
+
+/* The entry section.key, or NULL. */
+const params_entry *params_find(const params_file *p, const char *section, const char *key);
+
+/* Value of section.key as text / as a finite double.  Messages:
+ * "FILE: missing key section.key" and "FILE:LINE: key section.key: 'x' is not
+ * a number". */
+int params_get_text(const params_file *p, const char *section, const char *key,
+                    const char **out, char *err, size_t errlen);
+int params_get_double(const params_file *p, const char *section, const char *key, double *out,
+                      char *err, size_t errlen);
+
+/* Every key of `section` must be one of names[n] (NULL-free), else
+ * "FILE:LINE: unknown key section.key". */
+int params_check_keys(const params_file *p, const char *section, const char *const *names,
+                      int n, char *err, size_t errlen);
+
+/* FNV-1a 64-bit hash of n bytes, continuing from h (start with
+ * PARAMS_FNV1A64_INIT); and of a whole file's bytes. */
+#define PARAMS_FNV1A64_INIT 0xcbf29ce484222325ULL
+unsigned long long params_fnv1a64(unsigned long long h, const void *data, size_t n);
+int params_file_fnv1a64(const char *path, unsigned long long *hash, char *err, size_t errlen);
+
+#endif

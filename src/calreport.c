@@ -1,0 +1,187 @@
+/* calreport.c - standard errors, correlations and the printed fit report. */
+#include "calreport.h"
+#include "status.h"
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+
+void calreport_init(calreport *r, const char *sensor, const char *model)
+{
+    memset(r, 0, sizeof *r);
+    r->sensor = sensor;
+    r->model = model;
+    r->cv_rms_in_arcsec = NAN;
+    r->cv_rms_out_arcsec = NAN;
+}
+
+void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
+{
+    if (r->nw >= CALREPORT_MAX_WARN)
+        return;
+    calreport_warning *w = &r->w[r->nw++];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->reason, sizeof w->reason, fmt, ap);
+    va_end(ap);
+    snprintf(w->action, sizeof w->action, "%s", action);
+}
+
+int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const double *scale)
+{
+    int p = r->np;
+    for (int i = 0; i < p; i++) {
+        double v = gsl_matrix_get(cov, (size_t)i, (size_t)i);
+        if (!(v > 0) || !isfinite(v))
+            return SUNMC_EFIT;
+        r->se[i] = sqrt(s2 * v) * fabs(scale[i]);
+    }
+    gsl_matrix *c = gsl_matrix_alloc((size_t)p, (size_t)p);
+    gsl_vector *ev = gsl_vector_alloc((size_t)p);
+    gsl_eigen_symm_workspace *ws = gsl_eigen_symm_alloc((size_t)p);
+    if (!c || !ev || !ws) {
+        gsl_matrix_free(c);
+        gsl_vector_free(ev);
+        gsl_eigen_symm_free(ws);
+        return SUNMC_ENOMEM;
+    }
+    for (int i = 0; i < p; i++)
+        for (int j = 0; j < p; j++) {
+            double cij = gsl_matrix_get(cov, (size_t)i, (size_t)j) /
+                         sqrt(gsl_matrix_get(cov, (size_t)i, (size_t)i) *
+                              gsl_matrix_get(cov, (size_t)j, (size_t)j));
+            r->corr[i][j] = cij;
+            gsl_matrix_set(c, (size_t)i, (size_t)j, cij);
+        }
+    int st = gsl_eigen_symm(c, ev, ws);
+    if (st == GSL_SUCCESS) {
+        double lo = gsl_vector_min(ev), hi = gsl_vector_max(ev);
+        r->cond_correlation = lo > 0 ? hi / lo : INFINITY;
+    }
+    gsl_matrix_free(c);
+    gsl_vector_free(ev);
+    gsl_eigen_symm_free(ws);
+    return st == GSL_SUCCESS ? SUNMC_OK : SUNMC_EFIT;
+}
+
+void calreport_check_correlations(calreport *r, double threshold)
+{
+    for (int i = 0; i < r->np; i++)
+        for (int j = i + 1; j < r->np; j++)
+            if (fabs(r->corr[i][j]) > threshold)
+                calreport_warn(r,
+                               "widen the campaign (alpha range, more beta lines far apart) so "
+                               "the two change the output differently, or fix one of them from "
+                               "another measurement; their combination is still determined, "
+                               "each alone is not",
+                               "parameters %s and %s are nearly unidentifiable: correlation "
+                               "%+.4f (|r| > %g): the data barely tell them apart, so their "
+                               "standard errors are inflated",
+                               r->name[i], r->name[j], r->corr[i][j], threshold);
+}
+
+static void print_value(FILE *f, double v)
+{
+    if (isnan(v))
+        fprintf(f, "  %9s", "-");
+    else
+        fprintf(f, "  %9.2f", v);
+}
+
+int calreport_print(FILE *f, const calreport *r)
+{
+    fprintf(f, "calibration of a %s sensor, model %s\n", r->sensor, r->model);
+    fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used, r->dof);
+    fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
+            r->fit.iterations, fit_reason(&r->fit));
+    fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);
+
+    fprintf(f, "\nparameters (standard errors from the covariance at the solution, "
+               "scaled by the residual variance):\n");
+    for (int i = 0; i < r->np; i++)
+        fprintf(f, "  %-24s %+.9e  +- %.3e\n", r->name[i], r->value[i], r->se[i]);
+
+    fprintf(f, "\ncorrelation matrix:\n%-24s", "");
+    for (int j = 0; j < r->np; j++)
+        fprintf(f, " %7d", j + 1);
+    fputc('\n', f);
+    for (int i = 0; i < r->np; i++) {
+        fprintf(f, "  %2d %-20s", i + 1, r->name[i]);
+        for (int j = 0; j < r->np; j++)
+            fprintf(f, " %+7.3f", r->corr[i][j]);
+        fputc('\n', f);
+    }
+    fprintf(f, "condition number: %.3g of the Jacobian (parameters in internal units), "
+               "%.3g of the correlation matrix\n",
+            r->cond_jacobian, r->cond_correlation);
+
+    fprintf(f, "\nper band (arcsec; predicted = sqrt(noise^2 + calibration^2), calibration = "
+               "parameter covariance\npropagated to the compensated angle):\n");
+    fprintf(f, "  angle  band |x| deg   points  residual  cal.sigma(rms)  cal.sigma(max)  "
+               "predicted\n");
+    for (int a = 0; a < r->n_angles; a++)
+        for (int b = 0; b < r->bands.n; b++) {
+            char band[32];
+            snprintf(band, sizeof band, "%g:%g", r->bands.lo[b], r->bands.hi[b]);
+            fprintf(f, "  %-6s %-12s %7ld", r->angle_name[a], band, r->band_n[a][b]);
+            print_value(f, r->resid_rms[a][b]);
+            fprintf(f, "     ");
+            print_value(f, r->cal_sigma_rms[a][b]);
+            fprintf(f, "     ");
+            print_value(f, r->cal_sigma_max[a][b]);
+            fprintf(f, "  ");
+            print_value(f, r->predicted_rms[a][b]);
+            fputc('\n', f);
+        }
+
+    fprintf(f, "\ncross-validation (hold out each part, refit the rest, error on the held-out "
+               "part, arcsec):\n");
+    if (r->n_folds == 0)
+        fprintf(f, "  none: %s\n", r->cv_note);
+    for (int k = 0; k < r->n_folds; k++) {
+        const calreport_fold *fo = &r->fold[k];
+        if (fo->ok)
+            fprintf(f, "  held out %-20s %6zu points: in-sample %8.2f  held-out %8.2f\n",
+                    fo->label, fo->n_out, fo->rms_in_arcsec, fo->rms_out_arcsec);
+        else
+            fprintf(f, "  held out %-20s %6zu points: refit failed\n", fo->label, fo->n_out);
+    }
+    if (r->n_folds > 0)
+        fprintf(f, "  pooled: in-sample %.2f, held-out %.2f (the honest accuracy estimate)\n",
+                r->cv_rms_in_arcsec, r->cv_rms_out_arcsec);
+
+    fprintf(f, "\nwarnings: %d\n", r->nw);
+    for (int i = 0; i < r->nw; i++)
+        fprintf(f, "  %d. %s\n     what to do: %s\n", i + 1, r->w[i].reason, r->w[i].action);
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+int calreport_write_bands(FILE *f, const calreport *r)
+{
+    fprintf(f, "angle\tband_lo_deg\tband_hi_deg\tpoints\tresidual_rms_arcsec\t"
+               "cal_sigma_rms_arcsec\tcal_sigma_max_arcsec\tpredicted_rms_arcsec\n");
+    for (int a = 0; a < r->n_angles; a++)
+        for (int b = 0; b < r->bands.n; b++)
+            fprintf(f, "%s\t%g\t%g\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\n", r->angle_name[a],
+                    r->bands.lo[b], r->bands.hi[b], r->band_n[a][b], r->resid_rms[a][b],
+                    r->cal_sigma_rms[a][b], r->cal_sigma_max[a][b], r->predicted_rms[a][b]);
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+int calreport_write_folds(FILE *f, const calreport *r)
+{
+    fprintf(f, "fold\theld_out\tpoints\tok\trms_in_arcsec\trms_out_arcsec\n");
+    for (int k = 0; k < r->n_folds; k++) {
+        const calreport_fold *fo = &r->fold[k];
+        char label[CALREPORT_NAME_MAX];
+        snprintf(label, sizeof label, "%s", fo->label);
+        for (char *s = label; *s; s++)
+            if (*s == ' ' || *s == '\t')
+                *s = '_';
+        fprintf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
+                fo->rms_in_arcsec, fo->rms_out_arcsec);
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}

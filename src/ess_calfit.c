@@ -1,0 +1,444 @@
+/* ess_calfit.c - `sunmc calibrate --sensor ess`: the Monte Carlo's fit
+ * (ess_calibrate) plus uncertainty, residuals, cross-validation and
+ * params.ini. */
+#include "ess_calfit.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Line numbers of gross-error rows quoted in the warning. */
+#define GROSS_LINES_QUOTED 5
+/* Two beta lines closer than this (rad) are the same line. */
+#define BETA_SAME_RAD 1e-9
+
+/* Parameter display units: internal value * scale = value in name's unit. */
+static const double par_scale[ESS_NP] = {1.0, 1.0, 1.0, DEG_PER_RAD, DEG_PER_RAD,
+                                         ARCSEC_PER_RAD, ARCSEC_PER_RAD, ARCSEC_PER_RAD};
+
+void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP])
+{
+    const double *p = m->p;
+    double T = tan(alpha_rad);
+    double N = p[ESS_P_A] * T + p[ESS_P_B], D = p[ESS_P_C] * T + 1.0;
+    double q = N * N + D * D;
+    double wa = m->omega * atan2(N, D);
+    double G = 1.0 - m->omega * (p[ESS_P_KS] * cos(wa) - p[ESS_P_KC] * sin(wa));
+    double draw_dalpha = G * (p[ESS_P_A] * D - N * p[ESS_P_C]) / q * (1.0 + T * T);
+    double draw_dp[ESS_NP] = {0};
+    draw_dp[ESS_P_A] = G * T * D / q;
+    draw_dp[ESS_P_B] = G * D / q;
+    draw_dp[ESS_P_C] = -G * N * T / q;
+    draw_dp[ESS_P_KS] = -sin(wa);
+    draw_dp[ESS_P_KC] = -cos(wa);
+    for (int j = 0; j < ESS_NP; j++)
+        h[j] = -draw_dp[j] / draw_dalpha;
+}
+
+double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP][ESS_NP], double alpha_rad)
+{
+    double h[ESS_NP], v = 0;
+    ess_compensate_gradient(m, alpha_rad, h);
+    for (int i = 0; i < ESS_NP; i++)
+        for (int j = 0; j < ESS_NP; j++)
+            v += h[i] * cov[i][j] * h[j];
+    return sqrt(fmax(v, 0.0));
+}
+
+int ess_angle_error(const ess_model *m, double alpha_rad, double beta_rad, double raw_rad,
+                    double *err_rad)
+{
+    mat3 rx, ry, M;
+    rot_x(alpha_rad, rx);
+    rot_y(beta_rad, ry);
+    mat3_mul(rx, ry, M);
+    double w[3], s[3], comp;
+    mat3_vec(M, m->v, w);
+    mat3_vec(m->R, w, s);
+    int st = ess_model_compensate(m, raw_rad, &comp);
+    if (st != SUNMC_OK)
+        return st;
+    *err_rad = comp - atan2(s[1], s[2]);
+    return SUNMC_OK;
+}
+
+/* Angle-domain RMS (rad) over rows with use[i] > 0; *n counts them. */
+static double angle_rms(const ess_calib_workspace *cw, const double *use, const ess_model *m,
+                        size_t *n)
+{
+    double sum = 0;
+    *n = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        double e;
+        if (use[i] > 0 && ess_angle_error(m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) == SUNMC_OK) {
+            sum += e * e;
+            (*n)++;
+        }
+    }
+    return *n ? sqrt(sum / (double)*n) : NAN;
+}
+
+static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
+                        ess_calfit_result *res, calreport *rep)
+{
+    double half_period = 0.5 * c->ess.theta0_deg * RAD_PER_DEG;
+    char lines[CALREPORT_TEXT_MAX / 2] = "";
+    size_t used = 0;
+    res->n_gross = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0) || fabs(cw->raw_rad[i] - cw->alpha_rad[i]) < half_period)
+            continue;
+        cw->weight[i] = 0.0;
+        if (res->n_gross < GROSS_LINES_QUOTED && line && used < sizeof lines)
+            used += (size_t)snprintf(lines + used, sizeof lines - used, "%s%d",
+                                     res->n_gross ? ", " : "", line[i]);
+        res->n_gross++;
+    }
+    if (res->n_gross)
+        calreport_warn(rep,
+                       "check those rows (table angle recorded right? sensor in its field?) and "
+                       "repeat the readings; they were left out of the fit",
+                       "%d readings differ from the table alpha by more than half a fine "
+                       "period (%g deg)%s%s%s: the coarse code picked the wrong period or the "
+                       "row is mis-recorded",
+                       res->n_gross, c->ess.theta0_deg / 2, line ? " (lines " : "", lines,
+                       line ? (res->n_gross > GROSS_LINES_QUOTED ? ", ...)" : ")") : "");
+}
+
+static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep)
+{
+    for (int j = 0; j < 2; j++)
+        if (cw->alias.weak[j])
+            calreport_warn(rep,
+                           "record the campaign with an alpha step that is not a multiple of "
+                           "theta0/8 (e.g. 0.2 deg for theta0 = 2 deg) so the readings fall on "
+                           "many phases of the fine-code period",
+                           "fine-code term aliased by the campaign step: the alpha values sample "
+                           "the %g-deg fine-code period at too few phases; the direction (ks, "
+                           "kc) = (%+.3f, %+.3f) has %.3g of a full spread's variance (below "
+                           "calibration.alias_threshold = %g), so it was regularised to 0 and "
+                           "that part of the fine-code error stays uncorrected",
+                           c->ess.theta0_deg / 4, cw->alias.evec[j][0], cw->alias.evec[j][1],
+                           cw->alias.eig_norm[j], c->alias_threshold);
+}
+
+static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calreport *rep,
+                           double theta0, double roll)
+{
+    double betas[CALREPORT_MAX_FOLDS];
+    int nb = 0, too_many = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0))
+            continue;
+        int k = 0;
+        while (k < nb && fabs(betas[k] - cw->beta_rad[i]) > BETA_SAME_RAD)
+            k++;
+        if (k == nb) {
+            if (nb == CALREPORT_MAX_FOLDS)
+                too_many = 1;
+            else
+                betas[nb++] = cw->beta_rad[i];
+        }
+    }
+    if (too_many || nb < 2) {
+        snprintf(rep->cv_note, sizeof rep->cv_note,
+                 too_many ? "more than %d beta lines" : "the campaign has %d beta line: hold-out "
+                                                         "needs at least two",
+                 too_many ? CALREPORT_MAX_FOLDS : nb);
+        return;
+    }
+    double *saved = malloc(cw->n * sizeof *saved);
+    double *held = malloc(cw->n * sizeof *held);
+    if (!saved || !held) {
+        free(saved);
+        free(held);
+        snprintf(rep->cv_note, sizeof rep->cv_note, "out of memory");
+        return;
+    }
+    memcpy(saved, cw->weight, cw->n * sizeof *saved);
+    double sum_in = 0, sum_out = 0;
+    size_t n_in_all = 0, n_out_all = 0;
+    for (int k = 0; k < nb; k++) {
+        calreport_fold *fo = &rep->fold[rep->n_folds++];
+        snprintf(fo->label, sizeof fo->label, "beta = %g deg", betas[k] * DEG_PER_RAD);
+        size_t left = 0;
+        fo->n_out = 0;
+        for (size_t i = 0; i < cw->n; i++) {
+            int out = fabs(cw->beta_rad[i] - betas[k]) <= BETA_SAME_RAD;
+            held[i] = out ? saved[i] : 0.0;
+            cw->weight[i] = out ? 0.0 : saved[i];
+            fo->n_out += held[i] > 0;
+            left += cw->weight[i] > 0;
+        }
+        ess_model mk;
+        fit_result fr;
+        fo->ok = left > ESS_NP && ess_calibrate(cw, theta0, roll, c->alias_threshold,
+                                                c->max_iterations, &mk, &fr) == SUNMC_OK;
+        fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
+        if (fo->ok) {
+            size_t ni, no;
+            double ri = angle_rms(cw, cw->weight, &mk, &ni);
+            double ro = angle_rms(cw, held, &mk, &no);
+            fo->rms_in_arcsec = ri * ARCSEC_PER_RAD;
+            fo->rms_out_arcsec = ro * ARCSEC_PER_RAD;
+            if (ni) {
+                sum_in += ri * ri * (double)ni;
+                n_in_all += ni;
+            }
+            if (no) {
+                sum_out += ro * ro * (double)no;
+                n_out_all += no;
+            }
+        }
+    }
+    memcpy(cw->weight, saved, cw->n * sizeof *saved);
+    free(saved);
+    free(held);
+    if (n_in_all)
+        rep->cv_rms_in_arcsec = sqrt(sum_in / (double)n_in_all) * ARCSEC_PER_RAD;
+    if (n_out_all)
+        rep->cv_rms_out_arcsec = sqrt(sum_out / (double)n_out_all) * ARCSEC_PER_RAD;
+}
+
+/* Residual per band (angle domain), propagated sigma across the field, and
+ * the predicted after-calibration RMS. */
+static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
+                       const ess_calfit_result *res, calreport *rep, int *n_uncomp)
+{
+    const band_list *bands = &c->bands_deg;
+    band_acc resid, cal;
+    band_acc_reset(&resid);
+    band_acc_reset(&cal);
+    double amin = INFINITY, amax = -INFINITY;
+    *n_uncomp = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0))
+            continue;
+        amin = fmin(amin, cw->alpha_rad[i]);
+        amax = fmax(amax, cw->alpha_rad[i]);
+        double e, comp;
+        if (ess_angle_error(&res->m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) !=
+            SUNMC_OK) {
+            (*n_uncomp)++;
+            continue;
+        }
+        comp = cw->raw_rad[i];
+        ess_model_compensate(&res->m, cw->raw_rad[i], &comp);
+        band_acc_add(&resid, bands, fabs(comp) * DEG_PER_RAD, e);
+    }
+    for (int b = 0; b < bands->n; b++)
+        rep->cal_sigma_max[0][b] = 0;
+    long na = isfinite(amin) ? grid_count(amin * DEG_PER_RAD, amax * DEG_PER_RAD,
+                                          ESS_FIELD_STEP_DEG, 0)
+                             : 0;
+    for (long j = 0; j < na; j++) {
+        double a_deg = amin * DEG_PER_RAD + (double)j * ESS_FIELD_STEP_DEG;
+        double s = ess_calfit_sigma(&res->m, res->cov, a_deg * RAD_PER_DEG);
+        band_acc_add(&cal, bands, fabs(a_deg), s);
+        for (int b = 0; b < bands->n; b++) {
+            band_acc one;
+            band_acc_reset(&one);
+            band_acc_add(&one, bands, fabs(a_deg), s);
+            if (one.n[b])
+                rep->cal_sigma_max[0][b] = fmax(rep->cal_sigma_max[0][b], s * ARCSEC_PER_RAD);
+        }
+    }
+    band_acc_rms(&resid, bands, ARCSEC_PER_RAD, rep->resid_rms[0]);
+    band_acc_rms(&cal, bands, ARCSEC_PER_RAD, rep->cal_sigma_rms[0]);
+    /* The in-sample residual underestimates the noise by (n - p) / n. */
+    double dof_factor = rep->dof > 0 ? sqrt((double)rep->n_used / (double)rep->dof) : NAN;
+    for (int b = 0; b < bands->n; b++) {
+        rep->band_n[0][b] = resid.n[b];
+        if (!cal.n[b])
+            rep->cal_sigma_max[0][b] = NAN;
+        double noise = rep->resid_rms[0][b] * dof_factor, cs = rep->cal_sigma_rms[0][b];
+        rep->predicted_rms[0][b] = sqrt(noise * noise + (isnan(cs) ? 0.0 : cs * cs));
+    }
+}
+
+int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
+                   ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
+{
+    calreport_init(rep, "ess", ESS_CALFIT_MODEL);
+    memset(res, 0, sizeof *res);
+    double theta0 = c->ess.theta0_deg * RAD_PER_DEG;
+    double roll = c->roll_measured_arcsec * RAD_PER_ARCSEC;
+    rep->n_rows = cw->n;
+    rep->n_angles = 1;
+    rep->angle_name[0] = "alpha";
+    rep->bands = c->bands_deg;
+
+    gross_check(c, cw, line, res, rep);
+    for (size_t i = 0; i < cw->n; i++)
+        rep->n_used += cw->weight[i] > 0;
+    if (rep->n_used <= ESS_NP)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "only %zu usable data rows (weight > 0, within half a fine period of "
+                          "the table alpha); the ess model has %d parameters: need at least %d",
+                          rep->n_used, ESS_NP, ESS_NP + 1);
+
+    int st = ess_calibrate(cw, theta0, roll, c->alias_threshold, c->max_iterations, &res->m,
+                           &rep->fit);
+    rep->fit_ok = st == SUNMC_OK;
+    rep->cond_jacobian = 1.0 / rep->fit.rcond;
+    alias_warnings(c, cw, rep);
+    if (!rep->fit_ok)
+        calreport_warn(rep,
+                       "check the data for outliers and the config's design values (H_mm, "
+                       "theta0_deg); if the iteration limit was hit, raise "
+                       "calibration.max_iterations",
+                       "the fit did not converge: %s (GSL status %d, %zu iterations); its "
+                       "parameters must not be used",
+                       fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
+
+    /* Residual variance with the degrees of freedom the data leave: the
+     * regularised (aliased) directions are fixed by their priors. */
+    double chi2 = 0;
+    for (size_t i = 0; i < cw->n; i++)
+        if (cw->weight[i] > 0) {
+            double r = ess_model_predict(&res->m, cw->alpha_rad[i], cw->beta_rad[i], NULL) -
+                       cw->raw_rad[i];
+            chi2 += cw->weight[i] * r * r;
+        }
+    rep->dof = (int)rep->n_used - ESS_NP + cw->alias.n_weak;
+    res->s2 = chi2 / rep->dof;
+    rep->sigma_arcsec = sqrt(res->s2) * ARCSEC_PER_RAD;
+
+    rep->np = ESS_NP;
+    for (int j = 0; j < ESS_NP; j++) {
+        snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[j]);
+        rep->value[j] = res->m.p[j] * par_scale[j];
+    }
+    int cst = fit_covariance(cw->fw);
+    if (cst == SUNMC_OK)
+        cst = calreport_covariance(rep, cw->fw->covar, res->s2, par_scale);
+    if (cst == SUNMC_OK) {
+        for (int i = 0; i < ESS_NP; i++)
+            for (int j = 0; j < ESS_NP; j++)
+                res->cov[i][j] = res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
+    } else {
+        for (int i = 0; i < ESS_NP; i++)
+            rep->se[i] = NAN;
+        calreport_warn(rep, "widen the campaign or fix parameters the data cannot determine",
+                       "the parameter covariance could not be computed (singular Jacobian): "
+                       "standard errors and the propagated accuracy are unavailable");
+    }
+    calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+
+    int n_uncomp;
+    band_stats(c, cw, res, rep, &n_uncomp);
+    if (n_uncomp)
+        calreport_warn(rep,
+                       "the fitted fine-code amplitude makes the model non-invertible (omega k "
+                       ">= 1): check theta0_deg and the data",
+                       "%d readings could not be compensated with the fitted model", n_uncomp);
+    cross_validate(c, cw, rep, theta0, roll);
+    return SUNMC_OK;
+}
+
+int ess_calfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int *line,
+                               const ess_model *m)
+{
+    fprintf(f, "line\talpha_deg\tbeta_deg\toutput_deg\tweight\tresidual_arcsec\t"
+               "angle_error_arcsec\n");
+    for (size_t i = 0; i < cw->n; i++) {
+        double r = ess_model_predict(m, cw->alpha_rad[i], cw->beta_rad[i], NULL) - cw->raw_rad[i];
+        double e;
+        if (ess_angle_error(m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) != SUNMC_OK)
+            e = NAN;
+        fprintf(f, "%d\t%.10g\t%.10g\t%.12g\t%g\t%.6g\t%.6g\n", line ? line[i] : (int)i + 1,
+                cw->alpha_rad[i] * DEG_PER_RAD, cw->beta_rad[i] * DEG_PER_RAD,
+                cw->raw_rad[i] * DEG_PER_RAD, cw->weight[i], r * ARCSEC_PER_RAD,
+                e * ARCSEC_PER_RAD);
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+int ess_calfit_write_field(FILE *f, const ess_calfit_result *res, double alpha_min_deg,
+                           double alpha_max_deg)
+{
+    fprintf(f, "alpha_deg\tsigma_arcsec\n");
+    long na = grid_count(alpha_min_deg, alpha_max_deg, ESS_FIELD_STEP_DEG, 0);
+    for (long j = 0; j < na; j++) {
+        double a = alpha_min_deg + (double)j * ESS_FIELD_STEP_DEG;
+        fprintf(f, "%.6g\t%.6g\n", a,
+                ess_calfit_sigma(&res->m, res->cov, a * RAD_PER_DEG) * ARCSEC_PER_RAD);
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+static const char *const par_units[ESS_NP] = {"1", "1", "1", "deg", "deg", "arcsec", "arcsec",
+                                              "arcsec"};
+
+int ess_params_fill(params_file *p, const ess_calfit_result *res, const calreport *rep,
+                    double theta0_deg)
+{
+    int st = params_set_double(p, "design", "theta0_deg", theta0_deg, "fine-code period");
+    for (int j = 0; j < ESS_NP && st == SUNMC_OK; j++) {
+        char comment[PARAMS_COMMENT_MAX];
+        if (rep && isfinite(rep->se[j]))
+            snprintf(comment, sizeof comment, "unit %s, standard error %.3g", par_units[j],
+                     rep->se[j]);
+        else
+            snprintf(comment, sizeof comment, "unit %s", par_units[j]);
+        st = params_set_double(p, "parameters", ess_param_names[j], res->m.p[j] * par_scale[j],
+                               comment);
+    }
+    double k, t;
+    ess_model_kt(&res->m, &k, &t);
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "fixed", "d", 1.0, "eq. 12 d: the common scale of a, b, c, d");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "fixed", "roll_measured_arcsec",
+                               res->m.roll_rad * ARCSEC_PER_RAD,
+                               "installation roll: measured, not fitted");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "fixed", "sun_x_arcsec", res->m.sun_x_rad * ARCSEC_PER_RAD,
+                               "sun tilt toward X: invisible to an alpha sensor");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "derived", "k_deg", k * DEG_PER_RAD,
+                               "fine-code amplitude (ESS paper eq. 9)");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "derived", "t_rad", t, "fine-code phase (ESS paper eq. 9)");
+    return st;
+}
+
+int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen)
+{
+    const char *sensor, *model;
+    int st = params_get_text(p, "calibration", "sensor", &sensor, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_text(p, "calibration", "model", &model, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (strcmp(sensor, "ess") != 0 || strcmp(model, ESS_CALFIT_MODEL) != 0) {
+        const params_entry *e = params_find(p, "calibration", "model");
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: sensor %s model %s: expected sensor ess, model %s", p->path,
+                          e->line, sensor, model, ESS_CALFIT_MODEL);
+    }
+    st = params_check_keys(p, "parameters", ess_param_names, ESS_NP, err, errlen);
+    double theta0_deg, roll_arcsec, v[ESS_NP];
+    if (st == SUNMC_OK)
+        st = params_get_double(p, "design", "theta0_deg", &theta0_deg, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_double(p, "fixed", "roll_measured_arcsec", &roll_arcsec, err, errlen);
+    for (int j = 0; j < ESS_NP && st == SUNMC_OK; j++)
+        st = params_get_double(p, "parameters", ess_param_names[j], &v[j], err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (!(theta0_deg > 0)) {
+        const params_entry *e = params_find(p, "design", "theta0_deg");
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key design.theta0_deg must be > 0",
+                          p->path, e->line);
+    }
+    ess_model_init(m, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
+    for (int j = 0; j < ESS_NP; j++)
+        m->p[j] = v[j] / par_scale[j];
+    ess_model_prepare(m);
+    return SUNMC_OK;
+}

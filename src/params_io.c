@@ -1,0 +1,247 @@
+/* params_io.c - params.ini writing and reading, FNV-1a checksums. */
+#include "params_io.h"
+#include "status.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FNV1A64_PRIME 0x100000001b3ULL
+#define PARAMS_LINE_MAX 2048
+#define HASH_CHUNK 65536
+
+unsigned long long params_fnv1a64(unsigned long long h, const void *data, size_t n)
+{
+    const unsigned char *b = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= b[i];
+        h *= FNV1A64_PRIME;
+    }
+    return h;
+}
+
+int params_file_fnv1a64(const char *path, unsigned long long *hash, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot read: %s", path, strerror(errno));
+    unsigned char buf[HASH_CHUNK];
+    unsigned long long h = PARAMS_FNV1A64_INIT;
+    size_t got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0)
+        h = params_fnv1a64(h, buf, got);
+    int bad = ferror(f);
+    fclose(f);
+    if (bad)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
+    *hash = h;
+    return SUNMC_OK;
+}
+
+void params_init(params_file *p)
+{
+    memset(p, 0, sizeof *p);
+}
+
+const params_entry *params_find(const params_file *p, const char *section, const char *key)
+{
+    for (int i = 0; i < p->n; i++)
+        if (strcmp(p->e[i].section, section) == 0 && strcmp(p->e[i].key, key) == 0)
+            return &p->e[i];
+    return NULL;
+}
+
+static int copy_str(char *dst, size_t cap, const char *src)
+{
+    size_t n = strlen(src);
+    if (n >= cap)
+        return -1;
+    memcpy(dst, src, n + 1);
+    return 0;
+}
+
+int params_set_text(params_file *p, const char *section, const char *key, const char *text,
+                    const char *comment)
+{
+    if (p->n >= PARAMS_MAX_ENTRIES)
+        return SUNMC_EINPUT;
+    if (params_find(p, section, key))
+        return SUNMC_EINPUT;
+    params_entry *e = &p->e[p->n];
+    memset(e, 0, sizeof *e);
+    if (copy_str(e->section, sizeof e->section, section) ||
+        copy_str(e->key, sizeof e->key, key) || copy_str(e->value, sizeof e->value, text) ||
+        copy_str(e->comment, sizeof e->comment, comment ? comment : ""))
+        return SUNMC_EINPUT;
+    if (strchr(text, '\n') || strchr(text, '#'))
+        return SUNMC_EINPUT;
+    p->n++;
+    return SUNMC_OK;
+}
+
+int params_set_double(params_file *p, const char *section, const char *key, double v,
+                      const char *comment)
+{
+    char buf[64];
+    snprintf(buf, sizeof buf, "%.17g", v);
+    return params_set_text(p, section, key, buf, comment);
+}
+
+int params_write(FILE *f, const params_file *p, const char *title)
+{
+    const char *t = title;
+    while (t && *t) {
+        const char *nl = strchr(t, '\n');
+        int len = nl ? (int)(nl - t) : (int)strlen(t);
+        fprintf(f, "# %.*s\n", len, t);
+        t = nl ? nl + 1 : t + len;
+    }
+    int done[PARAMS_MAX_ENTRIES] = {0};
+    for (int i = 0; i < p->n; i++) {
+        if (done[i])
+            continue;
+        fprintf(f, "\n[%s]\n", p->e[i].section);
+        for (int j = i; j < p->n; j++) {
+            if (done[j] || strcmp(p->e[j].section, p->e[i].section) != 0)
+                continue;
+            done[j] = 1;
+            if (p->e[j].comment[0])
+                fprintf(f, "%-24s = %-24s  # %s\n", p->e[j].key, p->e[j].value, p->e[j].comment);
+            else
+                fprintf(f, "%s = %s\n", p->e[j].key, p->e[j].value);
+        }
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+static char *trim(char *s)
+{
+    while (*s && isspace((unsigned char)*s))
+        s++;
+    char *e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = '\0';
+    return s;
+}
+
+int params_read(const char *path, params_file *p, char *err, size_t errlen)
+{
+    params_init(p);
+    if (copy_str(p->path, sizeof p->path, path))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: path too long", path);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot read: %s", path, strerror(errno));
+    char line[PARAMS_LINE_MAX], section[PARAMS_SECTION_MAX] = "";
+    int lineno = 0, st = SUNMC_OK;
+    while (st == SUNMC_OK && fgets(line, sizeof line, f)) {
+        lineno++;
+        if (!strchr(line, '\n') && !feof(f)) {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: line too long", path, lineno);
+            break;
+        }
+        char *hash = strchr(line, '#');
+        char *comment = "";
+        if (hash) {
+            *hash = '\0';
+            comment = trim(hash + 1);
+        }
+        char *s = trim(line);
+        if (*s == '\0')
+            continue;
+        if (*s == '[') {
+            char *close = strchr(s, ']');
+            if (!close || close[1] != '\0' || close == s + 1 ||
+                copy_str(section, sizeof section, (*close = '\0', s + 1))) {
+                st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: malformed section header",
+                                path, lineno);
+                break;
+            }
+            continue;
+        }
+        char *eq = strchr(s, '=');
+        if (!eq) {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: expected 'key = value', '[section]' or a comment", path,
+                            lineno);
+            break;
+        }
+        *eq = '\0';
+        char *key = trim(s), *value = trim(eq + 1);
+        if (!section[0]) {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key '%s' before any [section]",
+                            path, lineno, key);
+            break;
+        }
+        if (*key == '\0') {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: empty key", path, lineno);
+            break;
+        }
+        const params_entry *prev = params_find(p, section, key);
+        if (prev) {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: key %s.%s given twice (first at line %d)", path, lineno,
+                            section, key, prev->line);
+            break;
+        }
+        if (params_set_text(p, section, key, value, comment) != SUNMC_OK) {
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: too long or too many keys",
+                            path, lineno, section, key);
+            break;
+        }
+        p->e[p->n - 1].line = lineno;
+    }
+    if (st == SUNMC_OK && ferror(f))
+        st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
+    fclose(f);
+    return st;
+}
+
+int params_get_text(const params_file *p, const char *section, const char *key,
+                    const char **out, char *err, size_t errlen)
+{
+    const params_entry *e = params_find(p, section, key);
+    if (!e)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: missing key %s.%s",
+                          p->path[0] ? p->path : "params", section, key);
+    *out = e->value;
+    return SUNMC_OK;
+}
+
+int params_get_double(const params_file *p, const char *section, const char *key, double *out,
+                      char *err, size_t errlen)
+{
+    const char *s = NULL;
+    int st = params_get_text(p, section, key, &s, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    const params_entry *e = params_find(p, section, key);
+    char *end;
+    double v = strtod(s, &end);
+    if (*s == '\0' || *end != '\0')
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not a number",
+                          p->path, e->line, section, key, s);
+    if (!isfinite(v))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not finite",
+                          p->path, e->line, section, key, s);
+    *out = v;
+    return SUNMC_OK;
+}
+
+int params_check_keys(const params_file *p, const char *section, const char *const *names,
+                      int n, char *err, size_t errlen)
+{
+    for (int i = 0; i < p->n; i++) {
+        if (strcmp(p->e[i].section, section) != 0)
+            continue;
+        int known = 0;
+        for (int j = 0; j < n && !known; j++)
+            known = strcmp(p->e[i].key, names[j]) == 0;
+        if (!known)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key %s.%s", p->path,
+                              p->e[i].line, section, p->e[i].key);
+    }
+    return SUNMC_OK;
+}
