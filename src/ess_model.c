@@ -41,31 +41,44 @@ void ess_model_prepare(ess_model *m)
     m->dv[2] = -sin(sy) * cos(sx);
 }
 
-/* alpha_d and the raw output from T; optional partials. */
-static double structural(const ess_model *m, double T, double *G, double *dad_dT, double *q_out,
-                         double *N_out, double *D_out, double *ad_out)
+/* Partials of the structural + fine-code part at one point. */
+typedef struct {
+    double G;      /* d raw / d alpha_d */
+    double dad_dT; /* d alpha_d / d T */
+    double q, N, D;
+    double sin_wa, cos_wa;
+} structural_partials;
+
+/* alpha_d = atan2(a T + b, c T + 1) and the raw output; partials if sp. */
+static double structural(const ess_model *m, double T, structural_partials *sp)
 {
     const double *p = m->p;
     double N = p[ESS_P_A] * T + p[ESS_P_B];
     double D = p[ESS_P_C] * T + 1.0;
     double ad = atan2(N, D);
-    double wa = m->omega * ad;
-    double raw = ad - p[ESS_P_KS] * sin(wa) - p[ESS_P_KC] * cos(wa);
-    if (G) {
-        double q = N * N + D * D;
-        *G = 1.0 - m->omega * (p[ESS_P_KS] * cos(wa) - p[ESS_P_KC] * sin(wa));
-        *dad_dT = (p[ESS_P_A] * D - N * p[ESS_P_C]) / q;
-        *q_out = q;
-        *N_out = N;
-        *D_out = D;
-        *ad_out = ad;
+    double sw = sin(m->omega * ad), cw = cos(m->omega * ad);
+    double raw = ad - p[ESS_P_KS] * sw - p[ESS_P_KC] * cw;
+    if (sp) {
+        sp->q = N * N + D * D;
+        sp->G = 1.0 - m->omega * (p[ESS_P_KS] * cw - p[ESS_P_KC] * sw);
+        sp->dad_dT = (p[ESS_P_A] * D - N * p[ESS_P_C]) / sp->q;
+        sp->N = N;
+        sp->D = D;
+        sp->sin_wa = sw;
+        sp->cos_wa = cw;
     }
     return raw;
 }
 
 double ess_model_structural(const ess_model *m, double T)
 {
-    return structural(m, T, NULL, NULL, NULL, NULL, NULL, NULL);
+    return structural(m, T, NULL);
+}
+
+/* Row i of matrix a times v. */
+static inline double row_dot(const mat3 a, int i, const double v[3])
+{
+    return a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2];
 }
 
 void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M)
@@ -86,33 +99,30 @@ double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
 
 double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
 {
-    double w[3], s[3];
+    /* Only s_y and s_z are needed: T = s_y / s_z. */
+    double w[3];
     mat3_vec(M, m->v, w);
-    mat3_vec(m->R, w, s);
-    double T = s[1] / s[2];
+    double sy = row_dot(m->R, 1, w), sz = row_dot(m->R, 2, w);
+    double T = sy / sz;
     if (!grad)
-        return structural(m, T, NULL, NULL, NULL, NULL, NULL, NULL);
+        return structural(m, T, NULL);
 
-    double G, dad_dT, q, N, D, ad;
-    double raw = structural(m, T, &G, &dad_dT, &q, &N, &D, &ad);
-    double wa = m->omega * ad;
-    grad[ESS_P_A] = G * (D / q) * T;
-    grad[ESS_P_B] = G * (D / q);
-    grad[ESS_P_C] = G * (-N / q) * T;
-    grad[ESS_P_KS] = -sin(wa);
-    grad[ESS_P_KC] = -cos(wa);
+    structural_partials sp;
+    double raw = structural(m, T, &sp);
+    grad[ESS_P_A] = sp.G * (sp.D / sp.q) * T;
+    grad[ESS_P_B] = sp.G * (sp.D / sp.q);
+    grad[ESS_P_C] = sp.G * (-sp.N / sp.q) * T;
+    grad[ESS_P_KS] = -sp.sin_wa;
+    grad[ESS_P_KC] = -sp.cos_wa;
 
     /* d raw / d s through T = s_y / s_z */
-    double k = G * dad_dT;
-    double g1 = k / s[2], g2 = -k * s[1] / (s[2] * s[2]);
-    double ds[3], mdv[3];
-    mat3_vec(m->dR_y, w, ds);
-    grad[ESS_P_INST_Y] = g1 * ds[1] + g2 * ds[2];
-    mat3_vec(m->dR_z, w, ds);
-    grad[ESS_P_INST_Z] = g1 * ds[1] + g2 * ds[2];
+    double k = sp.G * sp.dad_dT;
+    double g1 = k / sz, g2 = -k * sy / (sz * sz);
+    grad[ESS_P_INST_Y] = g1 * row_dot(m->dR_y, 1, w) + g2 * row_dot(m->dR_y, 2, w);
+    grad[ESS_P_INST_Z] = g1 * row_dot(m->dR_z, 1, w) + g2 * row_dot(m->dR_z, 2, w);
+    double mdv[3];
     mat3_vec(M, m->dv, mdv);
-    mat3_vec(m->R, mdv, ds);
-    grad[ESS_P_SUN_Y] = g1 * ds[1] + g2 * ds[2];
+    grad[ESS_P_SUN_Y] = g1 * row_dot(m->R, 1, mdv) + g2 * row_dot(m->R, 2, mdv);
     return raw;
 }
 
