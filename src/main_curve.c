@@ -1,0 +1,269 @@
+/* main_curve.c - `sunmc curve`: one unit's (--unit U) or one error source's
+ * (--only KEY=VALUE) error before and after compensation at every point of
+ * the validation grid (ESS: alpha curves, one per beta; DSS: (b1, b2) maps). */
+#include "main.h"
+#include "family.h"
+#include "output.h"
+#include "status.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char curve_help[] =
+    "usage: sunmc curve CONFIG (--unit U | --only KEY=VALUE [--unit U]) [--seed S]\n"
+    "                   [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
+    "Error vs table angle, before and after the unit's own calibration, on the validation\n"
+    "grid (ESS: validation.alpha_* for each validation.beta_deg; DSS: validation.b_* in both\n"
+    "axes), noiseless readings of the unit (its campaign keeps the config's noise).\n"
+    "  --unit U          unit U of the Monte Carlo (same draws as in `sunmc run`)\n"
+    "  --only KEY=VALUE  one error source alone: tolerance KEY (e.g. dH_um) fixed at VALUE\n"
+    "                    (negative: the mirror deviation), every other tolerance 0\n"
+    "Columns error_source_* are the error the unit's deviations add to the nominal design\n"
+    "(the same reading of a unit with every tolerance 0): the paper's 'error caused by'.\n"
+    "--out DIR writes curve.tsv (one block per series, blank line between blocks) and\n"
+    "config.ini.  Change the grid with e.g. --set validation.alpha_step_deg=0.5.\n";
+
+#define DIST_SUFFIX "_dist"
+
+/* A tolerance key of family `family` (one with a _dist sibling). */
+static int is_source(const config_key *k, int family)
+{
+    char dist[2 * CONFIG_STR_MAX];
+    if (strcmp(k->section, "tolerance") != 0 || k->type != KEY_DOUBLE || !(k->families & family))
+        return 0;
+    snprintf(dist, sizeof dist, "%s" DIST_SUFFIX, k->name);
+    return config_find("tolerance", dist) != NULL;
+}
+
+/* Every tolerance of st's family to 0 (nominal), through config_set_value. */
+static int set_nominal(config_state *st, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < config_key_count; i++)
+        if (is_source(&config_keys[i], st->cfg.family)) {
+            int s = config_set_value(st, "tolerance", config_keys[i].name, "0", "--only", err,
+                                     errlen);
+            if (s)
+                return s;
+        }
+    return SUNMC_OK;
+}
+
+/* Apply --only KEY=VALUE: nominal elsewhere, KEY fixed at |VALUE|; *sign is
+ * the sign of VALUE. */
+static int apply_only(config_state *st, const char *spec, double *sign, char *err, size_t errlen)
+{
+    const char *eq = strchr(spec, '=');
+    char name[CONFIG_STR_MAX];
+    if (!eq || eq == spec || (size_t)(eq - spec) >= sizeof name)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--only %s: expected KEY=VALUE, e.g. dH_um=2",
+                          spec);
+    const char *key = spec;
+    if (strncmp(key, "tolerance.", strlen("tolerance.")) == 0)
+        key += strlen("tolerance.");
+    memcpy(name, key, (size_t)(eq - key));
+    name[eq - key] = '\0';
+    const config_key *k = config_find("tolerance", name);
+    if (!k || !is_source(k, st->cfg.family))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "--only %s: '%s' is not a tolerance key of this sensor family", spec,
+                          name);
+    const char *val = eq + 1;
+    while (*val == ' ')
+        val++;
+    *sign = 1.0;
+    if (*val == '-') {
+        *sign = -1.0;
+        val++;
+    }
+    int s = set_nominal(st, err, errlen);
+    if (s == SUNMC_OK)
+        s = config_set_value(st, "tolerance", name, val, "--only", err, errlen);
+    char dist[2 * CONFIG_STR_MAX];
+    snprintf(dist, sizeof dist, "%s" DIST_SUFFIX, name);
+    if (s == SUNMC_OK)
+        s = config_set_value(st, "tolerance", dist, "fixed", "--only", err, errlen);
+    return s;
+}
+
+typedef struct {
+    double sum2[3];       /* before, after, source */
+    double maxabs[3];
+    long n[3];
+} series_stats;
+
+static void stats_add(series_stats *s, int i, double e)
+{
+    if (!isfinite(e))
+        return;
+    s->sum2[i] += e * e;
+    s->maxabs[i] = fmax(s->maxabs[i], fabs(e));
+    s->n[i]++;
+}
+
+int cmd_curve(int argc, char **argv)
+{
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            fputs(curve_help, stdout);
+            return 0;
+        }
+    cli_options o;
+    int rc = cli_parse(argc, argv, 2, "curve", "CONFIG seed set out quiet unit only", &o);
+    if (rc)
+        return rc;
+    if (!o.config) {
+        fprintf(stderr, "sunmc curve: missing CONFIG file (see sunmc curve --help)\n");
+        return EXIT_BAD_INPUT;
+    }
+    if (o.unit < 0 && !o.only) {
+        fprintf(stderr, "sunmc curve: needs --unit U or --only KEY=VALUE (see sunmc curve --help)\n");
+        return EXIT_BAD_INPUT;
+    }
+    config_state st, nom;
+    if ((rc = cli_config(&o, &st)))
+        return rc;
+    if ((rc = cli_config(&o, &nom))) {
+        config_state_free(&st);
+        return rc;
+    }
+    char err[SUNMC_ERRLEN];
+    double sign = 1.0;
+    int status = SUNMC_OK;
+    if (o.only)
+        status = apply_only(&st, o.only, &sign, err, sizeof err);
+    if (status == SUNMC_OK)
+        status = set_nominal(&nom, err, sizeof err);
+    long unit = o.unit >= 0 ? o.unit : 0;
+    const sunmc_config *c = &st.cfg;
+    const sensor_family *fam = family_of(c);
+    if (status == SUNMC_OK && !fam->curve_eval)
+        status = sunmc_fail(err, sizeof err, SUNMC_EINPUT,
+                            "the %s family has no error curves in this version", fam->name);
+    if (status != SUNMC_OK) {
+        fprintf(stderr, "sunmc curve: %s\n", err);
+        config_state_free(&st);
+        config_state_free(&nom);
+        return cli_exit_code(status);
+    }
+
+    long n0 = fam->curve_axis(c, 0, NULL, 0), n1 = fam->curve_axis(c, 1, NULL, 0);
+    int na = fam->n_angles(c);
+    double *ax0 = malloc((size_t)(n0 > 0 ? n0 : 1) * sizeof *ax0);
+    double *ax1 = malloc((size_t)(n1 > 0 ? n1 : 1) * sizeof *ax1);
+    series_stats *ss = calloc((size_t)(n1 > 0 ? n1 : 1) * (size_t)na, sizeof *ss);
+    void *cv = fam->curve_alloc(c, err, sizeof err);
+    void *cn = cv ? fam->curve_alloc(&nom.cfg, err, sizeof err) : NULL;
+    if (!cv || !cn)
+        status = SUNMC_ENOMEM;
+    if (status == SUNMC_OK && (!ax0 || !ax1 || !ss))
+        status = sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory for the curve grid");
+    int fit_ok = 0, nom_ok = 0;
+    if (status == SUNMC_OK) {
+        fam->curve_axis(c, 0, ax0, n0);
+        fam->curve_axis(c, 1, ax1, n1);
+        status = fam->curve_prepare(c, unit, sign, cv, &fit_ok);
+    }
+    if (status == SUNMC_OK)
+        status = fam->curve_prepare(&nom.cfg, unit, 1.0, cn, &nom_ok);
+
+    out_set os;
+    FILE *fo = NULL, *fc = NULL;
+    if (status == SUNMC_OK && o.out) {
+        status = out_begin(&os, o.out, err, sizeof err);
+        if (status == SUNMC_OK)
+            status = out_open(&os, o.out, "curve.tsv", &fo, err, sizeof err);
+        if (status == SUNMC_OK)
+            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+        if (status != SUNMC_OK)
+            out_abort(&os);
+    }
+    if (status == SUNMC_OK && fo) {
+        const char *u = fam->rms_unit;
+        fprintf(fo, "%s\t%s", fam->curve_axis_names[0], fam->curve_axis_names[1]);
+        for (int a = 0; a < na; a++)
+            fprintf(fo, "\terror_before_%s_%s\terror_after_%s_%s\terror_source_%s_%s",
+                    fam->angle_names[a], u, fam->angle_names[a], u, fam->angle_names[a], u);
+        fputc('\n', fo);
+    }
+    long unseen = 0;
+    for (long j = 0; status == SUNMC_OK && j < n1; j++) {
+        if (fo && j > 0)
+            fputc('\n', fo);
+        for (long i = 0; i < n0; i++) {
+            double bef[UNIT_MAX_ANGLES], aft[UNIT_MAX_ANGLES], nb[UNIT_MAX_ANGLES],
+                na_[UNIT_MAX_ANGLES];
+            int s1 = fam->curve_eval(c, cv, ax0[i], ax1[j], bef, aft);
+            int s2 = fam->curve_eval(&nom.cfg, cn, ax0[i], ax1[j], nb, na_);
+            if (s1 != SUNMC_OK) {
+                unseen++;
+                for (int a = 0; a < na; a++)
+                    bef[a] = aft[a] = NAN;
+            }
+            if (fo)
+                fprintf(fo, "%.10g\t%.10g", ax0[i], ax1[j]);
+            for (int a = 0; a < na; a++) {
+                double src = (s1 == SUNMC_OK && s2 == SUNMC_OK) ? bef[a] - nb[a] : NAN;
+                series_stats *s = &ss[j * na + a];
+                stats_add(s, 0, bef[a]);
+                stats_add(s, 1, aft[a]);
+                stats_add(s, 2, src);
+                if (fo)
+                    fprintf(fo, "\t%.8g\t%.8g\t%.8g", bef[a], aft[a], src);
+            }
+            if (fo)
+                fputc('\n', fo);
+        }
+    }
+    if (status == SUNMC_OK && fc) {
+        if (o.only)
+            fprintf(fc, "# curve --only %s (unit %ld), every other tolerance 0\n", o.only, unit);
+        else
+            fprintf(fc, "# curve --unit %ld\n", unit);
+        config_write(fc, &st);
+    }
+    if (status == SUNMC_OK && fo)
+        status = out_commit(&os, err, sizeof err);
+    else if (fo)
+        out_abort(&os);
+
+    if (status == SUNMC_OK) {
+        const char *u = fam->rms_unit;
+        int prec = strcmp(u, "deg") == 0 ? 4 : 2;
+        printf("\n%s (%s): ", c->product, fam->name);
+        if (o.only)
+            printf("%s alone, every other tolerance 0 (unit %ld's noise in the campaign)", o.only,
+                   unit);
+        else
+            printf("unit %ld, seed %ld", unit, c->seed);
+        printf("%s\n", fit_ok ? "" : "  -- its fit FAILED: no after-compensation curve");
+        printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve_axis_names[1],
+               "angle", "RMS", "", "", "max |err|", "", "", "points");
+        printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s |\n", "", "", "before", "after", "source",
+               "before", "after", "source");
+        for (long j = 0; j < n1; j++)
+            for (int a = 0; a < na; a++) {
+                const series_stats *s = &ss[j * na + a];
+                double r[3];
+                for (int k = 0; k < 3; k++)
+                    r[k] = s->n[k] ? sqrt(s->sum2[k] / (double)s->n[k]) : NAN;
+                printf("%-10.4g %-6s | %9.*f %9.*f %9.*f | %9.*f %9.*f %9.*f | %ld\n", ax1[j],
+                       fam->angle_names[a], prec, r[0], prec, r[1], prec, r[2], prec,
+                       s->maxabs[0], prec, s->n[1] ? s->maxabs[1] : NAN, prec, s->maxabs[2],
+                       s->n[0]);
+            }
+        printf("errors in %s; %ld grid points not seen or gross (left out)\n", u, unseen);
+    } else {
+        fprintf(stderr, "sunmc curve: %s\n", err);
+    }
+    if (cv)
+        fam->curve_free(cv);
+    if (cn)
+        fam->curve_free(cn);
+    free(ax0);
+    free(ax1);
+    free(ss);
+    config_state_free(&st);
+    config_state_free(&nom);
+    return cli_exit_code(status);
+}
