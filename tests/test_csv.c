@@ -1,0 +1,260 @@
+/* test_csv.c - the CSV reader (every error with FILE:LINE and the column),
+ * params.ini round trips and errors, FNV-1a known answers. */
+#include "test_util.h"
+
+#include "csv.h"
+#include "params_io.h"
+#include "status.h"
+
+#include <unistd.h>
+
+static char dir[] = "/tmp/sunmc_test_csv_XXXXXX";
+
+static int setup(void **state)
+{
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+/* Write text to dir/name; path receives the full name. */
+static void put(const char *name, const char *text, char *path, size_t len)
+{
+    snprintf(path, len, "%s/%s", dir, name);
+    assert_int_equal(test_write_file(path, text), 0);
+}
+
+/* Read a file that must fail; the message must contain want. */
+static void expect_read_error(const char *name, const char *text, const char *want)
+{
+    char path[512], err[SUNMC_ERRLEN], full[600];
+    put(name, text, path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_EINPUT);
+    assert_null(t);
+    snprintf(full, sizeof full, "%s%s", path, want);
+    if (!strstr(err, full))
+        fail_msg("message '%s' lacks '%s'", err, full);
+}
+
+static void test_read_good(void **state)
+{
+    char path[512], err[SUNMC_ERRLEN];
+    put("good.csv",
+        "# a comment\n"
+        "\n"
+        " beta_deg , note,alpha_deg,output_deg\r\n"
+        "20, first ,-62,-61.9\r\n"
+        "  # an indented comment\n"
+        "-20,x,1.5e1,  15.25\n"
+        "0,,0,0", /* no final newline */
+        path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal(t->n_cols, 4);
+    assert_int_equal(t->header_line, 3);
+    assert_int_equal((int)t->n_rows, 3);
+    assert_int_equal(t->line[0], 4);
+    assert_int_equal(t->line[1], 6);
+    assert_int_equal(t->line[2], 7);
+    int ca, cb, co, cw;
+    assert_int_equal(csv_column(t, "alpha_deg", 1, &ca, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_column(t, "beta_deg", 1, &cb, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_column(t, "output_deg", 1, &co, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_column(t, "weight", 0, &cw, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ca, 2);
+    assert_int_equal(cb, 0);
+    assert_int_equal(co, 3);
+    assert_int_equal(cw, -1);
+    double a[3], b[3], o[3];
+    assert_int_equal(csv_doubles(t, ca, a, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, cb, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, co, o, err, sizeof err), SUNMC_OK);
+    assert_true(a[0] == -62 && a[1] == 15 && a[2] == 0);
+    assert_true(b[0] == 20 && b[1] == -20 && b[2] == 0);
+    assert_true(o[0] == -61.9 && o[1] == 15.25 && o[2] == 0);
+    /* The extra column is kept as text, trimmed. */
+    assert_string_equal(t->field[0 * 4 + 1], "first");
+    assert_string_equal(t->field[2 * 4 + 1], "");
+    assert_int_equal(csv_require_rows(t, 3, "need 3", err, sizeof err), SUNMC_OK);
+    csv_free(t);
+}
+
+static void test_missing_column(void **state)
+{
+    char path[512], err[SUNMC_ERRLEN], want[600];
+    put("missing.csv", "# c\n# c\nalpha_deg,output_deg\n1,2\n", path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    int c;
+    assert_int_equal(csv_column(t, "beta_deg", 1, &c, err, sizeof err), SUNMC_EINPUT);
+    snprintf(want, sizeof want, "%s:3: missing column 'beta_deg'", path);
+    assert_non_null(strstr(err, want));
+    csv_free(t);
+}
+
+static void check_bad_value(const char *text, const char *want_fmt)
+{
+    char path[512], err[SUNMC_ERRLEN], want[600];
+    put("bad.csv", text, path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    double v[8];
+    int c;
+    assert_int_equal(csv_column(t, "output_deg", 1, &c, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, c, v, err, sizeof err), SUNMC_EINPUT);
+    snprintf(want, sizeof want, want_fmt, path);
+    if (!strstr(err, want))
+        fail_msg("message '%s' lacks '%s'", err, want);
+    csv_free(t);
+}
+
+static void test_bad_values(void **state)
+{
+    check_bad_value("alpha_deg,output_deg\n1,2\n2,abc\n",
+                    "%s:3: column 'output_deg': 'abc' is not a number");
+    check_bad_value("alpha_deg,output_deg\n1,2\n\n2,2x\n",
+                    "%s:4: column 'output_deg': '2x' is not a number");
+    check_bad_value("alpha_deg,output_deg\n1,\n", "%s:2: column 'output_deg': '' is not a number");
+    check_bad_value("alpha_deg,output_deg\n1,nan\n", "%s:2: column 'output_deg': 'nan' is not a finite");
+    check_bad_value("alpha_deg,output_deg\n1,1\n1,-inf\n",
+                    "%s:3: column 'output_deg': '-inf' is not a finite");
+    check_bad_value("alpha_deg,output_deg\n1,1e400\n",
+                    "%s:2: column 'output_deg': '1e400' is not a finite");
+}
+
+static void test_structure_errors(void **state)
+{
+    expect_read_error("dup.csv", "# x\nalpha_deg,beta_deg,alpha_deg\n1,2,3\n",
+                      ":2: duplicate column 'alpha_deg' in the header (columns 1 and 3)");
+    expect_read_error("fields.csv", "a,b,c\n1,2,3\n1,2\n", ":3: 2 fields, but the header (line 1) has 3");
+    expect_read_error("noname.csv", "a,,c\n", ":1: header column 2 has no name");
+    expect_read_error("empty.csv", "", ":1: no header line");
+    expect_read_error("comments.csv", "# only\n# comments\n", ":2: no header line");
+}
+
+static void test_too_few_rows(void **state)
+{
+    char path[512], err[SUNMC_ERRLEN], want[600];
+    put("few.csv", "a\n1\n2\n# trailing comment\n", path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_require_rows(t, 9, "the model has 8 parameters", err, sizeof err),
+                     SUNMC_EINPUT);
+    snprintf(want, sizeof want, "%s:4: only 2 data rows; the model has 8 parameters", path);
+    assert_string_equal(err, want);
+    csv_free(t);
+}
+
+static void test_unreadable(void **state)
+{
+    char err[SUNMC_ERRLEN];
+    csv_table *t;
+    assert_int_equal(csv_read("/nonexistent/x.csv", &t, err, sizeof err), SUNMC_EIO);
+    assert_non_null(strstr(err, "/nonexistent/x.csv"));
+}
+
+static void test_fnv1a64_known_answers(void **state)
+{
+    /* Reference values of the FNV-1a 64-bit hash (Fowler, Noll, Vo). */
+    assert_true(params_fnv1a64(PARAMS_FNV1A64_INIT, "", 0) == 0xcbf29ce484222325ULL);
+    assert_true(params_fnv1a64(PARAMS_FNV1A64_INIT, "a", 1) == 0xaf63dc4c8601ec8cULL);
+    assert_true(params_fnv1a64(PARAMS_FNV1A64_INIT, "foobar", 6) == 0x85944171f73967e8ULL);
+    /* Continuing equals hashing at once; a file hashes as its bytes. */
+    assert_true(params_fnv1a64(params_fnv1a64(PARAMS_FNV1A64_INIT, "foo", 3), "bar", 3) ==
+                0x85944171f73967e8ULL);
+    char path[512], err[SUNMC_ERRLEN];
+    put("hash.txt", "foobar", path, sizeof path);
+    unsigned long long h;
+    assert_int_equal(params_file_fnv1a64(path, &h, err, sizeof err), SUNMC_OK);
+    assert_true(h == 0x85944171f73967e8ULL);
+}
+
+static void test_params_round_trip(void **state)
+{
+    params_file *p = malloc(sizeof *p), *q = malloc(sizeof *q);
+    params_init(p);
+    const double v[] = {1.0004763517400035, -7.8748500632267764e-05, 1.0 / 3.0, -0.1,
+                        6.02214076e23, 5e-324};
+    const char *names[] = {"a", "c", "third", "neg", "big", "tiny"};
+    assert_int_equal(params_set_text(p, "calibration", "sensor", "ess", NULL), SUNMC_OK);
+    for (int i = 0; i < 6; i++)
+        assert_int_equal(params_set_double(p, "parameters", names[i], v[i], "unit 1"), SUNMC_OK);
+    assert_int_equal(params_set_double(p, "design", "theta0_deg", 2, NULL), SUNMC_OK);
+    assert_int_equal(params_set_double(p, "parameters", "a", 2, NULL), SUNMC_EINPUT); /* twice */
+    assert_int_equal(params_set_text(p, "x", "y", "has # hash", NULL), SUNMC_EINPUT);
+    char path[512], err[SUNMC_ERRLEN];
+    snprintf(path, sizeof path, "%s/params.ini", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    assert_int_equal(params_write(f, p, "title line 1\ntitle line 2"), SUNMC_OK);
+    fclose(f);
+    assert_int_equal(params_read(path, q, err, sizeof err), SUNMC_OK);
+    for (int i = 0; i < 6; i++) {
+        double got;
+        assert_int_equal(params_get_double(q, "parameters", names[i], &got, err, sizeof err),
+                         SUNMC_OK);
+        assert_true(got == v[i]); /* exact */
+    }
+    const char *s;
+    assert_int_equal(params_get_text(q, "calibration", "sensor", &s, err, sizeof err), SUNMC_OK);
+    assert_string_equal(s, "ess");
+    assert_string_equal(params_find(q, "parameters", "a")->comment, "unit 1");
+    assert_int_equal(params_check_keys(q, "parameters", names, 6, err, sizeof err), SUNMC_OK);
+    assert_int_equal(params_check_keys(q, "parameters", names, 5, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "unknown key parameters.tiny"));
+    double d;
+    assert_int_equal(params_get_double(q, "parameters", "zzz", &d, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "missing key parameters.zzz"));
+    free(p);
+    free(q);
+}
+
+static void expect_params_error(const char *text, const char *want)
+{
+    char path[512], err[SUNMC_ERRLEN], full[700];
+    put("bad.ini", text, path, sizeof path);
+    params_file *p = malloc(sizeof *p);
+    int st = params_read(path, p, err, sizeof err);
+    if (st == SUNMC_OK) {
+        double v;
+        st = params_get_double(p, "s", "k", &v, err, sizeof err);
+    }
+    assert_int_equal(st, SUNMC_EINPUT);
+    snprintf(full, sizeof full, "%s%s", path, want);
+    if (!strstr(err, full))
+        fail_msg("message '%s' lacks '%s'", err, full);
+    free(p);
+}
+
+static void test_params_errors(void **state)
+{
+    expect_params_error("k = 1\n", ":1: key 'k' before any [section]");
+    expect_params_error("[s]\n# c\nk 1\n", ":3: expected 'key = value'");
+    expect_params_error("[s\nk = 1\n", ":1: malformed section header");
+    expect_params_error("[s]\nk = 1\nk = 2\n", ":3: key s.k given twice (first at line 2)");
+    expect_params_error("[s]\n\nk = one  # unit\n", ":3: key s.k: 'one' is not a number");
+    expect_params_error("[s]\nk = inf\n", ":2: key s.k: 'inf' is not finite");
+    expect_params_error("[s]\nj = 1\n", ": missing key s.k");
+    char err[SUNMC_ERRLEN];
+    params_file *p = malloc(sizeof *p);
+    assert_int_equal(params_read("/nonexistent/p.ini", p, err, sizeof err), SUNMC_EIO);
+    free(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_read_good),          cmocka_unit_test(test_missing_column),
+        cmocka_unit_test(test_bad_values),         cmocka_unit_test(test_structure_errors),
+        cmocka_unit_test(test_too_few_rows),       cmocka_unit_test(test_unreadable),
+        cmocka_unit_test(test_fnv1a64_known_answers), cmocka_unit_test(test_params_round_trip),
+        cmocka_unit_test(test_params_errors),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
