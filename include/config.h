@@ -128,6 +128,7 @@ typedef struct {
     /* [calibration] */
     int cal_model;                      /* DSS: 0 physical, 1 polynomial */
     int poly_order;
+    int fit_glass_index;                /* DSS physical model: 1 fits the glass index too */
     double roll_sigma_arcsec;           /* ESS roll alignment measurement */
     double roll_measured_arcsec;        /* `calibrate`: known roll, default 0 */
     double alias_threshold;

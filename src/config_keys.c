@@ -125,11 +125,12 @@ const config_key config_keys[] = {
     TOL(D, dss_tol.dy_px, "dy_px", "px", "0.1", "uniform", 1000,
         "principal point error dy (DSS paper Fig. 3: 0.1 pixel)"),
     TOL(D, dss_tol.c1_arcsec, "c1_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c1 about Z, first of zxy (DSS paper Fig. 4: 10\")"),
+        "installation rotation c1 about X (DSS paper sec. 3: c1, c2 about X, Y, c3 about the "
+        "principal axis, composed in zxy order; Fig. 4: 10\")"),
     TOL(D, dss_tol.c2_arcsec, "c2_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c2 about X (DSS paper Fig. 4: 10\")"),
+        "installation rotation c2 about Y (DSS paper Fig. 4: 10\")"),
     TOL(D, dss_tol.c3_arcsec, "c3_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c3 about Y (DSS paper Fig. 4: 10\")"),
+        "installation rotation c3 about Z, the principal axis (DSS paper Fig. 4: 10\")"),
     TOL(D, dss_tol.glass_thickness_um, "glass_thickness_um", "um", "10", "uniform", 1000,
         "cover-glass thickness error"),
     TOL(D, dss_tol.glass_index, "glass_index", "", "0.005", "uniform", 0.5,
@@ -175,6 +176,10 @@ const config_key config_keys[] = {
                      "polynomial of the angle errors"},
     {"calibration", "poly_order", KEY_INT, D, "", "3", NULL, 1, 7, NULL, OFF(poly_order),
      "order of the 2-D polynomial model"},
+    {"calibration", "fit_glass_index", KEY_ENUM, D, "", "off", NULL, 0, 0, "off|on",
+     OFF(fit_glass_index),
+     "physical model: also fit the cover-glass index (off: held at design, since height, "
+     "thickness and index are nearly collinear in the campaign; see dss_calib.h)"},
     {"calibration", "roll_sigma_arcsec", KEY_DOUBLE, E, "arcsec", "5", NULL, 0, 3600, NULL,
      OFF(roll_sigma_arcsec),
      "sigma of the roll (install_x) alignment measurement; the fit fixes the roll at the "

@@ -1,0 +1,100 @@
+/* dss_calib.h - calibrating a DSS from rotary-table data: the physical model
+ * (dss_model.h) or the 2-D polynomial (dss_poly.h), both fitted with the
+ * shared fit.h engine (gsl_multifit_nlinear, analytic Jacobian).  One code
+ * path for the Monte Carlo and for `sunmc calibrate`.
+ *
+ * Data: n readings of (recorded table angles b1, b2 in rad; measured spot
+ * x, y in px from the detector centre; weight = 1/variance scale, 0 drops
+ * the reading).  The caller fills the arrays of an allocated workspace.
+ *
+ * Physical model: residuals are the spot's (x, y) in px, 2n rows, weighted.
+ * Identifiability, from the Jacobian's conditioning over the default
+ * campaign (b1, b2 in -60..60 deg step 5, columns normalised): the smallest
+ * singular value (0.013; the next 0.155, the largest 1.7) belongs to the
+ * direction (H, t, n) = (0.81, 0.33, 0.48): the height, glass thickness and
+ * index act on the radial spot distance through (H - t + t/n) tan + (H - t
+ * + t/n^3) tan^3 / 2 + ... and only the fifth-order term tells all three
+ * apart (correlations H-n 0.992, H-t 0.984, t-n 0.954).  The index is
+ * therefore held at its design value by default and t is fitted as an
+ * effective thickness (calibration.fit_glass_index = on frees it).  The
+ * principal point and the installation rotations are separable because the
+ * lab aligns the sun to the detector normal at the table's zero (rotations
+ * vanish at the centre while a principal-point shift does not): their
+ * largest correlation is x0-c2 = 0.58, y0-c1 = -0.11.  The per-unit largest
+ * |correlation| and its pair are reported (dss_calib_correlation).
+ *
+ * Polynomial model: alpha and beta corrections are two linear least-squares
+ * problems with the same design matrix, solved one after the other on the
+ * same workspace (the Levenberg-Marquardt engine solves a linear problem in
+ * a few iterations); targets are the recorded table's truth angles (eq. 3-4)
+ * minus the on-board angles.
+ */
+#ifndef SUNMC_DSS_CALIB_H
+#define SUNMC_DSS_CALIB_H
+
+#include "config.h"
+#include "dss_model.h"
+#include "dss_poly.h"
+#include "fit.h"
+
+#include <stddef.h>
+
+/* The values of calibration.model. */
+enum dss_model_kind { DSS_MODEL_PHYSICAL = 0, DSS_MODEL_POLYNOMIAL = 1 };
+
+/* A calibrated DSS: what `compensate` needs. */
+typedef struct {
+    int kind;          /* enum dss_model_kind */
+    dss_model phys;    /* kind == DSS_MODEL_PHYSICAL */
+    dss_poly poly;     /* kind == DSS_MODEL_POLYNOMIAL */
+} dss_calibration;
+
+/* Calibrated angles alpha, beta (rad) of a measured spot (px from the
+ * detector centre).  SUNMC_EDOM when the physical model cannot invert it. */
+int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double *alpha,
+                   double *beta);
+
+typedef struct {
+    size_t n;             /* readings */
+    double *b1_rad;       /* recorded table angle about X, n */
+    double *b2_rad;       /* recorded table angle about Y, n */
+    double *x_px;         /* measured spot x, n */
+    double *y_px;         /* measured spot y, n */
+    double *weight;       /* n; 0 drops a reading */
+
+    dss_design design;    /* the nominal design (start point, on-board formula) */
+    int kind;             /* enum dss_model_kind */
+    int poly_order;
+    int n_free;           /* physical: parameters fitted */
+    int free_idx[DSS_NP]; /* physical: their dss_param indices */
+    fit_workspace *fw;    /* physical: 2n x n_free; polynomial: n x n_terms */
+    dss_model work;       /* physical: the residual function's model */
+    double *basis;        /* polynomial: n x n_terms design matrix */
+    double *target;       /* polynomial: the current axis's targets, n */
+} dss_calib_workspace;
+
+/* Allocate for n readings of design d and model `kind` (poly_order for the
+ * polynomial; fit_index = 1 frees the glass index of the physical model).
+ * NULL on failure (no memory, or fewer residuals than parameters). */
+dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
+                                     int fit_index);
+void dss_calib_free(dss_calib_workspace *cw);
+
+/* Fit cw's model to cw's data.  out receives the calibration (the design's
+ * nominal model if the fit failed), res the fit's outcome (for the
+ * polynomial, of the worse of its two fits).  SUNMC_OK, SUNMC_EFIT, or
+ * SUNMC_EINPUT when fewer usable readings than parameters. */
+int dss_calibrate(dss_calib_workspace *cw, int max_iter, dss_calibration *out, fit_result *res);
+
+/* RMS (rad) over the readings with weight > 0 of the angle between the
+ * calibrated direction of the reading's spot and the recorded table's truth
+ * direction; NaN when none. */
+double dss_calib_residual_rms(const dss_calib_workspace *cw, const dss_calibration *cal);
+
+/* Largest |correlation| between two fitted parameters at the last solution
+ * (from (J^T J)^-1 of fit_covariance) and the pair: dss_param indices for
+ * the physical model, monomial indices of the beta fit for the polynomial.
+ * SUNMC_EFIT if the covariance cannot be formed. */
+int dss_calib_correlation(dss_calib_workspace *cw, double *max_abs, int *i, int *j);
+
+#endif

@@ -1,0 +1,66 @@
+/* dss_model.h - the physical DSS calibration model: the spot a unit with
+ * parameters p shows at recorded table angles (b1, b2), its analytic
+ * Jacobian, and its inverse (a spot into calibrated angles).
+ *
+ * It is the geometry of dss_sensor.h with the as-built quantities as
+ * parameters (lengths in mm, angles in rad):
+ *     u    = M R(b) M^T e_z,          M = dss_zxy(c1, c2, c3)
+ *     spot = (x0, y0) - (ux, uy) q(u; H, t, n)          (dss_optics.h)
+ * and is fitted in pixels.  What the campaign cannot separate (found from
+ * the Jacobian's conditioning, see dss_calib.h) is held fixed by the fit;
+ * the model itself carries every parameter.
+ *
+ * Compensation inverts it exactly: the spot's distance from (x0, y0) gives
+ * the field angle (Newton on the glass formula), its direction the azimuth;
+ * that u is taken back through M and the table is solved for the b with
+ * M R(b) M^T e_z = u; the output is that b's truth angles (eq. 3-4), the
+ * angles the table would have set.
+ */
+#ifndef SUNMC_DSS_MODEL_H
+#define SUNMC_DSS_MODEL_H
+
+#include "config.h"
+#include "rotation.h"
+
+enum dss_param {
+    DSS_P_X0 = 0, /* pinhole foot x (mm): dx */
+    DSS_P_Y0,     /* pinhole foot y (mm): dy */
+    DSS_P_H,      /* pinhole height (mm): h + dh */
+    DSS_P_T,      /* cover-glass thickness (mm) */
+    DSS_P_C1,     /* installation rotation about X (rad) */
+    DSS_P_C2,     /* about Y (rad) */
+    DSS_P_C3,     /* about Z (rad) */
+    DSS_P_N,      /* cover-glass index */
+    DSS_NP
+};
+
+/* Parameter names with units, in enum order (for messages and tables). */
+extern const char *const dss_param_names[DSS_NP];
+
+typedef struct {
+    double p[DSS_NP];
+    double pixel_mm;       /* detector pitch: the model's spots are in px */
+    /* filled by dss_model_prepare */
+    mat3 M, dM[3];         /* M and dM/dc1, dM/dc2, dM/dc3 */
+    double v0[3];          /* M^T e_z */
+    double dv0[3][3];      /* d v0 / dc_k */
+} dss_model;
+
+/* The nominal unit of design d (prepared). */
+void dss_model_init(dss_model *m, const dss_design *d);
+
+/* Recompute the cached rotations after changing m->p. */
+void dss_model_prepare(dss_model *m);
+
+/* Predicted spot (px from the detector centre) at table angles (b1, b2) rad;
+ * if J != NULL, J[0][j] and J[1][j] receive d x_px / d p_j and d y_px / d p_j.
+ * SUNMC_EDOM when the sun is behind the sensor or totally reflected. */
+int dss_model_spot(const dss_model *m, double b1, double b2, double spot_px[2],
+                   double J[2][DSS_NP]);
+
+/* Calibrated angles (rad) of a measured spot (px).  SUNMC_EDOM when the spot
+ * cannot come from a sun in front of the sensor. */
+int dss_model_compensate(const dss_model *m, double x_px, double y_px, double *alpha,
+                         double *beta);
+
+#endif

@@ -1,0 +1,104 @@
+/* dss_sensor.h - one physical pinhole digital sun sensor (DSS) on the rotary
+ * table: its sampled deviations, where its sun spot falls and the angles its
+ * on-board formula (DSS paper eq. 9-10) reads.  This generates the data; the
+ * calibration models (dss_model.h, dss_poly.h) only fit them.
+ *
+ * Frames (rotation conventions in dss_rotation.h):
+ *  - Sensor frame b: origin at the detector centre, which the on-board
+ *    formula takes as principal point; X along the pixel rows, Y along the
+ *    columns, Z the detector normal toward the mask.  Spot coordinates
+ *    x_px, y_px are measured from the detector centre along X and Y.
+ *  - The true pinhole is at (dx, dy, h + dh) (the design puts it at
+ *    (0, 0, h)): dx, dy are the principal-point errors, dh the height error,
+ *    all in pixels as in the DSS paper.  The cover glass has thickness
+ *    t + dt and index n + dn.
+ *  - The sensor is mounted on the table top rotated by zxy (c1 about X, c2
+ *    about Y, c3 about Z): M = dss_zxy(c1, c2, c3) takes table-top vectors
+ *    into frame b.  As in the DSS paper (eq. 6, S_b = C_bc C_ca C_ba^-1 S_b0),
+ *    the lab first aligns the sun perpendicular to the detector at the
+ *    table's zero, so the sun is e_z in frame b at b = 0 and, at table angles
+ *    b, u = M R(b) M^T e_z.  The installation rotations therefore vanish at
+ *    the centre of the field and grow toward its edge (DSS paper Fig. 4).
+ *  - Truth: the table's angles (alpha0, beta0) of eq. 3-4, i.e. the angles of
+ *    R(b) e_z.
+ *  - On-board formula (eq. 9-10) with the nominal design: the pinhole
+ *    inverts the image, so alpha_m = atan(-x / h), beta_m = atan(-y / h)
+ *    (x, y in mm).  It ignores the cover glass: the refraction error of the
+ *    DSS paper's Fig. 5 is part of the error before calibration.
+ *
+ * Centroid: the spot is the pinhole's shadow, a disc of the pinhole's
+ * diameter; its centroid carries the optional S-curve bias (dss_centroid.h)
+ * and Gaussian detector noise.  A spot whose disc leaves the detector is not
+ * seen (SUNMC_EDOM).
+ */
+#ifndef SUNMC_DSS_SENSOR_H
+#define SUNMC_DSS_SENSOR_H
+
+#include "config.h"
+#include "dss_centroid.h"
+#include "rotation.h"
+
+#include <stdint.h>
+
+/* One unit's deviations, in the units of their names. */
+typedef struct {
+    double dh_px, dx_px, dy_px;
+    double c1_arcsec, c2_arcsec, c3_arcsec;
+    double glass_thickness_um; /* deviation from design.glass_thickness_mm */
+    double glass_index;        /* deviation from design.glass_index */
+} dss_deviations;
+
+#define DSS_N_DEV 8
+/* Column names, in the order of dss_deviations_values(). */
+extern const char *const dss_deviation_names[DSS_N_DEV];
+void dss_deviations_values(const dss_deviations *d, double out[DSS_N_DEV]);
+
+/* Draw unit `unit`'s deviations; deviation i from its own stream
+ * RNG_STREAM_TOLERANCE + i, so it depends only on (seed, unit, i). */
+void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_deviations *d);
+
+/* One built sensor: lengths in mm, angles in radians. */
+typedef struct {
+    /* design, as the on-board formula knows it */
+    double h_nom_mm;
+    double pixel_mm;
+    double half_side_mm;       /* half the detector's side */
+    double pixel_phase_px;     /* pixel centres sit at x_px = pixel_phase_px + integer */
+    /* as built */
+    double pinhole_mm[3];      /* (dx, dy, h + dh) */
+    double glass_t_mm;
+    double glass_n;
+    mat3 M;                    /* table top -> sensor frame */
+    double v0[3];              /* sun at table zero in table-top axes: M^T e_z */
+    double spot_px;            /* spot diameter */
+    int s_curve;               /* 1: apply the S-curve bias */
+    double scurve_amp_px[DSS_SCURVE_HARMONICS];
+} dss_sensor;
+
+/* Build the sensor from design d, deviations dev and s_curve (0 or 1). */
+void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve);
+
+/* Sun direction u[3] (unit, toward the sun) in frame b at true table angles
+ * (b1, b2) rad. */
+void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u[3]);
+
+/* Measured spot centre (px from the detector centre) for sun direction u:
+ * ray trace, S-curve bias (if on), plus noise_px[2] (NULL: none).
+ * SUNMC_EDOM when the spot is not (wholly) on the detector. */
+int dss_sensor_spot(const dss_sensor *s, const double u[3], const double noise_px[2],
+                    double *x_px, double *y_px);
+
+/* Table at true angles (b1, b2) rad: the measured spot (as above). */
+int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double noise_px[2],
+                    double *x_px, double *y_px);
+
+/* The on-board formula, eq. 9-10: angles (rad) of a spot (px) for a design
+ * height h_nom_mm and pitch pixel_mm. */
+void dss_onboard_angles(double h_nom_mm, double pixel_mm, double x_px, double y_px,
+                        double *alpha, double *beta);
+
+/* dss_onboard_angles with the sensor's nominal design. */
+void dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
+                       double *beta);
+
+#endif

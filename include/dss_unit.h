@@ -1,0 +1,59 @@
+/* dss_unit.h - one simulated DSS unit on the rotary table: its deviations,
+ * its calibration campaign as a lab records it, and the DSS family of the
+ * Monte Carlo (dss_family: sample -> campaign -> fit -> validate).
+ *
+ * For `sunmc simulate / calibrate / compensate` and `curve`:
+ *   dss_deviations_sample + dss_unit_build     a unit (or fill the deviations)
+ *   dss_unit_campaign                          its readings and the truth
+ *   dss_calib_alloc + dss_calibrate            the fit (dss_calib.h)
+ *   dss_compensate                             spot -> (alpha, beta)
+ *   dss_sensor_read + dss_sensor_angles        one raw reading anywhere
+ */
+#ifndef SUNMC_DSS_UNIT_H
+#define SUNMC_DSS_UNIT_H
+
+#include "config.h"
+#include "dss_calib.h"
+#include "dss_sensor.h"
+
+#include <stddef.h>
+
+typedef struct {
+    dss_deviations dev;
+    dss_sensor sensor;
+} dss_unit;
+
+/* Build a unit of config c with deviations dev. */
+void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u);
+
+/* Readings in c's campaign: the b1 x b2 grid (campaign.b_min_deg ..
+ * b_max_deg, step b_step_deg, both axes), b1 varying slowest. */
+size_t dss_campaign_size(const sunmc_config *c);
+
+/* Simulate unit `unit`'s campaign as a lab records it, one reading per grid
+ * point (arrays of dss_campaign_size(c)):
+ *   b1_rad, b2_rad   the table angles as recorded (the table is really at
+ *                    recorded + encoder error, noise.encoder_arcsec);
+ *   x_px, y_px       the spot centroid averaged over campaign.repeats
+ *                    readings, each with centroid noise (noise.centroid_px)
+ *                    and the S-curve bias if on; NaN when the spot is not on
+ *                    the detector;
+ *   weight           1, or 0 for a reading with no spot;
+ *   truth_alpha_rad, truth_beta_rad (may be NULL): eq. 3-4 at the table's
+ *                    true angles.
+ * Draws come from stream RNG_STREAM_CAL_NOISE of (seed, unit).  Returns the
+ * number of readings with a spot. */
+size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, double *b1_rad,
+                         double *b2_rad, double *x_px, double *y_px, double *weight,
+                         double *truth_alpha_rad, double *truth_beta_rad);
+
+/* The parameter columns of units.tsv for c's model, and their values from a
+ * calibration (cal) with its largest correlation (corr, pair i < j) and the
+ * fit's reciprocal condition number. */
+#define DSS_N_PAR_PHYSICAL 11
+#define DSS_N_PAR_POLYNOMIAL 5
+int dss_par_names(const sunmc_config *c, const char **names, int max);
+int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
+                   double rcond, double *out, int max);
+
+#endif

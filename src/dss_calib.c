@@ -1,0 +1,283 @@
+/* dss_calib.c - fitting the DSS calibration models (see dss_calib.h). */
+#include "dss_calib.h"
+#include "dss_rotation.h"
+#include "dss_sensor.h"
+#include "status.h"
+#include "units.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double *alpha,
+                   double *beta)
+{
+    if (cal->kind == DSS_MODEL_POLYNOMIAL) {
+        dss_poly_compensate(&cal->poly, x_px, y_px, alpha, beta);
+        return SUNMC_OK;
+    }
+    return dss_model_compensate(&cal->phys, x_px, y_px, alpha, beta);
+}
+
+dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
+                                     int fit_index)
+{
+    if (kind == DSS_MODEL_POLYNOMIAL && (poly_order < 1 || poly_order > DSS_POLY_MAX_ORDER))
+        return NULL;
+    dss_calib_workspace *cw = calloc(1, sizeof *cw);
+    if (!cw)
+        return NULL;
+    cw->n = n;
+    cw->design = *d;
+    cw->kind = kind;
+    cw->poly_order = poly_order;
+    cw->b1_rad = calloc(n, sizeof(double));
+    cw->b2_rad = calloc(n, sizeof(double));
+    cw->x_px = calloc(n, sizeof(double));
+    cw->y_px = calloc(n, sizeof(double));
+    cw->weight = calloc(n, sizeof(double));
+    int ok = cw->b1_rad && cw->b2_rad && cw->x_px && cw->y_px && cw->weight;
+    if (ok && kind == DSS_MODEL_POLYNOMIAL) {
+        size_t nt = (size_t)dss_poly_n_terms(poly_order);
+        cw->basis = calloc(n * nt, sizeof(double));
+        cw->target = calloc(n, sizeof(double));
+        cw->fw = n >= nt ? fit_workspace_alloc(n, nt) : NULL;
+        ok = cw->basis && cw->target && cw->fw;
+    } else if (ok) {
+        for (int j = 0; j < DSS_NP; j++)
+            if (j != DSS_P_N || fit_index)
+                cw->free_idx[cw->n_free++] = j;
+        cw->fw = 2 * n >= (size_t)cw->n_free ? fit_workspace_alloc(2 * n, (size_t)cw->n_free)
+                                              : NULL;
+        ok = cw->fw != NULL;
+    }
+    if (!ok) {
+        dss_calib_free(cw);
+        return NULL;
+    }
+    return cw;
+}
+
+void dss_calib_free(dss_calib_workspace *cw)
+{
+    if (!cw)
+        return;
+    free(cw->b1_rad);
+    free(cw->b2_rad);
+    free(cw->x_px);
+    free(cw->y_px);
+    free(cw->weight);
+    free(cw->basis);
+    free(cw->target);
+    fit_workspace_free(cw->fw);
+    free(cw);
+}
+
+/* ---- physical model ---- */
+
+static void load_params(dss_calib_workspace *cw, const gsl_vector *x)
+{
+    for (int k = 0; k < cw->n_free; k++)
+        cw->work.p[cw->free_idx[k]] = gsl_vector_get(x, (size_t)k);
+    dss_model_prepare(&cw->work);
+}
+
+static int phys_f(const gsl_vector *x, void *params, gsl_vector *f)
+{
+    dss_calib_workspace *cw = params;
+    load_params(cw, x);
+    for (size_t i = 0; i < cw->n; i++) {
+        double r[2] = {0.0, 0.0}, sp[2];
+        if (cw->weight[i] > 0 &&
+            dss_model_spot(&cw->work, cw->b1_rad[i], cw->b2_rad[i], sp, NULL) == SUNMC_OK) {
+            double sw = sqrt(cw->weight[i]);
+            r[0] = sw * (sp[0] - cw->x_px[i]);
+            r[1] = sw * (sp[1] - cw->y_px[i]);
+        }
+        gsl_vector_set(f, 2 * i, r[0]);
+        gsl_vector_set(f, 2 * i + 1, r[1]);
+    }
+    return GSL_SUCCESS;
+}
+
+static int phys_df(const gsl_vector *x, void *params, gsl_matrix *J)
+{
+    dss_calib_workspace *cw = params;
+    load_params(cw, x);
+    for (size_t i = 0; i < cw->n; i++) {
+        double sp[2], g[2][DSS_NP];
+        int use = cw->weight[i] > 0 &&
+                  dss_model_spot(&cw->work, cw->b1_rad[i], cw->b2_rad[i], sp, g) == SUNMC_OK;
+        double sw = use ? sqrt(cw->weight[i]) : 0.0;
+        for (int a = 0; a < 2; a++)
+            for (int k = 0; k < cw->n_free; k++)
+                gsl_matrix_set(J, 2 * i + (size_t)a, (size_t)k,
+                               use ? sw * g[a][cw->free_idx[k]] : 0.0);
+    }
+    return GSL_SUCCESS;
+}
+
+static size_t usable(const dss_calib_workspace *cw)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < cw->n; i++)
+        k += cw->weight[i] > 0;
+    return k;
+}
+
+static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibration *out,
+                              fit_result *res)
+{
+    dss_model_init(&cw->work, &cw->design);
+    out->kind = DSS_MODEL_PHYSICAL;
+    dss_model_init(&out->phys, &cw->design);
+    if (2 * usable(cw) < (size_t)cw->n_free + 1) {
+        memset(res, 0, sizeof *res);
+        res->status = GSL_EINVAL;
+        return SUNMC_EINPUT;
+    }
+    double x[DSS_NP];
+    for (int k = 0; k < cw->n_free; k++)
+        x[k] = cw->work.p[cw->free_idx[k]];
+    int st = fit_solve(cw->fw, phys_f, phys_df, cw, x, max_iter, res);
+    if (st == SUNMC_OK) {
+        for (int k = 0; k < cw->n_free; k++)
+            out->phys.p[cw->free_idx[k]] = x[k];
+        dss_model_prepare(&out->phys);
+    }
+    return st;
+}
+
+/* ---- polynomial model ---- */
+
+static int poly_f(const gsl_vector *x, void *params, gsl_vector *f)
+{
+    dss_calib_workspace *cw = params;
+    size_t nt = cw->fw->p;
+    for (size_t i = 0; i < cw->n; i++) {
+        double r = 0.0;
+        if (cw->weight[i] > 0) {
+            const double *t = cw->basis + i * nt;
+            for (size_t k = 0; k < nt; k++)
+                r += gsl_vector_get(x, k) * t[k];
+            r = sqrt(cw->weight[i]) * (r - cw->target[i]);
+        }
+        gsl_vector_set(f, i, r);
+    }
+    return GSL_SUCCESS;
+}
+
+static int poly_df(const gsl_vector *x, void *params, gsl_matrix *J)
+{
+    dss_calib_workspace *cw = params;
+    size_t nt = cw->fw->p;
+    for (size_t i = 0; i < cw->n; i++) {
+        double sw = cw->weight[i] > 0 ? sqrt(cw->weight[i]) : 0.0;
+        for (size_t k = 0; k < nt; k++)
+            gsl_matrix_set(J, i, k, sw > 0 ? sw * cw->basis[i * nt + k] : 0.0);
+    }
+    return GSL_SUCCESS;
+}
+
+static int calibrate_poly(dss_calib_workspace *cw, int max_iter, dss_calibration *out,
+                          fit_result *res)
+{
+    const dss_design *d = &cw->design;
+    dss_poly *p = &out->poly;
+    out->kind = DSS_MODEL_POLYNOMIAL;
+    dss_poly_init(p, cw->poly_order, d->h_mm, d->pixel_um * MM_PER_UM, d->fov_deg * RAD_PER_DEG);
+    size_t nt = (size_t)p->n_terms;
+    if (usable(cw) < nt + 1) {
+        memset(res, 0, sizeof *res);
+        res->status = GSL_EINVAL;
+        return SUNMC_EINPUT;
+    }
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0))
+            continue;
+        double am, bm;
+        dss_onboard_angles(p->h_nom_mm, p->pixel_mm, cw->x_px[i], cw->y_px[i], &am, &bm);
+        dss_poly_basis(p->order, am / p->scale_rad, bm / p->scale_rad, cw->basis + i * nt);
+    }
+    int status = SUNMC_OK;
+    for (int axis = 0; axis < 2; axis++) {
+        for (size_t i = 0; i < cw->n; i++) {
+            double am, bm, a0, b0;
+            cw->target[i] = 0.0;
+            if (!(cw->weight[i] > 0))
+                continue;
+            dss_onboard_angles(p->h_nom_mm, p->pixel_mm, cw->x_px[i], cw->y_px[i], &am, &bm);
+            dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+            cw->target[i] = axis == 0 ? a0 - am : b0 - bm;
+        }
+        double x[DSS_POLY_MAX_TERMS] = {0};
+        fit_result r;
+        int st = fit_solve(cw->fw, poly_f, poly_df, cw, x, max_iter, &r);
+        double *c = axis == 0 ? p->ca : p->cb;
+        for (size_t k = 0; k < nt; k++)
+            c[k] = st == SUNMC_OK ? x[k] : 0.0;
+        /* Report the worse fit: a failed one, else the worse conditioned. */
+        size_t iters = axis == 0 ? r.iterations
+                                 : (r.iterations > res->iterations ? r.iterations : res->iterations);
+        if (axis == 0 || (status == SUNMC_OK && (st != SUNMC_OK || r.rcond < res->rcond)))
+            *res = r;
+        res->iterations = iters;
+        if (st != SUNMC_OK && status == SUNMC_OK)
+            status = st;
+    }
+    return status;
+}
+
+int dss_calibrate(dss_calib_workspace *cw, int max_iter, dss_calibration *out, fit_result *res)
+{
+    memset(out, 0, sizeof *out);
+    if (cw->kind == DSS_MODEL_POLYNOMIAL)
+        return calibrate_poly(cw, max_iter, out, res);
+    return calibrate_physical(cw, max_iter, out, res);
+}
+
+double dss_calib_residual_rms(const dss_calib_workspace *cw, const dss_calibration *cal)
+{
+    double sum = 0.0;
+    size_t k = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0))
+            continue;
+        double a, b, a0, b0, u[3], v[3];
+        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+            continue;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        dss_vector_of(a, b, u);
+        dss_vector_of(a0, b0, v);
+        double e = dss_angle_between(u, v);
+        sum += e * e;
+        k++;
+    }
+    return k ? sqrt(sum / (double)k) : GSL_NAN;
+}
+
+int dss_calib_correlation(dss_calib_workspace *cw, double *max_abs, int *i, int *j)
+{
+    *max_abs = GSL_NAN;
+    *i = *j = -1;
+    if (fit_covariance(cw->fw) != SUNMC_OK)
+        return SUNMC_EFIT;
+    const gsl_matrix *C = cw->fw->covar;
+    size_t p = cw->fw->p;
+    double best = -1.0;
+    for (size_t a = 0; a < p; a++)
+        for (size_t b = a + 1; b < p; b++) {
+            double den = sqrt(gsl_matrix_get(C, a, a) * gsl_matrix_get(C, b, b));
+            double r = den > 0 ? fabs(gsl_matrix_get(C, a, b)) / den : GSL_NAN;
+            if (r > best) {
+                best = r;
+                *i = cw->kind == DSS_MODEL_PHYSICAL ? cw->free_idx[a] : (int)a;
+                *j = cw->kind == DSS_MODEL_PHYSICAL ? cw->free_idx[b] : (int)b;
+            }
+        }
+    if (best < 0)
+        return SUNMC_EFIT;
+    *max_abs = best;
+    return SUNMC_OK;
+}

@@ -1,0 +1,248 @@
+/* dss_unit.c - the DSS family: sample -> physical sensor -> rotary-table
+ * campaign -> fit -> validation on its own grid, for one unit. */
+#include "dss_unit.h"
+#include "dss_rotation.h"
+#include "family.h"
+#include "rng.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* units.tsv code of the most correlated pair: i * CORR_PAIR_BASE + j. */
+#define CORR_PAIR_BASE 100
+
+enum { ANGLE_ALPHA = 0, ANGLE_BETA, ANGLE_TOTAL, DSS_N_ANGLES };
+static const char *const dss_angle_names[DSS_N_ANGLES] = {"alpha", "beta", "total"};
+
+static const char *const par_physical[DSS_N_PAR_PHYSICAL] = {
+    "fit_dx_px", "fit_dy_px", "fit_dh_px", "fit_glass_thickness_um", "fit_c1_arcsec",
+    "fit_c2_arcsec", "fit_c3_arcsec", "fit_glass_index", "corr_max_abs", "corr_pair",
+    "log10_rcond"};
+static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
+    "poly_order", "poly_terms", "corr_max_abs", "corr_pair", "log10_rcond"};
+
+void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u)
+{
+    u->dev = *dev;
+    dss_sensor_init(&u->sensor, &c->dss, dev, c->dss_noise.s_curve);
+}
+
+static long cal_axis_count(const sunmc_config *c)
+{
+    return grid_count(c->cal_b_min_deg, c->cal_b_max_deg, c->cal_b_step_deg, 0);
+}
+
+size_t dss_campaign_size(const sunmc_config *c)
+{
+    size_t n = (size_t)cal_axis_count(c);
+    return n * n;
+}
+
+size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, double *b1_rad,
+                         double *b2_rad, double *x_px, double *y_px, double *weight,
+                         double *truth_alpha_rad, double *truth_beta_rad)
+{
+    long nb = cal_axis_count(c);
+    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
+    double sigma = c->dss_noise.centroid_px;
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
+    size_t seen = 0, i = 0;
+    for (long j1 = 0; j1 < nb; j1++)
+        for (long j2 = 0; j2 < nb; j2++, i++) {
+            double b1 = (c->cal_b_min_deg + (double)j1 * c->cal_b_step_deg) * RAD_PER_DEG;
+            double b2 = (c->cal_b_min_deg + (double)j2 * c->cal_b_step_deg) * RAD_PER_DEG;
+            /* The table really stands at the recorded angles plus the encoder
+             * error; the draws are made for every point so that a point's
+             * noise does not depend on whether others are seen. */
+            double b1_true = b1 + enc * rng_normal(&r);
+            double b2_true = b2 + enc * rng_normal(&r);
+            double sx = 0.0, sy = 0.0;
+            int ok = 1;
+            for (int rep = 0; rep < c->cal_repeats; rep++) {
+                double noise[2], x, y;
+                noise[0] = sigma * rng_normal(&r);
+                noise[1] = sigma * rng_normal(&r);
+                if (dss_sensor_read(&u->sensor, b1_true, b2_true, noise, &x, &y) != SUNMC_OK)
+                    ok = 0;
+                sx += x;
+                sy += y;
+            }
+            b1_rad[i] = b1;
+            b2_rad[i] = b2;
+            x_px[i] = ok ? sx / c->cal_repeats : NAN;
+            y_px[i] = ok ? sy / c->cal_repeats : NAN;
+            weight[i] = ok ? 1.0 : 0.0;
+            seen += (size_t)ok;
+            if (truth_alpha_rad && truth_beta_rad)
+                dss_table_truth(b1_true, b2_true, &truth_alpha_rad[i], &truth_beta_rad[i]);
+        }
+    return seen;
+}
+
+int dss_par_names(const sunmc_config *c, const char **names, int max)
+{
+    int poly = c->cal_model == DSS_MODEL_POLYNOMIAL;
+    int n = poly ? DSS_N_PAR_POLYNOMIAL : DSS_N_PAR_PHYSICAL;
+    for (int i = 0; i < n && i < max; i++)
+        names[i] = poly ? par_polynomial[i] : par_physical[i];
+    return n;
+}
+
+int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
+                   double rcond, double *out, int max)
+{
+    double pair = (i >= 0 && j >= 0) ? (double)(i * CORR_PAIR_BASE + j) : NAN;
+    double lrc = rcond > 0 ? log10(rcond) : NAN;
+    if (c->cal_model == DSS_MODEL_POLYNOMIAL) {
+        double v[DSS_N_PAR_POLYNOMIAL] = {cal->poly.order, cal->poly.n_terms, corr, pair, lrc};
+        memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
+        return DSS_N_PAR_POLYNOMIAL;
+    }
+    const dss_model *m = &cal->phys;
+    double pix = c->dss.pixel_um * MM_PER_UM;
+    double v[DSS_N_PAR_PHYSICAL] = {
+        m->p[DSS_P_X0] / pix,
+        m->p[DSS_P_Y0] / pix,
+        (m->p[DSS_P_H] - c->dss.h_mm) / pix,
+        (m->p[DSS_P_T] - c->dss.glass_thickness_mm) * UM_PER_MM,
+        m->p[DSS_P_C1] * ARCSEC_PER_RAD,
+        m->p[DSS_P_C2] * ARCSEC_PER_RAD,
+        m->p[DSS_P_C3] * ARCSEC_PER_RAD,
+        m->p[DSS_P_N] - c->dss.glass_index,
+        corr, pair, lrc};
+    memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
+    return DSS_N_PAR_PHYSICAL;
+}
+
+/* ---- the family ---- */
+
+static int dss_n_angles(const sunmc_config *c) { return DSS_N_ANGLES; }
+
+static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
+{
+    for (int i = 0; i < DSS_N_DEV && i < max; i++)
+        names[i] = dss_deviation_names[i];
+    return DSS_N_DEV;
+}
+
+static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    size_t n = dss_campaign_size(c);
+    dss_calib_workspace *cw =
+        dss_calib_alloc(&c->dss, n, c->cal_model, c->poly_order, c->fit_glass_index);
+    if (!cw)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM,
+                   "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
+                   "or fewer points than parameters)", n);
+    return cw;
+}
+
+static void dss_ws_free(void *ws) { dss_calib_free(ws); }
+
+/* Field angle (deg) of the sun direction with angles (alpha, beta). */
+static double field_angle_deg(double alpha, double beta)
+{
+    return atan(hypot(tan(alpha), tan(beta))) * DEG_PER_RAD;
+}
+
+/* Add one validation reading's errors (rad) to the accumulators. */
+static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, double field_deg,
+                       double a, double b, double a0, double b0)
+{
+    double u[3], v[3];
+    dss_vector_of(a, b, u);
+    dss_vector_of(a0, b0, v);
+    band_acc_add(&acc[ANGLE_ALPHA], bands, field_deg, a - a0);
+    band_acc_add(&acc[ANGLE_BETA], bands, field_deg, b - b0);
+    band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, dss_angle_between(u, v));
+}
+
+static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    dss_calib_workspace *cw = ws;
+    dss_deviations dev;
+    dss_unit u;
+    dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    dss_unit_build(c, &dev, &u);
+
+    memset(res, 0, sizeof *res);
+    res->unit = unit;
+    dss_deviations_values(&dev, res->dev);
+
+    dss_unit_campaign(c, &u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight, NULL,
+                      NULL);
+
+    dss_calibration cal;
+    fit_result fr;
+    int st = dss_calibrate(cw, c->max_iterations, &cal, &fr);
+    res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
+    res->fit_gsl_status = fr.status;
+    res->fit_iterations = (int)fr.iterations;
+    double corr = NAN;
+    int ci = -1, cj = -1;
+    if (st == SUNMC_OK)
+        dss_calib_correlation(cw, &corr, &ci, &cj); /* NaN when it cannot be formed */
+    dss_par_values(c, &cal, corr, ci, cj, fr.rcond, res->par, UNIT_MAX_PAR);
+    res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
+
+    /* Validation on its own grid, table at exactly the set angles, fresh
+     * noise, one reading per point. */
+    band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES];
+    for (int a = 0; a < DSS_N_ANGLES; a++) {
+        band_acc_reset(&before[a]);
+        band_acc_reset(&after[a]);
+    }
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    long nb = grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg,
+                         c->val_b_offset_deg);
+    double sigma = c->dss_noise.centroid_px;
+    for (long j1 = 0; j1 < nb; j1++)
+        for (long j2 = 0; j2 < nb; j2++) {
+            double b1 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j1 * c->val_b_step_deg) *
+                        RAD_PER_DEG;
+            double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
+                        RAD_PER_DEG;
+            double noise[2] = {sigma * rng_normal(&r), sigma * rng_normal(&r)};
+            double x, y, a0, b0, am, bm;
+            if (dss_sensor_read(&u.sensor, b1, b2, noise, &x, &y) != SUNMC_OK)
+                continue;
+            dss_table_truth(b1, b2, &a0, &b0);
+            double field = field_angle_deg(a0, b0);
+            dss_sensor_angles(&u.sensor, x, y, &am, &bm);
+            add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
+            if (res->fit_status == UNIT_FIT_OK) {
+                double ac, bc;
+                if (dss_compensate(&cal, x, y, &ac, &bc) == SUNMC_OK)
+                    add_errors(after, &c->bands_deg, field, ac, bc, a0, b0);
+                else
+                    res->fit_status = UNIT_FIT_FAILED;
+            }
+        }
+    for (int a = 0; a < DSS_N_ANGLES; a++) {
+        band_acc_rms(&before[a], &c->bands_deg, ARCSEC_PER_RAD, res->rms_before[a]);
+        if (res->fit_status == UNIT_FIT_OK)
+            band_acc_rms(&after[a], &c->bands_deg, ARCSEC_PER_RAD, res->rms_after[a]);
+        else
+            for (int i = 0; i < c->bands_deg.n; i++)
+                res->rms_after[a][i] = NAN;
+    }
+    return SUNMC_OK;
+}
+
+const sensor_family dss_family = {
+    .name = "dss",
+    .rms_unit = "arcsec",
+    .arcsec_per_rms_unit = 1.0,
+    .n_angles = dss_n_angles,
+    .angle_names = dss_angle_names,
+    .dev_columns = dss_dev_columns,
+    .par_columns = dss_par_names,
+    .workspace_alloc = dss_ws_alloc,
+    .workspace_free = dss_ws_free,
+    .unit_run = dss_unit_run,
+};
