@@ -74,8 +74,9 @@ int fit_solve(fit_workspace *fw, fit_f f, fit_df df, void *params, double *x, in
     gsl_vector *fr = gsl_multifit_nlinear_residual(fw->w);
     for (size_t i = 0; i < fw->p; i++)
         x[i] = gsl_vector_get(xs, i);
-    double chisq;
-    gsl_blas_ddot(fr, fr, &chisq);
+    double chisq = GSL_NAN;
+    if (gsl_blas_ddot(fr, fr, &chisq) != GSL_SUCCESS)
+        chisq = GSL_NAN;
     res->chisq = chisq;
     double rc;
     if (gsl_multifit_nlinear_rcond(&rc, fw->w) == GSL_SUCCESS)
