@@ -12,11 +12,16 @@
  * campaign (b1, b2 in -60..60 deg step 5, columns normalised): the smallest
  * singular value (0.013; the next 0.155, the largest 1.7) belongs to the
  * direction (H, t, n) = (0.81, 0.33, 0.48): the height, glass thickness and
- * index act on the radial spot distance through (H - t + t/n) tan + (H - t
- * + t/n^3) tan^3 / 2 + ... and only the fifth-order term tells all three
- * apart (correlations H-n 0.992, H-t 0.984, t-n 0.954).  The index is
- * therefore held at its design value by default and t is fitted as an
- * effective thickness (calibration.fit_glass_index = on frees it).  The
+ * index act on the radial spot distance r through, with s = sin(theta),
+ * r = (H - t + t/n) s + (H - t + t/n^3) s^3 / 2 + O(s^5): only the higher
+ * orders tell all three
+ * apart (correlations H-n 0.992, H-t 0.984, t-n 0.954).  The three are
+ * still fitted by default: their individual estimates are poor (the per-unit
+ * corr_max_abs in units.tsv is ~0.99) but the spot map they predict is not,
+ * and holding n at its design value (calibration.fit_glass_index = off, t
+ * then an effective thickness) leaves a bias: noise-free, after-calibration
+ * RMS 0.45" (alpha, 0-60 deg) for dn uniform +-0.005 against 0.00" fitted;
+ * with 0.01 px centroid noise 3.27" against 3.23" (200 units, dss.ini).  The
  * principal point and the installation rotations are separable because the
  * lab aligns the sun to the detector normal at the table's zero (rotations
  * vanish at the centre while a principal-point shift does not): their
