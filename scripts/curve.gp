@@ -1,0 +1,52 @@
+# curve.gp - error curves from `sunmc curve --out RUN` (ESS): error vs the
+# fast table angle (alpha), one colour per series (beta).
+#   what='both'   (default) before (thin, dashed) and after (thick) compensation
+#   what='before' | 'after' | 'source' one kind only; 'source' is the error the
+#                 unit's deviations add to the nominal design (paper's "error
+#                 caused by ...")
+#   run2='DIR'    overlay a second curve run (e.g. the -2 um mirror of +2 um)
+#   label='...', label2='...'  legend prefixes of run and run2; title='...'
+#   gnuplot -e "run='runs/u17'" scripts/curve.gp   [-e "out='x.png'"] [-e "svg=1"]
+if (!exists("run")) run = '.'
+file = run.'/curve.tsv'
+if (!exists("svg")) svg = 0
+if (!exists("what")) what = 'both'
+if (!exists("out")) out = run.'/curve'.(what eq 'both' ? '' : '_'.what).(svg ? '.svg' : '.png')
+if (svg) { set terminal svg size 1000,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 1000,600 font 'Sans,11' }
+set output out
+set termoption noenhanced
+set datafile separator "\t"
+
+hdr = system(sprintf("head -1 '%s'", file))
+pre(s, p) = strlen(s) >= strlen(p) && s[1:strlen(p)] eq p
+colp(p) = sum [i=1:words(hdr)] (pre(word(hdr, i), p) ? i : 0)
+cb = colp('error_before_'); ca = colp('error_after_'); cs = colp('error_source_')
+yname = word(hdr, cb)
+uscore(s, i) = s[i:i] eq '_' ? i : 0
+lastus = sum [i=1:strlen(yname)] uscore(yname, i)
+eunit = yname[lastus+1:]
+series = system(sprintf("awk -F'\\t' 'NR>1 && NF && !s[$2]++ {printf \"%%s \", $2}' '%s'", file))
+n = words(series)
+if (!exists("label")) label = ''
+if (!exists("label2")) label2 = ''
+if (!exists("title")) title = system(sprintf("head -1 '%s/config.ini'", run))[3:]
+set title title
+set xlabel word(hdr, 1).' (table angle)'
+set ylabel sprintf('error [%s]', eunit)
+set grid
+set key outside right top
+set xzeroaxis
+blk(i) = i - 1
+if (what eq 'both') {
+  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 dt 2 lc i title sprintf('%sbefore, %s = %s', label, word(hdr, 2), word(series, i)), \
+       for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:ca with lines lw 2 lc i title sprintf('%safter, %s = %s', label, word(hdr, 2), word(series, i))
+} else {
+  c = what eq 'before' ? cb : what eq 'after' ? ca : cs
+  if (exists("run2")) {
+    file2 = run2.'/curve.tsv'
+    plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:c with linespoints pt 7 ps 0.4 lw 2 lc i title sprintf('%s%s = %s', label, word(hdr, 2), word(series, i)), \
+         for [i=1:n] file2 skip 1 every :::blk(i)::blk(i) using 1:c with linespoints pt 6 ps 0.4 lw 2 dt 2 lc i+1 title sprintf('%s%s = %s', label2, word(hdr, 2), word(series, i))
+  } else {
+    plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:c with linespoints pt 7 ps 0.4 lw 2 lc i title sprintf('%s%s = %s', label, word(hdr, 2), word(series, i))
+  }
+}
