@@ -93,6 +93,15 @@ test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
 reference: $(BUILD)/sunmc
 	$(BUILD)/sunmc config --reference > configs/reference.ini
 
+# Figures: `make plots RUN=DIR` draws what a run directory holds, next to it;
+# `make figures` rebuilds the papers' figures into $(BUILD)/figures/.
+plots: $(BUILD)/sunmc
+	@test -n "$(RUN)" || { echo "usage: make plots RUN=DIR" >&2; exit 2; }
+	bash scripts/plots.sh $(RUN)
+
+figures: $(BUILD)/sunmc
+	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
+
 bench: $(BUILD)/sunmc
 	bash scripts/bench.sh $(BUILD)/sunmc
 

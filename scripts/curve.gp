@@ -22,8 +22,8 @@ pre(s, p) = strlen(s) >= strlen(p) && s[1:strlen(p)] eq p
 colp(p) = sum [i=1:words(hdr)] (pre(word(hdr, i), p) ? i : 0)
 cb = colp('error_before_'); ca = colp('error_after_'); cs = colp('error_source_')
 yname = word(hdr, cb)
-uscore(s, i) = s[i:i] eq '_' ? i : 0
-lastus = sum [i=1:strlen(yname)] uscore(yname, i)
+lastus = 0
+do for [i=1:strlen(yname)] { if (yname[i:i] eq '_') { lastus = i } }
 eunit = yname[lastus+1:]
 series = system(sprintf("awk -F'\\t' 'NR>1 && NF && !s[$2]++ {printf \"%%s \", $2}' '%s'", file))
 n = words(series)
@@ -36,9 +36,10 @@ set ylabel sprintf('error [%s]', eunit)
 set grid
 set key outside right top
 set xzeroaxis
+set autoscale xfix
 blk(i) = i - 1
 if (what eq 'both') {
-  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 dt 2 lc i title sprintf('%sbefore, %s = %s', label, word(hdr, 2), word(series, i)), \
+  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 lc i title sprintf('%sbefore, %s = %s', label, word(hdr, 2), word(series, i)), \
        for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:ca with lines lw 2 lc i title sprintf('%safter, %s = %s', label, word(hdr, 2), word(series, i))
 } else {
   c = what eq 'before' ? cb : what eq 'after' ? ca : cs

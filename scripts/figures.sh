@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# figures.sh - regenerate the papers' figures from scratch into build/figures/
+# (make figures).  Each figure's data are kept in build/figures/data/NAME/.
+#
+# ESS paper (Fan et al. 2013):
+#   ess_fig3_dH.png      error caused by dH = +-2 um alone, type A        (Fig. 3)
+#   ess_fig5_dd.png      error caused by dd = +-1 um alone                (Fig. 5)
+#   ess_fig6_dphi.png    error caused by dphi = +-0.01 deg alone          (Fig. 6)
+#   ess_fig7_dphi_0p5.png  the same sampled every 0.5 deg: the 1-deg period (Fig. 7)
+#   ess_fig11a_typeB.png one type-B unit before/after, every beta         (Fig. 11a)
+#   ess_fig11b_typeB.png the same unit, two representative betas          (Fig. 11b)
+#   ess_table2_step_A.png, ess_table2_step_B.png  campaign step sweep     (Table 2)
+#   ess_budget_A.png, ess_yield_A.png, ess_hist_A.png  budget, yield, improvement
+# DSS paper (Wei et al.), when the dss family offers curves:
+#   dss_fig2_dh.png, dss_fig3_dx.png, dss_fig3_dy.png, dss_fig4_c1..c3.png,
+#   dss_fig5_refraction.png   error maps over the table grid
+#
+# Figs. 3, 5-7 isolate one geometric error as the paper's section 3 does: every
+# other tolerance 0 and an ideal fine code (pure sinusoid: design.harmonics =
+# given, a3 = a5 = 0), so the curve is the error that deviation alone causes.
+# Unit counts are small (the machine is shared); SUNMC and UNITS override.
+set -eu
+cd "$(dirname "$0")/.."
+SUNMC=${SUNMC:-build/sunmc}
+UNITS=${UNITS:-150}
+out=build/figures
+data=$out/data
+rm -rf "$out"
+mkdir -p "$data"
+q=--quiet
+A=configs/ess_type_a.ini
+B=configs/ess_type_b.ini
+ideal="--set design.harmonics=given --set design.a3_ratio=0 --set design.a5_ratio=0"
+fine="--set validation.alpha_offset_deg=0 --set validation.beta_deg=0"
+
+pair() { # NAME KEY VALUE STEP_DEG TITLE
+  local name=$1 key=$2 v=$3 step=$4 title=$5
+  "$SUNMC" curve $A --only "$key=$v" $ideal $fine --set validation.alpha_step_deg=$step \
+    --out $data/${name}_plus $q >/dev/null
+  "$SUNMC" curve $A --only "$key=-$v" $ideal $fine --set validation.alpha_step_deg=$step \
+    --out $data/${name}_minus $q >/dev/null
+  gnuplot -e "run='$data/${name}_plus'; run2='$data/${name}_minus'; what='source'; \
+    label='$key = +$v, '; label2='$key = -$v, '; title='$title'; out='$out/$name.png'" \
+    scripts/curve.gp
+}
+pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm)"
+pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A)"
+pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A)"
+pair ess_fig7_dphi_0p5 dphi_deg 0.01 0.5 "ESS paper Fig. 7: dphi = +-0.01 deg sampled every 0.5 deg: a 1-deg period"
+
+# Fig. 11: one type-B unit (the unit of the largest error before of the
+# first 40), before and after its own calibration.
+U=32
+"$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
+  --set "validation.beta_deg=-25,-15,-5,5,15,25" --out $data/ess_fig11a $q >/dev/null
+gnuplot -e "run='$data/ess_fig11a'; title='ESS paper Fig. 11(a): type-B unit $U before (thin) and after (thick) compensation, every beta'; \
+  out='$out/ess_fig11a_typeB.png'" scripts/curve.gp
+"$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
+  --set "validation.beta_deg=-25,25" --out $data/ess_fig11b $q >/dev/null
+gnuplot -e "run='$data/ess_fig11b'; title='ESS paper Fig. 11(b): type-B unit $U, two representative beta'; \
+  out='$out/ess_fig11b_typeB.png'" scripts/curve.gp
+
+# Table 2: the campaign's alpha step (common random numbers).
+for t in A B; do
+  cfg=configs/ess_type_$(echo $t | tr AB ab).ini
+  "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2 --units $UNITS \
+    --out $data/ess_table2_$t $q >/dev/null
+  gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'" scripts/sweep.gp
+done
+
+# Budget, yield and improvement histogram of type A.
+"$SUNMC" budget $A --units $UNITS --set report.budget_units=50 --set report.budget_steps=3 \
+  --out $data/ess_budget_A $q >/dev/null
+gnuplot -e "run='$data/ess_budget_A'; out='$out/ess_budget_A.png'" scripts/budget.gp
+"$SUNMC" run $A --units $((UNITS * 2)) --out $data/ess_run_A $q >/dev/null
+gnuplot -e "run='$data/ess_run_A'; out='$out/ess_yield_A.png'" scripts/yield.gp
+gnuplot -e "run='$data/ess_run_A'; out='$out/ess_hist_A.png'" scripts/hist.gp
+
+# DSS maps (Figs. 2-5), when the family draws curves.
+D=configs/dss.ini
+if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 --out $data/dss_fig2_dh $q >/dev/null 2>&1; then
+  gnuplot -e "run='$data/dss_fig2_dh'; out='$out/dss_fig2_dh.png'; title='DSS paper Fig. 2: error caused by dh = 0.2 pixel'" scripts/map.gp
+  for s in dx_px=0.1:fig3_dx dy_px=0.1:fig3_dy c1_arcsec=10:fig4_c1 c2_arcsec=10:fig4_c2 c3_arcsec=10:fig4_c3; do
+    kv=${s%%:*}; name=dss_${s##*:}
+    "$SUNMC" curve $D --only $kv --out $data/$name $q >/dev/null
+    gnuplot -e "run='$data/$name'; out='$out/$name.png'; title='DSS paper: error caused by $kv'" scripts/map.gp
+  done
+  # Fig. 5, refraction: the cover glass alone = the nominal design with glass
+  # minus the same design without (the source column of a glass-index run is
+  # only its tolerance), so draw the 'before' map of a nominal unit.
+  "$SUNMC" curve $D --only glass_index=0 --out $data/dss_fig5_refraction $q >/dev/null
+  gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: error of the nominal design with its cover glass (refraction)'" scripts/map.gp
+else
+  echo "figures.sh: the dss family draws no curves yet: DSS Figs. 2-5 skipped" >&2
+fi
+ls "$out"/*.png
