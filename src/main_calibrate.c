@@ -44,7 +44,7 @@ static int wants_help(int argc, char **argv, const char *text)
 }
 
 /* Read the ESS campaign columns into a new workspace; *line_out gets each
- * row's file line. */
+ * row's file line.  Every value is checked before the number of rows. */
 static int read_ess_campaign(const char *path, ess_calib_workspace **cw_out, int **line_out,
                              char *err, size_t errlen)
 {
@@ -52,14 +52,27 @@ static int read_ess_campaign(const char *path, ess_calib_workspace **cw_out, int
     int st = csv_read(path, &t, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    int ca, cb, co, cwt;
-    st = csv_column(t, "alpha_deg", 1, &ca, err, errlen);
-    if (st == SUNMC_OK)
-        st = csv_column(t, "beta_deg", 1, &cb, err, errlen);
-    if (st == SUNMC_OK)
-        st = csv_column(t, "output_deg", 1, &co, err, errlen);
-    if (st == SUNMC_OK)
-        st = csv_column(t, "weight", 0, &cwt, err, errlen);
+    int col[4]; /* alpha, beta, output, weight */
+    const char *names[4] = {"alpha_deg", "beta_deg", "output_deg", "weight"};
+    for (int k = 0; k < 4 && st == SUNMC_OK; k++)
+        st = csv_column(t, names[k], k < 3, &col[k], err, errlen);
+    double *v[4] = {NULL, NULL, NULL, NULL};
+    for (int k = 0; k < 4 && st == SUNMC_OK; k++) {
+        v[k] = malloc((t->n_rows + 1) * sizeof(double));
+        if (!v[k])
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        else if (col[k] >= 0)
+            st = csv_doubles(t, col[k], v[k], err, errlen);
+        else
+            for (size_t i = 0; i < t->n_rows; i++)
+                v[k][i] = 1.0;
+    }
+    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
+        if (v[3][i] < 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
+                            "drops the row)",
+                            path, t->line[i], v[3][i]);
     char why[128];
     snprintf(why, sizeof why, "the ess model has %d parameters: need at least %d rows", ESS_NP,
              ESS_NP + 1);
@@ -74,30 +87,15 @@ static int read_ess_campaign(const char *path, ess_calib_workspace **cw_out, int
             st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
     }
     if (st == SUNMC_OK)
-        st = csv_doubles(t, ca, cw->alpha_rad, err, errlen);
-    if (st == SUNMC_OK)
-        st = csv_doubles(t, cb, cw->beta_rad, err, errlen);
-    if (st == SUNMC_OK)
-        st = csv_doubles(t, co, cw->raw_rad, err, errlen);
-    if (st == SUNMC_OK && cwt >= 0)
-        st = csv_doubles(t, cwt, cw->weight, err, errlen);
-    if (st == SUNMC_OK) {
         for (size_t i = 0; i < t->n_rows; i++) {
             line[i] = t->line[i];
-            if (cwt < 0)
-                cw->weight[i] = 1.0;
-            else if (cw->weight[i] < 0) {
-                st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
-                                "drops the row)",
-                                path, t->line[i], cw->weight[i]);
-                break;
-            }
-            cw->alpha_rad[i] *= RAD_PER_DEG;
-            cw->beta_rad[i] *= RAD_PER_DEG;
-            cw->raw_rad[i] *= RAD_PER_DEG;
+            cw->alpha_rad[i] = v[0][i] * RAD_PER_DEG;
+            cw->beta_rad[i] = v[1][i] * RAD_PER_DEG;
+            cw->raw_rad[i] = v[2][i] * RAD_PER_DEG;
+            cw->weight[i] = v[3][i];
         }
-    }
+    for (int k = 0; k < 4; k++)
+        free(v[k]);
     csv_free(t);
     if (st != SUNMC_OK) {
         ess_calib_free(cw);

@@ -2,6 +2,7 @@
  * campaign as a lab records it, with the truth behind it. */
 #include "ess_simulate.h"
 #include "ess_unit.h"
+#include "family.h"
 #include "main.h"
 #include "output.h"
 #include "status.h"
@@ -125,11 +126,15 @@ static int simulate_ess(const cli_options *o, const sunmc_config *c)
             fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
         fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,"
                     "seen\n");
+        long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
         for (size_t i = 0; i < n; i++) {
-            fprintf(fc, "%.17g,%.17g,%.17g,%g\n", cw->alpha_rad[i] * DEG_PER_RAD,
-                    cw->beta_rad[i] * DEG_PER_RAD, cw->raw_rad[i] * DEG_PER_RAD, cw->weight[i]);
-            fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n",
-                    cw->alpha_rad[i] * DEG_PER_RAD, cw->beta_rad[i] * DEG_PER_RAD,
+            /* The recorded angles as the campaign computes them, so that
+             * reading them back gives the very same radians. */
+            double a_deg = c->cal_alpha_min_deg + (double)((long)i % na) * c->cal_alpha_step_deg;
+            double b_deg = c->cal_beta_deg.v[(long)i / na];
+            fprintf(fc, "%.17g,%.17g,%.17g,%g\n", a_deg, b_deg, cw->raw_rad[i] * DEG_PER_RAD,
+                    cw->weight[i]);
+            fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", a_deg, b_deg,
                     b.a_true[i] * DEG_PER_RAD, b.b_true[i] * DEG_PER_RAD, b.inc[i] * DEG_PER_RAD,
                     cw->raw_rad[i] * DEG_PER_RAD, b.seen[i]);
         }

@@ -1,0 +1,770 @@
+/* test_calibrate.c - `sunmc calibrate` for the ESS: the propagated
+ * uncertainty against finite differences, standard errors against repeated
+ * noise, data from an independent model with known truth (recovered, and as
+ * good as an independent least-squares fit), warnings (alias, correlation,
+ * non-convergence), cross-validation, and the CLI: simulate -> calibrate ->
+ * compensate reproduces `run`'s unit, bad data exit 2 with nothing written. */
+#include "test_util.h"
+
+#include "calreport.h"
+#include "config.h"
+#include "csv.h"
+#include "ess_calfit.h"
+#include "ess_unit.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multifit_nlinear.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char dir[] = "/tmp/sunmc_test_cal_XXXXXX";
+
+static int setup(void **state)
+{
+    gsl_set_error_handler_off();
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static void build_config(config_state *st, const char *const *sets, int n)
+{
+    char err[SUNMC_ERRLEN];
+    if (config_build(st, NULL, sets, n, err, sizeof err) != SUNMC_OK)
+        fail_msg("%s", err);
+}
+
+/* ---- an independent ESS model (shares no code with sunmc) ---- */
+
+typedef struct {
+    double a, b, c, k_rad, t_rad;   /* eq. 12 (d = 1) and the fine-code term k sin(w x + t) */
+    double k3_rad, t3_rad;          /* an unmodelled 3rd harmonic of the fine-code error */
+    double iy, iz, sun_y, roll;     /* installation and sun tilt, rad */
+    double omega;
+} indep_truth;
+
+/* Passive frame rotations applied to vector v in place. */
+static void frame_x(double a, double v[3])
+{
+    double y = cos(a) * v[1] + sin(a) * v[2], z = -sin(a) * v[1] + cos(a) * v[2];
+    v[1] = y;
+    v[2] = z;
+}
+static void frame_y(double a, double v[3])
+{
+    double x = cos(a) * v[0] + sin(a) * v[2], z = -sin(a) * v[0] + cos(a) * v[2];
+    v[0] = x;
+    v[2] = z;
+}
+static void frame_z(double a, double v[3])
+{
+    double x = cos(a) * v[0] + sin(a) * v[1], y = -sin(a) * v[0] + cos(a) * v[1];
+    v[0] = x;
+    v[1] = y;
+}
+
+static double indep_incidence(const indep_truth *m, double al, double be)
+{
+    double v[3] = {0, sin(m->sun_y), cos(m->sun_y)};
+    frame_y(be, v);
+    frame_x(al, v);
+    frame_z(m->iz, v);
+    frame_y(m->iy, v);
+    frame_x(m->roll, v);
+    return atan2(v[1], v[2]);
+}
+
+static double indep_raw(const indep_truth *m, double incidence)
+{
+    double T = tan(incidence);
+    double ad = atan((m->a * T + m->b) / (m->c * T + 1.0));
+    return ad - m->k_rad * sin(m->omega * ad + m->t_rad) -
+           m->k3_rad * sin(3.0 * m->omega * ad + m->t3_rad);
+}
+
+/* xorshift64* and Box-Muller: the test's own noise. */
+static double test_normal(uint64_t *s)
+{
+    double u[2];
+    for (int i = 0; i < 2; i++) {
+        *s ^= *s >> 12;
+        *s ^= *s << 25;
+        *s ^= *s >> 27;
+        u[i] = ((double)((*s * 2685821657736338717ULL) >> 11) + 0.5) / 9007199254740992.0;
+    }
+    return sqrt(-2.0 * log(u[0])) * cos(2.0 * M_PI * u[1]);
+}
+
+static indep_truth truth_default(double k3_deg)
+{
+    indep_truth m = {.a = 1.00048, .b = 6e-5, .c = -7e-5, .k_rad = 0.036 * RAD_PER_DEG,
+                     .t_rad = -1.7, .k3_rad = k3_deg * RAD_PER_DEG, .t3_rad = 0.4,
+                     .iy = 230 * RAD_PER_ARCSEC, .iz = -40 * RAD_PER_ARCSEC,
+                     .sun_y = 25 * RAD_PER_ARCSEC, .roll = 12 * RAD_PER_ARCSEC,
+                     .omega = 2 * M_PI / (0.5 * RAD_PER_DEG)};
+    return m;
+}
+
+/* Fill cw with the campaign grid of c from model m: recorded angles on the
+ * grid, true ones off by encoder noise enc_rad, raw noise sigma_rad. */
+static ess_calib_workspace *indep_campaign(const sunmc_config *c, const indep_truth *m,
+                                           double sigma_rad, double enc_rad, uint64_t seed)
+{
+    size_t n = ess_campaign_size(c);
+    ess_calib_workspace *cw = ess_calib_alloc(n);
+    assert_non_null(cw);
+    long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
+    size_t i = 0;
+    for (int k = 0; k < c->cal_beta_deg.n; k++)
+        for (long j = 0; j < na; j++, i++) {
+            double al = (c->cal_alpha_min_deg + (double)j * c->cal_alpha_step_deg) * RAD_PER_DEG;
+            double be = c->cal_beta_deg.v[k] * RAD_PER_DEG;
+            double inc = indep_incidence(m, al + enc_rad * test_normal(&seed),
+                                         be + enc_rad * test_normal(&seed));
+            cw->alpha_rad[i] = al;
+            cw->beta_rad[i] = be;
+            cw->raw_rad[i] = indep_raw(m, inc) + sigma_rad * test_normal(&seed);
+            cw->weight[i] = 1.0;
+        }
+    return cw;
+}
+
+/* RMS (rad) of compensate(raw) - truth on a validation grid of m. */
+typedef int (*comp_fn)(const void *model, double raw, double *alpha);
+
+static int comp_sunmc(const void *model, double raw, double *alpha)
+{
+    return ess_model_compensate(model, raw, alpha);
+}
+
+static double validation_rms(const indep_truth *m, const void *model, comp_fn comp,
+                             double sigma_rad, uint64_t seed)
+{
+    double sum = 0;
+    long n = 0;
+    const double betas[] = {-25, -10, 10, 25};
+    for (int k = 0; k < 4; k++)
+        for (double a = -61.95; a <= 62; a += 0.13) {
+            double inc = indep_incidence(m, a * RAD_PER_DEG, betas[k] * RAD_PER_DEG);
+            double raw = indep_raw(m, inc) + sigma_rad * test_normal(&seed), out;
+            assert_int_equal(comp(model, raw, &out), 0);
+            sum += (out - inc) * (out - inc);
+            n++;
+        }
+    return sqrt(sum / (double)n);
+}
+
+/* ---- unit tests of the pieces ---- */
+
+static void test_compensate_gradient_matches_finite_differences(void **state)
+{
+    ess_model m;
+    ess_model_init(&m, 2 * RAD_PER_DEG, 0);
+    m.p[ESS_P_A] = 1.0005;
+    m.p[ESS_P_B] = 5e-5;
+    m.p[ESS_P_C] = -8e-5;
+    m.p[ESS_P_KS] = -7e-5;
+    m.p[ESS_P_KC] = -6.9e-4;
+    ess_model_prepare(&m);
+    const double alphas_deg[] = {-61, -30.3, -0.2, 0.37, 15, 44.4, 61.9};
+    const double step[ESS_NP] = {1e-7, 1e-7, 1e-7, 1e-8, 1e-8, 1e-6, 1e-6, 1e-6};
+    for (int ia = 0; ia < 7; ia++) {
+        double alpha = alphas_deg[ia] * RAD_PER_DEG, h[ESS_NP];
+        double raw = ess_model_structural(&m, tan(alpha));
+        ess_compensate_gradient(&m, alpha, h);
+        double check;
+        assert_int_equal(ess_model_compensate(&m, raw, &check), SUNMC_OK);
+        assert_near(check, alpha, 1e-12);
+        for (int j = 0; j < ESS_NP; j++) {
+            ess_model mp = m, mm = m;
+            mp.p[j] += step[j];
+            mm.p[j] -= step[j];
+            ess_model_prepare(&mp);
+            ess_model_prepare(&mm);
+            double ap, am;
+            assert_int_equal(ess_model_compensate(&mp, raw, &ap), SUNMC_OK);
+            assert_int_equal(ess_model_compensate(&mm, raw, &am), SUNMC_OK);
+            double fd = (ap - am) / (2 * step[j]);
+            assert_near(h[j], fd, 1e-6 * fmax(1.0, fabs(fd)));
+        }
+        /* The installation does not enter compensation. */
+        assert_true(h[ESS_P_INST_Y] == 0 && h[ESS_P_INST_Z] == 0 && h[ESS_P_SUN_Y] == 0);
+    }
+}
+
+static void test_covariance_closed_form(void **state)
+{
+    /* cov = [[4, 2], [2, 9]], s2 = 0.25, scale (1, 10): se = (1, 15),
+     * corr = 1/3, eigenvalues of [[1, 1/3], [1/3, 1]] are 4/3, 2/3: cond 2. */
+    calreport r;
+    calreport_init(&r, "ess", "test");
+    r.np = 2;
+    snprintf(r.name[0], sizeof r.name[0], "p");
+    snprintf(r.name[1], sizeof r.name[1], "q");
+    gsl_matrix *cov = gsl_matrix_alloc(2, 2);
+    gsl_matrix_set(cov, 0, 0, 4);
+    gsl_matrix_set(cov, 0, 1, 2);
+    gsl_matrix_set(cov, 1, 0, 2);
+    gsl_matrix_set(cov, 1, 1, 9);
+    const double scale[2] = {1, 10};
+    assert_int_equal(calreport_covariance(&r, cov, 0.25, scale), SUNMC_OK);
+    assert_near(r.se[0], 1.0, 1e-15);
+    assert_near(r.se[1], 15.0, 1e-14);
+    assert_near(r.corr[0][1], 1.0 / 3.0, 1e-15);
+    assert_near(r.corr[1][0], 1.0 / 3.0, 1e-15);
+    assert_near(r.corr[0][0], 1.0, 1e-15);
+    assert_near(r.cond_correlation, 2.0, 1e-12);
+    calreport_check_correlations(&r, 0.3);
+    assert_int_equal(r.nw, 1);
+    assert_non_null(strstr(r.w[0].reason, "parameters p and q are nearly unidentifiable"));
+    calreport_check_correlations(&r, 0.34);
+    assert_int_equal(r.nw, 1);
+    gsl_matrix_set(cov, 1, 1, -1); /* not a covariance */
+    assert_int_equal(calreport_covariance(&r, cov, 1, scale), SUNMC_EFIT);
+    gsl_matrix_free(cov);
+}
+
+/* ---- the independent model: recovery, honest errors, CV, prediction ---- */
+
+static void test_independent_model_recovered(void **state)
+{
+    const char *sets[] = {"calibration.roll_measured_arcsec=12"};
+    config_state st;
+    build_config(&st, sets, 1);
+    indep_truth m = truth_default(0);
+    const double sigma = 3 * RAD_PER_ARCSEC;
+    const double truth_int[ESS_NP] = {m.a,  m.b,  m.c,     m.k_rad * cos(m.t_rad), m.k_rad * sin(m.t_rad),
+                                      m.iy, m.iz, m.sun_y};
+    /* Repeated noise: each parameter within 5 standard errors, and the
+     * standard errors honest: mean (error / se)^2 near 1. */
+    const int reps = 10;
+    double chi = 0;
+    int nchi = 0;
+    static calreport rep;
+    ess_calfit_result res;
+    char err[SUNMC_ERRLEN];
+    for (int r = 0; r < reps; r++) {
+        ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, sigma, 0, 1000 + (uint64_t)r);
+        assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+        assert_true(rep.fit_ok);
+        assert_int_equal(rep.dof, (int)cw->n - ESS_NP);
+        for (int j = 0; j < ESS_NP; j++) {
+            double e = (res.m.p[j] - truth_int[j]) / sqrt(res.cov[j][j]);
+            assert_true(fabs(e) < 5);
+            chi += e * e;
+            nchi++;
+        }
+        /* Residual sigma estimates the noise. */
+        assert_near(rep.sigma_arcsec, 3.0, 0.3);
+        if (r == 0) {
+            /* Compensated error against the truth: the noise through the
+             * compensation, and the report's prediction says so. */
+            double v = validation_rms(&m, &res.m, comp_sunmc, sigma, 77) * ARCSEC_PER_RAD;
+            assert_true(v < 2 * 3.0);
+            int all = rep.bands.n - 1; /* 0:62 */
+            assert_near(rep.predicted_rms[0][all], v, 0.2 * v);
+            /* Cross-validation: one fold per beta line, held-out close to
+             * in-sample when the model is right. */
+            assert_int_equal(rep.n_folds, 3);
+            assert_string_equal(rep.fold[0].label, "beta = -20 deg");
+            assert_true(rep.cv_rms_out_arcsec >= 0.98 * rep.cv_rms_in_arcsec);
+            assert_true(rep.cv_rms_out_arcsec < 1.2 * rep.cv_rms_in_arcsec);
+            /* b, c and the sun's tilt trade off: named as a warning. */
+            assert_true(fabs(rep.corr[ESS_P_B][ESS_P_SUN_Y]) > CALREPORT_CORR_WARN);
+            int named = 0;
+            for (int w = 0; w < rep.nw; w++)
+                named |= strstr(rep.w[w].reason, "parameters b and fit_sun_y_arcsec") != NULL;
+            assert_true(named);
+        }
+        ess_calib_free(cw);
+    }
+    double ratio = chi / nchi;
+    if (!(ratio > 0.4 && ratio < 1.8))
+        fail_msg("mean (error / standard error)^2 = %g over %d, expected near 1", ratio, nchi);
+    config_state_free(&st);
+}
+
+/* The independent least-squares fit: own model, GSL with finite-difference
+ * Jacobian, parameters (a, b, c, ks, kc, iy, iz, sun_y). */
+typedef struct {
+    const ess_calib_workspace *cw;
+    double roll, omega;
+} indep_fit_data;
+
+static void indep_from_x(const gsl_vector *x, double roll, double omega, indep_truth *m)
+{
+    memset(m, 0, sizeof *m);
+    m->a = gsl_vector_get(x, 0);
+    m->b = gsl_vector_get(x, 1);
+    m->c = gsl_vector_get(x, 2);
+    double ks = gsl_vector_get(x, 3), kc = gsl_vector_get(x, 4);
+    m->k_rad = hypot(ks, kc);
+    m->t_rad = atan2(kc, ks);
+    m->iy = gsl_vector_get(x, 5);
+    m->iz = gsl_vector_get(x, 6);
+    m->sun_y = gsl_vector_get(x, 7);
+    m->roll = roll;
+    m->omega = omega;
+}
+
+static int indep_f(const gsl_vector *x, void *params, gsl_vector *f)
+{
+    const indep_fit_data *d = params;
+    indep_truth m;
+    indep_from_x(x, d->roll, d->omega, &m);
+    for (size_t i = 0; i < d->cw->n; i++)
+        gsl_vector_set(f, i,
+                       indep_raw(&m, indep_incidence(&m, d->cw->alpha_rad[i], d->cw->beta_rad[i])) -
+                           d->cw->raw_rad[i]);
+    return GSL_SUCCESS;
+}
+
+static int comp_indep(const void *model, double raw, double *alpha)
+{
+    const indep_truth *m = model;
+    double x = raw;
+    for (int i = 0; i < 100; i++) {
+        double f = x - m->k_rad * sin(m->omega * x + m->t_rad) - raw;
+        double fp = 1 - m->k_rad * m->omega * cos(m->omega * x + m->t_rad);
+        x -= f / fp;
+    }
+    *alpha = atan((m->b - tan(x)) / (m->c * tan(x) - m->a));
+    return 0;
+}
+
+static void test_as_good_as_independent_least_squares(void **state)
+{
+    /* Data with physics the model lacks (a 3rd fine-code harmonic) and
+     * encoder noise: sunmc's compensated error against the truth must be as
+     * small as an independent least-squares fit of the same model reaches. */
+    const char *sets[] = {"calibration.roll_measured_arcsec=12"};
+    config_state st;
+    build_config(&st, sets, 1);
+    indep_truth m = truth_default(0.004);
+    const double sigma = 4 * RAD_PER_ARCSEC, enc = 2 * RAD_PER_ARCSEC;
+    ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, sigma, enc, 4242);
+    static calreport rep;
+    ess_calfit_result res;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_true(rep.fit_ok);
+    double rms_sunmc = validation_rms(&m, &res.m, comp_sunmc, sigma, 99);
+
+    indep_fit_data d = {cw, m.roll, m.omega};
+    gsl_multifit_nlinear_fdf fdf = {.f = indep_f, .df = NULL, .fvv = NULL, .n = cw->n, .p = 8,
+                                    .params = &d};
+    gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
+    gsl_multifit_nlinear_workspace *w =
+        gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, cw->n, 8);
+    gsl_vector *x0 = gsl_vector_calloc(8);
+    gsl_vector_set(x0, 0, 1.0);
+    int info;
+    assert_int_equal(gsl_multifit_nlinear_init(x0, &fdf, w), GSL_SUCCESS);
+    assert_int_equal(gsl_multifit_nlinear_driver(200, 1e-12, 1e-12, 0, NULL, NULL, &info, w),
+                     GSL_SUCCESS);
+    indep_truth fit;
+    indep_from_x(gsl_multifit_nlinear_position(w), m.roll, m.omega, &fit);
+    double rms_indep = validation_rms(&m, &fit, comp_indep, sigma, 99);
+    gsl_multifit_nlinear_free(w);
+    gsl_vector_free(x0);
+    /* The unmodelled harmonic shows: both are well above the noise alone. */
+    assert_true(rms_indep * ARCSEC_PER_RAD > 6);
+    if (!(rms_sunmc <= 1.01 * rms_indep))
+        fail_msg("sunmc %.3f arcsec vs independent fit %.3f arcsec", rms_sunmc * ARCSEC_PER_RAD,
+                 rms_indep * ARCSEC_PER_RAD);
+    ess_calib_free(cw);
+    config_state_free(&st);
+}
+
+/* ---- warnings and refusals ---- */
+
+static void test_alias_warning(void **state)
+{
+    /* Step 1 deg = 2 fine-error periods: one phase, both directions weak;
+     * 0.25 deg: two opposite phases, one direction weak. */
+    const char *steps[][2] = {{"campaign.alpha_step_deg=1", "2"},
+                              {"campaign.alpha_step_deg=0.25", "1"},
+                              {"campaign.alpha_step_deg=0.2", "0"}};
+    for (int s = 0; s < 3; s++) {
+        config_state st;
+        build_config(&st, &steps[s][0], 1);
+        indep_truth m = truth_default(0);
+        ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 5);
+        static calreport rep;
+        ess_calfit_result res;
+        char err[SUNMC_ERRLEN];
+        assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+        int want = atoi(steps[s][1]), got = 0;
+        assert_int_equal(cw->alias.n_weak, want);
+        for (int w = 0; w < rep.nw; w++)
+            if (strstr(rep.w[w].reason, "fine-code term aliased by the campaign step")) {
+                got++;
+                assert_non_null(strstr(rep.w[w].action, "not a multiple of theta0/8"));
+            }
+        assert_int_equal(got, want);
+        /* The regularised directions are not free: they leave the dof. */
+        assert_int_equal(rep.dof, (int)cw->n - ESS_NP + want);
+        ess_calib_free(cw);
+        config_state_free(&st);
+    }
+}
+
+static void test_nonconvergence_warning(void **state)
+{
+    config_state st;
+    build_config(&st, NULL, 0);
+    st.cfg.max_iterations = 1; /* below the key's range: only to force it */
+    indep_truth m = truth_default(0);
+    ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 6);
+    static calreport rep;
+    ess_calfit_result res;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_false(rep.fit_ok);
+    assert_int_equal(rep.fit.status, GSL_EMAXITER);
+    int found = 0;
+    for (int w = 0; w < rep.nw; w++)
+        found |= strstr(rep.w[w].reason, "the fit did not converge: did not converge within "
+                                         "calibration.max_iterations") != NULL;
+    assert_true(found);
+    ess_calib_free(cw);
+    config_state_free(&st);
+}
+
+static void test_refuses_n_le_p(void **state)
+{
+    config_state st;
+    build_config(&st, NULL, 0);
+    ess_calib_workspace *cw = ess_calib_alloc(ESS_NP + 2);
+    const int line[ESS_NP + 2] = {3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    for (size_t i = 0; i < cw->n; i++) {
+        cw->alpha_rad[i] = (-40.0 + 9.0 * (double)i) * RAD_PER_DEG;
+        cw->beta_rad[i] = 0;
+        cw->raw_rad[i] = cw->alpha_rad[i];
+        cw->weight[i] = 1;
+    }
+    cw->raw_rad[2] += 3 * RAD_PER_DEG; /* gross: dropped */
+    cw->weight[4] = 0;                 /* dropped by the lab */
+    static calreport rep;
+    ess_calfit_result res;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, line, &res, &rep, err, sizeof err),
+                     SUNMC_EINPUT);
+    assert_non_null(strstr(err, "only 8 usable data rows"));
+    assert_int_equal(res.n_gross, 1);
+    assert_non_null(strstr(rep.w[0].reason, "(lines 5)"));
+    ess_calib_free(cw);
+    config_state_free(&st);
+}
+
+static void test_single_beta_line_has_no_cross_validation(void **state)
+{
+    const char *sets[] = {"campaign.beta_deg=0"};
+    config_state st;
+    build_config(&st, sets, 1);
+    indep_truth m = truth_default(0);
+    m.iz = 0; /* invisible with one beta line */
+    ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 8);
+    static calreport rep;
+    ess_calfit_result res;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(rep.n_folds, 0);
+    assert_non_null(strstr(rep.cv_note, "1 beta line"));
+    ess_calib_free(cw);
+    config_state_free(&st);
+}
+
+/* ---- the command line ---- */
+
+/* Value of column `col` in row `row` (0-based data row) of a TSV file. */
+static double tsv_value(const char *path, int row, const char *col)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    static char line[1 << 16];
+    int idx = -1, r = -1;
+    double v = NAN;
+    while (fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\n")] = '\0';
+        int k = 0;
+        for (char *s = strtok(line, "\t"); s; s = strtok(NULL, "\t"), k++) {
+            if (r < 0 && strcmp(s, col) == 0)
+                idx = k;
+            else if (r == row && k == idx)
+                v = strtod(s, NULL);
+        }
+        r++;
+    }
+    fclose(f);
+    if (idx < 0)
+        fail_msg("%s has no column %s", path, col);
+    return v;
+}
+
+static double params_value(const char *path, const char *key)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[1024];
+    double v = NAN;
+    size_t n = strlen(key);
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, key, n) == 0 && (line[n] == ' ' || line[n] == '='))
+            v = strtod(strchr(line, '=') + 1, NULL);
+    fclose(f);
+    return v;
+}
+
+static int file_exists(const char *p)
+{
+    struct stat s;
+    return stat(p, &s) == 0;
+}
+
+static void test_cli_simulate_calibrate_compensate_reproduces_run(void **state)
+{
+    char cmd[4096], out[1 << 14];
+    const char *cfg = "configs/ess_type_a.ini";
+    snprintf(cmd, sizeof cmd, "%s run %s --units 3:4 --quiet --out %s/run", test_sunmc(), cfg, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit 3 --out %s/u3", test_sunmc(), cfg, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    const char *roll = strstr(out, "calibration.roll_measured_arcsec=");
+    assert_non_null(roll);
+    char rollset[128];
+    sscanf(roll, "%127s", rollset);
+
+    /* The campaign file is exactly the Monte Carlo's campaign. */
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, cfg, NULL, 0, err, sizeof err), SUNMC_OK);
+    ess_deviations dev;
+    ess_unit u;
+    ess_deviations_sample(&st.cfg, (uint64_t)st.cfg.seed, 3, &dev);
+    ess_unit_build(&st.cfg, &dev, &u);
+    ess_calib_workspace *cw = ess_calib_alloc(ess_campaign_size(&st.cfg));
+    int gross;
+    ess_unit_campaign(&st.cfg, &u, 3, cw, &gross);
+    char path[600];
+    snprintf(path, sizeof path, "%s/u3/campaign.csv", dir);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal((int)t->n_rows, (int)cw->n);
+    double *col = malloc(t->n_rows * sizeof *col);
+    int c;
+    assert_int_equal(csv_column(t, "alpha_deg", 1, &c, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, c, col, err, sizeof err), SUNMC_OK);
+    for (size_t i = 0; i < cw->n; i++)
+        assert_true(col[i] * RAD_PER_DEG == cw->alpha_rad[i]);
+    assert_int_equal(csv_column(t, "output_deg", 1, &c, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, c, col, err, sizeof err), SUNMC_OK);
+    for (size_t i = 0; i < cw->n; i++)
+        assert_near(col[i] * RAD_PER_DEG, cw->raw_rad[i], 1e-15);
+    free(col);
+    csv_free(t);
+    ess_calib_free(cw);
+    config_state_free(&st);
+    assert_near(strtod(strchr(rollset, '=') + 1, NULL), dev.roll_measured_arcsec, 1e-12);
+
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config %s --set %s %s/u3/campaign.csv "
+                              "--out %s/u3cal",
+             test_sunmc(), cfg, rollset, dir, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "cross-validation"));
+
+    /* Fitted parameters equal run's units.tsv row of the unit. */
+    char units[600], params[600];
+    snprintf(units, sizeof units, "%s/run/units.tsv", dir);
+    snprintf(params, sizeof params, "%s/u3cal/params.ini", dir);
+    const char *same[][2] = {{"a", "a"},
+                             {"b", "b"},
+                             {"c", "c"},
+                             {"k_deg", "k_deg"},
+                             {"fit_install_y_arcsec", "fit_install_y_arcsec"},
+                             {"fit_install_z_arcsec", "fit_install_z_arcsec"},
+                             {"fit_sun_y_arcsec", "fit_sun_y_arcsec"}};
+    for (int i = 0; i < 7; i++) {
+        double want = tsv_value(units, 0, same[i][0]), got = params_value(params, same[i][1]);
+        assert_near(got, want, 2e-9 * fmax(fabs(want), 1e-3));
+    }
+
+    /* Compensating the validation readings reproduces run's RMS after. */
+    snprintf(cmd, sizeof cmd, "%s compensate %s/u3cal/params.ini %s/u3/validation.csv > %s/comp.csv",
+             test_sunmc(), dir, dir, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(path, sizeof path, "%s/comp.csv", dir);
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    double *truth = malloc(t->n_rows * sizeof *truth), *comp = malloc(t->n_rows * sizeof *comp);
+    int ct, cc;
+    assert_int_equal(csv_column(t, "truth_deg", 1, &ct, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_column(t, "compensated_deg", 1, &cc, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, ct, truth, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, cc, comp, err, sizeof err), SUNMC_OK);
+    const double lo[3] = {0, 30, 0}, hi[3] = {30, 60, 62};
+    const char *colname[3] = {"rms_after_alpha_0_30_deg", "rms_after_alpha_30_60_deg",
+                              "rms_after_alpha_0_62_deg"};
+    for (int b = 0; b < 3; b++) {
+        double sum = 0;
+        long n = 0;
+        for (size_t i = 0; i < t->n_rows; i++) {
+            double x = fabs(truth[i]);
+            if ((lo[b] == 0 ? x <= hi[b] + 1e-9 : x > lo[b] + 1e-9 && x <= hi[b] + 1e-9)) {
+                sum += (comp[i] - truth[i]) * (comp[i] - truth[i]);
+                n++;
+            }
+        }
+        double want = tsv_value(units, 0, colname[b]);
+        assert_near(sqrt(sum / (double)n), want, 1e-5 * want);
+    }
+    free(truth);
+    free(comp);
+    csv_free(t);
+}
+
+/* A bad data file: exit 2, "FILE:LINE: ..." naming what, no output dir. */
+static void expect_bad_data(const char *name, const char *text, const char *want)
+{
+    char path[600], outdir[600], cmd[4096], out[8192], full[800];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(outdir, sizeof outdir, "%s/out_%s", dir, name);
+    assert_int_equal(test_write_file(path, text), 0);
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s --out %s",
+             test_sunmc(), path, outdir);
+    int rc = test_run(cmd, out, sizeof out);
+    snprintf(full, sizeof full, "%s%s", path, want);
+    if (rc != 2 || !strstr(out, full))
+        fail_msg("exit %d, output '%s', expected 2 and '%s'", rc, out, full);
+    assert_false(file_exists(outdir));
+}
+
+static void test_cli_bad_data(void **state)
+{
+    /* 9 good rows after the header. */
+    char good[2048] = "alpha_deg,beta_deg,output_deg\n";
+    for (int i = 0; i < 9; i++) {
+        char row[64];
+        snprintf(row, sizeof row, "%d,0,%d.001\n", -40 + 10 * i, -40 + 10 * i);
+        strcat(good, row);
+    }
+    expect_bad_data("nocol.csv", "# lab file\nalpha_deg,output_deg\n1,1\n", ":2: missing column 'beta_deg'");
+    expect_bad_data("nonnum.csv", "alpha_deg,beta_deg,output_deg\n1,0,1\n2,zero,2\n",
+                    ":3: column 'beta_deg': 'zero' is not a number");
+    expect_bad_data("nan.csv", "alpha_deg,beta_deg,output_deg\n1,0,NaN\n",
+                    ":2: column 'output_deg': 'NaN' is not a finite number");
+    expect_bad_data("inf.csv", "alpha_deg,beta_deg,output_deg\n1,0,1\n1,inf,1\n",
+                    ":3: column 'beta_deg': 'inf' is not a finite number");
+    expect_bad_data("dup.csv", "alpha_deg,beta_deg,output_deg,beta_deg\n1,0,1,0\n",
+                    ":1: duplicate column 'beta_deg'");
+    expect_bad_data("few.csv", "alpha_deg,beta_deg,output_deg\n1,0,1\n2,0,2\n",
+                    ":3: only 2 data rows; the ess model has 8 parameters");
+    expect_bad_data("fields.csv", "alpha_deg,beta_deg,output_deg\n1,0,1\n2,0\n",
+                    ":3: 2 fields, but the header (line 1) has 3");
+    char negw[4096];
+    snprintf(negw, sizeof negw, "%s", "weight,alpha_deg,beta_deg,output_deg\n1,0,0,0\n-1,1,0,1\n");
+    expect_bad_data("negw.csv", negw, ":3: column 'weight': -1 is negative");
+    /* Enough rows, but not enough usable ones. */
+    char gross[4096];
+    snprintf(gross, sizeof gross, "%s%s", good, "");
+    for (char *p = strstr(gross, "\n") + 1; *p; p = strchr(p, '\n') + 1)
+        if (p[0] == '-' && p[1] == '2') /* row alpha -20: make it gross */
+            p[strcspn(p, ",") + 3] = '9';
+    {
+        char path[600], cmd[4096], out[8192], outdir[600];
+        snprintf(path, sizeof path, "%s/gross.csv", dir);
+        snprintf(outdir, sizeof outdir, "%s/out_gross", dir);
+        assert_int_equal(test_write_file(path, gross), 0);
+        snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s "
+                                  "--out %s", test_sunmc(), path, outdir);
+        assert_int_equal(test_run(cmd, out, sizeof out), 2);
+        assert_non_null(strstr(out, "only 8 usable data rows"));
+        assert_false(file_exists(outdir));
+    }
+    /* Usage errors. */
+    char cmd[4096], out[8192];
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor xyz --config configs/ess_type_a.ini a.csv",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "--sensor must be ess or dss"));
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess a.csv", test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s/none.csv",
+             test_sunmc(), dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 1); /* unreadable: an I/O error */
+    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --out %s/x", test_sunmc(), dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+}
+
+static void test_cli_compensate_bad_input(void **state)
+{
+    char params[600], raw[600], cmd[4096], out[8192];
+    snprintf(params, sizeof params, "%s/p.ini", dir);
+    snprintf(raw, sizeof raw, "%s/raw.csv", dir);
+    const char *good_params = "[calibration]\nsensor = ess\nmodel = ess_eq12_finecode\n"
+                              "[design]\ntheta0_deg = 2\n[fixed]\nroll_measured_arcsec = 0\n"
+                              "[parameters]\na = 1\nb = 0\nc = 0\nks_deg = 0\nkc_deg = 0.01\n"
+                              "fit_install_y_arcsec = 0\nfit_install_z_arcsec = 0\n"
+                              "fit_sun_y_arcsec = 0\n";
+    assert_int_equal(test_write_file(params, good_params), 0);
+    /* The identity-but-fine-code model: compensate inverts raw = x - kc cos(w x). */
+    assert_int_equal(test_write_file(raw, "# raw\nid,output_deg\n7,10\n8,-20.5\n"), 0);
+    snprintf(cmd, sizeof cmd, "%s compensate %s %s", test_sunmc(), params, raw);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "id,output_deg,compensated_deg\n7,10,"));
+    double x = strtod(strstr(out, "7,10,") + 5, NULL);
+    double w = 2 * M_PI / 0.5; /* 1/deg */
+    assert_near(x - 0.01 * cos(w * x), 10.0, 1e-12);
+
+    assert_int_equal(test_write_file(raw, "id,output\n7,10\n"), 0);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "raw.csv:1: missing column 'output_deg'"));
+    assert_null(strstr(out, "compensated_deg\n")); /* nothing written */
+    assert_int_equal(test_write_file(raw, "output_deg\n1\nx1\n"), 0);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "raw.csv:3: column 'output_deg': 'x1' is not a number"));
+    assert_null(strstr(out, "compensated_deg"));
+
+    assert_int_equal(test_write_file(raw, "output_deg\n1\n"), 0);
+    char bad[2048];
+    snprintf(bad, sizeof bad, "%s", good_params);
+    *(strstr(bad, "\nb = 0") + 1) = '#'; /* b missing */
+    assert_int_equal(test_write_file(params, bad), 0);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "missing key parameters.b"));
+    snprintf(bad, sizeof bad, "%s", good_params);
+    memcpy(strstr(bad, "\nc = 0"), "\nc = z", 6);
+    assert_int_equal(test_write_file(params, bad), 0);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "p.ini:11: key parameters.c: 'z' is not a number"));
+    snprintf(bad, sizeof bad, "%s", good_params);
+    memcpy(strstr(bad, "sensor = ess"), "sensor = xyz", 12);
+    assert_int_equal(test_write_file(params, bad), 0);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "p.ini:2: sensor 'xyz' is not available"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_compensate_gradient_matches_finite_differences),
+        cmocka_unit_test(test_covariance_closed_form),
+        cmocka_unit_test(test_independent_model_recovered),
+        cmocka_unit_test(test_as_good_as_independent_least_squares),
+        cmocka_unit_test(test_alias_warning),
+        cmocka_unit_test(test_nonconvergence_warning),
+        cmocka_unit_test(test_refuses_n_le_p),
+        cmocka_unit_test(test_single_beta_line_has_no_cross_validation),
+        cmocka_unit_test(test_cli_simulate_calibrate_compensate_reproduces_run),
+        cmocka_unit_test(test_cli_bad_data),
+        cmocka_unit_test(test_cli_compensate_bad_input),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
