@@ -1,0 +1,198 @@
+/* test_sweep.c - --vary parsing, grid order, applying points, and the sweep
+ * command end to end (common random numbers, equality with `run`). */
+#include "test_util.h"
+
+#include "config.h"
+#include "status.h"
+#include "sweep.h"
+
+static void parse_list(void **state)
+{
+    sweep_axis ax;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(sweep_axis_parse("campaign.alpha_step_deg=1, 0.5,0.25", FAMILY_ESS, &ax, err,
+                                      sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 3);
+    assert_near(ax.v[0], 1, 0);
+    assert_near(ax.v[1], 0.5, 0);
+    assert_near(ax.v[2], 0.25, 0);
+    assert_string_equal(ax.dotted, "campaign.alpha_step_deg");
+}
+
+static void parse_range(void **state)
+{
+    sweep_axis ax;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(sweep_axis_parse("design.H_mm=3:8:0.5", FAMILY_ESS, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 11);
+    assert_near(ax.v[10], 8, 1e-12);
+    /* 0.1 is not exact in binary: STOP must still be kept. */
+    assert_int_equal(sweep_axis_parse("tolerance.dH_um=0:1:0.1", FAMILY_ESS, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 11);
+    /* A descending range. */
+    assert_int_equal(sweep_axis_parse("design.H_mm=8:3:-2.5", FAMILY_ESS, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 3);
+    assert_near(ax.v[2], 3, 1e-12);
+}
+
+static void parse_errors(void **state)
+{
+    static const char *const bad[] = {
+        "campaign.alpha_step_deg",        /* no = */
+        "alpha_step_deg=1",               /* no section */
+        "campaign.nope_deg=1",            /* unknown key */
+        "campaign.beta_deg=1,2",          /* a list key */
+        "design.h_mm=3",                  /* DSS key for an ESS config */
+        "design.H_mm=3:8",                /* two-part range */
+        "design.H_mm=3:8:0",              /* zero step */
+        "design.H_mm=3:8:-1",             /* step away from STOP */
+        "design.H_mm=3,x",                /* not a number */
+        "design.H_mm=0:1000:1",           /* too many values */
+        "design.H_mm=",                   /* empty */
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        sweep_axis ax;
+        char err[SUNMC_ERRLEN] = "";
+        int s = sweep_axis_parse(bad[i], FAMILY_ESS, &ax, err, sizeof err);
+        if (s != SUNMC_EINPUT)
+            fail_msg("'%s' parsed (status %d)", bad[i], s);
+        assert_non_null(strstr(err, "--vary"));
+    }
+}
+
+static void grid_order(void **state)
+{
+    sweep_axis ax[2];
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(sweep_axis_parse("design.H_mm=3,4", FAMILY_ESS, &ax[0], err, sizeof err), 0);
+    assert_int_equal(sweep_axis_parse("tolerance.dH_um=1,2,4", FAMILY_ESS, &ax[1], err, sizeof err),
+                     0);
+    assert_int_equal(sweep_n_points(ax, 2), 6);
+    double v[2];
+    sweep_point_values(ax, 2, 0, v);
+    assert_near(v[0], 3, 0);
+    assert_near(v[1], 1, 0);
+    sweep_point_values(ax, 2, 2, v);
+    assert_near(v[0], 3, 0);
+    assert_near(v[1], 4, 0);
+    sweep_point_values(ax, 2, 3, v);
+    assert_near(v[0], 4, 0);
+    assert_near(v[1], 1, 0);
+}
+
+static void apply_point(void **state)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
+    sweep_axis ax;
+    assert_int_equal(sweep_axis_parse("design.H_mm=5,60", FAMILY_ESS, &ax, err, sizeof err), 0);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_OK);
+    assert_near(st.cfg.ess.H_mm, 5, 0);
+    assert_string_equal(st.origins[config_find("design", "H_mm") - config_keys].origin,
+                        "--vary design.H_mm");
+    /* 60 mm is beyond the key's range: the file's message, naming the key. */
+    assert_int_equal(sweep_apply(&st, &ax, 1, 1, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "design.H_mm"));
+    /* A value in range that breaks a cross-key check. */
+    assert_int_equal(sweep_axis_parse("campaign.alpha_max_deg=70", FAMILY_ESS, &ax, err, sizeof err),
+                     0);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "campaign.alpha_max_deg=70"));
+    config_state_free(&st);
+}
+
+#define SMALL "--set validation.alpha_step_deg=1.3 --set campaign.beta_deg=0 --quiet"
+
+static void cli_errors_write_nothing(void **state)
+{
+    char out[8192], cmd[2048];
+    system("rm -rf /tmp/sunmc_test_sweep_bad");
+    const char *bad[] = {"--vary design.H_mm=3:8", "--vary design.H_mm=60",
+                         "--vary design.H_mm=3 --vary design.H_mm=4", "",
+                         "--vary a --vary b --vary c"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(cmd, sizeof cmd, "%s sweep configs/ess_type_a.ini %s --units 4 --out "
+                                  "/tmp/sunmc_test_sweep_bad " SMALL,
+                 test_sunmc(), bad[i]);
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 2)
+            fail_msg("'%s' exited %d: %s", bad[i], rc, out);
+    }
+    assert_int_not_equal(system("test -e /tmp/sunmc_test_sweep_bad/sweep.tsv"), 0);
+}
+
+/* Read data row `row` (1 = first after the header) of a TSV into text. */
+static int tsv_row(const char *path, int row, char *buf, size_t len)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    int i = 0;
+    while (fgets(buf, (int)len, f))
+        if (i++ == row) {
+            fclose(f);
+            return 0;
+        }
+    fclose(f);
+    return -1;
+}
+
+static const char *skip_fields(const char *s, int n)
+{
+    for (int i = 0; i < n && s; i++) {
+        s = strchr(s, '\t');
+        if (s)
+            s++;
+    }
+    return s;
+}
+
+static void sweep_equals_runs(void **state)
+{
+    char out[16384], cmd[2048];
+    system("rm -rf /tmp/sunmc_test_sweep /tmp/sunmc_test_sweep_run");
+    snprintf(cmd, sizeof cmd,
+             "%s sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 6 "
+             "--out /tmp/sunmc_test_sweep " SMALL,
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "campaign.alpha_step_deg"));
+    char hdr[4096], r1[4096], r4[4096], run[4096];
+    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 0, hdr, sizeof hdr), 0);
+    assert_true(strncmp(hdr, "campaign.alpha_step_deg\tproduct\t", 32) == 0);
+    /* 2 points x 3 bands. */
+    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 6, r4, sizeof r4), 0);
+    assert_int_not_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 7, r4, sizeof r4), 0);
+    /* Point 0.3, band 0 is byte for byte the summary of the same run. */
+    snprintf(cmd, sizeof cmd,
+             "%s run configs/ess_type_a.ini --set campaign.alpha_step_deg=0.3 --units 6 "
+             "--out /tmp/sunmc_test_sweep_run " SMALL,
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 4, r4, sizeof r4), 0);
+    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep_run/summary.tsv", 1, run, sizeof run), 0);
+    assert_true(strncmp(r4, "0.3\t", 4) == 0);
+    assert_string_equal(skip_fields(r4, 1), run);
+    /* Common random numbers: the error before calibration does not depend on
+     * the campaign step (column rms_before_mean = 9th summary column). */
+    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 1, r1, sizeof r1), 0);
+    double b1 = atof(skip_fields(r1, 9)), b4 = atof(skip_fields(r4, 9));
+    assert_true(b1 > 0);
+    assert_near(b1, b4, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(parse_list),     cmocka_unit_test(parse_range),
+        cmocka_unit_test(parse_errors),   cmocka_unit_test(grid_order),
+        cmocka_unit_test(apply_point),    cmocka_unit_test(cli_errors_write_nothing),
+        cmocka_unit_test(sweep_equals_runs),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
