@@ -1,0 +1,172 @@
+/* test_budget.c - sources, the alone run against a closed form, shares of a
+ * single source, inverse-limit end states, and the budget command's errors. */
+#include "test_util.h"
+
+#include "budget.h"
+#include "config.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+/* Small, noiseless, ideal-fine-code ESS: the error of dH alone is then
+ * exactly atan((1 + dH/H) tan a) - a (the slit image lands at (H+dH) tan a on
+ * a dial etched by eta = H tan). */
+static const char *const ideal_sets[] = {
+    "design.harmonics=given", "design.a3_ratio=0", "design.a5_ratio=0",
+    "noise.row_current_pct=0", "noise.encoder_arcsec=0", "calibration.roll_sigma_arcsec=0",
+    "campaign.alpha_step_deg=0.3", "campaign.beta_deg=0", "validation.alpha_step_deg=1.3",
+    "tolerance.dd_um=0", "tolerance.dphi_deg=0", "tolerance.slit_width_um=0",
+    "tolerance.harmonic_phase_deg=0", "tolerance.gain_pct=0", "tolerance.etch_um=0",
+    "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0",
+    "tolerance.install_z_arcsec=0", "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0",
+    "tolerance.dH_um=2", "tolerance.dH_um_dist=fixed"};
+#define N_IDEAL (sizeof ideal_sets / sizeof ideal_sets[0])
+
+static void sources_of_type_a(void **state)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
+    budget_result *b = calloc(1, sizeof *b);
+    assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->n, 12);
+    assert_string_equal(b->src[0].name, "dH_um");
+    assert_near(b->src[0].tolerance, 2, 0);
+    assert_int_equal(b->band, 2); /* 0:62 is the widest band */
+    assert_int_equal(b->angle, 0);
+    free(b);
+    config_state_free(&st);
+}
+
+static void no_source_is_an_error(void **state)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", ideal_sets, N_IDEAL, err,
+                                  sizeof err),
+                     0);
+    budget_result *b = calloc(1, sizeof *b);
+    budget_set_tolerance(&st.cfg, config_find("tolerance", "dH_um"), 0.0);
+    assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "no tolerance"));
+    free(b);
+    config_state_free(&st);
+}
+
+static void alone_matches_closed_form(void **state)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", ideal_sets, N_IDEAL, err,
+                                  sizeof err),
+                     0);
+    const sunmc_config *c = &st.cfg;
+    budget_result *b = calloc(1, sizeof *b);
+    assert_int_equal(budget_run(c, 3, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->n, 1);
+    /* Closed form over the validation grid, band 0:62. */
+    double q = 1.0 + 2.0 * MM_PER_UM / c->ess.H_mm, s2 = 0;
+    long n = 0;
+    long na = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
+                         c->val_alpha_offset_deg);
+    for (int k = 0; k < c->val_beta_deg.n; k++)
+        for (long j = 0; j < na; j++) {
+            double a = (c->val_alpha_min_deg + c->val_alpha_offset_deg +
+                        (double)j * c->val_alpha_step_deg) * RAD_PER_DEG;
+            double e = atan(q * tan(a)) - a;
+            s2 += e * e;
+            n++;
+        }
+    double rms_deg = sqrt(s2 / (double)n) * DEG_PER_RAD;
+    assert_near(b->src[0].alone.before_mean, rms_deg, 1e-6);
+    assert_near(b->all.before_mean, rms_deg, 1e-6);
+    /* One source: alone is all, removed is none. */
+    assert_near(b->src[0].share_alone_before, 1.0, 1e-9);
+    assert_near(b->src[0].share_removed_before, 1.0, 1e-6);
+    assert_near(b->none.before_mean, 0.0, 1e-6);
+    /* Calibration removes a pure height error. */
+    assert_true(b->all.after_mean < 0.01 * rms_deg);
+    assert_int_equal(b->src[0].rank, 1);
+    free(b);
+    config_state_free(&st);
+}
+
+static void inverse_limit_end_states(void **state)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    const char *sets[N_IDEAL + 4];
+    memcpy(sets, ideal_sets, sizeof ideal_sets);
+    sets[N_IDEAL] = "report.budget_units=10";
+    sets[N_IDEAL + 1] = "report.budget_steps=2";
+    sets[N_IDEAL + 2] = "tolerance.sun_x_arcsec=60";
+    sets[N_IDEAL + 3] = "report.spec_arcsec=0";
+    /* spec 0: no unit can pass, whatever the tolerance. */
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, N_IDEAL + 4, err, sizeof err),
+                     0);
+    budget_result *b = calloc(1, sizeof *b);
+    assert_int_equal(budget_run(&st.cfg, 2, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    for (int i = 0; i < b->n; i++)
+        assert_int_equal(b->src[i].limit_status, BUDGET_LIMIT_UNMET);
+    config_state_free(&st);
+    /* A generous spec: the sun tilt toward X is invisible to an alpha
+     * sensor, its limit is the key's maximum. */
+    sets[N_IDEAL + 3] = "report.spec_arcsec=36000";
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, N_IDEAL + 4, err, sizeof err),
+                     0);
+    assert_int_equal(budget_run(&st.cfg, 2, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    int found = 0;
+    for (int i = 0; i < b->n; i++)
+        if (strcmp(b->src[i].name, "sun_x_arcsec") == 0) {
+            found = 1;
+            assert_int_equal(b->src[i].limit_status, BUDGET_LIMIT_AT_MAX);
+            assert_near(b->src[i].limit, config_find("tolerance", "sun_x_arcsec")->max, 0);
+        }
+    assert_true(found);
+    free(b);
+    config_state_free(&st);
+}
+
+static void cli(void **state)
+{
+    char out[16384], cmd[4096];
+    system("rm -rf /tmp/sunmc_test_budget");
+    const char *bad[] = {"", "configs/ess_type_a.ini --units 2:5",
+                         "configs/ess_type_a.ini --set report.yield_target=2",
+                         "configs/ess_type_a.ini --set report.budget_units=x",
+                         "configs/ess_type_a.ini --bogus"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(cmd, sizeof cmd, "%s budget %s --out /tmp/sunmc_test_budget --quiet",
+                 test_sunmc(), bad[i]);
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 2)
+            fail_msg("'%s' exited %d: %s", bad[i], rc, out);
+    }
+    assert_int_not_equal(system("test -e /tmp/sunmc_test_budget/budget.tsv"), 0);
+    /* A small real budget: table, budget.tsv with ALL, NONE and 12 ranked rows. */
+    snprintf(cmd, sizeof cmd,
+             "%s budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 "
+             "--set report.budget_steps=1 --set validation.alpha_step_deg=2.3 "
+             "--set campaign.beta_deg=0 --out /tmp/sunmc_test_budget --quiet",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "inverse limit"));
+    assert_int_equal(system("test $(awk -F'\\t' 'NR>1 && $1>0' /tmp/sunmc_test_budget/budget.tsv "
+                            "| wc -l) -eq 12"),
+                     0);
+    assert_int_equal(system("awk -F'\\t' 'NR==2 && $2==\"ALL\" {ok=1} NR==3 && $2==\"NONE\" "
+                            "{ok2=1} END {exit !(ok && ok2)}' /tmp/sunmc_test_budget/budget.tsv"),
+                     0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(sources_of_type_a),
+        cmocka_unit_test(no_source_is_an_error),
+        cmocka_unit_test(alone_matches_closed_form),
+        cmocka_unit_test(inverse_limit_end_states),
+        cmocka_unit_test(cli),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
