@@ -1,0 +1,301 @@
+/* dss_calfit.c - `sunmc calibrate --sensor dss`: dss_calibrate plus the
+ * report and params.ini. */
+#include "dss_calfit.h"
+#include "dss_rotation.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DSS_CV_BLOCKS 4 /* grid quadrants by the signs of b1 and b2 */
+
+/* Display scale of each physical parameter (internal -> name's unit). */
+static double phys_scale(int k)
+{
+    return (k == DSS_P_C1 || k == DSS_P_C2 || k == DSS_P_C3) ? ARCSEC_PER_RAD : 1.0;
+}
+static const char *const phys_display[DSS_NP] = {"x0_mm", "y0_mm", "H_mm", "t_mm",
+                                                 "c1_arcsec", "c2_arcsec", "c3_arcsec", "n"};
+
+static double field_deg(double a, double b)
+{
+    return atan(hypot(tan(a), tan(b))) * DEG_PER_RAD;
+}
+
+/* Angle errors per band over readings with use[i] > 0; sum of squares and
+ * count over both angles into *sum, *n. */
+static void angle_errors(const dss_calib_workspace *cw, const double *use,
+                         const dss_calibration *cal, const band_list *bands, band_acc acc[2],
+                         double *sum, long *n)
+{
+    if (acc) {
+        band_acc_reset(&acc[0]);
+        band_acc_reset(&acc[1]);
+    }
+    *sum = 0;
+    *n = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(use[i] > 0))
+            continue;
+        double a0, b0, a, b;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+            continue;
+        if (acc) {
+            double fd = field_deg(a0, b0);
+            band_acc_add(&acc[0], bands, fd, a - a0);
+            band_acc_add(&acc[1], bands, fd, b - b0);
+        }
+        *sum += (a - a0) * (a - a0) + (b - b0) * (b - b0);
+        *n += 2;
+    }
+}
+
+static int n_params(const dss_calib_workspace *cw)
+{
+    return cw->kind == DSS_MODEL_PHYSICAL ? cw->n_free : dss_poly_n_terms(cw->poly_order);
+}
+
+static void cross_validate(const sunmc_config *c, dss_calib_workspace *cw, calreport *rep)
+{
+    double *saved = malloc(cw->n * sizeof *saved), *held = malloc(cw->n * sizeof *held);
+    if (!saved || !held) {
+        free(saved);
+        free(held);
+        snprintf(rep->cv_note, sizeof rep->cv_note, "out of memory");
+        return;
+    }
+    memcpy(saved, cw->weight, cw->n * sizeof *saved);
+    static const char *const names[DSS_CV_BLOCKS] = {"b1<0,b2<0", "b1<0,b2>=0", "b1>=0,b2<0",
+                                                     "b1>=0,b2>=0"};
+    double s_in = 0, s_out = 0;
+    long n_in = 0, n_out = 0;
+    for (int k = 0; k < DSS_CV_BLOCKS; k++) {
+        calreport_fold *fo = &rep->fold[rep->n_folds++];
+        snprintf(fo->label, sizeof fo->label, "%s", names[k]);
+        fo->n_out = 0;
+        size_t left = 0;
+        for (size_t i = 0; i < cw->n; i++) {
+            int blk = 2 * (cw->b1_rad[i] >= 0) + (cw->b2_rad[i] >= 0);
+            held[i] = blk == k ? saved[i] : 0.0;
+            cw->weight[i] = blk == k ? 0.0 : saved[i];
+            fo->n_out += held[i] > 0;
+            left += cw->weight[i] > 0;
+        }
+        dss_calibration ck;
+        fit_result fr;
+        fo->ok = fo->n_out > 0 && (int)left > n_params(cw) &&
+                 dss_calibrate(cw, c->max_iterations, &ck, &fr) == SUNMC_OK;
+        fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
+        if (fo->ok) {
+            double si, so;
+            long ni, no;
+            angle_errors(cw, cw->weight, &ck, NULL, NULL, &si, &ni);
+            angle_errors(cw, held, &ck, NULL, NULL, &so, &no);
+            fo->rms_in_arcsec = ni ? sqrt(si / ni) * ARCSEC_PER_RAD : NAN;
+            fo->rms_out_arcsec = no ? sqrt(so / no) * ARCSEC_PER_RAD : NAN;
+            s_in += si;
+            n_in += ni;
+            s_out += so;
+            n_out += no;
+        }
+    }
+    memcpy(cw->weight, saved, cw->n * sizeof *saved);
+    free(saved);
+    free(held);
+    if (n_in)
+        rep->cv_rms_in_arcsec = sqrt(s_in / n_in) * ARCSEC_PER_RAD;
+    if (n_out)
+        rep->cv_rms_out_arcsec = sqrt(s_out / n_out) * ARCSEC_PER_RAD;
+}
+
+int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
+                   calreport *rep, char *err, size_t errlen)
+{
+    int phys = cw->kind == DSS_MODEL_PHYSICAL;
+    calreport_init(rep, "dss", phys ? DSS_CALFIT_MODEL_PHYSICAL : DSS_CALFIT_MODEL_POLYNOMIAL);
+    rep->n_rows = cw->n;
+    rep->n_angles = 2;
+    rep->angle_name[0] = "alpha";
+    rep->angle_name[1] = "beta";
+    rep->bands = c->bands_deg;
+    for (size_t i = 0; i < cw->n; i++)
+        rep->n_used += cw->weight[i] > 0;
+    int np = n_params(cw);
+    /* Physical: two residuals (x, y) per reading; polynomial: one per axis. */
+    size_t n_res = phys ? 2 * rep->n_used : rep->n_used;
+    if ((int)n_res <= np)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "only %zu usable readings (weight > 0); the %s model has %d parameters",
+                          rep->n_used, rep->model, np);
+    int st = dss_calibrate(cw, c->max_iterations, cal, &rep->fit);
+    if (st == SUNMC_EINPUT)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "too few usable readings for the %s model",
+                          rep->model);
+    rep->fit_ok = st == SUNMC_OK;
+    rep->cond_jacobian = 1.0 / rep->fit.rcond;
+    rep->dof = (int)n_res - np;
+    if (!rep->fit_ok)
+        calreport_warn(rep,
+                       "check the data (spot coordinates in px from the detector centre, table "
+                       "angles in deg) and the config's design values; if the iteration limit was "
+                       "hit, raise calibration.max_iterations",
+                       "the fit did not converge: %s (GSL status %d, %zu iterations); its "
+                       "parameters must not be used",
+                       fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
+
+    if (phys) {
+        /* chisq is in px^2 over 2 n residuals (weighted). */
+        double s2 = rep->fit.chisq / rep->dof;
+        rep->np = cw->n_free;
+        double scale[CALREPORT_MAX_PAR];
+        for (int k = 0; k < cw->n_free; k++) {
+            int idx = cw->free_idx[k];
+            snprintf(rep->name[k], sizeof rep->name[k], "%s", phys_display[idx]);
+            rep->value[k] = cal->phys.p[idx] * phys_scale(idx);
+            scale[k] = phys_scale(idx);
+        }
+        int cst = fit_covariance(cw->fw);
+        if (cst == SUNMC_OK)
+            cst = calreport_covariance(rep, cw->fw->covar, s2, scale);
+        if (cst != SUNMC_OK) {
+            for (int k = 0; k < rep->np; k++)
+                rep->se[k] = NAN;
+            calreport_warn(rep, "widen the campaign or fix the parameters it cannot determine",
+                           "the parameter covariance could not be computed");
+        }
+        calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+    } else {
+        rep->np = 0; /* the polynomial's coefficients are listed in params.ini */
+        calreport_warn(rep, "use calibration.model = physical for parameter uncertainties",
+                       "the polynomial model's coefficient uncertainties are not reported");
+    }
+    band_acc acc[2];
+    double sum;
+    long n;
+    angle_errors(cw, cw->weight, cal, &c->bands_deg, acc, &sum, &n);
+    /* Angle-domain residual scaled to the degrees of freedom. */
+    rep->sigma_arcsec = n ? sqrt(sum / n * (double)n_res / rep->dof) * ARCSEC_PER_RAD : NAN;
+    double dof_factor = sqrt((double)n_res / rep->dof);
+    for (int a = 0; a < 2; a++) {
+        band_acc_rms(&acc[a], &c->bands_deg, ARCSEC_PER_RAD, rep->resid_rms[a]);
+        for (int b = 0; b < c->bands_deg.n; b++) {
+            rep->band_n[a][b] = acc[a].n[b];
+            rep->cal_sigma_rms[a][b] = NAN; /* not propagated for the DSS */
+            rep->cal_sigma_max[a][b] = NAN;
+            rep->predicted_rms[a][b] = rep->resid_rms[a][b] * dof_factor;
+        }
+    }
+    cross_validate(c, cw, rep);
+    return SUNMC_OK;
+}
+
+int dss_calfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
+                               const dss_calibration *cal)
+{
+    fprintf(f, "line\tb1_deg\tb2_deg\tx_px\ty_px\tweight\talpha_deg\tbeta_deg\t"
+               "alpha_error_arcsec\tbeta_error_arcsec\n");
+    for (size_t i = 0; i < cw->n; i++) {
+        double a0, b0, a = NAN, b = NAN;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+            a = b = NAN;
+        fprintf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
+                line ? line[i] : (int)i + 1, cw->b1_rad[i] * DEG_PER_RAD,
+                cw->b2_rad[i] * DEG_PER_RAD, cw->x_px[i], cw->y_px[i], cw->weight[i],
+                a * DEG_PER_RAD, b * DEG_PER_RAD, (a - a0) * ARCSEC_PER_RAD,
+                (b - b0) * ARCSEC_PER_RAD);
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport *rep)
+{
+    int st = SUNMC_OK;
+    char key[PARAMS_KEY_MAX], comment[PARAMS_COMMENT_MAX];
+    if (cal->kind == DSS_MODEL_PHYSICAL) {
+        st = params_set_double(p, "design", "pixel_mm", cal->phys.pixel_mm, "detector pitch");
+        for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+            comment[0] = '\0';
+            for (int j = 0; rep && j < rep->np; j++)
+                if (strcmp(rep->name[j], phys_display[k]) == 0 && isfinite(rep->se[j]))
+                    snprintf(comment, sizeof comment, "standard error %.3g", rep->se[j]);
+            st = params_set_double(p, "parameters", phys_display[k],
+                                   cal->phys.p[k] * phys_scale(k), comment[0] ? comment : "fixed");
+        }
+        return st;
+    }
+    const dss_poly *q = &cal->poly;
+    st = params_set_double(p, "design", "order", q->order, "polynomial order");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "design", "scale_rad", q->scale_rad, "angle normalisation");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "design", "h_nom_mm", q->h_nom_mm, "on-board formula height");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "design", "pixel_mm", q->pixel_mm, "detector pitch");
+    for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
+        snprintf(key, sizeof key, "ca_%d", k);
+        st = params_set_double(p, "parameters", key, q->ca[k], "alpha correction term, rad");
+        snprintf(key, sizeof key, "cb_%d", k);
+        if (st == SUNMC_OK)
+            st = params_set_double(p, "parameters", key, q->cb[k], "beta correction term, rad");
+    }
+    return st;
+}
+
+int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
+{
+    const char *model;
+    int st = params_get_text(p, "calibration", "model", &model, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    memset(cal, 0, sizeof *cal);
+    if (strcmp(model, DSS_CALFIT_MODEL_PHYSICAL) == 0) {
+        cal->kind = DSS_MODEL_PHYSICAL;
+        st = params_check_keys(p, "parameters", phys_display, DSS_NP, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "pixel_mm", &cal->phys.pixel_mm, err, errlen);
+        for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+            double v;
+            st = params_get_double(p, "parameters", phys_display[k], &v, err, errlen);
+            cal->phys.p[k] = v / phys_scale(k);
+        }
+        if (st == SUNMC_OK)
+            dss_model_prepare(&cal->phys);
+        return st;
+    }
+    if (strcmp(model, DSS_CALFIT_MODEL_POLYNOMIAL) == 0) {
+        cal->kind = DSS_MODEL_POLYNOMIAL;
+        double order;
+        dss_poly *q = &cal->poly;
+        st = params_get_double(p, "design", "order", &order, err, errlen);
+        if (st == SUNMC_OK && (order < 1 || order > DSS_POLY_MAX_ORDER || order != floor(order)))
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key design.order must be 1..%d",
+                              p->path, params_find(p, "design", "order")->line,
+                              DSS_POLY_MAX_ORDER);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "h_nom_mm", &q->h_nom_mm, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "pixel_mm", &q->pixel_mm, err, errlen);
+        if (st != SUNMC_OK)
+            return st;
+        q->order = (int)order;
+        q->n_terms = dss_poly_n_terms(q->order);
+        char key[PARAMS_KEY_MAX];
+        for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
+            snprintf(key, sizeof key, "ca_%d", k);
+            st = params_get_double(p, "parameters", key, &q->ca[k], err, errlen);
+            snprintf(key, sizeof key, "cb_%d", k);
+            if (st == SUNMC_OK)
+                st = params_get_double(p, "parameters", key, &q->cb[k], err, errlen);
+        }
+        return st;
+    }
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown dss model '%s'", p->path,
+                      params_find(p, "calibration", "model")->line, model);
+}
