@@ -1,0 +1,149 @@
+/* test_plots.c - `sunmc curve` (closed form, errors) and every gnuplot
+ * script on a small run: exit 0 and a non-empty PNG. */
+#include "test_util.h"
+
+#define T "/tmp/sunmc_test_plots"
+#define SMALL "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --quiet"
+
+static int setup(void **state)
+{
+    char out[16384], cmd[4096];
+    system("rm -rf " T);
+    const char *runs[] = {
+        "run configs/ess_type_a.ini --units 12 --out " T "/run " SMALL,
+        "sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 4 --out " T
+        "/sweep1 " SMALL,
+        "sweep configs/ess_type_a.ini --vary design.H_mm=4,5 --vary tolerance.dH_um=1,2 --units 4 "
+        "--out " T "/sweep2 " SMALL,
+        "budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 --set "
+        "report.budget_steps=1 --out " T "/budget " SMALL,
+        "curve configs/ess_type_a.ini --unit 3 --out " T "/curve " SMALL,
+    };
+    for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
+        snprintf(cmd, sizeof cmd, "%s %s", test_sunmc(), runs[i]);
+        if (test_run(cmd, out, sizeof out) != 0) {
+            fprintf(stderr, "setup failed: %s\n%s\n", cmd, out);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* Run a gnuplot script on dir and check the PNG is a real, non-empty PNG. */
+static void check_script(const char *script, const char *dir, const char *extra)
+{
+    char out[8192], cmd[4096], png[1024];
+    snprintf(png, sizeof png, "%s/%s.png", dir, script);
+    remove(png);
+    snprintf(cmd, sizeof cmd, "gnuplot -e \"run='%s'; out='%s'%s\" scripts/%s.gp", dir, png,
+             extra, script);
+    int rc = test_run(cmd, out, sizeof out);
+    if (rc != 0 || strstr(out, "rror") || strstr(out, "arning"))
+        fail_msg("%s exited %d: %s", cmd, rc, out);
+    FILE *f = fopen(png, "rb");
+    assert_non_null(f);
+    unsigned char sig[8];
+    assert_int_equal(fread(sig, 1, 8, f), 8);
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fclose(f);
+    assert_memory_equal(sig, "\x89PNG\r\n\x1a\n", 8);
+    assert_true(size > 5000); /* axes, labels and curves, not a blank canvas */
+}
+
+static void yield_gp(void **state) { check_script("yield", T "/run", ""); }
+static void hist_gp(void **state) { check_script("hist", T "/run", ""); }
+static void sweep_gp_one_axis(void **state) { check_script("sweep", T "/sweep1", ""); }
+static void sweep_gp_two_axes(void **state) { check_script("sweep", T "/sweep2", ""); }
+static void budget_gp(void **state) { check_script("budget", T "/budget", ""); }
+static void curve_gp(void **state)
+{
+    check_script("curve", T "/curve", "");
+    check_script("curve", T "/curve", "; what='source'; run2='" T "/curve'");
+}
+static void map_gp(void **state) { check_script("map", T "/curve", "; what='before'"); }
+
+static void plots_sh(void **state)
+{
+    char out[8192];
+    assert_int_equal(test_run("bash scripts/plots.sh " T "/sweep2", out, sizeof out), 0);
+    assert_int_equal(system("test -s " T "/sweep2/sweep.png"), 0);
+    assert_int_equal(test_run("bash scripts/plots.sh " T "/curve", out, sizeof out), 0);
+    assert_int_equal(system("test -s " T "/curve/curve_source.png"), 0);
+    system("mkdir -p " T "/empty");
+    assert_int_equal(test_run("bash scripts/plots.sh " T "/empty", out, sizeof out), 2);
+    assert_int_equal(test_run("bash scripts/plots.sh " T "/missing", out, sizeof out), 2);
+}
+
+/* curve --only dH_um=V with an ideal fine code and no noise: the source
+ * column is atan((1 + V/H) tan a) - a, and -V mirrors it. */
+static void curve_closed_form(void **state)
+{
+    char out[16384], cmd[4096];
+    const double H_mm = 4.124, dH_um = 2.0;
+    const char *ideal = "--set design.harmonics=given --set design.a3_ratio=0 "
+                        "--set design.a5_ratio=0 --set noise.row_current_pct=0 "
+                        "--set validation.beta_deg=0,20 --quiet";
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+        snprintf(cmd, sizeof cmd, "%s curve configs/ess_type_a.ini --only dH_um=%g %s --out " T
+                                  "/cf",
+                 test_sunmc(), sgn * dH_um, ideal);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+        FILE *f = fopen(T "/cf/curve.tsv", "r");
+        assert_non_null(f);
+        char line[1024];
+        assert_non_null(fgets(line, sizeof line, f));
+        assert_non_null(strstr(line, "alpha_deg\tbeta_deg\terror_before_alpha_deg"));
+        long n = 0, blank = 0;
+        while (fgets(line, sizeof line, f)) {
+            if (line[0] == '\n') {
+                blank++;
+                continue;
+            }
+            double a, b, eb, ea, es;
+            assert_int_equal(sscanf(line, "%lf %lf %lf %lf %lf", &a, &b, &eb, &ea, &es), 5);
+            double ar = a * M_PI / 180;
+            double want = (atan((1 + sgn * dH_um * 1e-3 / H_mm) * tan(ar)) - ar) * 180 / M_PI;
+            assert_near(es, want, 1e-7);
+            assert_near(eb, want, 1e-7);
+            n++;
+        }
+        fclose(f);
+        assert_int_equal(blank, 1); /* two series */
+        assert_true(n > 1000);
+    }
+}
+
+static void curve_errors(void **state)
+{
+    char out[8192], cmd[4096];
+    const char *bad[] = {"configs/ess_type_a.ini",
+                         "configs/ess_type_a.ini --only nope_um=1",
+                         "configs/ess_type_a.ini --only dH_um",
+                         "configs/ess_type_a.ini --only dH_um=abc",
+                         "configs/ess_type_a.ini --only dH_um=5000",
+                         "configs/ess_type_a.ini --only truncation_sigmas=2",
+                         "configs/ess_type_a.ini --unit -1",
+                         "configs/ess_type_a.ini --unit 1 --vary design.H_mm=3",
+                         "--unit 1"};
+    system("rm -rf " T "/bad");
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(cmd, sizeof cmd, "%s curve %s --out " T "/bad --quiet", test_sunmc(), bad[i]);
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 2)
+            fail_msg("'%s' exited %d: %s", bad[i], rc, out);
+    }
+    assert_int_not_equal(system("test -e " T "/bad/curve.tsv"), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(yield_gp),          cmocka_unit_test(hist_gp),
+        cmocka_unit_test(sweep_gp_one_axis), cmocka_unit_test(sweep_gp_two_axes),
+        cmocka_unit_test(budget_gp),         cmocka_unit_test(curve_gp),
+        cmocka_unit_test(map_gp),            cmocka_unit_test(plots_sh),
+        cmocka_unit_test(curve_closed_form), cmocka_unit_test(curve_errors),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
