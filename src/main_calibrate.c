@@ -2,6 +2,7 @@
  * report, write params.ini) and `sunmc compensate` (apply params.ini). */
 #include "calreport.h"
 #include "csv.h"
+#include "dss_calfit.h"
 #include "ess_calfit.h"
 #include "main.h"
 #include "output.h"
@@ -228,6 +229,147 @@ static int calibrate_ess(const cli_options *o, const sunmc_config *c)
     return cli_exit_code(st);
 }
 
+/* Read a DSS campaign (b1_deg, b2_deg, x_px, y_px, optional weight) into a
+ * workspace for c's model. */
+static int read_dss_campaign(const char *path, const sunmc_config *c, dss_calib_workspace **out,
+                             int **line_out, char *err, size_t errlen)
+{
+    csv_table *t;
+    int st = csv_read(path, &t, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    int col[5];
+    const char *names[5] = {"b1_deg", "b2_deg", "x_px", "y_px", "weight"};
+    for (int k = 0; k < 5 && st == SUNMC_OK; k++)
+        st = csv_column(t, names[k], k < 4, &col[k], err, errlen);
+    double *v[5] = {NULL, NULL, NULL, NULL, NULL};
+    for (int k = 0; k < 5 && st == SUNMC_OK; k++) {
+        v[k] = malloc((t->n_rows + 1) * sizeof(double));
+        if (!v[k])
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        else if (col[k] >= 0)
+            st = csv_doubles(t, col[k], v[k], err, errlen);
+        else
+            for (size_t i = 0; i < t->n_rows; i++)
+                v[k][i] = 1.0;
+    }
+    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
+        if (v[4][i] < 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
+                            "drops the row)",
+                            path, t->line[i], v[4][i]);
+    int np = c->cal_model == DSS_MODEL_PHYSICAL ? DSS_NP : dss_poly_n_terms(c->poly_order);
+    char why[128];
+    snprintf(why, sizeof why, "the dss model has up to %d parameters: need at least %d rows", np,
+             np + 1);
+    if (st == SUNMC_OK)
+        st = csv_require_rows(t, (size_t)np + 1, why, err, errlen);
+    dss_calib_workspace *cw = NULL;
+    int *line = NULL;
+    if (st == SUNMC_OK) {
+        cw = dss_calib_alloc(&c->dss, t->n_rows, c->cal_model, c->poly_order, c->fit_glass_index);
+        line = malloc(t->n_rows * sizeof *line);
+        if (!cw || !line)
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: cannot set up the fit", path);
+    }
+    if (st == SUNMC_OK)
+        for (size_t i = 0; i < t->n_rows; i++) {
+            line[i] = t->line[i];
+            cw->b1_rad[i] = v[0][i] * RAD_PER_DEG;
+            cw->b2_rad[i] = v[1][i] * RAD_PER_DEG;
+            cw->x_px[i] = v[2][i];
+            cw->y_px[i] = v[3][i];
+            cw->weight[i] = v[4][i];
+        }
+    for (int k = 0; k < 5; k++)
+        free(v[k]);
+    csv_free(t);
+    if (st != SUNMC_OK) {
+        dss_calib_free(cw);
+        free(line);
+        return st;
+    }
+    *out = cw;
+    *line_out = line;
+    return SUNMC_OK;
+}
+
+static int calibrate_dss(const cli_options *o, const sunmc_config *c)
+{
+    const char *data = o->positional[0];
+    char err[SUNMC_ERRLEN];
+    dss_calib_workspace *cw;
+    int *line;
+    int st = read_dss_campaign(data, c, &cw, &line, err, sizeof err);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc calibrate: %s\n", err);
+        return cli_exit_code(st);
+    }
+    calreport *rep = malloc(sizeof *rep);
+    dss_calibration *cal = malloc(sizeof *cal);
+    params_file *pf = malloc(sizeof *pf);
+    if (!rep || !cal || !pf) {
+        free(rep);
+        free(cal);
+        free(pf);
+        dss_calib_free(cw);
+        free(line);
+        fprintf(stderr, "sunmc calibrate: out of memory\n");
+        return 1;
+    }
+    st = dss_calfit_run(c, cw, cal, rep, err, sizeof err);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc calibrate: %s: %s\n", data, err);
+    } else {
+        calreport_print(stdout, rep);
+        if (!rep->fit_ok) {
+            fprintf(stderr, "sunmc calibrate: the fit failed (%s): nothing written\n",
+                    fit_reason(&rep->fit));
+            st = SUNMC_EFIT;
+        }
+    }
+    if (st == SUNMC_OK && o->out) {
+        params_init(pf);
+        st = calibration_header(pf, "dss", rep->model, data, o->config, cw->n, rep, err,
+                                sizeof err);
+        if (st == SUNMC_OK && dss_params_fill(pf, cal, rep) != SUNMC_OK)
+            st = sunmc_fail(err, sizeof err, SUNMC_EINPUT, "params.ini: too many entries");
+        out_set os;
+        FILE *fp, *fr, *fb, *fx;
+        if (st == SUNMC_OK)
+            st = out_begin(&os, o->out, err, sizeof err);
+        if (st == SUNMC_OK) {
+            st = out_open(&os, o->out, "params.ini", &fp, err, sizeof err);
+            if (st == SUNMC_OK)
+                st = out_open(&os, o->out, "residuals.tsv", &fr, err, sizeof err);
+            if (st == SUNMC_OK)
+                st = out_open(&os, o->out, "bands.tsv", &fb, err, sizeof err);
+            if (st == SUNMC_OK)
+                st = out_open(&os, o->out, "crossval.tsv", &fx, err, sizeof err);
+            if (st == SUNMC_OK) {
+                params_write(fp, pf,
+                             "sunmc calibration of a pinhole digital sun sensor (DSS paper):\n"
+                             "read by `sunmc compensate`; units are in the key names");
+                dss_calfit_write_residuals(fr, cw, line, cal);
+                calreport_write_bands(fb, rep);
+                calreport_write_folds(fx, rep);
+                st = out_commit(&os, err, sizeof err);
+            } else {
+                out_abort(&os);
+            }
+        }
+        if (st != SUNMC_OK)
+            fprintf(stderr, "sunmc calibrate: %s\n", err);
+    }
+    free(rep);
+    free(cal);
+    free(pf);
+    dss_calib_free(cw);
+    free(line);
+    return cli_exit_code(st);
+}
+
 int cmd_calibrate(int argc, char **argv)
 {
     if (wants_help(argc, argv, calibrate_help))
@@ -257,12 +399,7 @@ int cmd_calibrate(int argc, char **argv)
         config_state_free(&st);
         return EXIT_BAD_INPUT;
     }
-    if (fam == FAMILY_ESS)
-        rc = calibrate_ess(&o, &st.cfg);
-    else {
-        fprintf(stderr, "sunmc calibrate: the dss family is not available yet\n");
-        rc = EXIT_BAD_INPUT;
-    }
+    rc = fam == FAMILY_ESS ? calibrate_ess(&o, &st.cfg) : calibrate_dss(&o, &st.cfg);
     config_state_free(&st);
     return rc;
 }
@@ -323,6 +460,69 @@ static int compensate_ess(const params_file *pf, const char *raw_path)
     return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
 }
 
+static int compensate_dss(const params_file *pf, const char *raw_path)
+{
+    char err[SUNMC_ERRLEN];
+    dss_calibration cal;
+    int st = dss_params_load(pf, &cal, err, sizeof err);
+    csv_table *t = NULL;
+    if (st == SUNMC_OK)
+        st = csv_read(raw_path, &t, err, sizeof err);
+    int cx, cy, d1, d2;
+    if (st == SUNMC_OK)
+        st = csv_column(t, "x_px", 1, &cx, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = csv_column(t, "y_px", 1, &cy, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = csv_column(t, "compensated_alpha_deg", 0, &d1, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = csv_column(t, "compensated_beta_deg", 0, &d2, err, sizeof err);
+    if (st == SUNMC_OK && (d1 >= 0 || d2 >= 0))
+        st = sunmc_fail(err, sizeof err, SUNMC_EINPUT,
+                        "%s:%d: the input already has a compensated_*_deg column", raw_path,
+                        t->header_line);
+    double *x = NULL, *y = NULL;
+    if (st == SUNMC_OK) {
+        x = malloc((t->n_rows + 1) * sizeof *x);
+        y = malloc((t->n_rows + 1) * sizeof *y);
+        st = x && y ? csv_doubles(t, cx, x, err, sizeof err)
+                    : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
+    }
+    if (st == SUNMC_OK)
+        st = csv_doubles(t, cy, y, err, sizeof err);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc compensate: %s\n", err);
+        free(x);
+        free(y);
+        csv_free(t);
+        return cli_exit_code(st);
+    }
+    long failed = 0;
+    int first_failed = 0;
+    for (int j = 0; j < t->n_cols; j++)
+        printf("%s,", t->names[j]);
+    printf("compensated_alpha_deg,compensated_beta_deg\n");
+    for (size_t i = 0; i < t->n_rows; i++) {
+        for (int j = 0; j < t->n_cols; j++)
+            printf("%s,", t->field[i * (size_t)t->n_cols + (size_t)j]);
+        double a, b;
+        if (dss_compensate(&cal, x[i], y[i], &a, &b) == SUNMC_OK)
+            printf("%.15g,%.15g\n", a * DEG_PER_RAD, b * DEG_PER_RAD);
+        else {
+            printf("nan,nan\n");
+            if (!failed++)
+                first_failed = t->line[i];
+        }
+    }
+    if (failed)
+        fprintf(stderr, "sunmc compensate: %s:%d: %ld readings could not be compensated (nan)\n",
+                raw_path, first_failed, failed);
+    free(x);
+    free(y);
+    csv_free(t);
+    return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
+}
+
 int cmd_compensate(int argc, char **argv)
 {
     if (wants_help(argc, argv, compensate_help))
@@ -353,6 +553,8 @@ int cmd_compensate(int argc, char **argv)
     }
     if (strcmp(sensor, "ess") == 0)
         rc = compensate_ess(pf, o.positional[1]);
+    else if (strcmp(sensor, "dss") == 0)
+        rc = compensate_dss(pf, o.positional[1]);
     else {
         const params_entry *e = params_find(pf, "calibration", "sensor");
         fprintf(stderr, "sunmc compensate: %s:%d: sensor '%s' is not available\n",

@@ -1,6 +1,7 @@
 /* main_simulate.c - `sunmc simulate`: one simulated unit's calibration
  * campaign as a lab records it, with the truth behind it. */
 #include "ess_simulate.h"
+#include "dss_unit.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "main.h"
@@ -8,6 +9,7 @@
 #include "status.h"
 #include "units.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -175,6 +177,70 @@ static int simulate_ess(const cli_options *o, const sunmc_config *c)
     return cli_exit_code(st);
 }
 
+static int simulate_dss(const cli_options *o, const sunmc_config *c)
+{
+    dss_deviations dev;
+    dss_unit u;
+    dss_deviations_sample(c, (uint64_t)c->seed, o->unit, &dev);
+    dss_unit_build(c, &dev, &u);
+    size_t n = dss_campaign_size(c);
+    double *v[7];
+    int ok = 1;
+    for (int k = 0; k < 7; k++)
+        ok &= (v[k] = malloc((n + 1) * sizeof(double))) != NULL;
+    if (!ok) {
+        for (int k = 0; k < 7; k++)
+            free(v[k]);
+        fprintf(stderr, "sunmc simulate: out of memory\n");
+        return 1;
+    }
+    size_t seen = dss_unit_campaign(c, &u, o->unit, v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    char err[SUNMC_ERRLEN];
+    out_set os;
+    FILE *fc = NULL, *ft = NULL;
+    int st = out_begin(&os, o->out, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = out_open(&os, o->out, "campaign.csv", &fc, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = out_open(&os, o->out, "truth.csv", &ft, err, sizeof err);
+    if (st == SUNMC_OK) {
+        long nb = grid_count(c->cal_b_min_deg, c->cal_b_max_deg, c->cal_b_step_deg, 0);
+        fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",
+                SUNMC_VERSION, o->unit, o->config, c->product, c->seed);
+        fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
+        fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
+                o->unit, o->config, c->seed);
+        double dv[DSS_N_DEV];
+        dss_deviations_values(&dev, dv);
+        for (int i = 0; i < DSS_N_DEV; i++)
+            fprintf(ft, "# %s = %.17g\n", dss_deviation_names[i], dv[i]);
+        fprintf(ft, "b1_deg,b2_deg,truth_alpha_deg,truth_beta_deg,seen\n");
+        for (size_t i = 0; i < n; i++) {
+            /* b1 varies slowest; the degrees as the campaign computes them. */
+            double b1 = c->cal_b_min_deg + (double)((long)i / nb) * c->cal_b_step_deg;
+            double b2 = c->cal_b_min_deg + (double)((long)i % nb) * c->cal_b_step_deg;
+            int spot = v[4][i] > 0 && isfinite(v[2][i]) && isfinite(v[3][i]);
+            fprintf(fc, "%.17g,%.17g,%.17g,%.17g,%g\n", b1, b2, spot ? v[2][i] : 0.0,
+                    spot ? v[3][i] : 0.0, spot ? v[4][i] : 0.0);
+            fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%d\n", b1, b2, v[5][i] * DEG_PER_RAD,
+                    v[6][i] * DEG_PER_RAD, spot);
+        }
+        st = out_commit(&os, err, sizeof err);
+    } else {
+        out_abort(&os);
+    }
+    if (st == SUNMC_OK) {
+        printf("unit %ld of %s (seed %ld): %zu campaign readings (%zu with a spot)\n", o->unit,
+               c->product, c->seed, n, seen);
+        printf("wrote %s/campaign.csv, %s/truth.csv\n", o->out, o->out);
+    } else {
+        fprintf(stderr, "sunmc simulate: %s\n", err);
+    }
+    for (int k = 0; k < 7; k++)
+        free(v[k]);
+    return cli_exit_code(st);
+}
+
 int cmd_simulate(int argc, char **argv)
 {
     for (int i = 2; i < argc; i++)
@@ -194,12 +260,7 @@ int cmd_simulate(int argc, char **argv)
     config_state st;
     if ((rc = cli_config(&o, &st)))
         return rc;
-    if (st.cfg.family == FAMILY_ESS)
-        rc = simulate_ess(&o, &st.cfg);
-    else {
-        fprintf(stderr, "sunmc simulate: the dss family is not available yet\n");
-        rc = EXIT_BAD_INPUT;
-    }
+    rc = st.cfg.family == FAMILY_ESS ? simulate_ess(&o, &st.cfg) : simulate_dss(&o, &st.cfg);
     config_state_free(&st);
     return rc;
 }
