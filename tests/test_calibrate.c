@@ -751,6 +751,46 @@ static void test_cli_compensate_bad_input(void **state)
     assert_non_null(strstr(out, "p.ini:2: sensor 'xyz' is not available"));
 }
 
+static void test_cli_dss_reproduces_run(void **state)
+{
+    char cmd[4096], out[1 << 14], units[600], params[600];
+    const char *cfg = "configs/dss.ini";
+    snprintf(cmd, sizeof cmd, "%s run %s --units 3:4 --quiet --out %s/drun", test_sunmc(), cfg, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit 3 --out %s/d3", test_sunmc(), cfg, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor dss --config %s %s/d3/campaign.csv --out %s/d3cal",
+             test_sunmc(), cfg, dir, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "held out b1<0,b2<0"));
+    snprintf(units, sizeof units, "%s/drun/units.tsv", dir);
+    snprintf(params, sizeof params, "%s/d3cal/params.ini", dir);
+    const char *same[][2] = {{"fit_c1_arcsec", "c1_arcsec"}, {"fit_c2_arcsec", "c2_arcsec"},
+                             {"fit_c3_arcsec", "c3_arcsec"}};
+    for (int i = 0; i < 3; i++) {
+        double want = tsv_value(units, 0, same[i][0]), got = params_value(params, same[i][1]);
+        assert_near(got, want, 1e-8 * fmax(fabs(want), 1.0));
+    }
+    snprintf(cmd, sizeof cmd, "%s compensate %s %s/d3/campaign.csv", test_sunmc(), params, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "b1_deg,b2_deg,x_px,y_px,weight,compensated_alpha_deg,"
+                                "compensated_beta_deg\n"));
+    /* Bad DSS data: exit 2, FILE:LINE, nothing written. */
+    char path[600], outdir[600];
+    snprintf(path, sizeof path, "%s/dbad.csv", dir);
+    snprintf(outdir, sizeof outdir, "%s/dbad_out", dir);
+    assert_int_equal(test_write_file(path, "b1_deg,b2_deg,x_px\n1,2,3\n"), 0);
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor dss --config %s %s --out %s", test_sunmc(),
+             cfg, path, outdir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "dbad.csv:1: missing column 'y_px'"));
+    assert_false(file_exists(outdir));
+    /* The config's family must match --sensor. */
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config %s %s", test_sunmc(), cfg, path);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "is a dss config"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -765,6 +805,7 @@ int main(void)
         cmocka_unit_test(test_cli_simulate_calibrate_compensate_reproduces_run),
         cmocka_unit_test(test_cli_bad_data),
         cmocka_unit_test(test_cli_compensate_bad_input),
+        cmocka_unit_test(test_cli_dss_reproduces_run),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
