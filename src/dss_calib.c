@@ -42,13 +42,13 @@ dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, in
         size_t nt = (size_t)dss_poly_n_terms(poly_order);
         cw->basis = calloc(n * nt, sizeof(double));
         cw->target = calloc(n, sizeof(double));
-        cw->fw = n >= nt ? fit_workspace_alloc(n, nt) : NULL;
+        cw->fw = n > nt ? fit_workspace_alloc(n, nt) : NULL;
         ok = cw->basis && cw->target && cw->fw;
     } else if (ok) {
         for (int j = 0; j < DSS_NP; j++)
             if (j != DSS_P_N || fit_index)
                 cw->free_idx[cw->n_free++] = j;
-        cw->fw = 2 * n >= (size_t)cw->n_free ? fit_workspace_alloc(2 * n, (size_t)cw->n_free)
+        cw->fw = 2 * n > (size_t)cw->n_free ? fit_workspace_alloc(2 * n, (size_t)cw->n_free)
                                               : NULL;
         ok = cw->fw != NULL;
     }

@@ -1,0 +1,332 @@
+/* test_dss_calib.c - the DSS calibration models: the physical model against
+ * the ray-traced sensor, its Jacobian and inverse; fits that recover known
+ * parameters; the polynomial on exact polynomial data; the family end to end
+ * (determinism, physical better than polynomial); every error path. */
+#include "test_util.h"
+
+#include "config.h"
+#include "dss_calib.h"
+#include "dss_model.h"
+#include "dss_rotation.h"
+#include "dss_unit.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+static sunmc_config dss_config(const char *const *extra, int n_extra)
+{
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    const char *sets[8] = {"sensor.family=dss"};
+    for (int i = 0; i < n_extra; i++)
+        sets[1 + i] = extra[i];
+    assert_int_equal(config_build(&st, NULL, sets, 1 + n_extra, err, sizeof err), SUNMC_OK);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    return c;
+}
+
+static const dss_deviations test_dev = {0.17, -0.08, 0.06, 9.0, -7.0, 8.0, -6.0, 0.004};
+
+/* The model with the unit's true parameters. */
+static void true_model(const sunmc_config *c, const dss_sensor *s, dss_model *m)
+{
+    dss_model_init(m, &c->dss);
+    m->p[DSS_P_X0] = s->pinhole_mm[0];
+    m->p[DSS_P_Y0] = s->pinhole_mm[1];
+    m->p[DSS_P_H] = s->pinhole_mm[2];
+    m->p[DSS_P_T] = s->glass_t_mm;
+    m->p[DSS_P_N] = s->glass_n;
+    m->p[DSS_P_C1] = test_dev.c1_arcsec * RAD_PER_ARCSEC;
+    m->p[DSS_P_C2] = test_dev.c2_arcsec * RAD_PER_ARCSEC;
+    m->p[DSS_P_C3] = test_dev.c3_arcsec * RAD_PER_ARCSEC;
+    dss_model_prepare(m);
+}
+
+/* Closed-form model = ray-traced sensor; compensation returns the truth. */
+static void test_model_matches_sensor(void **state)
+{
+    sunmc_config c = dss_config(NULL, 0);
+    dss_sensor s;
+    dss_sensor_init(&s, &c.dss, &test_dev, 0);
+    dss_model m;
+    true_model(&c, &s, &m);
+    int n = 0;
+    for (double b1 = -60; b1 <= 60; b1 += 3.7)
+        for (double b2 = -60; b2 <= 60; b2 += 3.7) {
+            double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, x, y, sp[2], a, b, a0, b0;
+            if (dss_sensor_read(&s, r1, r2, NULL, &x, &y) != SUNMC_OK)
+                continue;
+            n++;
+            assert_int_equal(dss_model_spot(&m, r1, r2, sp, NULL), SUNMC_OK);
+            assert_near(sp[0], x, 1e-9);
+            assert_near(sp[1], y, 1e-9);
+            assert_int_equal(dss_model_compensate(&m, x, y, &a, &b), SUNMC_OK);
+            dss_table_truth(r1, r2, &a0, &b0);
+            assert_near(a * ARCSEC_PER_RAD, a0 * ARCSEC_PER_RAD, 1e-6);
+            assert_near(b * ARCSEC_PER_RAD, b0 * ARCSEC_PER_RAD, 1e-6);
+        }
+    assert_true(n > 700);
+}
+
+/* Analytic Jacobian against central differences. */
+static void test_model_jacobian(void **state)
+{
+    sunmc_config c = dss_config(NULL, 0);
+    dss_sensor s;
+    dss_sensor_init(&s, &c.dss, &test_dev, 0);
+    dss_model m;
+    true_model(&c, &s, &m);
+    const double steps[DSS_NP] = {1e-6, 1e-6, 1e-6, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6};
+    for (double b1 = -50; b1 <= 50; b1 += 25)
+        for (double b2 = -50; b2 <= 50; b2 += 25) {
+            double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, sp[2], J[2][DSS_NP];
+            assert_int_equal(dss_model_spot(&m, r1, r2, sp, J), SUNMC_OK);
+            for (int j = 0; j < DSS_NP; j++) {
+                dss_model mp = m, mm = m;
+                mp.p[j] += steps[j];
+                mm.p[j] -= steps[j];
+                dss_model_prepare(&mp);
+                dss_model_prepare(&mm);
+                double sp_p[2], sp_m[2];
+                dss_model_spot(&mp, r1, r2, sp_p, NULL);
+                dss_model_spot(&mm, r1, r2, sp_m, NULL);
+                for (int a = 0; a < 2; a++) {
+                    double num = (sp_p[a] - sp_m[a]) / (2 * steps[j]);
+                    assert_near(J[a][j], num, 1e-5 * (1 + fabs(num)));
+                }
+            }
+        }
+}
+
+/* Noise-free campaign of one unit through the workspace. */
+static dss_calib_workspace *campaign(const sunmc_config *c, const dss_deviations *dev, long unit,
+                                     dss_unit *u)
+{
+    dss_unit_build(c, dev, u);
+    dss_calib_workspace *cw = dss_calib_alloc(&c->dss, dss_campaign_size(c), c->cal_model,
+                                              c->poly_order, c->fit_glass_index);
+    assert_non_null(cw);
+    size_t seen = dss_unit_campaign(c, u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px,
+                                    cw->weight, NULL, NULL);
+    assert_true(seen > 400 && seen < cw->n); /* the corners are off the detector */
+    return cw;
+}
+
+static const char *const quiet[] = {"noise.centroid_px=0", "noise.encoder_arcsec=0",
+                                    "noise.s_curve=off"};
+
+/* Noise-free data: the physical fit recovers every parameter. */
+static void test_physical_fit_recovers(void **state)
+{
+    sunmc_config c = dss_config(quiet, 3);
+    dss_unit u;
+    dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
+    dss_calibration cal;
+    fit_result fr;
+    assert_int_equal(dss_calibrate(cw, c.max_iterations, &cal, &fr), SUNMC_OK);
+    double par[UNIT_MAX_PAR];
+    double corr;
+    int i, j;
+    assert_int_equal(dss_calib_correlation(cw, &corr, &i, &j), SUNMC_OK);
+    dss_par_values(&c, &cal, corr, i, j, fr.rcond, par, UNIT_MAX_PAR);
+    assert_near(par[0], test_dev.dx_px, 1e-6);
+    assert_near(par[1], test_dev.dy_px, 1e-6);
+    assert_near(par[2], test_dev.dh_px, 1e-4);
+    assert_near(par[3], test_dev.glass_thickness_um, 1e-2);
+    assert_near(par[4], test_dev.c1_arcsec, 1e-4);
+    assert_near(par[5], test_dev.c2_arcsec, 1e-4);
+    assert_near(par[6], test_dev.c3_arcsec, 1e-4);
+    assert_near(par[7], test_dev.glass_index, 1e-5);
+    /* the conditioning finding of dss_calib.h: H and n are the worst pair */
+    assert_true(corr > 0.95);
+    assert_int_equal(i, DSS_P_H);
+    assert_int_equal(j, DSS_P_N);
+    assert_true(dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD < 1e-6);
+    dss_calib_free(cw);
+}
+
+/* Holding the index at design leaves a bias of tenths of an arcsecond. */
+static void test_fixed_index_bias(void **state)
+{
+    const char *sets[] = {quiet[0], quiet[1], quiet[2], "calibration.fit_glass_index=off"};
+    sunmc_config c = dss_config(sets, 4);
+    dss_unit u;
+    dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
+    assert_int_equal(cw->n_free, DSS_NP - 1);
+    dss_calibration cal;
+    fit_result fr;
+    assert_int_equal(dss_calibrate(cw, c.max_iterations, &cal, &fr), SUNMC_OK);
+    assert_near(cal.phys.p[DSS_P_N], c.dss.glass_index, 0);
+    double rms = dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD;
+    assert_true(rms > 0.05 && rms < 2.0);
+    dss_calib_free(cw);
+}
+
+/* The polynomial fit recovers a polynomial exactly: readings whose truth is
+ * the on-board angles plus a known order-2 polynomial. */
+static void test_polynomial_exact(void **state)
+{
+    const char *sets[] = {"calibration.model=polynomial", "calibration.poly_order=2"};
+    sunmc_config c = dss_config(sets, 2);
+    dss_calib_workspace *cw = dss_calib_alloc(&c.dss, 400, DSS_MODEL_POLYNOMIAL, 2, 0);
+    assert_non_null(cw);
+    dss_poly truth;
+    dss_poly_init(&truth, 2, c.dss.h_mm, c.dss.pixel_um * MM_PER_UM, c.dss.fov_deg * RAD_PER_DEG);
+    const double ca[6] = {1e-4, -2e-4, 3e-5, 5e-5, -4e-5, 2e-5};
+    const double cb[6] = {-3e-4, 1e-5, 2e-4, -1e-5, 6e-5, -7e-5};
+    memcpy(truth.ca, ca, sizeof ca);
+    memcpy(truth.cb, cb, sizeof cb);
+    size_t i = 0;
+    for (int k1 = 0; k1 < 20; k1++)
+        for (int k2 = 0; k2 < 20; k2++, i++) {
+            cw->x_px[i] = -900 + 95.0 * k1;
+            cw->y_px[i] = -880 + 93.0 * k2;
+            double a, b;
+            dss_poly_compensate(&truth, cw->x_px[i], cw->y_px[i], &a, &b);
+            cw->b2_rad[i] = -a; /* the table that sets truth (a, b) */
+            cw->b1_rad[i] = atan(tan(b) * cos(cw->b2_rad[i]));
+            cw->weight[i] = 1;
+        }
+    cw->weight[7] = 0;
+    cw->x_px[7] = NAN; /* a dropped reading may hold anything */
+    dss_calibration cal;
+    fit_result fr;
+    assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_OK);
+    assert_int_equal(cal.kind, DSS_MODEL_POLYNOMIAL);
+    for (int k = 0; k < 6; k++) {
+        assert_near(cal.poly.ca[k], ca[k], 1e-12);
+        assert_near(cal.poly.cb[k], cb[k], 1e-12);
+    }
+    dss_calib_free(cw);
+}
+
+/* The family end to end on a few units: physical calibration reaches a
+ * small fraction of an arcsecond noise-free and beats the polynomial by a
+ * large factor; results do not depend on the order units run in. */
+static void run_unit(const sunmc_config *c, long unit, unit_result *r)
+{
+    char err[SUNMC_ERRLEN];
+    void *ws = dss_family.workspace_alloc(c, err, sizeof err);
+    assert_non_null(ws);
+    assert_int_equal(dss_family.unit_run(c, unit, ws, r), SUNMC_OK);
+    dss_family.workspace_free(ws);
+}
+
+static void test_family_units(void **state)
+{
+    sunmc_config c = dss_config(quiet, 3);
+    const char *psets[] = {quiet[0], quiet[1], quiet[2], "calibration.model=polynomial"};
+    sunmc_config cp = dss_config(psets, 4);
+    int band_all = 2; /* 0:60 */
+    for (long unit = 0; unit < 3; unit++) {
+        unit_result r, rp;
+        run_unit(&c, unit, &r);
+        run_unit(&cp, unit, &rp);
+        assert_int_equal(r.fit_status, UNIT_FIT_OK);
+        assert_int_equal(rp.fit_status, UNIT_FIT_OK);
+        for (int a = 0; a < 3; a++) {
+            assert_true(r.rms_before[a][band_all] > 1000);
+            assert_true(r.rms_after[a][band_all] < 0.01);
+            assert_true(rp.rms_after[a][band_all] > 100 * r.rms_after[a][band_all]);
+            assert_true(rp.rms_after[a][band_all] < r.rms_before[a][band_all]);
+        }
+    }
+    /* determinism: unit 2 alone equals unit 2 after other units on the same
+     * workspace, and a noisy config too */
+    sunmc_config cn = dss_config(NULL, 0);
+    unit_result a, b;
+    run_unit(&cn, 2, &a);
+    char err[SUNMC_ERRLEN];
+    void *ws = dss_family.workspace_alloc(&cn, err, sizeof err);
+    unit_result tmp;
+    dss_family.unit_run(&cn, 5, ws, &tmp);
+    dss_family.unit_run(&cn, 2, ws, &b);
+    dss_family.workspace_free(ws);
+    assert_memory_equal(&a, &b, sizeof a);
+    assert_true(a.rms_after[0][band_all] > 1.0); /* centroid noise is in */
+}
+
+/* Error paths. */
+static void test_errors(void **state)
+{
+    sunmc_config c = dss_config(NULL, 0);
+    assert_null(dss_calib_alloc(&c.dss, 100, DSS_MODEL_POLYNOMIAL, 0, 0));
+    assert_null(dss_calib_alloc(&c.dss, 100, DSS_MODEL_POLYNOMIAL, DSS_POLY_MAX_ORDER + 1, 0));
+    assert_null(dss_calib_alloc(&c.dss, 5, DSS_MODEL_POLYNOMIAL, 3, 0)); /* 5 < 10 terms */
+    assert_null(dss_calib_alloc(&c.dss, 3, DSS_MODEL_PHYSICAL, 0, 1));   /* 6 < 8 */
+    /* too few usable readings */
+    dss_calib_workspace *cw = dss_calib_alloc(&c.dss, 10, DSS_MODEL_PHYSICAL, 0, 1);
+    assert_non_null(cw);
+    dss_calibration cal;
+    fit_result fr;
+    assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_EINPUT);
+    dss_calib_free(cw);
+    cw = dss_calib_alloc(&c.dss, 20, DSS_MODEL_POLYNOMIAL, 3, 0);
+    cw->weight[0] = 1;
+    assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_EINPUT);
+    dss_calib_free(cw);
+    /* a spot no sun in front can make */
+    dss_model m;
+    dss_model_init(&m, &c.dss);
+    double a, b;
+    assert_int_equal(dss_model_compensate(&m, 1e9, 0, &a, &b), SUNMC_EDOM);
+    double sp[2];
+    assert_int_equal(dss_model_spot(&m, 0, 100 * RAD_PER_DEG, sp, NULL), SUNMC_EDOM);
+    /* a sun off the detector */
+    dss_sensor s;
+    dss_deviations none = {0};
+    dss_sensor_init(&s, &c.dss, &none, 0);
+    double x, y;
+    assert_int_equal(dss_sensor_read(&s, 70 * RAD_PER_DEG, 0, NULL, &x, &y), SUNMC_EDOM);
+    /* the family refuses a campaign too small to fit */
+    const char *small[] = {"campaign.b_min_deg=-1", "campaign.b_max_deg=0", "campaign.b_step_deg=1"};
+    sunmc_config cs = dss_config(small, 3);
+    char err[SUNMC_ERRLEN] = "";
+    assert_null(dss_family.workspace_alloc(&cs, err, sizeof err));
+    assert_non_null(strstr(err, "4-point campaign"));
+    /* a bad value of the new key names file, line and key */
+    assert_int_equal(test_write_file("build/tests/dss_bad.ini",
+                                     "[sensor]\nfamily = dss\n[calibration]\nfit_glass_index = maybe\n"),
+                     0);
+    config_state st;
+    int rc = config_build(&st, "build/tests/dss_bad.ini", NULL, 0, err, sizeof err);
+    assert_int_equal(rc, SUNMC_EINPUT);
+    assert_non_null(strstr(err, "dss_bad.ini:4"));
+    assert_non_null(strstr(err, "fit_glass_index"));
+}
+
+/* The CLI: configs/dss.ini runs, is byte-identical across thread counts,
+ * and names the model in units.tsv's columns. */
+static void test_cli(void **state)
+{
+    char cmd[1024], out[8192];
+    for (int t = 1; t <= 2; t++) {
+        snprintf(cmd, sizeof cmd,
+                 "rm -rf build/tests/dss_run%d && %s run configs/dss.ini --units 12 --threads %d "
+                 "--out build/tests/dss_run%d",
+                 t, test_sunmc(), t, t);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    }
+    assert_int_equal(test_run("cmp build/tests/dss_run1/units.tsv build/tests/dss_run2/units.tsv && "
+                              "cmp build/tests/dss_run1/summary.tsv build/tests/dss_run2/summary.tsv",
+                              out, sizeof out),
+                     0);
+    assert_int_equal(test_run("head -1 build/tests/dss_run1/units.tsv | grep -q fit_glass_index",
+                              out, sizeof out),
+                     0);
+    snprintf(cmd, sizeof cmd, "%s run configs/dss.ini --units 2 --set calibration.poly_order=9",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_model_matches_sensor), cmocka_unit_test(test_model_jacobian),
+        cmocka_unit_test(test_physical_fit_recovers), cmocka_unit_test(test_fixed_index_bias),
+        cmocka_unit_test(test_polynomial_exact),     cmocka_unit_test(test_family_units),
+        cmocka_unit_test(test_errors),               cmocka_unit_test(test_cli),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
