@@ -72,7 +72,7 @@ void calreport_check_correlations(calreport *r, double threshold)
         for (int j = i + 1; j < r->np; j++)
             if (fabs(r->corr[i][j]) > threshold)
                 calreport_warn(r,
-                               "widen the campaign (alpha range, more beta lines far apart) so "
+                               "widen the campaign (a wider angle range, scan lines far apart) so "
                                "the two change the output differently, or fix one of them from "
                                "another measurement; their combination is still determined, "
                                "each alone is not",
@@ -92,7 +92,7 @@ static void print_value(FILE *f, double v)
 
 int calreport_print(FILE *f, const calreport *r)
 {
-    fprintf(f, "calibration of a %s sensor, model %s\n", r->sensor, r->model);
+    fprintf(f, "calibration: sensor family %s, model %s\n", r->sensor, r->model);
     fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used, r->dof);
     fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
             r->fit.iterations, fit_reason(&r->fit));
