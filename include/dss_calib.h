@@ -80,7 +80,7 @@ typedef struct {
 
 /* Allocate for n readings of design d and model `kind` (poly_order for the
  * polynomial; fit_index = 1 frees the glass index of the physical model).
- * NULL on failure (no memory, or fewer residuals than parameters). */
+ * NULL on failure (no memory, or no more residuals than parameters). */
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index);
 void dss_calib_free(dss_calib_workspace *cw);
