@@ -77,6 +77,7 @@ run: deps
 	$(MAKE) --no-print-directory all
 	$(BUILD)/sunmc run configs/ess_type_a.ini --out runs/ess_type_a
 	$(BUILD)/sunmc run configs/ess_type_b.ini --out runs/ess_type_b
+	$(BUILD)/sunmc run configs/dss.ini --out runs/dss
 
 test: deps
 	$(MAKE) --no-print-directory test-plain test-asan

@@ -42,6 +42,9 @@ typedef struct sensor_family {
     const char *rms_unit;           /* unit of every RMS: "deg" or "arcsec" */
     double arcsec_per_rms_unit;     /* to compare with report.spec_arcsec */
 
+    /* The calibration model of config c, in words, for reports. */
+    void (*model_label)(const sunmc_config *c, char *buf, size_t len);
+
     /* Measured angles reported (ESS: alpha; DSS: alpha, beta, total). */
     int (*n_angles)(const sunmc_config *c);
     const char *const *angle_names;

@@ -1,6 +1,7 @@
 /* dss_unit.c - the DSS family: sample -> physical sensor -> rotary-table
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
+#include "dss_curve.h"
 #include "dss_rotation.h"
 #include "family.h"
 #include "rng.h"
@@ -8,6 +9,7 @@
 #include "units.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -234,10 +236,21 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     return SUNMC_OK;
 }
 
+static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
+{
+    if (c->cal_model == DSS_MODEL_POLYNOMIAL)
+        snprintf(buf, len, "2-D polynomial of order %d in the alpha and beta errors",
+                 c->poly_order);
+    else
+        snprintf(buf, len, "physical: principal point, height, cover glass%s, c1-c3",
+                 c->fit_glass_index ? " (thickness and index)" : " (thickness)");
+}
+
 const sensor_family dss_family = {
     .name = "dss",
     .rms_unit = "arcsec",
     .arcsec_per_rms_unit = 1.0,
+    .model_label = dss_model_label,
     .n_angles = dss_n_angles,
     .angle_names = dss_angle_names,
     .dev_columns = dss_dev_columns,
@@ -245,4 +258,10 @@ const sensor_family dss_family = {
     .workspace_alloc = dss_ws_alloc,
     .workspace_free = dss_ws_free,
     .unit_run = dss_unit_run,
+    .curve_axis_names = dss_curve_axis_names,
+    .curve_axis = dss_curve_axis,
+    .curve_alloc = dss_curve_alloc,
+    .curve_free = dss_curve_free,
+    .curve_prepare = dss_curve_prepare,
+    .curve_eval = dss_curve_eval,
 };

@@ -7,6 +7,7 @@
 #include "units.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,6 +113,12 @@ void ess_model_report(const ess_model *m, double out[ESS_N_PAR])
 
 static int ess_n_angles(const sunmc_config *c) { return 1; }
 
+static void ess_model_label(const sunmc_config *c, char *buf, size_t len)
+{
+    snprintf(buf, len, "ESS paper eq. 9/12/13 (a, b, c, k, t; d = 1) + turntable installation, "
+                       "roll fixed at its measurement");
+}
+
 static int ess_dev_columns(const sunmc_config *c, const char **names, int max)
 {
     for (int i = 0; i < ESS_N_DEV && i < max; i++)
@@ -212,6 +219,7 @@ const sensor_family ess_family = {
     .name = "ess",
     .rms_unit = "deg",
     .arcsec_per_rms_unit = ARCSEC_PER_DEG,
+    .model_label = ess_model_label,
     .n_angles = ess_n_angles,
     .angle_names = ess_angle_names,
     .dev_columns = ess_dev_columns,

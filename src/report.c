@@ -94,8 +94,10 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     int na = fam->n_angles(c), nb = c->bands_deg.n;
     const char *u = fam->rms_unit;
     const int prec = strcmp(u, "deg") == 0 ? 4 : 2;
-    fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec\n", c->product, fam->name,
-            rows[0].units, c->seed, c->spec_arcsec);
+    char model[256];
+    fam->model_label(c, model, sizeof model);
+    fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec\ncalibration model: %s\n",
+            c->product, fam->name, rows[0].units, c->seed, c->spec_arcsec, model);
     fprintf(f, "%-6s %-9s | %-19s | %-20s | %-19s | %9s %6s\n", "angle", "band", "RMS after [" ,
             "times improvement", "mean RMS [", "p95 after", "yield");
     fprintf(f, "%-6s %-9s | %9s %9s | %6s %6s %6s | %9s %9s | %9s %6s\n", "", "|x| deg", "max",
@@ -111,9 +113,11 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
                     r->rms_before_mean, prec, r->rms_after_mean, prec, r->rms_after_p95,
                     100.0 * r->yield);
         }
-    fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld   "
-               "units with an aliased fine-code term: %ld\n",
-            u, rows[0].fit_failures, rows[0].gross_errors, rows[0].alias_units);
+    fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld", u,
+            rows[0].fit_failures, rows[0].gross_errors);
+    if (c->family == FAMILY_ESS)
+        fprintf(f, "   units whose campaign aliases the fine-code term: %ld", rows[0].alias_units);
+    fputc('\n', f);
 }
 
 void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names)
@@ -123,13 +127,15 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
     fprintf(f, "product\tfamily\tangle\tband\tband_lo_deg\tband_hi_deg\tunits\trms_unit\t"
                "rms_before_mean\trms_after_mean\trms_after_max\trms_after_min\trms_after_p95\t"
                "improvement_mean\timprovement_max\timprovement_min\tyield\tspec_arcsec\t"
-               "fit_failures\tgross_errors\talias_units\n");
+               "fit_failures\tgross_errors\talias_units\tmodel\n");
 }
 
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
                                const summary_row *rows, int n_lead, const double *lead_values)
 {
     int n = report_n_rows(c, fam);
+    char model[256];
+    fam->model_label(c, model, sizeof model);
     for (int i = 0; i < n; i++) {
         const summary_row *r = &rows[i];
         char band[32];
@@ -137,12 +143,12 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         for (int j = 0; j < n_lead; j++)
             fprintf(f, "%.10g\t", lead_values[j]);
         fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
-                   "%.6g\t%g\t%ld\t%ld\t%ld\n",
+                   "%.6g\t%g\t%ld\t%ld\t%ld\t%s\n",
                 c->product, fam->name, fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
                 c->bands_deg.hi[r->band], r->units, fam->rms_unit, r->rms_before_mean,
                 r->rms_after_mean, r->rms_after_max, r->rms_after_min, r->rms_after_p95,
                 r->improvement_mean, r->improvement_max, r->improvement_min, r->yield,
-                c->spec_arcsec, r->fit_failures, r->gross_errors, r->alias_units);
+                c->spec_arcsec, r->fit_failures, r->gross_errors, r->alias_units, model);
     }
 }
 
