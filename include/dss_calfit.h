@@ -29,6 +29,18 @@
 int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
                    calreport *rep, char *err, size_t errlen);
 
+/* Propagated calibration uncertainty at table angles (b1, b2) rad: the
+ * standard deviations sigma_rad[0] (alpha) and sigma_rad[1] (beta), rad, of
+ * the compensated angles of the spot model m predicts there, from the
+ * covariance cov (n_free x n_free, row-major, of the parameters free_idx[]
+ * (dss_param indices) in m's internal units, already scaled by the residual
+ * variance).  The derivative with respect to the parameters is by the
+ * implicit function theorem: the model's analytic d spot / d p and a
+ * central-difference 2 x 2 d spot / d b and d (alpha, beta) / d b.
+ * SUNMC_EDOM when the spot cannot be formed or the map is singular there. */
+int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
+                     double b1, double b2, double sigma_rad[2]);
+
 /* TSV: each reading with its compensated angles and errors (arcsec). */
 int dss_calfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
                                const dss_calibration *cal);

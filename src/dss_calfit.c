@@ -12,6 +12,60 @@
 
 #define DSS_CV_BLOCKS 4 /* grid quadrants by the signs of b1 and b2 */
 
+/* Central-difference step (rad) of the table angles for the 2 x 2
+ * derivatives d spot / d b and d (alpha, beta) / d b: the spot is smooth on
+ * the scale of degrees, so the truncation error (~h^2) is ~1e-12 relative and
+ * the rounding error (~eps / h) ~1e-10. */
+#define DSS_SIGMA_DB_RAD 1e-6
+
+int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
+                     double b1, double b2, double sigma_rad[2])
+{
+    double spot[2], J[2][DSS_NP], sp[2][2][2], tr[2][2][2];
+    if (dss_model_spot(m, b1, b2, spot, J) != SUNMC_OK)
+        return SUNMC_EDOM;
+    const double h = DSS_SIGMA_DB_RAD;
+    for (int k = 0; k < 2; k++)
+        for (int s = 0; s < 2; s++) {
+            double d = s ? h : -h;
+            double c1 = b1 + (k == 0 ? d : 0.0), c2 = b2 + (k == 1 ? d : 0.0);
+            if (dss_model_spot(m, c1, c2, sp[k][s], NULL) != SUNMC_OK)
+                return SUNMC_EDOM;
+            dss_table_truth(c1, c2, &tr[k][s][0], &tr[k][s][1]);
+        }
+    /* Fb[i][k] = d spot_i / d b_k, Tb[i][k] = d angle_i / d b_k. */
+    double Fb[2][2], Tb[2][2];
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 2; k++) {
+            Fb[i][k] = (sp[k][1][i] - sp[k][0][i]) / (2 * h);
+            Tb[i][k] = (tr[k][1][i] - tr[k][0][i]) / (2 * h);
+        }
+    double det = Fb[0][0] * Fb[1][1] - Fb[0][1] * Fb[1][0];
+    if (!(fabs(det) > 0) || !isfinite(det))
+        return SUNMC_EDOM;
+    double Fi[2][2] = {{Fb[1][1] / det, -Fb[0][1] / det}, {-Fb[1][0] / det, Fb[0][0] / det}};
+    /* The compensated angles g(spot; p) satisfy spot(b(g), p) = spot, so at
+     * a fixed spot d b / d p = -Fb^-1 d spot / d p and d g / d p = Tb d b / d p. */
+    double G[2][DSS_NP];
+    for (int k = 0; k < n_free; k++) {
+        int j = free_idx[k];
+        double db0 = -(Fi[0][0] * J[0][j] + Fi[0][1] * J[1][j]);
+        double db1 = -(Fi[1][0] * J[0][j] + Fi[1][1] * J[1][j]);
+        G[0][k] = Tb[0][0] * db0 + Tb[0][1] * db1;
+        G[1][k] = Tb[1][0] * db0 + Tb[1][1] * db1;
+    }
+    for (int a = 0; a < 2; a++) {
+        double v = 0;
+        for (int i = 0; i < n_free; i++)
+            for (int j = 0; j < n_free; j++)
+                v += G[a][i] * cov[i * n_free + j] * G[a][j];
+        if (!(v >= 0))
+            return SUNMC_EDOM;
+        sigma_rad[a] = sqrt(v);
+    }
+    return SUNMC_OK;
+}
+
 /* Display scale of each physical parameter (internal -> name's unit). */
 static double phys_scale(int k)
 {
@@ -147,6 +201,8 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
 
+    double cov_s[DSS_NP * DSS_NP];
+    int have_cov = 0;
     if (phys) {
         /* chisq is in px^2 over 2 n residuals (weighted). */
         double s2 = rep->fit.chisq / rep->dof;
@@ -161,6 +217,12 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
         int cst = fit_covariance(cw->fw);
         if (cst == SUNMC_OK)
             cst = calreport_covariance(rep, cw->fw->covar, s2, scale);
+        if (cst == SUNMC_OK && rep->fit_ok) {
+            have_cov = 1;
+            for (int i = 0; i < cw->n_free; i++)
+                for (int j = 0; j < cw->n_free; j++)
+                    cov_s[i * cw->n_free + j] = s2 * gsl_matrix_get(cw->fw->covar, i, j);
+        }
         if (cst != SUNMC_OK) {
             for (int k = 0; k < rep->np; k++)
                 rep->se[k] = NAN;
@@ -180,13 +242,45 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     /* Angle-domain residual scaled to the degrees of freedom. */
     rep->sigma_arcsec = n ? sqrt(sum / n * (double)n_res / rep->dof) * ARCSEC_PER_RAD : NAN;
     double dof_factor = sqrt((double)n_res / rep->dof);
+    /* The calibration's own uncertainty across the field: the parameter
+     * covariance propagated to the compensated angles at each campaign
+     * point's (fitted-model) spot. */
+    band_acc sig[2];
+    band_acc_reset(&sig[0]);
+    band_acc_reset(&sig[1]);
+    double smax[2][CONFIG_BANDS_MAX] = {{0}};
+    for (size_t i = 0; have_cov && i < cw->n; i++) {
+        if (!(cw->weight[i] > 0))
+            continue;
+        double sg[2], a0, b0;
+        if (dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
+                             cw->b2_rad[i], sg) != SUNMC_OK)
+            continue;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        double fd = field_deg(a0, b0);
+        for (int a = 0; a < 2; a++) {
+            band_acc_add(&sig[a], &c->bands_deg, fd, sg[a]);
+            for (int b = 0; b < c->bands_deg.n; b++) {
+                band_acc one;
+                band_acc_reset(&one);
+                band_acc_add(&one, &c->bands_deg, fd, sg[a]);
+                if (one.n[b])
+                    smax[a][b] = fmax(smax[a][b], sg[a] * ARCSEC_PER_RAD);
+            }
+        }
+    }
     for (int a = 0; a < 2; a++) {
         band_acc_rms(&acc[a], &c->bands_deg, ARCSEC_PER_RAD, rep->resid_rms[a]);
+        band_acc_rms(&sig[a], &c->bands_deg, ARCSEC_PER_RAD, rep->cal_sigma_rms[a]);
         for (int b = 0; b < c->bands_deg.n; b++) {
             rep->band_n[a][b] = acc[a].n[b];
-            rep->cal_sigma_rms[a][b] = NAN; /* not propagated for the DSS */
-            rep->cal_sigma_max[a][b] = NAN;
-            rep->predicted_rms[a][b] = rep->resid_rms[a][b] * dof_factor;
+            if (!have_cov || !sig[a].n[b]) {
+                rep->cal_sigma_rms[a][b] = NAN; /* polynomial, or no covariance */
+                smax[a][b] = NAN;
+            }
+            rep->cal_sigma_max[a][b] = smax[a][b];
+            double noise = rep->resid_rms[a][b] * dof_factor, cs = rep->cal_sigma_rms[a][b];
+            rep->predicted_rms[a][b] = sqrt(noise * noise + (isnan(cs) ? 0.0 : cs * cs));
         }
     }
     cross_validate(c, cw, rep);
