@@ -1,0 +1,120 @@
+/* dss_curve.c - one DSS unit's error maps (the family's curve hooks). */
+#include "dss_curve.h"
+#include "dss_rotation.h"
+#include "dss_unit.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+const char *const dss_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
+
+/* Indices of the measured angles (the family's angle_names order). */
+enum { CURVE_ALPHA = 0, CURVE_BETA, CURVE_TOTAL };
+
+typedef struct {
+    dss_calib_workspace *cw;
+    dss_unit u;
+    dss_calibration cal;
+    int fit_ok;
+} dss_curve_ws;
+
+long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
+{
+    (void)axis; /* both axes span the same validation grid */
+    long n = grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg,
+                        c->val_b_offset_deg);
+    for (long j = 0; j < n && j < max; j++)
+        values_deg[j] = c->val_b_min_deg + c->val_b_offset_deg + (double)j * c->val_b_step_deg;
+    return n;
+}
+
+void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    size_t n = dss_campaign_size(c);
+    dss_curve_ws *w = calloc(1, sizeof *w);
+    if (w)
+        w->cw = dss_calib_alloc(&c->dss, n, c->cal_model, c->poly_order, c->fit_glass_index);
+    if (!w || !w->cw) {
+        free(w);
+        sunmc_fail(err, errlen, SUNMC_ENOMEM,
+                   "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
+                   "or fewer points than parameters)", n);
+        return NULL;
+    }
+    return w;
+}
+
+void dss_curve_free(void *cv)
+{
+    dss_curve_ws *w = cv;
+    if (!w)
+        return;
+    dss_calib_free(w->cw);
+    free(w);
+}
+
+/* Every deviation times s (the mirror unit of a signed fixed tolerance). */
+static void deviations_scale(dss_deviations *d, double s)
+{
+    d->dh_px *= s;
+    d->dx_px *= s;
+    d->dy_px *= s;
+    d->c1_arcsec *= s;
+    d->c2_arcsec *= s;
+    d->c3_arcsec *= s;
+    d->glass_thickness_um *= s;
+    d->glass_index *= s;
+}
+
+int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
+{
+    dss_curve_ws *w = cv;
+    dss_calib_workspace *cw = w->cw;
+    dss_deviations dev;
+    dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    deviations_scale(&dev, dev_sign);
+    dss_unit_build(c, &dev, &w->u);
+    dss_unit_campaign(c, &w->u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight,
+                      NULL, NULL);
+    fit_result fr;
+    int st = dss_calibrate(cw, c->max_iterations, &w->cal, &fr);
+    w->fit_ok = st == SUNMC_OK;
+    *fit_ok = w->fit_ok;
+    return SUNMC_OK;
+}
+
+/* Errors (arcsec) of measured angles (a, b) against the truth (a0, b0). */
+static void errors_of(double a, double b, double a0, double b0, double out[UNIT_MAX_ANGLES])
+{
+    double u[3], v[3];
+    dss_vector_of(a, b, u);
+    dss_vector_of(a0, b0, v);
+    out[CURVE_ALPHA] = (a - a0) * ARCSEC_PER_RAD;
+    out[CURVE_BETA] = (b - b0) * ARCSEC_PER_RAD;
+    out[CURVE_TOTAL] = dss_angle_between(u, v) * ARCSEC_PER_RAD;
+}
+
+int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
+                   double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
+{
+    (void)c;
+    const dss_curve_ws *w = cv;
+    /* Table angles that put the sun at (alpha, beta): invert eq. 3-4. */
+    double b2 = -alpha_deg * RAD_PER_DEG;
+    double b1 = atan(tan(beta_deg * RAD_PER_DEG) * cos(b2));
+    double x, y, a0, b0, am, bm;
+    int st = dss_sensor_read(&w->u.sensor, b1, b2, NULL, &x, &y);
+    if (st != SUNMC_OK)
+        return st;
+    dss_table_truth(b1, b2, &a0, &b0);
+    dss_sensor_angles(&w->u.sensor, x, y, &am, &bm);
+    errors_of(am, bm, a0, b0, before);
+    for (int a = 0; a <= CURVE_TOTAL; a++)
+        after[a] = NAN;
+    double ac, bc;
+    if (w->fit_ok && dss_compensate(&w->cal, x, y, &ac, &bc) == SUNMC_OK)
+        errors_of(ac, bc, a0, b0, after);
+    return SUNMC_OK;
+}
