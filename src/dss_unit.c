@@ -2,7 +2,6 @@
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
 #include "dss_curve.h"
-#include "dss_curve.h"
 #include "dss_rotation.h"
 #include "family.h"
 #include "rng.h"
