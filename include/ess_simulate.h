@@ -2,10 +2,10 @@
  * (`sunmc simulate`): the truth behind its calibration campaign and the
  * validation readings the Monte Carlo scores it on.
  *
- * Both replay the Monte Carlo's random streams for (seed, unit) in the
- * Monte Carlo's order, so the files `simulate` writes are exactly what unit
- * `unit` of `sunmc run` sees (ess_unit.c is the reference; the tests compare
- * the replay with ess_unit_campaign and with run's units.tsv).
+ * Both are built on the Monte Carlo's own per-reading functions
+ * (ess_campaign_reading, ess_validation_reading in ess_unit.c) with the same
+ * streams and order, so the files `simulate` writes are exactly what unit
+ * `unit` of `sunmc run` sees.
  */
 #ifndef SUNMC_ESS_SIMULATE_H
 #define SUNMC_ESS_SIMULATE_H
@@ -36,6 +36,5 @@ void ess_validation_readings(const sunmc_config *c, const ess_unit *u, long unit
                              double *alpha_rad, double *beta_rad, double *raw_rad,
                              double *truth_rad, int *status);
 
-enum ess_reading_status { ESS_READING_OK = 0, ESS_READING_UNSEEN = 1, ESS_READING_GROSS = 2 };
 
 #endif

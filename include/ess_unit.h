@@ -36,6 +36,23 @@ size_t ess_campaign_size(const sunmc_config *c);
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                        ess_calib_workspace *cw, int *gross);
 
+/* One campaign reading at recorded table angles (a, b) rad, drawing from r
+ * in the Monte Carlo's order: the true table angles (encoder error added),
+ * the true incidence and the raw output averaged over campaign.repeats.
+ * Returns 1 when the sun was seen at every repeat, else 0. */
+int ess_campaign_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
+                         double b_rad, double *a_true_rad, double *b_true_rad,
+                         double *incidence_rad, double *raw_rad);
+
+/* Status of a validation reading. */
+enum ess_reading_status { ESS_READING_OK = 0, ESS_READING_UNSEEN = 1, ESS_READING_GROSS = 2 };
+
+/* One validation reading at table angles (a, b) rad with fresh row noise
+ * from r: raw output and true incidence (rad); ESS_READING_GROSS when they
+ * differ by more than half a fine period (the wrong period was picked). */
+int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
+                           double b_rad, double *raw_rad, double *truth_rad);
+
 /* Draw the 4 fine-row current noises (units of a1) from stream r. */
 void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_ROWS]);
 

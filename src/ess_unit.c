@@ -56,12 +56,49 @@ void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_R
         noise[m] = sigma * rng_normal(r);
 }
 
+int ess_campaign_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
+                         double b_rad, double *a_true_rad, double *b_true_rad,
+                         double *incidence_rad, double *raw_rad)
+{
+    /* The table's true angles differ from the recorded ones by the encoder
+     * error; the readings at one position are averaged. */
+    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
+    *a_true_rad = a_rad + enc * rng_normal(r);
+    *b_true_rad = b_rad + enc * rng_normal(r);
+    double sum = 0;
+    int seen = 1;
+    *incidence_rad = 0;
+    for (int rep = 0; rep < c->cal_repeats; rep++) {
+        double noise[ESS_FINE_ROWS], raw;
+        ess_row_noise(c, r, noise);
+        if (ess_unit_read(u, *a_true_rad, *b_true_rad, noise, &raw, incidence_rad) != SUNMC_OK)
+            seen = 0;
+        else
+            sum += raw;
+    }
+    *raw_rad = seen ? sum / c->cal_repeats : 0.0;
+    return seen;
+}
+
+int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
+                           double b_rad, double *raw_rad, double *truth_rad)
+{
+    double noise[ESS_FINE_ROWS];
+    ess_row_noise(c, r, noise);
+    *raw_rad = 0;
+    *truth_rad = 0;
+    if (ess_unit_read(u, a_rad, b_rad, noise, raw_rad, truth_rad) != SUNMC_OK)
+        return ESS_READING_UNSEEN;
+    if (fabs(*raw_rad - *truth_rad) > 0.5 * c->ess.theta0_deg * RAD_PER_DEG)
+        return ESS_READING_GROSS;
+    return ESS_READING_OK;
+}
+
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                        ess_calib_workspace *cw, int *gross)
 {
     long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
     double half_period = 0.5 * c->ess.theta0_deg * RAD_PER_DEG;
-    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
     *gross = 0;
@@ -70,26 +107,14 @@ void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
         for (long j = 0; j < na; j++, i++) {
             double a = (c->cal_alpha_min_deg + (double)j * c->cal_alpha_step_deg) * RAD_PER_DEG;
             double b = c->cal_beta_deg.v[k] * RAD_PER_DEG;
-            /* The table's true angles differ from the recorded ones by the
-             * encoder error. */
-            double a_true = a + enc * rng_normal(&r);
-            double b_true = b + enc * rng_normal(&r);
-            double sum = 0, truth;
-            int ok = 1;
-            for (int rep = 0; rep < c->cal_repeats; rep++) {
-                double noise[ESS_FINE_ROWS], raw;
-                ess_row_noise(c, &r, noise);
-                if (ess_unit_read(u, a_true, b_true, noise, &raw, &truth) != SUNMC_OK)
-                    ok = 0;
-                else
-                    sum += raw;
-            }
+            double a_true, b_true, incidence;
+            int seen = ess_campaign_reading(c, u, &r, a, b, &a_true, &b_true, &incidence,
+                                            &cw->raw_rad[i]);
             cw->alpha_rad[i] = a;
             cw->beta_rad[i] = b;
-            cw->raw_rad[i] = ok ? sum / c->cal_repeats : 0.0;
             /* A lab drops a reading that is off the table angle by more than
              * half a fine period: the coarse code picked the wrong period. */
-            cw->weight[i] = (ok && fabs(cw->raw_rad[i] - a) < half_period) ? 1.0 : 0.0;
+            cw->weight[i] = (seen && fabs(cw->raw_rad[i] - a) < half_period) ? 1.0 : 0.0;
             if (cw->weight[i] == 0.0)
                 (*gross)++;
         }
@@ -183,17 +208,16 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
     long na = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
                          c->val_alpha_offset_deg);
-    double half_period = 0.5 * theta0;
     for (int k = 0; k < c->val_beta_deg.n; k++)
         for (long j = 0; j < na; j++) {
             double a = (c->val_alpha_min_deg + c->val_alpha_offset_deg +
                         (double)j * c->val_alpha_step_deg) * RAD_PER_DEG;
             double b = c->val_beta_deg.v[k] * RAD_PER_DEG;
-            double noise[ESS_FINE_ROWS], raw, truth, comp;
-            ess_row_noise(c, &r, noise);
-            if (ess_unit_read(&u, a, b, noise, &raw, &truth) != SUNMC_OK)
+            double raw, truth, comp;
+            int st_read = ess_validation_reading(c, &u, &r, a, b, &raw, &truth);
+            if (st_read == ESS_READING_UNSEEN)
                 continue;
-            if (fabs(raw - truth) > half_period) {
+            if (st_read == ESS_READING_GROSS) {
                 res->gross_val++;
                 continue;
             }
