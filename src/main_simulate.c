@@ -1,6 +1,7 @@
 /* main_simulate.c - `sunmc simulate`: one simulated unit's calibration
  * campaign as a lab records it, with the truth behind it. */
 #include "ess_simulate.h"
+#include "dss_simulate.h"
 #include "dss_unit.h"
 #include "ess_unit.h"
 #include "family.h"
@@ -24,7 +25,9 @@ static const char simulate_help[] =
     "  DIR/validation.csv  the readings `run` validates the unit on: alpha_deg,beta_deg,\n"
     "                      output_deg,truth_deg (compensate it and compare with truth_deg)\n"
     "Prints the unit's measured installation roll, to pass to calibrate with\n"
-    "--set calibration.roll_measured_arcsec=VALUE.\n";
+    "--set calibration.roll_measured_arcsec=VALUE.\n"
+    "For a DSS config: campaign.csv b1_deg,b2_deg,x_px,y_px,weight; truth.csv; validation.csv\n"
+    "b1_deg,b2_deg,x_px,y_px,truth_alpha_deg,truth_beta_deg (the readings `run` validates on).\n";
 
 typedef struct {
     size_t n;
@@ -183,26 +186,36 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, o->unit, &dev);
     dss_unit_build(c, &dev, &u);
-    size_t n = dss_campaign_size(c);
-    double *v[7];
-    int ok = 1;
+    size_t n = dss_campaign_size(c), nv = dss_validation_size(c);
+    double *v[7], *w[6];
+    int ok = 1, *wseen = malloc((nv + 1) * sizeof(int));
+    ok &= wseen != NULL;
     for (int k = 0; k < 7; k++)
         ok &= (v[k] = malloc((n + 1) * sizeof(double))) != NULL;
+    for (int k = 0; k < 6; k++)
+        ok &= (w[k] = malloc((nv + 1) * sizeof(double))) != NULL;
     if (!ok) {
         for (int k = 0; k < 7; k++)
             free(v[k]);
+        for (int k = 0; k < 6; k++)
+            free(w[k]);
+        free(wseen);
         fprintf(stderr, "sunmc simulate: out of memory\n");
         return 1;
     }
     size_t seen = dss_unit_campaign(c, &u, o->unit, v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    dss_validation_readings(c, &u, o->unit, w[0], w[1], w[2], w[3], w[4], w[5], wseen);
     char err[SUNMC_ERRLEN];
     out_set os;
-    FILE *fc = NULL, *ft = NULL;
+    FILE *fc = NULL, *ft = NULL, *fv = NULL;
+    long n_val = 0;
     int st = out_begin(&os, o->out, err, sizeof err);
     if (st == SUNMC_OK)
         st = out_open(&os, o->out, "campaign.csv", &fc, err, sizeof err);
     if (st == SUNMC_OK)
         st = out_open(&os, o->out, "truth.csv", &ft, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = out_open(&os, o->out, "validation.csv", &fv, err, sizeof err);
     if (st == SUNMC_OK) {
         long nb = grid_count(c->cal_b_min_deg, c->cal_b_max_deg, c->cal_b_step_deg, 0);
         fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",
@@ -225,19 +238,38 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
             fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%d\n", b1, b2, v[5][i] * DEG_PER_RAD,
                     v[6][i] * DEG_PER_RAD, spot);
         }
+        long n_unseen = 0;
+        for (size_t i = 0; i < nv; i++)
+            n_unseen += !wseen[i];
+        fprintf(fv, "# sunmc %s simulate: validation readings of unit %ld of %s, seed %ld; table "
+                    "at exactly b1, b2; %ld points without a spot left out, as in `run`\n",
+                SUNMC_VERSION, o->unit, o->config, c->seed, n_unseen);
+        fprintf(fv, "b1_deg,b2_deg,x_px,y_px,truth_alpha_deg,truth_beta_deg\n");
+        for (size_t i = 0; i < nv; i++)
+            if (wseen[i]) {
+                fprintf(fv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", w[0][i] * DEG_PER_RAD,
+                        w[1][i] * DEG_PER_RAD, w[2][i], w[3][i], w[4][i] * DEG_PER_RAD,
+                        w[5][i] * DEG_PER_RAD);
+                n_val++;
+            }
         st = out_commit(&os, err, sizeof err);
     } else {
         out_abort(&os);
     }
     if (st == SUNMC_OK) {
-        printf("unit %ld of %s (seed %ld): %zu campaign readings (%zu with a spot)\n", o->unit,
-               c->product, c->seed, n, seen);
-        printf("wrote %s/campaign.csv, %s/truth.csv\n", o->out, o->out);
+        printf("unit %ld of %s (seed %ld): %zu campaign readings (%zu with a spot), %ld "
+               "validation readings\n",
+               o->unit, c->product, c->seed, n, seen, n_val);
+        printf("wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n", o->out, o->out,
+               o->out);
     } else {
         fprintf(stderr, "sunmc simulate: %s\n", err);
     }
     for (int k = 0; k < 7; k++)
         free(v[k]);
+    for (int k = 0; k < 6; k++)
+        free(w[k]);
+    free(wseen);
     return cli_exit_code(st);
 }
 

@@ -1,0 +1,47 @@
+/* dss_simulate.c - a DSS unit's validation readings, replaying dss_unit.c's
+ * validation loop (same stream, same order, same draws). */
+#include "dss_simulate.h"
+#include "dss_rotation.h"
+#include "family.h"
+#include "rng.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+
+static long val_axis_count(const sunmc_config *c)
+{
+    return grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg, c->val_b_offset_deg);
+}
+
+size_t dss_validation_size(const sunmc_config *c)
+{
+    size_t n = (size_t)val_axis_count(c);
+    return n * n;
+}
+
+void dss_validation_readings(const sunmc_config *c, const dss_unit *u, long unit, double *b1_rad,
+                             double *b2_rad, double *x_px, double *y_px, double *truth_alpha_rad,
+                             double *truth_beta_rad, int *seen)
+{
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    long nb = val_axis_count(c);
+    double sigma = c->dss_noise.centroid_px;
+    size_t i = 0;
+    for (long j1 = 0; j1 < nb; j1++)
+        for (long j2 = 0; j2 < nb; j2++, i++) {
+            double b1 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j1 * c->val_b_step_deg) *
+                        RAD_PER_DEG;
+            double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
+                        RAD_PER_DEG;
+            double noise[2] = {sigma * rng_normal(&r), sigma * rng_normal(&r)};
+            double x, y;
+            b1_rad[i] = b1;
+            b2_rad[i] = b2;
+            dss_table_truth(b1, b2, &truth_alpha_rad[i], &truth_beta_rad[i]);
+            seen[i] = dss_sensor_read(&u->sensor, b1, b2, noise, &x, &y) == SUNMC_OK;
+            x_px[i] = seen[i] ? x : NAN;
+            y_px[i] = seen[i] ? y : NAN;
+        }
+}
