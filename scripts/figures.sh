@@ -13,7 +13,7 @@
 #   ess_budget_A.png, ess_yield_A.png, ess_hist_A.png  budget, yield, improvement
 # DSS paper (Wei et al.), when the dss family offers curves:
 #   dss_fig2_dh.png, dss_fig3_dx.png, dss_fig3_dy.png, dss_fig4_c1..c3.png,
-#   dss_fig5_refraction.png   error maps over the table grid
+#   dss_fig5_refraction.png, dss_unit3_after.png   error maps over (alpha, beta)
 #
 # Figs. 3, 5-7 isolate one geometric error as the paper's section 3 does: every
 # other tolerance 0 and an ideal fine code (pure sinusoid: design.harmonics =
@@ -76,20 +76,25 @@ gnuplot -e "run='$data/ess_budget_A'; out='$out/ess_budget_A.png'" scripts/budge
 gnuplot -e "run='$data/ess_run_A'; out='$out/ess_yield_A.png'" scripts/yield.gp
 gnuplot -e "run='$data/ess_run_A'; out='$out/ess_hist_A.png'" scripts/hist.gp
 
-# DSS maps (Figs. 2-5), when the family draws curves.
+# DSS maps (Figs. 2-5) over the sun angles (alpha, beta), every 2 deg: the
+# error each source alone adds to the nominal design (error_source).
 D=configs/dss.ini
-if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 --out $data/dss_fig2_dh $q >/dev/null 2>&1; then
-  gnuplot -e "run='$data/dss_fig2_dh'; out='$out/dss_fig2_dh.png'; title='DSS paper Fig. 2: error caused by dh = 0.2 pixel'" scripts/map.gp
+grid="--set validation.b_step_deg=2 --set validation.b_offset_deg=0"
+if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh $q >/dev/null 2>&1; then
+  gnuplot -e "run='$data/dss_fig2_dh'; out='$out/dss_fig2_dh.png'; title='DSS paper Fig. 2: error caused by dh = 0.2 pixel alone (alpha error depends on alpha only)'" scripts/map.gp
   for s in dx_px=0.1:fig3_dx dy_px=0.1:fig3_dy c1_arcsec=10:fig4_c1 c2_arcsec=10:fig4_c2 c3_arcsec=10:fig4_c3; do
     kv=${s%%:*}; name=dss_${s##*:}
-    "$SUNMC" curve $D --only $kv --out $data/$name $q >/dev/null
-    gnuplot -e "run='$data/$name'; out='$out/$name.png'; title='DSS paper: error caused by $kv'" scripts/map.gp
+    "$SUNMC" curve $D --only $kv $grid --out $data/$name $q >/dev/null
+    gnuplot -e "run='$data/$name'; out='$out/$name.png'; title='DSS paper Figs. 3-4: error caused by $kv alone'" scripts/map.gp
   done
-  # Fig. 5, refraction: the cover glass alone = the nominal design with glass
-  # minus the same design without (the source column of a glass-index run is
-  # only its tolerance), so draw the 'before' map of a nominal unit.
-  "$SUNMC" curve $D --only glass_index=0 --out $data/dss_fig5_refraction $q >/dev/null
-  gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: error of the nominal design with its cover glass (refraction)'" scripts/map.gp
+  # Fig. 5, refraction: the on-board formula ignores the cover glass, so the
+  # nominal unit's error before calibration is the refraction error itself
+  # (S-curve off so that nothing else is in it).
+  "$SUNMC" curve $D --only glass_index=0 $grid --set noise.s_curve=off --out $data/dss_fig5_refraction $q >/dev/null
+  gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: refraction error of the nominal design (0.4 mm glass, n = 1.52; on-board formula ignores it)'" scripts/map.gp
+  # One Monte Carlo unit before and after its own calibration.
+  "$SUNMC" curve $D --unit 3 $grid --out $data/dss_unit3 $q >/dev/null
+  gnuplot -e "run='$data/dss_unit3'; what='after'; out='$out/dss_unit3_after.png'; title='DSS unit 3 after its calibration'" scripts/map.gp
 else
   echo "figures.sh: the dss family draws no curves yet: DSS Figs. 2-5 skipped" >&2
 fi

@@ -1,5 +1,5 @@
 # map.gp - 2-D error maps from `sunmc curve --out RUN` (DSS: error of each
-# measured angle over the table grid (b1, b2)), one panel per angle (the
+# measured angle over the sun angles (alpha, beta)), one panel per angle (the
 # 'total' columns are left out), pm3d colour map.
 #   what='source' (default) | 'before' | 'after'
 #   gnuplot -e "run='runs/dh'" scripts/map.gp   [-e "out='x.png'"] [-e "svg=1"]
