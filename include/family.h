@@ -62,10 +62,10 @@ typedef struct sensor_family {
     int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
 
     /* ---- Error curves and maps (`sunmc curve`); all NULL when the family
-     * has none.  A curve is one unit's error at every point of a 2-D grid
-     * of table angles: axis 0 is the fast axis (ESS: alpha; DSS: b1), axis 1
-     * the series / slow axis (ESS: beta; DSS: b2).  The grid is the
-     * config's validation grid. ---- */
+     * has none.  A curve is one unit's error at every point of a 2-D grid:
+     * axis 0 is the fast axis (ESS: table alpha; DSS: sun angle alpha),
+     * axis 1 the series / slow axis (ESS: table beta; DSS: sun angle beta).
+     * The grid is the config's validation grid. ---- */
 
     /* Column names of the two table axes, with units: {"alpha_deg", "beta_deg"}. */
     const char *const *curve_axis_names;
