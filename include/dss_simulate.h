@@ -2,9 +2,9 @@
  * records them (`sunmc simulate`): exactly the readings the Monte Carlo's
  * dss_family unit_run validates unit `unit` on.
  *
- * It replays the random stream RNG_STREAM_VAL_NOISE of (seed, unit) in
- * dss_unit.c's order (dss_unit.c is the reference; tests/test_calibrate.c
- * compensates the replay and compares with run's units.tsv).
+ * It calls the Monte Carlo's own dss_validation_reading (dss_unit.h) on the
+ * stream RNG_STREAM_VAL_NOISE of (seed, unit), over the same grid in the
+ * same order (tests/test_calibrate.c compares with run's units.tsv).
  */
 #ifndef SUNMC_DSS_SIMULATE_H
 #define SUNMC_DSS_SIMULATE_H

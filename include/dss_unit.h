@@ -13,6 +13,7 @@
 #define SUNMC_DSS_UNIT_H
 
 #include "config.h"
+#include "rng.h"
 #include "dss_calib.h"
 #include "dss_sensor.h"
 
@@ -52,6 +53,14 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
  * fit's reciprocal condition number. */
 #define DSS_N_PAR_PHYSICAL 11
 #define DSS_N_PAR_POLYNOMIAL 5
+/* One validation reading at table angles (b1, b2) rad, with fresh centroid
+ * noise drawn from r (two normals, always drawn so the stream stays in step):
+ * the table's truth (a0, b0) rad of eq. 3-4 and the measured spot (px).
+ * Returns SUNMC_OK, or SUNMC_EDOM when the spot is off the detector. */
+int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream *r, double b1_rad,
+                           double b2_rad, double *x_px, double *y_px, double *a0_rad,
+                           double *b0_rad);
+
 int dss_par_names(const sunmc_config *c, const char **names, int max);
 int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
                    double rcond, double *out, int max);

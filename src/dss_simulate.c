@@ -1,5 +1,5 @@
-/* dss_simulate.c - a DSS unit's validation readings, replaying dss_unit.c's
- * validation loop (same stream, same order, same draws). */
+/* dss_simulate.c - a DSS unit's validation readings: the Monte Carlo's own
+ * dss_validation_reading on the same stream, grid and order. */
 #include "dss_simulate.h"
 #include "dss_rotation.h"
 #include "family.h"
@@ -27,7 +27,6 @@ void dss_validation_readings(const sunmc_config *c, const dss_unit *u, long unit
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
     long nb = val_axis_count(c);
-    double sigma = c->dss_noise.centroid_px;
     size_t i = 0;
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++, i++) {
@@ -35,12 +34,11 @@ void dss_validation_readings(const sunmc_config *c, const dss_unit *u, long unit
                         RAD_PER_DEG;
             double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
                         RAD_PER_DEG;
-            double noise[2] = {sigma * rng_normal(&r), sigma * rng_normal(&r)};
             double x, y;
             b1_rad[i] = b1;
             b2_rad[i] = b2;
-            dss_table_truth(b1, b2, &truth_alpha_rad[i], &truth_beta_rad[i]);
-            seen[i] = dss_sensor_read(&u->sensor, b1, b2, noise, &x, &y) == SUNMC_OK;
+            seen[i] = dss_validation_reading(c, u, &r, b1, b2, &x, &y, &truth_alpha_rad[i],
+                                             &truth_beta_rad[i]) == SUNMC_OK;
             x_px[i] = seen[i] ? x : NAN;
             y_px[i] = seen[i] ? y : NAN;
         }

@@ -163,6 +163,16 @@ static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, doubl
     band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, dss_angle_between(u, v));
 }
 
+int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream *r, double b1_rad,
+                           double b2_rad, double *x_px, double *y_px, double *a0_rad,
+                           double *b0_rad)
+{
+    double sigma = c->dss_noise.centroid_px;
+    double noise[2] = {sigma * rng_normal(r), sigma * rng_normal(r)};
+    dss_table_truth(b1_rad, b2_rad, a0_rad, b0_rad);
+    return dss_sensor_read(&u->sensor, b1_rad, b2_rad, noise, x_px, y_px);
+}
+
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     dss_calib_workspace *cw = ws;
@@ -202,18 +212,15 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
     long nb = grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg,
                          c->val_b_offset_deg);
-    double sigma = c->dss_noise.centroid_px;
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++) {
             double b1 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j1 * c->val_b_step_deg) *
                         RAD_PER_DEG;
             double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
                         RAD_PER_DEG;
-            double noise[2] = {sigma * rng_normal(&r), sigma * rng_normal(&r)};
             double x, y, a0, b0, am, bm;
-            if (dss_sensor_read(&u.sensor, b1, b2, noise, &x, &y) != SUNMC_OK)
+            if (dss_validation_reading(c, &u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
                 continue;
-            dss_table_truth(b1, b2, &a0, &b0);
             double field = field_angle_deg(a0, b0);
             dss_sensor_angles(&u.sensor, x, y, &am, &bm);
             add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
