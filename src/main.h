@@ -74,6 +74,9 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
 /* Threads to use: o->threads, else run.threads, else OpenMP's default. */
 int cli_threads(const cli_options *o, const sunmc_config *c);
 
+/* Print text and return 1 when argv[2..] holds --help or -h. */
+int cli_wants_help(int argc, char **argv, const char *text);
+
 /* Exit status for a module status. */
 int cli_exit_code(int status);
 

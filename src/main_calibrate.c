@@ -34,18 +34,38 @@ static const char compensate_help[] =
     "column output_deg (ess) or x_px,y_px (dss); the output repeats every input column and\n"
     "adds the compensated angle(s): compensated_deg (ess).\n";
 
-static int wants_help(int argc, char **argv, const char *text)
-{
-    for (int i = 2; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(text, stdout);
-            return 1;
-        }
-    return 0;
-}
-
 /* Read the ESS campaign columns into a new workspace; *line_out gets each
  * row's file line.  Every value is checked before the number of rows. */
+/* Columns names[0..n-2] (required) and names[n-1] = "weight" (optional,
+ * default 1, must not be negative) of t into freshly allocated v[k]
+ * (n_rows each; the caller frees them, also on error). */
+static int read_columns(const csv_table *t, const char *path, const char *const *names, int n,
+                        double **v, char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    for (int k = 0; k < n && st == SUNMC_OK; k++) {
+        int col;
+        st = csv_column(t, names[k], k < n - 1, &col, err, errlen);
+        if (st != SUNMC_OK)
+            break;
+        v[k] = malloc((t->n_rows + 1) * sizeof(double));
+        if (!v[k])
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        else if (col >= 0)
+            st = csv_doubles(t, col, v[k], err, errlen);
+        else
+            for (size_t i = 0; i < t->n_rows; i++)
+                v[k][i] = 1.0;
+    }
+    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
+        if (v[n - 1][i] < 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
+                            "drops the row)",
+                            path, t->line[i], v[n - 1][i]);
+    return st;
+}
+
 static int read_ess_campaign(const char *path, ess_calib_workspace **cw_out, int **line_out,
                              char *err, size_t errlen)
 {
@@ -53,27 +73,9 @@ static int read_ess_campaign(const char *path, ess_calib_workspace **cw_out, int
     int st = csv_read(path, &t, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    int col[4]; /* alpha, beta, output, weight */
     const char *names[4] = {"alpha_deg", "beta_deg", "output_deg", "weight"};
-    for (int k = 0; k < 4 && st == SUNMC_OK; k++)
-        st = csv_column(t, names[k], k < 3, &col[k], err, errlen);
     double *v[4] = {NULL, NULL, NULL, NULL};
-    for (int k = 0; k < 4 && st == SUNMC_OK; k++) {
-        v[k] = malloc((t->n_rows + 1) * sizeof(double));
-        if (!v[k])
-            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-        else if (col[k] >= 0)
-            st = csv_doubles(t, col[k], v[k], err, errlen);
-        else
-            for (size_t i = 0; i < t->n_rows; i++)
-                v[k][i] = 1.0;
-    }
-    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
-        if (v[3][i] < 0)
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
-                            "drops the row)",
-                            path, t->line[i], v[3][i]);
+    st = read_columns(t, path, names, 4, v, err, errlen);
     char why[128];
     snprintf(why, sizeof why, "the ess model has %d parameters: need at least %d rows", ESS_NP,
              ESS_NP + 1);
@@ -238,27 +240,9 @@ static int read_dss_campaign(const char *path, const sunmc_config *c, dss_calib_
     int st = csv_read(path, &t, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    int col[5];
     const char *names[5] = {"b1_deg", "b2_deg", "x_px", "y_px", "weight"};
-    for (int k = 0; k < 5 && st == SUNMC_OK; k++)
-        st = csv_column(t, names[k], k < 4, &col[k], err, errlen);
     double *v[5] = {NULL, NULL, NULL, NULL, NULL};
-    for (int k = 0; k < 5 && st == SUNMC_OK; k++) {
-        v[k] = malloc((t->n_rows + 1) * sizeof(double));
-        if (!v[k])
-            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-        else if (col[k] >= 0)
-            st = csv_doubles(t, col[k], v[k], err, errlen);
-        else
-            for (size_t i = 0; i < t->n_rows; i++)
-                v[k][i] = 1.0;
-    }
-    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
-        if (v[4][i] < 0)
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
-                            "drops the row)",
-                            path, t->line[i], v[4][i]);
+    st = read_columns(t, path, names, 5, v, err, errlen);
     int np = c->cal_model == DSS_MODEL_PHYSICAL ? DSS_NP : dss_poly_n_terms(c->poly_order);
     char why[128];
     snprintf(why, sizeof why, "the dss model has up to %d parameters: need at least %d rows", np,
@@ -372,7 +356,7 @@ static int calibrate_dss(const cli_options *o, const sunmc_config *c)
 
 int cmd_calibrate(int argc, char **argv)
 {
-    if (wants_help(argc, argv, calibrate_help))
+    if (cli_wants_help(argc, argv, calibrate_help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet", &o);
@@ -525,7 +509,7 @@ static int compensate_dss(const params_file *pf, const char *raw_path)
 
 int cmd_compensate(int argc, char **argv)
 {
-    if (wants_help(argc, argv, compensate_help))
+    if (cli_wants_help(argc, argv, compensate_help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "compensate", "quiet", &o);

@@ -123,6 +123,16 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
     return 0;
 }
 
+int cli_wants_help(int argc, char **argv, const char *text)
+{
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            fputs(text, stdout);
+            return 1;
+        }
+    return 0;
+}
+
 int cli_exit_code(int status)
 {
     return status == SUNMC_OK ? 0 : status == SUNMC_EINPUT ? EXIT_BAD_INPUT : 1;

@@ -103,11 +103,8 @@ static void stats_add(series_stats *s, int i, double e)
 
 int cmd_curve(int argc, char **argv)
 {
-    for (int i = 2; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(curve_help, stdout);
-            return 0;
-        }
+    if (cli_wants_help(argc, argv, curve_help))
+        return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "curve", "CONFIG seed set out quiet unit only", &o);
     if (rc)

@@ -21,16 +21,6 @@ static const char config_help[] =
     "Prints the effective config (every key of the family, defaults filled in, origin of each\n"
     "value), or with --reference the commented reference config of every key.\n";
 
-static int wants_help(int argc, char **argv, const char *text)
-{
-    for (int i = 2; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(text, stdout);
-            return 1;
-        }
-    return 0;
-}
-
 int cli_threads(const cli_options *o, const sunmc_config *c)
 {
     if (o->threads > 0)
@@ -74,7 +64,7 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
 
 int cmd_run(int argc, char **argv)
 {
-    if (wants_help(argc, argv, run_help))
+    if (cli_wants_help(argc, argv, run_help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet", &o);
@@ -135,7 +125,7 @@ int cmd_run(int argc, char **argv)
 
 int cmd_config(int argc, char **argv)
 {
-    if (wants_help(argc, argv, config_help))
+    if (cli_wants_help(argc, argv, config_help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "config", "CONFIG set reference", &o);

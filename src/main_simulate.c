@@ -275,11 +275,8 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
 
 int cmd_simulate(int argc, char **argv)
 {
-    for (int i = 2; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(simulate_help, stdout);
-            return 0;
-        }
+    if (cli_wants_help(argc, argv, simulate_help))
+        return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "simulate", "CONFIG unit seed set out quiet", &o);
     if (rc)

@@ -70,11 +70,8 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
 
 int cmd_sweep(int argc, char **argv)
 {
-    for (int i = 2; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(sweep_help, stdout);
-            return 0;
-        }
+    if (cli_wants_help(argc, argv, sweep_help))
+        return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "sweep", "CONFIG units seed threads set out quiet vary", &o);
     if (rc)
