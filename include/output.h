@@ -26,6 +26,11 @@ int out_begin(out_set *o, const char *dir, char *err, size_t errlen);
 /* Open dir/name for writing under a temporary name; *f is the stream. */
 int out_open(out_set *o, const char *dir, const char *name, FILE **f, char *err, size_t errlen);
 
+/* Open dir/names[k] for k < n into files[k] (out_open for each, stopping at
+ * the first error). */
+int out_open_all(out_set *o, const char *dir, const char *const *names, FILE **files, int n,
+                 char *err, size_t errlen);
+
 /* Close every stream, check for write errors, rename all into place. */
 int out_commit(out_set *o, char *err, size_t errlen);
 

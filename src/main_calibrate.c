@@ -193,19 +193,14 @@ static int calibrate_ess(const cli_options *o, const sunmc_config *c)
             amax = fmax(amax, cw->alpha_rad[i] * DEG_PER_RAD);
         }
         out_set os;
-        FILE *fp, *fr, *fb, *fx, *ff;
+        static const char *const names[5] = {"params.ini", "residuals.tsv", "bands.tsv",
+                                             "crossval.tsv", "field.tsv"};
+        FILE *f[5] = {NULL};
         if (st == SUNMC_OK)
             st = out_begin(&os, o->out, err, sizeof err);
         if (st == SUNMC_OK) {
-            st = out_open(&os, o->out, "params.ini", &fp, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "residuals.tsv", &fr, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "bands.tsv", &fb, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "crossval.tsv", &fx, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "field.tsv", &ff, err, sizeof err);
+            st = out_open_all(&os, o->out, names, f, 5, err, sizeof err);
+            FILE *fp = f[0], *fr = f[1], *fb = f[2], *fx = f[3], *ff = f[4];
             if (st == SUNMC_OK) {
                 params_write(fp, pf,
                              "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"
@@ -320,17 +315,14 @@ static int calibrate_dss(const cli_options *o, const sunmc_config *c)
         if (st == SUNMC_OK && dss_params_fill(pf, cal, rep) != SUNMC_OK)
             st = sunmc_fail(err, sizeof err, SUNMC_EINPUT, "params.ini: too many entries");
         out_set os;
-        FILE *fp, *fr, *fb, *fx;
+        static const char *const names[4] = {"params.ini", "residuals.tsv", "bands.tsv",
+                                             "crossval.tsv"};
+        FILE *f[4] = {NULL};
         if (st == SUNMC_OK)
             st = out_begin(&os, o->out, err, sizeof err);
         if (st == SUNMC_OK) {
-            st = out_open(&os, o->out, "params.ini", &fp, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "residuals.tsv", &fr, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "bands.tsv", &fb, err, sizeof err);
-            if (st == SUNMC_OK)
-                st = out_open(&os, o->out, "crossval.tsv", &fx, err, sizeof err);
+            st = out_open_all(&os, o->out, names, f, 4, err, sizeof err);
+            FILE *fp = f[0], *fr = f[1], *fb = f[2], *fx = f[3];
             if (st == SUNMC_OK) {
                 params_write(fp, pf,
                              "sunmc calibration of a pinhole digital sun sensor (DSS paper):\n"

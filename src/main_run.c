@@ -94,15 +94,13 @@ int cmd_run(int argc, char **argv)
     char err[SUNMC_ERRLEN];
     if (o.out) {
         out_set os;
-        FILE *fs, *fu, *fc;
+        static const char *const names[3] = {"summary.tsv", "units.tsv", "config.ini"};
+        FILE *f[3] = {NULL};
         status = out_begin(&os, o.out, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "summary.tsv", &fs, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "units.tsv", &fu, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+            status = out_open_all(&os, o.out, names, f, 3, err, sizeof err);
         if (status == SUNMC_OK) {
+            FILE *fs = f[0], *fu = f[1], *fc = f[2];
             report_write_summary_header(fs, 0, NULL);
             report_write_summary_rows(fs, c, fam, rows, 0, NULL);
             report_write_units(fu, c, fam, results, end - first);

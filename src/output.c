@@ -54,6 +54,15 @@ int out_open(out_set *o, const char *dir, const char *name, FILE **f, char *err,
     return SUNMC_OK;
 }
 
+int out_open_all(out_set *o, const char *dir, const char *const *names, FILE **files, int n,
+                 char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    for (int k = 0; k < n && st == SUNMC_OK; k++)
+        st = out_open(o, dir, names[k], &files[k], err, errlen);
+    return st;
+}
+
 int out_commit(out_set *o, char *err, size_t errlen)
 {
     int status = SUNMC_OK;
