@@ -114,6 +114,12 @@ void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double er
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
 
+/* Fill r's RMS before/after of measured angle `angle` from the unit's
+ * accumulators (times scale, the rms unit per radian); after is NaN in every
+ * band when the unit's fit failed. */
+void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
+                         const band_list *bands, double scale);
+
 /* Count of alpha grid points from lo to hi in steps (with offset from lo). */
 long grid_count(double lo, double hi, double step, double offset);
 

@@ -232,14 +232,8 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
                     res->fit_status = UNIT_FIT_FAILED;
             }
         }
-    for (int a = 0; a < DSS_N_ANGLES; a++) {
-        band_acc_rms(&before[a], &c->bands_deg, ARCSEC_PER_RAD, res->rms_before[a]);
-        if (res->fit_status == UNIT_FIT_OK)
-            band_acc_rms(&after[a], &c->bands_deg, ARCSEC_PER_RAD, res->rms_after[a]);
-        else
-            for (int i = 0; i < c->bands_deg.n; i++)
-                res->rms_after[a][i] = NAN;
-    }
+    for (int a = 0; a < DSS_N_ANGLES; a++)
+        unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
     return SUNMC_OK;
 }
 

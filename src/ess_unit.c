@@ -230,12 +230,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
                     res->fit_status = UNIT_FIT_FAILED;
             }
         }
-    band_acc_rms(&before, &c->bands_deg, DEG_PER_RAD, res->rms_before[0]);
-    if (res->fit_status == UNIT_FIT_OK)
-        band_acc_rms(&after, &c->bands_deg, DEG_PER_RAD, res->rms_after[0]);
-    else
-        for (int i = 0; i < c->bands_deg.n; i++)
-            res->rms_after[0][i] = NAN;
+    unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
     return SUNMC_OK;
 }
 

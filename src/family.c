@@ -46,3 +46,14 @@ void band_acc_rms(const band_acc *b, const band_list *bands, double scale, doubl
     for (int i = 0; i < bands->n; i++)
         out[i] = b->n[i] ? scale * sqrt(b->sum2[i] / (double)b->n[i]) : NAN;
 }
+
+void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
+                         const band_list *bands, double scale)
+{
+    band_acc_rms(before, bands, scale, r->rms_before[angle]);
+    if (r->fit_status == UNIT_FIT_OK)
+        band_acc_rms(after, bands, scale, r->rms_after[angle]);
+    else
+        for (int i = 0; i < bands->n; i++)
+            r->rms_after[angle][i] = NAN;
+}

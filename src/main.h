@@ -34,8 +34,9 @@ typedef struct {
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the
- * command takes ("units seed threads set out ..."). Prints the error and
- * returns EXIT_BAD_INPUT on bad usage, 0 otherwise. */
+ * command takes ("units seed threads set out ..."), with CONFIG for a
+ * required positional config file or CONFIG? for an optional one.  Prints
+ * the error and returns EXIT_BAD_INPUT on bad usage, 0 otherwise. */
 int cli_parse(int argc, char **argv, int first, const char *command, const char *allowed,
               cli_options *o);
 

@@ -124,10 +124,6 @@ int cmd_budget(int argc, char **argv)
     int rc = cli_parse(argc, argv, 2, "budget", "CONFIG units seed threads set out quiet", &o);
     if (rc)
         return rc;
-    if (!o.config) {
-        fprintf(stderr, "sunmc budget: missing CONFIG file (see sunmc budget --help)\n");
-        return EXIT_BAD_INPUT;
-    }
     if (o.end >= 0 && o.first != 0) {
         fprintf(stderr, "sunmc budget: --units takes a count N here, not FIRST:END\n");
         return EXIT_BAD_INPUT;

@@ -51,7 +51,7 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
     for (int i = first; i < argc; i++) {
         const char *a = argv[i];
         if (strncmp(a, "--", 2) != 0) {
-            if (!o->config && allowed_has(allowed, "CONFIG"))
+            if (!o->config && (allowed_has(allowed, "CONFIG") || allowed_has(allowed, "CONFIG?")))
                 o->config = a;
             else if (o->n_positional < 4)
                 o->positional[o->n_positional++] = a;
@@ -120,6 +120,8 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
             return bad(command, "unknown option", a);
         }
     }
+    if (allowed_has(allowed, "CONFIG") && !o->config)
+        return bad(command, "missing CONFIG file", NULL);
     return 0;
 }
 

@@ -109,10 +109,6 @@ int cmd_curve(int argc, char **argv)
     int rc = cli_parse(argc, argv, 2, "curve", "CONFIG seed set out quiet unit only", &o);
     if (rc)
         return rc;
-    if (!o.config) {
-        fprintf(stderr, "sunmc curve: missing CONFIG file (see sunmc curve --help)\n");
-        return EXIT_BAD_INPUT;
-    }
     if (o.unit < 0 && !o.only) {
         fprintf(stderr, "sunmc curve: needs --unit U or --only KEY=VALUE (see sunmc curve --help)\n");
         return EXIT_BAD_INPUT;

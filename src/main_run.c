@@ -70,10 +70,6 @@ int cmd_run(int argc, char **argv)
     int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet", &o);
     if (rc)
         return rc;
-    if (!o.config) {
-        fprintf(stderr, "sunmc run: missing CONFIG file (see sunmc run --help)\n");
-        return EXIT_BAD_INPUT;
-    }
     config_state st;
     if ((rc = cli_config(&o, &st)))
         return rc;
@@ -126,7 +122,7 @@ int cmd_config(int argc, char **argv)
     if (cli_wants_help(argc, argv, config_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "config", "CONFIG set reference", &o);
+    int rc = cli_parse(argc, argv, 2, "config", "CONFIG? set reference", &o);
     if (rc)
         return rc;
     if (o.reference)

@@ -76,10 +76,6 @@ int cmd_sweep(int argc, char **argv)
     int rc = cli_parse(argc, argv, 2, "sweep", "CONFIG units seed threads set out quiet vary", &o);
     if (rc)
         return rc;
-    if (!o.config) {
-        fprintf(stderr, "sunmc sweep: missing CONFIG file (see sunmc sweep --help)\n");
-        return EXIT_BAD_INPUT;
-    }
     if (o.n_vary == 0) {
         fprintf(stderr, "sunmc sweep: needs at least one --vary SECTION.KEY=VALUES "
                         "(see sunmc sweep --help)\n");

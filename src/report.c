@@ -28,6 +28,11 @@ int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit
         return SUNMC_ENOMEM;
     double spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
     int na = fam->n_angles(c), nb = c->bands_deg.n;
+    long gross = 0, alias = 0;
+    for (long u = 0; u < n; u++) {
+        gross += results[u].gross_val;
+        alias += results[u].alias_weak > 0;
+    }
     for (int a = 0; a < na; a++)
         for (int b = 0; b < nb; b++) {
             summary_row *r = &rows[a * nb + b];
@@ -35,15 +40,13 @@ int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit
             r->angle = a;
             r->band = b;
             r->units = n;
+            r->gross_errors = gross;
+            r->alias_units = alias;
             double sb = 0, sa = 0, si = 0;
             double amax = -INFINITY, amin = INFINITY, imax = -INFINITY, imin = INFINITY;
             long k = 0, pass = 0;
             for (long u = 0; u < n; u++) {
                 const unit_result *ur = &results[u];
-                if (a == 0 && b == 0) {
-                    r->gross_errors += ur->gross_val;
-                    r->alias_units += ur->alias_weak > 0;
-                }
                 if (ur->fit_status != UNIT_FIT_OK) {
                     r->fit_failures++;
                     continue;
@@ -61,10 +64,6 @@ int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit
                 imin = fmin(imin, imp);
                 after[k++] = aft;
                 pass += aft <= spec;
-            }
-            if (a != 0 || b != 0) {
-                r->gross_errors = rows[0].gross_errors;
-                r->alias_units = rows[0].alias_units;
             }
             if (k == 0) {
                 r->rms_before_mean = r->rms_after_mean = r->rms_after_max = r->rms_after_min =

@@ -132,6 +132,13 @@ static void test_syntax_errors(void **state)
     expect_error("[design]\nH_mm\n", 2, "key = value");
 }
 
+static void test_line_too_long(void **state)
+{
+    static char text[1400];
+    snprintf(text, sizeof text, "[design]\nH_mm = 4%01300d\n", 0);
+    expect_error(text, 2, "longer than");
+}
+
 static void test_missing_file(void **state)
 {
     config_state st;
@@ -215,7 +222,7 @@ int main(void)
         cmocka_unit_test(test_duplicate_key),     cmocka_unit_test(test_not_a_number),
         cmocka_unit_test(test_out_of_range),      cmocka_unit_test(test_bad_enum_and_list),
         cmocka_unit_test(test_wrong_family_key),  cmocka_unit_test(test_syntax_errors),
-        cmocka_unit_test(test_missing_file),      cmocka_unit_test(test_bad_set),
+        cmocka_unit_test(test_line_too_long),     cmocka_unit_test(test_missing_file),      cmocka_unit_test(test_bad_set),
         cmocka_unit_test(test_cross_checks),      cmocka_unit_test(test_dump_round_trip),
         cmocka_unit_test(test_reference_is_current),
     };
