@@ -17,13 +17,26 @@ CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 
 OPT ?= -O2
 SUNMC_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DSUNMC_VERSION='"$(VERSION)"' -Wall -Wextra \
-                -Wshadow -Wno-unused-parameter -g $(OPT) -fopenmp -Iinclude $(PKG_CFLAGS)
+                -Wshadow -Wno-unused-parameter -g $(OPT) -fopenmp $(PKG_CFLAGS)
 ALL_CFLAGS := $(SUNMC_CFLAGS) $(CFLAGS)
 ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
 
-MAIN_SRC := $(wildcard src/main*.c)
-LIB_SRC  := $(filter-out $(MAIN_SRC),$(wildcard src/*.c))
+# Layers, one way: cli -> families (ess, dss) -> core -> util.  Each layer
+# compiles against its own headers and those below it only, so an include
+# that points upward does not build.
+LAYER_INC_util := -Iinclude/util
+LAYER_INC_core := $(LAYER_INC_util) -Iinclude/core
+LAYER_INC_ess  := $(LAYER_INC_core) -Iinclude/ess
+LAYER_INC_dss  := $(LAYER_INC_core) -Iinclude/dss
+LAYER_INC_cli  := $(LAYER_INC_core) -Iinclude/cli -Iinclude/ess -Iinclude/dss
+TEST_INC       := $(LAYER_INC_core) -Iinclude/cli -Iinclude/ess -Iinclude/dss -Itests
+layer_inc = $(LAYER_INC_$(word 2,$(subst /, ,$(1))))
+
+LAYERS   := util core ess dss
+MAIN_SRC := $(wildcard src/cli/*.c)
+LIB_SRC  := $(foreach l,$(LAYERS),$(wildcard src/$(l)/*.c))
 TEST_SRC := $(wildcard tests/test_*.c)
+ALL_HDR  := $(wildcard include/*/*.h)
 
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
@@ -33,7 +46,7 @@ ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize
 ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
 ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
 
-.PHONY: all run test test-plain test-asan deps clean install plots figures bench reference
+.PHONY: all run test test-plain test-asan deps clean install plots figures bench reference golden
 
 all: $(BUILD)/sunmc
 
@@ -46,8 +59,9 @@ deps:
 	  bash scripts/install-deps.sh; \
 	fi
 
-$(BUILD)/obj/%.o: src/%.c $(wildcard include/*.h) | $(BUILD)/obj
-	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(BUILD)/obj/%.o: src/%.c $(ALL_HDR)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(call layer_inc,$<) -c $< -o $@
 
 $(BUILD)/libsunmc.a: $(LIB_OBJ)
 	ar rcs $@ $^
@@ -55,11 +69,12 @@ $(BUILD)/libsunmc.a: $(LIB_OBJ)
 $(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/test_util.h $(BUILD)/libsunmc.a | $(BUILD)/tests
-	$(CC) $(ALL_CFLAGS) -Itests -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(BUILD)/tests/%: tests/%.c tests/test_util.h $(ALL_HDR) $(BUILD)/libsunmc.a | $(BUILD)/tests
+	$(CC) $(ALL_CFLAGS) $(TEST_INC) -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
-$(ASAN)/obj/%.o: src/%.c $(wildcard include/*.h) | $(ASAN)/obj
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -c $< -o $@
+$(ASAN)/obj/%.o: src/%.c $(ALL_HDR)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(call layer_inc,$<) -c $< -o $@
 
 $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 	ar rcs $@ $^
@@ -67,10 +82,10 @@ $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 $(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(ASAN)/tests/%: tests/%.c tests/test_util.h $(ASAN)/libsunmc.a | $(ASAN)/tests
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -Itests -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(ASAN)/tests/%: tests/%.c tests/test_util.h $(ALL_HDR) $(ASAN)/libsunmc.a | $(ASAN)/tests
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
-$(BUILD)/obj $(BUILD)/tests $(ASAN)/obj $(ASAN)/tests:
+$(BUILD)/tests $(ASAN)/tests:
 	mkdir -p $@
 
 run: deps
@@ -93,6 +108,11 @@ test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
 # The reference config is generated from the key table; a test checks it is current.
 reference: $(BUILD)/sunmc
 	$(BUILD)/sunmc config --reference > configs/reference.ini
+
+# Golden outputs (tests/golden/): re-record them only for a change that is
+# meant to move a number, and say why in the commit.
+golden: $(BUILD)/sunmc
+	bash tests/golden.sh $(BUILD)/sunmc tests/golden
 
 # Figures: `make plots RUN=DIR` draws what a run directory holds, next to it;
 # `make figures` rebuilds the papers' figures into $(BUILD)/figures/.

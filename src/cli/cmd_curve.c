@@ -1,7 +1,7 @@
-/* main_curve.c - `sunmc curve`: one unit's (--unit U) or one error source's
+/* cmd_curve.c - `sunmc curve`: one unit's (--unit U) or one error source's
  * (--only KEY=VALUE) error before and after compensation at every point of
  * the validation grid (ESS: alpha curves, one per beta; DSS: (b1, b2) maps). */
-#include "main.h"
+#include "cli.h"
 #include "family.h"
 #include "output.h"
 #include "status.h"

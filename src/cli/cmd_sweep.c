@@ -1,6 +1,6 @@
-/* main_sweep.c - `sunmc sweep`: the Monte Carlo at every point of one or two
+/* cmd_sweep.c - `sunmc sweep`: the Monte Carlo at every point of one or two
  * varied config keys, same seed everywhere (common random numbers). */
-#include "main.h"
+#include "cli.h"
 #include "montecarlo.h"
 #include "output.h"
 #include "report.h"

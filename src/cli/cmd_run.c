@@ -1,5 +1,5 @@
-/* main_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
-#include "main.h"
+/* cmd_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
+#include "cli.h"
 #include "montecarlo.h"
 #include "output.h"
 #include "report.h"

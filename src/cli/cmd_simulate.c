@@ -1,11 +1,11 @@
-/* main_simulate.c - `sunmc simulate`: one simulated unit's calibration
+/* cmd_simulate.c - `sunmc simulate`: one simulated unit's calibration
  * campaign as a lab records it, with the truth behind it. */
 #include "ess_simulate.h"
 #include "dss_simulate.h"
 #include "dss_unit.h"
 #include "ess_unit.h"
 #include "family.h"
-#include "main.h"
+#include "cli.h"
 #include "output.h"
 #include "status.h"
 #include "units.h"

@@ -1,7 +1,7 @@
-/* main.h - the command-line front end: the only code that prints to the
- * user and decides exit codes.  One file per command (main_*.c). */
-#ifndef SUNMC_MAIN_H
-#define SUNMC_MAIN_H
+/* cli.h - the command-line front end: the only code that prints to the
+ * user and decides exit codes.  One file per command (src/cli/cmd_*.c). */
+#ifndef SUNMC_CLI_H
+#define SUNMC_CLI_H
 
 #include "config.h"
 

@@ -1,6 +1,6 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
  * satellite sun sensors.  Dispatches to one command per file (main_*.c). */
-#include "main.h"
+#include "cli.h"
 #include "status.h"
 
 #include <gsl/gsl_errno.h>

@@ -1,10 +1,10 @@
-/* main_calibrate.c - `sunmc calibrate` (fit a real sensor's turntable data,
+/* cmd_calibrate.c - `sunmc calibrate` (fit a real sensor's turntable data,
  * report, write params.ini) and `sunmc compensate` (apply params.ini). */
 #include "calreport.h"
 #include "csv.h"
 #include "dss_calfit.h"
 #include "ess_calfit.h"
-#include "main.h"
+#include "cli.h"
 #include "output.h"
 #include "params_io.h"
 #include "status.h"

@@ -1,6 +1,6 @@
-/* main_cli.c - option parsing, config building, progress and exit codes
+/* cli.c - option parsing, config building, progress and exit codes
  * shared by the commands. */
-#include "main.h"
+#include "cli.h"
 #include "status.h"
 
 #include <errno.h>

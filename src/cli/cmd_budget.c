@@ -1,6 +1,6 @@
-/* main_budget.c - `sunmc budget`: the tolerance budget and inverse limits. */
+/* cmd_budget.c - `sunmc budget`: the tolerance budget and inverse limits. */
 #include "budget.h"
-#include "main.h"
+#include "cli.h"
 #include "output.h"
 #include "report.h"
 #include "status.h"
