@@ -13,16 +13,23 @@
 #include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 
+/* Residuals f[n] and Jacobian J[n * p] (row-major, J[i * p + j] = d f_i /
+ * d x_j) at x[p], computed together: most of their work (the model at each
+ * point) is shared.  Returns GSL_SUCCESS or a GSL error code. */
+typedef int (*fit_fdf)(const double *x, void *params, double *f, double *J);
+
 typedef struct {
     size_t n, p;
     gsl_multifit_nlinear_workspace *w;
     gsl_vector *x0;
     gsl_matrix *covar; /* p x p */
+    /* Last evaluation, keyed on its parameter vector: GSL asks for f and
+     * then J at the same x; both come from one fdf call. */
+    fit_fdf fdf;
+    void *fdf_params;
+    double *cache_x, *cache_f, *cache_J;
+    int cache_valid;
 } fit_workspace;
-
-/* Residual function and Jacobian as gsl_multifit_nlinear wants them. */
-typedef int (*fit_f)(const gsl_vector *x, void *params, gsl_vector *f);
-typedef int (*fit_df)(const gsl_vector *x, void *params, gsl_matrix *J);
 
 typedef struct {
     int status;          /* GSL status of the driver (GSL_SUCCESS, GSL_EMAXITER, ...) */
@@ -38,7 +45,7 @@ void fit_workspace_free(fit_workspace *fw);
 
 /* Minimise |f(x)|^2 from the start x[p]; x receives the solution.  Returns
  * SUNMC_OK when GSL converged, SUNMC_EFIT otherwise (res says why). */
-int fit_solve(fit_workspace *fw, fit_f f, fit_df df, void *params, double *x, int max_iter,
+int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_iter,
               fit_result *res);
 
 /* Covariance (J^T J)^-1 at the last solution into fw->covar (unscaled). */

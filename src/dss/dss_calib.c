@@ -76,44 +76,29 @@ void dss_calib_free(dss_calib_workspace *cw)
 
 /* ---- physical model ---- */
 
-static void load_params(dss_calib_workspace *cw, const gsl_vector *x)
+static void load_params(dss_calib_workspace *cw, const double *x)
 {
     for (int k = 0; k < cw->n_free; k++)
-        cw->work.p[cw->free_idx[k]] = gsl_vector_get(x, (size_t)k);
+        cw->work.p[cw->free_idx[k]] = x[k];
     dss_model_prepare(&cw->work);
 }
 
-static int phys_f(const gsl_vector *x, void *params, gsl_vector *f)
+/* Spot residuals and their Jacobian together (fit_fdf): rows 2i, 2i + 1. */
+static int phys_fdf(const double *x, void *params, double *f, double *J)
 {
     dss_calib_workspace *cw = params;
     load_params(cw, x);
-    for (size_t i = 0; i < cw->n; i++) {
-        double r[2] = {0.0, 0.0}, sp[2];
-        if (cw->weight[i] > 0 &&
-            dss_model_spot(&cw->work, cw->b1_rad[i], cw->b2_rad[i], sp, NULL) == SUNMC_OK) {
-            double sw = sqrt(cw->weight[i]);
-            r[0] = sw * (sp[0] - cw->x_px[i]);
-            r[1] = sw * (sp[1] - cw->y_px[i]);
-        }
-        gsl_vector_set(f, 2 * i, r[0]);
-        gsl_vector_set(f, 2 * i + 1, r[1]);
-    }
-    return GSL_SUCCESS;
-}
-
-static int phys_df(const gsl_vector *x, void *params, gsl_matrix *J)
-{
-    dss_calib_workspace *cw = params;
-    load_params(cw, x);
+    size_t nf = (size_t)cw->n_free;
     for (size_t i = 0; i < cw->n; i++) {
         double sp[2], g[2][DSS_NP];
         int use = cw->weight[i] > 0 &&
                   dss_model_spot(&cw->work, cw->b1_rad[i], cw->b2_rad[i], sp, g) == SUNMC_OK;
         double sw = use ? sqrt(cw->weight[i]) : 0.0;
+        f[2 * i] = use ? sw * (sp[0] - cw->x_px[i]) : 0.0;
+        f[2 * i + 1] = use ? sw * (sp[1] - cw->y_px[i]) : 0.0;
         for (int a = 0; a < 2; a++)
-            for (int k = 0; k < cw->n_free; k++)
-                gsl_matrix_set(J, 2 * i + (size_t)a, (size_t)k,
-                               use ? sw * g[a][cw->free_idx[k]] : 0.0);
+            for (size_t k = 0; k < nf; k++)
+                J[(2 * i + (size_t)a) * nf + k] = use ? sw * g[a][cw->free_idx[k]] : 0.0;
     }
     return GSL_SUCCESS;
 }
@@ -140,7 +125,7 @@ static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibra
     double x[DSS_NP];
     for (int k = 0; k < cw->n_free; k++)
         x[k] = cw->work.p[cw->free_idx[k]];
-    int st = fit_solve(cw->fw, phys_f, phys_df, cw, x, max_iter, res);
+    int st = fit_solve(cw->fw, phys_fdf, cw, x, max_iter, res);
     if (st == SUNMC_OK) {
         for (int k = 0; k < cw->n_free; k++)
             out->phys.p[cw->free_idx[k]] = x[k];
@@ -151,31 +136,23 @@ static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibra
 
 /* ---- polynomial model ---- */
 
-static int poly_f(const gsl_vector *x, void *params, gsl_vector *f)
+/* Residuals and Jacobian (the design matrix) of the current axis (fit_fdf). */
+static int poly_fdf(const double *x, void *params, double *f, double *J)
 {
     dss_calib_workspace *cw = params;
     size_t nt = cw->fw->p;
     for (size_t i = 0; i < cw->n; i++) {
-        double r = 0.0;
-        if (cw->weight[i] > 0) {
-            const double *t = cw->basis + i * nt;
-            for (size_t k = 0; k < nt; k++)
-                r += gsl_vector_get(x, k) * t[k];
-            r = sqrt(cw->weight[i]) * (r - cw->target[i]);
-        }
-        gsl_vector_set(f, i, r);
-    }
-    return GSL_SUCCESS;
-}
-
-static int poly_df(const gsl_vector *x, void *params, gsl_matrix *J)
-{
-    dss_calib_workspace *cw = params;
-    size_t nt = cw->fw->p;
-    for (size_t i = 0; i < cw->n; i++) {
+        const double *t = cw->basis + i * nt;
         double sw = cw->weight[i] > 0 ? sqrt(cw->weight[i]) : 0.0;
+        double r = 0.0;
+        if (sw > 0) {
+            for (size_t k = 0; k < nt; k++)
+                r += x[k] * t[k];
+            r = sw * (r - cw->target[i]);
+        }
+        f[i] = r;
         for (size_t k = 0; k < nt; k++)
-            gsl_matrix_set(J, i, k, sw > 0 ? sw * cw->basis[i * nt + k] : 0.0);
+            J[i * nt + k] = sw > 0 ? sw * t[k] : 0.0;
     }
     return GSL_SUCCESS;
 }
@@ -213,7 +190,7 @@ static int calibrate_poly(dss_calib_workspace *cw, int max_iter, dss_calibration
         }
         double x[DSS_POLY_MAX_TERMS] = {0};
         fit_result r;
-        int st = fit_solve(cw->fw, poly_f, poly_df, cw, x, max_iter, &r);
+        int st = fit_solve(cw->fw, poly_fdf, cw, x, max_iter, &r);
         double *c = axis == 0 ? p->ca : p->cb;
         for (size_t k = 0; k < nt; k++)
             c[k] = st == SUNMC_OK ? x[k] : 0.0;

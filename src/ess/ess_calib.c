@@ -86,10 +86,10 @@ void ess_calib_free(ess_calib_workspace *cw)
     free(cw);
 }
 
-static void load_params(ess_calib_workspace *cw, const gsl_vector *x)
+static void load_params(ess_calib_workspace *cw, const double *x)
 {
     for (int j = 0; j < ESS_NP; j++)
-        cw->model.p[j] = gsl_vector_get(x, (size_t)j);
+        cw->model.p[j] = x[j];
     ess_model_prepare(&cw->model);
 }
 
@@ -98,47 +98,34 @@ static double prior_weight(const ess_calib_workspace *cw, int j)
     return cw->alias.weak[j] ? sqrt((double)cw->n) : 0.0;
 }
 
-static int residual_f(const gsl_vector *x, void *params, gsl_vector *f)
+/* Residuals and Jacobian together (fit_fdf). */
+static int residual_fdf(const double *x, void *params, double *f, double *J)
 {
     ess_calib_workspace *cw = params;
     load_params(cw, x);
     for (size_t i = 0; i < cw->n; i++) {
-        double r = 0.0;
-        if (cw->weight[i] > 0)
-            r = sqrt(cw->weight[i]) *
-                (ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], NULL) -
-                 cw->raw_rad[i]);
-        gsl_vector_set(f, i, r);
-    }
-    for (int j = 0; j < ESS_CALIB_PRIOR_ROWS; j++)
-        gsl_vector_set(f, cw->n + (size_t)j,
-                       prior_weight(cw, j) * (cw->alias.evec[j][0] * cw->model.p[ESS_P_KS] +
-                                              cw->alias.evec[j][1] * cw->model.p[ESS_P_KC]));
-    return GSL_SUCCESS;
-}
-
-static int residual_df(const gsl_vector *x, void *params, gsl_matrix *J)
-{
-    ess_calib_workspace *cw = params;
-    load_params(cw, x);
-    double g[ESS_NP];
-    for (size_t i = 0; i < cw->n; i++) {
+        double *Ji = J + i * ESS_NP;
         if (cw->weight[i] > 0) {
-            double sw = sqrt(cw->weight[i]);
-            ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], g);
+            double sw = sqrt(cw->weight[i]), g[ESS_NP];
+            double r = ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], g);
+            f[i] = sw * (r - cw->raw_rad[i]);
             for (int j = 0; j < ESS_NP; j++)
-                gsl_matrix_set(J, i, (size_t)j, sw * g[j]);
+                Ji[j] = sw * g[j];
         } else {
+            f[i] = 0.0;
             for (int j = 0; j < ESS_NP; j++)
-                gsl_matrix_set(J, i, (size_t)j, 0.0);
+                Ji[j] = 0.0;
         }
     }
     for (int j = 0; j < ESS_CALIB_PRIOR_ROWS; j++) {
-        size_t row = cw->n + (size_t)j;
+        double w = prior_weight(cw, j);
+        double *Jr = J + (cw->n + (size_t)j) * ESS_NP;
+        f[cw->n + (size_t)j] = w * (cw->alias.evec[j][0] * cw->model.p[ESS_P_KS] +
+                                    cw->alias.evec[j][1] * cw->model.p[ESS_P_KC]);
         for (int k = 0; k < ESS_NP; k++)
-            gsl_matrix_set(J, row, (size_t)k, 0.0);
-        gsl_matrix_set(J, row, ESS_P_KS, prior_weight(cw, j) * cw->alias.evec[j][0]);
-        gsl_matrix_set(J, row, ESS_P_KC, prior_weight(cw, j) * cw->alias.evec[j][1]);
+            Jr[k] = 0.0;
+        Jr[ESS_P_KS] = w * cw->alias.evec[j][0];
+        Jr[ESS_P_KC] = w * cw->alias.evec[j][1];
     }
     return GSL_SUCCESS;
 }
@@ -153,7 +140,7 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
     double x[ESS_NP];
     for (int j = 0; j < ESS_NP; j++)
         x[j] = cw->model.p[j];
-    int st = fit_solve(cw->fw, residual_f, residual_df, cw, x, max_iter, res);
+    int st = fit_solve(cw->fw, residual_fdf, cw, x, max_iter, res);
     ess_model_init(out, theta0_rad, roll_rad);
     for (int j = 0; j < ESS_NP; j++)
         out->p[j] = x[j];

@@ -5,6 +5,7 @@
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define FIT_XTOL 1e-12
 #define FIT_GTOL 1e-12
@@ -27,7 +28,10 @@ fit_workspace *fit_workspace_alloc(size_t n, size_t p)
     fw->w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &params, n, p);
     fw->x0 = gsl_vector_alloc(p);
     fw->covar = gsl_matrix_alloc(p, p);
-    if (!fw->w || !fw->x0 || !fw->covar) {
+    fw->cache_x = malloc(p * sizeof(double));
+    fw->cache_f = malloc(n * sizeof(double));
+    fw->cache_J = malloc(n * p * sizeof(double));
+    if (!fw->w || !fw->x0 || !fw->covar || !fw->cache_x || !fw->cache_f || !fw->cache_J) {
         fit_workspace_free(fw);
         return NULL;
     }
@@ -44,19 +48,64 @@ void fit_workspace_free(fit_workspace *fw)
         gsl_vector_free(fw->x0);
     if (fw->covar)
         gsl_matrix_free(fw->covar);
+    free(fw->cache_x);
+    free(fw->cache_f);
+    free(fw->cache_J);
     free(fw);
 }
 
-int fit_solve(fit_workspace *fw, fit_f f, fit_df df, void *params, double *x, int max_iter,
+/* Evaluate f and J together at x unless the cache holds x already. */
+static int fit_eval(const gsl_vector *x, fit_workspace *fw)
+{
+    size_t p = fw->p;
+    int hit = fw->cache_valid;
+    for (size_t j = 0; j < p && hit; j++)
+        hit = gsl_vector_get(x, j) == fw->cache_x[j];
+    if (hit)
+        return GSL_SUCCESS;
+    for (size_t j = 0; j < p; j++)
+        fw->cache_x[j] = gsl_vector_get(x, j);
+    fw->cache_valid = 0;
+    int st = fw->fdf(fw->cache_x, fw->fdf_params, fw->cache_f, fw->cache_J);
+    fw->cache_valid = st == GSL_SUCCESS;
+    return st;
+}
+
+static int fit_f(const gsl_vector *x, void *ctx, gsl_vector *f)
+{
+    fit_workspace *fw = ctx;
+    int st = fit_eval(x, fw);
+    if (st != GSL_SUCCESS)
+        return st;
+    for (size_t i = 0; i < fw->n; i++)
+        gsl_vector_set(f, i, fw->cache_f[i]);
+    return GSL_SUCCESS;
+}
+
+static int fit_df(const gsl_vector *x, void *ctx, gsl_matrix *J)
+{
+    fit_workspace *fw = ctx;
+    int st = fit_eval(x, fw);
+    if (st != GSL_SUCCESS)
+        return st;
+    for (size_t i = 0; i < fw->n; i++)
+        memcpy(gsl_matrix_ptr(J, i, 0), fw->cache_J + i * fw->p, fw->p * sizeof(double));
+    return GSL_SUCCESS;
+}
+
+int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_iter,
               fit_result *res)
 {
-    gsl_multifit_nlinear_fdf fdf;
-    fdf.f = f;
-    fdf.df = df;
-    fdf.fvv = NULL;
-    fdf.n = fw->n;
-    fdf.p = fw->p;
-    fdf.params = params;
+    gsl_multifit_nlinear_fdf gfdf;
+    gfdf.f = fit_f;
+    gfdf.df = fit_df;
+    gfdf.fvv = NULL;
+    gfdf.n = fw->n;
+    gfdf.p = fw->p;
+    gfdf.params = fw;
+    fw->fdf = fdf;
+    fw->fdf_params = params;
+    fw->cache_valid = 0;
     for (size_t i = 0; i < fw->p; i++)
         gsl_vector_set(fw->x0, i, x[i]);
 
@@ -64,7 +113,7 @@ int fit_solve(fit_workspace *fw, fit_f f, fit_df df, void *params, double *x, in
     res->info = 0;
     res->chisq = GSL_NAN;
     res->rcond = GSL_NAN;
-    int st = gsl_multifit_nlinear_init(fw->x0, &fdf, fw->w);
+    int st = gsl_multifit_nlinear_init(fw->x0, &gfdf, fw->w);
     if (st == GSL_SUCCESS)
         st = gsl_multifit_nlinear_driver((size_t)max_iter, FIT_XTOL, FIT_GTOL, FIT_FTOL, NULL, NULL,
                                          &res->info, fw->w);
