@@ -56,6 +56,17 @@ static void test_threads_byte_identical(void **state)
     }
     /* Table 1 is printed */
     assert_non_null(strstr(out, "times improvement"));
+    /* --profile prints the split and leaves every output file as it was */
+    snprintf(args, sizeof args, SMALL " --units 40 --threads 2 --profile --out %s/tp", dir);
+    assert_int_equal(run(args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "profile: campaign"));
+    assert_non_null(strstr(out, "ms per unit per thread"));
+    for (int i = 0; i < 3; i++) {
+        snprintf(a, sizeof a, "%s/t1/%s", dir, files[i]);
+        snprintf(b, sizeof b, "%s/tp/%s", dir, files[i]);
+        if (!files_equal(a, b))
+            fail_msg("%s differs with --profile", files[i]);
+    }
 }
 
 /* Units 0..39 and the halves 0:17, 17:40 give the same unit rows. */

@@ -25,6 +25,7 @@ typedef struct {
     int threads;                      /* -1: from run.threads */
     const char *out;                  /* --out DIR */
     int quiet;
+    int profile;                      /* run --profile: time split on stderr */
     int reference;                    /* config --reference */
     const char *vary[CLI_MAX_VARY];   /* sweep --vary */
     int n_vary;

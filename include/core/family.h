@@ -20,8 +20,12 @@
 /* Fit status of a unit, as written in units.tsv. */
 enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
 
+/* Phases of a unit's run, timed for `run --profile` (never written to files). */
+enum unit_phase { UNIT_PHASE_CAMPAIGN = 0, UNIT_PHASE_FIT, UNIT_PHASE_VALIDATION, UNIT_PHASES };
+
 typedef struct {
     long unit;
+    double phase_s[UNIT_PHASES];    /* wall seconds per phase (sampling counts as campaign) */
     double dev[UNIT_MAX_DEV];       /* sampled deviations (family's dev columns) */
     double par[UNIT_MAX_PAR];       /* fitted parameters (family's par columns) */
     /* RMS errors in the family's rms unit, per measured angle and band; NaN
@@ -119,6 +123,15 @@ void band_acc_rms(const band_acc *b, const band_list *bands, double scale, doubl
  * band when the unit's fit failed. */
 void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
                          const band_list *bands, double scale);
+
+/* The phase timer, off by default (phase_s stays 0, so a unit's result is
+ * the same bytes in every run); `run --profile` turns it on before the
+ * Monte Carlo starts. */
+void unit_profile_enable(int on);
+/* Monotonic clock (s) when the timer is on, else 0. */
+double unit_clock(void);
+/* Add the time since *t to phase `phase` of r; *t becomes now. */
+void unit_phase_end(unit_result *r, int phase, double *t);
 
 /* Count of alpha grid points from lo to hi in steps (with offset from lo). */
 long grid_count(double lo, double hi, double step, double offset);

@@ -66,6 +66,10 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
             o->quiet = 1;
             continue;
         }
+        if (strcmp(name, "profile") == 0) {
+            o->profile = 1;
+            continue;
+        }
         if (strcmp(name, "reference") == 0) {
             o->reference = 1;
             continue;

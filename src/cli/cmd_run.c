@@ -11,10 +11,11 @@
 
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
-    "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
+    "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
-    "--out DIR writes summary.tsv, units.tsv and config.ini (all or nothing).\n";
+    "--out DIR writes summary.tsv, units.tsv and config.ini (all or nothing).\n"
+    "--profile prints on stderr the time per unit and its split (campaign, fit, validation).\n";
 
 static const char config_help[] =
     "usage: sunmc config [CONFIG] [--set SECTION.KEY=VALUE]... [--reference]\n"
@@ -62,12 +63,32 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
     return 0;
 }
 
+/* `run --profile`: wall time per unit per thread and the phases' shares. */
+static void print_profile(const unit_result *results, long n, double wall_s, int threads)
+{
+    static const char *const names[UNIT_PHASES] = {"campaign", "fit", "validation"};
+    double per_unit_ms = 1e3 * wall_s * threads / (double)(n > 0 ? n : 1);
+    double phase_ms[UNIT_PHASES] = {0}, sum_ms = 0;
+    for (long u = 0; u < n; u++)
+        for (int k = 0; k < UNIT_PHASES; k++)
+            phase_ms[k] += 1e3 * results[u].phase_s[k] / (double)n;
+    fprintf(stderr, "profile: %ld units, %d threads, %.3f s: %.3f ms per unit per thread\n"
+                    "profile:", n, threads, wall_s, per_unit_ms);
+    for (int k = 0; k < UNIT_PHASES; k++) {
+        sum_ms += phase_ms[k];
+        fprintf(stderr, " %s %.3f ms (%.0f%%)", names[k], phase_ms[k],
+                100.0 * phase_ms[k] / per_unit_ms);
+    }
+    fprintf(stderr, " other %.3f ms (%.0f%%)\n", per_unit_ms - sum_ms,
+            100.0 * (per_unit_ms - sum_ms) / per_unit_ms);
+}
+
 int cmd_run(int argc, char **argv)
 {
     if (cli_wants_help(argc, argv, run_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet", &o);
+    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile", &o);
     if (rc)
         return rc;
     config_state st;
@@ -81,10 +102,14 @@ int cmd_run(int argc, char **argv)
 
     unit_result *results;
     summary_row *rows;
+    unit_profile_enable(o.profile);
+    double t0 = unit_clock();
     if ((rc = cli_monte_carlo(c, first, end, threads, o.quiet, (void **)&results, (void **)&rows))) {
         config_state_free(&st);
         return rc;
     }
+    if (o.profile)
+        print_profile(results, end - first, unit_clock() - t0, threads);
 
     int status = SUNMC_OK;
     char err[SUNMC_ERRLEN];

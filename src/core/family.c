@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <string.h>
+#include <time.h>
 
 /* Slack so that a grid end hit exactly in decimal is not lost to rounding. */
 #define GRID_EPS 1e-9
@@ -56,4 +57,30 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
     else
         for (int i = 0; i < bands->n; i++)
             r->rms_after[angle][i] = NAN;
+}
+
+/* Set once by the command before any unit runs, only read afterwards. */
+static int profile_on;
+
+void unit_profile_enable(int on)
+{
+    profile_on = on;
+}
+
+double unit_clock(void)
+{
+    if (!profile_on)
+        return 0.0;
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void unit_phase_end(unit_result *r, int phase, double *t)
+{
+    if (!profile_on)
+        return;
+    double now = unit_clock();
+    r->phase_s[phase] += now - *t;
+    *t = now;
 }

@@ -176,6 +176,7 @@ int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream 
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     dss_calib_workspace *cw = ws;
+    double t = unit_clock();
     dss_deviations dev;
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
@@ -187,6 +188,7 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     dss_unit_campaign(c, &u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight, NULL,
                       NULL);
+    unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     dss_calibration cal;
     fit_result fr;
@@ -200,6 +202,7 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
         dss_calib_correlation(cw, &corr, &ci, &cj); /* NaN when it cannot be formed */
     dss_par_values(c, &cal, corr, ci, cj, fr.rcond, res->par, UNIT_MAX_PAR);
     res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
+    unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
     /* Validation on its own grid, table at exactly the set angles, fresh
      * noise, one reading per point. */
@@ -234,6 +237,7 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
         }
     for (int a = 0; a < DSS_N_ANGLES; a++)
         unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
+    unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
 

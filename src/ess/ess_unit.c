@@ -177,6 +177,7 @@ static void ess_ws_free(void *ws) { ess_calib_free(ws); }
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     ess_calib_workspace *cw = ws;
+    double t = unit_clock();
     ess_deviations dev;
     ess_unit u;
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
@@ -187,6 +188,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     ess_deviations_values(&dev, res->dev);
 
     ess_unit_campaign(c, &u, unit, cw, &res->gross_cal);
+    unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     ess_model m;
     fit_result fr;
@@ -199,6 +201,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->alias_weak = cw->alias.n_weak;
     ess_model_report(&m, res->par);
     res->fit_rms = ess_calib_residual_rms(cw, &m) * DEG_PER_RAD;
+    unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
     /* Validation on its own grid and betas, with fresh noise. */
     band_acc before, after;
@@ -231,6 +234,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
             }
         }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
+    unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
 
