@@ -28,35 +28,17 @@ double stats_z(double confidence)
     return gsl_cdf_ugaussian_Pinv(0.5 + 0.5 * confidence);
 }
 
-static int check_counts(long successes, long trials, double confidence, char *err, size_t errlen)
+/* Wilson bounds for x of n (n > 0). */
+static stats_interval wilson_bounds(long x, long trials, double confidence)
 {
-    int st = check_confidence(confidence, err, errlen);
-    if (st != SUNMC_OK)
-        return st;
-    if (trials < 0 || successes < 0 || successes > trials)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "proportion %ld of %ld: need 0 <= successes <= trials", successes, trials);
-    return SUNMC_OK;
-}
-
-int stats_wilson(long successes, long trials, double confidence, stats_interval *ci, char *err,
-                 size_t errlen)
-{
-    int st = check_counts(successes, trials, confidence, err, errlen);
-    if (st != SUNMC_OK)
-        return st;
-    if (trials == 0) {
-        nan_interval(ci);
-        return SUNMC_OK;
-    }
-    double n = (double)trials, p = (double)successes / n, z = stats_z(confidence);
+    double n = (double)trials, p = (double)x / n, z = stats_z(confidence);
     double z2n = z * z / n;
     double centre = (p + 0.5 * z2n) / (1.0 + z2n);
     double half = z / (1.0 + z2n) * sqrt(p * (1.0 - p) / n + 0.25 * z2n / n);
     /* At p = 0 or 1 one bound is exactly 0 or 1; keep it so despite rounding. */
-    ci->lo = successes == 0 ? 0.0 : fmax(0.0, centre - half);
-    ci->hi = successes == trials ? 1.0 : fmin(1.0, centre + half);
-    return SUNMC_OK;
+    stats_interval ci = {x == 0 ? 0.0 : fmax(0.0, centre - half),
+                         x == trials ? 1.0 : fmin(1.0, centre + half)};
+    return ci;
 }
 
 /* Beta(a, b) quantile by bisection on the CDF: gsl_cdf_beta_Pinv reports
@@ -77,20 +59,45 @@ static double beta_quantile(double prob, double a, double b)
     return 0.5 * (lo + hi);
 }
 
+/* Clopper-Pearson bounds for x of n (n > 0). */
+static stats_interval clopper_pearson_bounds(long successes, long trials, double confidence)
+{
+    double alpha = 1.0 - confidence, x = (double)successes, n = (double)trials;
+    stats_interval ci = {
+        successes == 0 ? 0.0 : beta_quantile(0.5 * alpha, x, n - x + 1.0),
+        successes == trials ? 1.0 : beta_quantile(1.0 - 0.5 * alpha, x + 1.0, n - x)};
+    return ci;
+}
+
+/* Checks shared by the proportion intervals; no trials gives NaN bounds. */
+static int proportion_interval(long successes, long trials, double confidence,
+                               stats_interval (*bounds)(long, long, double), stats_interval *ci,
+                               char *err, size_t errlen)
+{
+    int st = check_confidence(confidence, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (trials < 0 || successes < 0 || successes > trials)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "proportion %ld of %ld: need 0 <= successes <= trials", successes, trials);
+    if (trials == 0)
+        nan_interval(ci);
+    else
+        *ci = bounds(successes, trials, confidence);
+    return SUNMC_OK;
+}
+
+int stats_wilson(long successes, long trials, double confidence, stats_interval *ci, char *err,
+                 size_t errlen)
+{
+    return proportion_interval(successes, trials, confidence, wilson_bounds, ci, err, errlen);
+}
+
 int stats_clopper_pearson(long successes, long trials, double confidence, stats_interval *ci,
                           char *err, size_t errlen)
 {
-    int st = check_counts(successes, trials, confidence, err, errlen);
-    if (st != SUNMC_OK)
-        return st;
-    if (trials == 0) {
-        nan_interval(ci);
-        return SUNMC_OK;
-    }
-    double alpha = 1.0 - confidence, x = (double)successes, n = (double)trials;
-    ci->lo = successes == 0 ? 0.0 : beta_quantile(0.5 * alpha, x, n - x + 1.0);
-    ci->hi = successes == trials ? 1.0 : beta_quantile(1.0 - 0.5 * alpha, x + 1.0, n - x);
-    return SUNMC_OK;
+    return proportion_interval(successes, trials, confidence, clopper_pearson_bounds, ci, err,
+                               errlen);
 }
 
 int stats_t_interval(double mean, double sd, long n, double confidence, stats_interval *ci,
