@@ -2,6 +2,8 @@
  * single source, inverse-limit end states, and the budget command's errors. */
 #include "test_util.h"
 
+#include "ess_config.h"
+
 #include "budget.h"
 #include "config.h"
 #include "family.h"
@@ -61,18 +63,20 @@ static void alone_matches_closed_form(void **state)
                                   sizeof err),
                      0);
     const sunmc_config *c = &st.cfg;
+    const ess_config *ec = ess_cfg(c);
     budget_result *b = calloc(1, sizeof *b);
     assert_int_equal(budget_run(c, 3, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->n, 1);
     /* Closed form over the validation grid, band 0:62. */
-    double q = 1.0 + 2.0 * MM_PER_UM / c->ess.H_mm, s2 = 0;
+    double q = 1.0 + 2.0 * MM_PER_UM / ec->design.H_mm, s2 = 0;
     long n = 0;
-    long na = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
-                         c->val_alpha_offset_deg);
-    for (int k = 0; k < c->val_beta_deg.n; k++)
+    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                         ec->val_alpha_offset_deg);
+    for (int k = 0; k < ec->val_beta_deg.n; k++)
         for (long j = 0; j < na; j++) {
-            double a = (c->val_alpha_min_deg + c->val_alpha_offset_deg +
-                        (double)j * c->val_alpha_step_deg) * RAD_PER_DEG;
+            double a = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                        (double)j * ec->val_alpha_step_deg) *
+                       RAD_PER_DEG;
             double e = atan(q * tan(a)) - a;
             s2 += e * e;
             n++;

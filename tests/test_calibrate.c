@@ -120,15 +120,16 @@ static indep_truth truth_default(double k3_deg)
 static ess_calib_workspace *indep_campaign(const sunmc_config *c, const indep_truth *m,
                                            double sigma_rad, double enc_rad, uint64_t seed)
 {
+    const ess_config *ec = ess_cfg(c);
     size_t n = ess_campaign_size(c);
     ess_calib_workspace *cw = ess_calib_alloc(n);
     assert_non_null(cw);
-    long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
+    long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     size_t i = 0;
-    for (int k = 0; k < c->cal_beta_deg.n; k++)
+    for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
-            double al = (c->cal_alpha_min_deg + (double)j * c->cal_alpha_step_deg) * RAD_PER_DEG;
-            double be = c->cal_beta_deg.v[k] * RAD_PER_DEG;
+            double al = (ec->cal_alpha_min_deg + (double)j * ec->cal_alpha_step_deg) * RAD_PER_DEG;
+            double be = ec->cal_beta_deg.v[k] * RAD_PER_DEG;
             double inc = indep_incidence(m, al + enc_rad * test_normal(&seed),
                                          be + enc_rad * test_normal(&seed));
             cw->alpha_rad[i] = al;
@@ -862,7 +863,7 @@ static void test_dss_sigma_matches_finite_differences(void **state)
     char cerr[SUNMC_ERRLEN];
     assert_int_equal(config_build(&st, "configs/dss.ini", NULL, 0, cerr, sizeof cerr), SUNMC_OK);
     dss_model m;
-    dss_model_init(&m, &st.cfg.dss);
+    dss_model_init(&m, &dss_cfg(&st.cfg)->design);
     m.p[DSS_P_X0] += 0.003;
     m.p[DSS_P_C1] += 20 * RAD_PER_ARCSEC;
     m.p[DSS_P_C3] -= 30 * RAD_PER_ARCSEC;
@@ -1034,7 +1035,7 @@ static void test_dss_independent_model(void **state)
     config_state st;
     char cerr[SUNMC_ERRLEN];
     assert_int_equal(config_build(&st, "configs/dss.ini", NULL, 0, cerr, sizeof cerr), SUNMC_OK);
-    const dss_design *d = &st.cfg.dss;
+    const dss_design *d = &dss_cfg(&st.cfg)->design;
     indep_dss m = {.px = 0.004, .py = -0.006, .H = d->h_mm + 0.012,
                    .t = d->glass_thickness_mm - 0.01, .n = d->glass_index + 0.004,
                    .rv = {30 * RAD_PER_ARCSEC, -45 * RAD_PER_ARCSEC, 60 * RAD_PER_ARCSEC},

@@ -13,7 +13,7 @@
 #include "status.h"
 #include "units.h"
 
-static sunmc_config dss_config(const char *const *extra, int n_extra)
+static sunmc_config dss_test_config(const char *const *extra, int n_extra)
 {
     config_state st;
     char err[SUNMC_ERRLEN];
@@ -31,7 +31,7 @@ static const dss_deviations test_dev = {0.17, -0.08, 0.06, 9.0, -7.0, 8.0, -6.0,
 /* The model with the unit's true parameters. */
 static void true_model(const sunmc_config *c, const dss_sensor *s, dss_model *m)
 {
-    dss_model_init(m, &c->dss);
+    dss_model_init(m, &dss_cfg(c)->design);
     m->p[DSS_P_X0] = s->pinhole_mm[0];
     m->p[DSS_P_Y0] = s->pinhole_mm[1];
     m->p[DSS_P_H] = s->pinhole_mm[2];
@@ -46,9 +46,9 @@ static void true_model(const sunmc_config *c, const dss_sensor *s, dss_model *m)
 /* Closed-form model = ray-traced sensor; compensation returns the truth. */
 static void test_model_matches_sensor(void **state)
 {
-    sunmc_config c = dss_config(NULL, 0);
+    sunmc_config c = dss_test_config(NULL, 0);
     dss_sensor s;
-    dss_sensor_init(&s, &c.dss, &test_dev, 0);
+    dss_sensor_init(&s, &dss_cfg(&c)->design, &test_dev, 0);
     dss_model m;
     true_model(&c, &s, &m);
     int n = 0;
@@ -72,9 +72,9 @@ static void test_model_matches_sensor(void **state)
 /* Analytic Jacobian against central differences. */
 static void test_model_jacobian(void **state)
 {
-    sunmc_config c = dss_config(NULL, 0);
+    sunmc_config c = dss_test_config(NULL, 0);
     dss_sensor s;
-    dss_sensor_init(&s, &c.dss, &test_dev, 0);
+    dss_sensor_init(&s, &dss_cfg(&c)->design, &test_dev, 0);
     dss_model m;
     true_model(&c, &s, &m);
     const double steps[DSS_NP] = {1e-6, 1e-6, 1e-6, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6};
@@ -103,9 +103,10 @@ static void test_model_jacobian(void **state)
 static dss_calib_workspace *campaign(const sunmc_config *c, const dss_deviations *dev, long unit,
                                      dss_unit *u)
 {
+    const dss_config *dc = dss_cfg(c);
     dss_unit_build(c, dev, u);
-    dss_calib_workspace *cw = dss_calib_alloc(&c->dss, dss_campaign_size(c), c->cal_model,
-                                              c->poly_order, c->fit_glass_index);
+    dss_calib_workspace *cw = dss_calib_alloc(&dc->design, dss_campaign_size(c), dc->cal_model,
+                                              dc->poly_order, dc->fit_glass_index);
     assert_non_null(cw);
     size_t seen = dss_unit_campaign(c, u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px,
                                     cw->weight, NULL, NULL);
@@ -119,7 +120,7 @@ static const char *const quiet[] = {"noise.centroid_px=0", "noise.encoder_arcsec
 /* Noise-free data: the physical fit recovers every parameter. */
 static void test_physical_fit_recovers(void **state)
 {
-    sunmc_config c = dss_config(quiet, 3);
+    sunmc_config c = dss_test_config(quiet, 3);
     dss_unit u;
     dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
     dss_calibration cal;
@@ -150,14 +151,14 @@ static void test_physical_fit_recovers(void **state)
 static void test_fixed_index_bias(void **state)
 {
     const char *sets[] = {quiet[0], quiet[1], quiet[2], "calibration.fit_glass_index=off"};
-    sunmc_config c = dss_config(sets, 4);
+    sunmc_config c = dss_test_config(sets, 4);
     dss_unit u;
     dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
     assert_int_equal(cw->n_free, DSS_NP - 1);
     dss_calibration cal;
     fit_result fr;
     assert_int_equal(dss_calibrate(cw, c.max_iterations, &cal, &fr), SUNMC_OK);
-    assert_near(cal.phys.p[DSS_P_N], c.dss.glass_index, 0);
+    assert_near(cal.phys.p[DSS_P_N], dss_cfg(&c)->design.glass_index, 0);
     double rms = dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD;
     assert_true(rms > 0.05 && rms < 2.0);
     dss_calib_free(cw);
@@ -168,11 +169,13 @@ static void test_fixed_index_bias(void **state)
 static void test_polynomial_exact(void **state)
 {
     const char *sets[] = {"calibration.model=polynomial", "calibration.poly_order=2"};
-    sunmc_config c = dss_config(sets, 2);
-    dss_calib_workspace *cw = dss_calib_alloc(&c.dss, 400, DSS_MODEL_POLYNOMIAL, 2, 0);
+    sunmc_config c = dss_test_config(sets, 2);
+    dss_config *dc = dss_cfg(&c);
+    dss_calib_workspace *cw = dss_calib_alloc(&dc->design, 400, DSS_MODEL_POLYNOMIAL, 2, 0);
     assert_non_null(cw);
     dss_poly truth;
-    dss_poly_init(&truth, 2, c.dss.h_mm, c.dss.pixel_um * MM_PER_UM, c.dss.fov_deg * RAD_PER_DEG);
+    dss_poly_init(&truth, 2, dc->design.h_mm, dc->design.pixel_um * MM_PER_UM,
+                  dc->design.fov_deg * RAD_PER_DEG);
     const double ca[6] = {1e-4, -2e-4, 3e-5, 5e-5, -4e-5, 2e-5};
     const double cb[6] = {-3e-4, 1e-5, 2e-4, -1e-5, 6e-5, -7e-5};
     memcpy(truth.ca, ca, sizeof ca);
@@ -207,17 +210,17 @@ static void test_polynomial_exact(void **state)
 static void run_unit(const sunmc_config *c, long unit, unit_result *r)
 {
     char err[SUNMC_ERRLEN];
-    void *ws = dss_family.workspace_alloc(c, err, sizeof err);
+    void *ws = c->family->workspace_alloc(c, err, sizeof err);
     assert_non_null(ws);
-    assert_int_equal(dss_family.unit_run(c, unit, ws, r), SUNMC_OK);
-    dss_family.workspace_free(ws);
+    assert_int_equal(c->family->unit_run(c, unit, ws, r), SUNMC_OK);
+    c->family->workspace_free(ws);
 }
 
 static void test_family_units(void **state)
 {
-    sunmc_config c = dss_config(quiet, 3);
+    sunmc_config c = dss_test_config(quiet, 3);
     const char *psets[] = {quiet[0], quiet[1], quiet[2], "calibration.model=polynomial"};
-    sunmc_config cp = dss_config(psets, 4);
+    sunmc_config cp = dss_test_config(psets, 4);
     int band_all = 2; /* 0:60 */
     for (long unit = 0; unit < 3; unit++) {
         unit_result r, rp;
@@ -234,15 +237,15 @@ static void test_family_units(void **state)
     }
     /* determinism: unit 2 alone equals unit 2 after other units on the same
      * workspace, and a noisy config too */
-    sunmc_config cn = dss_config(NULL, 0);
+    sunmc_config cn = dss_test_config(NULL, 0);
     unit_result a, b;
     run_unit(&cn, 2, &a);
     char err[SUNMC_ERRLEN];
-    void *ws = dss_family.workspace_alloc(&cn, err, sizeof err);
+    void *ws = cn.family->workspace_alloc(&cn, err, sizeof err);
     unit_result tmp;
-    dss_family.unit_run(&cn, 5, ws, &tmp);
-    dss_family.unit_run(&cn, 2, ws, &b);
-    dss_family.workspace_free(ws);
+    cn.family->unit_run(&cn, 5, ws, &tmp);
+    cn.family->unit_run(&cn, 2, ws, &b);
+    cn.family->workspace_free(ws);
     assert_memory_equal(&a, &b, sizeof a);
     assert_true(a.rms_after[0][band_all] > 1.0); /* centroid noise is in */
 }
@@ -250,25 +253,26 @@ static void test_family_units(void **state)
 /* Error paths. */
 static void test_errors(void **state)
 {
-    sunmc_config c = dss_config(NULL, 0);
-    assert_null(dss_calib_alloc(&c.dss, 100, DSS_MODEL_POLYNOMIAL, 0, 0));
-    assert_null(dss_calib_alloc(&c.dss, 100, DSS_MODEL_POLYNOMIAL, DSS_POLY_MAX_ORDER + 1, 0));
-    assert_null(dss_calib_alloc(&c.dss, 5, DSS_MODEL_POLYNOMIAL, 3, 0)); /* 5 < 10 terms */
-    assert_null(dss_calib_alloc(&c.dss, 3, DSS_MODEL_PHYSICAL, 0, 1));   /* 6 < 8 */
+    sunmc_config c = dss_test_config(NULL, 0);
+    dss_config *dc = dss_cfg(&c);
+    assert_null(dss_calib_alloc(&dc->design, 100, DSS_MODEL_POLYNOMIAL, 0, 0));
+    assert_null(dss_calib_alloc(&dc->design, 100, DSS_MODEL_POLYNOMIAL, DSS_POLY_MAX_ORDER + 1, 0));
+    assert_null(dss_calib_alloc(&dc->design, 5, DSS_MODEL_POLYNOMIAL, 3, 0)); /* 5 < 10 terms */
+    assert_null(dss_calib_alloc(&dc->design, 3, DSS_MODEL_PHYSICAL, 0, 1)); /* 6 < 8 */
     /* too few usable readings */
-    dss_calib_workspace *cw = dss_calib_alloc(&c.dss, 10, DSS_MODEL_PHYSICAL, 0, 1);
+    dss_calib_workspace *cw = dss_calib_alloc(&dc->design, 10, DSS_MODEL_PHYSICAL, 0, 1);
     assert_non_null(cw);
     dss_calibration cal;
     fit_result fr;
     assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_EINPUT);
     dss_calib_free(cw);
-    cw = dss_calib_alloc(&c.dss, 20, DSS_MODEL_POLYNOMIAL, 3, 0);
+    cw = dss_calib_alloc(&dc->design, 20, DSS_MODEL_POLYNOMIAL, 3, 0);
     cw->weight[0] = 1;
     assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_EINPUT);
     dss_calib_free(cw);
     /* a spot no sun in front can make */
     dss_model m;
-    dss_model_init(&m, &c.dss);
+    dss_model_init(&m, &dc->design);
     double a, b;
     assert_int_equal(dss_model_compensate(&m, 1e9, 0, &a, &b), SUNMC_EDOM);
     double sp[2];
@@ -276,14 +280,14 @@ static void test_errors(void **state)
     /* a sun off the detector */
     dss_sensor s;
     dss_deviations none = {0};
-    dss_sensor_init(&s, &c.dss, &none, 0);
+    dss_sensor_init(&s, &dc->design, &none, 0);
     double x, y;
     assert_int_equal(dss_sensor_read(&s, 70 * RAD_PER_DEG, 0, NULL, &x, &y), SUNMC_EDOM);
     /* the family refuses a campaign too small to fit */
     const char *small[] = {"campaign.b_min_deg=-1", "campaign.b_max_deg=0", "campaign.b_step_deg=1"};
-    sunmc_config cs = dss_config(small, 3);
+    sunmc_config cs = dss_test_config(small, 3);
     char err[SUNMC_ERRLEN] = "";
-    assert_null(dss_family.workspace_alloc(&cs, err, sizeof err));
+    assert_null(cs.family->workspace_alloc(&cs, err, sizeof err));
     assert_non_null(strstr(err, "4-point campaign"));
     /* a bad value of the new key names file, line and key */
     assert_int_equal(test_write_file("build/tests/dss_bad.ini",

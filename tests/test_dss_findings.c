@@ -13,7 +13,7 @@
 #include "status.h"
 #include "units.h"
 
-static sunmc_config dss_config(void)
+static sunmc_config dss_test_config(void)
 {
     config_state st;
     char err[SUNMC_ERRLEN];
@@ -29,7 +29,7 @@ static void errors(const sunmc_config *c, const dss_deviations *dev, double a_de
                    double *ea, double *eb)
 {
     dss_sensor s;
-    dss_sensor_init(&s, &c->dss, dev, 0);
+    dss_sensor_init(&s, &dss_cfg(c)->design, dev, 0);
     double b2 = -a_deg * RAD_PER_DEG, b1 = atan(tan(b_deg * RAD_PER_DEG) * cos(b2));
     double x, y, am, bm, a0, b0;
     assert_int_equal(dss_sensor_read(&s, b1, b2, NULL, &x, &y), SUNMC_OK);
@@ -43,8 +43,8 @@ static void errors(const sunmc_config *c, const dss_deviations *dev, double a_de
 
 static sunmc_config no_glass(void)
 {
-    sunmc_config c = dss_config();
-    c.dss.glass_thickness_mm = 0;
+    sunmc_config c = dss_test_config();
+    dss_cfg(&c)->design.glass_thickness_mm = 0;
     return c;
 }
 
@@ -55,9 +55,10 @@ static sunmc_config no_glass(void)
 static void test_dh_alone(void **state)
 {
     sunmc_config c = no_glass();
+    dss_config *dc = dss_cfg(&c);
     dss_deviations dev = {0};
     dev.dh_px = 0.2;
-    double h = c.dss.h_mm, dh = dev.dh_px * c.dss.pixel_um * MM_PER_UM;
+    double h = dc->design.h_mm, dh = dev.dh_px * dc->design.pixel_um * MM_PER_UM;
     double peak_a = 0, peak_at = 0;
     for (double a = -60; a <= 60; a += 2.5) {
         double ea0, eb0;
@@ -103,7 +104,8 @@ static void test_dh_alone(void **state)
 static void test_principal_point(void **state)
 {
     sunmc_config c = no_glass();
-    double h = c.dss.h_mm, pix = c.dss.pixel_um * MM_PER_UM;
+    dss_config *dc = dss_cfg(&c);
+    double h = dc->design.h_mm, pix = dc->design.pixel_um * MM_PER_UM;
     dss_deviations dx = {0}, dy = {0};
     dx.dx_px = 0.1;
     dy.dy_px = 0.1;
@@ -203,8 +205,8 @@ static void test_installation(void **state)
  * curve, because the on-board atan(r/h) saturates. */
 static void test_refraction(void **state)
 {
-    sunmc_config c = dss_config();
-    assert_true(c.dss.glass_thickness_mm > 0);
+    sunmc_config c = dss_test_config();
+    assert_true(dss_cfg(&c)->design.glass_thickness_mm > 0);
     dss_deviations dev = {0};
     for (double fixed = -50; fixed <= 50; fixed += 25) {
         double prev_a = -1, prev_b = -1;
@@ -224,7 +226,7 @@ static void test_refraction(void **state)
 /* Deviations are drawn per (seed, unit, deviation) and within their ranges. */
 static void test_deviation_sampling(void **state)
 {
-    sunmc_config c = dss_config();
+    sunmc_config c = dss_test_config();
     dss_deviations a, b, other;
     dss_deviations_sample(&c, 7, 3, &a);
     dss_deviations_sample(&c, 7, 3, &b);
@@ -236,7 +238,7 @@ static void test_deviation_sampling(void **state)
     const double lim[DSS_N_DEV] = {0.2, 0.1, 0.1, 10, 10, 10, 10, 0.005};
     for (int i = 0; i < DSS_N_DEV; i++)
         assert_true(fabs(v[i]) <= lim[i] && v[i] != 0.0);
-    c.dss_tol.dx_px.value = 0.5; /* another tolerance does not reshuffle dh */
+    dss_cfg(&c)->tol.dx_px.value = 0.5; /* another tolerance does not reshuffle dh */
     dss_deviations_sample(&c, 7, 3, &b);
     assert_true(a.dh_px == b.dh_px && a.dx_px != b.dx_px);
 }

@@ -22,7 +22,7 @@ static sunmc_config base_config(void)
 /* Build a sensor with the harmonics given as a3, a5 and deviations dev. */
 static void build(const sunmc_config *c, const ess_deviations *dev, ess_sensor *s)
 {
-    ess_sensor_init(s, &c->ess, dev);
+    ess_sensor_init(s, &ess_cfg(c)->design, dev);
 }
 
 static double output_deg(const ess_sensor *s, double alpha_deg, double beta_deg)
@@ -37,9 +37,10 @@ static double output_deg(const ess_sensor *s, double alpha_deg, double beta_deg)
 static sunmc_config no_harmonics(void)
 {
     sunmc_config c = base_config();
-    c.ess.harmonics = 1; /* given */
-    c.ess.a3_ratio = 0;
-    c.ess.a5_ratio = 0;
+    ess_config *ec = ess_cfg(&c);
+    ec->design.harmonics = 1; /* given */
+    ec->design.a3_ratio = 0;
+    ec->design.a5_ratio = 0;
     return c;
 }
 
@@ -51,7 +52,7 @@ static void test_dH_closed_form(void **state)
     dev.dH_um = 2.0;
     ess_sensor s;
     build(&c, &dev, &s);
-    double H = c.ess.H_mm;
+    double H = ess_cfg(&c)->design.H_mm;
     for (double a = -62; a <= 62; a += 0.37) {
         double expect = atan((H + dev.dH_um * MM_PER_UM) / H * tan(a * RAD_PER_DEG)) * DEG_PER_RAD;
         assert_near(output_deg(&s, a, 0), expect, 1e-9);
@@ -67,7 +68,7 @@ static void test_dd_closed_form(void **state)
     dev.dd_um = 1.0;
     ess_sensor s;
     build(&c, &dev, &s);
-    double H = c.ess.H_mm;
+    double H = ess_cfg(&c)->design.H_mm;
     for (double a = -62; a <= 62; a += 0.53) {
         double expect = atan(tan(a * RAD_PER_DEG) - dev.dd_um * MM_PER_UM / H) * DEG_PER_RAD;
         assert_near(output_deg(&s, a, 5), expect, 1e-9);
@@ -83,7 +84,7 @@ static void test_tilt_geometry(void **state)
     dev.dphi_deg = 0.3;
     ess_sensor s;
     build(&c, &dev, &s);
-    double H = c.ess.H_mm, x = 1.7, tp = tan(0.3 * RAD_PER_DEG);
+    double H = ess_cfg(&c)->design.H_mm, x = 1.7, tp = tan(0.3 * RAD_PER_DEG);
     for (double a = -50; a <= 50; a += 10)
         for (double b = -30; b <= 30; b += 15) {
             double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG;
@@ -98,12 +99,13 @@ static void test_tilt_geometry(void **state)
 static void test_third_harmonic_eq7(void **state)
 {
     sunmc_config c = no_harmonics();
+    ess_config *ec = ess_cfg(&c);
     double r = -0.12;
-    c.ess.a3_ratio = r;
+    ec->design.a3_ratio = r;
     ess_deviations dev = {0};
     ess_sensor s;
     build(&c, &dev, &s);
-    double th0 = c.ess.theta0_deg;
+    double th0 = ec->design.theta0_deg;
     for (double a = -60; a <= 60; a += 0.0731) {
         double x = 2 * M_PI * a / th0;
         double eps = -th0 / (2 * M_PI) * atan(r * sin(4 * x) / (1 + r * cos(4 * x)));
@@ -116,8 +118,9 @@ static void test_third_harmonic_eq7(void **state)
 static void test_derived_harmonics(void **state)
 {
     sunmc_config c = base_config();
-    c.ess.slit_width_um = 0;
-    c.ess.sun_diameter_deg = 0;
+    ess_config *ec = ess_cfg(&c);
+    ec->design.slit_width_um = 0;
+    ec->design.sun_diameter_deg = 0;
     ess_deviations dev = {0};
     ess_sensor s;
     build(&c, &dev, &s);
@@ -126,7 +129,7 @@ static void test_derived_harmonics(void **state)
     assert_near(h[0], 1.0, 1e-12);
     assert_near(h[1], -1.0 / 3.0, 1e-12);
     assert_near(h[2], 1.0 / 5.0, 1e-12);
-    c.ess.sun_diameter_deg = 0.53;
+    ec->design.sun_diameter_deg = 0.53;
     build(&c, &dev, &s);
     ess_finecode_harmonics(&s, 0.0, h);
     /* 2 J1(z)/z at z1 = 0.8325, z3 = 2.4975; J1 from its power series
@@ -172,7 +175,7 @@ static void test_paper_dH_dd_dphi_sizes(void **state)
     dev.dH_um = 2;
     double eA = max_error(&c, &dev, 0);
     assert_true(eA > 0.013 && eA < 0.016);
-    c.ess.H_mm = 6.584;
+    ess_cfg(&c)->design.H_mm = 6.584;
     double eB = max_error(&c, &dev, 0);
     assert_true(eB > 0.008 && eB < eA);
     assert_near(eA / eB, 6.584 / 4.124, 0.02); /* smaller H, larger error */
@@ -223,7 +226,7 @@ static void test_gain_errors(void **state)
     assert_near(max_error(&c, &dev, 0), 0, 1e-9);
     dev.gain_pct[0] = -1;
     double e = max_error(&c, &dev, 0);
-    double scale = c.ess.theta0_deg / (2 * M_PI);
+    double scale = ess_cfg(&c)->design.theta0_deg / (2 * M_PI);
     assert_true(e > 0.001 * scale && e < 0.03 * scale);
 }
 
@@ -232,15 +235,16 @@ static void test_gain_errors(void **state)
 static void test_deviation_sampling(void **state)
 {
     sunmc_config c = base_config();
+    ess_config *ec = ess_cfg(&c);
     ess_deviations a, b;
     for (long u = 0; u < 200; u++) {
         ess_deviations_sample(&c, 7, u, &a);
         ess_deviations_sample(&c, 7, u, &b);
         assert_memory_equal(&a, &b, sizeof a);
-        assert_true(fabs(a.dH_um) <= c.ess_tol.dH_um.value);
-        assert_true(fabs(a.dphi_deg) <= c.ess_tol.dphi_deg.value);
+        assert_true(fabs(a.dH_um) <= ec->tol.dH_um.value);
+        assert_true(fabs(a.dphi_deg) <= ec->tol.dphi_deg.value);
         for (int m = 0; m < 4; m++)
-            assert_true(fabs(a.gain_pct[m]) <= c.ess_tol.gain_pct.value);
+            assert_true(fabs(a.gain_pct[m]) <= ec->tol.gain_pct.value);
     }
     ess_deviations_sample(&c, 8, 0, &b);
     ess_deviations_sample(&c, 7, 0, &a);

@@ -2,7 +2,10 @@
  * command end to end (common random numbers, equality with `run`). */
 #include "test_util.h"
 
+#include "ess_config.h"
+
 #include "config.h"
+#include "registry.h"
 #include "status.h"
 #include "sweep.h"
 
@@ -10,8 +13,8 @@ static void parse_list(void **state)
 {
     sweep_axis ax;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(sweep_axis_parse("campaign.alpha_step_deg=1, 0.5,0.25", FAMILY_ESS, &ax, err,
-                                      sizeof err),
+    assert_int_equal(sweep_axis_parse("campaign.alpha_step_deg=1, 0.5,0.25",
+                                      sensor_family_find("ess"), &ax, err, sizeof err),
                      SUNMC_OK);
     assert_int_equal(ax.n, 3);
     assert_near(ax.v[0], 1, 0);
@@ -24,17 +27,20 @@ static void parse_range(void **state)
 {
     sweep_axis ax;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(sweep_axis_parse("design.H_mm=3:8:0.5", FAMILY_ESS, &ax, err, sizeof err),
-                     SUNMC_OK);
+    assert_int_equal(
+        sweep_axis_parse("design.H_mm=3:8:0.5", sensor_family_find("ess"), &ax, err, sizeof err),
+        SUNMC_OK);
     assert_int_equal(ax.n, 11);
     assert_near(ax.v[10], 8, 1e-12);
     /* 0.1 is not exact in binary: STOP must still be kept. */
-    assert_int_equal(sweep_axis_parse("tolerance.dH_um=0:1:0.1", FAMILY_ESS, &ax, err, sizeof err),
+    assert_int_equal(sweep_axis_parse("tolerance.dH_um=0:1:0.1", sensor_family_find("ess"), &ax,
+                                      err, sizeof err),
                      SUNMC_OK);
     assert_int_equal(ax.n, 11);
     /* A descending range. */
-    assert_int_equal(sweep_axis_parse("design.H_mm=8:3:-2.5", FAMILY_ESS, &ax, err, sizeof err),
-                     SUNMC_OK);
+    assert_int_equal(
+        sweep_axis_parse("design.H_mm=8:3:-2.5", sensor_family_find("ess"), &ax, err, sizeof err),
+        SUNMC_OK);
     assert_int_equal(ax.n, 3);
     assert_near(ax.v[2], 3, 1e-12);
 }
@@ -57,7 +63,7 @@ static void parse_errors(void **state)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         sweep_axis ax;
         char err[SUNMC_ERRLEN] = "";
-        int s = sweep_axis_parse(bad[i], FAMILY_ESS, &ax, err, sizeof err);
+        int s = sweep_axis_parse(bad[i], sensor_family_find("ess"), &ax, err, sizeof err);
         if (s != SUNMC_EINPUT)
             fail_msg("'%s' parsed (status %d)", bad[i], s);
         assert_non_null(strstr(err, "--vary"));
@@ -68,8 +74,10 @@ static void grid_order(void **state)
 {
     sweep_axis ax[2];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(sweep_axis_parse("design.H_mm=3,4", FAMILY_ESS, &ax[0], err, sizeof err), 0);
-    assert_int_equal(sweep_axis_parse("tolerance.dH_um=1,2,4", FAMILY_ESS, &ax[1], err, sizeof err),
+    assert_int_equal(
+        sweep_axis_parse("design.H_mm=3,4", sensor_family_find("ess"), &ax[0], err, sizeof err), 0);
+    assert_int_equal(sweep_axis_parse("tolerance.dH_um=1,2,4", sensor_family_find("ess"), &ax[1],
+                                      err, sizeof err),
                      0);
     assert_int_equal(sweep_n_points(ax, 2), 6);
     double v[2];
@@ -90,16 +98,17 @@ static void apply_point(void **state)
     char err[SUNMC_ERRLEN];
     assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
     sweep_axis ax;
-    assert_int_equal(sweep_axis_parse("design.H_mm=5,60", FAMILY_ESS, &ax, err, sizeof err), 0);
+    assert_int_equal(
+        sweep_axis_parse("design.H_mm=5,60", sensor_family_find("ess"), &ax, err, sizeof err), 0);
     assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_OK);
-    assert_near(st.cfg.ess.H_mm, 5, 0);
-    assert_string_equal(st.origins[config_find("design", "H_mm") - config_keys].origin,
-                        "--vary design.H_mm");
+    assert_near(ess_cfg(&st.cfg)->design.H_mm, 5, 0);
+    assert_string_equal(config_origin_of(&st, config_find("design", "H_mm")), "--vary design.H_mm");
     /* 60 mm is beyond the key's range: the file's message, naming the key. */
     assert_int_equal(sweep_apply(&st, &ax, 1, 1, err, sizeof err), SUNMC_EINPUT);
     assert_non_null(strstr(err, "design.H_mm"));
     /* A value in range that breaks a cross-key check. */
-    assert_int_equal(sweep_axis_parse("campaign.alpha_max_deg=70", FAMILY_ESS, &ax, err, sizeof err),
+    assert_int_equal(sweep_axis_parse("campaign.alpha_max_deg=70", sensor_family_find("ess"), &ax,
+                                      err, sizeof err),
                      0);
     assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_EINPUT);
     assert_non_null(strstr(err, "campaign.alpha_max_deg=70"));

@@ -3,7 +3,7 @@
 #ifndef SUNMC_CLI_H
 #define SUNMC_CLI_H
 
-#include "config.h"
+#include "registry.h"
 
 #include <stdio.h>
 

@@ -1,13 +1,14 @@
 /* config.h - the effective configuration of a sunmc run.
  *
- * ONE table of keys (config_keys.c) drives everything: parsing an INI file,
+ * The key tables (config_keys.c + each family's) drive everything: parsing an INI file,
  * `--set section.key=value`, range validation, `sunmc config` (the effective
  * config), configs/reference.ini (every key, commented) and the key list in
  * --help.  Each key has a section, a name carrying its unit (_mm, _um, _deg,
  * _arcsec, _pct, _px), a type, a default, an allowed range and a help text.
  *
- * Keys belong to one sensor family (ess, dss) or to both.  A key of the other
- * family in a file is an error naming the file, the line and the key.
+ * Shared keys (core's table) apply to every family; each family adds its own
+ * keys (its *_keys.c), reached through the registry (registry.h).  A key of
+ * another family in a file is an error naming the file, the line and the key.
  *
  * Angles are stored in the unit their key names (degrees, arcseconds); the
  * physics modules convert to radians at their entry.
@@ -23,10 +24,6 @@
 #define CONFIG_BANDS_MAX 8     /* most report bands */
 #define CONFIG_STR_MAX 64      /* longest string value */
 #define CONFIG_ORIGIN_MAX 300  /* "file:line" or "--set" or "default" */
-
-/* Sensor families. */
-enum sensor_family_id { FAMILY_ESS = 1, FAMILY_DSS = 2 };
-#define FAMILY_BOTH (FAMILY_ESS | FAMILY_DSS)
 
 /* Distribution of a manufacturing or assembly tolerance.
  * fixed:       the deviation is `value` for every unit;
@@ -54,90 +51,27 @@ typedef struct {
     double hi[CONFIG_BANDS_MAX];
 } band_list;
 
-/* ESS design, tolerances and noise (paper: Fan et al., Sensors 2013). */
-typedef struct {
-    double H_mm;                  /* nominal slit-to-code-dial distance */
-    double theta0_deg;            /* fine-code period */
-    double coarse_resolution_deg; /* coarse-code cell width */
-    double_list coarse_rows_x_mm; /* x position of each coarse row */
-    double_list fine_rows_x_mm;   /* x position of the 4 fine rows */
-    double slit_width_um;         /* entrance slit width */
-    double dial_duty;             /* transparent fraction of a fine period */
-    double sun_diameter_deg;      /* angular diameter of the sun */
-    int harmonics;                /* 0 derived, 1 given */
-    double a3_ratio;              /* given a3/a1 */
-    double a5_ratio;              /* given a5/a1 */
-    double fov_deg;               /* half field of view in alpha */
-} ess_design;
+/* A family's own configuration (its design, tolerances, noise, grids):
+ * opaque to core, read by the family through its accessor (ess_cfg(c),
+ * dss_cfg(c)).  Plain bytes, so a sunmc_config copies with `=`; each family
+ * asserts at compile time that its struct fits. */
+#define FAMILY_CONFIG_MAX 4096
+typedef union {
+    max_align_t align;
+    unsigned char bytes[FAMILY_CONFIG_MAX];
+} family_config;
 
-typedef struct {
-    tolerance dH_um, dd_um, dphi_deg, slit_width_um, harmonic_phase_deg;
-    tolerance gain_pct, etch_um;
-    tolerance install_x_arcsec, install_y_arcsec, install_z_arcsec;
-    tolerance sun_x_arcsec, sun_y_arcsec;
-} ess_tolerances;
-
-typedef struct {
-    double row_current_pct;  /* sigma of each fine-row current, % of a1 */
-} ess_noise;
-
-/* DSS design, tolerances and noise (paper: Wei et al.). */
-typedef struct {
-    double h_mm;             /* nominal pinhole-to-detector height */
-    double pixel_um;         /* pixel pitch */
-    int detector_px;         /* detector side in pixels (square) */
-    double pinhole_um;       /* pinhole diameter */
-    double glass_thickness_mm;
-    double glass_index;
-    double fov_deg;          /* half field of view, per axis */
-} dss_design;
-
-typedef struct {
-    tolerance dh_px, dx_px, dy_px;
-    tolerance c1_arcsec, c2_arcsec, c3_arcsec;
-    tolerance glass_thickness_um, glass_index;
-} dss_tolerances;
-
-typedef struct {
-    double centroid_px;      /* sigma of the spot centre, per axis */
-    int s_curve;             /* 1: add the pixel-phase (S-curve) bias */
-} dss_noise;
+struct sensor_family;
 
 typedef struct {
     /* [sensor] */
-    int family;                         /* enum sensor_family_id */
+    const struct sensor_family *family; /* from the registry (registry.h) */
     char product[CONFIG_STR_MAX];       /* label in reports */
-
-    ess_design ess;
-    ess_tolerances ess_tol;
-    ess_noise ess_noise;
-
-    dss_design dss;
-    dss_tolerances dss_tol;
-    dss_noise dss_noise;
 
     double truncation_sigmas;           /* [tolerance] truncnormal limit */
     double encoder_arcsec;              /* [noise] sigma of each table axis reading */
-
-    /* [campaign]: ESS alpha/beta grid, DSS b1/b2 grid */
-    double cal_alpha_min_deg, cal_alpha_max_deg, cal_alpha_step_deg;
-    double_list cal_beta_deg;
-    double cal_b_min_deg, cal_b_max_deg, cal_b_step_deg;
-    int cal_repeats;
-
-    /* [calibration] */
-    int cal_model;                      /* DSS: 0 physical, 1 polynomial */
-    int poly_order;
-    int fit_glass_index;                /* DSS physical model: 1 fits the glass index too */
-    double roll_sigma_arcsec;           /* ESS roll alignment measurement */
-    double roll_measured_arcsec;        /* `calibrate`: known roll, default 0 */
-    double alias_threshold;
-    int max_iterations;
-
-    /* [validation] */
-    double val_alpha_min_deg, val_alpha_max_deg, val_alpha_step_deg, val_alpha_offset_deg;
-    double_list val_beta_deg;
-    double val_b_min_deg, val_b_max_deg, val_b_step_deg, val_b_offset_deg;
+    int cal_repeats;                    /* [campaign] readings averaged per point */
+    int max_iterations;                 /* [calibration] most fit iterations */
 
     /* [run] */
     long units;
@@ -150,43 +84,77 @@ typedef struct {
     double yield_target;                /* budget: yield the inverse limits must keep */
     long budget_units;                  /* budget: units per bisection step */
     int budget_steps;                   /* budget: bisection steps per source */
+
+    family_config fam;                  /* the family's own keys (its keys table) */
 } sunmc_config;
 
-/* One row of the key table. */
-enum key_type { KEY_DOUBLE, KEY_INT, KEY_LONG, KEY_ENUM, KEY_STRING, KEY_LIST, KEY_BANDS };
+/* One row of a key table: core's shared keys (config_keys.c) or a family's
+ * own keys (its *_keys.c, reached through the registry). */
+enum key_type { KEY_DOUBLE, KEY_INT, KEY_LONG, KEY_ENUM, KEY_STRING, KEY_LIST, KEY_BANDS,
+                KEY_FAMILY /* sensor.family: a name from the registry */ };
 
 typedef struct {
     const char *section;
     const char *name;
     int type;                /* enum key_type */
-    int families;            /* FAMILY_ESS, FAMILY_DSS or FAMILY_BOTH */
     const char *unit;        /* for help and the reference file */
-    const char *def;         /* default, as text (ESS, or both) */
-    const char *def_dss;     /* DSS default when it differs, else NULL */
+    const char *def;         /* default, as text (a family may override a shared key's) */
     double min, max;         /* allowed range (each element of a list) */
     const char *choices;     /* KEY_ENUM: "a|b|c", index = stored value */
-    size_t offset;           /* into sunmc_config */
+    size_t offset;           /* shared key: into sunmc_config; a family's: into its config */
     const char *help;        /* one line; source of the default if any */
 } config_key;
 
+/* A family's default for a shared key ("sensor", "product", "DSS"). */
+typedef struct {
+    const char *section;
+    const char *name;
+    const char *value;
+} config_default;
+
+/* Core's shared keys, every family's. */
 extern const config_key config_keys[];
 extern const size_t config_key_count;
+
+/* Sections in the order files, dumps and the reference list them; every
+ * key's section is one of these. */
+extern const char *const config_sections[];
+extern const size_t config_section_count;
+
+/* A tolerance is two keys of its family: its magnitude and its distribution;
+ * off is the offset of its `tolerance` in the family's config. */
+#define CONFIG_DIST_CHOICES "fixed|uniform|normal|truncnormal"
+#define CONFIG_TOLERANCE_KEYS(off, name, unit, defv, defdist, maxv, help)                         \
+    {"tolerance", name, KEY_DOUBLE, unit, defv, 0, maxv, NULL,                                   \
+     (off) + offsetof(tolerance, value), help},                                                   \
+    {"tolerance", name "_dist", KEY_ENUM, "", defdist, 0, 0, CONFIG_DIST_CHOICES,               \
+     (off) + offsetof(tolerance, dist),                                                           \
+     "distribution of " name ": fixed (the value), uniform (+-value), normal "                   \
+     "(sigma = value), truncnormal (sigma = value, cut at truncation_sigmas)"}
+
+/* Check a grid lo..hi in steps of step against the field of view +-fov
+ * (deg); what names it in the message ("campaign.alpha"). */
+int config_check_grid(double lo, double hi, double step, double fov, const char *what, char *err,
+                      size_t errlen);
 
 /* Where each key's value came from, for `sunmc config` and messages. */
 typedef struct {
     char origin[CONFIG_ORIGIN_MAX];
 } config_origin;
 
-/* A configuration being built: values plus per-key origins. */
+/* A configuration being built: values, the keys of its family in the order
+ * `sunmc config` lists them, and each key's origin. */
 typedef struct {
     sunmc_config cfg;
-    config_origin *origins;  /* config_key_count entries */
+    const config_key **keys;  /* n_keys: shared and family keys, dump order */
+    config_origin *origins;   /* n_keys entries, parallel to keys */
+    size_t n_keys;
 } config_state;
 
 /* Build the effective config from an INI file (path may be NULL: defaults
  * only) and a list of "section.key=value" overrides.  The family is taken
- * from sensor.family (overrides first, then the file, else ess); defaults of
- * that family are applied, then the file, then the overrides, then
+ * from sensor.family (overrides first, then the file, else the registry's
+ * first family); defaults of that family are applied, then the file, then the overrides, then
  * config_validate.  On error returns SUNMC_EINPUT (or SUNMC_EIO for an
  * unreadable file) with "FILE:LINE: message" in err. */
 int config_build(config_state *st, const char *path, const char *const *sets, int n_sets,
@@ -198,21 +166,77 @@ void config_state_free(config_state *st);
 int config_set_value(config_state *st, const char *section, const char *name,
                      const char *value, const char *where, char *err, size_t errlen);
 
-/* Cross-key checks (list lengths, ranges consistent with the field of view). */
+/* Cross-key checks: the shared keys, then the family's validate hook. */
 int config_validate(const sunmc_config *c, char *err, size_t errlen);
 
-/* Find a key; NULL when unknown. */
+/* Find a key of any family (or a shared one); NULL when unknown. */
 const config_key *config_find(const char *section, const char *name);
+
+/* Find a key of family fam (or a shared one); NULL when fam has none. */
+const config_key *config_find_in(const struct sensor_family *fam, const char *section,
+                                 const char *name);
+
+/* 1 when k is one of core's shared keys. */
+int config_key_is_shared(const config_key *k);
+
+/* 1 when k is a shared key or one of fam's own. */
+int config_key_applies(const config_key *k, const struct sensor_family *fam);
+
+/* 1 when k is a tolerance magnitude of fam (a "tolerance" number key of
+ * fam's with a KEY_dist sibling). */
+int config_is_tolerance(const config_key *k, const struct sensor_family *fam);
+
+/* Where key k's value lives in c (k must apply to c's family). */
+void *config_value_ptr(const config_key *k, sunmc_config *c);
+const void *config_value_cptr(const config_key *k, const sunmc_config *c);
+
+/* Origin of key k's value in st ("file:LINE", "--set ...", "default"); NULL
+ * when k is not a key of st's family. */
+const char *config_origin_of(const config_state *st, const config_key *k);
 
 /* Format a key's current value as it would be written in a file. */
 void config_format_value(const config_key *k, const sunmc_config *c, char *buf, size_t len);
+
+/* ---- The key tables as lists (config.c, config_value.c, config_write.c) ---- */
+
+#define CONFIG_KEYS_MAX 512    /* most keys of all families together */
+#define CONFIG_FAMILIES_MAX 16 /* most registered families */
+
+/* The keys of family fam (every registered family's when fam is NULL), in
+ * the order dumps list them: section by section (config_sections), each
+ * family's keys of the section, then the shared ones (or the other way round
+ * in a family's sections_after_shared).  owners[i] is key i's family (NULL: a shared key).
+ * Returns the count (at most max are written). */
+size_t config_list_keys(const struct sensor_family *fam, const config_key **keys,
+                        const struct sensor_family **owners, size_t max);
+
+/* Default of key k for family fam (a family may give its own default of a
+ * shared key); fam NULL: the registry's first family. */
+const char *config_key_default(const config_key *k, const struct sensor_family *fam);
+
+/* k's one-line help (sensor.family's names every registered family). */
+void config_key_help(const config_key *k, char *buf, size_t len);
+
+/* "one of a|b", "0.5 to 50 mm", ...: what k allows, for messages. */
+void config_range_text(const config_key *k, char *buf, size_t len);
+
+/* Parse text `value` for key k into dst (where its value lives); "where"
+ * names the origin in messages.  Checks type and range. */
+int config_parse_value(const config_key *k, void *dst, const char *value, const char *where,
+                       char *err, size_t errlen);
+
+/* Registered family names as "a|b". */
+void config_family_choices(char *buf, size_t len);
+
+/* Strip leading and trailing white space in place. */
+char *config_trim(char *s);
 
 /* Write the effective config of c's family (every key, defaults filled in),
  * with the origin of each value as a comment when origins != NULL. */
 int config_write(FILE *f, const config_state *st);
 
-/* Write the commented reference config: every key of every family with its
- * unit, range, default and help. */
+/* Write the commented reference config: every key of every registered
+ * family with its unit, range, default and help. */
 int config_write_reference(FILE *f);
 
 /* Read a numeric key's value by "section.key" (sweeps); SUNMC_EINPUT if not

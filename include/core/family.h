@@ -42,9 +42,25 @@ typedef struct {
 } unit_result;
 
 typedef struct sensor_family {
-    const char *name;               /* "ess", "dss" */
+    const char *name;               /* "ess", "dss": the value of sensor.family */
+    const char *description;        /* for sensor.family's help: "encoded sun sensor" */
     const char *rms_unit;           /* unit of every RMS: "deg" or "arcsec" */
     double arcsec_per_rms_unit;     /* to compare with report.spec_arcsec */
+
+    /* ---- Configuration.  The family's own keys (offsets into its config,
+     * which lives in sunmc_config.fam and is read through the family's
+     * accessor), its defaults of shared keys (e.g. sensor.product), and its
+     * cross-key checks, run after the shared ones. ---- */
+    const config_key *keys;         /* ends with a row whose section is NULL */
+    const config_default *defaults; /* ends with a row whose section is NULL */
+    /* Sections whose family keys `sunmc config` lists after the shared ones
+     * (else before them); NULL-terminated, or NULL for none. */
+    const char *const *sections_after_shared;
+    int (*validate)(const sunmc_config *c, char *err, size_t errlen);
+
+    /* What a unit's campaign may fail to resolve, for the alias counts of
+     * the reports ("the fine-code term"); NULL when it cannot alias. */
+    const char *alias_term;
 
     /* The calibration model of config c, in words, for reports. */
     void (*model_label)(const sunmc_config *c, char *buf, size_t len);
@@ -99,12 +115,6 @@ typedef struct sensor_family {
                       double axis1_deg, double before[UNIT_MAX_ANGLES],
                       double after[UNIT_MAX_ANGLES]);
 } sensor_family;
-
-extern const sensor_family ess_family;
-extern const sensor_family dss_family;
-
-/* The family of c->family. */
-const sensor_family *family_of(const sunmc_config *c);
 
 /* Sum of squared errors per report band, for one unit and one angle. */
 typedef struct {

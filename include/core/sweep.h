@@ -11,7 +11,7 @@
 #ifndef SUNMC_SWEEP_H
 #define SUNMC_SWEEP_H
 
-#include "config.h"
+#include "family.h"
 
 #include <stddef.h>
 
@@ -27,12 +27,12 @@ typedef struct {
     double v[SWEEP_MAX_VALUES];          /* in the unit of the key's name */
 } sweep_axis;
 
-/* Parse one --vary spec for a config of family `family` (enum
- * sensor_family_id).  SUNMC_EINPUT with a message naming the spec for an
- * unknown or non-numeric key, a key of the other family, a malformed list
- * or range, a zero or wrong-signed step, or more than SWEEP_MAX_VALUES
- * values. */
-int sweep_axis_parse(const char *spec, int family, sweep_axis *ax, char *err, size_t errlen);
+/* Parse one --vary spec for a config of family `family`.  SUNMC_EINPUT
+ * with a message naming the spec for an unknown or non-numeric key, a key of
+ * another family, a malformed list or range, a zero or wrong-signed step, or
+ * more than SWEEP_MAX_VALUES values. */
+int sweep_axis_parse(const char *spec, const sensor_family *family, sweep_axis *ax, char *err,
+                     size_t errlen);
 
 /* Number of points of the grid of axes[n_axes] (product of the counts). */
 long sweep_n_points(const sweep_axis *axes, int n_axes);

@@ -12,7 +12,7 @@
 #define SUNMC_DSS_CALFIT_H
 
 #include "calreport.h"
-#include "config.h"
+#include "dss_config.h"
 #include "dss_calib.h"
 #include "params_io.h"
 

@@ -37,7 +37,7 @@
 #ifndef SUNMC_DSS_CALIB_H
 #define SUNMC_DSS_CALIB_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "dss_model.h"
 #include "dss_poly.h"
 #include "fit.h"

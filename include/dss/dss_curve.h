@@ -13,7 +13,7 @@
 #ifndef SUNMC_DSS_CURVE_H
 #define SUNMC_DSS_CURVE_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "family.h"
 
 #include <stddef.h>

@@ -19,7 +19,7 @@
 #ifndef SUNMC_DSS_MODEL_H
 #define SUNMC_DSS_MODEL_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "rotation.h"
 
 enum dss_param {

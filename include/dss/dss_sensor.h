@@ -34,7 +34,7 @@
 #ifndef SUNMC_DSS_SENSOR_H
 #define SUNMC_DSS_SENSOR_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "dss_centroid.h"
 #include "rotation.h"
 

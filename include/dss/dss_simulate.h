@@ -9,7 +9,7 @@
 #ifndef SUNMC_DSS_SIMULATE_H
 #define SUNMC_DSS_SIMULATE_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "dss_unit.h"
 
 #include <stddef.h>

@@ -12,7 +12,7 @@
 #ifndef SUNMC_DSS_UNIT_H
 #define SUNMC_DSS_UNIT_H
 
-#include "config.h"
+#include "dss_config.h"
 #include "rng.h"
 #include "dss_calib.h"
 #include "dss_sensor.h"

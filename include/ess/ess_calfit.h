@@ -13,7 +13,7 @@
 #define SUNMC_ESS_CALFIT_H
 
 #include "calreport.h"
-#include "config.h"
+#include "ess_config.h"
 #include "ess_calib.h"
 #include "ess_model.h"
 #include "params_io.h"

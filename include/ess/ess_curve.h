@@ -6,7 +6,7 @@
 #ifndef SUNMC_ESS_CURVE_H
 #define SUNMC_ESS_CURVE_H
 
-#include "config.h"
+#include "ess_config.h"
 #include "family.h"
 
 #include <stddef.h>

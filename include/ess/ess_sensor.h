@@ -27,7 +27,7 @@
 #ifndef SUNMC_ESS_SENSOR_H
 #define SUNMC_ESS_SENSOR_H
 
-#include "config.h"
+#include "ess_config.h"
 #include "rng.h"
 
 #define ESS_FINE_ROWS 4

@@ -10,7 +10,7 @@
 #ifndef SUNMC_ESS_SIMULATE_H
 #define SUNMC_ESS_SIMULATE_H
 
-#include "config.h"
+#include "ess_config.h"
 #include "ess_unit.h"
 
 #include <stddef.h>

@@ -5,7 +5,7 @@
 #ifndef SUNMC_ESS_UNIT_H
 #define SUNMC_ESS_UNIT_H
 
-#include "config.h"
+#include "ess_config.h"
 #include "ess_calib.h"
 #include "ess_model.h"
 #include "ess_sensor.h"

@@ -33,7 +33,7 @@ static void dist_name(const sunmc_config *c, const budget_source *s, char *buf, 
 {
     char dname[2 * CONFIG_STR_MAX];
     snprintf(dname, sizeof dname, "%s_dist", s->name);
-    const config_key *dk = config_find("tolerance", dname);
+    const config_key *dk = config_find_in(c->family, "tolerance", dname);
     if (dk)
         config_format_value(dk, c, buf, len);
     else
@@ -132,7 +132,7 @@ int cmd_budget(int argc, char **argv)
     if ((rc = cli_config(&o, &st)))
         return rc;
     const sunmc_config *c = &st.cfg;
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     long units = o.end >= 0 ? o.end : c->units;
     int threads = cli_threads(&o, c);
 

@@ -149,6 +149,7 @@ static int calibration_header(params_file *p, const char *sensor, const char *mo
 
 static int calibrate_ess(const cli_options *o, const sunmc_config *c)
 {
+    const ess_config *ec = ess_cfg(c);
     const char *data = o->positional[0];
     char err[SUNMC_ERRLEN];
     ess_calib_workspace *cw;
@@ -185,9 +186,9 @@ static int calibrate_ess(const cli_options *o, const sunmc_config *c)
         params_init(pf);
         st = calibration_header(pf, "ess", ESS_CALFIT_MODEL, data, o->config, cw->n, rep, err,
                                 sizeof err);
-        if (st == SUNMC_OK && ess_params_fill(pf, res, rep, c->ess.theta0_deg) != SUNMC_OK)
+        if (st == SUNMC_OK && ess_params_fill(pf, res, rep, ec->design.theta0_deg) != SUNMC_OK)
             st = sunmc_fail(err, sizeof err, SUNMC_EINPUT, "params.ini: too many entries");
-        double amin = c->cal_alpha_min_deg, amax = c->cal_alpha_max_deg;
+        double amin = ec->cal_alpha_min_deg, amax = ec->cal_alpha_max_deg;
         for (size_t i = 0; i < cw->n; i++) {
             amin = fmin(amin, cw->alpha_rad[i] * DEG_PER_RAD);
             amax = fmax(amax, cw->alpha_rad[i] * DEG_PER_RAD);
@@ -231,6 +232,7 @@ static int calibrate_ess(const cli_options *o, const sunmc_config *c)
 static int read_dss_campaign(const char *path, const sunmc_config *c, dss_calib_workspace **out,
                              int **line_out, char *err, size_t errlen)
 {
+    const dss_config *dc = dss_cfg(c);
     csv_table *t;
     int st = csv_read(path, &t, err, errlen);
     if (st != SUNMC_OK)
@@ -238,7 +240,7 @@ static int read_dss_campaign(const char *path, const sunmc_config *c, dss_calib_
     const char *names[5] = {"b1_deg", "b2_deg", "x_px", "y_px", "weight"};
     double *v[5] = {NULL, NULL, NULL, NULL, NULL};
     st = read_columns(t, path, names, 5, v, err, errlen);
-    int np = c->cal_model == DSS_MODEL_PHYSICAL ? DSS_NP : dss_poly_n_terms(c->poly_order);
+    int np = dc->cal_model == DSS_MODEL_PHYSICAL ? DSS_NP : dss_poly_n_terms(dc->poly_order);
     char why[128];
     snprintf(why, sizeof why, "the dss model has up to %d parameters: need at least %d rows", np,
              np + 1);
@@ -247,7 +249,8 @@ static int read_dss_campaign(const char *path, const sunmc_config *c, dss_calib_
     dss_calib_workspace *cw = NULL;
     int *line = NULL;
     if (st == SUNMC_OK) {
-        cw = dss_calib_alloc(&c->dss, t->n_rows, c->cal_model, c->poly_order, c->fit_glass_index);
+        cw = dss_calib_alloc(&dc->design, t->n_rows, dc->cal_model, dc->poly_order,
+                             dc->fit_glass_index);
         line = malloc(t->n_rows * sizeof *line);
         if (!cw || !line)
             st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: cannot set up the fit", path);
@@ -359,10 +362,9 @@ int cmd_calibrate(int argc, char **argv)
                         "file (see sunmc calibrate --help)\n");
         return EXIT_BAD_INPUT;
     }
-    int fam = strcmp(o.sensor, "ess") == 0 ? FAMILY_ESS
-              : strcmp(o.sensor, "dss") == 0 ? FAMILY_DSS
-                                             : 0;
-    if (!fam) {
+    const sensor_family *fam = sensor_family_find(o.sensor);
+    int is_ess = fam && strcmp(fam->name, "ess") == 0;
+    if (!fam || (!is_ess && strcmp(fam->name, "dss") != 0)) {
         fprintf(stderr, "sunmc calibrate: --sensor must be ess or dss, not '%s'\n", o.sensor);
         return EXIT_BAD_INPUT;
     }
@@ -371,11 +373,11 @@ int cmd_calibrate(int argc, char **argv)
         return rc;
     if (st.cfg.family != fam) {
         fprintf(stderr, "sunmc calibrate: --sensor %s, but %s is a %s config (sensor.family)\n",
-                o.sensor, o.config, st.cfg.family == FAMILY_ESS ? "ess" : "dss");
+                o.sensor, o.config, st.cfg.family->name);
         config_state_free(&st);
         return EXIT_BAD_INPUT;
     }
-    rc = fam == FAMILY_ESS ? calibrate_ess(&o, &st.cfg) : calibrate_dss(&o, &st.cfg);
+    rc = is_ess ? calibrate_ess(&o, &st.cfg) : calibrate_dss(&o, &st.cfg);
     config_state_free(&st);
     return rc;
 }

@@ -24,25 +24,13 @@ static const char curve_help[] =
     "--out DIR writes curve.tsv (one block per series, blank line between blocks) and\n"
     "config.ini.  Change the grid with e.g. --set validation.alpha_step_deg=0.5.\n";
 
-#define DIST_SUFFIX "_dist"
-
-/* A tolerance key of family `family` (one with a _dist sibling). */
-static int is_source(const config_key *k, int family)
-{
-    char dist[2 * CONFIG_STR_MAX];
-    if (strcmp(k->section, "tolerance") != 0 || k->type != KEY_DOUBLE || !(k->families & family))
-        return 0;
-    snprintf(dist, sizeof dist, "%s" DIST_SUFFIX, k->name);
-    return config_find("tolerance", dist) != NULL;
-}
-
 /* Every tolerance of st's family to 0 (nominal), through config_set_value. */
 static int set_nominal(config_state *st, char *err, size_t errlen)
 {
-    for (size_t i = 0; i < config_key_count; i++)
-        if (is_source(&config_keys[i], st->cfg.family)) {
-            int s = config_set_value(st, "tolerance", config_keys[i].name, "0", "--only", err,
-                                     errlen);
+    const sensor_family *fam = st->cfg.family;
+    for (const config_key *k = fam->keys; k && k->section; k++)
+        if (config_is_tolerance(k, fam)) {
+            int s = config_set_value(st, "tolerance", k->name, "0", "--only", err, errlen);
             if (s)
                 return s;
         }
@@ -63,8 +51,8 @@ static int apply_only(config_state *st, const char *spec, double *sign, char *er
         key += strlen("tolerance.");
     memcpy(name, key, (size_t)(eq - key));
     name[eq - key] = '\0';
-    const config_key *k = config_find("tolerance", name);
-    if (!k || !is_source(k, st->cfg.family))
+    const config_key *k = config_find_in(st->cfg.family, "tolerance", name);
+    if (!k || !config_is_tolerance(k, st->cfg.family))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--only %s: '%s' is not a tolerance key of this sensor family", spec,
                           name);
@@ -80,7 +68,7 @@ static int apply_only(config_state *st, const char *spec, double *sign, char *er
     if (s == SUNMC_OK)
         s = config_set_value(st, "tolerance", name, val, "--only", err, errlen);
     char dist[2 * CONFIG_STR_MAX];
-    snprintf(dist, sizeof dist, "%s" DIST_SUFFIX, name);
+    snprintf(dist, sizeof dist, "%s_dist", name);
     if (s == SUNMC_OK)
         s = config_set_value(st, "tolerance", dist, "fixed", "--only", err, errlen);
     return s;
@@ -129,7 +117,7 @@ int cmd_curve(int argc, char **argv)
         status = set_nominal(&nom, err, sizeof err);
     long unit = o.unit >= 0 ? o.unit : 0;
     const sunmc_config *c = &st.cfg;
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     if (status == SUNMC_OK && !fam->curve_eval)
         status = sunmc_fail(err, sizeof err, SUNMC_EINPUT,
                             "the %s family has no error curves in this version", fam->name);

@@ -34,7 +34,7 @@ int cli_threads(const cli_options *o, const sunmc_config *c)
 int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
                     void **results_out, void **rows_out)
 {
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     long n = end - first;
     unit_result *results = calloc((size_t)n, sizeof *results);
     summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
@@ -95,7 +95,7 @@ int cmd_run(int argc, char **argv)
     if ((rc = cli_config(&o, &st)))
         return rc;
     const sunmc_config *c = &st.cfg;
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     long first = o.end >= 0 ? o.first : 0;
     long end = o.end >= 0 ? o.end : c->units;
     int threads = cli_threads(&o, c);

@@ -73,6 +73,7 @@ static int sim_alloc(sim_buffers *b, size_t n, size_t nv)
 
 static int simulate_ess(const cli_options *o, const sunmc_config *c)
 {
+    const ess_config *ec = ess_cfg(c);
     ess_deviations dev;
     ess_unit u;
     ess_deviations_sample(c, (uint64_t)c->seed, o->unit, &dev);
@@ -131,12 +132,13 @@ static int simulate_ess(const cli_options *o, const sunmc_config *c)
             fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
         fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,"
                     "seen\n");
-        long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
+        long na =
+            grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
         for (size_t i = 0; i < n; i++) {
             /* The recorded angles as the campaign computes them, so that
              * reading them back gives the very same radians. */
-            double a_deg = c->cal_alpha_min_deg + (double)((long)i % na) * c->cal_alpha_step_deg;
-            double b_deg = c->cal_beta_deg.v[(long)i / na];
+            double a_deg = ec->cal_alpha_min_deg + (double)((long)i % na) * ec->cal_alpha_step_deg;
+            double b_deg = ec->cal_beta_deg.v[(long)i / na];
             fprintf(fc, "%.17g,%.17g,%.17g,%g\n", a_deg, b_deg, cw->raw_rad[i] * DEG_PER_RAD,
                     cw->weight[i]);
             fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", a_deg, b_deg,
@@ -182,6 +184,7 @@ static int simulate_ess(const cli_options *o, const sunmc_config *c)
 
 static int simulate_dss(const cli_options *o, const sunmc_config *c)
 {
+    const dss_config *dc = dss_cfg(c);
     dss_deviations dev;
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, o->unit, &dev);
@@ -217,7 +220,7 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
     if (st == SUNMC_OK)
         st = out_open(&os, o->out, "validation.csv", &fv, err, sizeof err);
     if (st == SUNMC_OK) {
-        long nb = grid_count(c->cal_b_min_deg, c->cal_b_max_deg, c->cal_b_step_deg, 0);
+        long nb = grid_count(dc->cal_b_min_deg, dc->cal_b_max_deg, dc->cal_b_step_deg, 0);
         fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",
                 SUNMC_VERSION, o->unit, o->config, c->product, c->seed);
         fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
@@ -230,8 +233,8 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
         fprintf(ft, "b1_deg,b2_deg,truth_alpha_deg,truth_beta_deg,seen\n");
         for (size_t i = 0; i < n; i++) {
             /* b1 varies slowest; the degrees as the campaign computes them. */
-            double b1 = c->cal_b_min_deg + (double)((long)i / nb) * c->cal_b_step_deg;
-            double b2 = c->cal_b_min_deg + (double)((long)i % nb) * c->cal_b_step_deg;
+            double b1 = dc->cal_b_min_deg + (double)((long)i / nb) * dc->cal_b_step_deg;
+            double b2 = dc->cal_b_min_deg + (double)((long)i % nb) * dc->cal_b_step_deg;
             int spot = v[4][i] > 0 && isfinite(v[2][i]) && isfinite(v[3][i]);
             fprintf(fc, "%.17g,%.17g,%.17g,%.17g,%g\n", b1, b2, spot ? v[2][i] : 0.0,
                     spot ? v[3][i] : 0.0, spot ? v[4][i] : 0.0);
@@ -289,7 +292,8 @@ int cmd_simulate(int argc, char **argv)
     config_state st;
     if ((rc = cli_config(&o, &st)))
         return rc;
-    rc = st.cfg.family == FAMILY_ESS ? simulate_ess(&o, &st.cfg) : simulate_dss(&o, &st.cfg);
+    rc = strcmp(st.cfg.family->name, "ess") == 0 ? simulate_ess(&o, &st.cfg)
+                                                 : simulate_dss(&o, &st.cfg);
     config_state_free(&st);
     return rc;
 }

@@ -64,8 +64,10 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
                    100.0 * s->yield, s->alias_units, s->fit_failures);
         }
     }
-    printf("mean RMS in %s; alias = units whose campaign could not resolve the fine-code term\n",
-           u);
+    printf("mean RMS in %s", u);
+    if (fam->alias_term)
+        printf("; alias = units whose campaign could not resolve %s", fam->alias_term);
+    putchar('\n');
 }
 
 int cmd_sweep(int argc, char **argv)
@@ -111,7 +113,7 @@ int cmd_sweep(int argc, char **argv)
         config_state_free(&st);
     }
 
-    const sensor_family *fam = family_of(&base.cfg);
+    const sensor_family *fam = base.cfg.family;
     int n_rows = report_n_rows(&base.cfg, fam);
     summary_row *rows = calloc((size_t)(n_points * n_rows), sizeof *rows);
     if (!rows) {

@@ -36,10 +36,13 @@ static void usage(FILE *f)
             "\n"
             "config keys (section.key, unit, default; `sunmc config --reference` explains each):\n",
             SUNMC_VERSION);
-    for (size_t i = 0; i < config_key_count; i++) {
-        const config_key *k = &config_keys[i];
+    const config_key *keys[CONFIG_KEYS_MAX];
+    const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(NULL, keys, owners, CONFIG_KEYS_MAX);
+    for (size_t i = 0; i < n; i++) {
+        const config_key *k = keys[i];
         fprintf(f, "  %s.%s%s%s = %s\n", k->section, k->name, k->unit[0] ? " [" : "",
-                k->unit[0] ? k->unit : "", k->def);
+                k->unit[0] ? k->unit : "", config_key_default(k, owners[i]));
     }
 }
 

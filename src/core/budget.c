@@ -9,40 +9,28 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define DIST_SUFFIX "_dist"
-
-static int is_source_key(const config_key *k, int family)
-{
-    if (strcmp(k->section, "tolerance") != 0 || k->type != KEY_DOUBLE || !(k->families & family))
-        return 0;
-    char dist[2 * CONFIG_STR_MAX];
-    snprintf(dist, sizeof dist, "%s" DIST_SUFFIX, k->name);
-    return config_find("tolerance", dist) != NULL;
-}
-
 static double get_value(const sunmc_config *cfg, const config_key *k)
 {
-    return *(const double *)((const char *)cfg + k->offset);
+    return *(const double *)config_value_cptr(k, cfg);
 }
 
 void budget_set_tolerance(sunmc_config *cfg, const config_key *key, double value)
 {
-    *(double *)((char *)cfg + key->offset) = value;
+    *(double *)config_value_ptr(key, cfg) = value;
 }
 
 int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t errlen)
 {
     memset(b, 0, sizeof *b);
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     b->angle = fam->n_angles(c) - 1;
     b->band = 0;
     for (int i = 1; i < c->bands_deg.n; i++)
         if (c->bands_deg.hi[i] - c->bands_deg.lo[i] >=
             c->bands_deg.hi[b->band] - c->bands_deg.lo[b->band])
             b->band = i;
-    for (size_t i = 0; i < config_key_count; i++) {
-        const config_key *k = &config_keys[i];
-        if (!is_source_key(k, c->family) || !(get_value(c, k) > 0))
+    for (const config_key *k = fam->keys; k && k->section; k++) {
+        if (!config_is_tolerance(k, fam) || !(get_value(c, k) > 0))
             continue;
         if (b->n >= BUDGET_MAX_SOURCES)
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "more than %d tolerance sources",
@@ -61,7 +49,7 @@ int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t er
 int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
                        budget_stats *out, char *err, size_t errlen)
 {
-    const sensor_family *fam = family_of(c);
+    const sensor_family *fam = c->family;
     int nr = report_n_rows(c, fam);
     unit_result *res = calloc((size_t)units, sizeof *res);
     summary_row *rows = calloc((size_t)nr, sizeof *rows);

@@ -1,6 +1,7 @@
-/* config.c - INI parsing, --set overrides, validation and dumps, all driven
- * by the key table in config_keys.c. */
+/* config.c - building a config: finding keys across the shared and family
+ * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
+#include "registry.h"
 #include "status.h"
 
 #include <ctype.h>
@@ -11,257 +12,146 @@
 
 #define LINE_MAX_LEN 1024
 
-static const char *const family_names[] = {"", "ess", "dss", "ess, dss"};
-
-static char *trim(char *s)
+/* Rows of a family's key table (it ends with a NULL section). */
+static size_t table_len(const config_key *t)
 {
-    while (isspace((unsigned char)*s))
-        s++;
-    char *e = s + strlen(s);
-    while (e > s && isspace((unsigned char)e[-1]))
-        *--e = '\0';
-    return s;
+    size_t n = 0;
+    while (t && t[n].section)
+        n++;
+    return n;
+}
+
+static const config_key *find_in(const config_key *t, size_t n, const char *section,
+                                 const char *name)
+{
+    for (size_t i = 0; i < n; i++)
+        if (strcmp(t[i].section, section) == 0 && strcmp(t[i].name, name) == 0)
+            return &t[i];
+    return NULL;
+}
+
+const config_key *config_find_in(const sensor_family *fam, const char *section, const char *name)
+{
+    const config_key *k = find_in(config_keys, config_key_count, section, name);
+    if (!k && fam)
+        k = find_in(fam->keys, table_len(fam->keys), section, name);
+    return k;
 }
 
 const config_key *config_find(const char *section, const char *name)
 {
-    for (size_t i = 0; i < config_key_count; i++)
-        if (strcmp(config_keys[i].section, section) == 0 && strcmp(config_keys[i].name, name) == 0)
-            return &config_keys[i];
-    return NULL;
+    const config_key *k = config_find_in(NULL, section, name);
+    for (int i = 0; !k && i < sensor_family_count(); i++)
+        k = config_find_in(sensor_family_at(i), section, name);
+    return k;
 }
 
 static int section_known(const char *section)
 {
-    for (size_t i = 0; i < config_key_count; i++)
-        if (strcmp(config_keys[i].section, section) == 0)
+    for (size_t i = 0; i < config_section_count; i++)
+        if (strcmp(config_sections[i], section) == 0)
             return 1;
     return 0;
 }
 
-/* Parse a whole-string double; 0 on success. */
-static int parse_double(const char *s, double *out)
+int config_key_is_shared(const config_key *k)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || errno == ERANGE || !isfinite(v))
-        return -1;
-    while (isspace((unsigned char)*end))
-        end++;
-    if (*end != '\0')
-        return -1;
-    *out = v;
-    return 0;
+    return k >= config_keys && k < config_keys + config_key_count;
 }
 
-static int parse_long(const char *s, long *out)
+int config_key_applies(const config_key *k, const sensor_family *fam)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || errno == ERANGE)
-        return -1;
-    while (isspace((unsigned char)*end))
-        end++;
-    if (*end != '\0')
-        return -1;
-    *out = v;
-    return 0;
+    if (config_key_is_shared(k))
+        return 1;
+    return fam && k >= fam->keys && k < fam->keys + table_len(fam->keys);
 }
 
-static void range_text(const config_key *k, char *buf, size_t len)
+int config_is_tolerance(const config_key *k, const sensor_family *fam)
 {
-    if (k->type == KEY_ENUM)
-        snprintf(buf, len, "one of %s", k->choices);
-    else if (k->type == KEY_STRING)
-        snprintf(buf, len, "text of at most %d characters", CONFIG_STR_MAX - 1);
-    else
-        snprintf(buf, len, "%g to %g%s%s", k->min, k->max, k->unit[0] ? " " : "", k->unit);
+    char dist[2 * CONFIG_STR_MAX];
+    if (strcmp(k->section, "tolerance") != 0 || k->type != KEY_DOUBLE ||
+        config_key_is_shared(k) || !config_key_applies(k, fam))
+        return 0;
+    snprintf(dist, sizeof dist, "%s_dist", k->name);
+    return find_in(fam->keys, table_len(fam->keys), "tolerance", dist) != NULL;
 }
 
-static int check_range(const config_key *k, double v, const char *where, const char *what,
-                       char *err, size_t errlen)
+void *config_value_ptr(const config_key *k, sunmc_config *c)
 {
-    if (v < k->min || v > k->max) {
-        char r[128];
-        range_text(k, r, sizeof r);
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = %s is out of range: allowed %s",
-                          where, k->section, k->name, what, r);
+    return config_key_is_shared(k) ? (void *)((char *)c + k->offset)
+                                   : (void *)(c->fam.bytes + k->offset);
+}
+
+const void *config_value_cptr(const config_key *k, const sunmc_config *c)
+{
+    return config_key_is_shared(k) ? (const void *)((const char *)c + k->offset)
+                                   : (const void *)(c->fam.bytes + k->offset);
+}
+
+/* Names of the families that have section.name, "a, b". */
+static void families_with(const char *section, const char *name, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < sensor_family_count() && used < len; i++) {
+        const sensor_family *f = sensor_family_at(i);
+        if (find_in(f->keys, table_len(f->keys), section, name))
+            used += (size_t)snprintf(buf + used, len - used, "%s%s", used ? ", " : "", f->name);
     }
-    return SUNMC_OK;
 }
 
-static int enum_index(const char *choices, const char *value)
+static long view_index(const config_state *st, const config_key *k)
 {
-    size_t vlen = strlen(value);
-    int idx = 0;
-    const char *p = choices;
-    while (*p) {
-        const char *bar = strchr(p, '|');
-        size_t len = bar ? (size_t)(bar - p) : strlen(p);
-        if (len == vlen && strncmp(p, value, len) == 0)
-            return idx;
-        if (!bar)
-            break;
-        p = bar + 1;
-        idx++;
-    }
+    for (size_t i = 0; i < st->n_keys; i++)
+        if (st->keys[i] == k)
+            return (long)i;
     return -1;
 }
 
-static void enum_name(const char *choices, int idx, char *buf, size_t len)
+const char *config_origin_of(const config_state *st, const config_key *k)
 {
-    const char *p = choices;
-    for (int i = 0; i < idx && p; i++) {
-        p = strchr(p, '|');
-        if (p)
-            p++;
-    }
-    if (!p) {
-        snprintf(buf, len, "?");
-        return;
-    }
-    const char *bar = strchr(p, '|');
-    size_t n = bar ? (size_t)(bar - p) : strlen(p);
-    if (n >= len)
-        n = len - 1;
-    memcpy(buf, p, n);
-    buf[n] = '\0';
+    long i = view_index(st, k);
+    return i < 0 || !st->origins ? NULL : st->origins[i].origin;
 }
 
-/* Parse `value` for key k into cfg (no family check). */
-static int set_parsed(const config_key *k, sunmc_config *cfg, const char *value, const char *where,
-                      char *err, size_t errlen)
+static void set_origin(config_state *st, const config_key *k, const char *where)
 {
-    char *base = (char *)cfg + k->offset;
-    char buf[LINE_MAX_LEN];
-    snprintf(buf, sizeof buf, "%s", value);
-    char *v = trim(buf);
-    double d;
-    long l;
-    int st;
-
-    switch (k->type) {
-    case KEY_DOUBLE:
-        if (parse_double(v, &d) != 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not a number", where,
-                              k->section, k->name, v);
-        if ((st = check_range(k, d, where, v, err, errlen)) != SUNMC_OK)
-            return st;
-        *(double *)base = d;
-        return SUNMC_OK;
-    case KEY_INT:
-    case KEY_LONG:
-        if (parse_long(v, &l) != 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not a whole number",
-                              where, k->section, k->name, v);
-        if ((st = check_range(k, (double)l, where, v, err, errlen)) != SUNMC_OK)
-            return st;
-        if (k->type == KEY_INT)
-            *(int *)base = (int)l;
-        else
-            *(long *)base = l;
-        return SUNMC_OK;
-    case KEY_ENUM: {
-        int idx = enum_index(k->choices, v);
-        if (idx < 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not allowed: one of %s",
-                              where, k->section, k->name, v, k->choices);
-        *(int *)base = idx + (int)k->min;
-        return SUNMC_OK;
-    }
-    case KEY_STRING:
-        if (strlen(v) >= CONFIG_STR_MAX || strlen(v) == 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "%s: %s.%s must be text of 1 to %d characters", where, k->section,
-                              k->name, CONFIG_STR_MAX - 1);
-        for (const char *p = v; *p; p++)
-            if (*p == '\t' || !isprint((unsigned char)*p))
-                return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                  "%s: %s.%s holds a tab or control character", where,
-                                  k->section, k->name);
-        snprintf((char *)base, CONFIG_STR_MAX, "%s", v);
-        return SUNMC_OK;
-    case KEY_LIST: {
-        double_list tmp = {0};
-        char *save = NULL;
-        for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-            char *t = trim(tok);
-            if (tmp.n >= CONFIG_LIST_MAX)
-                return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values",
-                                  where, k->section, k->name, CONFIG_LIST_MAX);
-            if (parse_double(t, &d) != 0)
-                return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                  "%s: %s.%s: '%s' is not a number (a comma-separated list)",
-                                  where, k->section, k->name, t);
-            if ((st = check_range(k, d, where, t, err, errlen)) != SUNMC_OK)
-                return st;
-            tmp.v[tmp.n++] = d;
-        }
-        if (tmp.n == 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s is an empty list", where,
-                              k->section, k->name);
-        *(double_list *)base = tmp;
-        return SUNMC_OK;
-    }
-    case KEY_BANDS: {
-        band_list tmp = {0};
-        char *save = NULL;
-        for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-            char *t = trim(tok);
-            char *colon = strchr(t, ':');
-            double lo, hi;
-            if (tmp.n >= CONFIG_BANDS_MAX)
-                return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d bands",
-                                  where, k->section, k->name, CONFIG_BANDS_MAX);
-            if (!colon)
-                return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                  "%s: %s.%s: band '%s' is not LO:HI (e.g. 0:30, 30:60)", where,
-                                  k->section, k->name, t);
-            *colon = '\0';
-            if (parse_double(trim(t), &lo) != 0 || parse_double(trim(colon + 1), &hi) != 0)
-                return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                  "%s: %s.%s: band bounds must be numbers", where, k->section,
-                                  k->name);
-            if ((st = check_range(k, lo, where, "band low", err, errlen)) != SUNMC_OK ||
-                (st = check_range(k, hi, where, "band high", err, errlen)) != SUNMC_OK)
-                return st;
-            if (!(hi > lo))
-                return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                  "%s: %s.%s: band %g:%g must have LO < HI", where, k->section,
-                                  k->name, lo, hi);
-            tmp.lo[tmp.n] = lo;
-            tmp.hi[tmp.n] = hi;
-            tmp.n++;
-        }
-        if (tmp.n == 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has no band", where,
-                              k->section, k->name);
-        *(band_list *)base = tmp;
-        return SUNMC_OK;
-    }
-    }
-    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: internal: bad key type", where);
+    long i = view_index(st, k);
+    if (i >= 0 && st->origins)
+        snprintf(st->origins[i].origin, CONFIG_ORIGIN_MAX, "%s", where);
 }
 
 int config_set_value(config_state *st, const char *section, const char *name, const char *value,
                      const char *where, char *err, size_t errlen)
 {
-    const config_key *k = config_find(section, name);
+    const config_key *k = config_find_in(st->cfg.family, section, name);
     if (!k) {
+        char fams[128];
+        families_with(section, name, fams, sizeof fams);
+        if (fams[0])
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: %s.%s applies to %s sensors, but sensor.family is %s", where,
+                              section, name, fams, st->cfg.family->name);
         if (!section_known(section))
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown section [%s]", where, section);
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown key '%s' in section [%s]", where,
                           name, section);
     }
-    if (!(k->families & st->cfg.family))
-        return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "%s: %s.%s applies to %s sensors, but sensor.family is %s", where,
-                          section, name, family_names[k->families], family_names[st->cfg.family]);
-    int s = set_parsed(k, &st->cfg, value, where, err, errlen);
-    if (s == SUNMC_OK && st->origins)
-        snprintf(st->origins[k - config_keys].origin, CONFIG_ORIGIN_MAX, "%s", where);
+    if (k->type == KEY_FAMILY) {
+        const sensor_family *f = NULL;
+        int s = config_parse_value(k, (void *)&f, value, where, err, errlen);
+        if (s != SUNMC_OK)
+            return s;
+        if (f != st->cfg.family)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: sensor.family = %s, but this config was built for %s", where,
+                              f->name, st->cfg.family->name);
+        set_origin(st, k, where);
+        return SUNMC_OK;
+    }
+    int s = config_parse_value(k, config_value_ptr(k, &st->cfg), value, where, err, errlen);
+    if (s == SUNMC_OK)
+        set_origin(st, k, where);
     return s;
 }
 
@@ -295,18 +185,18 @@ static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen
                                 path, lineno, LINE_MAX_LEN);
             break;
         }
-        char *s = trim(line);
+        char *s = config_trim(line);
         if (*s == '\0' || *s == '#' || *s == ';')
             continue;
         if (*s == '[') {
             char *close = strchr(s, ']');
-            if (!close || *trim(close + 1) != '\0') {
+            if (!close || *config_trim(close + 1) != '\0') {
                 status = sunmc_fail(err, errlen, SUNMC_EINPUT,
                                     "%s:%d: malformed section header '%s'", path, lineno, s);
                 break;
             }
             *close = '\0';
-            char *name = trim(s + 1);
+            char *name = config_trim(s + 1);
             if (!section_known(name)) {
                 status = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]",
                                     path, lineno, name);
@@ -323,13 +213,13 @@ static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen
             break;
         }
         *eq = '\0';
-        char *key = trim(s);
-        char *value = trim(eq + 1);
+        char *key = config_trim(s);
+        char *value = config_trim(eq + 1);
         /* inline comment: " # ..." */
         char *hash = strstr(value, " #");
         if (hash) {
             *hash = '\0';
-            value = trim(value);
+            value = config_trim(value);
         }
         if (section[0] == '\0') {
             status = sunmc_fail(err, errlen, SUNMC_EINPUT,
@@ -393,15 +283,153 @@ static int split_set(const char *arg, char *section, char *name, char *value, ch
     return SUNMC_OK;
 }
 
-static int apply_defaults(config_state *st, int family, char *err, size_t errlen)
+/* 1 when fam lists its keys of `section` after the shared ones. */
+static int after_shared(const sensor_family *fam, const char *section)
 {
-    for (size_t i = 0; i < config_key_count; i++) {
-        const config_key *k = &config_keys[i];
-        const char *def = (family == FAMILY_DSS && k->def_dss) ? k->def_dss : k->def;
-        int s = set_parsed(k, &st->cfg, def, "default", err, errlen);
+    for (const char *const *s = fam->sections_after_shared; s && *s; s++)
+        if (strcmp(*s, section) == 0)
+            return 1;
+    return 0;
+}
+
+/* Append to keys[] (up to max) the keys of `section` of each family in
+ * fams[nf] that lists them before (after = 0) or after the shared ones. */
+static size_t add_family_keys(const sensor_family *const *fams, int nf, const char *section,
+                              int after, const config_key **keys, const sensor_family **owners,
+                              size_t n, size_t max)
+{
+    for (int f = 0; f < nf; f++) {
+        if (after_shared(fams[f], section) != after)
+            continue;
+        for (const config_key *k = fams[f]->keys; k && k->section; k++)
+            if (strcmp(k->section, section) == 0 && n < max) {
+                owners[n] = fams[f];
+                keys[n++] = k;
+            }
+    }
+    return n;
+}
+
+size_t config_list_keys(const sensor_family *fam, const config_key **keys,
+                        const sensor_family **owners, size_t max)
+{
+    const sensor_family *fams[CONFIG_FAMILIES_MAX];
+    int nf = 0;
+    if (fam)
+        fams[nf++] = fam;
+    else
+        for (; nf < sensor_family_count() && nf < CONFIG_FAMILIES_MAX; nf++)
+            fams[nf] = sensor_family_at(nf);
+    size_t n = 0;
+    for (size_t s = 0; s < config_section_count; s++) {
+        const char *sec = config_sections[s];
+        n = add_family_keys(fams, nf, sec, 0, keys, owners, n, max);
+        for (size_t i = 0; i < config_key_count; i++)
+            if (strcmp(config_keys[i].section, sec) == 0 && n < max) {
+                owners[n] = NULL;
+                keys[n++] = &config_keys[i];
+            }
+        n = add_family_keys(fams, nf, sec, 1, keys, owners, n, max);
+    }
+    return n;
+}
+
+const char *config_key_default(const config_key *k, const sensor_family *fam)
+{
+    if (!fam)
+        fam = sensor_family_at(0);
+    if (k->type == KEY_FAMILY)
+        return fam->name;
+    if (config_key_is_shared(k))
+        for (size_t i = 0; fam->defaults && fam->defaults[i].section; i++)
+            if (strcmp(fam->defaults[i].section, k->section) == 0 &&
+                strcmp(fam->defaults[i].name, k->name) == 0)
+                return fam->defaults[i].value;
+    return k->def;
+}
+
+/* st's key view and origins for family fam, every key at its default. */
+static int init_state(config_state *st, const sensor_family *fam, char *err, size_t errlen)
+{
+    const config_key *keys[CONFIG_KEYS_MAX];
+    const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(fam, keys, owners, CONFIG_KEYS_MAX);
+    if (n != config_key_count + table_len(fam->keys))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "internal: family %s has a key outside the known sections", fam->name);
+    st->keys = malloc(n * sizeof *st->keys);
+    st->origins = calloc(n, sizeof *st->origins);
+    if (!st->keys || !st->origins)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    memcpy(st->keys, keys, n * sizeof *keys);
+    st->n_keys = n;
+    st->cfg.family = fam;
+    for (size_t i = 0; i < n; i++) {
+        const config_key *k = keys[i];
+        snprintf(st->origins[i].origin, CONFIG_ORIGIN_MAX, "default");
+        if (k->type == KEY_FAMILY)
+            continue;
+        int s = config_parse_value(k, config_value_ptr(k, &st->cfg), config_key_default(k, fam),
+                                   "default", err, errlen);
         if (s != SUNMC_OK)
             return s;
-        snprintf(st->origins[i].origin, CONFIG_ORIGIN_MAX, "default");
+    }
+    return SUNMC_OK;
+}
+
+/* The family decides which keys and defaults apply: the file's
+ * sensor.family, then the overrides', else the registry's first.  where
+ * receives the origin of the deciding value ("" for the default). */
+static int resolve_family(const ini_entries *ents, const char *path, const char *const *sets,
+                          int n_sets, const sensor_family **fam, char *where, char *err,
+                          size_t errlen)
+{
+    const config_key *fk = config_find("sensor", "family");
+    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[LINE_MAX_LEN];
+    int s;
+    *fam = sensor_family_at(0);
+    where[0] = '\0';
+    for (int i = 0; i < ents->n; i++)
+        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].name, "family") == 0) {
+            snprintf(where, CONFIG_ORIGIN_MAX, "%s:%d", path, ents->v[i].line);
+            if ((s = config_parse_value(fk, (void *)fam, ents->v[i].value, where, err, errlen)))
+                return s;
+        }
+    for (int i = 0; i < n_sets; i++) {
+        if ((s = split_set(sets[i], section, name, value, err, errlen)) != SUNMC_OK)
+            return s;
+        if (strcmp(section, "sensor") == 0 && strcmp(name, "family") == 0) {
+            snprintf(where, CONFIG_ORIGIN_MAX, "--set %s.%s", section, name);
+            if ((s = config_parse_value(fk, (void *)fam, value, "--set", err, errlen)))
+                return s;
+        }
+    }
+    return SUNMC_OK;
+}
+
+/* The file's entries, then the overrides (sensor.family is already set). */
+static int apply_values(config_state *st, const ini_entries *ents, const char *path,
+                        const char *const *sets, int n_sets, char *err, size_t errlen)
+{
+    char where[CONFIG_ORIGIN_MAX];
+    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[LINE_MAX_LEN];
+    int s;
+    for (int i = 0; i < ents->n; i++) {
+        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].name, "family") == 0)
+            continue;
+        snprintf(where, sizeof where, "%s:%d", path, ents->v[i].line);
+        s = config_set_value(st, ents->v[i].section, ents->v[i].name, ents->v[i].value, where, err,
+                             errlen);
+        if (s != SUNMC_OK)
+            return s;
+    }
+    for (int i = 0; i < n_sets; i++) {
+        split_set(sets[i], section, name, value, err, errlen);
+        if (strcmp(section, "sensor") == 0 && strcmp(name, "family") == 0)
+            continue;
+        snprintf(where, sizeof where, "--set %s.%s", section, name);
+        if ((s = config_set_value(st, section, name, value, where, err, errlen)) != SUNMC_OK)
+            return s;
     }
     return SUNMC_OK;
 }
@@ -410,58 +438,25 @@ int config_build(config_state *st, const char *path, const char *const *sets, in
                  char *err, size_t errlen)
 {
     memset(st, 0, sizeof *st);
-    st->origins = calloc(config_key_count, sizeof *st->origins);
-    if (!st->origins)
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
-
     ini_entries ents = {0};
+    const sensor_family *fam;
+    char fam_where[CONFIG_ORIGIN_MAX];
     int status = SUNMC_OK;
-    char where[CONFIG_ORIGIN_MAX];
-    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[LINE_MAX_LEN];
-
     if (path && (status = read_ini(path, &ents, err, errlen)) != SUNMC_OK)
         goto done;
-
-    /* The family decides which defaults apply: find it first. */
-    const config_key *fk = config_find("sensor", "family");
-    st->cfg.family = FAMILY_ESS;
-    for (int i = 0; i < ents.n; i++)
-        if (strcmp(ents.v[i].section, "sensor") == 0 && strcmp(ents.v[i].name, "family") == 0) {
-            snprintf(where, sizeof where, "%s:%d", path, ents.v[i].line);
-            if ((status = set_parsed(fk, &st->cfg, ents.v[i].value, where, err, errlen)) != SUNMC_OK)
-                goto done;
-        }
-    for (int i = 0; i < n_sets; i++) {
-        if ((status = split_set(sets[i], section, name, value, err, errlen)) != SUNMC_OK)
-            goto done;
-        if (strcmp(section, "sensor") == 0 && strcmp(name, "family") == 0 &&
-            (status = set_parsed(fk, &st->cfg, value, "--set", err, errlen)) != SUNMC_OK)
-            goto done;
-    }
-    int family = st->cfg.family;
-    if ((status = apply_defaults(st, family, err, errlen)) != SUNMC_OK)
+    status = resolve_family(&ents, path, sets, n_sets, &fam, fam_where, err, errlen);
+    if (status == SUNMC_OK)
+        status = init_state(st, fam, err, errlen);
+    if (status != SUNMC_OK)
         goto done;
-    st->cfg.family = family;
-
-    for (int i = 0; i < ents.n; i++) {
-        snprintf(where, sizeof where, "%s:%d", path, ents.v[i].line);
-        status = config_set_value(st, ents.v[i].section, ents.v[i].name, ents.v[i].value, where,
-                                  err, errlen);
-        if (status != SUNMC_OK)
-            goto done;
-    }
-    for (int i = 0; i < n_sets; i++) {
-        split_set(sets[i], section, name, value, err, errlen);
-        snprintf(where, sizeof where, "--set %s.%s", section, name);
-        if ((status = config_set_value(st, section, name, value, where, err, errlen)) != SUNMC_OK)
-            goto done;
-    }
-    {
-        char verr[SUNMC_ERRLEN];
-        status = config_validate(&st->cfg, verr, sizeof verr);
-        if (status != SUNMC_OK)
-            sunmc_fail(err, errlen, status, "%s: %s", path ? path : "config", verr);
-    }
+    if (fam_where[0])
+        set_origin(st, config_find("sensor", "family"), fam_where);
+    if ((status = apply_values(st, &ents, path, sets, n_sets, err, errlen)) != SUNMC_OK)
+        goto done;
+    char verr[SUNMC_ERRLEN];
+    status = config_validate(&st->cfg, verr, sizeof verr);
+    if (status != SUNMC_OK)
+        sunmc_fail(err, errlen, status, "%s: %s", path ? path : "config", verr);
 done:
     free(ents.v);
     if (status != SUNMC_OK)
@@ -471,96 +466,18 @@ done:
 
 void config_state_free(config_state *st)
 {
+    free(st->keys);
     free(st->origins);
+    st->keys = NULL;
     st->origins = NULL;
+    st->n_keys = 0;
 }
 
-void config_format_value(const config_key *k, const sunmc_config *c, char *buf, size_t len)
+int config_validate(const sunmc_config *c, char *err, size_t errlen)
 {
-    const char *base = (const char *)c + k->offset;
-    size_t used = 0;
-    switch (k->type) {
-    case KEY_DOUBLE:
-        snprintf(buf, len, "%.10g", *(const double *)base);
-        break;
-    case KEY_INT:
-        snprintf(buf, len, "%d", *(const int *)base);
-        break;
-    case KEY_LONG:
-        snprintf(buf, len, "%ld", *(const long *)base);
-        break;
-    case KEY_ENUM:
-        enum_name(k->choices, *(const int *)base - (int)k->min, buf, len);
-        break;
-    case KEY_STRING:
-        snprintf(buf, len, "%s", base);
-        break;
-    case KEY_LIST: {
-        const double_list *l = (const double_list *)base;
-        buf[0] = '\0';
-        for (int i = 0; i < l->n && used < len; i++)
-            used += (size_t)snprintf(buf + used, len - used, "%s%.10g", i ? ", " : "", l->v[i]);
-        break;
-    }
-    case KEY_BANDS: {
-        const band_list *b = (const band_list *)base;
-        buf[0] = '\0';
-        for (int i = 0; i < b->n && used < len; i++)
-            used += (size_t)snprintf(buf + used, len - used, "%s%.10g:%.10g", i ? ", " : "",
-                                     b->lo[i], b->hi[i]);
-        break;
-    }
-    default:
-        snprintf(buf, len, "?");
-    }
-}
-
-int config_write(FILE *f, const config_state *st)
-{
-    const sunmc_config *c = &st->cfg;
-    const char *cur = "";
-    char buf[LINE_MAX_LEN];
-    fprintf(f, "# sunmc effective configuration (%s); the comment names each value's origin\n",
-            family_names[c->family]);
-    for (size_t i = 0; i < config_key_count; i++) {
-        const config_key *k = &config_keys[i];
-        if (!(k->families & c->family))
-            continue;
-        if (strcmp(cur, k->section) != 0) {
-            fprintf(f, "\n[%s]\n", k->section);
-            cur = k->section;
-        }
-        config_format_value(k, c, buf, sizeof buf);
-        if (st->origins)
-            fprintf(f, "%s = %s  # %s\n", k->name, buf, st->origins[i].origin);
-        else
-            fprintf(f, "%s = %s\n", k->name, buf);
-    }
-    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
-}
-
-int config_write_reference(FILE *f)
-{
-    const char *cur = "";
-    char r[128];
-    fprintf(f, "# sunmc reference configuration: every key, generated from the key table\n"
-               "# (`sunmc config --reference`).  Values shown are the ESS defaults; where the\n"
-               "# DSS default differs it is given in the comment.  Units are in the key names.\n"
-               "# Tolerances: KEY = magnitude and KEY_dist = fixed|uniform|normal|truncnormal\n"
-               "# (uniform: +-magnitude; normal, truncnormal: sigma = magnitude).\n");
-    for (size_t i = 0; i < config_key_count; i++) {
-        const config_key *k = &config_keys[i];
-        if (strcmp(cur, k->section) != 0) {
-            fprintf(f, "\n[%s]\n", k->section);
-            cur = k->section;
-        }
-        range_text(k, r, sizeof r);
-        fprintf(f, "# %s\n#   families: %s; allowed: %s", k->help, family_names[k->families], r);
-        if (k->def_dss)
-            fprintf(f, "; dss default: %s", k->def_dss);
-        fprintf(f, "\n# %s = %s\n", k->name, k->def);
-    }
-    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+    if (!c->family)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensor.family is not set");
+    return c->family->validate ? c->family->validate(c, err, errlen) : SUNMC_OK;
 }
 
 int config_get_number(const sunmc_config *c, const char *dotted, double *out, char *err,
@@ -572,10 +489,10 @@ int config_get_number(const sunmc_config *c, const char *dotted, double *out, ch
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "'%s' is not section.key", dotted);
     memcpy(section, dotted, (size_t)(dot - dotted));
     section[dot - dotted] = '\0';
-    const config_key *k = config_find(section, dot + 1);
+    const config_key *k = config_find_in(c->family, section, dot + 1);
     if (!k)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "unknown key '%s'", dotted);
-    const char *base = (const char *)c + k->offset;
+    const void *base = config_value_cptr(k, c);
     switch (k->type) {
     case KEY_DOUBLE:
         *out = *(const double *)base;

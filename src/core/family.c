@@ -1,4 +1,4 @@
-/* family.c - choosing a family, grids and per-band RMS accumulation. */
+/* family.c - grids and per-band RMS accumulation for the families. */
 #include "family.h"
 
 #include <math.h>
@@ -7,11 +7,6 @@
 
 /* Slack so that a grid end hit exactly in decimal is not lost to rounding. */
 #define GRID_EPS 1e-9
-
-const sensor_family *family_of(const sunmc_config *c)
-{
-    return c->family == FAMILY_DSS ? &dss_family : &ess_family;
-}
 
 long grid_count(double lo, double hi, double step, double offset)
 {

@@ -114,8 +114,8 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
         }
     fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld", u,
             rows[0].fit_failures, rows[0].gross_errors);
-    if (c->family == FAMILY_ESS)
-        fprintf(f, "   units whose campaign aliases the fine-code term: %ld", rows[0].alias_units);
+    if (fam->alias_term)
+        fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
 }
 

@@ -31,7 +31,8 @@ static int parse_number(const char *s, const char *end, double *out)
     return 0;
 }
 
-int sweep_axis_parse(const char *spec, int family, sweep_axis *ax, char *err, size_t errlen)
+int sweep_axis_parse(const char *spec, const sensor_family *family, sweep_axis *ax, char *err,
+                     size_t errlen)
 {
     memset(ax, 0, sizeof *ax);
     const char *eq = strchr(spec, '=');
@@ -46,7 +47,9 @@ int sweep_axis_parse(const char *spec, int family, sweep_axis *ax, char *err, si
     memcpy(ax->section, spec, ls);
     memcpy(ax->name, dot + 1, ln);
     snprintf(ax->dotted, sizeof ax->dotted, "%s.%s", ax->section, ax->name);
-    const config_key *k = config_find(ax->section, ax->name);
+    const config_key *k = config_find_in(family, ax->section, ax->name);
+    if (!k)
+        k = config_find(ax->section, ax->name);
     if (!k)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--vary %s: unknown key '%s'", spec,
                           ax->dotted);
@@ -54,7 +57,7 @@ int sweep_axis_parse(const char *spec, int family, sweep_axis *ax, char *err, si
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--vary %s: %s is not a single number and cannot be varied", spec,
                           ax->dotted);
-    if (!(k->families & family))
+    if (!config_key_applies(k, family))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--vary %s: %s does not apply to this sensor family", spec, ax->dotted);
 

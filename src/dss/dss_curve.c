@@ -22,20 +22,22 @@ typedef struct {
 
 long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
 {
+    const dss_config *dc = dss_cfg(c);
     (void)axis; /* both axes span the same validation grid */
-    long n = grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg,
-                        c->val_b_offset_deg);
+    long n =
+        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
     for (long j = 0; j < n && j < max; j++)
-        values_deg[j] = c->val_b_min_deg + c->val_b_offset_deg + (double)j * c->val_b_step_deg;
+        values_deg[j] = dc->val_b_min_deg + dc->val_b_offset_deg + (double)j * dc->val_b_step_deg;
     return n;
 }
 
 void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
+    const dss_config *dc = dss_cfg(c);
     size_t n = dss_campaign_size(c);
     dss_curve_ws *w = calloc(1, sizeof *w);
     if (w)
-        w->cw = dss_calib_alloc(&c->dss, n, c->cal_model, c->poly_order, c->fit_glass_index);
+        w->cw = dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order, dc->fit_glass_index);
     if (!w || !w->cw) {
         free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM,

@@ -35,7 +35,7 @@ static double draw(const sunmc_config *c, uint64_t seed, long unit, int index, c
 
 void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_deviations *d)
 {
-    const dss_tolerances *t = &c->dss_tol;
+    const dss_tolerances *t = &dss_cfg(c)->tol;
     d->dh_px = draw(c, seed, unit, 0, &t->dh_px);
     d->dx_px = draw(c, seed, unit, 1, &t->dx_px);
     d->dy_px = draw(c, seed, unit, 2, &t->dy_px);

@@ -11,7 +11,9 @@
 
 static long val_axis_count(const sunmc_config *c)
 {
-    return grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg, c->val_b_offset_deg);
+    const dss_config *dc = dss_cfg(c);
+    return grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg,
+                      dc->val_b_offset_deg);
 }
 
 size_t dss_validation_size(const sunmc_config *c)
@@ -24,16 +26,19 @@ void dss_validation_readings(const sunmc_config *c, const dss_unit *u, long unit
                              double *b2_rad, double *x_px, double *y_px, double *truth_alpha_rad,
                              double *truth_beta_rad, int *seen)
 {
+    const dss_config *dc = dss_cfg(c);
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
     long nb = val_axis_count(c);
     size_t i = 0;
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++, i++) {
-            double b1 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j1 * c->val_b_step_deg) *
-                        RAD_PER_DEG;
-            double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
-                        RAD_PER_DEG;
+            double b1 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j1 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
+            double b2 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j2 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
             double x, y;
             b1_rad[i] = b1;
             b2_rad[i] = b2;

@@ -28,13 +28,15 @@ static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
 
 void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u)
 {
+    const dss_config *dc = dss_cfg(c);
     u->dev = *dev;
-    dss_sensor_init(&u->sensor, &c->dss, dev, c->dss_noise.s_curve);
+    dss_sensor_init(&u->sensor, &dc->design, dev, dc->noise.s_curve);
 }
 
 static long cal_axis_count(const sunmc_config *c)
 {
-    return grid_count(c->cal_b_min_deg, c->cal_b_max_deg, c->cal_b_step_deg, 0);
+    const dss_config *dc = dss_cfg(c);
+    return grid_count(dc->cal_b_min_deg, dc->cal_b_max_deg, dc->cal_b_step_deg, 0);
 }
 
 size_t dss_campaign_size(const sunmc_config *c)
@@ -47,16 +49,17 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
                          double *b2_rad, double *x_px, double *y_px, double *weight,
                          double *truth_alpha_rad, double *truth_beta_rad)
 {
+    const dss_config *dc = dss_cfg(c);
     long nb = cal_axis_count(c);
     double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
-    double sigma = c->dss_noise.centroid_px;
+    double sigma = dc->noise.centroid_px;
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
     size_t seen = 0, i = 0;
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++, i++) {
-            double b1 = (c->cal_b_min_deg + (double)j1 * c->cal_b_step_deg) * RAD_PER_DEG;
-            double b2 = (c->cal_b_min_deg + (double)j2 * c->cal_b_step_deg) * RAD_PER_DEG;
+            double b1 = (dc->cal_b_min_deg + (double)j1 * dc->cal_b_step_deg) * RAD_PER_DEG;
+            double b2 = (dc->cal_b_min_deg + (double)j2 * dc->cal_b_step_deg) * RAD_PER_DEG;
             /* The table really stands at the recorded angles plus the encoder
              * error; the draws are made for every point so that a point's
              * noise does not depend on whether others are seen. */
@@ -87,7 +90,7 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
 
 int dss_par_names(const sunmc_config *c, const char **names, int max)
 {
-    int poly = c->cal_model == DSS_MODEL_POLYNOMIAL;
+    int poly = dss_cfg(c)->cal_model == DSS_MODEL_POLYNOMIAL;
     int n = poly ? DSS_N_PAR_POLYNOMIAL : DSS_N_PAR_PHYSICAL;
     for (int i = 0; i < n && i < max; i++)
         names[i] = poly ? par_polynomial[i] : par_physical[i];
@@ -97,24 +100,25 @@ int dss_par_names(const sunmc_config *c, const char **names, int max)
 int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
                    double rcond, double *out, int max)
 {
+    const dss_config *dc = dss_cfg(c);
     double pair = (i >= 0 && j >= 0) ? (double)(i * CORR_PAIR_BASE + j) : NAN;
     double lrc = rcond > 0 ? log10(rcond) : NAN;
-    if (c->cal_model == DSS_MODEL_POLYNOMIAL) {
+    if (dc->cal_model == DSS_MODEL_POLYNOMIAL) {
         double v[DSS_N_PAR_POLYNOMIAL] = {cal->poly.order, cal->poly.n_terms, corr, pair, lrc};
         memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
         return DSS_N_PAR_POLYNOMIAL;
     }
     const dss_model *m = &cal->phys;
-    double pix = c->dss.pixel_um * MM_PER_UM;
+    double pix = dc->design.pixel_um * MM_PER_UM;
     double v[DSS_N_PAR_PHYSICAL] = {
         m->p[DSS_P_X0] / pix,
         m->p[DSS_P_Y0] / pix,
-        (m->p[DSS_P_H] - c->dss.h_mm) / pix,
-        (m->p[DSS_P_T] - c->dss.glass_thickness_mm) * UM_PER_MM,
+        (m->p[DSS_P_H] - dc->design.h_mm) / pix,
+        (m->p[DSS_P_T] - dc->design.glass_thickness_mm) * UM_PER_MM,
         m->p[DSS_P_C1] * ARCSEC_PER_RAD,
         m->p[DSS_P_C2] * ARCSEC_PER_RAD,
         m->p[DSS_P_C3] * ARCSEC_PER_RAD,
-        m->p[DSS_P_N] - c->dss.glass_index,
+        m->p[DSS_P_N] - dc->design.glass_index,
         corr, pair, lrc};
     memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
     return DSS_N_PAR_PHYSICAL;
@@ -133,9 +137,10 @@ static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
 
 static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
+    const dss_config *dc = dss_cfg(c);
     size_t n = dss_campaign_size(c);
     dss_calib_workspace *cw =
-        dss_calib_alloc(&c->dss, n, c->cal_model, c->poly_order, c->fit_glass_index);
+        dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order, dc->fit_glass_index);
     if (!cw)
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
                    "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
@@ -167,7 +172,7 @@ int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream 
                            double b2_rad, double *x_px, double *y_px, double *a0_rad,
                            double *b0_rad)
 {
-    double sigma = c->dss_noise.centroid_px;
+    double sigma = dss_cfg(c)->noise.centroid_px;
     double noise[2] = {sigma * rng_normal(r), sigma * rng_normal(r)};
     dss_table_truth(b1_rad, b2_rad, a0_rad, b0_rad);
     return dss_sensor_read(&u->sensor, b1_rad, b2_rad, noise, x_px, y_px);
@@ -175,6 +180,7 @@ int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream 
 
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
+    const dss_config *dc = dss_cfg(c);
     dss_calib_workspace *cw = ws;
     double t = unit_clock();
     dss_deviations dev;
@@ -213,14 +219,16 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     }
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
-    long nb = grid_count(c->val_b_min_deg, c->val_b_max_deg, c->val_b_step_deg,
-                         c->val_b_offset_deg);
+    long nb =
+        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++) {
-            double b1 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j1 * c->val_b_step_deg) *
-                        RAD_PER_DEG;
-            double b2 = (c->val_b_min_deg + c->val_b_offset_deg + (double)j2 * c->val_b_step_deg) *
-                        RAD_PER_DEG;
+            double b1 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j1 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
+            double b2 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j2 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
             double x, y, a0, b0, am, bm;
             if (dss_validation_reading(c, &u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
                 continue;
@@ -243,16 +251,23 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
 static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
 {
-    if (c->cal_model == DSS_MODEL_POLYNOMIAL)
+    const dss_config *dc = dss_cfg(c);
+    if (dc->cal_model == DSS_MODEL_POLYNOMIAL)
         snprintf(buf, len, "2-D polynomial of order %d in the alpha and beta errors",
-                 c->poly_order);
+                 dc->poly_order);
     else
         snprintf(buf, len, "physical: principal point, height, cover glass%s, c1-c3",
-                 c->fit_glass_index ? " (thickness and index)" : " (thickness)");
+                 dc->fit_glass_index ? " (thickness and index)" : " (thickness)");
 }
 
 const sensor_family dss_family = {
     .name = "dss",
+    .description = "pinhole digital sun sensor",
+    .keys = dss_keys,
+    .defaults = dss_defaults,
+    .sections_after_shared = dss_sections_after_shared,
+    .validate = dss_config_validate,
+    .alias_term = NULL,
     .rms_unit = "arcsec",
     .arcsec_per_rms_unit = 1.0,
     .model_label = dss_model_label,

@@ -85,7 +85,8 @@ static double angle_rms(const ess_calib_workspace *cw, const double *use, const 
 static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                         ess_calfit_result *res, calreport *rep)
 {
-    double half_period = 0.5 * c->ess.theta0_deg * RAD_PER_DEG;
+    const ess_config *ec = ess_cfg(c);
+    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
     char lines[CALREPORT_TEXT_MAX / 2] = "";
     size_t used = 0;
     res->n_gross = 0;
@@ -105,12 +106,13 @@ static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const in
                        "%d readings differ from the table alpha by more than half a fine "
                        "period (%g deg)%s%s%s: the coarse code picked the wrong period or the "
                        "row is mis-recorded",
-                       res->n_gross, c->ess.theta0_deg / 2, line ? " (lines " : "", lines,
+                       res->n_gross, ec->design.theta0_deg / 2, line ? " (lines " : "", lines,
                        line ? (res->n_gross > GROSS_LINES_QUOTED ? ", ...)" : ")") : "");
 }
 
 static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep)
 {
+    const ess_config *ec = ess_cfg(c);
     for (int j = 0; j < 2; j++)
         if (cw->alias.weak[j])
             calreport_warn(rep,
@@ -122,8 +124,8 @@ static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw,
                            "kc) = (%+.3f, %+.3f) has %.3g of a full spread's variance (below "
                            "calibration.alias_threshold = %g), so it was regularised to 0 and "
                            "that part of the fine-code error stays uncorrected",
-                           c->ess.theta0_deg / 4, cw->alias.evec[j][0], cw->alias.evec[j][1],
-                           cw->alias.eig_norm[j], c->alias_threshold);
+                           ec->design.theta0_deg / 4, cw->alias.evec[j][0], cw->alias.evec[j][1],
+                           cw->alias.eig_norm[j], ec->alias_threshold);
 }
 
 static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calreport *rep,
@@ -176,7 +178,7 @@ static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calre
         }
         ess_model mk;
         fit_result fr;
-        fo->ok = left > ESS_NP && ess_calibrate(cw, theta0, roll, c->alias_threshold,
+        fo->ok = left > ESS_NP && ess_calibrate(cw, theta0, roll, ess_cfg(c)->alias_threshold,
                                                 c->max_iterations, &mk, &fr) == SUNMC_OK;
         fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
         if (fo->ok) {
@@ -263,10 +265,11 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
 {
+    const ess_config *ec = ess_cfg(c);
     calreport_init(rep, "ess", ESS_CALFIT_MODEL);
     memset(res, 0, sizeof *res);
-    double theta0 = c->ess.theta0_deg * RAD_PER_DEG;
-    double roll = c->roll_measured_arcsec * RAD_PER_ARCSEC;
+    double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
+    double roll = ec->roll_measured_arcsec * RAD_PER_ARCSEC;
     rep->n_rows = cw->n;
     rep->n_angles = 1;
     rep->angle_name[0] = "alpha";
@@ -281,8 +284,8 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                           "the table alpha); the ess model has %d parameters: need at least %d",
                           rep->n_used, ESS_NP, ESS_NP + 1);
 
-    int st = ess_calibrate(cw, theta0, roll, c->alias_threshold, c->max_iterations, &res->m,
-                           &rep->fit);
+    int st =
+        ess_calibrate(cw, theta0, roll, ec->alias_threshold, c->max_iterations, &res->m, &rep->fit);
     rep->fit_ok = st == SUNMC_OK;
     rep->cond_jacobian = 1.0 / rep->fit.rcond;
     alias_warnings(c, cw, rep);

@@ -19,16 +19,17 @@ typedef struct {
 
 long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
 {
+    const ess_config *ec = ess_cfg(c);
     if (axis == 1) {
-        for (long i = 0; i < c->val_beta_deg.n && i < max; i++)
-            values_deg[i] = c->val_beta_deg.v[i];
-        return c->val_beta_deg.n;
+        for (long i = 0; i < ec->val_beta_deg.n && i < max; i++)
+            values_deg[i] = ec->val_beta_deg.v[i];
+        return ec->val_beta_deg.n;
     }
-    long n = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
-                        c->val_alpha_offset_deg);
+    long n = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                        ec->val_alpha_offset_deg);
     for (long j = 0; j < n && j < max; j++)
-        values_deg[j] = c->val_alpha_min_deg + c->val_alpha_offset_deg +
-                        (double)j * c->val_alpha_step_deg;
+        values_deg[j] =
+            ec->val_alpha_min_deg + ec->val_alpha_offset_deg + (double)j * ec->val_alpha_step_deg;
     return n;
 }
 
@@ -82,6 +83,7 @@ static void deviations_scale(ess_deviations *d, double s)
 
 int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
 {
+    const ess_config *ec = ess_cfg(c);
     ess_curve_ws *w = cv;
     ess_deviations dev;
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
@@ -90,8 +92,8 @@ int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     int gross;
     ess_unit_campaign(c, &w->u, unit, w->cw, &gross);
     fit_result fr;
-    int st = ess_calibrate(w->cw, c->ess.theta0_deg * RAD_PER_DEG,
-                           dev.roll_measured_arcsec * RAD_PER_ARCSEC, c->alias_threshold,
+    int st = ess_calibrate(w->cw, ec->design.theta0_deg * RAD_PER_DEG,
+                           dev.roll_measured_arcsec * RAD_PER_ARCSEC, ec->alias_threshold,
                            c->max_iterations, &w->m, &fr);
     w->fit_ok = st == SUNMC_OK;
     *fit_ok = w->fit_ok;
@@ -109,7 +111,7 @@ int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
         return st;
     /* The coarse code picked the wrong fine period: a gross error, not a
      * point of the curve (the validation drops it the same way). */
-    if (fabs(raw - truth) > 0.5 * c->ess.theta0_deg * RAD_PER_DEG)
+    if (fabs(raw - truth) > 0.5 * ess_cfg(c)->design.theta0_deg * RAD_PER_DEG)
         return SUNMC_EDOM;
     before[0] = (raw - truth) * DEG_PER_RAD;
     after[0] = NAN;

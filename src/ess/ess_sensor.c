@@ -42,7 +42,8 @@ static void draw(const sunmc_config *c, uint64_t seed, long unit, int index, con
 
 void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_deviations *d)
 {
-    const ess_tolerances *t = &c->ess_tol;
+    const ess_config *ec = ess_cfg(c);
+    const ess_tolerances *t = &ec->tol;
     memset(d, 0, sizeof *d);
     draw(c, seed, unit, 0, &t->dH_um, &d->dH_um, 1);
     draw(c, seed, unit, 1, &t->dd_um, &d->dd_um, 1);
@@ -59,7 +60,7 @@ void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_
 
     rng_stream r;
     rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_ALIGNMENT);
-    d->roll_measured_arcsec = d->install_x_arcsec + c->roll_sigma_arcsec * rng_normal(&r);
+    d->roll_measured_arcsec = d->install_x_arcsec + ec->roll_sigma_arcsec * rng_normal(&r);
 }
 
 void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev)

@@ -19,7 +19,7 @@ static const char *const ess_angle_names[] = {"alpha"};
 void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *u)
 {
     u->dev = *dev;
-    ess_sensor_init(&u->sensor, &c->ess, dev);
+    ess_sensor_init(&u->sensor, &ess_cfg(c)->design, dev);
     mat3 rx, ry, rz, t;
     rot_x(dev->install_x_arcsec * RAD_PER_ARCSEC, rx);
     rot_y(dev->install_y_arcsec * RAD_PER_ARCSEC, ry);
@@ -45,13 +45,15 @@ int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
 
 size_t ess_campaign_size(const sunmc_config *c)
 {
-    return (size_t)grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0) *
-           (size_t)c->cal_beta_deg.n;
+    const ess_config *ec = ess_cfg(c);
+    return (size_t)grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg,
+                              0) *
+           (size_t)ec->cal_beta_deg.n;
 }
 
 void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_ROWS])
 {
-    double sigma = c->ess_noise.row_current_pct * FRACTION_PER_PCT;
+    double sigma = ess_cfg(c)->noise.row_current_pct * FRACTION_PER_PCT;
     for (int m = 0; m < ESS_FINE_ROWS; m++)
         noise[m] = sigma * rng_normal(r);
 }
@@ -89,7 +91,7 @@ int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream 
     *truth_rad = 0;
     if (ess_unit_read(u, a_rad, b_rad, noise, raw_rad, truth_rad) != SUNMC_OK)
         return ESS_READING_UNSEEN;
-    if (fabs(*raw_rad - *truth_rad) > 0.5 * c->ess.theta0_deg * RAD_PER_DEG)
+    if (fabs(*raw_rad - *truth_rad) > 0.5 * ess_cfg(c)->design.theta0_deg * RAD_PER_DEG)
         return ESS_READING_GROSS;
     return ESS_READING_OK;
 }
@@ -97,16 +99,17 @@ int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream 
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                        ess_calib_workspace *cw, int *gross)
 {
-    long na = grid_count(c->cal_alpha_min_deg, c->cal_alpha_max_deg, c->cal_alpha_step_deg, 0);
-    double half_period = 0.5 * c->ess.theta0_deg * RAD_PER_DEG;
+    const ess_config *ec = ess_cfg(c);
+    long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
+    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
     *gross = 0;
     size_t i = 0;
-    for (int k = 0; k < c->cal_beta_deg.n; k++)
+    for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
-            double a = (c->cal_alpha_min_deg + (double)j * c->cal_alpha_step_deg) * RAD_PER_DEG;
-            double b = c->cal_beta_deg.v[k] * RAD_PER_DEG;
+            double a = (ec->cal_alpha_min_deg + (double)j * ec->cal_alpha_step_deg) * RAD_PER_DEG;
+            double b = ec->cal_beta_deg.v[k] * RAD_PER_DEG;
             double a_true, b_true, incidence;
             int seen = ess_campaign_reading(c, u, &r, a, b, &a_true, &b_true, &incidence,
                                             &cw->raw_rad[i]);
@@ -176,6 +179,7 @@ static void ess_ws_free(void *ws) { ess_calib_free(ws); }
 
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
+    const ess_config *ec = ess_cfg(c);
     ess_calib_workspace *cw = ws;
     double t = unit_clock();
     ess_deviations dev;
@@ -192,9 +196,9 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     ess_model m;
     fit_result fr;
-    double theta0 = c->ess.theta0_deg * RAD_PER_DEG;
+    double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
     int st = ess_calibrate(cw, theta0, dev.roll_measured_arcsec * RAD_PER_ARCSEC,
-                           c->alias_threshold, c->max_iterations, &m, &fr);
+                           ec->alias_threshold, c->max_iterations, &m, &fr);
     res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
     res->fit_gsl_status = fr.status;
     res->fit_iterations = (int)fr.iterations;
@@ -209,13 +213,14 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     band_acc_reset(&after);
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
-    long na = grid_count(c->val_alpha_min_deg, c->val_alpha_max_deg, c->val_alpha_step_deg,
-                         c->val_alpha_offset_deg);
-    for (int k = 0; k < c->val_beta_deg.n; k++)
+    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                         ec->val_alpha_offset_deg);
+    for (int k = 0; k < ec->val_beta_deg.n; k++)
         for (long j = 0; j < na; j++) {
-            double a = (c->val_alpha_min_deg + c->val_alpha_offset_deg +
-                        (double)j * c->val_alpha_step_deg) * RAD_PER_DEG;
-            double b = c->val_beta_deg.v[k] * RAD_PER_DEG;
+            double a = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                        (double)j * ec->val_alpha_step_deg) *
+                       RAD_PER_DEG;
+            double b = ec->val_beta_deg.v[k] * RAD_PER_DEG;
             double raw, truth, comp;
             int st_read = ess_validation_reading(c, &u, &r, a, b, &raw, &truth);
             if (st_read == ESS_READING_UNSEEN)
@@ -240,6 +245,11 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
 const sensor_family ess_family = {
     .name = "ess",
+    .description = "encoded sun sensor",
+    .keys = ess_keys,
+    .defaults = ess_defaults,
+    .validate = ess_config_validate,
+    .alias_term = "the fine-code term",
     .rms_unit = "deg",
     .arcsec_per_rms_unit = ARCSEC_PER_DEG,
     .model_label = ess_model_label,

@@ -1,0 +1,64 @@
+/* dss_config.h - the DSS family's own configuration: its design, tolerances,
+ * noise, campaign and validation grids and calibration model.
+ *
+ * It lives in the opaque sunmc_config.fam; read it through dss_cfg(c).  The
+ * keys that fill it, with their defaults, are in dss_keys.c (paper: Wei et
+ * al., "System modeling based measurement error analysis of digital sun
+ * sensors").
+ */
+#ifndef SUNMC_DSS_CONFIG_H
+#define SUNMC_DSS_CONFIG_H
+
+#include "config.h"
+
+typedef struct {
+    double h_mm;             /* nominal pinhole-to-detector height */
+    double pixel_um;         /* pixel pitch */
+    int detector_px;         /* detector side in pixels (square) */
+    double pinhole_um;       /* pinhole diameter */
+    double glass_thickness_mm;
+    double glass_index;
+    double fov_deg;          /* half field of view, per axis */
+} dss_design;
+
+typedef struct {
+    tolerance dh_px, dx_px, dy_px;
+    tolerance c1_arcsec, c2_arcsec, c3_arcsec;
+    tolerance glass_thickness_um, glass_index;
+} dss_tolerances;
+
+typedef struct {
+    double centroid_px;      /* sigma of the spot centre, per axis */
+    int s_curve;             /* 1: add the pixel-phase (S-curve) bias */
+} dss_noise;
+
+typedef struct {
+    dss_design design;
+    dss_tolerances tol;
+    dss_noise noise;
+
+    /* [campaign]: rotary-table b1 x b2 grid */
+    double cal_b_min_deg, cal_b_max_deg, cal_b_step_deg;
+
+    /* [calibration] */
+    int cal_model;           /* 0 physical, 1 polynomial */
+    int poly_order;
+    int fit_glass_index;     /* physical model: 1 fits the glass index too */
+
+    /* [validation] */
+    double val_b_min_deg, val_b_max_deg, val_b_step_deg, val_b_offset_deg;
+} dss_config;
+
+/* The DSS part of config c (const for a const c). */
+#define dss_cfg(c)                                                                                \
+    _Generic((c), const sunmc_config *: (const dss_config *)(const void *)(c)->fam.bytes,        \
+             sunmc_config *: (dss_config *)(void *)(c)->fam.bytes)
+
+/* The family's keys, its defaults of shared keys and its cross-key checks
+ * (dss_keys.c), for its sensor_family struct. */
+extern const config_key dss_keys[];         /* ends with a NULL section */
+extern const config_default dss_defaults[]; /* ends with a NULL section */
+extern const char *const dss_sections_after_shared[];
+int dss_config_validate(const sunmc_config *c, char *err, size_t errlen);
+
+#endif

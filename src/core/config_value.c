@@ -1,0 +1,340 @@
+/* config_value.c - one key's value: parsing text into the config (with the
+ * key's type and range checks) and formatting it back. */
+#include "config.h"
+#include "registry.h"
+#include "status.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define VALUE_MAX_LEN 1024
+
+char *config_trim(char *s)
+{
+    while (isspace((unsigned char)*s))
+        s++;
+    char *e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = '\0';
+    return s;
+}
+
+/* Parse a whole-string double; 0 on success. */
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || errno == ERANGE || !isfinite(v))
+        return -1;
+    while (isspace((unsigned char)*end))
+        end++;
+    if (*end != '\0')
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_long(const char *s, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || errno == ERANGE)
+        return -1;
+    while (isspace((unsigned char)*end))
+        end++;
+    if (*end != '\0')
+        return -1;
+    *out = v;
+    return 0;
+}
+
+void config_family_choices(char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < sensor_family_count() && used < len; i++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", i ? "|" : "",
+                                 sensor_family_at(i)->name);
+}
+
+void config_range_text(const config_key *k, char *buf, size_t len)
+{
+    char fams[128];
+    if (k->type == KEY_ENUM)
+        snprintf(buf, len, "one of %s", k->choices);
+    else if (k->type == KEY_FAMILY) {
+        config_family_choices(fams, sizeof fams);
+        snprintf(buf, len, "one of %s", fams);
+    } else if (k->type == KEY_STRING)
+        snprintf(buf, len, "text of at most %d characters", CONFIG_STR_MAX - 1);
+    else
+        snprintf(buf, len, "%g to %g%s%s", k->min, k->max, k->unit[0] ? " " : "", k->unit);
+}
+
+static int check_range(const config_key *k, double v, const char *where, const char *what,
+                       char *err, size_t errlen)
+{
+    if (v < k->min || v > k->max) {
+        char r[128];
+        config_range_text(k, r, sizeof r);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = %s is out of range: allowed %s",
+                          where, k->section, k->name, what, r);
+    }
+    return SUNMC_OK;
+}
+
+static int enum_index(const char *choices, const char *value)
+{
+    size_t vlen = strlen(value);
+    int idx = 0;
+    const char *p = choices;
+    while (*p) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == vlen && strncmp(p, value, len) == 0)
+            return idx;
+        if (!bar)
+            break;
+        p = bar + 1;
+        idx++;
+    }
+    return -1;
+}
+
+static void enum_name(const char *choices, int idx, char *buf, size_t len)
+{
+    const char *p = choices;
+    for (int i = 0; i < idx && p; i++) {
+        p = strchr(p, '|');
+        if (p)
+            p++;
+    }
+    if (!p) {
+        snprintf(buf, len, "?");
+        return;
+    }
+    const char *bar = strchr(p, '|');
+    size_t n = bar ? (size_t)(bar - p) : strlen(p);
+    if (n >= len)
+        n = len - 1;
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+}
+
+static int set_number(const config_key *k, void *dst, const char *v, const char *where, char *err,
+                      size_t errlen)
+{
+    double d;
+    long l;
+    int st;
+    if (k->type == KEY_DOUBLE) {
+        if (parse_double(v, &d) != 0)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not a number", where,
+                              k->section, k->name, v);
+        if ((st = check_range(k, d, where, v, err, errlen)) != SUNMC_OK)
+            return st;
+        *(double *)dst = d;
+        return SUNMC_OK;
+    }
+    if (parse_long(v, &l) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not a whole number",
+                          where, k->section, k->name, v);
+    if ((st = check_range(k, (double)l, where, v, err, errlen)) != SUNMC_OK)
+        return st;
+    if (k->type == KEY_INT)
+        *(int *)dst = (int)l;
+    else
+        *(long *)dst = l;
+    return SUNMC_OK;
+}
+
+static int set_choice(const config_key *k, void *dst, const char *v, const char *where, char *err,
+                      size_t errlen)
+{
+    if (k->type == KEY_FAMILY) {
+        const sensor_family *f = sensor_family_find(v);
+        char fams[128];
+        config_family_choices(fams, sizeof fams);
+        if (!f)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: %s.%s = '%s' is not allowed: one of %s", where, k->section,
+                              k->name, v, fams);
+        *(const sensor_family **)dst = f;
+        return SUNMC_OK;
+    }
+    int idx = enum_index(k->choices, v);
+    if (idx < 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not allowed: one of %s",
+                          where, k->section, k->name, v, k->choices);
+    *(int *)dst = idx + (int)k->min;
+    return SUNMC_OK;
+}
+
+static int set_string(const config_key *k, void *dst, const char *v, const char *where, char *err,
+                      size_t errlen)
+{
+    if (strlen(v) >= CONFIG_STR_MAX || strlen(v) == 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s must be text of 1 to %d characters",
+                          where, k->section, k->name, CONFIG_STR_MAX - 1);
+    for (const char *p = v; *p; p++)
+        if (*p == '\t' || !isprint((unsigned char)*p))
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: %s.%s holds a tab or control character", where, k->section,
+                              k->name);
+    snprintf((char *)dst, CONFIG_STR_MAX, "%s", v);
+    return SUNMC_OK;
+}
+
+/* A comma-separated list of numbers, each within the key's range. */
+static int set_list(const config_key *k, void *dst, char *v, const char *where, char *err,
+                    size_t errlen)
+{
+    double_list tmp = {0};
+    char *save = NULL;
+    double d;
+    int st;
+    for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char *t = config_trim(tok);
+        if (tmp.n >= CONFIG_LIST_MAX)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values",
+                              where, k->section, k->name, CONFIG_LIST_MAX);
+        if (parse_double(t, &d) != 0)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: %s.%s: '%s' is not a number (a comma-separated list)", where,
+                              k->section, k->name, t);
+        if ((st = check_range(k, d, where, t, err, errlen)) != SUNMC_OK)
+            return st;
+        tmp.v[tmp.n++] = d;
+    }
+    if (tmp.n == 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s is an empty list", where,
+                          k->section, k->name);
+    *(double_list *)dst = tmp;
+    return SUNMC_OK;
+}
+
+/* One band "LO:HI" of a band list into b->lo/hi[b->n]. */
+static int add_band(const config_key *k, band_list *b, char *t, const char *where, char *err,
+                    size_t errlen)
+{
+    char *colon = strchr(t, ':');
+    double lo, hi;
+    int st;
+    if (b->n >= CONFIG_BANDS_MAX)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d bands", where,
+                          k->section, k->name, CONFIG_BANDS_MAX);
+    if (!colon)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s: band '%s' is not LO:HI (e.g. 0:30, 30:60)", where,
+                          k->section, k->name, t);
+    *colon = '\0';
+    if (parse_double(config_trim(t), &lo) != 0 || parse_double(config_trim(colon + 1), &hi) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s: band bounds must be numbers",
+                          where, k->section, k->name);
+    if ((st = check_range(k, lo, where, "band low", err, errlen)) != SUNMC_OK ||
+        (st = check_range(k, hi, where, "band high", err, errlen)) != SUNMC_OK)
+        return st;
+    if (!(hi > lo))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s: band %g:%g must have LO < HI",
+                          where, k->section, k->name, lo, hi);
+    b->lo[b->n] = lo;
+    b->hi[b->n] = hi;
+    b->n++;
+    return SUNMC_OK;
+}
+
+static int set_bands(const config_key *k, void *dst, char *v, const char *where, char *err,
+                     size_t errlen)
+{
+    band_list tmp = {0};
+    char *save = NULL;
+    for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        int st = add_band(k, &tmp, config_trim(tok), where, err, errlen);
+        if (st != SUNMC_OK)
+            return st;
+    }
+    if (tmp.n == 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has no band", where, k->section,
+                          k->name);
+    *(band_list *)dst = tmp;
+    return SUNMC_OK;
+}
+
+int config_parse_value(const config_key *k, void *dst, const char *value, const char *where,
+                       char *err, size_t errlen)
+{
+    char buf[VALUE_MAX_LEN];
+    snprintf(buf, sizeof buf, "%s", value);
+    char *v = config_trim(buf);
+    switch (k->type) {
+    case KEY_DOUBLE:
+    case KEY_INT:
+    case KEY_LONG:
+        return set_number(k, dst, v, where, err, errlen);
+    case KEY_ENUM:
+    case KEY_FAMILY:
+        return set_choice(k, dst, v, where, err, errlen);
+    case KEY_STRING:
+        return set_string(k, dst, v, where, err, errlen);
+    case KEY_LIST:
+        return set_list(k, dst, v, where, err, errlen);
+    case KEY_BANDS:
+        return set_bands(k, dst, v, where, err, errlen);
+    }
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: internal: bad key type", where);
+}
+
+static void format_list(const double_list *l, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < l->n && used < len; i++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%.10g", i ? ", " : "", l->v[i]);
+}
+
+static void format_bands(const band_list *b, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < b->n && used < len; i++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%.10g:%.10g", i ? ", " : "", b->lo[i],
+                                 b->hi[i]);
+}
+
+void config_format_value(const config_key *k, const sunmc_config *c, char *buf, size_t len)
+{
+    const void *base = config_value_cptr(k, c);
+    switch (k->type) {
+    case KEY_DOUBLE:
+        snprintf(buf, len, "%.10g", *(const double *)base);
+        break;
+    case KEY_INT:
+        snprintf(buf, len, "%d", *(const int *)base);
+        break;
+    case KEY_LONG:
+        snprintf(buf, len, "%ld", *(const long *)base);
+        break;
+    case KEY_ENUM:
+        enum_name(k->choices, *(const int *)base - (int)k->min, buf, len);
+        break;
+    case KEY_FAMILY:
+        snprintf(buf, len, "%s", (*(const sensor_family *const *)base)->name);
+        break;
+    case KEY_STRING:
+        snprintf(buf, len, "%s", (const char *)base);
+        break;
+    case KEY_LIST:
+        format_list(base, buf, len);
+        break;
+    case KEY_BANDS:
+        format_bands(base, buf, len);
+        break;
+    default:
+        snprintf(buf, len, "?");
+    }
+}

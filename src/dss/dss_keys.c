@@ -1,0 +1,111 @@
+/* dss_keys.c - the DSS family's configuration keys, its defaults of shared
+ * keys and its cross-key checks.
+ *
+ * Defaults are from Wei et al., "System modeling based measurement error
+ * analysis of digital sun sensors" (the "DSS paper").
+ */
+#include "dss_config.h"
+#include "status.h"
+
+#include <stddef.h>
+
+#define OFF(field) offsetof(dss_config, field)
+#define TOL(fld, name, unit, defv, defdist, maxv, help)                                           \
+    CONFIG_TOLERANCE_KEYS(OFF(fld), name, unit, defv, defdist, maxv, help)
+
+_Static_assert(sizeof(dss_config) <= sizeof(family_config), "dss_config must fit family_config");
+
+const config_key dss_keys[] = {
+    /* [design] */
+    {"design", "h_mm", KEY_DOUBLE, "mm", "3", 0.2, 50, NULL, OFF(design.h_mm),
+     "nominal pinhole-to-detector height h"},
+    {"design", "pixel_um", KEY_DOUBLE, "um", "5.5", 0.5, 100, NULL, OFF(design.pixel_um),
+     "detector pixel pitch"},
+    {"design", "detector_px", KEY_INT, "px", "2048", 16, 100000, NULL, OFF(design.detector_px),
+     "detector side length in pixels (square detector)"},
+    {"design", "pinhole_um", KEY_DOUBLE, "um", "60", 1, 5000, NULL, OFF(design.pinhole_um),
+     "pinhole diameter (sets the spot size for the S-curve bias)"},
+    {"design", "glass_thickness_mm", KEY_DOUBLE, "mm", "0.4", 0, 5, NULL,
+     OFF(design.glass_thickness_mm),
+     "detector cover-glass thickness"},
+    {"design", "glass_index", KEY_DOUBLE, "", "1.52", 1, 3, NULL, OFF(design.glass_index),
+     "cover-glass refractive index"},
+    {"design", "dss_fov_deg", KEY_DOUBLE, "deg", "60", 1, 80, NULL, OFF(design.fov_deg),
+     "half field of view per axis"},
+
+    /* [tolerance] */
+    TOL(tol.dh_px, "dh_px", "px", "0.2", "uniform", 1000,
+        "pinhole height error dh (DSS paper Fig. 2: 0.2 pixel)"),
+    TOL(tol.dx_px, "dx_px", "px", "0.1", "uniform", 1000,
+        "principal point error dx (DSS paper Fig. 3: 0.1 pixel)"),
+    TOL(tol.dy_px, "dy_px", "px", "0.1", "uniform", 1000,
+        "principal point error dy (DSS paper Fig. 3: 0.1 pixel)"),
+    TOL(tol.c1_arcsec, "c1_arcsec", "arcsec", "10", "uniform", 36000,
+        "installation rotation c1 about X (DSS paper sec. 3: c1, c2 about X, Y, c3 about the "
+        "principal axis, composed in zxy order; Fig. 4: 10\")"),
+    TOL(tol.c2_arcsec, "c2_arcsec", "arcsec", "10", "uniform", 36000,
+        "installation rotation c2 about Y (DSS paper Fig. 4: 10\")"),
+    TOL(tol.c3_arcsec, "c3_arcsec", "arcsec", "10", "uniform", 36000,
+        "installation rotation c3 about Z, the principal axis (DSS paper Fig. 4: 10\")"),
+    TOL(tol.glass_thickness_um, "glass_thickness_um", "um", "10", "uniform", 1000,
+        "cover-glass thickness error"),
+    TOL(tol.glass_index, "glass_index", "", "0.005", "uniform", 0.5,
+        "cover-glass refractive index error"),
+
+    /* [noise] */
+    {"noise", "centroid_px", KEY_DOUBLE, "px", "0.01", 0, 10, NULL, OFF(noise.centroid_px),
+     "sigma of the measured spot centre, per axis"},
+    {"noise", "s_curve", KEY_ENUM, "", "off", 0, 0, "off|on", OFF(noise.s_curve),
+     "add the pixel-phase (S-curve) centroid bias of a finite spot"},
+
+    /* [campaign] */
+    {"campaign", "b_min_deg", KEY_DOUBLE, "deg", "-60", -89, 89, NULL, OFF(cal_b_min_deg),
+     "first rotary-table angle of the b1 x b2 grid"},
+    {"campaign", "b_max_deg", KEY_DOUBLE, "deg", "60", -89, 89, NULL, OFF(cal_b_max_deg),
+     "last rotary-table angle of the b1 x b2 grid"},
+    {"campaign", "b_step_deg", KEY_DOUBLE, "deg", "5", 0.01, 90, NULL, OFF(cal_b_step_deg),
+     "rotary-table step, both axes"},
+
+    /* [calibration] */
+    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial", OFF(cal_model),
+     "DSS calibration model: physical (dx, dy, h, refraction, c1-c3) or a 2-D "
+                     "polynomial of the angle errors"},
+    {"calibration", "poly_order", KEY_INT, "", "3", 1, 7, NULL, OFF(poly_order),
+     "order of the 2-D polynomial model"},
+    {"calibration", "fit_glass_index", KEY_ENUM, "", "on", 0, 0, "off|on", OFF(fit_glass_index),
+     "physical model: fit the cover-glass index too (height, thickness and index are nearly "
+     "collinear, |corr| ~0.99, yet fitting all three predicts the spots best; off holds the "
+     "index at design; see dss_calib.h)"},
+
+    /* [validation] */
+    {"validation", "b_min_deg", KEY_DOUBLE, "deg", "-60", -89, 89, NULL, OFF(val_b_min_deg),
+     "first validation rotary-table angle"},
+    {"validation", "b_max_deg", KEY_DOUBLE, "deg", "60", -89, 89, NULL, OFF(val_b_max_deg),
+     "last validation rotary-table angle"},
+    {"validation", "b_step_deg", KEY_DOUBLE, "deg", "4.1", 0.01, 90, NULL, OFF(val_b_step_deg),
+     "validation rotary-table step"},
+    {"validation", "b_offset_deg", KEY_DOUBLE, "deg", "1.3", -10, 10, NULL, OFF(val_b_offset_deg),
+     "offset of the validation grid from b_min_deg"},
+    {NULL} /* end */
+};
+
+const config_default dss_defaults[] = {
+    {"sensor", "product", "DSS"},
+    {"report", "bands_deg", "0:20, 20:40, 0:60"},
+    {"report", "spec_arcsec", "10"},
+    {NULL} /* end */
+};
+
+/* `sunmc config` lists noise.encoder_arcsec before the DSS's own noise keys. */
+const char *const dss_sections_after_shared[] = {"noise", NULL};
+
+int dss_config_validate(const sunmc_config *c, char *err, size_t errlen)
+{
+    const dss_config *d = dss_cfg(c);
+    int s = config_check_grid(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg,
+                              d->design.fov_deg, "campaign.b", err, errlen);
+    if (s != SUNMC_OK)
+        return s;
+    return config_check_grid(d->val_b_min_deg, d->val_b_max_deg, d->val_b_step_deg,
+                             d->design.fov_deg, "validation.b", err, errlen);
+}

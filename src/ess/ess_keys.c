@@ -1,0 +1,159 @@
+/* ess_keys.c - the ESS family's configuration keys, its defaults of shared
+ * keys and its cross-key checks.
+ *
+ * Defaults are those of product type A in Fan et al., "Error Modeling and
+ * Calibration for Encoded Sun Sensors", Sensors 2013 (the "ESS paper");
+ * configs/ess_type_b.ini overrides what differs for type B.
+ */
+#include "ess_config.h"
+#include "status.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#define OFF(field) offsetof(ess_config, field)
+#define TOL(fld, name, unit, defv, defdist, maxv, help)                                           \
+    CONFIG_TOLERANCE_KEYS(OFF(fld), name, unit, defv, defdist, maxv, help)
+
+_Static_assert(sizeof(ess_config) <= sizeof(family_config), "ess_config must fit family_config");
+
+const config_key ess_keys[] = {
+    /* [design] */
+    {"design", "H_mm", KEY_DOUBLE, "mm", "4.124", 0.5, 50, NULL, OFF(design.H_mm),
+     "nominal slit-to-code-dial distance H (ESS paper sec. 3.1: 4.124 type A, 6.584 type B)"},
+    {"design", "theta0_deg", KEY_DOUBLE, "deg", "2", 0.1, 10, NULL, OFF(design.theta0_deg),
+     "fine-code period theta0 (ESS paper sec. 3.3: usually 2 deg)"},
+    {"design", "coarse_resolution_deg", KEY_DOUBLE, "deg", "1", 0.05, 5, NULL,
+     OFF(design.coarse_resolution_deg),
+     "coarse-code cell width; the coarse reading picks the fine period (7 Gray rows x 1 deg "
+     "cover +-64 deg)"},
+    {"design", "coarse_rows_x_mm", KEY_LIST, "mm", "-4.2, -3.6, -3.0, -2.4, -1.8, -1.2, -0.6",
+     -20, 20, NULL, OFF(design.coarse_rows_x_mm),
+     "x position (across the rows) of each coarse row, most significant Gray bit first; "
+     "7 rows as in the ESS paper"},
+    {"design", "fine_rows_x_mm", KEY_LIST, "mm", "0.6, 1.2, 1.8, 2.4", -20, 20, NULL,
+     OFF(design.fine_rows_x_mm),
+     "x position of the 4 fine rows F1..F4 (quarter-period steps)"},
+    {"design", "slit_width_um", KEY_DOUBLE, "um", "20", 0, 500, NULL, OFF(design.slit_width_um),
+     "entrance slit width; with the sun's diameter it sets the fine-code harmonics (derived "
+     "mode); chosen so type A's error before compensation has the paper's size"},
+    {"design", "dial_duty", KEY_DOUBLE, "", "0.5", 0.05, 0.95, NULL, OFF(design.dial_duty),
+     "transparent fraction of one fine-code period on the dial"},
+    {"design", "sun_diameter_deg", KEY_DOUBLE, "deg", "0.53", 0, 2, NULL,
+     OFF(design.sun_diameter_deg),
+     "angular diameter of the sun (ESS paper sec. 3.3: 0.53 deg)"},
+    {"design", "harmonics", KEY_ENUM, "", "derived", 0, 0, "derived|given", OFF(design.harmonics),
+     "fine-code harmonics: derived from slit width, duty and sun diameter, or given by "
+     "a3_ratio/a5_ratio"},
+    {"design", "a3_ratio", KEY_DOUBLE, "", "-0.1", -0.5, 0.5, NULL, OFF(design.a3_ratio),
+     "a3/a1 when harmonics = given (ESS paper eq. 2, 7)"},
+    {"design", "a5_ratio", KEY_DOUBLE, "", "0", -0.5, 0.5, NULL, OFF(design.a5_ratio),
+     "a5/a1 when harmonics = given"},
+    {"design", "fov_deg", KEY_DOUBLE, "deg", "62", 1, 80, NULL, OFF(design.fov_deg),
+     "half field of view in alpha (ESS paper: +-62 deg)"},
+
+    /* [tolerance] */
+    TOL(tol.dH_um, "dH_um", "um", "2", "uniform", 1000,
+        "slit-to-dial distance error dH (ESS paper sec. 3.1: +-2 um)"),
+    TOL(tol.dd_um, "dd_um", "um", "1", "uniform", 1000,
+        "slit offset dd from the dial's centre line (ESS paper sec. 3.2: +-1 um)"),
+    TOL(tol.dphi_deg, "dphi_deg", "deg", "0.01", "uniform", 10,
+        "slit tilt dphi against the dial's centre line (ESS paper sec. 3.2: +-0.01 deg)"),
+    TOL(tol.slit_width_um, "slit_width_um", "um", "1", "uniform", 100,
+        "slit width error (changes the derived fine-code harmonics)"),
+    TOL(tol.harmonic_phase_deg, "harmonic_phase_deg", "deg", "180", "uniform", 180,
+        "phase of the 3rd harmonic against the fundamental, from etched-edge asymmetry "
+        "(ESS paper Tables 3-4 show t far from 0)"),
+    TOL(tol.gain_pct, "gain_pct", "%", "1", "uniform", 50,
+        "per-row photocell gain error (ESS paper sec. 3.4: within +-1%)"),
+    TOL(tol.etch_um, "etch_um", "um", "0.2", "uniform", 50,
+        "per-row etching position error of the fine-code pattern (ESS paper sec. 3.4)"),
+    TOL(tol.install_x_arcsec, "install_x_arcsec", "arcsec", "60", "uniform", 36000,
+        "ESS-to-turntable rotation about X (roll in the sensing plane; measured, not fitted)"),
+    TOL(tol.install_y_arcsec, "install_y_arcsec", "arcsec", "300", "uniform", 36000,
+        "ESS-to-turntable rotation about Y (ESS paper Table 3: up to 5')"),
+    TOL(tol.install_z_arcsec, "install_z_arcsec", "arcsec", "90", "uniform", 36000,
+        "ESS-to-turntable rotation about Z (ESS paper Table 3: up to 1'8\")"),
+    TOL(tol.sun_x_arcsec, "sun_x_arcsec", "arcsec", "60", "uniform", 36000,
+        "sun-simulator direction tilt toward X (the V0 of ESS paper eq. 14)"),
+    TOL(tol.sun_y_arcsec, "sun_y_arcsec", "arcsec", "60", "uniform", 36000,
+        "sun-simulator direction tilt toward Y"),
+
+    /* [noise] */
+    {"noise", "row_current_pct", KEY_DOUBLE, "%", "1.5", 0, 100, NULL, OFF(noise.row_current_pct),
+     "sigma of each fine-row current, % of the fundamental a1 at normal incidence; chosen so "
+     "the after-compensation RMS has the ESS paper's Table 1 size"},
+
+    /* [campaign] */
+    {"campaign", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(cal_alpha_min_deg),
+     "first turntable inner-frame angle (ESS paper: +-62 deg)"},
+    {"campaign", "alpha_max_deg", KEY_DOUBLE, "deg", "62", -89, 89, NULL, OFF(cal_alpha_max_deg),
+     "last turntable inner-frame angle"},
+    {"campaign", "alpha_step_deg", KEY_DOUBLE, "deg", "0.2", 0.001, 90, NULL,
+     OFF(cal_alpha_step_deg),
+     "inner-frame step (ESS paper Table 2: 1 and 0.25; both alias the 0.5-deg fine-code term)"},
+    {"campaign", "beta_deg", KEY_LIST, "deg", "-20, 0, 20", -89, 89, NULL, OFF(cal_beta_deg),
+     "outer-frame angles, one alpha scan each"},
+
+    /* [calibration] */
+    {"calibration", "roll_sigma_arcsec", KEY_DOUBLE, "arcsec", "5", 0, 3600, NULL,
+     OFF(roll_sigma_arcsec),
+     "sigma of the roll (install_x) alignment measurement; the fit fixes the roll at the "
+     "measured value because turntable data cannot separate it from (b, c)"},
+    {"calibration", "roll_measured_arcsec", KEY_DOUBLE, "arcsec", "0", -36000, 36000, NULL,
+     OFF(roll_measured_arcsec),
+     "`calibrate` only: the measured installation roll of a real sensor"},
+    {"calibration", "alias_threshold", KEY_DOUBLE, "", "0.2", 0, 1, NULL, OFF(alias_threshold),
+     "smallest normalised eigenvalue of the fine-code (sin, cos) columns below which the "
+     "campaign cannot resolve that direction; it is then regularised to 0"},
+
+    /* [validation] */
+    {"validation", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(val_alpha_min_deg),
+     "first validation incidence angle"},
+    {"validation", "alpha_max_deg", KEY_DOUBLE, "deg", "62", -89, 89, NULL, OFF(val_alpha_max_deg),
+     "last validation incidence angle"},
+    {"validation", "alpha_step_deg", KEY_DOUBLE, "deg", "0.13", 0.001, 90, NULL,
+     OFF(val_alpha_step_deg),
+     "validation step (not a divisor of the fine-code period)"},
+    {"validation", "alpha_offset_deg", KEY_DOUBLE, "deg", "0.05", -10, 10, NULL,
+     OFF(val_alpha_offset_deg),
+     "offset of the validation grid from alpha_min_deg"},
+    {"validation", "beta_deg", KEY_LIST, "deg", "-25, -10, 10, 25", -89, 89, NULL,
+     OFF(val_beta_deg),
+     "outer-frame angles of the validation scans (not the campaign's)"},
+    {NULL} /* end */
+};
+
+const config_default ess_defaults[] = {
+    {"sensor", "product", "ESS type A"},
+    {"report", "bands_deg", "0:30, 30:60, 0:62"},
+    {"report", "spec_arcsec", "54"},
+    {NULL} /* end */
+};
+
+int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
+{
+    const ess_config *e = ess_cfg(c);
+    const ess_design *d = &e->design;
+    int s;
+    if (d->fine_rows_x_mm.n != 4)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "design.fine_rows_x_mm must list exactly 4 rows, has %d",
+                          d->fine_rows_x_mm.n);
+    double cover = ldexp(d->coarse_resolution_deg, d->coarse_rows_x_mm.n);
+    if (cover < 2 * d->fov_deg + 2 * d->coarse_resolution_deg)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "design: %d coarse rows of %g deg cover %g deg, less than the "
+                          "field of view +-%g deg",
+                          d->coarse_rows_x_mm.n, d->coarse_resolution_deg, cover, d->fov_deg);
+    if (d->coarse_resolution_deg > d->theta0_deg / 2)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "design.coarse_resolution_deg = %g must be at most half of "
+                          "theta0_deg = %g to pick the fine period",
+                          d->coarse_resolution_deg, d->theta0_deg);
+    if ((s = config_check_grid(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg,
+                               d->fov_deg, "campaign.alpha", err, errlen)) != SUNMC_OK)
+        return s;
+    return config_check_grid(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
+                             d->fov_deg, "validation.alpha", err, errlen);
+}
