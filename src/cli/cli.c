@@ -1,6 +1,7 @@
 /* cli.c - option parsing, config building, progress and exit codes
  * shared by the commands. */
 #include "cli.h"
+#include "output.h"
 #include "status.h"
 
 #include <errno.h>
@@ -106,6 +107,12 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
                 return bad(command, "--threads needs a whole number from 1 to 1024", v);
             o->threads = (int)t;
         } else if (strcmp(name, "out") == 0) {
+            /* Before any work: a run must not end in an unwritable --out. */
+            char err[SUNMC_ERRLEN];
+            if (out_check(v, err, sizeof err) != SUNMC_OK) {
+                fprintf(stderr, "sunmc %s: %s\n", command, err);
+                return EXIT_BAD_INPUT;
+            }
             o->out = v;
         } else if (strcmp(name, "vary") == 0) {
             if (o->n_vary >= CLI_MAX_VARY)

@@ -143,14 +143,18 @@ int cmd_budget(int argc, char **argv)
         snprintf(err, sizeof err, "out of memory");
     if (status == SUNMC_OK)
         status = budget_run(c, units, threads, 1, progress, &o.quiet, b, err, sizeof err);
+    if (status == SUNMC_OK) {
+        print_table(c, fam, b); /* before writing: a failed write must not cost it */
+        fflush(stdout);
+    }
     if (status == SUNMC_OK && o.out) {
         out_set os;
         FILE *fb, *fc;
         status = out_begin(&os, o.out, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "budget.tsv", &fb, err, sizeof err);
+            status = out_open(&os, "budget.tsv", &fb, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+            status = out_open(&os, "config.ini", &fc, err, sizeof err);
         if (status == SUNMC_OK) {
             write_tsv(fb, c, fam, b);
             fprintf(fc, "# config of a tolerance budget, %ld units per run\n", units);
@@ -160,9 +164,7 @@ int cmd_budget(int argc, char **argv)
             out_abort(&os);
         }
     }
-    if (status == SUNMC_OK)
-        print_table(c, fam, b);
-    else
+    if (status != SUNMC_OK)
         fprintf(stderr, "sunmc budget: %s\n", err);
     free(b);
     config_state_free(&st);

@@ -200,7 +200,7 @@ static int calibrate_ess(const cli_options *o, const sunmc_config *c)
         if (st == SUNMC_OK)
             st = out_begin(&os, o->out, err, sizeof err);
         if (st == SUNMC_OK) {
-            st = out_open_all(&os, o->out, names, f, 5, err, sizeof err);
+            st = out_open_all(&os, names, f, 5, err, sizeof err);
             FILE *fp = f[0], *fr = f[1], *fb = f[2], *fx = f[3], *ff = f[4];
             if (st == SUNMC_OK) {
                 params_write(fp, pf,
@@ -324,7 +324,7 @@ static int calibrate_dss(const cli_options *o, const sunmc_config *c)
         if (st == SUNMC_OK)
             st = out_begin(&os, o->out, err, sizeof err);
         if (st == SUNMC_OK) {
-            st = out_open_all(&os, o->out, names, f, 4, err, sizeof err);
+            st = out_open_all(&os, names, f, 4, err, sizeof err);
             FILE *fp = f[0], *fr = f[1], *fb = f[2], *fx = f[3];
             if (st == SUNMC_OK) {
                 params_write(fp, pf,

@@ -153,9 +153,9 @@ int cmd_curve(int argc, char **argv)
     if (status == SUNMC_OK && o.out) {
         status = out_begin(&os, o.out, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "curve.tsv", &fo, err, sizeof err);
+            status = out_open(&os, "curve.tsv", &fo, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+            status = out_open(&os, "config.ini", &fc, err, sizeof err);
         if (status != SUNMC_OK)
             out_abort(&os);
     }
@@ -203,8 +203,9 @@ int cmd_curve(int argc, char **argv)
             fprintf(fc, "# curve --unit %ld\n", unit);
         config_write(fc, &st);
     }
+    int wstatus = SUNMC_OK; /* a failed write still prints the table */
     if (status == SUNMC_OK && fo)
-        status = out_commit(&os, err, sizeof err);
+        wstatus = out_commit(&os, err, sizeof err);
     else if (fo)
         out_abort(&os);
 
@@ -234,9 +235,11 @@ int cmd_curve(int argc, char **argv)
                        s->n[0]);
             }
         printf("errors in %s; %ld grid points not seen or gross (left out)\n", u, unseen);
-    } else {
-        fprintf(stderr, "sunmc curve: %s\n", err);
     }
+    if (status != SUNMC_OK || wstatus != SUNMC_OK)
+        fprintf(stderr, "sunmc curve: %s\n", err);
+    if (status == SUNMC_OK)
+        status = wstatus;
     if (cv)
         fam->curve_free(cv);
     if (cn)

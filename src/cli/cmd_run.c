@@ -111,6 +111,9 @@ int cmd_run(int argc, char **argv)
     if (o.profile)
         print_profile(results, end - first, unit_clock() - t0, threads);
 
+    /* Table 1 first: a failed write must not cost the result. */
+    report_print_table(stdout, c, fam, rows);
+    fflush(stdout);
     int status = SUNMC_OK;
     char err[SUNMC_ERRLEN];
     if (o.out) {
@@ -119,7 +122,7 @@ int cmd_run(int argc, char **argv)
         FILE *f[3] = {NULL};
         status = out_begin(&os, o.out, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open_all(&os, o.out, names, f, 3, err, sizeof err);
+            status = out_open_all(&os, names, f, 3, err, sizeof err);
         if (status == SUNMC_OK) {
             FILE *fs = f[0], *fu = f[1], *fc = f[2];
             report_write_summary_header(fs, 0, NULL);
@@ -132,10 +135,8 @@ int cmd_run(int argc, char **argv)
             out_abort(&os);
         }
     }
-    if (status == SUNMC_OK)
-        report_print_table(stdout, c, fam, rows);
-    else
-        fprintf(stderr, "sunmc run: %s\n", err);
+    if (status != SUNMC_OK)
+        fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
     free(results);
     free(rows);
     config_state_free(&st);

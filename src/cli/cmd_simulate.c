@@ -111,11 +111,11 @@ static int simulate_ess(const cli_options *o, const sunmc_config *c)
     FILE *fc = NULL, *ft = NULL, *fv = NULL;
     int st = out_begin(&os, o->out, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "campaign.csv", &fc, err, sizeof err);
+        st = out_open(&os, "campaign.csv", &fc, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "truth.csv", &ft, err, sizeof err);
+        st = out_open(&os, "truth.csv", &ft, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "validation.csv", &fv, err, sizeof err);
+        st = out_open(&os, "validation.csv", &fv, err, sizeof err);
     long n_val = 0, n_val_gross = 0, n_val_unseen = 0;
     if (st == SUNMC_OK) {
         double roll = dev.roll_measured_arcsec;
@@ -214,11 +214,11 @@ static int simulate_dss(const cli_options *o, const sunmc_config *c)
     long n_val = 0;
     int st = out_begin(&os, o->out, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "campaign.csv", &fc, err, sizeof err);
+        st = out_open(&os, "campaign.csv", &fc, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "truth.csv", &ft, err, sizeof err);
+        st = out_open(&os, "truth.csv", &ft, err, sizeof err);
     if (st == SUNMC_OK)
-        st = out_open(&os, o->out, "validation.csv", &fv, err, sizeof err);
+        st = out_open(&os, "validation.csv", &fv, err, sizeof err);
     if (st == SUNMC_OK) {
         long nb = grid_count(dc->cal_b_min_deg, dc->cal_b_max_deg, dc->cal_b_step_deg, 0);
         fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",

@@ -158,14 +158,16 @@ int cmd_sweep(int argc, char **argv)
     }
 
     const sunmc_config *c = &base.cfg;
+    print_table(c, fam, axes, n_axes, n_points, rows, n_rows); /* before writing */
+    fflush(stdout);
     if (o.out) {
         out_set os;
         FILE *fs, *fc;
         status = out_begin(&os, o.out, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "sweep.tsv", &fs, err, sizeof err);
+            status = out_open(&os, "sweep.tsv", &fs, err, sizeof err);
         if (status == SUNMC_OK)
-            status = out_open(&os, o.out, "config.ini", &fc, err, sizeof err);
+            status = out_open(&os, "config.ini", &fc, err, sizeof err);
         if (status == SUNMC_OK) {
             const char *lead[SWEEP_MAX_AXES];
             for (int i = 0; i < n_axes; i++)
@@ -186,9 +188,7 @@ int cmd_sweep(int argc, char **argv)
             out_abort(&os);
         }
     }
-    if (status == SUNMC_OK)
-        print_table(c, fam, axes, n_axes, n_points, rows, n_rows);
-    else
+    if (status != SUNMC_OK)
         fprintf(stderr, "sunmc sweep: %s\n", err);
     free(rows);
     config_state_free(&base);
