@@ -134,33 +134,35 @@ static void inverse_limit_end_states(void **state)
 static void cli(void **state)
 {
     char out[16384], cmd[4096];
-    system("rm -rf /tmp/sunmc_test_budget");
+    const char *dir = test_tmp("budget");
     const char *bad[] = {"", "configs/ess_type_a.ini --units 2:5",
                          "configs/ess_type_a.ini --set report.yield_target=2",
                          "configs/ess_type_a.ini --set report.budget_units=x",
                          "configs/ess_type_a.ini --bogus"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s budget %s --out /tmp/sunmc_test_budget --quiet",
-                 test_sunmc(), bad[i]);
+        snprintf(cmd, sizeof cmd, "%s budget %s --out %s --quiet", test_sunmc(), bad[i], dir);
         int rc = test_run(cmd, out, sizeof out);
         if (rc != 2)
             fail_msg("'%s' exited %d: %s", bad[i], rc, out);
     }
-    assert_int_not_equal(system("test -e /tmp/sunmc_test_budget/budget.tsv"), 0);
+    snprintf(cmd, sizeof cmd, "test -e %s", dir);
+    assert_int_not_equal(system(cmd), 0);
     /* A small real budget: table, budget.tsv with ALL, NONE and 12 ranked rows. */
     snprintf(cmd, sizeof cmd,
              "%s budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 "
              "--set report.budget_steps=1 --set validation.alpha_step_deg=2.3 "
-             "--set campaign.beta_deg=0 --out /tmp/sunmc_test_budget --quiet",
-             test_sunmc());
+             "--set campaign.beta_deg=0 --out %s --quiet",
+             test_sunmc(), dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "inverse limit"));
-    assert_int_equal(system("test $(awk -F'\\t' 'NR>1 && $1>0' /tmp/sunmc_test_budget/budget.tsv "
-                            "| wc -l) -eq 12"),
-                     0);
-    assert_int_equal(system("awk -F'\\t' 'NR==2 && $2==\"ALL\" {ok=1} NR==3 && $2==\"NONE\" "
-                            "{ok2=1} END {exit !(ok && ok2)}' /tmp/sunmc_test_budget/budget.tsv"),
-                     0);
+    snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 12",
+             dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd,
+             "awk -F'\\t' 'NR==2 && $2==\"ALL\" {ok=1} NR==3 && $2==\"NONE\" {ok2=1} "
+             "END {exit !(ok && ok2)}' %s/budget.tsv",
+             dir);
+    assert_int_equal(system(cmd), 0);
 }
 
 int main(void)

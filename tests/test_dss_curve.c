@@ -3,7 +3,6 @@
  * here and the DSS paper's findings (Figs. 2-5), and its input errors. */
 #include "test_util.h"
 
-#define T "/tmp/sunmc_test_dss_curve"
 /* 13 x 13 map, -60..60 every 10 deg (holds the centre), noiseless campaign,
  * no S-curve: every number below is a closed form. */
 #define SMALL                                                                                     \
@@ -28,13 +27,12 @@ enum { BEF_A = 0, AFT_A, SRC_A, BEF_B, AFT_B, SRC_B, BEF_T, AFT_T, SRC_T };
 static long run_curve(const char *args, row *rows, long max)
 {
     char out[16384], cmd[4096];
-    system("rm -rf " T "/c");
-    snprintf(cmd, sizeof cmd, "%s curve configs/dss.ini %s " SMALL " --out " T "/c",
-             test_sunmc(), args);
+    snprintf(cmd, sizeof cmd, "%s curve configs/dss.ini %s " SMALL " --out %s", test_sunmc(),
+             args, test_tmp("c"));
     int rc = test_run(cmd, out, sizeof out);
     if (rc != 0)
         fail_msg("'%s' exited %d: %s", cmd, rc, out);
-    FILE *f = fopen(T "/c/curve.tsv", "r");
+    FILE *f = fopen(test_tmp("c/curve.tsv"), "r");
     assert_non_null(f);
     char line[2048];
     assert_non_null(fgets(line, sizeof line, f));
@@ -192,19 +190,19 @@ static void dss_curve_errors(void **state)
                          "configs/dss.ini --only dh_px",
                          "configs/dss.ini --only dh_px=abc",
                          "configs/dss.ini --unit 1 --set validation.b_step_deg=-1"};
-    system("rm -rf " T "/bad");
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s curve %s --out " T "/bad --quiet", test_sunmc(), bad[i]);
+        snprintf(cmd, sizeof cmd, "%s curve %s --out %s --quiet", test_sunmc(), bad[i],
+                 test_tmp("bad"));
         int rc = test_run(cmd, out, sizeof out);
         if (rc != 2)
             fail_msg("'%s' exited %d: %s", bad[i], rc, out);
     }
-    assert_int_not_equal(system("test -e " T "/bad/curve.tsv"), 0);
+    snprintf(cmd, sizeof cmd, "test -e %s", test_tmp("bad"));
+    assert_int_not_equal(system(cmd), 0);
 }
 
 int main(void)
 {
-    system("mkdir -p " T);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(dh_closed_form),
         cmocka_unit_test(dx_moves_alpha_only),

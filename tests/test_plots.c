@@ -2,25 +2,24 @@
  * script on a small run: exit 0 and a non-empty PNG. */
 #include "test_util.h"
 
-#define T "/tmp/sunmc_test_plots"
 #define SMALL "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --quiet"
 
 static int setup(void **state)
 {
     char out[16384], cmd[4096];
-    system("rm -rf " T);
-    const char *runs[] = {
-        "run configs/ess_type_a.ini --units 12 --out " T "/run " SMALL,
-        "sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 4 --out " T
-        "/sweep1 " SMALL,
-        "sweep configs/ess_type_a.ini --vary design.H_mm=4,5 --vary tolerance.dH_um=1,2 --units 4 "
-        "--out " T "/sweep2 " SMALL,
-        "budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 --set "
-        "report.budget_steps=1 --out " T "/budget " SMALL,
-        "curve configs/ess_type_a.ini --unit 3 --out " T "/curve " SMALL,
+    const char *runs[][2] = {
+        {"run configs/ess_type_a.ini --units 12", "run"},
+        {"sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 4", "sweep1"},
+        {"sweep configs/ess_type_a.ini --vary design.H_mm=4,5 --vary tolerance.dH_um=1,2 --units 4",
+         "sweep2"},
+        {"budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 --set "
+         "report.budget_steps=1",
+         "budget"},
+        {"curve configs/ess_type_a.ini --unit 3", "curve"},
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s %s", test_sunmc(), runs[i]);
+        snprintf(cmd, sizeof cmd, "%s %s --out %s " SMALL, test_sunmc(), runs[i][0],
+                 test_tmp(runs[i][1]));
         if (test_run(cmd, out, sizeof out) != 0) {
             fprintf(stderr, "setup failed: %s\n%s\n", cmd, out);
             return -1;
@@ -51,28 +50,38 @@ static void check_script(const char *script, const char *dir, const char *extra)
     assert_true(size > 5000); /* axes, labels and curves, not a blank canvas */
 }
 
-static void yield_gp(void **state) { check_script("yield", T "/run", ""); }
-static void hist_gp(void **state) { check_script("hist", T "/run", ""); }
-static void sweep_gp_one_axis(void **state) { check_script("sweep", T "/sweep1", ""); }
-static void sweep_gp_two_axes(void **state) { check_script("sweep", T "/sweep2", ""); }
-static void budget_gp(void **state) { check_script("budget", T "/budget", ""); }
+static void yield_gp(void **state) { check_script("yield", test_tmp("run"), ""); }
+static void hist_gp(void **state) { check_script("hist", test_tmp("run"), ""); }
+static void sweep_gp_one_axis(void **state) { check_script("sweep", test_tmp("sweep1"), ""); }
+static void sweep_gp_two_axes(void **state) { check_script("sweep", test_tmp("sweep2"), ""); }
+static void budget_gp(void **state) { check_script("budget", test_tmp("budget"), ""); }
 static void curve_gp(void **state)
 {
-    check_script("curve", T "/curve", "");
-    check_script("curve", T "/curve", "; what='source'; run2='" T "/curve'");
+    char extra[600];
+    snprintf(extra, sizeof extra, "; what='source'; run2='%s'", test_tmp("curve"));
+    check_script("curve", test_tmp("curve"), "");
+    check_script("curve", test_tmp("curve"), extra);
 }
-static void map_gp(void **state) { check_script("map", T "/curve", "; what='before'"); }
+static void map_gp(void **state) { check_script("map", test_tmp("curve"), "; what='before'"); }
+
+/* Run a shell command made from fmt and one path. */
+static int sh(const char *fmt, const char *path, char *out, size_t len)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, fmt, path);
+    return test_run(cmd, out, len);
+}
 
 static void plots_sh(void **state)
 {
     char out[8192];
-    assert_int_equal(test_run("bash scripts/plots.sh " T "/sweep2", out, sizeof out), 0);
-    assert_int_equal(system("test -s " T "/sweep2/sweep.png"), 0);
-    assert_int_equal(test_run("bash scripts/plots.sh " T "/curve", out, sizeof out), 0);
-    assert_int_equal(system("test -s " T "/curve/curve_source.png"), 0);
-    system("mkdir -p " T "/empty");
-    assert_int_equal(test_run("bash scripts/plots.sh " T "/empty", out, sizeof out), 2);
-    assert_int_equal(test_run("bash scripts/plots.sh " T "/missing", out, sizeof out), 2);
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("sweep2"), out, sizeof out), 0);
+    assert_int_equal(sh("test -s %s/sweep.png", test_tmp("sweep2"), out, sizeof out), 0);
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("curve"), out, sizeof out), 0);
+    assert_int_equal(sh("test -s %s/curve_source.png", test_tmp("curve"), out, sizeof out), 0);
+    assert_int_equal(sh("mkdir -p %s", test_tmp("empty"), out, sizeof out), 0);
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("empty"), out, sizeof out), 2);
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("missing"), out, sizeof out), 2);
 }
 
 /* curve --only dH_um=V with an ideal fine code and no noise: the source
@@ -85,11 +94,10 @@ static void curve_closed_form(void **state)
                         "--set design.a5_ratio=0 --set noise.row_current_pct=0 "
                         "--set validation.beta_deg=0,20 --quiet";
     for (int sgn = -1; sgn <= 1; sgn += 2) {
-        snprintf(cmd, sizeof cmd, "%s curve configs/ess_type_a.ini --only dH_um=%g %s --out " T
-                                  "/cf",
-                 test_sunmc(), sgn * dH_um, ideal);
+        snprintf(cmd, sizeof cmd, "%s curve configs/ess_type_a.ini --only dH_um=%g %s --out %s",
+                 test_sunmc(), sgn * dH_um, ideal, test_tmp("cf"));
         assert_int_equal(test_run(cmd, out, sizeof out), 0);
-        FILE *f = fopen(T "/cf/curve.tsv", "r");
+        FILE *f = fopen(test_tmp("cf/curve.tsv"), "r");
         assert_non_null(f);
         char line[1024];
         assert_non_null(fgets(line, sizeof line, f));
@@ -126,14 +134,14 @@ static void curve_errors(void **state)
                          "configs/ess_type_a.ini --unit -1",
                          "configs/ess_type_a.ini --unit 1 --vary design.H_mm=3",
                          "--unit 1"};
-    system("rm -rf " T "/bad");
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s curve %s --out " T "/bad --quiet", test_sunmc(), bad[i]);
+        snprintf(cmd, sizeof cmd, "%s curve %s --out %s --quiet", test_sunmc(), bad[i],
+                 test_tmp("bad"));
         int rc = test_run(cmd, out, sizeof out);
         if (rc != 2)
             fail_msg("'%s' exited %d: %s", bad[i], rc, out);
     }
-    assert_int_not_equal(system("test -e " T "/bad/curve.tsv"), 0);
+    assert_int_not_equal(sh("test -e %s", test_tmp("bad"), out, sizeof out), 0);
 }
 
 int main(void)

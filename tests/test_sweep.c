@@ -120,19 +120,18 @@ static void apply_point(void **state)
 static void cli_errors_write_nothing(void **state)
 {
     char out[8192], cmd[2048];
-    system("rm -rf /tmp/sunmc_test_sweep_bad");
     const char *bad[] = {"--vary design.H_mm=3:8", "--vary design.H_mm=60",
                          "--vary design.H_mm=3 --vary design.H_mm=4", "",
                          "--vary a --vary b --vary c"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s sweep configs/ess_type_a.ini %s --units 4 --out "
-                                  "/tmp/sunmc_test_sweep_bad " SMALL,
-                 test_sunmc(), bad[i]);
+        snprintf(cmd, sizeof cmd, "%s sweep configs/ess_type_a.ini %s --units 4 --out %s " SMALL,
+                 test_sunmc(), bad[i], test_tmp("sweep_bad"));
         int rc = test_run(cmd, out, sizeof out);
         if (rc != 2)
             fail_msg("'%s' exited %d: %s", bad[i], rc, out);
     }
-    assert_int_not_equal(system("test -e /tmp/sunmc_test_sweep_bad/sweep.tsv"), 0);
+    snprintf(cmd, sizeof cmd, "test -e %s", test_tmp("sweep_bad"));
+    assert_int_not_equal(system(cmd), 0);
 }
 
 /* Read data row `row` (1 = first after the header) of a TSV into text. */
@@ -164,32 +163,32 @@ static const char *skip_fields(const char *s, int n)
 static void sweep_equals_runs(void **state)
 {
     char out[16384], cmd[2048];
-    system("rm -rf /tmp/sunmc_test_sweep /tmp/sunmc_test_sweep_run");
+    const char *sweep = test_tmp("sweep/sweep.tsv"), *summary = test_tmp("run/summary.tsv");
     snprintf(cmd, sizeof cmd,
              "%s sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 6 "
-             "--out /tmp/sunmc_test_sweep " SMALL,
-             test_sunmc());
+             "--out %s " SMALL,
+             test_sunmc(), test_tmp("sweep"));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "campaign.alpha_step_deg"));
     char hdr[4096], r1[4096], r4[4096], run[4096];
-    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 0, hdr, sizeof hdr), 0);
+    assert_int_equal(tsv_row(sweep, 0, hdr, sizeof hdr), 0);
     assert_true(strncmp(hdr, "campaign.alpha_step_deg\tproduct\t", 32) == 0);
     /* 2 points x 3 bands. */
-    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 6, r4, sizeof r4), 0);
-    assert_int_not_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 7, r4, sizeof r4), 0);
+    assert_int_equal(tsv_row(sweep, 6, r4, sizeof r4), 0);
+    assert_int_not_equal(tsv_row(sweep, 7, r4, sizeof r4), 0);
     /* Point 0.3, band 0 is byte for byte the summary of the same run. */
     snprintf(cmd, sizeof cmd,
              "%s run configs/ess_type_a.ini --set campaign.alpha_step_deg=0.3 --units 6 "
-             "--out /tmp/sunmc_test_sweep_run " SMALL,
-             test_sunmc());
+             "--out %s " SMALL,
+             test_sunmc(), test_tmp("run"));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 4, r4, sizeof r4), 0);
-    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep_run/summary.tsv", 1, run, sizeof run), 0);
+    assert_int_equal(tsv_row(sweep, 4, r4, sizeof r4), 0);
+    assert_int_equal(tsv_row(summary, 1, run, sizeof run), 0);
     assert_true(strncmp(r4, "0.3\t", 4) == 0);
     assert_string_equal(skip_fields(r4, 1), run);
     /* Common random numbers: the error before calibration does not depend on
      * the campaign step (column rms_before_mean = 9th summary column). */
-    assert_int_equal(tsv_row("/tmp/sunmc_test_sweep/sweep.tsv", 1, r1, sizeof r1), 0);
+    assert_int_equal(tsv_row(sweep, 1, r1, sizeof r1), 0);
     double b1 = atof(skip_fields(r1, 9)), b4 = atof(skip_fields(r4, 9));
     assert_true(b1 > 0);
     assert_near(b1, b4, 0);

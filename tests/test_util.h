@@ -46,6 +46,36 @@ static inline int test_run(const char *cmd, char *out, size_t outlen)
     return (st >= 0 && (st & 0x7f) == 0) ? (st >> 8) & 0xff : -1;
 }
 
+/* Remove the private directory at exit. */
+static char test_tmp_dir_[64];
+static inline void test_tmp_cleanup_(void)
+{
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", test_tmp_dir_);
+    if (system(cmd) != 0)
+        fprintf(stderr, "cannot remove %s\n", test_tmp_dir_);
+}
+
+/* "DIR/name" in this test binary's private temporary directory (mkdtemp on
+ * the first call, removed at exit); one of 8 rotating buffers, so a few
+ * paths can be used at once. */
+static inline const char *test_tmp(const char *name)
+{
+    static char buf[8][512];
+    static int next;
+    if (!test_tmp_dir_[0]) {
+        snprintf(test_tmp_dir_, sizeof test_tmp_dir_, "/tmp/sunmc_test_XXXXXX");
+        if (!mkdtemp(test_tmp_dir_)) {
+            perror("mkdtemp");
+            exit(1);
+        }
+        atexit(test_tmp_cleanup_);
+    }
+    char *b = buf[next++ % 8];
+    snprintf(b, sizeof buf[0], "%s/%s", test_tmp_dir_, name);
+    return b;
+}
+
 /* Write text to a file; returns 0 on success. */
 static inline int test_write_file(const char *path, const char *text)
 {
