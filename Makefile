@@ -2,6 +2,8 @@
 #   make            build build/sunmc
 #   make run        install missing packages, build, run the shipped configs, print Table 1
 #   make test       install missing packages, build, run the cmocka suite (plain and ASan+UBSan)
+#   make test-fast  the plain suites without the golden comparison (what `make mutate` runs)
+#   make mutate     apply each mutant of tests/mutants.txt to a copy of the tree, run test-fast
 #   make plots RUN=DIR   draw every figure a run directory holds
 #   make figures    regenerate the papers' figures into build/figures/
 #   make install PREFIX=/usr/local DESTDIR=
@@ -38,15 +40,26 @@ LIB_SRC  := $(foreach l,$(LAYERS),$(wildcard src/$(l)/*.c))
 TEST_SRC := $(wildcard tests/test_*.c)
 ALL_HDR  := $(wildcard include/*/*.h)
 
+TEST_HDR := $(wildcard tests/*.h)
+
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
+TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tobj/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+# The suites that know the right answer: all but the golden comparison (which
+# checks outputs against their own recording) and the mutation script's test.
+FAST_TEST_BIN := $(filter-out $(BUILD)/tests/test_golden $(BUILD)/tests/test_mutate,$(TEST_BIN))
 
 ASAN     := $(BUILD)/asan
 ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
+ASAN_TEST_OBJ := $(TEST_SRC:tests/%.c=$(ASAN)/tobj/%.o)
 ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
 
-.PHONY: all run test test-plain test-asan deps clean install plots figures bench reference golden
+# Test objects are kept: a change in the library only relinks the suites.
+.SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ)
+
+.PHONY: all run test test-plain test-fast test-asan deps clean install plots figures bench \
+        reference golden mutate mutate-build mutate-tests
 
 all: $(BUILD)/sunmc
 
@@ -69,8 +82,12 @@ $(BUILD)/libsunmc.a: $(LIB_OBJ)
 $(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/test_util.h $(ALL_HDR) $(BUILD)/libsunmc.a | $(BUILD)/tests
-	$(CC) $(ALL_CFLAGS) $(TEST_INC) -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(BUILD)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(TEST_INC) -c $< -o $@
+
+$(BUILD)/tests/%: $(BUILD)/tobj/%.o $(BUILD)/libsunmc.a | $(BUILD)/tests
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
 $(ASAN)/obj/%.o: src/%.c $(ALL_HDR)
 	@mkdir -p $(dir $@)
@@ -82,8 +99,12 @@ $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 $(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(ASAN)/tests/%: tests/%.c tests/test_util.h $(ALL_HDR) $(ASAN)/libsunmc.a | $(ASAN)/tests
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(ASAN)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -c $< -o $@
+
+$(ASAN)/tests/%: $(ASAN)/tobj/%.o $(ASAN)/libsunmc.a | $(ASAN)/tests
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
 $(BUILD)/tests $(ASAN)/tests:
 	mkdir -p $@
@@ -101,9 +122,24 @@ test: deps
 test-plain: $(BUILD)/sunmc $(TEST_BIN)
 	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(TEST_BIN) | tee $(BUILD)/test-plain.log
 
+test-fast: $(BUILD)/sunmc $(FAST_TEST_BIN)
+	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(FAST_TEST_BIN)
+
 test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
 	@mkdir -p $(ASAN)
 	@ASAN_OPTIONS=detect_leaks=1 SUNMC=$(ASAN)/sunmc bash tests/run-suite.sh $(ASAN_TEST_BIN) | tee $(ASAN)/test-asan.log
+
+# Mutation testing (scripts/mutate.sh, tests/mutants.txt): each mutant is
+# applied to a copy of the tree, built incrementally there (mutate-build) and
+# the suites listed by mutate-tests are run.  Not part of `make test`.
+#   make mutate [MUTANTS=FILE] [ONLY=REGEX]
+mutate:
+	bash scripts/mutate.sh $(if $(MUTANTS),--list $(MUTANTS)) $(if $(ONLY),--only '$(ONLY)')
+
+mutate-build: $(BUILD)/sunmc $(FAST_TEST_BIN)
+
+mutate-tests:
+	@echo $(FAST_TEST_BIN)
 
 # The reference config is generated from the key table; a test checks it is current.
 reference: $(BUILD)/sunmc
