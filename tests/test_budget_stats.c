@@ -1,0 +1,235 @@
+/* test_budget_stats.c - the budget's numbers against a recomputation here:
+ * the mean squares of each run (all, none, alone, removed) from the unit
+ * results of the same Monte Carlo, the four shares from those mean squares
+ * by their definitions (budget.h), the ranks from the shares, and each
+ * inverse limit checked by running at it (the yield meets the target) and
+ * just past it, one bisection resolution further (it does not); a source
+ * that fails even at 0 is unmet, and yields are computed here from the units.
+ * Also the DSS budget row: the total angle in the widest band. */
+#include "test_util.h"
+
+#include "budget.h"
+#include "montecarlo.h"
+#include "status.h"
+
+static void build(config_state *st, const char *path, const char *const *sets, int n)
+{
+    char err[SUNMC_ERRLEN];
+    if (config_build(st, path, sets, n, err, sizeof err) != SUNMC_OK)
+        fail_msg("config: %s", err);
+}
+
+/* Mean squares, means and yield of config c over units [0, n) in one report
+ * row, from the unit results. */
+typedef struct {
+    double before_ms, after_ms, before_mean, after_mean, yield;
+} recomputed;
+
+static recomputed recompute(const sunmc_config *c, long n, int angle, int band)
+{
+    const sensor_family *fam = family_of(c);
+    unit_result *res = calloc((size_t)n, sizeof *res);
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(mc_run(c, fam, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
+    recomputed r = {0, 0, 0, 0, 0};
+    long k = 0, pass = 0;
+    double spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
+    for (long u = 0; u < n; u++) {
+        double b = res[u].rms_before[angle][band], a = res[u].rms_after[angle][band];
+        if (res[u].fit_status != UNIT_FIT_OK || isnan(a) || isnan(b))
+            continue;
+        r.before_ms += b * b;
+        r.after_ms += a * a;
+        r.before_mean += b;
+        r.after_mean += a;
+        pass += a <= spec;
+        k++;
+    }
+    assert_true(k > 0);
+    r.before_ms /= (double)k;
+    r.after_ms /= (double)k;
+    r.before_mean /= (double)k;
+    r.after_mean /= (double)k;
+    r.yield = (double)pass / (double)n;
+    free(res);
+    return r;
+}
+
+static void expect_stats(const budget_stats *s, const recomputed *r, const char *what)
+{
+    const double tol = 1e-12;
+    if (!(fabs(s->before_ms - r->before_ms) <= tol * r->before_ms &&
+          fabs(s->after_ms - r->after_ms) <= tol * r->after_ms &&
+          fabs(s->before_mean - r->before_mean) <= tol * r->before_mean &&
+          fabs(s->after_mean - r->after_mean) <= tol * r->after_mean &&
+          fabs(s->yield - r->yield) <= 1e-15))
+        fail_msg("%s: MS %g %g mean %g %g yield %g; recomputed %g %g, %g %g, %g", what,
+                 s->before_ms, s->after_ms, s->before_mean, s->after_mean, s->yield,
+                 r->before_ms, r->after_ms, r->before_mean, r->after_mean, r->yield);
+}
+
+#define UNITS 12
+#define SMALL_SETS                                                                                \
+    "campaign.alpha_step_deg=0.4", "validation.alpha_step_deg=0.7", "report.spec_arcsec=33",      \
+        "report.yield_target=0.5", "report.budget_units=12", "report.budget_steps=4",            \
+        "tolerance.dphi_deg=0", "tolerance.slit_width_um=0", "tolerance.harmonic_phase_deg=0",    \
+        "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0", "tolerance.install_z_arcsec=0",   \
+        "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0", "tolerance.dd_um=0"
+
+/* The whole budget of c, checked against recomputations. */
+static void check_budget(const sunmc_config *c, budget_result *b)
+{
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(budget_run(c, UNITS, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->angle, 0);
+    assert_int_equal(b->band, 2); /* 0:62 is the widest */
+    recomputed all = recompute(c, UNITS, b->angle, b->band);
+    expect_stats(&b->all, &all, "all");
+    sunmc_config none = *c;
+    for (int i = 0; i < b->n; i++)
+        budget_set_tolerance(&none, b->src[i].key, 0.0);
+    recomputed nn = recompute(&none, UNITS, b->angle, b->band);
+    expect_stats(&b->none, &nn, "none");
+    for (int i = 0; i < b->n; i++) {
+        const budget_source *s = &b->src[i];
+        sunmc_config t = none;
+        budget_set_tolerance(&t, s->key, s->tolerance);
+        recomputed alone = recompute(&t, UNITS, b->angle, b->band);
+        expect_stats(&s->alone, &alone, s->name);
+        t = *c;
+        budget_set_tolerance(&t, s->key, 0.0);
+        recomputed removed = recompute(&t, UNITS, b->angle, b->band);
+        expect_stats(&s->removed, &removed, s->name);
+        /* budget.h's definitions */
+        assert_near(s->share_removed_before,
+                    (all.before_ms - removed.before_ms) / all.before_ms, 1e-9);
+        assert_near(s->share_removed_after, (all.after_ms - removed.after_ms) / all.after_ms,
+                    1e-9);
+        assert_near(s->share_alone_before,
+                    (alone.before_ms - nn.before_ms) / (all.before_ms - nn.before_ms), 1e-9);
+        assert_near(s->share_alone_after,
+                    (alone.after_ms - nn.after_ms) / (all.after_ms - nn.after_ms), 1e-9);
+    }
+    /* ranks: 1 = the largest after-calibration share removed */
+    for (int i = 0; i < b->n; i++) {
+        const budget_source *s = &b->src[b->order[i]];
+        assert_int_equal(s->rank, i + 1);
+        if (i > 0)
+            assert_true(s->share_removed_after <= b->src[b->order[i - 1]].share_removed_after);
+    }
+}
+
+/* Yield with source s at value v, over the budget's units, computed here. */
+static double yield_at(const sunmc_config *c, const budget_result *b, const budget_source *s,
+                       double v)
+{
+    sunmc_config t = *c;
+    budget_set_tolerance(&t, s->key, v);
+    return recompute(&t, c->budget_units, b->angle, b->band).yield;
+}
+
+/* At the limit the yield meets the target; one bisection resolution past
+ * it, it does not.  The resolution: bisection over [0, today] when today
+ * fails, else over [lo, BUDGET_EXPAND lo] with lo <= limit. */
+static void check_limit(const sunmc_config *c, const budget_result *b, const budget_source *s)
+{
+    assert_int_equal(s->limit_status, BUDGET_LIMIT_OK);
+    double today = yield_at(c, b, s, s->tolerance);
+    assert_near(s->yield_today, today, 1e-15);
+    double step = today >= c->yield_target
+                      ? (BUDGET_EXPAND - 1) * s->limit / ldexp(1.0, c->budget_steps)
+                      : s->tolerance / ldexp(1.0, c->budget_steps);
+    double at = yield_at(c, b, s, s->limit), past = yield_at(c, b, s, s->limit + step);
+    if (!(at >= c->yield_target))
+        fail_msg("%s: yield %g at its limit %g, below the target %g", s->name, at, s->limit,
+                 c->yield_target);
+    if (!(past < c->yield_target))
+        fail_msg("%s: yield %g at %g, past its limit %g, still meets the target %g", s->name,
+                 past, s->limit + step, s->limit, c->yield_target);
+    assert_true(s->limit > 0);
+}
+
+/* Today's gain tolerance fails the target: the limit is below it. */
+static void limit_below_today(void **state)
+{
+    (void)state;
+    const char *sets[] = {SMALL_SETS, "tolerance.gain_pct=3", "tolerance.etch_um=0.5",
+                          "tolerance.dH_um=2"};
+    config_state st;
+    build(&st, "configs/ess_type_a.ini", sets, (int)(sizeof sets / sizeof sets[0]));
+    budget_result *b = calloc(1, sizeof *b);
+    check_budget(&st.cfg, b);
+    assert_int_equal(b->n, 3);
+    int seen_gain = 0, seen_etch = 0;
+    for (int i = 0; i < b->n; i++) {
+        const budget_source *s = &b->src[i];
+        if (strcmp(s->name, "gain_pct") == 0) {
+            seen_gain = 1;
+            assert_true(s->yield_today < st.cfg.yield_target);
+            check_limit(&st.cfg, b, s);
+            assert_true(s->limit < s->tolerance);
+        } else if (strcmp(s->name, "etch_um") == 0) {
+            /* the others alone keep the yield below the target */
+            seen_etch = 1;
+            assert_int_equal(s->limit_status, BUDGET_LIMIT_UNMET);
+            assert_true(yield_at(&st.cfg, b, s, 0.0) < st.cfg.yield_target);
+        }
+    }
+    assert_true(seen_gain && seen_etch);
+    free(b);
+    config_state_free(&st);
+}
+
+/* Today's gain tolerance meets the target: the limit is above it. */
+static void limit_above_today(void **state)
+{
+    (void)state;
+    const char *sets[] = {SMALL_SETS, "tolerance.gain_pct=1", "tolerance.etch_um=0",
+                          "tolerance.dH_um=2"};
+    config_state st;
+    build(&st, "configs/ess_type_a.ini", sets, (int)(sizeof sets / sizeof sets[0]));
+    budget_result *b = calloc(1, sizeof *b);
+    check_budget(&st.cfg, b);
+    assert_int_equal(b->n, 2);
+    for (int i = 0; i < b->n; i++) {
+        const budget_source *s = &b->src[i];
+        if (strcmp(s->name, "gain_pct") == 0) {
+            assert_true(s->yield_today >= st.cfg.yield_target);
+            check_limit(&st.cfg, b, s);
+            assert_true(s->limit > s->tolerance);
+        }
+    }
+    free(b);
+    config_state_free(&st);
+}
+
+/* DSS: the budget is read on the total angle in the widest band. */
+static void dss_budget_row(void **state)
+{
+    (void)state;
+    const char *sets[] = {"campaign.b_step_deg=10", "validation.b_step_deg=10",
+                          "report.bands_deg=0:20, 0:50, 20:40", "tolerance.c1_arcsec=0",
+                          "tolerance.c2_arcsec=0", "tolerance.c3_arcsec=0",
+                          "tolerance.glass_index=0", "tolerance.glass_thickness_um=0"};
+    config_state st;
+    build(&st, "configs/dss.ini", sets, 8);
+    budget_result *b = calloc(1, sizeof *b);
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(budget_run(&st.cfg, 6, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->angle, 2);
+    assert_int_equal(b->band, 1);
+    recomputed all = recompute(&st.cfg, 6, 2, 1);
+    expect_stats(&b->all, &all, "all");
+    free(b);
+    config_state_free(&st);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(limit_below_today),
+        cmocka_unit_test(limit_above_today),
+        cmocka_unit_test(dss_budget_row),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
