@@ -43,6 +43,7 @@ static int fake_par_columns(const sunmc_config *c, const char **names, int max)
 
 static const sensor_family fake = {
     .name = "fake",
+    .alias_term = "the fake term",
     .rms_unit = "deg",
     .arcsec_per_rms_unit = 3600.0,
     .model_label = fake_label,
@@ -59,7 +60,7 @@ static const sensor_family fake = {
 static void make_config(sunmc_config *c)
 {
     memset(c, 0, sizeof *c);
-    c->family = FAMILY_ESS;
+    c->family = &fake;
     snprintf(c->product, sizeof c->product, "Test product");
     c->seed = 11;
     c->spec_arcsec = 54.0;
