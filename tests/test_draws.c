@@ -164,6 +164,24 @@ static void expect_independent(double (*x)[NU], int nk, const char *const *names
     }
 }
 
+/* Config path with tolerance keys[k] normal of sigma[k], plus extra sets. */
+static void build_normal(config_state *st, const char *path, const char *const *keys,
+                         const double *sigma, int n, const char *const *extra, int n_extra)
+{
+    char sets[32][64];
+    const char *setp[32];
+    assert_true(2 * n + n_extra <= 32);
+    for (int k = 0; k < n; k++) {
+        snprintf(sets[2 * k], 64, "tolerance.%s=%g", keys[k], sigma[k]);
+        snprintf(sets[2 * k + 1], 64, "tolerance.%s_dist=normal", keys[k]);
+    }
+    for (int i = 0; i < 2 * n; i++)
+        setp[i] = sets[i];
+    for (int i = 0; i < n_extra; i++)
+        setp[2 * n + i] = extra[i];
+    build(st, path, setp, 2 * n + n_extra);
+}
+
 static void ess_deviations_independent(void **state)
 {
     (void)state;
@@ -173,18 +191,9 @@ static void ess_deviations_independent(void **state)
                                          "install_x_arcsec", "install_y_arcsec",
                                          "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec"};
     static const double sigma[12] = {2, 1, 0.01, 1.5, 30, 0.7, 0.2, 60, 300, 90, 40, 50};
-    char sets[26][64];
-    const char *setp[26];
-    for (int k = 0; k < 12; k++) {
-        snprintf(sets[2 * k], 64, "tolerance.%s=%g", keys[k], sigma[k]);
-        snprintf(sets[2 * k + 1], 64, "tolerance.%s_dist=normal", keys[k]);
-    }
-    snprintf(sets[24], 64, "calibration.roll_sigma_arcsec=25");
-    snprintf(sets[25], 64, "tolerance.truncation_sigmas=3");
-    for (int i = 0; i < 26; i++)
-        setp[i] = sets[i];
+    const char *extra[] = {"calibration.roll_sigma_arcsec=25", "tolerance.truncation_sigmas=3"};
     config_state st;
-    build(&st, "configs/ess_type_a.ini", setp, 26);
+    build_normal(&st, "configs/ess_type_a.ini", keys, sigma, 12, extra, 2);
     static double x[ESS_N_DEV + 1][NU];
     for (long u = 0; u < NU; u++) {
         ess_deviations d;
@@ -230,16 +239,8 @@ static void dss_deviations_independent(void **state)
                                                 "c2_arcsec", "c3_arcsec", "glass_thickness_um",
                                                 "glass_index"};
     static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004};
-    char sets[2 * DSS_N_DEV][64];
-    const char *setp[2 * DSS_N_DEV];
-    for (int k = 0; k < DSS_N_DEV; k++) {
-        snprintf(sets[2 * k], 64, "tolerance.%s=%g", keys[k], sigma[k]);
-        snprintf(sets[2 * k + 1], 64, "tolerance.%s_dist=normal", keys[k]);
-        setp[2 * k] = sets[2 * k];
-        setp[2 * k + 1] = sets[2 * k + 1];
-    }
     config_state st;
-    build(&st, "configs/dss.ini", setp, 2 * DSS_N_DEV);
+    build_normal(&st, "configs/dss.ini", keys, sigma, DSS_N_DEV, NULL, 0);
     static double x[DSS_N_DEV][NU];
     for (long u = 0; u < NU; u++) {
         dss_deviations d;

@@ -300,20 +300,34 @@ static int in_band(double x, double lo, double hi)
     return lo == 0 ? x <= hi + 1e-9 : x > lo + 1e-9 && x <= hi + 1e-9;
 }
 
+/* Unit `unit` of cfg (with sets) run alone and simulated: its units.tsv
+ * row and simulate's validation.csv. */
+static void run_and_simulate(const char *cfg, const char *sets, long unit, const char *name,
+                             tsv **u, csv_table **v)
+{
+    char cmd[2048], out[1 << 14], path[256];
+    snprintf(cmd, sizeof cmd,
+             "%s run %s --units %ld:%ld --quiet %s --out %s/%s_run && "
+             "%s simulate %s --unit %ld %s --out %s/%s_sim > /dev/null",
+             test_sunmc(), cfg, unit, unit + 1, sets, dir, name, test_sunmc(), cfg, unit, sets,
+             dir, name);
+    int st = test_run(cmd, out, sizeof out);
+    if (st != 0)
+        fail_msg("%s: exit %d\n%s", cmd, st, out);
+    snprintf(path, sizeof path, "%s/%s_sim/validation.csv", dir, name);
+    *v = read_csv(path);
+    snprintf(path, sizeof path, "%s/%s_run/units.tsv", dir, name);
+    *u = tsv_load(path);
+    assert_int_equal((*u)->nr, 1);
+    assert_int_equal(atol(tsv_str(*u, 0, "unit")), unit);
+}
+
 static void ess_before_from_validation(void **state)
 {
     (void)state;
-    char path[256];
-    run_ok("%s run configs/ess_type_a.ini --units 3:4 --quiet " ESS_SMALL " --out %s/ess_u3%s",
-           dir, "");
-    run_ok("%s simulate configs/ess_type_a.ini --unit 3 " ESS_SMALL " --out %s/ess_sim3%s", dir,
-           " > /dev/null");
-    snprintf(path, sizeof path, "%s/ess_sim3/validation.csv", dir);
-    csv_table *v = read_csv(path);
-    snprintf(path, sizeof path, "%s/ess_u3/units.tsv", dir);
-    tsv *u = tsv_load(path);
-    assert_int_equal(u->nr, 1);
-    assert_int_equal(atol(tsv_str(u, 0, "unit")), 3);
+    tsv *u;
+    csv_table *v;
+    run_and_simulate("configs/ess_type_a.ini", ESS_SMALL, 3, "ess3", &u, &v);
     const double lo[3] = {0, 30, 0}, hi[3] = {30, 60, 62};
     for (int b = 0; b < 3; b++) {
         double sum = 0;
@@ -355,14 +369,9 @@ static void direction(double a, double b, double v[3])
 static void dss_before_from_validation(void **state)
 {
     (void)state;
-    char path[256];
-    run_ok("%s run configs/dss.ini --units 2:3 --quiet " DSS_SMALL " --out %s/dss_u2%s", dir, "");
-    run_ok("%s simulate configs/dss.ini --unit 2 " DSS_SMALL " --out %s/dss_sim2%s", dir,
-           " > /dev/null");
-    snprintf(path, sizeof path, "%s/dss_sim2/validation.csv", dir);
-    csv_table *v = read_csv(path);
-    snprintf(path, sizeof path, "%s/dss_u2/units.tsv", dir);
-    tsv *u = tsv_load(path);
+    tsv *u;
+    csv_table *v;
+    run_and_simulate("configs/dss.ini", DSS_SMALL, 2, "dss2", &u, &v);
     const double lo[3] = {0, 20, 0}, hi[3] = {20, 40, 60};
     const char *angle[3] = {"alpha", "beta", "total"};
     const double d2r = M_PI / 180, r2s = 180 * 3600 / M_PI;

@@ -110,6 +110,19 @@ static void make_results(unit_result *r)
     r[2].alias_weak = 1;
 }
 
+/* The hand-made results and their summary, fresh for each test. */
+static sunmc_config c;
+static unit_result res[NU];
+static summary_row rows[2 * NB];
+
+static int summarize(void **state)
+{
+    (void)state;
+    make_config(&c);
+    make_results(res);
+    return report_summarize(&c, &fake, res, NU, rows) == SUNMC_OK ? 0 : -1;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -165,13 +178,7 @@ static expect expected(const unit_result *r, int n, int a, int b, double spec)
 static void hand_made_band(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row rows[2 * NB];
     assert_int_equal(report_n_rows(&c, &fake), 2 * NB);
-    assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
     const summary_row *r = &rows[0];
     assert_int_equal(r->angle, 0);
     assert_int_equal(r->band, 0);
@@ -199,12 +206,6 @@ static void hand_made_band(void **state)
 static void every_row_against_recomputation(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row rows[2 * NB];
-    assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
     for (int a = 0; a < 2; a++)
         for (int b = 0; b < NB; b++) {
             const summary_row *r = &rows[a * NB + b];
@@ -240,13 +241,8 @@ static void every_row_against_recomputation(void **state)
 static void empty_and_all_failed(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
     for (int u = 0; u < NU; u++)
         res[u].fit_status = UNIT_FIT_FAILED;
-    summary_row rows[2 * NB];
     assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
     assert_int_equal(rows[0].fit_failures, NU);
     assert_true(isnan(rows[0].rms_after_mean) && isnan(rows[0].rms_after_max));
@@ -261,9 +257,6 @@ static void empty_and_all_failed(void **state)
 static void spec_in_family_unit(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[2];
     memset(res, 0, sizeof res);
     for (int u = 0; u < 2; u++)
         for (int a = 0; a < 2; a++)
@@ -271,7 +264,6 @@ static void spec_in_family_unit(void **state)
                 res[u].rms_before[a][b] = 1.0;
                 res[u].rms_after[a][b] = (u == 0 ? 53.99 : 54.01) / 3600.0;
             }
-    summary_row rows[2 * NB];
     assert_int_equal(report_summarize(&c, &fake, res, 2, rows), SUNMC_OK);
     for (int i = 0; i < 2 * NB; i++)
         assert_near(rows[i].yield, 0.5, 0);
@@ -281,7 +273,7 @@ static void spec_in_family_unit(void **state)
 
 /* ---- writers: read back what they wrote ---- */
 
-/* Split the line at *pos (advanced) into tab-separated fields. */
+/* Split a line into its tab-separated fields. */
 static int split_tsv(char *line, char **f, int max)
 {
     int n = 0;
@@ -317,12 +309,6 @@ static void assert_printed(const char *text, double v, const char *what)
 static void summary_tsv_columns(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row rows[2 * NB];
-    assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
     FILE *f = tmpfile();
     assert_non_null(f);
     const char *lead[1] = {"campaign.alpha_step_deg"};
@@ -381,10 +367,6 @@ static void summary_tsv_columns(void **state)
 static void units_tsv_columns(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
     FILE *f = tmpfile();
     assert_non_null(f);
     report_write_units(f, &c, &fake, res, NU);
@@ -427,12 +409,6 @@ static void units_tsv_columns(void **state)
 static void printed_table(void **state)
 {
     (void)state;
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row rows[2 * NB];
-    assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
     FILE *f = tmpfile();
     assert_non_null(f);
     report_print_table(f, &c, &fake, rows);
@@ -466,13 +442,13 @@ static void printed_table(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(hand_made_band),
-        cmocka_unit_test(every_row_against_recomputation),
-        cmocka_unit_test(empty_and_all_failed),
-        cmocka_unit_test(spec_in_family_unit),
-        cmocka_unit_test(summary_tsv_columns),
-        cmocka_unit_test(units_tsv_columns),
-        cmocka_unit_test(printed_table),
+        cmocka_unit_test_setup(hand_made_band, summarize),
+        cmocka_unit_test_setup(every_row_against_recomputation, summarize),
+        cmocka_unit_test_setup(empty_and_all_failed, summarize),
+        cmocka_unit_test_setup(spec_in_family_unit, summarize),
+        cmocka_unit_test_setup(summary_tsv_columns, summarize),
+        cmocka_unit_test_setup(units_tsv_columns, summarize),
+        cmocka_unit_test_setup(printed_table, summarize),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
