@@ -567,6 +567,8 @@ static int dir_entries(const char *path)
     return n;
 }
 
+static int entries_starting(const char *path, const char *prefix);
+
 /* A write error at commit (here: the file-size limit) fails the command
  * and leaves no file, not even a temporary. */
 static void run_write_error(void **state)
@@ -583,6 +585,7 @@ static void run_write_error(void **state)
     assert_int_not_equal(st, 0);
     assert_non_null(strstr(out, "write error"));
     assert_int_equal(dir_entries(sub), 0);
+    assert_int_equal(entries_starting(dir, ".full."), 0);
 }
 
 /* An output path that is a regular file: refused, the file untouched. */
@@ -603,19 +606,33 @@ static void out_is_a_file(void **state)
     assert_string_equal(text, "keep\n");
 }
 
-/* out_commit on streams whose writes fail: the error is reported, the set
- * is removed, nothing is renamed into place. */
+/* Entries of dir whose names start with prefix. */
+static int entries_starting(const char *path, const char *prefix)
+{
+    DIR *d = opendir(path);
+    assert_non_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+    closedir(d);
+    return n;
+}
+
+/* out_commit on streams whose writes fail: the error is reported, nothing
+ * is moved into place and the temporary directory is gone. */
 static void commit_detects_write_errors(void **state)
 {
     (void)state;
     for (int unbuffered = 0; unbuffered < 2; unbuffered++) {
-        char sub[128], err[SUNMC_ERRLEN] = "";
-        snprintf(sub, sizeof sub, "%s/commit%d", dir, unbuffered);
+        char sub[128], name[32], err[SUNMC_ERRLEN] = "";
+        snprintf(name, sizeof name, "commit%d", unbuffered);
+        snprintf(sub, sizeof sub, "%s/%s", dir, name);
         out_set os;
         FILE *good, *bad;
         assert_int_equal(out_begin(&os, sub, err, sizeof err), SUNMC_OK);
-        assert_int_equal(out_open(&os, sub, "good.tsv", &good, err, sizeof err), SUNMC_OK);
-        assert_int_equal(out_open(&os, sub, "bad.tsv", &bad, err, sizeof err), SUNMC_OK);
+        assert_int_equal(out_open(&os, "good.tsv", &good, err, sizeof err), SUNMC_OK);
+        assert_int_equal(out_open(&os, "bad.tsv", &bad, err, sizeof err), SUNMC_OK);
         int full = open("/dev/full", O_WRONLY);
         assert_true(full >= 0);
         assert_true(dup2(full, fileno(bad)) >= 0);
@@ -623,27 +640,31 @@ static void commit_detects_write_errors(void **state)
         if (unbuffered)
             setvbuf(bad, NULL, _IONBF, 0); /* the error shows on the stream at once */
         fprintf(good, "a\tb\n1\t2\n");
-        fprintf(bad, "a\tb\n1\t2\n"); /* buffered: the error shows when flushed at close */
+        fprintf(bad, "a\tb\n1\t2\n"); /* buffered: the error shows when flushed */
         assert_int_equal(out_commit(&os, err, sizeof err), SUNMC_EIO);
         assert_non_null(strstr(err, "bad.tsv: write error"));
-        assert_int_equal(dir_entries(sub), 0);
+        assert_int_equal(dir_entries(sub), -1); /* not created */
+        char tmp[40];
+        snprintf(tmp, sizeof tmp, ".%s.", name);
+        assert_int_equal(entries_starting(dir, tmp), 0);
     }
-    /* and a set that writes fine is renamed into place */
+    /* a set that writes fine is moved into place, with its marker */
     char sub[128], err[SUNMC_ERRLEN];
     snprintf(sub, sizeof sub, "%s/commit_ok", dir);
     out_set os;
     FILE *f;
     assert_int_equal(out_begin(&os, sub, err, sizeof err), SUNMC_OK);
-    assert_int_equal(out_open(&os, sub, "x.tsv", &f, err, sizeof err), SUNMC_OK);
+    assert_int_equal(out_open(&os, "x.tsv", &f, err, sizeof err), SUNMC_OK);
     fprintf(f, "x\n1\n");
     assert_int_equal(out_commit(&os, err, sizeof err), SUNMC_OK);
-    assert_int_equal(dir_entries(sub), 1);
-    /* out_abort removes what was opened */
+    assert_int_equal(dir_entries(sub), 2);
+    /* out_abort leaves the directory as it was and removes the temporary */
     assert_int_equal(out_begin(&os, sub, err, sizeof err), SUNMC_OK);
-    assert_int_equal(out_open(&os, sub, "y.tsv", &f, err, sizeof err), SUNMC_OK);
+    assert_int_equal(out_open(&os, "y.tsv", &f, err, sizeof err), SUNMC_OK);
     fprintf(f, "y\n");
     out_abort(&os);
-    assert_int_equal(dir_entries(sub), 1);
+    assert_int_equal(dir_entries(sub), 2);
+    assert_int_equal(entries_starting(dir, ".commit_ok."), 0);
 }
 
 int main(void)
