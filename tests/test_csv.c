@@ -237,7 +237,7 @@ static void test_params_errors(void **state)
     expect_params_error("k = 1\n", ":1: key 'k' before any [section]");
     expect_params_error("[s]\n# c\nk 1\n", ":3: expected 'key = value'");
     expect_params_error("[s\nk = 1\n", ":1: malformed section header");
-    expect_params_error("[s]\nk = 1\nk = 2\n", ":3: key s.k given twice (first at line 2)");
+    expect_params_error("[s]\nk = 1\nk = 2\n", ":3: duplicate key s.k (first set on line 2)");
     expect_params_error("[s]\n\nk = one  # unit\n", ":3: key s.k: 'one' is not a number");
     expect_params_error("[s]\nk = inf\n", ":2: key s.k: 'inf' is not finite");
     expect_params_error("[s]\nj = 1\n", ": missing key s.k");

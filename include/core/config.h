@@ -228,9 +228,6 @@ int config_parse_value(const config_key *k, void *dst, const char *value, const 
 /* Registered family names as "a|b". */
 void config_family_choices(char *buf, size_t len);
 
-/* Strip leading and trailing white space in place. */
-char *config_trim(char *s);
-
 /* Write the effective config of c's family (every key, defaults filled in),
  * with the origin of each value as a comment when origins != NULL. */
 int config_write(FILE *f, const config_state *st);

@@ -10,6 +10,7 @@
 #define SUNMC_DSS_CONFIG_H
 
 #include "config.h"
+#include "dss_deviations.h"
 
 typedef struct {
     double h_mm;             /* nominal pinhole-to-detector height */
@@ -21,10 +22,11 @@ typedef struct {
     double fov_deg;          /* half field of view, per axis */
 } dss_design;
 
+/* One tolerance per line of DSS_DEVIATIONS. */
 typedef struct {
-    tolerance dh_px, dx_px, dy_px;
-    tolerance c1_arcsec, c2_arcsec, c3_arcsec;
-    tolerance glass_thickness_um, glass_index;
+#define DSS_X_TOLERANCE(name, ...) tolerance name;
+    DSS_DEVIATIONS(DSS_X_TOLERANCE)
+#undef DSS_X_TOLERANCE
 } dss_tolerances;
 
 typedef struct {

@@ -35,12 +35,14 @@
 #define SUNMC_DSS_SENSOR_H
 
 #include "dss_config.h"
+#include "deviation.h"
 #include "dss_centroid.h"
 #include "rotation.h"
 
 #include <stdint.h>
 
-/* One unit's deviations, in the units of their names. */
+/* One unit's deviations, in the units of their names: one field per line
+ * of DSS_DEVIATIONS (dss_deviations.h). */
 typedef struct {
     double dh_px, dx_px, dy_px;
     double c1_arcsec, c2_arcsec, c3_arcsec;
@@ -48,13 +50,15 @@ typedef struct {
     double glass_index;        /* deviation from design.glass_index */
 } dss_deviations;
 
-#define DSS_N_DEV 8
+/* DSS_DEVIATIONS as a table (dss_sensor.c). */
+extern const deviation_spec dss_deviation_list[DSS_N_TOL];
+
 /* Column names, in the order of dss_deviations_values(). */
 extern const char *const dss_deviation_names[DSS_N_DEV];
 void dss_deviations_values(const dss_deviations *d, double out[DSS_N_DEV]);
 
-/* Draw unit `unit`'s deviations; deviation i from its own stream
- * RNG_STREAM_TOLERANCE + i, so it depends only on (seed, unit, i). */
+/* Draw unit `unit`'s deviations; each from its own stream (its stream id in
+ * DSS_DEVIATIONS), so it depends only on (seed, unit, id). */
 void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_deviations *d);
 
 /* One built sensor: lengths in mm, angles in radians. */

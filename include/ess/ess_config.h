@@ -9,6 +9,7 @@
 #define SUNMC_ESS_CONFIG_H
 
 #include "config.h"
+#include "ess_deviations.h"
 
 typedef struct {
     double H_mm;                  /* nominal slit-to-code-dial distance */
@@ -25,11 +26,11 @@ typedef struct {
     double fov_deg;               /* half field of view in alpha */
 } ess_design;
 
+/* One tolerance per line of ESS_DEVIATIONS. */
 typedef struct {
-    tolerance dH_um, dd_um, dphi_deg, slit_width_um, harmonic_phase_deg;
-    tolerance gain_pct, etch_um;
-    tolerance install_x_arcsec, install_y_arcsec, install_z_arcsec;
-    tolerance sun_x_arcsec, sun_y_arcsec;
+#define ESS_X_TOLERANCE(name, ...) tolerance name;
+    ESS_DEVIATIONS(ESS_X_TOLERANCE)
+#undef ESS_X_TOLERANCE
 } ess_tolerances;
 
 typedef struct {

@@ -27,14 +27,16 @@
 #ifndef SUNMC_ESS_SENSOR_H
 #define SUNMC_ESS_SENSOR_H
 
+#include "deviation.h"
 #include "ess_config.h"
 #include "rng.h"
 
-#define ESS_FINE_ROWS 4
 #define ESS_MAX_COARSE_ROWS CONFIG_LIST_MAX
 #define ESS_HARMONICS 3 /* odd harmonics 1, 3, 5 */
 
-/* The sampled deviations of one unit, in the units of their names. */
+/* The sampled deviations of one unit, in the units of their names: one
+ * field per line of ESS_DEVIATIONS (ess_deviations.h), then the derived roll
+ * measurement. */
 typedef struct {
     double dH_um, dd_um, dphi_deg, slit_width_um, harmonic_phase_deg;
     double gain_pct[ESS_FINE_ROWS];
@@ -44,16 +46,20 @@ typedef struct {
     double roll_measured_arcsec; /* the alignment measurement of install_x */
 } ess_deviations;
 
-/* Number of columns ess_deviations_columns() describes. */
-#define ESS_N_DEV 19
+/* Columns of a unit's deviations: the list's, then roll_measured_arcsec. */
+#define ESS_N_DEV (ESS_N_TOL_COLUMNS + 1)
+
+/* ESS_DEVIATIONS as a table (ess_sensor.c). */
+extern const deviation_spec ess_deviation_list[ESS_N_TOL];
 
 /* Column names (with units) of the deviations, in the order of
  * ess_deviations_values(). */
 extern const char *const ess_deviation_names[ESS_N_DEV];
 void ess_deviations_values(const ess_deviations *d, double out[ESS_N_DEV]);
 
-/* Draw unit `unit`'s deviations: deviation i comes from its own stream
- * (RNG_STREAM_TOLERANCE + i), so it depends only on (seed, unit, i). */
+/* Draw unit `unit`'s deviations: each tolerance from its own stream (its
+ * stream id in ESS_DEVIATIONS), so it depends only on (seed, unit, id); the
+ * roll measurement from RNG_STREAM_ALIGNMENT. */
 void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_deviations *d);
 
 /* One built sensor, ready to read: lengths in mm, angles in radians. */

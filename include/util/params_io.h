@@ -1,8 +1,9 @@
 /* params_io.h - params.ini: a calibration as `sunmc calibrate` writes it and
  * `sunmc compensate` (and a person) reads it.
  *
- * An INI file of sections and `key = value` lines, each optionally followed
- * by `# comment` (the unit and the standard error, for the reader).  Keys
+ * An INI file (the dialect of ini.h) of sections and `key = value` lines,
+ * each optionally followed by `# comment` (the unit and the standard error,
+ * for the reader).  Keys
  * carry their unit in their name (_deg, _arcsec, _px).  Numbers are written
  * with 17 significant digits so that a write/read round trip is exact.
  *
@@ -56,9 +57,8 @@ int params_set_double(params_file *p, const char *section, const char *key, doub
  * the header comment `title` (may hold several lines; each gets "# "). */
 int params_write(FILE *f, const params_file *p, const char *title);
 
-/* Read path.  "FILE:LINE: message" for a line that is not `[section]`,
- * `key = value`, blank or a comment, a key outside a section, or a key given
- * twice.  SUNMC_EIO when unreadable. */
+/* Read path (ini.h: its syntax errors are "FILE:LINE: message").
+ * SUNMC_EIO when unreadable. */
 int params_read(const char *path, params_file *p, char *err, size_t errlen);
 
 /* The entry section.key, or NULL. */

@@ -14,7 +14,7 @@
  * changing one part of a config (a campaign step, say) does not reshuffle
  * the draws of another (the tolerances): common random numbers in sweeps. */
 enum rng_stream_id {
-    RNG_STREAM_TOLERANCE = 0x100, /* + tolerance index: one stream per deviation */
+    RNG_STREAM_TOLERANCE = 0x100, /* + the stream id of each deviation-list line */
     RNG_STREAM_CAL_NOISE = 0x200, /* sensor and encoder noise of the campaign */
     RNG_STREAM_VAL_NOISE = 0x201, /* noise of the validation readings */
     RNG_STREAM_ALIGNMENT = 0x202  /* the roll alignment measurement */

@@ -1,6 +1,7 @@
 /* config.c - building a config: finding keys across the shared and family
  * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
+#include "ini.h"
 #include "registry.h"
 #include "status.h"
 
@@ -10,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LINE_MAX_LEN 1024
 
 /* Rows of a family's key table (it ends with a NULL section). */
 static size_t table_len(const config_key *t)
@@ -155,112 +155,54 @@ int config_set_value(config_state *st, const char *section, const char *name, co
     return s;
 }
 
-/* One "key = value" line read from a file. */
-typedef struct {
-    char section[CONFIG_STR_MAX];
-    char name[CONFIG_STR_MAX];
-    char value[LINE_MAX_LEN];
-    int line;
-} ini_entry;
-
+/* The "key = value" lines of a config file, in file order. */
 typedef struct {
     ini_entry *v;
     int n, cap;
 } ini_entries;
 
+static int add_entry(ini_entries *out, const ini_entry *e, const char *path, char *err,
+                     size_t errlen)
+{
+    if (out->n == out->cap) {
+        int cap = out->cap ? 2 * out->cap : 64;
+        ini_entry *nv = realloc(out->v, (size_t)cap * sizeof *nv);
+        if (!nv)
+            return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        out->v = nv;
+        out->cap = cap;
+    }
+    out->v[out->n++] = *e;
+    return SUNMC_OK;
+}
+
+/* Read path's entries; every section and key must be known to some family
+ * (whether it applies to this config's family is checked when it is set). */
 static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "r");
     if (!f)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: cannot open config file: %s", path,
                           strerror(errno));
-    char line[LINE_MAX_LEN + 2];
-    char section[CONFIG_STR_MAX] = "";
-    int lineno = 0;
-    int status = SUNMC_OK;
-    while (fgets(line, sizeof line, f)) {
-        lineno++;
-        if (strlen(line) > LINE_MAX_LEN) {
-            status = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: line longer than %d characters",
-                                path, lineno, LINE_MAX_LEN);
+    ini_reader r;
+    ini_entry e;
+    int item, st;
+    ini_begin(&r, f, path);
+    while ((st = ini_next(&r, &item, &e, err, errlen)) == SUNMC_OK && item != INI_END) {
+        if (item == INI_SECTION && !section_known(e.section))
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]", path, e.line,
+                            e.section);
+        else if (item == INI_KEY && !config_find(e.section, e.key))
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key '%s' in section [%s]",
+                            path, e.line, e.key, e.section);
+        else if (item == INI_KEY)
+            st = add_entry(out, &e, path, err, errlen);
+        if (st != SUNMC_OK)
             break;
-        }
-        char *s = config_trim(line);
-        if (*s == '\0' || *s == '#' || *s == ';')
-            continue;
-        if (*s == '[') {
-            char *close = strchr(s, ']');
-            if (!close || *config_trim(close + 1) != '\0') {
-                status = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                    "%s:%d: malformed section header '%s'", path, lineno, s);
-                break;
-            }
-            *close = '\0';
-            char *name = config_trim(s + 1);
-            if (!section_known(name)) {
-                status = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]",
-                                    path, lineno, name);
-                break;
-            }
-            snprintf(section, sizeof section, "%s", name);
-            continue;
-        }
-        char *eq = strchr(s, '=');
-        if (!eq) {
-            status = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                "%s:%d: expected 'key = value' or '[section]', got '%s'", path,
-                                lineno, s);
-            break;
-        }
-        *eq = '\0';
-        char *key = config_trim(s);
-        char *value = config_trim(eq + 1);
-        /* inline comment: " # ..." */
-        char *hash = strstr(value, " #");
-        if (hash) {
-            *hash = '\0';
-            value = config_trim(value);
-        }
-        if (section[0] == '\0') {
-            status = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                "%s:%d: key '%s' comes before any [section]", path, lineno, key);
-            break;
-        }
-        if (!config_find(section, key)) {
-            status = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                "%s:%d: unknown key '%s' in section [%s]", path, lineno, key,
-                                section);
-            break;
-        }
-        for (int i = 0; i < out->n; i++)
-            if (strcmp(out->v[i].section, section) == 0 && strcmp(out->v[i].name, key) == 0) {
-                status = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                    "%s:%d: duplicate key %s.%s (first set on line %d)", path,
-                                    lineno, section, key, out->v[i].line);
-                break;
-            }
-        if (status != SUNMC_OK)
-            break;
-        if (out->n == out->cap) {
-            int cap = out->cap ? 2 * out->cap : 64;
-            ini_entry *nv = realloc(out->v, (size_t)cap * sizeof *nv);
-            if (!nv) {
-                status = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-                break;
-            }
-            out->v = nv;
-            out->cap = cap;
-        }
-        ini_entry *e = &out->v[out->n++];
-        snprintf(e->section, sizeof e->section, "%s", section);
-        snprintf(e->name, sizeof e->name, "%s", key);
-        snprintf(e->value, sizeof e->value, "%s", value);
-        e->line = lineno;
     }
-    if (status == SUNMC_OK && ferror(f))
-        status = sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
+    ini_end(&r);
     fclose(f);
-    return status;
+    return st;
 }
 
 /* Split "section.key=value" into its parts; SUNMC_EINPUT when malformed. */
@@ -273,7 +215,7 @@ static int split_set(const char *arg, char *section, char *name, char *value, ch
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--set %s: expected section.key=value (e.g. tolerance.dH_um=3)", arg);
     size_t ls = (size_t)(dot - arg), ln = (size_t)(eq - dot - 1);
-    if (ls >= CONFIG_STR_MAX || ln >= CONFIG_STR_MAX || strlen(eq + 1) >= LINE_MAX_LEN)
+    if (ls >= CONFIG_STR_MAX || ln >= CONFIG_STR_MAX || strlen(eq + 1) >= INI_LINE_MAX)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--set %s: too long", arg);
     memcpy(section, arg, ls);
     section[ls] = '\0';
@@ -385,12 +327,12 @@ static int resolve_family(const ini_entries *ents, const char *path, const char 
                           size_t errlen)
 {
     const config_key *fk = config_find("sensor", "family");
-    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[LINE_MAX_LEN];
+    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[INI_LINE_MAX];
     int s;
     *fam = sensor_family_at(0);
     where[0] = '\0';
     for (int i = 0; i < ents->n; i++)
-        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].name, "family") == 0) {
+        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].key, "family") == 0) {
             snprintf(where, CONFIG_ORIGIN_MAX, "%s:%d", path, ents->v[i].line);
             if ((s = config_parse_value(fk, (void *)fam, ents->v[i].value, where, err, errlen)))
                 return s;
@@ -412,13 +354,13 @@ static int apply_values(config_state *st, const ini_entries *ents, const char *p
                         const char *const *sets, int n_sets, char *err, size_t errlen)
 {
     char where[CONFIG_ORIGIN_MAX];
-    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[LINE_MAX_LEN];
+    char section[CONFIG_STR_MAX], name[CONFIG_STR_MAX], value[INI_LINE_MAX];
     int s;
     for (int i = 0; i < ents->n; i++) {
-        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].name, "family") == 0)
+        if (strcmp(ents->v[i].section, "sensor") == 0 && strcmp(ents->v[i].key, "family") == 0)
             continue;
         snprintf(where, sizeof where, "%s:%d", path, ents->v[i].line);
-        s = config_set_value(st, ents->v[i].section, ents->v[i].name, ents->v[i].value, where, err,
+        s = config_set_value(st, ents->v[i].section, ents->v[i].key, ents->v[i].value, where, err,
                              errlen);
         if (s != SUNMC_OK)
             return s;

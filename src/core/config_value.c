@@ -1,6 +1,7 @@
 /* config_value.c - one key's value: parsing text into the config (with the
  * key's type and range checks) and formatting it back. */
 #include "config.h"
+#include "ini.h"
 #include "registry.h"
 #include "status.h"
 
@@ -9,18 +10,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define VALUE_MAX_LEN 1024
-
-char *config_trim(char *s)
-{
-    while (isspace((unsigned char)*s))
-        s++;
-    char *e = s + strlen(s);
-    while (e > s && isspace((unsigned char)e[-1]))
-        *--e = '\0';
-    return s;
-}
 
 /* Parse a whole-string double; 0 on success. */
 static int parse_double(const char *s, double *out)
@@ -199,7 +188,7 @@ static int set_list(const config_key *k, void *dst, char *v, const char *where, 
     double d;
     int st;
     for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        char *t = config_trim(tok);
+        char *t = ini_trim(tok);
         if (tmp.n >= CONFIG_LIST_MAX)
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values",
                               where, k->section, k->name, CONFIG_LIST_MAX);
@@ -233,7 +222,7 @@ static int add_band(const config_key *k, band_list *b, char *t, const char *wher
                           "%s: %s.%s: band '%s' is not LO:HI (e.g. 0:30, 30:60)", where,
                           k->section, k->name, t);
     *colon = '\0';
-    if (parse_double(config_trim(t), &lo) != 0 || parse_double(config_trim(colon + 1), &hi) != 0)
+    if (parse_double(ini_trim(t), &lo) != 0 || parse_double(ini_trim(colon + 1), &hi) != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s: band bounds must be numbers",
                           where, k->section, k->name);
     if ((st = check_range(k, lo, where, "band low", err, errlen)) != SUNMC_OK ||
@@ -254,7 +243,7 @@ static int set_bands(const config_key *k, void *dst, char *v, const char *where,
     band_list tmp = {0};
     char *save = NULL;
     for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        int st = add_band(k, &tmp, config_trim(tok), where, err, errlen);
+        int st = add_band(k, &tmp, ini_trim(tok), where, err, errlen);
         if (st != SUNMC_OK)
             return st;
     }
@@ -268,9 +257,9 @@ static int set_bands(const config_key *k, void *dst, char *v, const char *where,
 int config_parse_value(const config_key *k, void *dst, const char *value, const char *where,
                        char *err, size_t errlen)
 {
-    char buf[VALUE_MAX_LEN];
+    char buf[INI_LINE_MAX];
     snprintf(buf, sizeof buf, "%s", value);
-    char *v = config_trim(buf);
+    char *v = ini_trim(buf);
     switch (k->type) {
     case KEY_DOUBLE:
     case KEY_INT:

@@ -1,19 +1,19 @@
 /* config_write.c - the effective config (`sunmc config`, config.ini) and the
  * commented reference of every key (configs/reference.ini). */
 #include "config.h"
+#include "ini.h"
 #include "registry.h"
 #include "status.h"
 
 #include <ctype.h>
 #include <string.h>
 
-#define LINE_MAX_LEN 1024
 
 int config_write(FILE *f, const config_state *st)
 {
     const sunmc_config *c = &st->cfg;
     const char *cur = "";
-    char buf[LINE_MAX_LEN];
+    char buf[INI_LINE_MAX];
     fprintf(f, "# sunmc effective configuration (%s); the comment names each value's origin\n",
             c->family->name);
     for (size_t i = 0; i < st->n_keys; i++) {

@@ -10,9 +10,6 @@
 #include <stddef.h>
 
 #define OFF(field) offsetof(dss_config, field)
-#define TOL(fld, name, unit, defv, defdist, maxv, help)                                           \
-    CONFIG_TOLERANCE_KEYS(OFF(fld), name, unit, defv, defdist, maxv, help)
-
 _Static_assert(sizeof(dss_config) <= sizeof(family_config), "dss_config must fit family_config");
 
 const config_key dss_keys[] = {
@@ -33,24 +30,11 @@ const config_key dss_keys[] = {
     {"design", "dss_fov_deg", KEY_DOUBLE, "deg", "60", 1, 80, NULL, OFF(design.fov_deg),
      "half field of view per axis"},
 
-    /* [tolerance] */
-    TOL(tol.dh_px, "dh_px", "px", "0.2", "uniform", 1000,
-        "pinhole height error dh (DSS paper Fig. 2: 0.2 pixel)"),
-    TOL(tol.dx_px, "dx_px", "px", "0.1", "uniform", 1000,
-        "principal point error dx (DSS paper Fig. 3: 0.1 pixel)"),
-    TOL(tol.dy_px, "dy_px", "px", "0.1", "uniform", 1000,
-        "principal point error dy (DSS paper Fig. 3: 0.1 pixel)"),
-    TOL(tol.c1_arcsec, "c1_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c1 about X (DSS paper sec. 3: c1, c2 about X, Y, c3 about the "
-        "principal axis, composed in zxy order; Fig. 4: 10\")"),
-    TOL(tol.c2_arcsec, "c2_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c2 about Y (DSS paper Fig. 4: 10\")"),
-    TOL(tol.c3_arcsec, "c3_arcsec", "arcsec", "10", "uniform", 36000,
-        "installation rotation c3 about Z, the principal axis (DSS paper Fig. 4: 10\")"),
-    TOL(tol.glass_thickness_um, "glass_thickness_um", "um", "10", "uniform", 1000,
-        "cover-glass thickness error"),
-    TOL(tol.glass_index, "glass_index", "", "0.005", "uniform", 0.5,
-        "cover-glass refractive index error"),
+    /* [tolerance]: one pair of keys per line of DSS_DEVIATIONS */
+#define DSS_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                      \
+    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
+    DSS_DEVIATIONS(DSS_X_KEYS)
+#undef DSS_X_KEYS
 
     /* [noise] */
     {"noise", "centroid_px", KEY_DOUBLE, "px", "0.01", 0, 10, NULL, OFF(noise.centroid_px),

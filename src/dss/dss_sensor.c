@@ -5,7 +5,6 @@
 #include "dss_rotation.h"
 #include "rng.h"
 #include "status.h"
-#include "tolerance.h"
 #include "units.h"
 
 #include <math.h>
@@ -15,35 +14,35 @@
  * it is traced lying on the detector. */
 #define DSS_GLASS_GAP_MM 0.0
 
+_Static_assert(sizeof(dss_deviations) == DSS_N_DEV * sizeof(double),
+               "dss_deviations: one double per column of DSS_DEVIATIONS");
+
+#define DSS_X_COLUMNS(name, unit, count, stream, columns, ...)                                    \
+    static const char *const name##_columns[count] = {columns};
+DSS_DEVIATIONS(DSS_X_COLUMNS)
+#undef DSS_X_COLUMNS
+
+const deviation_spec dss_deviation_list[DSS_N_TOL] = {
+#define DSS_X_SPEC(name, unit, count, stream, ...)                                                \
+    DEVIATION_SPEC(dss_config, dss_deviations, name, count, stream),
+    DSS_DEVIATIONS(DSS_X_SPEC)
+#undef DSS_X_SPEC
+};
+
 const char *const dss_deviation_names[DSS_N_DEV] = {
-    "dh_px", "dx_px", "dy_px", "c1_arcsec", "c2_arcsec", "c3_arcsec",
-    "glass_thickness_um", "glass_index"};
+#define DSS_X_NAMES(name, unit, count, stream, columns, ...) columns,
+    DSS_DEVIATIONS(DSS_X_NAMES)
+#undef DSS_X_NAMES
+};
 
 void dss_deviations_values(const dss_deviations *d, double out[DSS_N_DEV])
 {
-    double v[DSS_N_DEV] = {d->dh_px, d->dx_px, d->dy_px, d->c1_arcsec, d->c2_arcsec,
-                           d->c3_arcsec, d->glass_thickness_um, d->glass_index};
-    memcpy(out, v, sizeof v);
-}
-
-static double draw(const sunmc_config *c, uint64_t seed, long unit, int index, const tolerance *t)
-{
-    rng_stream r;
-    rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_TOLERANCE + (uint32_t)index);
-    return tolerance_draw(t, c->truncation_sigmas, &r);
+    deviations_values(dss_deviation_list, DSS_N_TOL, d, out, DSS_N_DEV);
 }
 
 void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_deviations *d)
 {
-    const dss_tolerances *t = &dss_cfg(c)->tol;
-    d->dh_px = draw(c, seed, unit, 0, &t->dh_px);
-    d->dx_px = draw(c, seed, unit, 1, &t->dx_px);
-    d->dy_px = draw(c, seed, unit, 2, &t->dy_px);
-    d->c1_arcsec = draw(c, seed, unit, 3, &t->c1_arcsec);
-    d->c2_arcsec = draw(c, seed, unit, 4, &t->c2_arcsec);
-    d->c3_arcsec = draw(c, seed, unit, 5, &t->c3_arcsec);
-    d->glass_thickness_um = draw(c, seed, unit, 6, &t->glass_thickness_um);
-    d->glass_index = draw(c, seed, unit, 7, &t->glass_index);
+    deviations_sample(dss_deviation_list, DSS_N_TOL, c, seed, unit, d);
 }
 
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)

@@ -12,9 +12,6 @@
 #include <stddef.h>
 
 #define OFF(field) offsetof(ess_config, field)
-#define TOL(fld, name, unit, defv, defdist, maxv, help)                                           \
-    CONFIG_TOLERANCE_KEYS(OFF(fld), name, unit, defv, defdist, maxv, help)
-
 _Static_assert(sizeof(ess_config) <= sizeof(family_config), "ess_config must fit family_config");
 
 const config_key ess_keys[] = {
@@ -52,32 +49,11 @@ const config_key ess_keys[] = {
     {"design", "fov_deg", KEY_DOUBLE, "deg", "62", 1, 80, NULL, OFF(design.fov_deg),
      "half field of view in alpha (ESS paper: +-62 deg)"},
 
-    /* [tolerance] */
-    TOL(tol.dH_um, "dH_um", "um", "2", "uniform", 1000,
-        "slit-to-dial distance error dH (ESS paper sec. 3.1: +-2 um)"),
-    TOL(tol.dd_um, "dd_um", "um", "1", "uniform", 1000,
-        "slit offset dd from the dial's centre line (ESS paper sec. 3.2: +-1 um)"),
-    TOL(tol.dphi_deg, "dphi_deg", "deg", "0.01", "uniform", 10,
-        "slit tilt dphi against the dial's centre line (ESS paper sec. 3.2: +-0.01 deg)"),
-    TOL(tol.slit_width_um, "slit_width_um", "um", "1", "uniform", 100,
-        "slit width error (changes the derived fine-code harmonics)"),
-    TOL(tol.harmonic_phase_deg, "harmonic_phase_deg", "deg", "180", "uniform", 180,
-        "phase of the 3rd harmonic against the fundamental, from etched-edge asymmetry "
-        "(ESS paper Tables 3-4 show t far from 0)"),
-    TOL(tol.gain_pct, "gain_pct", "%", "1", "uniform", 50,
-        "per-row photocell gain error (ESS paper sec. 3.4: within +-1%)"),
-    TOL(tol.etch_um, "etch_um", "um", "0.2", "uniform", 50,
-        "per-row etching position error of the fine-code pattern (ESS paper sec. 3.4)"),
-    TOL(tol.install_x_arcsec, "install_x_arcsec", "arcsec", "60", "uniform", 36000,
-        "ESS-to-turntable rotation about X (roll in the sensing plane; measured, not fitted)"),
-    TOL(tol.install_y_arcsec, "install_y_arcsec", "arcsec", "300", "uniform", 36000,
-        "ESS-to-turntable rotation about Y (ESS paper Table 3: up to 5')"),
-    TOL(tol.install_z_arcsec, "install_z_arcsec", "arcsec", "90", "uniform", 36000,
-        "ESS-to-turntable rotation about Z (ESS paper Table 3: up to 1'8\")"),
-    TOL(tol.sun_x_arcsec, "sun_x_arcsec", "arcsec", "60", "uniform", 36000,
-        "sun-simulator direction tilt toward X (the V0 of ESS paper eq. 14)"),
-    TOL(tol.sun_y_arcsec, "sun_y_arcsec", "arcsec", "60", "uniform", 36000,
-        "sun-simulator direction tilt toward Y"),
+    /* [tolerance]: one pair of keys per line of ESS_DEVIATIONS */
+#define ESS_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                      \
+    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
+    ESS_DEVIATIONS(ESS_X_KEYS)
+#undef ESS_X_KEYS
 
     /* [noise] */
     {"noise", "row_current_pct", KEY_DOUBLE, "%", "1.5", 0, 100, NULL, OFF(noise.row_current_pct),

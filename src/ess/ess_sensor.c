@@ -3,7 +3,6 @@
  * ess_finecode.c and ess_coarse.c). */
 #include "ess_sensor.h"
 #include "status.h"
-#include "tolerance.h"
 #include "units.h"
 
 #include <math.h>
@@ -12,55 +11,41 @@
 /* Sun closer to grazing than this is not seen by the sensor. */
 #define ESS_MIN_COS_INCIDENCE 0.0175 /* cos(89 deg) */
 
+_Static_assert(sizeof(ess_deviations) == ESS_N_DEV * sizeof(double),
+               "ess_deviations: one double per column of ESS_DEVIATIONS, then the roll");
+
+#define ESS_X_COLUMNS(name, unit, count, stream, columns, ...)                                    \
+    static const char *const name##_columns[count] = {columns};
+ESS_DEVIATIONS(ESS_X_COLUMNS)
+#undef ESS_X_COLUMNS
+
+const deviation_spec ess_deviation_list[ESS_N_TOL] = {
+#define ESS_X_SPEC(name, unit, count, stream, ...)                                                \
+    DEVIATION_SPEC(ess_config, ess_deviations, name, count, stream),
+    ESS_DEVIATIONS(ESS_X_SPEC)
+#undef ESS_X_SPEC
+};
+
 const char *const ess_deviation_names[ESS_N_DEV] = {
-    "dH_um", "dd_um", "dphi_deg", "slit_width_um", "harmonic_phase_deg",
-    "gain1_pct", "gain2_pct", "gain3_pct", "gain4_pct",
-    "etch1_um", "etch2_um", "etch3_um", "etch4_um",
-    "install_x_arcsec", "install_y_arcsec", "install_z_arcsec",
-    "sun_x_arcsec", "sun_y_arcsec", "roll_measured_arcsec"};
+#define ESS_X_NAMES(name, unit, count, stream, columns, ...) columns,
+    ESS_DEVIATIONS(ESS_X_NAMES)
+#undef ESS_X_NAMES
+    "roll_measured_arcsec"};
 
 void ess_deviations_values(const ess_deviations *d, double out[ESS_N_DEV])
 {
-    double v[ESS_N_DEV] = {d->dH_um, d->dd_um, d->dphi_deg, d->slit_width_um,
-                           d->harmonic_phase_deg,
-                           d->gain_pct[0], d->gain_pct[1], d->gain_pct[2], d->gain_pct[3],
-                           d->etch_um[0], d->etch_um[1], d->etch_um[2], d->etch_um[3],
-                           d->install_x_arcsec, d->install_y_arcsec, d->install_z_arcsec,
-                           d->sun_x_arcsec, d->sun_y_arcsec, d->roll_measured_arcsec};
-    memcpy(out, v, sizeof v);
-}
-
-/* Draw n values of tolerance t from its own stream `index`. */
-static void draw(const sunmc_config *c, uint64_t seed, long unit, int index, const tolerance *t,
-                 double *out, int n)
-{
-    rng_stream r;
-    rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_TOLERANCE + (uint32_t)index);
-    for (int i = 0; i < n; i++)
-        out[i] = tolerance_draw(t, c->truncation_sigmas, &r);
+    int k = deviations_values(ess_deviation_list, ESS_N_TOL, d, out, ESS_N_DEV);
+    out[k] = d->roll_measured_arcsec;
 }
 
 void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_deviations *d)
 {
-    const ess_config *ec = ess_cfg(c);
-    const ess_tolerances *t = &ec->tol;
     memset(d, 0, sizeof *d);
-    draw(c, seed, unit, 0, &t->dH_um, &d->dH_um, 1);
-    draw(c, seed, unit, 1, &t->dd_um, &d->dd_um, 1);
-    draw(c, seed, unit, 2, &t->dphi_deg, &d->dphi_deg, 1);
-    draw(c, seed, unit, 3, &t->slit_width_um, &d->slit_width_um, 1);
-    draw(c, seed, unit, 4, &t->harmonic_phase_deg, &d->harmonic_phase_deg, 1);
-    draw(c, seed, unit, 5, &t->gain_pct, d->gain_pct, ESS_FINE_ROWS);
-    draw(c, seed, unit, 6, &t->etch_um, d->etch_um, ESS_FINE_ROWS);
-    draw(c, seed, unit, 7, &t->install_x_arcsec, &d->install_x_arcsec, 1);
-    draw(c, seed, unit, 8, &t->install_y_arcsec, &d->install_y_arcsec, 1);
-    draw(c, seed, unit, 9, &t->install_z_arcsec, &d->install_z_arcsec, 1);
-    draw(c, seed, unit, 10, &t->sun_x_arcsec, &d->sun_x_arcsec, 1);
-    draw(c, seed, unit, 11, &t->sun_y_arcsec, &d->sun_y_arcsec, 1);
-
+    deviations_sample(ess_deviation_list, ESS_N_TOL, c, seed, unit, d);
     rng_stream r;
     rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_ALIGNMENT);
-    d->roll_measured_arcsec = d->install_x_arcsec + ec->roll_sigma_arcsec * rng_normal(&r);
+    d->roll_measured_arcsec =
+        d->install_x_arcsec + ess_cfg(c)->roll_sigma_arcsec * rng_normal(&r);
 }
 
 void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev)

@@ -1,15 +1,14 @@
 /* params_io.c - params.ini writing and reading, FNV-1a checksums. */
+#include "ini.h"
 #include "params_io.h"
 #include "status.h"
 
-#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define FNV1A64_PRIME 0x100000001b3ULL
-#define PARAMS_LINE_MAX 2048
 #define HASH_CHUNK 65536
 
 unsigned long long params_fnv1a64(unsigned long long h, const void *data, size_t n)
@@ -116,16 +115,6 @@ int params_write(FILE *f, const params_file *p, const char *title)
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
 
-static char *trim(char *s)
-{
-    while (*s && isspace((unsigned char)*s))
-        s++;
-    char *e = s + strlen(s);
-    while (e > s && isspace((unsigned char)e[-1]))
-        *--e = '\0';
-    return s;
-}
-
 int params_read(const char *path, params_file *p, char *err, size_t errlen)
 {
     params_init(p);
@@ -134,67 +123,21 @@ int params_read(const char *path, params_file *p, char *err, size_t errlen)
     FILE *f = fopen(path, "r");
     if (!f)
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot read: %s", path, strerror(errno));
-    char line[PARAMS_LINE_MAX], section[PARAMS_SECTION_MAX] = "";
-    int lineno = 0, st = SUNMC_OK;
-    while (st == SUNMC_OK && fgets(line, sizeof line, f)) {
-        lineno++;
-        if (!strchr(line, '\n') && !feof(f)) {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: line too long", path, lineno);
-            break;
-        }
-        char *hash = strchr(line, '#');
-        char *comment = "";
-        if (hash) {
-            *hash = '\0';
-            comment = trim(hash + 1);
-        }
-        char *s = trim(line);
-        if (*s == '\0')
+    ini_reader r;
+    ini_entry e;
+    int item, st;
+    ini_begin(&r, f, path);
+    while ((st = ini_next(&r, &item, &e, err, errlen)) == SUNMC_OK && item != INI_END) {
+        if (item != INI_KEY)
             continue;
-        if (*s == '[') {
-            char *close = strchr(s, ']');
-            if (!close || close[1] != '\0' || close == s + 1 ||
-                copy_str(section, sizeof section, (*close = '\0', s + 1))) {
-                st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: malformed section header",
-                                path, lineno);
-                break;
-            }
-            continue;
-        }
-        char *eq = strchr(s, '=');
-        if (!eq) {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                            "%s:%d: expected 'key = value', '[section]' or a comment", path,
-                            lineno);
-            break;
-        }
-        *eq = '\0';
-        char *key = trim(s), *value = trim(eq + 1);
-        if (!section[0]) {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key '%s' before any [section]",
-                            path, lineno, key);
-            break;
-        }
-        if (*key == '\0') {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: empty key", path, lineno);
-            break;
-        }
-        const params_entry *prev = params_find(p, section, key);
-        if (prev) {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                            "%s:%d: key %s.%s given twice (first at line %d)", path, lineno,
-                            section, key, prev->line);
-            break;
-        }
-        if (params_set_text(p, section, key, value, comment) != SUNMC_OK) {
+        if (params_set_text(p, e.section, e.key, e.value, e.comment) != SUNMC_OK) {
             st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: too long or too many keys",
-                            path, lineno, section, key);
+                            path, e.line, e.section, e.key);
             break;
         }
-        p->e[p->n - 1].line = lineno;
+        p->e[p->n - 1].line = e.line;
     }
-    if (st == SUNMC_OK && ferror(f))
-        st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
+    ini_end(&r);
     fclose(f);
     return st;
 }

@@ -1,0 +1,53 @@
+/* deviation.h - a family's deviation list, and drawing one unit's
+ * deviations from it.
+ *
+ * Each family keeps ONE list of its tolerances, an X-macro (ESS_DEVIATIONS
+ * in ess_deviations.h, DSS_DEVIATIONS in dss_deviations.h); one line per
+ * tolerance gives its name, unit, draws per unit, random stream, units.tsv
+ * columns and its config key's default, distribution, maximum and help.
+ * From that line come the tolerance's two config keys (NAME, NAME_dist), its
+ * `tolerance` in the family's config, its entry in the table below, its
+ * units.tsv columns and its draws.
+ *
+ * Random streams: entry i draws from stream RNG_STREAM_TOLERANCE + its
+ * stream id, written in the list and never renumbered, so a new tolerance
+ * (any place in the list, with a new id) leaves every other draw unchanged.
+ */
+#ifndef SUNMC_DEVIATION_H
+#define SUNMC_DEVIATION_H
+
+#include "config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    const char *name;             /* tolerance key: "dH_um" */
+    int count;                    /* draws per unit (e.g. one per fine row) */
+    uint32_t stream;              /* RNG_STREAM_TOLERANCE + stream */
+    size_t tol_offset;            /* its `tolerance` in the family's config */
+    size_t dev_offset;            /* its first double in the family's deviations struct */
+    const char *const *columns;   /* count column names for units.tsv */
+} deviation_spec;
+
+/* Draw unit `unit`'s deviations for seed into dev (the family's deviations
+ * struct): entry e's count values from its own stream, with the tolerances
+ * of the family's config `fam_cfg` (c->fam) and c->truncation_sigmas. */
+void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c, uint64_t seed,
+                       long unit, void *dev);
+
+/* The values of dev in list order (count of each entry), into out[max];
+ * returns how many there are. */
+int deviations_values(const deviation_spec *list, int n, const void *dev, double *out, int max);
+
+/* The column names in the same order, into names[max]; returns the count. */
+int deviations_columns(const deviation_spec *list, int n, const char **names, int max);
+
+/* Build the table rows and the config keys of an X-macro list entry:
+ *   X(name, unit, count, stream, columns, default, dist, max, help)
+ * with `columns` a brace-free list of count strings (DEVIATION_PER_ROW...). */
+#define DEVIATION_SPEC(cfg_type, dev_type, name, count, stream)                                  \
+    {#name, count, stream, offsetof(cfg_type, tol.name), offsetof(dev_type, name),                \
+     name##_columns}
+
+#endif

@@ -1,0 +1,36 @@
+/* dss_deviations.h - THE list of DSS tolerances: one line each.
+ *
+ * X(name, unit, count, stream, columns, default, dist, max, help): as in
+ * ess_deviations.h (name: tolerance.NAME, NAME_dist and the field of
+ * dss_tolerances and dss_deviations; stream: RNG_STREAM_TOLERANCE + stream,
+ * fixed forever).  Adding a tolerance: one line here, its field in
+ * dss_deviations (dss_sensor.h), and its physics.
+ * Defaults: the DSS paper (Wei et al.), Figs. 2-4.
+ */
+#ifndef SUNMC_DSS_DEVIATIONS_H
+#define SUNMC_DSS_DEVIATIONS_H
+
+#define DSS_DEVIATIONS(X)                                                                         \
+    X(dh_px, "px", 1, 0, "dh_px", "0.2", "uniform", 1000,                                         \
+      "pinhole height error dh (DSS paper Fig. 2: 0.2 pixel)")                                    \
+    X(dx_px, "px", 1, 1, "dx_px", "0.1", "uniform", 1000,                                         \
+      "principal point error dx (DSS paper Fig. 3: 0.1 pixel)")                                   \
+    X(dy_px, "px", 1, 2, "dy_px", "0.1", "uniform", 1000,                                         \
+      "principal point error dy (DSS paper Fig. 3: 0.1 pixel)")                                   \
+    X(c1_arcsec, "arcsec", 1, 3, "c1_arcsec", "10", "uniform", 36000,                             \
+      "installation rotation c1 about X (DSS paper sec. 3: c1, c2 about X, Y, c3 about the "      \
+      "principal axis, composed in zxy order; Fig. 4: 10\")")                                     \
+    X(c2_arcsec, "arcsec", 1, 4, "c2_arcsec", "10", "uniform", 36000,                             \
+      "installation rotation c2 about Y (DSS paper Fig. 4: 10\")")                                \
+    X(c3_arcsec, "arcsec", 1, 5, "c3_arcsec", "10", "uniform", 36000,                             \
+      "installation rotation c3 about Z, the principal axis (DSS paper Fig. 4: 10\")")            \
+    X(glass_thickness_um, "um", 1, 6, "glass_thickness_um", "10", "uniform", 1000,                \
+      "cover-glass thickness error")                                                              \
+    X(glass_index, "", 1, 7, "glass_index", "0.005", "uniform", 0.5,                              \
+      "cover-glass refractive index error")
+
+#define DSS_X_ONE(...) +1
+#define DSS_X_COUNT(name, unit, count, ...) +(count)
+enum { DSS_N_TOL = 0 DSS_DEVIATIONS(DSS_X_ONE), DSS_N_DEV = 0 DSS_DEVIATIONS(DSS_X_COUNT) };
+
+#endif

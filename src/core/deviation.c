@@ -1,0 +1,39 @@
+/* deviation.c - one unit's deviations from a family's deviation list. */
+#include "deviation.h"
+#include "rng.h"
+#include "tolerance.h"
+
+void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c, uint64_t seed,
+                       long unit, void *dev)
+{
+    for (int e = 0; e < n; e++) {
+        const tolerance *t = (const tolerance *)(const void *)(c->fam.bytes + list[e].tol_offset);
+        double *out = (double *)(void *)((char *)dev + list[e].dev_offset);
+        rng_stream r;
+        rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_TOLERANCE + list[e].stream);
+        for (int i = 0; i < list[e].count; i++)
+            out[i] = tolerance_draw(t, c->truncation_sigmas, &r);
+    }
+}
+
+int deviations_values(const deviation_spec *list, int n, const void *dev, double *out, int max)
+{
+    int k = 0;
+    for (int e = 0; e < n; e++) {
+        const double *v = (const double *)(const void *)((const char *)dev + list[e].dev_offset);
+        for (int i = 0; i < list[e].count; i++, k++)
+            if (k < max)
+                out[k] = v[i];
+    }
+    return k;
+}
+
+int deviations_columns(const deviation_spec *list, int n, const char **names, int max)
+{
+    int k = 0;
+    for (int e = 0; e < n; e++)
+        for (int i = 0; i < list[e].count; i++, k++)
+            if (k < max)
+                names[k] = list[e].columns[i];
+    return k;
+}
