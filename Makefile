@@ -41,9 +41,14 @@ TEST_SRC := $(wildcard tests/test_*.c)
 ALL_HDR  := $(wildcard include/*/*.h)
 
 TEST_HDR := $(wildcard tests/*.h)
+# Test-only code linked into every test (the toy family), and the commands
+# without main() so that tests can run them in process.
+TEST_HELP_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
+CLI_LIB_SRC := $(filter-out src/cli/main.c,$(MAIN_SRC))
 
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
 TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tobj/%.o)
+TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(BUILD)/tobj/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 # The suites that know the right answer: all but the golden comparison (which
 # checks outputs against their own recording) and the mutation script's test.
@@ -53,10 +58,11 @@ ASAN     := $(BUILD)/asan
 ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
 ASAN_TEST_OBJ := $(TEST_SRC:tests/%.c=$(ASAN)/tobj/%.o)
+ASAN_TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(ASAN)/tobj/%.o)
 ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
 
 # Test objects are kept: a change in the library only relinks the suites.
-.SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ)
+.SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
 .PHONY: all run test test-plain test-fast test-asan deps clean install plots figures bench \
         reference golden mutate mutate-build mutate-tests
@@ -86,8 +92,12 @@ $(BUILD)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(TEST_INC) -c $< -o $@
 
-$(BUILD)/tests/%: $(BUILD)/tobj/%.o $(BUILD)/libsunmc.a | $(BUILD)/tests
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(BUILD)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(BUILD)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
+	ar rcs $@ $^
+
+$(BUILD)/tests/%: $(BUILD)/tobj/%.o $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a | $(BUILD)/tests
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a \
+	    $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
 $(ASAN)/obj/%.o: src/%.c $(ALL_HDR)
 	@mkdir -p $(dir $@)
@@ -103,8 +113,12 @@ $(ASAN)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -c $< -o $@
 
-$(ASAN)/tests/%: $(ASAN)/tobj/%.o $(ASAN)/libsunmc.a | $(ASAN)/tests
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $< $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
+$(ASAN)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
+	ar rcs $@ $^
+
+$(ASAN)/tests/%: $(ASAN)/tobj/%.o $(ASAN_TEST_HELP_OBJ) $(ASAN)/libsunmc_cli.a $(ASAN)/libsunmc.a | $(ASAN)/tests
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $< $(ASAN_TEST_HELP_OBJ) $(ASAN)/libsunmc_cli.a \
+	    $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
 $(BUILD)/tests $(ASAN)/tests:
 	mkdir -p $@

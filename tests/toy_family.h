@@ -1,0 +1,49 @@
+/* toy_family.h - a test-only sensor family, registered by the tests that
+ * use it (sensor_family_register): proof that a family is a folder of its
+ * own plus one registration, with nothing in core or cli naming it.
+ *
+ * The toy sensor reads one angle: reading = alpha (1 + scale) + offset +
+ * noise, alpha on a turntable from -span to +span.  Calibration fits the
+ * straight line reading = p0 + p1 alpha by least squares; compensation
+ * inverts it.  Noise-free, the fit is exact, so every number of a run has a
+ * closed form.
+ */
+#ifndef SUNMC_TOY_FAMILY_H
+#define SUNMC_TOY_FAMILY_H
+
+#include "config.h"
+#include "family.h"
+
+/* The toy's deviation list: X(name, unit, count, stream, columns, default,
+ * dist, max, help), as in ess_deviations.h. */
+#define TOY_DEVIATIONS(X)                                                                         \
+    X(scale_pct, "%", 1, 0, "scale_pct", "1", "uniform", 50, "scale-factor error")             \
+    X(offset_arcsec, "arcsec", 1, 1, "offset_arcsec", "30", "uniform", 3600, "zero offset")
+
+typedef struct {
+#define TOY_X_TOLERANCE(name, ...) tolerance name;
+    TOY_DEVIATIONS(TOY_X_TOLERANCE)
+#undef TOY_X_TOLERANCE
+} toy_tolerances;
+
+typedef struct {
+    double span_deg;           /* [design] half range of alpha */
+    toy_tolerances tol;
+    double reading_arcsec;     /* [noise] sigma of a reading */
+    double cal_step_deg;       /* [campaign] step of the turntable */
+    double val_step_deg;       /* [validation] step of the validation grid */
+} toy_config;
+
+typedef struct {
+    double scale_pct, offset_arcsec;
+} toy_deviations;
+
+#define toy_cfg(c) ((const toy_config *)(const void *)(c)->fam.bytes)
+
+extern const sensor_family toy_family;
+
+/* The validation grid's alphas (deg): count, and value i. */
+long toy_val_count(const sunmc_config *c);
+double toy_val_alpha_deg(const sunmc_config *c, long i);
+
+#endif
