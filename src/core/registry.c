@@ -1,5 +1,5 @@
 /* registry.c - the table of sensor families: the one deliberate reference
- * from core to the families (each defines its struct in its *_family.c). */
+ * from core to the families (each defines its struct in its folder). */
 #include "registry.h"
 
 #include <string.h>
@@ -7,24 +7,27 @@
 extern const sensor_family ess_family;
 extern const sensor_family dss_family;
 
-/* Built-in families first, in the order the reference config lists them;
- * sensor_family_register appends. */
+/* The families, in the order the reference config lists them (the first is
+ * sensor.family's default); empty slots are NULL.  sensor_family_register
+ * fills the next one (tests only). */
 static const sensor_family *sensor_families[CONFIG_FAMILIES_MAX] = {&ess_family, &dss_family};
-static int n_families = 2;
 
 int sensor_family_count(void)
 {
-    return n_families;
+    int n = 0;
+    while (n < CONFIG_FAMILIES_MAX && sensor_families[n])
+        n++;
+    return n;
 }
 
 const sensor_family *sensor_family_at(int i)
 {
-    return i >= 0 && i < n_families ? sensor_families[i] : NULL;
+    return i >= 0 && i < sensor_family_count() ? sensor_families[i] : NULL;
 }
 
 const sensor_family *sensor_family_find(const char *name)
 {
-    for (int i = 0; i < n_families; i++)
+    for (int i = 0; i < sensor_family_count(); i++)
         if (strcmp(sensor_families[i]->name, name) == 0)
             return sensor_families[i];
     return NULL;
@@ -32,8 +35,9 @@ const sensor_family *sensor_family_find(const char *name)
 
 int sensor_family_register(const sensor_family *f)
 {
-    if (n_families >= CONFIG_FAMILIES_MAX || sensor_family_find(f->name))
+    int n = sensor_family_count();
+    if (n >= CONFIG_FAMILIES_MAX || sensor_family_find(f->name))
         return -1;
-    sensor_families[n_families++] = f;
+    sensor_families[n] = f;
     return 0;
 }
