@@ -19,10 +19,7 @@ _Static_assert(sizeof(toy_config) <= sizeof(family_config), "toy_config must fit
 static const config_key toy_keys[] = {
     {"design", "span_deg", KEY_DOUBLE, "deg", "40", 1, 80, NULL, OFF(span_deg),
      "half range of the toy's turntable"},
-#define TOY_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                      \
-    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
-    TOY_DEVIATIONS(TOY_X_KEYS)
-#undef TOY_X_KEYS
+    TOY_DEVIATIONS(DEVIATION_X_KEYS)
     {"noise", "reading_arcsec", KEY_DOUBLE, "arcsec", "0", 0, 100, NULL, OFF(reading_arcsec),
      "sigma of a reading"},
     {"campaign", "step_deg", KEY_DOUBLE, "deg", "5", 0.1, 40, NULL, OFF(cal_step_deg),
@@ -34,10 +31,7 @@ static const config_key toy_keys[] = {
 static const config_default toy_defaults[] = {
     {"sensor", "product", "toy"}, {"report", "bands_deg", "0:20, 20:40, 0:40"}, {NULL}};
 
-#define TOY_X_COLUMNS(name, unit, count, stream, columns, ...)                                    \
-    static const char *const name##_columns[count] = {columns};
-TOY_DEVIATIONS(TOY_X_COLUMNS)
-#undef TOY_X_COLUMNS
+TOY_DEVIATIONS(DEVIATION_X_COLUMNS)
 
 static const deviation_spec toy_deviation_list[] = {
 #define TOY_X_SPEC(name, unit, count, stream, ...)                                                \

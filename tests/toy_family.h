@@ -12,6 +12,7 @@
 #define SUNMC_TOY_FAMILY_H
 
 #include "config.h"
+#include "deviation.h"
 #include "family.h"
 
 /* The toy's deviation list: X(name, unit, count, stream, columns, default,
@@ -21,9 +22,7 @@
     X(offset_arcsec, "arcsec", 1, 1, "offset_arcsec", "30", "uniform", 3600, "zero offset")
 
 typedef struct {
-#define TOY_X_TOLERANCE(name, ...) tolerance name;
-    TOY_DEVIATIONS(TOY_X_TOLERANCE)
-#undef TOY_X_TOLERANCE
+    TOY_DEVIATIONS(DEVIATION_X_TOLERANCE)
 } toy_tolerances;
 
 typedef struct {

@@ -43,9 +43,26 @@ int deviations_values(const deviation_spec *list, int n, const void *dev, double
 /* The column names in the same order, into names[max]; returns the count. */
 int deviations_columns(const deviation_spec *list, int n, const char **names, int max);
 
-/* Build the table rows and the config keys of an X-macro list entry:
+/* X-macro helpers: pass them to a family's list, whose lines are
  *   X(name, unit, count, stream, columns, default, dist, max, help)
- * with `columns` a brace-free list of count strings (DEVIATION_PER_ROW...). */
+ * with `columns` count strings (no braces).  The family's config struct
+ * holds the tolerances as a member `tol`.
+ *   DEVIATION_X_TOLERANCE  a `tolerance name;` member (the tol struct)
+ *   DEVIATION_X_KEYS       its two config rows; needs OFF(field), the
+ *                          offset in the family's config, where expanded
+ *   DEVIATION_X_COLUMNS    static name##_columns[], for DEVIATION_SPEC
+ *   DEVIATION_X_NAMES      its column names, for a flat table of names
+ *   DEVIATION_X_ONE, _COUNT  +1 per line, +count per line (enum counts)
+ * and DEVIATION_SPEC(cfg_type, dev_type, name, count, stream) is the line's
+ * deviation_spec (a family wraps it in its own X with its two types). */
+#define DEVIATION_X_TOLERANCE(name, ...) tolerance name;
+#define DEVIATION_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                \
+    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
+#define DEVIATION_X_COLUMNS(name, unit, count, stream, columns, ...)                              \
+    static const char *const name##_columns[count] = {columns};
+#define DEVIATION_X_NAMES(name, unit, count, stream, columns, ...) columns,
+#define DEVIATION_X_ONE(...) +1
+#define DEVIATION_X_COUNT(name, unit, count, ...) +(count)
 #define DEVIATION_SPEC(cfg_type, dev_type, name, count, stream)                                  \
     {#name, count, stream, offsetof(cfg_type, tol.name), offsetof(dev_type, name),                \
      name##_columns}

@@ -10,6 +10,7 @@
 #define SUNMC_DSS_CONFIG_H
 
 #include "config.h"
+#include "deviation.h"
 #include "dss_deviations.h"
 
 typedef struct {
@@ -24,9 +25,7 @@ typedef struct {
 
 /* One tolerance per line of DSS_DEVIATIONS. */
 typedef struct {
-#define DSS_X_TOLERANCE(name, ...) tolerance name;
-    DSS_DEVIATIONS(DSS_X_TOLERANCE)
-#undef DSS_X_TOLERANCE
+    DSS_DEVIATIONS(DEVIATION_X_TOLERANCE)
 } dss_tolerances;
 
 typedef struct {

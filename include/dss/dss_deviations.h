@@ -10,6 +10,8 @@
 #ifndef SUNMC_DSS_DEVIATIONS_H
 #define SUNMC_DSS_DEVIATIONS_H
 
+#include "deviation.h"
+
 #define DSS_DEVIATIONS(X)                                                                         \
     X(dh_px, "px", 1, 0, "dh_px", "0.2", "uniform", 1000,                                         \
       "pinhole height error dh (DSS paper Fig. 2: 0.2 pixel)")                                    \
@@ -29,8 +31,9 @@
     X(glass_index, "", 1, 7, "glass_index", "0.005", "uniform", 0.5,                              \
       "cover-glass refractive index error")
 
-#define DSS_X_ONE(...) +1
-#define DSS_X_COUNT(name, unit, count, ...) +(count)
-enum { DSS_N_TOL = 0 DSS_DEVIATIONS(DSS_X_ONE), DSS_N_DEV = 0 DSS_DEVIATIONS(DSS_X_COUNT) };
+enum {
+    DSS_N_TOL = 0 DSS_DEVIATIONS(DEVIATION_X_ONE),
+    DSS_N_DEV = 0 DSS_DEVIATIONS(DEVIATION_X_COUNT)
+};
 
 #endif

@@ -9,6 +9,7 @@
 #define SUNMC_ESS_CONFIG_H
 
 #include "config.h"
+#include "deviation.h"
 #include "ess_deviations.h"
 
 typedef struct {
@@ -28,9 +29,7 @@ typedef struct {
 
 /* One tolerance per line of ESS_DEVIATIONS. */
 typedef struct {
-#define ESS_X_TOLERANCE(name, ...) tolerance name;
-    ESS_DEVIATIONS(ESS_X_TOLERANCE)
-#undef ESS_X_TOLERANCE
+    ESS_DEVIATIONS(DEVIATION_X_TOLERANCE)
 } ess_tolerances;
 
 typedef struct {

@@ -19,6 +19,8 @@
 #ifndef SUNMC_ESS_DEVIATIONS_H
 #define SUNMC_ESS_DEVIATIONS_H
 
+#include "deviation.h"
+
 #define ESS_FINE_ROWS 4
 
 /* The units.tsv columns of a per-fine-row deviation: "gain1_pct".."gain4_pct". */
@@ -53,8 +55,9 @@
 
 /* Entries, and units.tsv columns of the list (a derived column, the roll
  * measurement, follows them: ESS_N_DEV in ess_sensor.h). */
-#define ESS_X_ONE(...) +1
-#define ESS_X_COUNT(name, unit, count, ...) +(count)
-enum { ESS_N_TOL = 0 ESS_DEVIATIONS(ESS_X_ONE), ESS_N_TOL_COLUMNS = 0 ESS_DEVIATIONS(ESS_X_COUNT) };
+enum {
+    ESS_N_TOL = 0 ESS_DEVIATIONS(DEVIATION_X_ONE),
+    ESS_N_TOL_COLUMNS = 0 ESS_DEVIATIONS(DEVIATION_X_COUNT)
+};
 
 #endif

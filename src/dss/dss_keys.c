@@ -31,10 +31,7 @@ const config_key dss_keys[] = {
      "half field of view per axis"},
 
     /* [tolerance]: one pair of keys per line of DSS_DEVIATIONS */
-#define DSS_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                      \
-    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
-    DSS_DEVIATIONS(DSS_X_KEYS)
-#undef DSS_X_KEYS
+    DSS_DEVIATIONS(DEVIATION_X_KEYS)
 
     /* [noise] */
     {"noise", "centroid_px", KEY_DOUBLE, "px", "0.01", 0, 10, NULL, OFF(noise.centroid_px),

@@ -17,10 +17,7 @@
 _Static_assert(sizeof(dss_deviations) == DSS_N_DEV * sizeof(double),
                "dss_deviations: one double per column of DSS_DEVIATIONS");
 
-#define DSS_X_COLUMNS(name, unit, count, stream, columns, ...)                                    \
-    static const char *const name##_columns[count] = {columns};
-DSS_DEVIATIONS(DSS_X_COLUMNS)
-#undef DSS_X_COLUMNS
+DSS_DEVIATIONS(DEVIATION_X_COLUMNS)
 
 const deviation_spec dss_deviation_list[DSS_N_TOL] = {
 #define DSS_X_SPEC(name, unit, count, stream, ...)                                                \
@@ -30,9 +27,7 @@ const deviation_spec dss_deviation_list[DSS_N_TOL] = {
 };
 
 const char *const dss_deviation_names[DSS_N_DEV] = {
-#define DSS_X_NAMES(name, unit, count, stream, columns, ...) columns,
-    DSS_DEVIATIONS(DSS_X_NAMES)
-#undef DSS_X_NAMES
+    DSS_DEVIATIONS(DEVIATION_X_NAMES)
 };
 
 void dss_deviations_values(const dss_deviations *d, double out[DSS_N_DEV])

@@ -50,10 +50,7 @@ const config_key ess_keys[] = {
      "half field of view in alpha (ESS paper: +-62 deg)"},
 
     /* [tolerance]: one pair of keys per line of ESS_DEVIATIONS */
-#define ESS_X_KEYS(name, unit, count, stream, columns, def, dist, max, help)                      \
-    CONFIG_TOLERANCE_KEYS(OFF(tol.name), #name, unit, def, dist, max, help),
-    ESS_DEVIATIONS(ESS_X_KEYS)
-#undef ESS_X_KEYS
+    ESS_DEVIATIONS(DEVIATION_X_KEYS)
 
     /* [noise] */
     {"noise", "row_current_pct", KEY_DOUBLE, "%", "1.5", 0, 100, NULL, OFF(noise.row_current_pct),

@@ -14,10 +14,7 @@
 _Static_assert(sizeof(ess_deviations) == ESS_N_DEV * sizeof(double),
                "ess_deviations: one double per column of ESS_DEVIATIONS, then the roll");
 
-#define ESS_X_COLUMNS(name, unit, count, stream, columns, ...)                                    \
-    static const char *const name##_columns[count] = {columns};
-ESS_DEVIATIONS(ESS_X_COLUMNS)
-#undef ESS_X_COLUMNS
+ESS_DEVIATIONS(DEVIATION_X_COLUMNS)
 
 const deviation_spec ess_deviation_list[ESS_N_TOL] = {
 #define ESS_X_SPEC(name, unit, count, stream, ...)                                                \
@@ -27,9 +24,7 @@ const deviation_spec ess_deviation_list[ESS_N_TOL] = {
 };
 
 const char *const ess_deviation_names[ESS_N_DEV] = {
-#define ESS_X_NAMES(name, unit, count, stream, columns, ...) columns,
-    ESS_DEVIATIONS(ESS_X_NAMES)
-#undef ESS_X_NAMES
+    ESS_DEVIATIONS(DEVIATION_X_NAMES)
     "roll_measured_arcsec"};
 
 void ess_deviations_values(const ess_deviations *d, double out[ESS_N_DEV])
