@@ -6,6 +6,7 @@
 #include "params_io.h"
 #include "status.h"
 
+#include <time.h>
 #include <unistd.h>
 
 static char dir[] = "/tmp/sunmc_test_csv_XXXXXX";
@@ -159,6 +160,133 @@ static void test_unreadable(void **state)
     assert_non_null(strstr(err, "/nonexistent/x.csv"));
 }
 
+/* What a spreadsheet exports: a byte-order mark, CRLF, quoted names and
+ * quoted fields (with "" and a comma inside). */
+static void test_spreadsheet_export(void **state)
+{
+    char path[512], err[SUNMC_ERRLEN];
+    put("excel.csv",
+        "\xEF\xBB\xBF\"alpha_deg\",\"note\", \"output_deg\" \r\n"
+        "\"1.5\",\"say \"\"hi\"\", twice\",2\r\n"
+        "-3,\"\",\"-4.25\"\r\n",
+        path, sizeof path);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal(t->n_cols, 3);
+    assert_string_equal(t->names[0], "alpha_deg");
+    assert_string_equal(t->names[2], "output_deg");
+    assert_int_equal((int)t->n_rows, 2);
+    int ca, co;
+    assert_int_equal(csv_column(t, "alpha_deg", 1, &ca, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_column(t, "output_deg", 1, &co, err, sizeof err), SUNMC_OK);
+    double a[2], o[2];
+    assert_int_equal(csv_doubles(t, ca, a, err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_doubles(t, co, o, err, sizeof err), SUNMC_OK);
+    assert_true(a[0] == 1.5 && a[1] == -3 && o[0] == 2 && o[1] == -4.25);
+    assert_string_equal(t->field[1], "say \"hi\", twice");
+    assert_string_equal(t->field[3 + 1], "");
+    csv_free(t);
+}
+
+static void test_quotes_and_separators(void **state)
+{
+    expect_read_error("open.csv", "a,b\n1,\"2\n", ":2: field 2: quote not closed");
+    expect_read_error("open2.csv", "\"a,b\n", ":1: field 1: quote not closed");
+    expect_read_error("after.csv", "a,\"b\"x,c\n", ":1: field 2: text after the closing quote");
+    expect_read_error("semi.csv", "# export\nalpha_deg;beta_deg;output_deg\n1;2;3\n",
+                      ":2: the header 'alpha_deg;beta_deg;output_deg' is one column: its fields "
+                      "are separated by ';', but sunmc reads comma-separated files");
+    expect_read_error("semi_bom.csv", "\xEF\xBB\xBF\"alpha_deg\";\"beta_deg\"\n",
+                      ":1: field 1: text after the closing quote (the line looks separated by ';' "
+                      "or tabs");
+    expect_read_error("tabs.csv", "alpha_deg\tbeta_deg\n1\t2\n",
+                      ":1: the header 'alpha_deg\tbeta_deg' is one column: its fields are "
+                      "separated by tabs");
+    expect_read_error("semirow.csv", "a,b\n1,2\n1;2\n",
+                      ":3: 1 fields, but the header (line 1) has 2 columns (the line looks "
+                      "separated by ';'");
+    char path[512], err[SUNMC_ERRLEN];
+    snprintf(path, sizeof path, "%s/nul.csv", dir);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite("a,b\n1,2\n3,\0\n", 1, 12, f), 12);
+    assert_int_equal(fclose(f), 0);
+    csv_table *t;
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "nul.csv:3: binary data (NUL byte)"));
+}
+
+static void test_duplicates(void **state)
+{
+    /* the first column from the left that repeats one, and its first place */
+    expect_read_error("dup2.csv", "b,a,c,a,b\n", ":1: duplicate column 'a' in the header "
+                                                 "(columns 2 and 4)");
+    expect_read_error("dup3.csv", "x,x,x\n", ":1: duplicate column 'x' in the header "
+                                             "(columns 1 and 2)");
+    expect_read_error("dupq.csv", "\"a\",a\n", ":1: duplicate column 'a' in the header "
+                                               "(columns 1 and 2)");
+}
+
+/* A 200,000-column header is read in well under a second (the duplicate
+ * check was quadratic: 49 s), with or without a duplicate at its end. */
+static void test_wide_header(void **state)
+{
+    enum { N = 200000 };
+    char path[512], err[SUNMC_ERRLEN], want[600];
+    snprintf(path, sizeof path, "%s/wide.csv", dir);
+    for (int dup = 0; dup < 2; dup++) {
+        FILE *f = fopen(path, "w");
+        assert_non_null(f);
+        for (int i = 0; i < N; i++)
+            fprintf(f, "%sc%d", i ? "," : "", i);
+        fputs(dup ? ",c7\n" : "\n", f);
+        for (int i = 0; i < N + dup; i++)
+            fputs(i ? ",1" : "1", f);
+        fputc('\n', f);
+        assert_int_equal(fclose(f), 0);
+        clock_t t0 = clock();
+        csv_table *t;
+        int st = csv_read(path, &t, err, sizeof err);
+        double cpu_s = (double)(clock() - t0) / CLOCKS_PER_SEC;
+        if (cpu_s > 1.0)
+            fail_msg("a %d-column header took %.2f s of CPU", N, cpu_s);
+        if (!dup) {
+            assert_int_equal(st, SUNMC_OK);
+            assert_int_equal(t->n_cols, N);
+            assert_int_equal((int)t->n_rows, 1);
+            csv_free(t);
+            continue;
+        }
+        assert_int_equal(st, SUNMC_EINPUT);
+        snprintf(want, sizeof want, "%s:1: duplicate column 'c7' in the header (columns 8 and %d)",
+                 path, N + 1);
+        assert_string_equal(err, want);
+    }
+}
+
+/* End to end: the campaign `simulate` writes, saved by a spreadsheet (BOM,
+ * CRLF, quoted header and numbers), calibrates to the same residuals. */
+static void test_calibrate_spreadsheet_export(void **state)
+{
+    char cmd[2048], out[8192];
+    snprintf(cmd, sizeof cmd,
+             "set -e; S=%s; D=%s; "
+             "$S simulate configs/ess_type_a.ini --unit 1 --out $D/sim >/dev/null; "
+             "{ printf '\\357\\273\\277'; awk -F, 'BEGIN{OFS=\",\"} /^#/ {print; next} "
+             "{for (i = 1; i <= NF; i++) $i = \"\\\"\" $i \"\\\"\"; printf \"%%s\\r\\n\", $0}' "
+             "$D/sim/campaign.csv; } > $D/excel.csv; "
+             "for c in sim/campaign excel; do $S calibrate --sensor ess --config "
+             "configs/ess_type_a.ini $D/$c.csv --out $D/cal_${c%%%%/*} >/dev/null; done; "
+             "cmp $D/cal_sim/residuals.tsv $D/cal_excel/residuals.tsv; "
+             "cmp $D/cal_sim/bands.tsv $D/cal_excel/bands.tsv; "
+             "grep -q '^\"alpha_deg\",\"beta_deg\"' $D/excel.csv; head -c 3 $D/excel.csv | od -c",
+             test_sunmc(), dir);
+    int st = test_run(cmd, out, sizeof out);
+    if (st != 0)
+        fail_msg("exit %d: %s", st, out);
+    assert_non_null(strstr(out, "357 273 277"));
+}
+
 static void test_fnv1a64_known_answers(void **state)
 {
     /* Reference values of the FNV-1a 64-bit hash (Fowler, Noll, Vo). */
@@ -255,6 +383,11 @@ int main(void)
         cmocka_unit_test(test_too_few_rows),       cmocka_unit_test(test_unreadable),
         cmocka_unit_test(test_fnv1a64_known_answers), cmocka_unit_test(test_params_round_trip),
         cmocka_unit_test(test_params_errors),
+        cmocka_unit_test(test_spreadsheet_export),
+        cmocka_unit_test(test_quotes_and_separators),
+        cmocka_unit_test(test_duplicates),
+        cmocka_unit_test(test_wide_header),
+        cmocka_unit_test(test_calibrate_spreadsheet_export),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -3,14 +3,19 @@
  *
  * Format: one header line of column names, then one row per line; fields
  * separated by commas, surrounding blanks ignored; lines whose first
- * non-blank character is '#' and blank lines are skipped anywhere.  Columns
- * are found by name in any order; columns nobody asks for are kept (their
- * text is available for pass-through) and otherwise ignored.
+ * non-blank character is '#' and blank lines are skipped anywhere.  A field
+ * may be quoted as spreadsheets write it: "alpha_deg", with "" for a quote
+ * and commas inside taken as text (a quoted field ends on its line).  A UTF-8
+ * byte-order mark at the start is skipped; CRLF line ends are accepted.
+ * Columns are found by name in any order; columns nobody asks for are kept
+ * (their text is available for pass-through) and otherwise ignored.
  *
  * Every error message starts with "FILE:LINE: " (the line in the file, from
  * 1) and names the column concerned:
- *   - duplicate header names, a row with a different number of fields
- *     (csv_read);
+ *   - duplicate header names (the first repeated column and its first
+ *     occurrence), an unnamed column, a header that is one column separated
+ *     by ';' or tabs (said so), a quote not closed or followed by text, a
+ *     row with a different number of fields, a NUL byte (csv_read);
  *   - a missing column (csv_column, at the header line);
  *   - a field that is not a number, or is NaN or infinite (csv_doubles);
  *   - too few data rows (csv_require_rows, at the last line).

@@ -10,6 +10,7 @@
 
 #define CSV_SEPARATOR ','
 #define CSV_COMMENT '#'
+#define CSV_QUOTE '"'
 #define CSV_ROWS_INITIAL 256
 
 static char *trim(char *s)
@@ -22,25 +23,89 @@ static char *trim(char *s)
     return s;
 }
 
-/* Count the fields of a line (separators + 1). */
-static int count_fields(const char *s)
+/* Errors of scan_fields. */
+#define CSV_EQUOTE (-1) /* a quote not closed on its line */
+#define CSV_EAFTER (-2) /* text after a closing quote */
+
+/* Fields of line s (trimmed, not empty).  A field is unquoted text (blanks
+ * around it dropped) or "quoted text" in which "" stands for one quote and
+ * the separator is plain text.  With out == NULL only counts, leaving s as it
+ * is; else splits s in place into out[].  Returns the count, or CSV_EQUOTE /
+ * CSV_EAFTER with *bad = the field (from 1). */
+static int scan_fields(char *s, char **out, int *bad)
 {
-    int n = 1;
-    for (; *s; s++)
-        n += *s == CSV_SEPARATOR;
-    return n;
+    int n = 0;
+    char *p = s;
+    for (;;) {
+        while (*p && isspace((unsigned char)*p))
+            p++;
+        n++;
+        if (*p != CSV_QUOTE) {
+            char *sep = strchr(p, CSV_SEPARATOR);
+            if (out) {
+                if (sep)
+                    *sep = '\0';
+                out[n - 1] = trim(p);
+            }
+            if (!sep)
+                return n;
+            p = sep + 1;
+            continue;
+        }
+        char *w = p, *start = p;
+        for (p++;; p++) {
+            if (*p == '\0') {
+                *bad = n;
+                return CSV_EQUOTE;
+            }
+            if (*p == CSV_QUOTE && p[1] != CSV_QUOTE)
+                break;
+            p += *p == CSV_QUOTE; /* "" is one quote */
+            if (out)
+                *w++ = *p;
+        }
+        for (p++; *p && isspace((unsigned char)*p);)
+            p++;
+        if (*p != '\0' && *p != CSV_SEPARATOR) {
+            *bad = n;
+            return CSV_EAFTER;
+        }
+        int last = *p == '\0';
+        if (out) {
+            *w = '\0'; /* w < p: the opening quote is not copied */
+            out[n - 1] = start;
+        }
+        if (last)
+            return n;
+        p++;
+    }
 }
 
-/* Split line s in place into n trimmed fields. */
-static void split_fields(char *s, char **out, int n)
+/* What text looks separated by, when it is not commas. */
+static const char *other_separator(const char *name)
 {
-    for (int i = 0; i < n; i++) {
-        char *sep = strchr(s, CSV_SEPARATOR);
-        if (sep)
-            *sep = '\0';
-        out[i] = trim(s);
-        s = sep ? sep + 1 : s + strlen(s);
-    }
+    return strchr(name, ';') ? "';'" : strchr(name, '\t') ? "tabs" : NULL;
+}
+
+#define SEPARATOR_HINT                                                                            \
+    " (the line looks separated by ';' or tabs: sunmc reads ',' as the separator)"
+
+/* scan_fields, turning its errors into FILE:LINE messages. */
+static int fields_of(const csv_table *t, int lineno, char *s, char **out, int *n, char *err,
+                     size_t errlen)
+{
+    int bad = 0;
+    *n = scan_fields(s, out, &bad);
+    if (*n == CSV_EQUOTE)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: field %d: quote not closed (a quoted field must end on its "
+                          "line)",
+                          t->path, lineno, bad);
+    if (*n == CSV_EAFTER)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: field %d: text after the closing quote%s", t->path, lineno, bad,
+                          other_separator(s) ? SEPARATOR_HINT : "");
+    return SUNMC_OK;
 }
 
 static int read_all(const char *path, char **buf_out, char *err, size_t errlen)
@@ -75,10 +140,14 @@ static int read_all(const char *path, char **buf_out, char *err, size_t errlen)
         free(buf);
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
     }
-    if (memchr(buf, '\0', len)) {
+    const char *nul = memchr(buf, '\0', len);
+    if (nul) {
+        int line = 1;
+        for (const char *q = buf; q < nul; q++)
+            line += *q == '\n';
         free(buf);
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: binary data (NUL byte) in a text file",
-                          path);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: binary data (NUL byte) in a text file", path, line);
     }
     buf[len] = '\0';
     *buf_out = buf;
@@ -97,6 +166,102 @@ void csv_free(csv_table *t)
     free(t);
 }
 
+typedef struct {
+    const char *name;
+    int col;
+} name_ref;
+
+static int cmp_name_ref(const void *a, const void *b)
+{
+    const name_ref *x = a, *y = b;
+    int c = strcmp(x->name, y->name);
+    return c ? c : (x->col > y->col) - (x->col < y->col);
+}
+
+/* Header names must be distinct: sorted, equal names are neighbours (n log n,
+ * not n^2: a spreadsheet export can have 100k columns).  Reports the first
+ * column (from the left) that repeats an earlier one, and that earlier one. */
+static int check_duplicates(const csv_table *t, char *err, size_t errlen)
+{
+    int n = t->n_cols;
+    name_ref *r = malloc((size_t)n * sizeof *r);
+    if (!r)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", t->path);
+    for (int i = 0; i < n; i++)
+        r[i] = (name_ref){t->names[i], i};
+    qsort(r, (size_t)n, sizeof *r, cmp_name_ref);
+    int first = -1, again = n;
+    for (int k = 1; k < n; k++)
+        if (strcmp(r[k].name, r[k - 1].name) == 0 &&
+            (k < 2 || strcmp(r[k - 1].name, r[k - 2].name) != 0) && r[k].col < again) {
+            again = r[k].col;
+            first = r[k - 1].col;
+        }
+    free(r);
+    if (first < 0)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "%s:%d: duplicate column '%s' in the header (columns %d and %d)", t->path,
+                      t->header_line, t->names[again], first + 1, again + 1);
+}
+
+static int read_header(csv_table *t, int lineno, char *s, char *err, size_t errlen)
+{
+    int nf;
+    int st = fields_of(t, lineno, s, NULL, &nf, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    t->header_line = lineno;
+    t->n_cols = nf;
+    t->names = malloc((size_t)nf * sizeof *t->names);
+    if (!t->names)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", t->path);
+    fields_of(t, lineno, s, t->names, &nf, err, errlen);
+    const char *sep = nf == 1 ? other_separator(t->names[0]) : NULL;
+    if (sep)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: the header '%.60s' is one column: its fields are separated by "
+                          "%s, but sunmc reads comma-separated files (export with ',' as the "
+                          "separator and '.' as the decimal point)",
+                          t->path, lineno, t->names[0], sep);
+    for (int i = 0; i < nf; i++)
+        if (t->names[i][0] == '\0')
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: header column %d has no name",
+                              t->path, lineno, i + 1);
+    return check_duplicates(t, err, errlen);
+}
+
+static int read_row(csv_table *t, int lineno, char *s, size_t *cap, char *err, size_t errlen)
+{
+    int nf;
+    int st = fields_of(t, lineno, s, NULL, &nf, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (nf != t->n_cols)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: %d fields, but the header (line %d) has %d columns%s", t->path,
+                          lineno, nf, t->header_line, t->n_cols,
+                          nf == 1 && other_separator(s) ? SEPARATOR_HINT : "");
+    if (t->n_rows == *cap) {
+        size_t c = *cap ? 2 * *cap : CSV_ROWS_INITIAL;
+        int *nl = realloc(t->line, c * sizeof *nl);
+        if (nl)
+            t->line = nl;
+        char **nf2 = nl ? realloc(t->field, c * (size_t)t->n_cols * sizeof *nf2) : NULL;
+        if (!nf2)
+            return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", t->path);
+        t->field = nf2;
+        *cap = c;
+    }
+    t->line[t->n_rows] = lineno;
+    fields_of(t, lineno, s, t->field + t->n_rows * (size_t)t->n_cols, &nf, err, errlen);
+    t->n_rows++;
+    return SUNMC_OK;
+}
+
+/* A UTF-8 byte-order mark, as spreadsheet exports write. */
+#define CSV_BOM "\xEF\xBB\xBF"
+
 int csv_read(const char *path, csv_table **out, char *err, size_t errlen)
 {
     *out = NULL;
@@ -106,14 +271,12 @@ int csv_read(const char *path, csv_table **out, char *err, size_t errlen)
     t->path = strdup(path);
     int st = t->path ? read_all(path, &t->buf, err, errlen)
                      : sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-    if (st != SUNMC_OK) {
-        csv_free(t);
-        return st;
-    }
     size_t cap = 0;
     int lineno = 0;
     char *p = t->buf;
-    while (*p) {
+    if (st == SUNMC_OK && strncmp(p, CSV_BOM, 3) == 0)
+        p += 3;
+    while (st == SUNMC_OK && *p) {
         char *nl = strchr(p, '\n');
         if (nl)
             *nl = '\0';
@@ -123,63 +286,15 @@ int csv_read(const char *path, csv_table **out, char *err, size_t errlen)
         p = next;
         if (*s == '\0' || *s == CSV_COMMENT)
             continue;
-        int nf = count_fields(s);
-        if (!t->names) {
-            t->header_line = lineno;
-            t->n_cols = nf;
-            t->names = malloc((size_t)nf * sizeof *t->names);
-            if (!t->names) {
-                csv_free(t);
-                return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-            }
-            split_fields(s, t->names, nf);
-            for (int i = 0; i < nf; i++) {
-                if (t->names[i][0] == '\0') {
-                    st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                    "%s:%d: header column %d has no name", path, lineno, i + 1);
-                    csv_free(t);
-                    return st;
-                }
-                for (int j = 0; j < i; j++)
-                    if (strcmp(t->names[i], t->names[j]) == 0) {
-                        st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                        "%s:%d: duplicate column '%s' in the header (columns %d "
-                                        "and %d)",
-                                        path, lineno, t->names[i], j + 1, i + 1);
-                        csv_free(t);
-                        return st;
-                    }
-            }
-            continue;
-        }
-        if (nf != t->n_cols) {
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
-                            "%s:%d: %d fields, but the header (line %d) has %d columns", path,
-                            lineno, nf, t->header_line, t->n_cols);
-            csv_free(t);
-            return st;
-        }
-        if (t->n_rows == cap) {
-            cap = cap ? 2 * cap : CSV_ROWS_INITIAL;
-            int *nl2 = realloc(t->line, cap * sizeof *nl2);
-            if (nl2)
-                t->line = nl2;
-            char **nf2 = nl2 ? realloc(t->field, cap * (size_t)t->n_cols * sizeof *nf2) : NULL;
-            if (!nf2) {
-                csv_free(t);
-                return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-            }
-            t->field = nf2;
-        }
-        t->line[t->n_rows] = lineno;
-        split_fields(s, t->field + t->n_rows * (size_t)t->n_cols, t->n_cols);
-        t->n_rows++;
+        st = t->names ? read_row(t, lineno, s, &cap, err, errlen)
+                      : read_header(t, lineno, s, err, errlen);
     }
     t->last_line = lineno;
-    if (!t->names) {
+    if (st == SUNMC_OK && !t->names)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT,
                         "%s:%d: no header line (expected column names separated by commas)", path,
                         lineno > 0 ? lineno : 1);
+    if (st != SUNMC_OK) {
         csv_free(t);
         return st;
     }
