@@ -134,6 +134,7 @@ static void test_structure_errors(void **state)
     expect_read_error("dup.csv", "# x\nalpha_deg,beta_deg,alpha_deg\n1,2,3\n",
                       ":2: duplicate column 'alpha_deg' in the header (columns 1 and 3)");
     expect_read_error("fields.csv", "a,b,c\n1,2,3\n1,2\n", ":3: 2 fields, but the header (line 1) has 3");
+    expect_read_error("more.csv", "a,b\n1,2\n1,2,3\n", ":3: 3 fields, but the header (line 1) has 2");
     expect_read_error("noname.csv", "a,,c\n", ":1: header column 2 has no name");
     expect_read_error("empty.csv", "", ":1: no header line");
     expect_read_error("comments.csv", "# only\n# comments\n", ":2: no header line");
@@ -149,6 +150,9 @@ static void test_too_few_rows(void **state)
                      SUNMC_EINPUT);
     snprintf(want, sizeof want, "%s:4: only 2 data rows; the model has 8 parameters", path);
     assert_string_equal(err, want);
+    /* the limit on both sides */
+    assert_int_equal(csv_require_rows(t, 2, "two", err, sizeof err), SUNMC_OK);
+    assert_int_equal(csv_require_rows(t, 3, "three", err, sizeof err), SUNMC_EINPUT);
     csv_free(t);
 }
 
