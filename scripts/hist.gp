@@ -13,7 +13,8 @@ set datafile separator "\t"
 
 hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
-isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_'
+# after-calibration columns, not their noise-free (rms_after_sys_) part
+isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_')
 cafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && (i == words(hdr))) ? i : 0)
 aname = word(hdr, cafter)
 bname = 'rms_before_'.aname[11:]

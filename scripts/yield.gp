@@ -1,8 +1,9 @@
 # yield.gp - the yield curve from `sunmc run --out RUN`: cumulative
 # distribution of the units' after-calibration RMS in every band of the last
 # measured angle (units.tsv), with the spec (summary.tsv) marked.  The
-# fraction at the spec line is the yield (failed fits count as not passing in
-# summary.tsv; here they are left out).
+# fraction at the spec line is the yield; summary.tsv's yield and its
+# confidence interval (Wilson) are drawn there as error bars (failed fits
+# count as not passing in summary.tsv; the curves leave them out).
 #   gnuplot -e "run='runs/a'" scripts/yield.gp   [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/units.tsv'
@@ -20,7 +21,8 @@ scol(n) = sum [i=1:words(shdr)] (word(shdr, i) eq n ? i : 0)
 spec_as = real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('spec_arcsec'), sfile)))
 unit = system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('rms_unit'), sfile))
 spec = spec_as / (unit eq 'deg' ? 3600.0 : 1.0)
-isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_'
+# after-calibration columns, not their noise-free (rms_after_sys_) part
+isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_')
 nafter = sum [i=1:words(hdr)] (isafter(word(hdr, i)) ? 1 : 0)
 firstafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && !isafter(word(hdr, i-1))) ? i : 0)
 # the last angle's bands: the last nb after-columns (nb = bands in summary.tsv)
@@ -31,8 +33,15 @@ set title sprintf('yield: cumulative distribution of the after-calibration RMS (
 set xlabel sprintf('RMS error after calibration [%s]', unit)
 set ylabel 'fraction of units with RMS <= x'
 set yrange [0:1.02]
+set offsets 0, graph 0.12, 0, 0  # room right of the spec line for its label and bars
 set grid
-set key bottom right
+set key at graph 0.8, graph 0.6 right box opaque
 set arrow from spec, graph 0 to spec, graph 1 nohead lw 2 lc rgb 'red' dt 3
 set label sprintf('spec %g %s', spec, unit) at spec, graph 0.05 left offset 0.5,0 tc rgb 'red'
-plot for [c=c0:c0+nb-1] file skip 1 using (column(c)):(1.0) smooth cnormal with steps lw 2 title word(hdr, c)
+# summary.tsv rows of the last angle, in band order (the curves' order)
+lastangle = system(sprintf("awk -F'\\t' 'NR>1 {a=$%d} END {print a}' '%s'", scol('angle'), sfile))
+srow(i) = sprintf("< awk -F'\\t' 'NR>1 && $%d==\"%s\"' '%s' | sed -n %dp", scol('angle'), lastangle, sfile, i)
+cy = scol('yield'); cylo = scol('yield_ci_lo'); cyhi = scol('yield_ci_hi')
+set key title sprintf('yield at the spec: bars are %g%% intervals', 100 * real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('confidence'), sfile))))
+plot for [c=c0:c0+nb-1] file skip 1 using (column(c)):(1.0) smooth cnormal with steps lw 2 lc (c-c0+1) title word(hdr, c), \
+     for [i=1:nb] srow(i) using (spec):(column(cy)):(column(cylo)):(column(cyhi)) with yerrorbars lc (i) pt 7 ps 0.8 lw 2 notitle

@@ -77,6 +77,7 @@ typedef struct {
     long units;
     long seed;
     int threads;
+    long block_units;                   /* run --until: units per block */
 
     /* [report] */
     band_list bands_deg;
@@ -84,6 +85,7 @@ typedef struct {
     double yield_target;                /* budget: yield the inverse limits must keep */
     long budget_units;                  /* budget: units per bisection step */
     int budget_steps;                   /* budget: bisection steps per source */
+    double confidence;                  /* level of the confidence intervals */
 
     family_config fam;                  /* the family's own keys (its keys table) */
 } sunmc_config;

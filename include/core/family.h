@@ -32,6 +32,9 @@ typedef struct {
      * when the band holds no validation point. */
     double rms_before[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     double rms_after[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    /* The systematic part of rms_after: the same validation points read
+     * without reading noise (same unit, same fitted calibration). */
+    double rms_after_sys[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     double fit_rms;                 /* fit residual RMS, rms unit */
     int fit_status;                 /* enum unit_fit_status */
     int fit_gsl_status;             /* GSL's status code of the fit */
@@ -132,6 +135,11 @@ void band_acc_rms(const band_acc *b, const band_list *bands, double scale, doubl
  * accumulators (times scale, the rms unit per radian); after is NaN in every
  * band when the unit's fit failed. */
 void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
+                         const band_list *bands, double scale);
+
+/* Fill r's noise-free after RMS (rms_after_sys) of measured angle `angle`;
+ * NaN in every band when the unit's fit failed. */
+void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
                          const band_list *bands, double scale);
 
 /* The phase timer, off by default (phase_s stays 0, so a unit's result is

@@ -1,13 +1,15 @@
 /* report.h - aggregating unit results in unit order: Table 1 of the ESS
  * paper (per band: RMS after compensation max/min, times of accuracy
- * improvement mean/max/min) plus mean RMS before/after, the 95th percentile,
- * yield against the spec, fit failures and gross errors.  Writers for
+ * improvement mean/max/min) plus mean RMS before/after and its systematic
+ * part, the 95th percentile, yield against the spec, fit failures and gross
+ * errors, each estimate with its confidence interval.  Writers for
  * summary.tsv and units.tsv (tab-separated, one header line). */
 #ifndef SUNMC_REPORT_H
 #define SUNMC_REPORT_H
 
 #include "config.h"
 #include "family.h"
+#include "stats.h"
 
 #include <stdio.h>
 
@@ -15,26 +17,38 @@ typedef struct {
     int angle;              /* index into the family's angle names */
     int band;               /* index into c->bands_deg */
     long units;             /* units in the run */
+    long stat_units;        /* units in the means, max/min and p95: fit ok, band not empty */
     long fit_failures;      /* units whose fit failed (excluded from the statistics) */
     long gross_errors;      /* validation readings with a gross error, all units */
     long alias_units;       /* units whose campaign could not resolve the fine-code term */
     double rms_before_mean, rms_after_mean, rms_after_max, rms_after_min, rms_after_p95;
+    double rms_after_sys_mean; /* systematic part: noise-free validation readings */
     double improvement_mean, improvement_max, improvement_min;
     double yield;           /* fraction of all units with RMS after <= spec */
+    /* Confidence intervals at level `confidence` (report.confidence):
+     * Student t over the per-unit values for the means (improvement: mean
+     * of the per-unit ratios), the distribution-free order-statistic
+     * interval for p95, Wilson's score interval for the yield (stats.h).
+     * NaN bounds when the units are too few. */
+    double confidence;
+    stats_interval rms_before_mean_ci, rms_after_mean_ci, rms_after_sys_mean_ci;
+    stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci;
 } summary_row;
 
 /* Number of rows = angles x bands. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);
 
-/* Fill rows[report_n_rows] from results[n] (in unit order).  SUNMC_ENOMEM. */
+/* Fill rows[report_n_rows] from results[n] (in unit order), intervals at
+ * c->confidence.  SUNMC_ENOMEM. */
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
                      long n, summary_row *rows);
 
-/* Table 1 and the extra statistics, for people. */
+/* Table 1 and the extra statistics with their intervals, for people. */
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const summary_row *rows);
 
-/* summary.tsv: header then one row per angle and band.  `lead` (may be NULL)
+/* summary.tsv: header then one row per angle and band; each estimate S with
+ * an interval is followed by S_ci_lo and S_ci_hi.  `lead` (may be NULL)
  * prefixes extra columns: lead_names in the header, lead_values per row (for
  * sweeps). */
 void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names);

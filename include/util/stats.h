@@ -41,8 +41,9 @@ double stats_z(double confidence);
  * not the degenerate [1, 1]).  Brown, Cai & DasGupta (Stat. Sci. 16, 2001)
  * and Agresti & Coull (Am. Stat. 52, 1998) recommend it on these grounds.
  * Its known weakness is a dip very close to p = 1: with 200 units the
- * coverage falls to about 85 % at p = 0.999 (one failing unit puts the upper
- * bound just below p); with 1000 units it stays above 92 % up to p = 0.999.
+ * coverage falls to about 85 % at p = 0.9992 (one failing unit puts the
+ * upper bound just below p; above 89 % for p <= 0.999); with 1000 units it
+ * stays above 92 % up to p = 0.999.
  * Clopper-Pearson is provided for callers who need the guarantee.
  * trials == 0 gives NaN bounds. */
 int stats_wilson(long successes, long trials, double confidence, stats_interval *ci, char *err,
@@ -66,8 +67,8 @@ int stats_mean_t(const double *x, size_t n, double confidence, double *mean, sta
 
 /* Point estimate of the p-quantile of sorted[n] (ascending): Hyndman & Fan
  * (1996) definition 7, the linear interpolation between order statistics at
- * h = (n - 1) p (0-based), as gsl_stats_quantile_from_sorted_data, R's
- * default and numpy's "linear".  NaN for n = 0. */
+ * h = (n - 1) p (0-based), as R's default and numpy's "linear"; bit for bit
+ * gsl_stats_quantile_from_sorted_data.  NaN for n = 0. */
 double stats_quantile_sorted(const double *sorted, size_t n, double p);
 
 /* Distribution-free confidence interval for the population p-quantile

@@ -52,6 +52,8 @@ const config_key config_keys[] = {
      "random seed; unit u's draws depend only on (seed, u)"},
     {"run", "threads", KEY_INT, "", "0", 0, 1024, NULL, OFF(threads),
      "OpenMP threads, 0 = all cores; results do not depend on it"},
+    {"run", "block_units", KEY_LONG, "", "256", 1, 1000000, NULL, OFF(block_units),
+     "`run --until`: units per block between checks of the interval's half-width"},
 
     /* [report] */
     {"report", "bands_deg", KEY_BANDS, "deg", "0:30, 30:60, 0:62", 0, 90, NULL, OFF(bands_deg),
@@ -65,6 +67,8 @@ const config_key config_keys[] = {
      "`budget`: units per Monte Carlo step of the inverse-limit bisection"},
     {"report", "budget_steps", KEY_INT, "", "5", 1, 40, NULL, OFF(budget_steps),
      "`budget`: bisection steps per source for the inverse limit"},
+    {"report", "confidence", KEY_DOUBLE, "", "0.95", 0.5, 0.999, NULL, OFF(confidence),
+     "two-sided level of every confidence interval in summary.tsv, sweep.tsv and Table 1"},
 };
 
 const size_t config_key_count = sizeof config_keys / sizeof config_keys[0];

@@ -54,6 +54,16 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
             r->rms_after[angle][i] = NAN;
 }
 
+void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
+                         const band_list *bands, double scale)
+{
+    if (r->fit_status == UNIT_FIT_OK)
+        band_acc_rms(after_sys, bands, scale, r->rms_after_sys[angle]);
+    else
+        for (int i = 0; i < bands->n; i++)
+            r->rms_after_sys[angle][i] = NAN;
+}
+
 /* Set once by the command before any unit runs, only read afterwards. */
 static int profile_on;
 

@@ -5,6 +5,7 @@
 #include <gsl/gsl_sort.h>
 #include <gsl/gsl_statistics_double.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,18 +21,92 @@ void report_band_label(const sunmc_config *c, int i, char *buf, size_t len)
     snprintf(buf, len, "%g:%g", c->bands_deg.lo[i], c->bands_deg.hi[i]);
 }
 
+/* The per-unit values of one angle and band that enter the statistics
+ * (scratch arrays of the run's length). */
+typedef struct {
+    double *before, *after, *sys, *ratio;
+    long k;     /* units with a value (fit ok, band not empty) */
+    long k_sys; /* of those, units with a noise-free value */
+    long pass;  /* units meeting the spec */
+} band_sample;
+
+static void sample_collect(const unit_result *results, long n, int a, int b, double spec,
+                           band_sample *s)
+{
+    s->k = s->k_sys = s->pass = 0;
+    for (long u = 0; u < n; u++) {
+        const unit_result *ur = &results[u];
+        if (ur->fit_status != UNIT_FIT_OK)
+            continue;
+        double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
+        if (!isfinite(bef) || !isfinite(aft))
+            continue;
+        s->before[s->k] = bef;
+        s->after[s->k] = aft;
+        s->ratio[s->k] = bef / aft;
+        s->k++;
+        s->pass += aft <= spec;
+        if (isfinite(ur->rms_after_sys[a][b]))
+            s->sys[s->k_sys++] = ur->rms_after_sys[a][b];
+    }
+}
+
+/* Means with Student-t intervals, max/min, p95 with its order-statistic
+ * interval, yield with Wilson's; conf outside (0, 1) leaves the intervals
+ * NaN (a config not built from the key table). */
+static void sample_statistics(band_sample *s, long n, double conf, summary_row *r)
+{
+    char err[SUNMC_ERRLEN];
+    int has_level = conf > 0.0 && conf < 1.0;
+    double level = has_level ? conf : 0.5; /* any valid level; replaced by NaN below */
+    size_t k = (size_t)s->k;
+    stats_mean_t(s->before, k, level, &r->rms_before_mean, &r->rms_before_mean_ci, err, sizeof err);
+    stats_mean_t(s->after, k, level, &r->rms_after_mean, &r->rms_after_mean_ci, err, sizeof err);
+    stats_mean_t(s->sys, (size_t)s->k_sys, level, &r->rms_after_sys_mean,
+                 &r->rms_after_sys_mean_ci, err, sizeof err);
+    stats_mean_t(s->ratio, k, level, &r->improvement_mean, &r->improvement_mean_ci, err,
+                 sizeof err);
+    stats_wilson(s->pass, n, level, &r->yield_ci, err, sizeof err);
+    r->rms_after_p95_ci = (stats_interval){NAN, NAN};
+    r->yield = n > 0 ? (double)s->pass / (double)n : NAN;
+    r->rms_after_max = r->rms_after_min = r->rms_after_p95 = NAN;
+    r->improvement_max = r->improvement_min = NAN;
+    if (k > 0) {
+        gsl_sort(s->after, 1, k);
+        r->rms_after_min = s->after[0];
+        r->rms_after_max = s->after[k - 1];
+        r->rms_after_p95 = stats_quantile_sorted(s->after, k, REPORT_PERCENTILE);
+        stats_quantile_ci(s->after, k, REPORT_PERCENTILE, level, &r->rms_after_p95_ci, NULL, NULL,
+                          err, sizeof err);
+        r->improvement_max = -INFINITY;
+        r->improvement_min = INFINITY;
+        for (size_t i = 0; i < k; i++) {
+            r->improvement_max = fmax(r->improvement_max, s->ratio[i]);
+            r->improvement_min = fmin(r->improvement_min, s->ratio[i]);
+        }
+    }
+    if (!has_level) {
+        stats_interval none = {NAN, NAN};
+        r->rms_before_mean_ci = r->rms_after_mean_ci = r->rms_after_sys_mean_ci = none;
+        r->improvement_mean_ci = r->yield_ci = r->rms_after_p95_ci = none;
+    }
+}
+
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
                      long n, summary_row *rows)
 {
-    double *after = malloc((size_t)(n > 0 ? n : 1) * sizeof *after);
-    if (!after)
+    size_t len = (size_t)(n > 0 ? n : 1);
+    double *buf = malloc(4 * len * sizeof *buf);
+    if (!buf)
         return SUNMC_ENOMEM;
+    band_sample s = {buf, buf + len, buf + 2 * len, buf + 3 * len, 0, 0, 0};
     double spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
     int na = fam->n_angles(c), nb = c->bands_deg.n;
-    long gross = 0, alias = 0;
+    long gross = 0, alias = 0, failed = 0;
     for (long u = 0; u < n; u++) {
         gross += results[u].gross_val;
         alias += results[u].alias_weak > 0;
+        failed += results[u].fit_status != UNIT_FIT_OK;
     }
     for (int a = 0; a < na; a++)
         for (int b = 0; b < nb; b++) {
@@ -40,78 +115,194 @@ int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit
             r->angle = a;
             r->band = b;
             r->units = n;
+            r->fit_failures = failed;
             r->gross_errors = gross;
             r->alias_units = alias;
-            double sb = 0, sa = 0, si = 0;
-            double amax = -INFINITY, amin = INFINITY, imax = -INFINITY, imin = INFINITY;
-            long k = 0, pass = 0;
-            for (long u = 0; u < n; u++) {
-                const unit_result *ur = &results[u];
-                if (ur->fit_status != UNIT_FIT_OK) {
-                    r->fit_failures++;
-                    continue;
-                }
-                double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
-                if (!isfinite(bef) || !isfinite(aft))
-                    continue;
-                double imp = bef / aft;
-                sb += bef;
-                sa += aft;
-                si += imp;
-                amax = fmax(amax, aft);
-                amin = fmin(amin, aft);
-                imax = fmax(imax, imp);
-                imin = fmin(imin, imp);
-                after[k++] = aft;
-                pass += aft <= spec;
-            }
-            if (k == 0) {
-                r->rms_before_mean = r->rms_after_mean = r->rms_after_max = r->rms_after_min =
-                    r->rms_after_p95 = r->improvement_mean = r->improvement_max =
-                        r->improvement_min = NAN;
-            } else {
-                r->rms_before_mean = sb / (double)k;
-                r->rms_after_mean = sa / (double)k;
-                r->rms_after_max = amax;
-                r->rms_after_min = amin;
-                r->improvement_mean = si / (double)k;
-                r->improvement_max = imax;
-                r->improvement_min = imin;
-                gsl_sort(after, 1, (size_t)k);
-                r->rms_after_p95 = gsl_stats_quantile_from_sorted_data(after, 1, (size_t)k,
-                                                                       REPORT_PERCENTILE);
-            }
-            r->yield = n > 0 ? (double)pass / (double)n : NAN;
+            r->confidence = c->confidence;
+            sample_collect(results, n, a, b, spec, &s);
+            r->stat_units = s.k;
+            sample_statistics(&s, n, c->confidence, r);
         }
-    free(after);
+    free(buf);
     return SUNMC_OK;
+}
+
+/* ---- Table 1 for people ---- */
+
+#define TABLE_ROWS (UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
+#define TABLE_CELL 64
+#define TABLE_COLS 8
+
+/* A column of the printed table: two header lines and one cell per row;
+ * `bar` puts a " | " before it. */
+typedef struct {
+    char head[2][TABLE_CELL];
+    char cell[TABLE_ROWS][TABLE_CELL];
+    int bar;
+    int left; /* left-aligned (labels) */
+} table_col;
+
+static void table_print(FILE *f, const table_col *cols, int ncols, int nrows)
+{
+    int w[TABLE_COLS];
+    for (int j = 0; j < ncols; j++) {
+        w[j] = (int)strlen(cols[j].head[0]);
+        w[j] = w[j] > (int)strlen(cols[j].head[1]) ? w[j] : (int)strlen(cols[j].head[1]);
+        for (int i = 0; i < nrows; i++)
+            w[j] = w[j] > (int)strlen(cols[j].cell[i]) ? w[j] : (int)strlen(cols[j].cell[i]);
+    }
+    for (int line = -2; line < nrows; line++) {
+        for (int j = 0; j < ncols; j++) {
+            const char *t = line < 0 ? cols[j].head[line + 2] : cols[j].cell[line];
+            fprintf(f, "%s%*s", j == 0 ? "" : cols[j].bar ? " | " : "  ",
+                    cols[j].left ? -w[j] : w[j], t);
+        }
+        fputc('\n', f);
+    }
+}
+
+/* Columns (in rows, at offsetof) holding an interval: decimals that show the
+ * narrowest half-width (times scale) to two significant digits, from prec
+ * to prec + 3. */
+static int ci_decimals(const summary_row *rows, int n, size_t ci_offset, double scale, int prec)
+{
+    double h = INFINITY;
+    for (int i = 0; i < n; i++) {
+        const stats_interval *ci = (const stats_interval *)((const char *)&rows[i] + ci_offset);
+        double half = 0.5 * (ci->hi - ci->lo) * scale;
+        if (isfinite(half) && half > 0)
+            h = fmin(h, half);
+    }
+    int d = isfinite(h) ? (int)ceil(-log10(h)) + 1 : prec;
+    return d < prec ? prec : d > prec + 3 ? prec + 3 : d;
+}
+
+/* "v [lo, hi]" with d decimals (a bound that cannot be had is "-"), values
+ * times scale, `unit` after the estimate. */
+static void fmt_estimate(char *buf, size_t len, double v, stats_interval ci, int d, double scale,
+                         const char *unit)
+{
+    char lo[32] = "-", hi[32] = "-";
+    if (!isnan(ci.lo))
+        snprintf(lo, sizeof lo, "%.*f", d, ci.lo * scale);
+    if (!isnan(ci.hi))
+        snprintf(hi, sizeof hi, "%.*f", d, ci.hi * scale);
+    snprintf(buf, len, "%.*f%s [%s, %s]", d, v * scale, unit, lo, hi);
+}
+
+static void set_head(table_col *col, const char *h0, const char *h1, int bar)
+{
+    snprintf(col->head[0], TABLE_CELL, "%s", h0);
+    snprintf(col->head[1], TABLE_CELL, "%s", h1);
+    col->bar = bar;
+    col->left = 0;
+}
+
+/* Angle and band label columns. */
+static void label_columns(const sunmc_config *c, const sensor_family *fam,
+                          const summary_row *rows, int n, table_col *cols)
+{
+    set_head(&cols[0], "angle", "", 0);
+    set_head(&cols[1], "band", "|x| deg", 0);
+    cols[0].left = cols[1].left = 1;
+    for (int i = 0; i < n; i++) {
+        snprintf(cols[0].cell[i], TABLE_CELL, "%s", fam->angle_names[rows[i].angle]);
+        report_band_label(c, rows[i].band, cols[1].cell[i], TABLE_CELL);
+    }
+}
+
+/* The paper's Table 1 (RMS after max/min, improvement mean/max/min) and p95. */
+static void print_table1(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                         const summary_row *rows, int n, int prec, table_col *cols)
+{
+    char h[TABLE_CELL], pct[24];
+    snprintf(pct, sizeof pct, "[%g%% CI]", 100.0 * c->confidence);
+    label_columns(c, fam, rows, n, cols);
+    snprintf(h, sizeof h, "max [%s]", fam->rms_unit);
+    set_head(&cols[2], "RMS after", h, 1);
+    snprintf(h, sizeof h, "min [%s]", fam->rms_unit);
+    set_head(&cols[3], "RMS after", h, 0);
+    snprintf(h, sizeof h, "mean %s", pct);
+    set_head(&cols[4], "times improvement", h, 1);
+    set_head(&cols[5], "improvement", "max", 0);
+    set_head(&cols[6], "improvement", "min", 0);
+    snprintf(h, sizeof h, "[%s] %s", fam->rms_unit, pct);
+    set_head(&cols[7], "p95 of RMS after", h, 1);
+    int di = ci_decimals(rows, n, offsetof(summary_row, improvement_mean_ci), 1.0, 2);
+    int dp = ci_decimals(rows, n, offsetof(summary_row, rms_after_p95_ci), 1.0, prec);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        snprintf(cols[2].cell[i], TABLE_CELL, "%.*f", prec, r->rms_after_max);
+        snprintf(cols[3].cell[i], TABLE_CELL, "%.*f", prec, r->rms_after_min);
+        fmt_estimate(cols[4].cell[i], TABLE_CELL, r->improvement_mean, r->improvement_mean_ci, di,
+                     1.0, "");
+        snprintf(cols[5].cell[i], TABLE_CELL, "%.2f", r->improvement_max);
+        snprintf(cols[6].cell[i], TABLE_CELL, "%.2f", r->improvement_min);
+        fmt_estimate(cols[7].cell[i], TABLE_CELL, r->rms_after_p95, r->rms_after_p95_ci, dp, 1.0,
+                     "");
+    }
+    table_print(f, cols, 8, n);
+}
+
+/* Mean RMS before, after and its systematic part, and the yield. */
+static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const summary_row *rows, int n, int prec, table_col *cols)
+{
+    static const char *const heads[3] = {"mean RMS before", "mean RMS after",
+                                         "systematic part of after"};
+    const size_t off[3] = {offsetof(summary_row, rms_before_mean_ci),
+                           offsetof(summary_row, rms_after_mean_ci),
+                           offsetof(summary_row, rms_after_sys_mean_ci)};
+    char h[TABLE_CELL];
+    snprintf(h, sizeof h, "[%s] [%g%% CI]", fam->rms_unit, 100.0 * c->confidence);
+    label_columns(c, fam, rows, n, cols);
+    for (int k = 0; k < 3; k++)
+        set_head(&cols[2 + k], heads[k], h, k == 0);
+    snprintf(h, sizeof h, "[%g%% CI]", 100.0 * c->confidence);
+    set_head(&cols[5], "yield", h, 1);
+    int d[3];
+    for (int k = 0; k < 3; k++)
+        d[k] = ci_decimals(rows, n, off[k], 1.0, prec);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        const double v[3] = {r->rms_before_mean, r->rms_after_mean, r->rms_after_sys_mean};
+        const stats_interval ci[3] = {r->rms_before_mean_ci, r->rms_after_mean_ci,
+                                      r->rms_after_sys_mean_ci};
+        for (int k = 0; k < 3; k++)
+            fmt_estimate(cols[2 + k].cell[i], TABLE_CELL, v[k], ci[k], d[k], 1.0, "");
+        fmt_estimate(cols[5].cell[i], TABLE_CELL, r->yield, r->yield_ci, 1, 100.0, "%");
+    }
+    table_print(f, cols, 6, n);
 }
 
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const summary_row *rows)
 {
-    int na = fam->n_angles(c), nb = c->bands_deg.n;
+    int n = report_n_rows(c, fam);
+    n = n < TABLE_ROWS ? n : TABLE_ROWS;
     const char *u = fam->rms_unit;
     const int prec = strcmp(u, "deg") == 0 ? 4 : 2;
+    static table_col cols[TABLE_COLS]; /* large; the report prints from one thread */
     char model[256];
     fam->model_label(c, model, sizeof model);
     fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec\ncalibration model: %s\n",
             c->product, fam->name, rows[0].units, c->seed, c->spec_arcsec, model);
-    fprintf(f, "%-6s %-9s | %-19s | %-20s | %-19s | %9s %6s\n", "angle", "band", "RMS after [" ,
-            "times improvement", "mean RMS [", "p95 after", "yield");
-    fprintf(f, "%-6s %-9s | %9s %9s | %6s %6s %6s | %9s %9s | %9s %6s\n", "", "|x| deg", "max",
-            "min", "mean", "max", "min", "before", "after", u, "");
-    for (int a = 0; a < na; a++)
-        for (int b = 0; b < nb; b++) {
-            const summary_row *r = &rows[a * nb + b];
-            char band[32];
-            report_band_label(c, b, band, sizeof band);
-            fprintf(f, "%-6s %-9s | %9.*f %9.*f | %6.2f %6.2f %6.2f | %9.*f %9.*f | %9.*f %5.1f%%\n",
-                    fam->angle_names[a], band, prec, r->rms_after_max, prec, r->rms_after_min,
-                    r->improvement_mean, r->improvement_max, r->improvement_min, prec,
-                    r->rms_before_mean, prec, r->rms_after_mean, prec, r->rms_after_p95,
-                    100.0 * r->yield);
-        }
+    print_table1(f, c, fam, rows, n, prec, cols);
+    fputc('\n', f);
+    print_means(f, c, fam, rows, n, prec, cols);
+    long kmin = rows[0].stat_units, kmax = rows[0].stat_units;
+    for (int i = 1; i < n; i++) {
+        kmin = rows[i].stat_units < kmin ? rows[i].stat_units : kmin;
+        kmax = rows[i].stat_units > kmax ? rows[i].stat_units : kmax;
+    }
+    char nk[64];
+    snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
+    fprintf(f,
+            "%g%% intervals: means and improvement Student t over the n = %s units with a fit,\n"
+            "p95 distribution-free order statistics (estimate: Hyndman-Fan type 7), yield Wilson\n"
+            "score over all %ld units (a failed fit fails); max/min over the same n, no interval.\n"
+            "Systematic part: after-RMS of the same validation points read without noise.\n",
+            100.0 * c->confidence, nk, rows[0].units);
     fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld", u,
             rows[0].fit_failures, rows[0].gross_errors);
     if (fam->alias_term)
@@ -119,14 +310,27 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     fputc('\n', f);
 }
 
+/* ---- summary.tsv and units.tsv ---- */
+
 void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names)
 {
     for (int i = 0; i < n_lead; i++)
         fprintf(f, "%s\t", lead_names[i]);
     fprintf(f, "product\tfamily\tangle\tband\tband_lo_deg\tband_hi_deg\tunits\trms_unit\t"
-               "rms_before_mean\trms_after_mean\trms_after_max\trms_after_min\trms_after_p95\t"
-               "improvement_mean\timprovement_max\timprovement_min\tyield\tspec_arcsec\t"
-               "fit_failures\tgross_errors\talias_units\tmodel\n");
+               "rms_before_mean\trms_before_mean_ci_lo\trms_before_mean_ci_hi\t"
+               "rms_after_mean\trms_after_mean_ci_lo\trms_after_mean_ci_hi\t"
+               "rms_after_sys_mean\trms_after_sys_mean_ci_lo\trms_after_sys_mean_ci_hi\t"
+               "rms_after_max\trms_after_min\t"
+               "rms_after_p95\trms_after_p95_ci_lo\trms_after_p95_ci_hi\t"
+               "improvement_mean\timprovement_mean_ci_lo\timprovement_mean_ci_hi\t"
+               "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
+               "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\n");
+}
+
+/* "S\tS_ci_lo\tS_ci_hi\t" */
+static void write_estimate(FILE *f, double v, stats_interval ci)
+{
+    fprintf(f, "%.6g\t%.6g\t%.6g\t", v, ci.lo, ci.hi);
 }
 
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
@@ -141,13 +345,19 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         report_band_label(c, r->band, band, sizeof band);
         for (int j = 0; j < n_lead; j++)
             fprintf(f, "%.10g\t", lead_values[j]);
-        fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
-                   "%.6g\t%g\t%ld\t%ld\t%ld\t%s\n",
-                c->product, fam->name, fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
-                c->bands_deg.hi[r->band], r->units, fam->rms_unit, r->rms_before_mean,
-                r->rms_after_mean, r->rms_after_max, r->rms_after_min, r->rms_after_p95,
-                r->improvement_mean, r->improvement_max, r->improvement_min, r->yield,
-                c->spec_arcsec, r->fit_failures, r->gross_errors, r->alias_units, model);
+        fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t", c->product, fam->name,
+                fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
+                c->bands_deg.hi[r->band], r->units, fam->rms_unit);
+        write_estimate(f, r->rms_before_mean, r->rms_before_mean_ci);
+        write_estimate(f, r->rms_after_mean, r->rms_after_mean_ci);
+        write_estimate(f, r->rms_after_sys_mean, r->rms_after_sys_mean_ci);
+        fprintf(f, "%.6g\t%.6g\t", r->rms_after_max, r->rms_after_min);
+        write_estimate(f, r->rms_after_p95, r->rms_after_p95_ci);
+        write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
+        fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
+        write_estimate(f, r->yield, r->yield_ci);
+        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\n", c->spec_arcsec, r->confidence, r->stat_units,
+                r->fit_failures, r->gross_errors, r->alias_units, model);
     }
 }
 
@@ -164,8 +374,8 @@ void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam
     for (int i = 0; i < np; i++)
         fprintf(f, "\t%s", par[i]);
     fprintf(f, "\tfit_rms_%s", fam->rms_unit);
-    const char *which[2] = {"before", "after"};
-    for (int w = 0; w < 2; w++)
+    const char *which[3] = {"before", "after", "after_sys"};
+    for (int w = 0; w < 3; w++)
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
                 fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a],
@@ -187,6 +397,9 @@ void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
                 fprintf(f, "\t%.6g", r->rms_after[a][b]);
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                fprintf(f, "\t%.6g", r->rms_after_sys[a][b]);
         fputc('\n', f);
     }
 }

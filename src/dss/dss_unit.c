@@ -178,9 +178,58 @@ int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream 
     return dss_sensor_read(&u->sensor, b1_rad, b2_rad, noise, x_px, y_px);
 }
 
-static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+/* Score the unit on its validation grid, table at exactly the set angles,
+ * fresh noise, one reading per point (RMS before and after), and again on
+ * the same points without centroid noise (the systematic part of the after
+ * RMS; the S-curve bias, a property of the detector, stays in). */
+static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
+                              const dss_calibration *cal, long unit, unit_result *res)
 {
     const dss_config *dc = dss_cfg(c);
+    static const double no_noise[2] = {0.0, 0.0};
+    band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES], after_sys[DSS_N_ANGLES];
+    for (int a = 0; a < DSS_N_ANGLES; a++) {
+        band_acc_reset(&before[a]);
+        band_acc_reset(&after[a]);
+        band_acc_reset(&after_sys[a]);
+    }
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    long nb =
+        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
+    for (long j1 = 0; j1 < nb; j1++)
+        for (long j2 = 0; j2 < nb; j2++) {
+            double b1 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j1 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
+            double b2 =
+                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j2 * dc->val_b_step_deg) *
+                RAD_PER_DEG;
+            double x, y, a0, b0, am, bm, ac, bc;
+            if (dss_validation_reading(c, u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
+                continue;
+            double field = field_angle_deg(a0, b0);
+            dss_sensor_angles(&u->sensor, x, y, &am, &bm);
+            add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
+            if (res->fit_status != UNIT_FIT_OK)
+                continue;
+            if (dss_compensate(cal, x, y, &ac, &bc) != SUNMC_OK) {
+                res->fit_status = UNIT_FIT_FAILED;
+                continue;
+            }
+            add_errors(after, &c->bands_deg, field, ac, bc, a0, b0);
+            if (dss_sensor_read(&u->sensor, b1, b2, no_noise, &x, &y) == SUNMC_OK &&
+                dss_compensate(cal, x, y, &ac, &bc) == SUNMC_OK)
+                add_errors(after_sys, &c->bands_deg, field, ac, bc, a0, b0);
+        }
+    for (int a = 0; a < DSS_N_ANGLES; a++) {
+        unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
+        unit_result_set_sys(res, a, &after_sys[a], &c->bands_deg, ARCSEC_PER_RAD);
+    }
+}
+
+static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
     dss_calib_workspace *cw = ws;
     double t = unit_clock();
     dss_deviations dev;
@@ -210,41 +259,7 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    /* Validation on its own grid, table at exactly the set angles, fresh
-     * noise, one reading per point. */
-    band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES];
-    for (int a = 0; a < DSS_N_ANGLES; a++) {
-        band_acc_reset(&before[a]);
-        band_acc_reset(&after[a]);
-    }
-    rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
-    long nb =
-        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
-    for (long j1 = 0; j1 < nb; j1++)
-        for (long j2 = 0; j2 < nb; j2++) {
-            double b1 =
-                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j1 * dc->val_b_step_deg) *
-                RAD_PER_DEG;
-            double b2 =
-                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j2 * dc->val_b_step_deg) *
-                RAD_PER_DEG;
-            double x, y, a0, b0, am, bm;
-            if (dss_validation_reading(c, &u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
-                continue;
-            double field = field_angle_deg(a0, b0);
-            dss_sensor_angles(&u.sensor, x, y, &am, &bm);
-            add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
-            if (res->fit_status == UNIT_FIT_OK) {
-                double ac, bc;
-                if (dss_compensate(&cal, x, y, &ac, &bc) == SUNMC_OK)
-                    add_errors(after, &c->bands_deg, field, ac, bc, a0, b0);
-                else
-                    res->fit_status = UNIT_FIT_FAILED;
-            }
-        }
-    for (int a = 0; a < DSS_N_ANGLES; a++)
-        unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
+    dss_unit_validate(c, &u, &cal, unit, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }

@@ -177,6 +177,54 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 
 static void ess_ws_free(void *ws) { ess_calib_free(ws); }
 
+/* Score the unit on the validation grid and betas, with fresh noise (RMS
+ * before and after), and again on the same points without reading noise
+ * (the systematic part of the after RMS). */
+static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const ess_model *m,
+                              long unit, unit_result *res)
+{
+    const ess_config *ec = ess_cfg(c);
+    static const double no_noise[ESS_FINE_ROWS] = {0};
+    band_acc before, after, after_sys;
+    band_acc_reset(&before);
+    band_acc_reset(&after);
+    band_acc_reset(&after_sys);
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                         ec->val_alpha_offset_deg);
+    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
+    for (int k = 0; k < ec->val_beta_deg.n; k++)
+        for (long j = 0; j < na; j++) {
+            double a = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                        (double)j * ec->val_alpha_step_deg) *
+                       RAD_PER_DEG;
+            double b = ec->val_beta_deg.v[k] * RAD_PER_DEG;
+            double raw, truth, comp;
+            int st_read = ess_validation_reading(c, u, &r, a, b, &raw, &truth);
+            if (st_read == ESS_READING_UNSEEN)
+                continue;
+            if (st_read == ESS_READING_GROSS) {
+                res->gross_val++;
+                continue;
+            }
+            double abs_deg = fabs(truth) * DEG_PER_RAD;
+            band_acc_add(&before, &c->bands_deg, abs_deg, raw - truth);
+            if (res->fit_status != UNIT_FIT_OK)
+                continue;
+            if (ess_model_compensate(m, raw, &comp) != SUNMC_OK) {
+                res->fit_status = UNIT_FIT_FAILED;
+                continue;
+            }
+            band_acc_add(&after, &c->bands_deg, abs_deg, comp - truth);
+            if (ess_unit_read(u, a, b, no_noise, &raw, &truth) == SUNMC_OK &&
+                fabs(raw - truth) <= half_period && ess_model_compensate(m, raw, &comp) == SUNMC_OK)
+                band_acc_add(&after_sys, &c->bands_deg, abs_deg, comp - truth);
+        }
+    unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
+    unit_result_set_sys(res, 0, &after_sys, &c->bands_deg, DEG_PER_RAD);
+}
+
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     const ess_config *ec = ess_cfg(c);
@@ -207,38 +255,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = ess_calib_residual_rms(cw, &m) * DEG_PER_RAD;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    /* Validation on its own grid and betas, with fresh noise. */
-    band_acc before, after;
-    band_acc_reset(&before);
-    band_acc_reset(&after);
-    rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
-    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
-                         ec->val_alpha_offset_deg);
-    for (int k = 0; k < ec->val_beta_deg.n; k++)
-        for (long j = 0; j < na; j++) {
-            double a = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
-                        (double)j * ec->val_alpha_step_deg) *
-                       RAD_PER_DEG;
-            double b = ec->val_beta_deg.v[k] * RAD_PER_DEG;
-            double raw, truth, comp;
-            int st_read = ess_validation_reading(c, &u, &r, a, b, &raw, &truth);
-            if (st_read == ESS_READING_UNSEEN)
-                continue;
-            if (st_read == ESS_READING_GROSS) {
-                res->gross_val++;
-                continue;
-            }
-            double abs_deg = fabs(truth) * DEG_PER_RAD;
-            band_acc_add(&before, &c->bands_deg, abs_deg, raw - truth);
-            if (res->fit_status == UNIT_FIT_OK) {
-                if (ess_model_compensate(&m, raw, &comp) == SUNMC_OK)
-                    band_acc_add(&after, &c->bands_deg, abs_deg, comp - truth);
-                else
-                    res->fit_status = UNIT_FIT_FAILED;
-            }
-        }
-    unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
+    ess_unit_validate(c, &u, &m, unit, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }

@@ -146,7 +146,8 @@ double stats_quantile_sorted(const double *sorted, size_t n, double p)
     if (i + 1 >= n)
         return sorted[n - 1];
     double frac = h - (double)i;
-    return sorted[i] + frac * (sorted[i + 1] - sorted[i]);
+    /* GSL's arithmetic, so the value is the same to the last bit. */
+    return (1.0 - frac) * sorted[i] + frac * sorted[i + 1];
 }
 
 /* P(K <= k) for K ~ Binomial(n, p); k < 0 gives 0. */
