@@ -9,8 +9,6 @@
 #include "report.h"
 #include "status.h"
 
-#include <unistd.h>
-
 static const char *const fake_angles[] = {"alpha"};
 
 static int fake_n_angles(const sunmc_config *c) { return 1; }
@@ -67,6 +65,25 @@ static void make_results(unit_result *r)
     r[3].fit_status = UNIT_FIT_FAILED;
 }
 
+/* Header and data row `row` (1 = first) of the TSV in f into h[] and v[]
+ * (pointing into hl and vl); returns the number of columns, -1 if short. */
+static int read_row(FILE *f, int row, char *hl, char *vl, size_t len, char **h, char **v)
+{
+    if (!fgets(hl, (int)len, f))
+        return -1;
+    for (int i = 0; i < row; i++)
+        if (!fgets(vl, (int)len, f))
+            return -1;
+    hl[strcspn(hl, "\n")] = vl[strcspn(vl, "\n")] = '\0';
+    int nh = 0, nv = 0;
+    char *save;
+    for (char *t = strtok_r(hl, "\t", &save); t && nh < 64; t = strtok_r(NULL, "\t", &save))
+        h[nh++] = t;
+    for (char *t = strtok_r(vl, "\t", &save); t && nv < 64; t = strtok_r(NULL, "\t", &save))
+        v[nv++] = t;
+    return nh == nv ? nh : -1;
+}
+
 /* Mean and the t half-width of v[n] (two-pass, here). */
 static void mean_half(const double *v, int n, double t, double *m, double *h)
 {
@@ -79,14 +96,20 @@ static void mean_half(const double *v, int n, double t, double *m, double *h)
     *h = t * sqrt(ss / (n - 1)) / sqrt((double)n);
 }
 
+/* The hand-made run, summarized (group fixture). */
+static sunmc_config c;
+static unit_result res[NU];
+static summary_row r;
+
+static int summarize(void **state)
+{
+    make_config(&c);
+    make_results(res);
+    return report_summarize(&c, &fake, res, NU, &r) == SUNMC_OK ? 0 : -1;
+}
+
 static void hand_made_intervals(void **state)
 {
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row r;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r), SUNMC_OK);
     /* Units 0, 1, 2, 4, 5, 7, 8 count (3 failed, 6 has no value): k = 7,
      * 6 degrees of freedom. */
     assert_int_equal(r.stat_units, 7);
@@ -133,86 +156,66 @@ static void hand_made_intervals(void **state)
  * ranks 90 and 100); a constant sample's t interval has zero width. */
 static void p95_ranks_at_100(void **state)
 {
-    sunmc_config c;
-    make_config(&c);
-    static unit_result res[100];
-    memset(res, 0, sizeof res);
+    static unit_result big[100];
+    memset(big, 0, sizeof big);
     for (int u = 0; u < 100; u++) {
-        res[u].rms_before[0][0] = 1.0;
-        res[u].rms_after[0][0] = 0.001 * ((u * 37) % 100 + 1); /* a permutation of 1..100 */
-        res[u].rms_after_sys[0][0] = 0.0005;
+        big[u].rms_before[0][0] = 1.0;
+        big[u].rms_after[0][0] = 0.001 * ((u * 37) % 100 + 1); /* a permutation of 1..100 */
+        big[u].rms_after_sys[0][0] = 0.0005;
     }
-    summary_row r;
-    assert_int_equal(report_summarize(&c, &fake, res, 100, &r), SUNMC_OK);
+    summary_row rb;
+    assert_int_equal(report_summarize(&c, &fake, big, 100, &rb), SUNMC_OK);
     /* Bin(100, 0.95): P(K <= 90) = 0.0282 > 0.025 >= P(K <= 89) = 0.0115
      * -> l = 90; P(K <= 98) = 0.9629 < 0.975 <= P(K <= 99) = 0.9941 -> u = 100.
      * (Checked against the brute-force sum in test_stats_ci.) */
-    assert_near(r.rms_after_p95_ci.lo, 0.090, 1e-15);
-    assert_near(r.rms_after_p95_ci.hi, 0.100, 1e-15);
-    assert_near(r.rms_after_p95, 0.001 * (95 + 0.05), 1e-15); /* h = 99 * 0.95 = 94.05 */
+    assert_near(rb.rms_after_p95_ci.lo, 0.090, 1e-15);
+    assert_near(rb.rms_after_p95_ci.hi, 0.100, 1e-15);
+    assert_near(rb.rms_after_p95, 0.001 * (95 + 0.05), 1e-15); /* h = 99 * 0.95 = 94.05 */
     /* A constant sample: zero-width interval. */
-    assert_near(r.rms_after_sys_mean_ci.lo, 0.0005, 1e-18);
-    assert_near(r.rms_after_sys_mean_ci.hi, 0.0005, 1e-18);
+    assert_near(rb.rms_after_sys_mean_ci.lo, 0.0005, 1e-18);
+    assert_near(rb.rms_after_sys_mean_ci.hi, 0.0005, 1e-18);
 }
 
 /* No level in (0, 1) (a config not built from the key table): estimates
  * stay, intervals are NaN; no units: NaN everywhere. */
 static void no_level_and_no_units(void **state)
 {
-    sunmc_config c;
-    make_config(&c);
-    c.confidence = 0;
-    unit_result res[NU];
-    make_results(res);
-    summary_row r;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r), SUNMC_OK);
-    assert_true(r.rms_after_mean > 0 && r.yield > 0);
-    assert_true(isnan(r.rms_after_mean_ci.lo) && isnan(r.yield_ci.hi));
-    assert_true(isnan(r.rms_after_p95_ci.lo) && isnan(r.improvement_mean_ci.lo));
-    c.confidence = 0.95;
-    assert_int_equal(report_summarize(&c, &fake, res, 0, &r), SUNMC_OK);
-    assert_true(isnan(r.rms_after_mean) && isnan(r.rms_after_mean_ci.lo));
-    assert_true(isnan(r.yield) && isnan(r.yield_ci.lo) && isnan(r.rms_after_sys_mean));
+    sunmc_config c0 = c;
+    c0.confidence = 0;
+    summary_row r0;
+    assert_int_equal(report_summarize(&c0, &fake, res, NU, &r0), SUNMC_OK);
+    assert_true(r0.rms_after_mean > 0 && r0.yield > 0);
+    assert_true(isnan(r0.rms_after_mean_ci.lo) && isnan(r0.yield_ci.hi));
+    assert_true(isnan(r0.rms_after_p95_ci.lo) && isnan(r0.improvement_mean_ci.lo));
+    assert_int_equal(report_summarize(&c, &fake, res, 0, &r0), SUNMC_OK);
+    assert_true(isnan(r0.rms_after_mean) && isnan(r0.rms_after_mean_ci.lo));
+    assert_true(isnan(r0.yield) && isnan(r0.yield_ci.lo) && isnan(r0.rms_after_sys_mean));
     /* One unit: a mean, no interval. */
-    assert_int_equal(report_summarize(&c, &fake, res, 1, &r), SUNMC_OK);
-    assert_near(r.rms_after_mean, 0.010, 0);
-    assert_true(isnan(r.rms_after_mean_ci.lo));
+    assert_int_equal(report_summarize(&c, &fake, res, 1, &r0), SUNMC_OK);
+    assert_near(r0.rms_after_mean, 0.010, 0);
+    assert_true(isnan(r0.rms_after_mean_ci.lo));
     /* A higher level widens the interval. */
-    summary_row r95, r99;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r95), SUNMC_OK);
-    c.confidence = 0.99;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r99), SUNMC_OK);
+    summary_row r99;
+    c0.confidence = 0.99;
+    assert_int_equal(report_summarize(&c0, &fake, res, NU, &r99), SUNMC_OK);
     assert_true(r99.rms_after_mean_ci.hi - r99.rms_after_mean_ci.lo >
-                r95.rms_after_mean_ci.hi - r95.rms_after_mean_ci.lo);
-    assert_true(r99.yield_ci.lo < r95.yield_ci.lo);
+                r.rms_after_mean_ci.hi - r.rms_after_mean_ci.lo);
+    assert_true(r99.yield_ci.lo < r.yield_ci.lo);
 }
 
 /* Every S with an interval is followed by S_ci_lo and S_ci_hi holding the
  * row's bounds; confidence and stat_units are written. */
 static void summary_columns(void **state)
 {
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row r;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r), SUNMC_OK);
     FILE *f = tmpfile();
     assert_non_null(f);
     report_write_summary_header(f, 0, NULL);
     report_write_summary_rows(f, &c, &fake, &r, 0, NULL);
     rewind(f);
-    char hl[4096], vl[4096], *h[64], *v[64], *save;
-    assert_non_null(fgets(hl, sizeof hl, f));
-    assert_non_null(fgets(vl, sizeof vl, f));
+    char hl[4096], vl[4096], *h[64], *v[64];
+    int nh = read_row(f, 1, hl, vl, sizeof hl, h, v);
     fclose(f);
-    hl[strcspn(hl, "\n")] = vl[strcspn(vl, "\n")] = '\0';
-    int nh = 0, nv = 0;
-    for (char *t = strtok_r(hl, "\t", &save); t && nh < 64; t = strtok_r(NULL, "\t", &save))
-        h[nh++] = t;
-    for (char *t = strtok_r(vl, "\t", &save); t && nv < 64; t = strtok_r(NULL, "\t", &save))
-        v[nv++] = t;
-    assert_int_equal(nh, nv);
+    assert_true(nh > 0);
     const char *stat[] = {"rms_before_mean", "rms_after_mean", "rms_after_sys_mean",
                           "rms_after_p95", "improvement_mean", "yield"};
     const stats_interval ci[] = {r.rms_before_mean_ci,  r.rms_after_mean_ci,
@@ -249,12 +252,6 @@ static void summary_columns(void **state)
  * footnote naming the methods and n. */
 static void printed_compact(void **state)
 {
-    sunmc_config c;
-    make_config(&c);
-    unit_result res[NU];
-    make_results(res);
-    summary_row r;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, &r), SUNMC_OK);
     FILE *f = tmpfile();
     assert_non_null(f);
     report_print_table(f, &c, &fake, &r);
@@ -282,28 +279,19 @@ static void printed_compact(void **state)
 #define SUB_UNITS 50
 #define REF_UNITS 1000
 
-static char dir[] = "/tmp/sunmc_test_report_ci_XXXXXX";
-
-/* Columns of summary.tsv row `row` (1 = first data row) by name. */
+/* Column `name` of data row `row` (1 = first) of the TSV at path. */
 static double summary_value(const char *path, int row, const char *name)
 {
     FILE *f = fopen(path, "r");
     assert_non_null(f);
-    char hl[4096], vl[4096], *save;
-    assert_non_null(fgets(hl, sizeof hl, f));
-    for (int i = 0; i < row; i++)
-        assert_non_null(fgets(vl, sizeof vl, f));
+    char hl[4096], vl[4096], *h[64], *v[64];
+    int n = read_row(f, row, hl, vl, sizeof hl, h, v);
     fclose(f);
-    int col = -1, i = 0;
-    hl[strcspn(hl, "\n")] = '\0';
-    for (char *t = strtok_r(hl, "\t", &save); t; t = strtok_r(NULL, "\t", &save), i++)
-        if (strcmp(t, name) == 0)
-            col = i;
-    assert_true(col >= 0);
-    char *t = strtok_r(vl, "\t", &save);
-    for (i = 0; i < col; i++)
-        t = strtok_r(NULL, "\t", &save);
-    return strtod(t, NULL);
+    for (int i = 0; i < n; i++)
+        if (strcmp(h[i], name) == 0)
+            return strtod(v[i], NULL);
+    fail_msg("%s has no column %s in row %d", path, name, row);
+    return NAN;
 }
 
 static void run_sunmc(const char *args)
@@ -321,16 +309,19 @@ static void run_sunmc(const char *args)
 static void coverage_against_large_run(void **state)
 {
     char args[512], path[512];
-    snprintf(args, sizeof args, "--units %d --seed 1000 --out %s/ref", REF_UNITS, dir);
+    snprintf(args, sizeof args, "--units %d --seed 1000 --out %s", REF_UNITS, test_tmp("ref"));
     run_sunmc(args);
-    snprintf(path, sizeof path, "%s/ref/summary.tsv", dir);
+    snprintf(path, sizeof path, "%s", test_tmp("ref/summary.tsv"));
     double ref_after = summary_value(path, 3, "rms_after_mean");
     double ref_imp = summary_value(path, 3, "improvement_mean");
     int cover_after = 0, cover_imp = 0;
     for (int s = 1; s <= SEEDS; s++) {
-        snprintf(args, sizeof args, "--units %d --seed %d --out %s/s%d", SUB_UNITS, s, dir, s);
+        char name[32];
+        snprintf(name, sizeof name, "s%d", s);
+        snprintf(args, sizeof args, "--units %d --seed %d --out %s", SUB_UNITS, s, test_tmp(name));
         run_sunmc(args);
-        snprintf(path, sizeof path, "%s/s%d/summary.tsv", dir, s);
+        snprintf(name, sizeof name, "s%d/summary.tsv", s);
+        snprintf(path, sizeof path, "%s", test_tmp(name));
         cover_after += summary_value(path, 3, "rms_after_mean_ci_lo") <= ref_after &&
                        ref_after <= summary_value(path, 3, "rms_after_mean_ci_hi");
         cover_imp += summary_value(path, 3, "improvement_mean_ci_lo") <= ref_imp &&
@@ -347,10 +338,10 @@ static void coverage_against_large_run(void **state)
 static void widths_shrink(void **state)
 {
     char args[512], p250[512], p1000[512];
-    snprintf(args, sizeof args, "--units 250 --seed 1000 --out %s/n250", dir);
+    snprintf(args, sizeof args, "--units 250 --seed 1000 --out %s", test_tmp("n250"));
     run_sunmc(args);
-    snprintf(p250, sizeof p250, "%s/n250/summary.tsv", dir);
-    snprintf(p1000, sizeof p1000, "%s/ref/summary.tsv", dir);
+    snprintf(p250, sizeof p250, "%s", test_tmp("n250/summary.tsv"));
+    snprintf(p1000, sizeof p1000, "%s", test_tmp("ref/summary.tsv"));
     const char *stat[] = {"rms_before_mean", "rms_after_mean", "rms_after_sys_mean",
                           "improvement_mean"};
     for (int k = 0; k < 4; k++)
@@ -365,28 +356,16 @@ static void widths_shrink(void **state)
         }
 }
 
-static int setup(void **state)
-{
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(hand_made_intervals),
-        cmocka_unit_test(p95_ranks_at_100),
-        cmocka_unit_test(no_level_and_no_units),
-        cmocka_unit_test(summary_columns),
-        cmocka_unit_test(printed_compact),
+        cmocka_unit_test_setup(hand_made_intervals, summarize),
+        cmocka_unit_test_setup(p95_ranks_at_100, summarize),
+        cmocka_unit_test_setup(no_level_and_no_units, summarize),
+        cmocka_unit_test_setup(summary_columns, summarize),
+        cmocka_unit_test_setup(printed_compact, summarize),
         cmocka_unit_test(coverage_against_large_run),
         cmocka_unit_test(widths_shrink),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,7 +6,7 @@
  * the spec, at or below it, over ALL units, failed fits included), failed
  * fits and NaN bands left out of the statistics, band edges, the spec
  * converted to the family's RMS unit; then every column of summary.tsv and
- * units.tsv and the printed Table 1. */
+ * units.tsv (intervals included) and the printed Table 1. */
 #include "test_util.h"
 
 #include "report.h"
@@ -64,6 +64,7 @@ static void make_config(sunmc_config *c)
     snprintf(c->product, sizeof c->product, "Test product");
     c->seed = 11;
     c->spec_arcsec = 54.0;
+    c->confidence = 0.95;
     c->bands_deg.n = NB;
     const double lo[NB] = {0, 30, 0}, hi[NB] = {30, 60, 60};
     for (int b = 0; b < NB; b++) {
@@ -320,11 +321,44 @@ static void summary_tsv_columns(void **state)
     char *h[64], *v[64];
     assert_non_null(fgets(hline, sizeof hline, f));
     int nh = split_tsv(hline, h, 64);
-    const char *want[] = {"campaign.alpha_step_deg", "product", "family", "angle", "band",
-                          "band_lo_deg", "band_hi_deg", "units", "rms_unit", "rms_before_mean",
-                          "rms_after_mean", "rms_after_max", "rms_after_min", "rms_after_p95",
-                          "improvement_mean", "improvement_max", "improvement_min", "yield",
-                          "spec_arcsec", "fit_failures", "gross_errors", "alias_units", "model"};
+    const char *want[] = {"campaign.alpha_step_deg",
+                          "product",
+                          "family",
+                          "angle",
+                          "band",
+                          "band_lo_deg",
+                          "band_hi_deg",
+                          "units",
+                          "rms_unit",
+                          "rms_before_mean",
+                          "rms_before_mean_ci_lo",
+                          "rms_before_mean_ci_hi",
+                          "rms_after_mean",
+                          "rms_after_mean_ci_lo",
+                          "rms_after_mean_ci_hi",
+                          "rms_after_sys_mean",
+                          "rms_after_sys_mean_ci_lo",
+                          "rms_after_sys_mean_ci_hi",
+                          "rms_after_max",
+                          "rms_after_min",
+                          "rms_after_p95",
+                          "rms_after_p95_ci_lo",
+                          "rms_after_p95_ci_hi",
+                          "improvement_mean",
+                          "improvement_mean_ci_lo",
+                          "improvement_mean_ci_hi",
+                          "improvement_max",
+                          "improvement_min",
+                          "yield",
+                          "yield_ci_lo",
+                          "yield_ci_hi",
+                          "spec_arcsec",
+                          "confidence",
+                          "stat_units",
+                          "fit_failures",
+                          "gross_errors",
+                          "alias_units",
+                          "model"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);
@@ -352,6 +386,21 @@ static void summary_tsv_columns(void **state)
         assert_printed(v[col_of(h, nh, "improvement_max")], r->improvement_max, "imp max");
         assert_printed(v[col_of(h, nh, "improvement_min")], r->improvement_min, "imp min");
         assert_printed(v[col_of(h, nh, "yield")], r->yield, "yield");
+        assert_printed(v[col_of(h, nh, "rms_after_sys_mean")], r->rms_after_sys_mean, "sys mean");
+        const char *est[6] = {"rms_before_mean", "rms_after_mean", "rms_after_sys_mean",
+                              "rms_after_p95",   "improvement_mean", "yield"};
+        const stats_interval ci[6] = {r->rms_before_mean_ci,  r->rms_after_mean_ci,
+                                      r->rms_after_sys_mean_ci, r->rms_after_p95_ci,
+                                      r->improvement_mean_ci, r->yield_ci};
+        for (int k = 0; k < 6; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "%s_ci_lo", est[k]);
+            assert_printed(v[col_of(h, nh, name)], ci[k].lo, name);
+            snprintf(name, sizeof name, "%s_ci_hi", est[k]);
+            assert_printed(v[col_of(h, nh, name)], ci[k].hi, name);
+        }
+        assert_printed(v[col_of(h, nh, "confidence")], 0.95, "confidence");
+        assert_int_equal(atol(v[col_of(h, nh, "stat_units")]), r->stat_units);
         assert_printed(v[col_of(h, nh, "spec_arcsec")], 54.0, "spec");
         assert_int_equal(atol(v[col_of(h, nh, "fit_failures")]), 1);
         assert_int_equal(atol(v[col_of(h, nh, "gross_errors")]), 9);
@@ -375,7 +424,7 @@ static void units_tsv_columns(void **state)
     char *h[128], *v[128];
     assert_non_null(fgets(hline, sizeof hline, f));
     int nh = split_tsv(hline, h, 128);
-    assert_int_equal(nh, 7 + 3 + 2 + 1 + 2 * 2 * NB);
+    assert_int_equal(nh, 7 + 3 + 2 + 1 + 3 * 2 * NB); /* before, after, after_sys */
     for (int u = 0; u < NU; u++) {
         const unit_result *r = &res[u];
         assert_non_null(fgets(line, sizeof line, f));
@@ -399,13 +448,32 @@ static void units_tsv_columns(void **state)
                 assert_printed(v[col_of(h, nh, name)], r->rms_before[a][b], name);
                 snprintf(name, sizeof name, "rms_after_%s_%g_%g_deg", fake_angles[a], lo[b], hi[b]);
                 assert_printed(v[col_of(h, nh, name)], r->rms_after[a][b], name);
+                snprintf(name, sizeof name, "rms_after_sys_%s_%g_%g_deg", fake_angles[a], lo[b],
+                         hi[b]);
+                assert_printed(v[col_of(h, nh, name)], r->rms_after_sys[a][b], name);
             }
     }
     assert_null(fgets(line, sizeof line, f));
     fclose(f);
 }
 
-/* Table 1 on stdout: each printed number is the row's, in the right column. */
+/* A printed interval bound: a number, or "-" when there is none. */
+static double bound(const char *text)
+{
+    return strcmp(text, "-") == 0 ? NAN : strtod(text, NULL);
+}
+
+static void assert_shown(double got, double want, double tol)
+{
+    if (isnan(want))
+        assert_true(isnan(got));
+    else
+        assert_near(got, want, tol);
+}
+
+/* Table 1 on stdout: each printed number is the row's, in the right column:
+ * first block max, min | improvement mean [lo, hi] max min | p95 [lo, hi];
+ * second block before, after, systematic part [lo, hi] each | yield [lo, hi]. */
 static void printed_table(void **state)
 {
     (void)state;
@@ -414,28 +482,47 @@ static void printed_table(void **state)
     report_print_table(f, &c, &fake, rows);
     rewind(f);
     char line[1024];
-    int seen = 0;
+    int seen1 = 0, seen2 = 0;
     while (fgets(line, sizeof line, f)) {
-        char angle[16], band[16];
-        double mx, mn, im, imx, imn, bm, am, p95, y;
-        if (sscanf(line, "%15s %15s | %lf %lf | %lf %lf %lf | %lf %lf | %lf %lf%%", angle, band,
-                   &mx, &mn, &im, &imx, &imn, &bm, &am, &p95, &y) != 11)
-            continue;
-        const summary_row *r = &rows[seen++];
-        assert_string_equal(angle, fake_angles[r->angle]);
-        const double got[9] = {mx, mn, im, imx, imn, bm, am, p95, y};
-        const double want[9] = {r->rms_after_max,   r->rms_after_min,   r->improvement_mean,
-                                r->improvement_max, r->improvement_min, r->rms_before_mean,
-                                r->rms_after_mean,  r->rms_after_p95,   100 * r->yield};
-        const double tol[9] = {0.5e-4, 0.5e-4, 0.005, 0.005, 0.005, 0.5e-4, 0.5e-4, 0.5e-4, 0.05};
-        for (int k = 0; k < 9; k++) {
-            if (isnan(want[k]))
-                assert_true(isnan(got[k]));
-            else
-                assert_near(got[k], want[k], tol[k]);
+        char angle[16], band[16], b[8][16];
+        double x[8];
+        if (sscanf(line, "%15s %15s | %lf %lf | %lf [%15[^,], %15[^]]] %lf %lf | %lf [%15[^,], %15[^]]]",
+                   angle, band, &x[0], &x[1], &x[2], b[0], b[1], &x[3], &x[4], &x[5], b[2],
+                   b[3]) == 12) {
+            const summary_row *r = &rows[seen1++];
+            assert_string_equal(angle, fake_angles[r->angle]);
+            const double got[9] = {x[0], x[1], x[2], bound(b[0]), bound(b[1]),
+                                   x[3], x[4], x[5], bound(b[2])};
+            const double want[9] = {r->rms_after_max,        r->rms_after_min,
+                                    r->improvement_mean,     r->improvement_mean_ci.lo,
+                                    r->improvement_mean_ci.hi, r->improvement_max,
+                                    r->improvement_min,      r->rms_after_p95,
+                                    r->rms_after_p95_ci.lo};
+            const double tol[9] = {0.5e-4, 0.5e-4, 0.005, 0.005, 0.005, 0.005, 0.005, 0.5e-4, 0.5e-4};
+            for (int k = 0; k < 9; k++)
+                assert_shown(got[k], want[k], tol[k]);
+            assert_shown(bound(b[3]), r->rms_after_p95_ci.hi, 0.5e-4);
+        } else if (sscanf(line,
+                          "%15s %15s | %lf [%15[^,], %15[^]]] %lf [%15[^,], %15[^]]] %lf [%15[^,], "
+                          "%15[^]]] | %lf%% [%15[^,], %15[^]]]",
+                          angle, band, &x[0], b[0], b[1], &x[1], b[2], b[3], &x[2], b[4], b[5],
+                          &x[3], b[6], b[7]) == 14) {
+            const summary_row *r = &rows[seen2++];
+            assert_string_equal(angle, fake_angles[r->angle]);
+            const double v[4] = {r->rms_before_mean, r->rms_after_mean, r->rms_after_sys_mean,
+                                 100 * r->yield};
+            const stats_interval ci[4] = {r->rms_before_mean_ci, r->rms_after_mean_ci,
+                                          r->rms_after_sys_mean_ci, r->yield_ci};
+            const double scale[4] = {1, 1, 1, 100}, tol[4] = {0.5e-4, 0.5e-4, 0.5e-4, 0.05};
+            for (int k = 0; k < 4; k++) {
+                assert_shown(x[k], v[k], tol[k]);
+                assert_shown(bound(b[2 * k]), scale[k] * ci[k].lo, tol[k]);
+                assert_shown(bound(b[2 * k + 1]), scale[k] * ci[k].hi, tol[k]);
+            }
         }
     }
-    assert_int_equal(seen, 2 * NB);
+    assert_int_equal(seen1, 2 * NB);
+    assert_int_equal(seen2, 2 * NB);
     fclose(f);
 }
 
