@@ -210,7 +210,28 @@ static void summary_from_units(const char *run_dir, double arcsec_per_unit)
     tsv_free(u);
 }
 
-/* Table 1 as printed (stdout of run, in file `table`) against summary.tsv. */
+/* A printed interval bound: a number, or "-" when there is none. */
+static double shown_bound(const char *text)
+{
+    return strcmp(text, "-") == 0 ? NAN : strtod(text, NULL);
+}
+
+/* printed value v[k] against summary.tsv row r, column col[k] (times scale
+ * k), within tol[k]; NaN must be printed as nan or "-". */
+static void expect_shown(tsv *s, int r, int n, const double *v, const char *const *col,
+                         const double *scale, const double *tol)
+{
+    for (int k = 0; k < n; k++) {
+        double want = tsv_num(s, r, col[k]) * scale[k];
+        if (isnan(want) ? !isnan(v[k]) : !(fabs(v[k] - want) <= tol[k]))
+            fail_msg("Table 1 row %d %s: printed %g, summary.tsv %g", r, col[k], v[k], want);
+    }
+}
+
+/* Table 1 as printed (stdout of run, in file `table`) against summary.tsv:
+ * the first block (RMS after max, min | improvement mean [lo, hi], max, min
+ * | p95 [lo, hi]) and the second (mean before, after, systematic part, each
+ * [lo, hi] | yield [lo, hi]). */
 static void table_matches_summary(const char *table, const char *run_dir, double tol)
 {
     char path[256], line[1024];
@@ -218,29 +239,53 @@ static void table_matches_summary(const char *table, const char *run_dir, double
     tsv *s = tsv_load(path);
     FILE *f = fopen(table, "r");
     assert_non_null(f);
-    int r = 0;
+    int r1 = 0, r2 = 0;
     while (fgets(line, sizeof line, f)) {
-        char angle[16], band[16];
-        double v[9];
-        if (sscanf(line, "%15s %15s | %lf %lf | %lf %lf %lf | %lf %lf | %lf %lf%%", angle, band,
-                   &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8]) != 11)
-            continue;
-        assert_true(r < s->nr);
-        assert_string_equal(angle, tsv_str(s, r, "angle"));
-        assert_string_equal(band, tsv_str(s, r, "band"));
-        const char *col[9] = {"rms_after_max",   "rms_after_min",   "improvement_mean",
-                              "improvement_max", "improvement_min", "rms_before_mean",
-                              "rms_after_mean",  "rms_after_p95",   "yield"};
-        for (int k = 0; k < 9; k++) {
-            double want = tsv_num(s, r, col[k]) * (k == 8 ? 100 : 1);
-            double t = k == 8 ? 0.05 : (k >= 2 && k <= 4 ? 0.005 : tol);
-            if (!(fabs(v[k] - want) <= t))
-                fail_msg("Table 1 row %d %s: printed %g, summary.tsv %g", r, col[k], v[k], want);
+        char angle[16], band[16], b[8][16];
+        double x[8];
+        if (sscanf(line, "%15s %15s | %lf %lf | %lf [%15[^,], %15[^]]] %lf %lf | %lf [%15[^,], %15[^]]]",
+                   angle, band, &x[0], &x[1], &x[2], b[0], b[1], &x[3], &x[4], &x[5], b[2],
+                   b[3]) == 12) {
+            assert_true(r1 < s->nr);
+            assert_string_equal(angle, tsv_str(s, r1, "angle"));
+            assert_string_equal(band, tsv_str(s, r1, "band"));
+            const char *col[10] = {"rms_after_max",          "rms_after_min",
+                                   "improvement_mean",       "improvement_mean_ci_lo",
+                                   "improvement_mean_ci_hi", "improvement_max",
+                                   "improvement_min",        "rms_after_p95",
+                                   "rms_after_p95_ci_lo",    "rms_after_p95_ci_hi"};
+            const double v[10] = {x[0], x[1], x[2], shown_bound(b[0]), shown_bound(b[1]),
+                                  x[3], x[4], x[5], shown_bound(b[2]), shown_bound(b[3])};
+            const double one[10] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+            const double t[10] = {tol, tol, 0.005, 0.005, 0.005, 0.005, 0.005, tol, tol, tol};
+            expect_shown(s, r1++, 10, v, col, one, t);
+        } else if (sscanf(line,
+                          "%15s %15s | %lf [%15[^,], %15[^]]] %lf [%15[^,], %15[^]]] %lf [%15[^,], "
+                          "%15[^]]] | %lf%% [%15[^,], %15[^]]]",
+                          angle, band, &x[0], b[0], b[1], &x[1], b[2], b[3], &x[2], b[4], b[5],
+                          &x[3], b[6], b[7]) == 14) {
+            assert_true(r2 < s->nr);
+            assert_string_equal(angle, tsv_str(s, r2, "angle"));
+            const char *col[12] = {"rms_before_mean",       "rms_before_mean_ci_lo",
+                                   "rms_before_mean_ci_hi", "rms_after_mean",
+                                   "rms_after_mean_ci_lo",  "rms_after_mean_ci_hi",
+                                   "rms_after_sys_mean",    "rms_after_sys_mean_ci_lo",
+                                   "rms_after_sys_mean_ci_hi", "yield",
+                                   "yield_ci_lo",           "yield_ci_hi"};
+            double v[12];
+            for (int k = 0; k < 4; k++) {
+                v[3 * k] = x[k];
+                v[3 * k + 1] = shown_bound(b[2 * k]);
+                v[3 * k + 2] = shown_bound(b[2 * k + 1]);
+            }
+            const double sc[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 100, 100, 100};
+            const double t[12] = {tol, tol, tol, tol, tol, tol, tol, tol, tol, 0.05, 0.05, 0.05};
+            expect_shown(s, r2++, 12, v, col, sc, t);
         }
-        r++;
     }
     fclose(f);
-    assert_int_equal(r, s->nr);
+    assert_int_equal(r1, s->nr);
+    assert_int_equal(r2, s->nr);
     tsv_free(s);
 }
 
