@@ -488,12 +488,17 @@ static void test_coarse_cell_edges(void **state)
             assert_near(ess_coarse_read(&s, psi) * DEG_PER_RAD, want, 1e-9);
         }
     }
-    for (int j = 0; j < n; j++)
-        psi[j] = 80 * RAD_PER_DEG;
-    assert_near(ess_coarse_read(&s, psi) * DEG_PER_RAD, origin + (ncell - 0.5) * res, 1e-9);
-    for (int j = 0; j < n; j++)
-        psi[j] = -80 * RAD_PER_DEG;
-    assert_near(ess_coarse_read(&s, psi) * DEG_PER_RAD, origin + 0.5 * res, 1e-9);
+    /* just inside and just outside each end of the code, and far beyond */
+    const double top = origin + ncell * res;
+    const double ends[][2] = {{top - eps, ncell - 0.5}, {top + eps, ncell - 0.5},
+                              {top + 0.5 * res, ncell - 0.5}, {80, ncell - 0.5},
+                              {origin + eps, 0.5}, {origin - eps, 0.5},
+                              {origin - 0.5 * res, 0.5}, {-80, 0.5}};
+    for (size_t e = 0; e < sizeof ends / sizeof ends[0]; e++) {
+        for (int j = 0; j < n; j++)
+            psi[j] = ends[e][0] * RAD_PER_DEG;
+        assert_near(ess_coarse_read(&s, psi) * DEG_PER_RAD, origin + ends[e][1] * res, 1e-9);
+    }
 }
 
 /* The combination picks the fine period nearest the coarse estimate: a
@@ -534,6 +539,25 @@ static void test_output_across_coarse_edges(void **state)
             assert_near(output_deg(&s, a, 0, NULL), in_period_deg(phase_of_rows(x), th0, a),
                         1e-10);
         }
+}
+
+/* The sun is seen while cos(incidence) = s_z > 0.0175 (89 deg): just
+ * inside, a reading; just outside, SUNMC_EDOM. */
+static void test_grazing_limit(void **state)
+{
+    sunmc_config c = given(0, 0);
+    ess_deviations dev = {0};
+    ess_sensor s;
+    ess_sensor_init(&s, &c.ess, &dev);
+    const double lim = 0.0175;
+    for (int side = 0; side < 2; side++) {
+        double sz = side ? lim * (1 - 1e-9) : lim * (1 + 1e-9);
+        double sy = sz * tan(30 * RAD_PER_DEG), sx = sqrt(1 - sz * sz - sy * sy);
+        double sv[3] = {sx, sy, sz}, out;
+        assert_int_equal(ess_sensor_output(&s, sv, NULL, &out), side ? SUNMC_EDOM : SUNMC_OK);
+        if (!side)
+            assert_near(out, atan2(sy, sz), 1e-9);
+    }
 }
 
 /* ---- the compensation model (eq. 12-14) ---- */
@@ -682,6 +706,7 @@ int main(void)
         cmocka_unit_test(test_coarse_cell_edges),
         cmocka_unit_test(test_combine_both_sides),
         cmocka_unit_test(test_output_across_coarse_edges),
+        cmocka_unit_test(test_grazing_limit),
         cmocka_unit_test(test_model_prediction),
         cmocka_unit_test(test_compensation_exact),
         cmocka_unit_test(test_compensation_limit),

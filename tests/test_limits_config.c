@@ -1,0 +1,588 @@
+/* test_limits_config.c - every config limit on both sides of its boundary.
+ *
+ * Driven by the key table, so a new key is covered without a new test: for
+ * every number key of every family, its min and max pass (and are stored)
+ * and min - eps, max + eps are refused with SUNMC_EINPUT and a message that
+ * names the key and its allowed range; for list keys each element's range,
+ * for band keys each bound's; every enum choice passes and a near miss does
+ * not; the product label's length on both sides.  Then the cross-key checks,
+ * each just inside and just outside: the number of fine rows, the coarse
+ * code's coverage of the field of view, the coarse cell against the fine
+ * period, and each of the four grids (min below max, inside the field of
+ * view, at most 100000 steps).  Finally the command line: a value out of
+ * range exits 2 naming the key and writes nothing.
+ *
+ * All through the public API: config_build with "section.key=value"
+ * overrides, config_format_value to read a value back. */
+#include "test_util.h"
+
+#include "config.h"
+#include "status.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define MAX_SETS 16
+#define VALUE_LEN 1200
+
+/* ---- the key table, as (key, families it applies to) ---- */
+
+static const char *const families[] = {"ess", "dss"};
+#define N_FAMILIES 2
+
+typedef struct {
+    const config_key *k;
+    int applies[N_FAMILIES];
+} key_row;
+
+static size_t list_keys(key_row *rows, size_t max)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < config_key_count && n < max; i++, n++) {
+        rows[n].k = &config_keys[i];
+        rows[n].applies[0] = (config_keys[i].families & FAMILY_ESS) != 0;
+        rows[n].applies[1] = (config_keys[i].families & FAMILY_DSS) != 0;
+    }
+    return n;
+}
+
+/* ---- building with overrides ---- */
+
+typedef struct {
+    const char *v[MAX_SETS];
+    int n;
+} set_list;
+
+/* Build family fam's config with `extra` and then `set` (may be NULL). On
+ * success, the formatted value of key k (if k) goes to value. */
+static int build(const char *fam, const set_list *extra, const char *set, const config_key *k,
+                 char *value, char *err)
+{
+    char famset[64];
+    snprintf(famset, sizeof famset, "sensor.family=%s", fam);
+    const char *sets[MAX_SETS + 2];
+    int n = 0;
+    sets[n++] = famset;
+    for (int i = 0; extra && i < extra->n; i++)
+        sets[n++] = extra->v[i];
+    if (set)
+        sets[n++] = set;
+    config_state st;
+    err[0] = '\0';
+    int s = config_build(&st, NULL, sets, n, err, SUNMC_ERRLEN);
+    if (s == SUNMC_OK) {
+        if (k && value)
+            config_format_value(k, &st.cfg, value, VALUE_LEN);
+        config_state_free(&st);
+    }
+    return s;
+}
+
+/* ---- companions: other keys a boundary value needs to pass the
+ * cross-key checks (a 0.05 deg coarse cell needs 12 Gray rows to cover the
+ * field, a 5 deg one a 10 deg fine period, ...). ---- */
+
+#define ROWS12 "design.coarse_rows_x_mm=-6.6,-6,-5.4,-4.8,-4.2,-3.6,-3,-2.4,-1.8,-1.2,-0.6,0"
+#define ROWS8 "design.coarse_rows_x_mm=-4.8,-4.2,-3.6,-3,-2.4,-1.8,-1.2,-0.6"
+#define NARROW_ALPHA                                                                              \
+    "campaign.alpha_min_deg=-1", "campaign.alpha_max_deg=1", "validation.alpha_min_deg=-1",       \
+        "validation.alpha_max_deg=1"
+#define NARROW_B                                                                                  \
+    "campaign.b_min_deg=-1", "campaign.b_max_deg=1", "validation.b_min_deg=-1",                   \
+        "validation.b_max_deg=1"
+
+typedef struct {
+    const char *key; /* section.name */
+    int side;        /* 0 min, 1 max */
+    set_list extra;
+} companion;
+
+static const companion companions[] = {
+    {"design.theta0_deg", 0, {{"design.coarse_resolution_deg=0.05", ROWS12}, 2}},
+    {"design.coarse_resolution_deg", 0, {{ROWS12}, 1}},
+    {"design.coarse_resolution_deg", 1, {{"design.theta0_deg=10"}, 1}},
+    {"design.fov_deg", 0, {{NARROW_ALPHA}, 4}},
+    {"design.fov_deg", 1, {{ROWS8}, 1}},
+    {"campaign.alpha_step_deg", 0,
+     {{"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"}, 2}},
+    {"validation.alpha_step_deg", 0,
+     {{"validation.alpha_min_deg=-50", "validation.alpha_max_deg=50"}, 2}},
+    {"design.dss_fov_deg", 0, {{NARROW_B}, 4}},
+};
+
+static const set_list *companion_of(const char *key, int side)
+{
+    for (size_t i = 0; i < sizeof companions / sizeof companions[0]; i++)
+        if (strcmp(companions[i].key, key) == 0 && companions[i].side == side)
+            return &companions[i].extra;
+    return NULL;
+}
+
+/* Keys whose own range is wider than a cross-key check lets through: the
+ * grids' ends must lie inside the field of view (at most 80 deg).  At its
+ * own limit such a key is refused by the cross-key check, not by its range;
+ * just past the limit, by its range.  (Listed so that a new key of this
+ * kind is a decision, not an accident.) */
+static const char *const fov_bounded[] = {
+    "campaign.alpha_min_deg", "campaign.alpha_max_deg", "validation.alpha_min_deg",
+    "validation.alpha_max_deg", "campaign.b_min_deg", "campaign.b_max_deg",
+    "validation.b_min_deg", "validation.b_max_deg",
+};
+
+static int is_fov_bounded(const char *key)
+{
+    for (size_t i = 0; i < sizeof fov_bounded / sizeof fov_bounded[0]; i++)
+        if (strcmp(fov_bounded[i], key) == 0)
+            return 1;
+    return 0;
+}
+
+/* ---- formatting boundary values ---- */
+
+static int is_integer(const config_key *k) { return k->type == KEY_INT || k->type == KEY_LONG; }
+
+static void fmt_number(const config_key *k, double v, char *buf, size_t len)
+{
+    if (is_integer(k))
+        snprintf(buf, len, "%.0f", v);
+    else
+        snprintf(buf, len, "%.17g", v);
+}
+
+static double step_past(const config_key *k, double limit, int side)
+{
+    double eps = is_integer(k) ? 1.0 : 1e-9 * fmax(1.0, fabs(limit));
+    return side ? limit + eps : limit - eps;
+}
+
+/* The key's current text with element `which` of a list replaced by v, or
+ * band 0 made lo:hi; scalars are just v. */
+static void key_text(const config_key *k, const char *current, const char *v_text, int bound,
+                     char *out, size_t len)
+{
+    if (k->type == KEY_LIST) {
+        const char *rest = strchr(current, ',');
+        snprintf(out, len, "%s%s", v_text, rest ? rest : "");
+    } else if (k->type == KEY_BANDS) {
+        /* one band; the other bound inside the range */
+        char other[64];
+        snprintf(other, sizeof other, "%.17g", bound ? k->min : k->max);
+        if (bound)
+            snprintf(out, len, "%s:%s", other, v_text);
+        else
+            snprintf(out, len, "%s:%s", v_text, other);
+    } else {
+        snprintf(out, len, "%s", v_text);
+    }
+}
+
+/* First number of a formatted value. */
+static double first_number(const config_key *k, const char *text, int bound)
+{
+    if (k->type == KEY_BANDS && bound) {
+        const char *colon = strchr(text, ':');
+        return colon ? strtod(colon + 1, NULL) : NAN;
+    }
+    return strtod(text, NULL);
+}
+
+static void check_number_key(const key_row *r, int f)
+{
+    const config_key *k = r->k;
+    char dotted[128], current[VALUE_LEN], err[SUNMC_ERRLEN], got[VALUE_LEN];
+    snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
+    assert_int_equal(build(families[f], NULL, NULL, k, current, err), SUNMC_OK);
+    int bounded = is_fov_bounded(dotted);
+    for (int side = 0; side < 2; side++) {
+        double limit = side ? k->max : k->min;
+        char num[64], text[VALUE_LEN], set[VALUE_LEN + 128];
+        const set_list *extra = companion_of(dotted, side);
+        /* at the limit: passes and is stored */
+        fmt_number(k, limit, num, sizeof num);
+        key_text(k, current, num, side, text, sizeof text);
+        snprintf(set, sizeof set, "%s=%s", dotted, text);
+        int s = build(families[f], extra, set, k, got, err);
+        if (bounded) {
+            if (s == SUNMC_OK || strstr(err, "out of range"))
+                fail_msg("%s (%s) at its limit %s: expected the field-of-view check, got '%s'",
+                         dotted, families[f], num, s == SUNMC_OK ? "accepted" : err);
+        } else {
+            if (s != SUNMC_OK)
+                fail_msg("%s (%s) = %s refused at its limit: %s", dotted, families[f], text, err);
+            double stored = first_number(k, got, side);
+            if (!(fabs(stored - limit) <= 1e-9 * fmax(1.0, fabs(limit))))
+                fail_msg("%s (%s) = %s stored as %s", dotted, families[f], text, got);
+        }
+        /* just past the limit: refused, naming the key and its range */
+        double past = step_past(k, limit, side);
+        fmt_number(k, past, num, sizeof num);
+        key_text(k, current, num, side, text, sizeof text);
+        snprintf(set, sizeof set, "%s=%s", dotted, text);
+        s = build(families[f], extra, set, k, got, err);
+        if (s != SUNMC_EINPUT || !strstr(err, dotted) || !strstr(err, "out of range"))
+            fail_msg("%s (%s) = %s: expected SUNMC_EINPUT naming the key, got %d '%s'", dotted,
+                     families[f], text, s, err);
+        char range[64];
+        snprintf(range, sizeof range, "allowed %g to %g", k->min, k->max);
+        if (!strstr(err, range))
+            fail_msg("%s: message '%s' does not give the range '%s'", dotted, err, range);
+    }
+}
+
+static void check_enum_key(const key_row *r, int f)
+{
+    const config_key *k = r->k;
+    char dotted[128], err[SUNMC_ERRLEN], got[VALUE_LEN], set[256];
+    snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
+    const char *p = k->choices;
+    int n = 0;
+    while (p && *p) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        char choice[64];
+        snprintf(choice, sizeof choice, "%.*s", (int)len, p);
+        int fam = f;
+        if (strcmp(dotted, "sensor.family") == 0)
+            for (int g = 0; g < N_FAMILIES; g++)
+                if (strcmp(families[g], choice) == 0)
+                    fam = g; /* the family key chooses the family */
+        snprintf(set, sizeof set, "%s=%s", dotted, choice);
+        if (build(families[fam], NULL, set, k, got, err) != SUNMC_OK)
+            fail_msg("%s = %s refused: %s", dotted, choice, err);
+        assert_string_equal(got, choice);
+        /* a near miss: one letter more, or upper case */
+        snprintf(set, sizeof set, "%s=%sx", dotted, choice);
+        assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
+        assert_non_null(strstr(err, dotted));
+        assert_non_null(strstr(err, k->choices));
+        snprintf(set, sizeof set, "%s=%c%s", dotted, choice[0] - 32, choice + 1);
+        assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
+        n++;
+        p = bar ? bar + 1 : NULL;
+    }
+    assert_true(n >= 2);
+}
+
+static void check_string_key(const key_row *r, int f)
+{
+    const config_key *k = r->k;
+    char dotted[128], err[SUNMC_ERRLEN], got[VALUE_LEN], set[256], text[CONFIG_STR_MAX + 2];
+    snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
+    memset(text, 'x', sizeof text);
+    text[CONFIG_STR_MAX - 1] = '\0'; /* the longest allowed */
+    snprintf(set, sizeof set, "%s=%s", dotted, text);
+    if (build(families[f], NULL, set, k, got, err) != SUNMC_OK)
+        fail_msg("%s of %d characters refused: %s", dotted, CONFIG_STR_MAX - 1, err);
+    assert_string_equal(got, text);
+    text[CONFIG_STR_MAX - 1] = 'x';
+    text[CONFIG_STR_MAX] = '\0';
+    snprintf(set, sizeof set, "%s=%s", dotted, text);
+    assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, dotted));
+    snprintf(set, sizeof set, "%s=", dotted);
+    assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, dotted));
+    snprintf(set, sizeof set, "%s=a\tb", dotted);
+    assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
+}
+
+/* Every key of the table, for every family it applies to. */
+static void test_every_key_both_sides(void **state)
+{
+    static key_row rows[1024];
+    size_t n = list_keys(rows, 1024);
+    int numbers = 0, enums = 0, strings = 0;
+    for (size_t i = 0; i < n; i++)
+        for (int f = 0; f < N_FAMILIES; f++) {
+            if (!rows[i].applies[f])
+                continue;
+            switch (rows[i].k->type) {
+            case KEY_DOUBLE:
+            case KEY_INT:
+            case KEY_LONG:
+            case KEY_LIST:
+            case KEY_BANDS:
+                check_number_key(&rows[i], f);
+                numbers++;
+                break;
+            case KEY_ENUM:
+                check_enum_key(&rows[i], f);
+                enums++;
+                break;
+            case KEY_STRING:
+                check_string_key(&rows[i], f);
+                strings++;
+                break;
+            default:
+                fail_msg("%s.%s: a key type this test does not know", rows[i].k->section,
+                         rows[i].k->name);
+            }
+        }
+    assert_true(numbers > 80 && enums > 20 && strings >= 2);
+}
+
+/* A key of the other family is refused, naming it and the family. */
+static void test_other_family_keys(void **state)
+{
+    static key_row rows[1024];
+    size_t n = list_keys(rows, 1024);
+    char err[SUNMC_ERRLEN], set[VALUE_LEN + 256], got[VALUE_LEN], cur[VALUE_LEN];
+    int checked = 0;
+    for (size_t i = 0; i < n; i++)
+        for (int f = 0; f < N_FAMILIES; f++) {
+            if (rows[i].applies[f])
+                continue;
+            const config_key *k = rows[i].k;
+            int owner = 1 - f;
+            assert_int_equal(build(families[owner], NULL, NULL, k, cur, err), SUNMC_OK);
+            snprintf(set, sizeof set, "%s.%s=%s", k->section, k->name, cur);
+            assert_int_equal(build(families[f], NULL, set, NULL, got, err), SUNMC_EINPUT);
+            char want[160];
+            snprintf(want, sizeof want, "%s.%s applies to %s", k->section, k->name,
+                     families[owner]);
+            if (!strstr(err, want))
+                fail_msg("'%s' does not say '%s'", err, want);
+            checked++;
+        }
+    assert_true(checked > 40);
+}
+
+/* ---- cross-key checks, each on both sides ---- */
+
+static void expect_ok(const char *fam, const set_list *s)
+{
+    char err[SUNMC_ERRLEN];
+    if (build(fam, s, NULL, NULL, NULL, err) != SUNMC_OK)
+        fail_msg("refused: %s", err);
+}
+
+static void expect_refused(const char *fam, const set_list *s, const char *needle)
+{
+    char err[SUNMC_ERRLEN];
+    int st = build(fam, s, NULL, NULL, NULL, err);
+    if (st != SUNMC_EINPUT || !strstr(err, needle))
+        fail_msg("expected SUNMC_EINPUT naming '%s', got %d '%s'", needle, st, err);
+}
+
+static void test_fine_row_count(void **state)
+{
+    set_list s3 = {{"design.fine_rows_x_mm=0.6,1.2,1.8"}, 1};
+    set_list s4 = {{"design.fine_rows_x_mm=0.6,1.2,1.8,2.4"}, 1};
+    set_list s5 = {{"design.fine_rows_x_mm=0.6,1.2,1.8,2.4,3.0"}, 1};
+    expect_refused("ess", &s3, "design.fine_rows_x_mm must list exactly 4 rows, has 3");
+    expect_ok("ess", &s4);
+    expect_refused("ess", &s5, "design.fine_rows_x_mm must list exactly 4 rows, has 5");
+}
+
+/* n Gray rows of r deg cover r 2^n deg, which must hold the field of view
+ * plus a cell at each end: 2 fov + 2 r <= r 2^n. */
+static void test_coarse_coverage(void **state)
+{
+    /* 7 rows of 1 deg: fov up to 63 deg */
+    set_list in7 = {{"design.fov_deg=63"}, 1};
+    set_list out7 = {{"design.fov_deg=63.000001"}, 1};
+    expect_ok("ess", &in7);
+    expect_refused("ess", &out7, "coarse rows of 1 deg cover 128 deg");
+    /* 6 rows: up to 31 deg (with the grids inside) */
+    set_list in6 = {{"design.coarse_rows_x_mm=-3.6,-3,-2.4,-1.8,-1.2,-0.6", "design.fov_deg=31",
+                     "campaign.alpha_min_deg=-31", "campaign.alpha_max_deg=31",
+                     "validation.alpha_min_deg=-31", "validation.alpha_max_deg=31"},
+                    6};
+    set_list out6 = in6;
+    out6.v[1] = "design.fov_deg=31.000001";
+    expect_ok("ess", &in6);
+    expect_refused("ess", &out6, "6 coarse rows");
+    /* 0.5 deg cells, 8 rows: 128 deg again */
+    set_list in_r = {{"design.coarse_resolution_deg=0.5", ROWS8, "design.fov_deg=63.5"}, 3};
+    set_list out_r = in_r;
+    out_r.v[2] = "design.fov_deg=63.500001";
+    expect_ok("ess", &in_r);
+    expect_refused("ess", &out_r, "coarse rows");
+}
+
+/* The coarse cell must be at most half the fine period to pick it. */
+static void test_coarse_cell_vs_period(void **state)
+{
+    set_list at = {{"design.coarse_resolution_deg=1", "design.theta0_deg=2"}, 2};
+    set_list small_period = {{"design.coarse_resolution_deg=1", "design.theta0_deg=1.999999"}, 2};
+    set_list big_cell = {{"design.coarse_resolution_deg=1.000001", "design.theta0_deg=2"}, 2};
+    expect_ok("ess", &at);
+    expect_refused("ess", &small_period, "coarse_resolution_deg");
+    expect_refused("ess", &big_cell, "must be at most half of theta0_deg");
+}
+
+/* One grid: min below max, ends inside the field of view (1e-9 deg of
+ * slack), at most 100000 steps. */
+static void check_grid(const char *fam, const char *prefix, const char *min_key,
+                       const char *max_key, const char *step_key, const char *fov_key,
+                       double fov, int with_steps)
+{
+    char a[128], b[128], c[128], d[128], name[64];
+    snprintf(name, sizeof name, "%s", prefix);
+    /* min = max refused; min a hair below max passes */
+    snprintf(a, sizeof a, "%s=10", min_key);
+    snprintf(b, sizeof b, "%s=10", max_key);
+    snprintf(c, sizeof c, "%s=1", step_key);
+    set_list eq = {{a, b, c}, 3};
+    char want[160];
+    snprintf(want, sizeof want, "%s: min must be below max", name);
+    expect_refused(fam, &eq, want);
+    snprintf(a, sizeof a, "%s=9.999999", min_key);
+    set_list below = {{a, b, c}, 3};
+    expect_ok(fam, &below);
+    /* ends at the field of view pass, just beyond are refused */
+    snprintf(d, sizeof d, "%s=%.17g", fov_key, fov);
+    snprintf(a, sizeof a, "%s=%.17g", min_key, -fov);
+    snprintf(b, sizeof b, "%s=%.17g", max_key, fov);
+    set_list at = {{d, a, b}, 3};
+    expect_ok(fam, &at);
+    snprintf(b, sizeof b, "%s=%.17g", max_key, fov + 1e-8);
+    set_list past_hi = {{d, a, b}, 3};
+    snprintf(want, sizeof want, "%s: range", name);
+    expect_refused(fam, &past_hi, want);
+    expect_refused(fam, &past_hi, "leaves the field of view");
+    snprintf(a, sizeof a, "%s=%.17g", min_key, -fov - 1e-8);
+    snprintf(b, sizeof b, "%s=%.17g", max_key, fov);
+    set_list past_lo = {{d, a, b}, 3};
+    expect_refused(fam, &past_lo, want);
+    /* 100000 steps pass, a hair more are refused: 100 deg in 0.001 deg
+     * steps (reachable only where the smallest step allows it: the DSS's
+     * 0.01 deg steps over at most 160 deg never come near). */
+    if (!with_steps)
+        return;
+    snprintf(a, sizeof a, "%s=-50", min_key);
+    snprintf(b, sizeof b, "%s=50", max_key);
+    snprintf(c, sizeof c, "%s=0.001", step_key);
+    set_list steps = {{a, b, c}, 3};
+    expect_ok(fam, &steps);
+    snprintf(b, sizeof b, "%s=50.000001", max_key);
+    set_list more = {{a, b, c}, 3};
+    snprintf(want, sizeof want, "%s: more than 100000 steps", name);
+    expect_refused(fam, &more, want);
+}
+
+static void test_grids(void **state)
+{
+    check_grid("ess", "campaign.alpha", "campaign.alpha_min_deg", "campaign.alpha_max_deg",
+               "campaign.alpha_step_deg", "design.fov_deg", 62, 1);
+    check_grid("ess", "validation.alpha", "validation.alpha_min_deg", "validation.alpha_max_deg",
+               "validation.alpha_step_deg", "design.fov_deg", 62, 1);
+    check_grid("dss", "campaign.b", "campaign.b_min_deg", "campaign.b_max_deg",
+               "campaign.b_step_deg", "design.dss_fov_deg", 60, 0);
+    check_grid("dss", "validation.b", "validation.b_min_deg", "validation.b_max_deg",
+               "validation.b_step_deg", "design.dss_fov_deg", 60, 0);
+    /* the grid follows the field of view it is checked against */
+    set_list narrow = {{"design.fov_deg=45", "campaign.alpha_min_deg=-45",
+                        "campaign.alpha_max_deg=45.0001"}, 3};
+    expect_refused("ess", &narrow, "campaign.alpha: range -45..45.0001 deg leaves the field of "
+                                   "view +-45 deg");
+}
+
+/* Bands: LO < HI, each bound in 0..90; LO = HI refused, a hair apart passes. */
+static void test_band_order(void **state)
+{
+    set_list eq = {{"report.bands_deg=0:30, 30:30"}, 1};
+    set_list ok = {{"report.bands_deg=0:30, 30:30.000001"}, 1};
+    set_list rev = {{"report.bands_deg=40:30"}, 1};
+    expect_refused("ess", &eq, "band 30:30 must have LO < HI");
+    expect_ok("ess", &ok);
+    expect_refused("dss", &rev, "report.bands_deg");
+    char many[256] = "report.bands_deg=";
+    for (int i = 0; i < CONFIG_BANDS_MAX; i++)
+        snprintf(many + strlen(many), sizeof many - strlen(many), "%s%d:%d", i ? "," : "", i,
+                 i + 1);
+    set_list max_bands = {{many}, 1};
+    expect_ok("ess", &max_bands);
+    strcat(many, ",20:21");
+    set_list too_many = {{many}, 1};
+    expect_refused("ess", &too_many, "more than 8 bands");
+}
+
+/* Lists: up to CONFIG_LIST_MAX values; an empty list is refused. */
+static void test_list_length(void **state)
+{
+    char list[1024] = "campaign.beta_deg=";
+    for (int i = 0; i < CONFIG_LIST_MAX; i++)
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%d", i ? "," : "", i);
+    set_list max_list = {{list}, 1};
+    expect_ok("ess", &max_list);
+    strcat(list, ",40");
+    set_list too_long = {{list}, 1};
+    expect_refused("ess", &too_long, "more than 32 values");
+    set_list empty = {{"campaign.beta_deg= "}, 1};
+    expect_refused("ess", &empty, "campaign.beta_deg is an empty list");
+}
+
+/* ---- the command line ---- */
+
+static char dir[64];
+
+static int setup(void **state)
+{
+    snprintf(dir, sizeof dir, "/tmp/sunmc_limits_XXXXXX");
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static int exists(const char *p)
+{
+    struct stat sb;
+    return stat(p, &sb) == 0;
+}
+
+/* Out of range on the command line: exit 2, the key named, no output; at
+ * the limit: exit 0. */
+static void test_cli_limits(void **state)
+{
+    const struct {
+        const char *config, *bad, *good, *needle;
+    } cases[] = {
+        {"configs/ess_type_a.ini", "design.H_mm=0.49999", "design.H_mm=0.5", "design.H_mm"},
+        {"configs/ess_type_a.ini", "campaign.repeats=0", "campaign.repeats=1", "campaign.repeats"},
+        {"configs/ess_type_a.ini", "run.seed=2147483648", "run.seed=2147483647", "run.seed"},
+        {"configs/ess_type_a.ini", "campaign.beta_deg=0,89.000001", "campaign.beta_deg=0,89",
+         "campaign.beta_deg"},
+        {"configs/dss.ini", "report.bands_deg=0:90.000001", "report.bands_deg=0:90",
+         "report.bands_deg"},
+        {"configs/dss.ini", "design.detector_px=15", "design.detector_px=16", "design.detector_px"},
+        {"configs/dss.ini", "tolerance.glass_index=0.5000001", "tolerance.glass_index=0.5",
+         "tolerance.glass_index"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char cmd[1024], out[4096], outdir[128];
+        snprintf(outdir, sizeof outdir, "%s/out%zu", dir, i);
+        snprintf(cmd, sizeof cmd, "%s run %s --units 1 --quiet --set %s --out %s", test_sunmc(),
+                 cases[i].config, cases[i].bad, outdir);
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 2 || !strstr(out, cases[i].needle) || !strstr(out, "out of range"))
+            fail_msg("%s: exit %d, '%s'", cases[i].bad, rc, out);
+        assert_false(exists(outdir));
+        snprintf(cmd, sizeof cmd, "%s config %s --set %s", test_sunmc(), cases[i].config,
+                 cases[i].good);
+        rc = test_run(cmd, out, sizeof out);
+        if (rc != 0)
+            fail_msg("%s: exit %d, '%s'", cases[i].good, rc, out);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_key_both_sides),
+        cmocka_unit_test(test_other_family_keys),
+        cmocka_unit_test(test_fine_row_count),
+        cmocka_unit_test(test_coarse_coverage),
+        cmocka_unit_test(test_coarse_cell_vs_period),
+        cmocka_unit_test(test_grids),
+        cmocka_unit_test(test_band_order),
+        cmocka_unit_test(test_list_length),
+        cmocka_unit_test(test_cli_limits),
+    };
+    return cmocka_run_group_tests_name("limits_config", tests, setup, teardown);
+}
