@@ -323,6 +323,36 @@ static void test_etch_offsets(void **state)
     }
 }
 
+/* Every geometric deviation at once: height, offset, tilt and per-row
+ * etching, each row reading atan((Hr v - dd - (x_m + Hr u) tan dphi - e_m) / H)
+ * against the rule etched for the nominal H. */
+static void test_geometry_closed_form(void **state)
+{
+    sunmc_config c = given(0, 0);
+    const double H = c.ess.H_mm, th0 = c.ess.theta0_deg;
+    ess_deviations dev = {0};
+    dev.dH_um = -1.7;
+    dev.dd_um = 0.8;
+    dev.dphi_deg = -0.02;
+    const double etch_um[4] = {0.1, -0.15, 0.05, 0.2};
+    for (int m = 0; m < 4; m++)
+        dev.etch_um[m] = etch_um[m];
+    ess_sensor s;
+    ess_sensor_init(&s, &c.ess, &dev);
+    const double Hr = H - 1.7e-3, dd = 0.8e-3, tp = tan(-0.02 * RAD_PER_DEG);
+    for (double b = -25; b <= 25; b += 25)
+        for (double a = -60.2; a <= 60; a += 1.19) {
+            double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG, x[4];
+            double u = tan(br) / cos(ar), v = tan(ar);
+            for (int m = 0; m < 4; m++) {
+                double eta = Hr * v - dd - (c.ess.fine_rows_x_mm.v[m] + Hr * u) * tp -
+                             etch_um[m] * 1e-3;
+                x[m] = TWO_PI * atan(eta / H) / (th0 * RAD_PER_DEG);
+            }
+            assert_near(output_deg(&s, a, b, NULL), in_period_deg(phase_of_rows(x), th0, a), 1e-10);
+        }
+}
+
 /* Row gains: equal gains change nothing; gain g on one row gives, e.g. for
  * row 0, atan2(2 sin x, DC (1 - g) + (1 + g) cos x). */
 static void test_gain_closed_form(void **state)
@@ -698,6 +728,7 @@ int main(void)
         cmocka_unit_test(test_row_currents),
         cmocka_unit_test(test_demodulation),
         cmocka_unit_test(test_etch_offsets),
+        cmocka_unit_test(test_geometry_closed_form),
         cmocka_unit_test(test_gain_closed_form),
         cmocka_unit_test(test_tilt_closed_form),
         cmocka_unit_test(test_illumination_scaling),

@@ -300,6 +300,69 @@ static void test_dss_params_order(void **state)
     }
 }
 
+static const char dss_phys_fmt[] =
+    "[calibration]\nsensor = dss\nmodel = dss_physical\n[design]\npixel_mm = %s\n"
+    "[parameters]\nx0_mm = 0\ny0_mm = 0\nH_mm = %s\nt_mm = %s\nc1_arcsec = 0\n"
+    "c2_arcsec = 0\nc3_arcsec = 0\nn = 1.52\n";
+
+/* The physical model needs a pitch and a height, and the glass under the
+ * pinhole: pixel_mm and H_mm > 0, t_mm < H_mm (a negative t, the fit's
+ * extrapolation for a sensor without glass, is its business). */
+static void test_dss_params_physical(void **state)
+{
+    char params[2048], out[4096];
+    const struct {
+        const char *pixel, *H, *t, *needle;
+    } cases[] = {
+        {"0.0055", "3", "0.4", NULL},
+        {"0", "3", "0.4", "p.ini:5: key design.pixel_mm must be > 0"},
+        {"1e-9", "3", "0.4", NULL},
+        {"-0.0055", "3", "0.4", "design.pixel_mm must be > 0"},
+        {"0.0055", "0", "0", "p.ini:9: key parameters.H_mm must be > 0"},
+        {"0.0055", "3", "3", "p.ini:10: key parameters.t_mm must be below parameters.H_mm"},
+        {"0.0055", "3", "2.999", NULL},
+        {"0.0055", "3", "-1e-6", NULL},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(params, sizeof params, dss_phys_fmt, cases[i].pixel, cases[i].H, cases[i].t);
+        int rc = compensate(params, "x_px,y_px\n10,-5\n", out, sizeof out);
+        if (cases[i].needle)
+            expect_refused(rc, out, cases[i].needle);
+        else
+            expect_accepted(rc, out);
+    }
+    /* the nominal design through its own glass: the spot of a sun at
+     * (alpha, beta) = (20, 0) deg compensates back to it */
+    snprintf(params, sizeof params, dss_phys_fmt, "0.0055", "3", "0.4");
+    double th = 20 * RAD_PER_DEG, thg = asin(sin(th) / 1.52);
+    double x = -(3 * tan(th) - 0.4 * (tan(th) - tan(thg))) / 0.0055;
+    char raw[128];
+    snprintf(raw, sizeof raw, "x_px,y_px\n%.12f,0\n", x);
+    expect_accepted(compensate(params, raw, out, sizeof out), out);
+    const char *comma = strstr(out, ",0,"); /* the row: x, y = 0, alpha, beta */
+    assert_non_null(comma);
+    assert_near(strtod(comma + 3, NULL), 20.0, 1e-9);
+}
+
+/* The polynomial's normalisation: scale_rad, h_nom_mm, pixel_mm > 0. */
+static void test_dss_params_polynomial_design(void **state)
+{
+    char params[8192], out[4096];
+    const char *keys[] = {"scale_rad = 1", "h_nom_mm = 3", "pixel_mm = 0.0055"};
+    const char *zero[] = {"scale_rad = 0", "h_nom_mm = 0", "pixel_mm = 0"};
+    const char *names[] = {"design.scale_rad", "design.h_nom_mm", "design.pixel_mm"};
+    for (int i = 0; i < 3; i++) {
+        poly_params("1", 3, "0.0055", params, sizeof params);
+        char *at = strstr(params, keys[i]);
+        assert_non_null(at);
+        memcpy(at, zero[i], strlen(zero[i]));
+        memmove(at + strlen(zero[i]), at + strlen(keys[i]), strlen(at + strlen(keys[i])) + 1);
+        char want[128];
+        snprintf(want, sizeof want, "key %s must be > 0", names[i]);
+        expect_refused(compensate(params, "x_px,y_px\n1,1\n", out, sizeof out), out, want);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -310,6 +373,8 @@ int main(void)
         cmocka_unit_test(test_dss_polynomial_rows),
         cmocka_unit_test(test_ess_params_theta0),
         cmocka_unit_test(test_dss_params_order),
+        cmocka_unit_test(test_dss_params_physical),
+        cmocka_unit_test(test_dss_params_polynomial_design),
     };
     return cmocka_run_group_tests_name("limits_csv", tests, setup, teardown);
 }

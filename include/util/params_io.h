@@ -72,6 +72,11 @@ int params_get_text(const params_file *p, const char *section, const char *key,
 int params_get_double(const params_file *p, const char *section, const char *key, double *out,
                       char *err, size_t errlen);
 
+/* A range check on a value read from section.key: SUNMC_OK when ok, else
+ * "FILE:LINE: key section.key must be WHAT" at the key's line. */
+int params_require(const params_file *p, const char *section, const char *key, int ok,
+                   const char *what, char *err, size_t errlen);
+
 /* Every key of `section` must be one of names[n] (NULL-free), else
  * "FILE:LINE: unknown key section.key". */
 int params_check_keys(const params_file *p, const char *section, const char *const *names,

@@ -357,6 +357,18 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
             st = params_get_double(p, "parameters", phys_display[k], &v, err, errlen);
             cal->phys.p[k] = v / phys_scale(k);
         }
+        /* What the inverse cannot work with: no pitch, no height, a glass
+         * that does not fit under the pinhole. */
+        const double *q = cal->phys.p;
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "pixel_mm", cal->phys.pixel_mm > 0, "> 0", err,
+                                errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "parameters", "H_mm", q[DSS_P_H] > 0, "> 0", err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "parameters", "t_mm", q[DSS_P_T] < q[DSS_P_H],
+                                "below parameters.H_mm (the glass lies under the pinhole)", err,
+                                errlen);
         if (st == SUNMC_OK)
             dss_model_prepare(&cal->phys);
         return st;
@@ -365,17 +377,25 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
         cal->kind = DSS_MODEL_POLYNOMIAL;
         double order;
         dss_poly *q = &cal->poly;
+        char whole[32];
+        snprintf(whole, sizeof whole, "1..%d", DSS_POLY_MAX_ORDER);
         st = params_get_double(p, "design", "order", &order, err, errlen);
-        if (st == SUNMC_OK && (order < 1 || order > DSS_POLY_MAX_ORDER || order != floor(order)))
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key design.order must be 1..%d",
-                              p->path, params_find(p, "design", "order")->line,
-                              DSS_POLY_MAX_ORDER);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "order",
+                                order >= 1 && order <= DSS_POLY_MAX_ORDER && order == floor(order),
+                                whole, err, errlen);
         if (st == SUNMC_OK)
             st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
         if (st == SUNMC_OK)
             st = params_get_double(p, "design", "h_nom_mm", &q->h_nom_mm, err, errlen);
         if (st == SUNMC_OK)
             st = params_get_double(p, "design", "pixel_mm", &q->pixel_mm, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "scale_rad", q->scale_rad > 0, "> 0", err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "h_nom_mm", q->h_nom_mm > 0, "> 0", err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "pixel_mm", q->pixel_mm > 0, "> 0", err, errlen);
         if (st != SUNMC_OK)
             return st;
         q->order = (int)order;

@@ -434,11 +434,9 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
         st = params_get_double(p, "parameters", ess_param_names[j], &v[j], err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if (!(theta0_deg > 0)) {
-        const params_entry *e = params_find(p, "design", "theta0_deg");
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key design.theta0_deg must be > 0",
-                          p->path, e->line);
-    }
+    if ((st = params_require(p, "design", "theta0_deg", theta0_deg > 0, "> 0", err, errlen)) !=
+        SUNMC_OK)
+        return st;
     ess_model_init(m, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
     for (int j = 0; j < ESS_NP; j++)
         m->p[j] = v[j] / par_scale[j];

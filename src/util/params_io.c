@@ -173,6 +173,16 @@ int params_get_double(const params_file *p, const char *section, const char *key
     return SUNMC_OK;
 }
 
+int params_require(const params_file *p, const char *section, const char *key, int ok,
+                   const char *what, char *err, size_t errlen)
+{
+    if (ok)
+        return SUNMC_OK;
+    const params_entry *e = params_find(p, section, key);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s must be %s", p->path,
+                      e ? e->line : 0, section, key, what);
+}
+
 int params_check_keys(const params_file *p, const char *section, const char *const *names,
                       int n, char *err, size_t errlen)
 {
