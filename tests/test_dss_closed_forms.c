@@ -17,6 +17,7 @@
 #include "test_util.h"
 
 #include "config.h"
+#include "dss_config.h"
 #include "dss_calib.h"
 #include "dss_centroid.h"
 #include "dss_model.h"
@@ -24,7 +25,7 @@
 #include "status.h"
 #include "units.h"
 
-static sunmc_config dss_defaults(void)
+static sunmc_config default_dss(void)
 {
     config_state st;
     char err[SUNMC_ERRLEN];
@@ -93,7 +94,7 @@ static void table_truth(double b1, double b2, double *a0, double *b0)
 
 static void test_spot_through_glass(void **state)
 {
-    sunmc_config c = dss_defaults();
+    sunmc_config c = default_dss();
     const dss_deviations devs[] = {
         {0},
         {.dh_px = 0.2},
@@ -102,14 +103,14 @@ static void test_spot_through_glass(void **state)
         {.dh_px = -0.3, .dx_px = -0.2, .dy_px = 0.15, .glass_thickness_um = -8,
          .glass_index = -0.004},
     };
-    const double pix = c.dss.pixel_um * MM_PER_UM;
+    const double pix = dss_cfg(&c)->design.pixel_um * MM_PER_UM;
     for (size_t k = 0; k < sizeof devs / sizeof devs[0]; k++) {
         const dss_deviations *d = &devs[k];
         dss_sensor s;
-        dss_sensor_init(&s, &c.dss, d, 0);
-        double H = c.dss.h_mm + d->dh_px * pix;
-        double t = c.dss.glass_thickness_mm + d->glass_thickness_um * MM_PER_UM;
-        double n = c.dss.glass_index + d->glass_index;
+        dss_sensor_init(&s, &dss_cfg(&c)->design, d, 0);
+        double H = dss_cfg(&c)->design.h_mm + d->dh_px * pix;
+        double t = dss_cfg(&c)->design.glass_thickness_mm + d->glass_thickness_um * MM_PER_UM;
+        double n = dss_cfg(&c)->design.glass_index + d->glass_index;
         int seen = 0;
         for (double b1 = -55; b1 <= 55; b1 += 5.5)
             for (double b2 = -55; b2 <= 55; b2 += 5.5) {
@@ -144,8 +145,8 @@ static void test_onboard_formula(void **state)
  * tan alpha_m = u_x / u_z (the spot is -h u_xy / u_z). */
 static void test_installation_rotations(void **state)
 {
-    sunmc_config c = dss_defaults();
-    c.dss.glass_thickness_mm = 0;
+    sunmc_config c = default_dss();
+    dss_cfg(&c)->design.glass_thickness_mm = 0;
     const double sets[][3] = {{10, 0, 0}, {0, 10, 0}, {0, 0, 10}, {3600, -1800, 900},
                               {-7, 12, -20}};
     for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++) {
@@ -154,7 +155,7 @@ static void test_installation_rotations(void **state)
         d.c2_arcsec = sets[k][1];
         d.c3_arcsec = sets[k][2];
         dss_sensor s;
-        dss_sensor_init(&s, &c.dss, &d, 0);
+        dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
         for (double b1 = -40; b1 <= 40; b1 += 8)
             for (double b2 = -40; b2 <= 40; b2 += 8) {
                 double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, u[3], got[3], x, y, am, bm;
@@ -175,14 +176,14 @@ static void test_installation_rotations(void **state)
  * tan beta_m = -sin c3 tan a + cos c3 tan b, exactly. */
 static void test_c3_closed_form(void **state)
 {
-    sunmc_config c = dss_defaults();
-    c.dss.glass_thickness_mm = 0;
+    sunmc_config c = default_dss();
+    dss_cfg(&c)->design.glass_thickness_mm = 0;
     const double c3s[] = {10, -10, 7200};
     for (size_t k = 0; k < 3; k++) {
         dss_deviations d = {0};
         d.c3_arcsec = c3s[k];
         dss_sensor s;
-        dss_sensor_init(&s, &c.dss, &d, 0);
+        dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
         double g = c3s[k] * RAD_PER_ARCSEC;
         for (double b1 = -40; b1 <= 40; b1 += 10)
             for (double b2 = -40; b2 <= 40; b2 += 10) {
@@ -208,14 +209,14 @@ static void test_detector_edge(void **state)
 {
     const double pinholes_um[] = {60, 500};
     for (size_t k = 0; k < 2; k++) {
-        sunmc_config c = dss_defaults();
-        c.dss.glass_thickness_mm = 0;
-        c.dss.pinhole_um = pinholes_um[k];
+        sunmc_config c = default_dss();
+        dss_cfg(&c)->design.glass_thickness_mm = 0;
+        dss_cfg(&c)->design.pinhole_um = pinholes_um[k];
         dss_deviations d = {0};
         dss_sensor s;
-        dss_sensor_init(&s, &c.dss, &d, 0);
-        const double h = c.dss.h_mm, pix = c.dss.pixel_um * MM_PER_UM;
-        const double lim = 0.5 * (c.dss.detector_px * c.dss.pixel_um - pinholes_um[k]) * MM_PER_UM;
+        dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
+        const double h = dss_cfg(&c)->design.h_mm, pix = dss_cfg(&c)->design.pixel_um * MM_PER_UM;
+        const double lim = 0.5 * (dss_cfg(&c)->design.detector_px * dss_cfg(&c)->design.pixel_um - pinholes_um[k]) * MM_PER_UM;
         for (int axis = 0; axis < 2; axis++)
             for (int sign = -1; sign <= 1; sign += 2)
                 for (int outside = 0; outside < 2; outside++) {
@@ -237,16 +238,16 @@ static void test_detector_edge(void **state)
     }
     /* 5.5 mm from the centre: on the detector for a 60 um pinhole, off it
      * for a 500 um one (the disc would stick out). */
-    sunmc_config c = dss_defaults();
-    c.dss.glass_thickness_mm = 0;
-    const double th = atan(5.5 / c.dss.h_mm), u[3] = {-sin(th), 0, cos(th)};
+    sunmc_config c = default_dss();
+    dss_cfg(&c)->design.glass_thickness_mm = 0;
+    const double th = atan(5.5 / dss_cfg(&c)->design.h_mm), u[3] = {-sin(th), 0, cos(th)};
     dss_deviations d = {0};
     dss_sensor s;
     double x, y;
-    dss_sensor_init(&s, &c.dss, &d, 0);
+    dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
     assert_int_equal(dss_sensor_spot(&s, u, NULL, &x, &y), SUNMC_OK);
-    c.dss.pinhole_um = 500;
-    dss_sensor_init(&s, &c.dss, &d, 0);
+    dss_cfg(&c)->design.pinhole_um = 500;
+    dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
     assert_int_equal(dss_sensor_spot(&s, u, NULL, &x, &y), SUNMC_EDOM);
 }
 
@@ -313,18 +314,18 @@ static void test_scurve_pixel_phase(void **state)
                                   {-0.3, 0.45}, {100.37, 7.8}, {-200.2, -0.9}};
     for (int di = 0; di < 2; di++)
         for (int pi = 0; pi < 2; pi++) {
-            sunmc_config c = dss_defaults();
-            c.dss.glass_thickness_mm = 0;
-            c.dss.detector_px = detectors[di];
-            c.dss.pinhole_um = pinholes_um[pi];
+            sunmc_config c = default_dss();
+            dss_cfg(&c)->design.glass_thickness_mm = 0;
+            dss_cfg(&c)->design.detector_px = detectors[di];
+            dss_cfg(&c)->design.pinhole_um = pinholes_um[pi];
             dss_deviations d = {0};
             dss_sensor s, s0;
-            dss_sensor_init(&s, &c.dss, &d, 1);
-            dss_sensor_init(&s0, &c.dss, &d, 0);
-            const double D = pinholes_um[pi] / c.dss.pixel_um;
+            dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 1);
+            dss_sensor_init(&s0, &dss_cfg(&c)->design, &d, 0);
+            const double D = pinholes_um[pi] / dss_cfg(&c)->design.pixel_um;
             const double phase = detectors[di] % 2 == 0 ? 0.5 : 0.0;
             const double tol = D < 5 ? 3e-5 : 5e-6;
-            const double h = c.dss.h_mm, pix = c.dss.pixel_um * MM_PER_UM;
+            const double h = dss_cfg(&c)->design.h_mm, pix = dss_cfg(&c)->design.pixel_um * MM_PER_UM;
             double peak = 0;
             for (size_t k = 0; k < sizeof spots_px / sizeof spots_px[0]; k++) {
                 double X = spots_px[k][0], Y = spots_px[k][1];

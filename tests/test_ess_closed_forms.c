@@ -18,6 +18,7 @@
 #include "test_util.h"
 
 #include "config.h"
+#include "ess_config.h"
 #include "ess_model.h"
 #include "ess_sensor.h"
 #include "status.h"
@@ -25,7 +26,7 @@
 
 #define TWO_PI (2.0 * M_PI)
 
-static sunmc_config ess_defaults(void)
+static sunmc_config default_ess(void)
 {
     config_state st;
     char err[SUNMC_ERRLEN];
@@ -38,10 +39,10 @@ static sunmc_config ess_defaults(void)
 /* Harmonics given as 1, a3, a5 (a3 = a5 = 0: a pure fundamental). */
 static sunmc_config given(double a3, double a5)
 {
-    sunmc_config c = ess_defaults();
-    c.ess.harmonics = 1;
-    c.ess.a3_ratio = a3;
-    c.ess.a5_ratio = a5;
+    sunmc_config c = default_ess();
+    ess_cfg(&c)->design.harmonics = 1;
+    ess_cfg(&c)->design.a3_ratio = a3;
+    ess_cfg(&c)->design.a5_ratio = a5;
     return c;
 }
 
@@ -141,8 +142,8 @@ static void ref_harmonics(const fine_design *f, double psi, double c[3], double 
 
 static fine_design design_of(const sunmc_config *c)
 {
-    fine_design f = {c->ess.H_mm, c->ess.slit_width_um * MM_PER_UM, c->ess.dial_duty,
-                     c->ess.sun_diameter_deg, c->ess.theta0_deg};
+    fine_design f = {ess_cfg(c)->design.H_mm, ess_cfg(c)->design.slit_width_um * MM_PER_UM, ess_cfg(c)->design.dial_duty,
+                     ess_cfg(c)->design.sun_diameter_deg, ess_cfg(c)->design.theta0_deg};
     return f;
 }
 
@@ -150,7 +151,7 @@ static void check_harmonics(sunmc_config c, double psi)
 {
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     fine_design f = design_of(&c);
     double want[3], dc, got[3];
     ref_harmonics(&f, psi, want, &dc);
@@ -171,29 +172,29 @@ static void test_harmonic_transfer(void **state)
         for (size_t j = 0; j < 3; j++)
             for (size_t k = 0; k < 3; k++)
                 for (size_t p = 0; p < 3; p++) {
-                    sunmc_config c = ess_defaults();
-                    c.ess.slit_width_um = slits_um[i];
-                    c.ess.dial_duty = duties[j];
-                    c.ess.sun_diameter_deg = suns[k];
+                    sunmc_config c = default_ess();
+                    ess_cfg(&c)->design.slit_width_um = slits_um[i];
+                    ess_cfg(&c)->design.dial_duty = duties[j];
+                    ess_cfg(&c)->design.sun_diameter_deg = suns[k];
                     check_harmonics(c, psis_deg[p] * RAD_PER_DEG);
                 }
     /* The order matters: a duty-0.3 dial has c3 > 0, unlike the square wave. */
-    sunmc_config c = ess_defaults();
-    c.ess.dial_duty = 0.3;
-    c.ess.sun_diameter_deg = 0;
-    c.ess.slit_width_um = 0;
+    sunmc_config c = default_ess();
+    ess_cfg(&c)->design.dial_duty = 0.3;
+    ess_cfg(&c)->design.sun_diameter_deg = 0;
+    ess_cfg(&c)->design.slit_width_um = 0;
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     double h[3];
     ess_finecode_harmonics(&s, 0.0, h);
     assert_near(h[1], sin(0.9 * M_PI) / 3 / sin(0.3 * M_PI), 1e-12);
     assert_near(h[2], sin(1.5 * M_PI) / 5 / sin(0.3 * M_PI), 1e-12);
     /* A slit width deviation is part of the slit. */
-    c = ess_defaults();
+    c = default_ess();
     dev.slit_width_um = 30;
-    ess_sensor_init(&s, &c.ess, &dev);
-    c.ess.slit_width_um += 30;
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
+    ess_cfg(&c)->design.slit_width_um += 30;
     fine_design f = design_of(&c);
     double want[3], dc;
     ref_harmonics(&f, 0.4, want, &dc);
@@ -209,15 +210,15 @@ static void test_harmonic_transfer(void **state)
 static void test_row_currents(void **state)
 {
     sunmc_config c = given(-0.07, 0.03);
-    c.ess.slit_width_um = 60;
-    c.ess.dial_duty = 0.45;
+    ess_cfg(&c)->design.slit_width_um = 60;
+    ess_cfg(&c)->design.dial_duty = 0.45;
     ess_deviations dev = {0};
     dev.harmonic_phase_deg = 40;
     const double gain_pct[4] = {0.7, -1.1, 0.3, 2.0};
     for (int m = 0; m < 4; m++)
         dev.gain_pct[m] = gain_pct[m];
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     fine_design f = design_of(&c);
     const double psi_deg[4] = {17.3, 17.5, 17.9, 18.6};
     const double noise[4] = {0.01, -0.02, 0.003, 0.0};
@@ -229,7 +230,7 @@ static void test_row_currents(void **state)
     double ch[3] = {1, -0.07, 0.03}, unused[3], dc;
     ref_harmonics(&f, 0.0, unused, &dc); /* the DC is derived even when the harmonics are given */
     const int order[3] = {1, 3, 5};
-    const double th0 = c.ess.theta0_deg * RAD_PER_DEG, phi3 = 40 * RAD_PER_DEG;
+    const double th0 = ess_cfg(&c)->design.theta0_deg * RAD_PER_DEG, phi3 = 40 * RAD_PER_DEG;
     for (int m = 0; m < 4; m++) {
         double x = TWO_PI * psi[m] / th0, sum = 0;
         for (int i = 0; i < 3; i++)
@@ -240,9 +241,9 @@ static void test_row_currents(void **state)
     /* Derived harmonics, equal gains, no noise, one psi: the currents are
      * illum (DC - sum c_n cos(n (x - m pi/2))) and average to illum x DC
      * (every odd harmonic sums to zero over four quarter shifts). */
-    c.ess.harmonics = 0;
+    ess_cfg(&c)->design.harmonics = 0;
     memset(&dev, 0, sizeof dev);
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     for (int m = 0; m < 4; m++)
         psi[m] = psi_deg[0] * RAD_PER_DEG;
     ess_finecode_currents(&s, psi, illum, NULL, cur);
@@ -256,11 +257,11 @@ static void test_row_currents(void **state)
     }
     assert_near((cur[0] + cur[1] + cur[2] + cur[3]) / 4, illum * dc, 1e-9);
     /* The DC of a bare square wave: D / ((2/pi) sin(pi D)) = pi/4. */
-    c = ess_defaults();
-    c.ess.slit_width_um = 0;
-    c.ess.sun_diameter_deg = 0;
-    c.ess.dial_duty = 0.5;
-    ess_sensor_init(&s, &c.ess, &dev);
+    c = default_ess();
+    ess_cfg(&c)->design.slit_width_um = 0;
+    ess_cfg(&c)->design.sun_diameter_deg = 0;
+    ess_cfg(&c)->design.dial_duty = 0.5;
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     ess_finecode_currents(&s, psi, 1.0, NULL, cur);
     assert_near((cur[0] + cur[1] + cur[2] + cur[3]) / 4, M_PI / 4, 1e-9);
 }
@@ -297,12 +298,12 @@ static double phase_of_rows(const double x[4])
 static void test_etch_offsets(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double H = c.ess.H_mm, th0 = c.ess.theta0_deg;
+    const double H = ess_cfg(&c)->design.H_mm, th0 = ess_cfg(&c)->design.theta0_deg;
     ess_deviations dev = {0};
     for (int m = 0; m < 4; m++)
         dev.etch_um[m] = 0.4;
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     for (double a = -60; a <= 60; a += 1.37) {
         double want = atan(tan(a * RAD_PER_DEG) - 0.4e-3 / H) * DEG_PER_RAD;
         assert_near(output_deg(&s, a, 9, NULL), want, 1e-10);
@@ -310,7 +311,7 @@ static void test_etch_offsets(void **state)
     for (int row = 0; row < 4; row++) {
         memset(&dev, 0, sizeof dev);
         dev.etch_um[row] = 0.3;
-        ess_sensor_init(&s, &c.ess, &dev);
+        ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
         for (double a = -58.9; a <= 60; a += 2.11) {
             double ar = a * RAD_PER_DEG, x[4];
             for (int m = 0; m < 4; m++) {
@@ -329,7 +330,7 @@ static void test_etch_offsets(void **state)
 static void test_geometry_closed_form(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double H = c.ess.H_mm, th0 = c.ess.theta0_deg;
+    const double H = ess_cfg(&c)->design.H_mm, th0 = ess_cfg(&c)->design.theta0_deg;
     ess_deviations dev = {0};
     dev.dH_um = -1.7;
     dev.dd_um = 0.8;
@@ -338,14 +339,14 @@ static void test_geometry_closed_form(void **state)
     for (int m = 0; m < 4; m++)
         dev.etch_um[m] = etch_um[m];
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     const double Hr = H - 1.7e-3, dd = 0.8e-3, tp = tan(-0.02 * RAD_PER_DEG);
     for (double b = -25; b <= 25; b += 25)
         for (double a = -60.2; a <= 60; a += 1.19) {
             double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG, x[4];
             double u = tan(br) / cos(ar), v = tan(ar);
             for (int m = 0; m < 4; m++) {
-                double eta = Hr * v - dd - (c.ess.fine_rows_x_mm.v[m] + Hr * u) * tp -
+                double eta = Hr * v - dd - (ess_cfg(&c)->design.fine_rows_x_mm.v[m] + Hr * u) * tp -
                              etch_um[m] * 1e-3;
                 x[m] = TWO_PI * atan(eta / H) / (th0 * RAD_PER_DEG);
             }
@@ -358,7 +359,7 @@ static void test_geometry_closed_form(void **state)
 static void test_gain_closed_form(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double th0 = c.ess.theta0_deg;
+    const double th0 = ess_cfg(&c)->design.theta0_deg;
     fine_design f = design_of(&c);
     double ch[3], dc;
     ref_harmonics(&f, 0.0, ch, &dc); /* the DC is derived even when the harmonics are given */
@@ -366,7 +367,7 @@ static void test_gain_closed_form(void **state)
         ess_deviations dev = {0};
         dev.gain_pct[row] = -1.0;
         ess_sensor s;
-        ess_sensor_init(&s, &c.ess, &dev);
+        ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
         double g = 0.99;
         for (double a = -60; a <= 60; a += 0.77) {
             double x = TWO_PI * a / th0;
@@ -385,17 +386,17 @@ static void test_gain_closed_form(void **state)
 static void test_tilt_closed_form(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double H = c.ess.H_mm, th0 = c.ess.theta0_deg, tp = tan(0.01 * RAD_PER_DEG);
+    const double H = ess_cfg(&c)->design.H_mm, th0 = ess_cfg(&c)->design.theta0_deg, tp = tan(0.01 * RAD_PER_DEG);
     ess_deviations dev = {0};
     dev.dphi_deg = 0.01;
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     for (double b = -20; b <= 20; b += 20)
         for (double a = -60.3; a <= 60; a += 0.91) {
             double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG, x[4];
             double u = tan(br) / cos(ar);
             for (int m = 0; m < 4; m++) {
-                double xm = c.ess.fine_rows_x_mm.v[m];
+                double xm = ess_cfg(&c)->design.fine_rows_x_mm.v[m];
                 x[m] = TWO_PI * atan(tan(ar) - (xm + H * u) * tp / H) / (th0 * RAD_PER_DEG);
             }
             assert_near(output_deg(&s, a, b, NULL), in_period_deg(phase_of_rows(x), th0, a), 1e-10);
@@ -407,10 +408,10 @@ static void test_tilt_closed_form(void **state)
 static void test_illumination_scaling(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double th0 = c.ess.theta0_deg;
+    const double th0 = ess_cfg(&c)->design.theta0_deg;
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     const double n[4] = {0.02, -0.01, 0.015, 0.03};
     for (double b = -30; b <= 30; b += 15)
         for (double a = -60; a <= 60; a += 4.9) {
@@ -443,8 +444,8 @@ static void test_harmonics_error_closed_form(void **state)
         ess_deviations dev = {0};
         dev.harmonic_phase_deg = cases[k][2];
         ess_sensor s;
-        ess_sensor_init(&s, &c.ess, &dev);
-        const double th0 = c.ess.theta0_deg;
+        ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
+        const double th0 = ess_cfg(&c)->design.theta0_deg;
         for (double a = -61; a <= 61; a += 0.0917) {
             double x = TWO_PI * a / th0;
             double e = harmonic_error_deg(cases[k][0], cases[k][1], cases[k][2] * RAD_PER_DEG, x,
@@ -458,14 +459,14 @@ static void test_harmonics_error_closed_form(void **state)
  * slit's share changes with cos^2 psi), computed by quadrature. */
 static void test_derived_harmonics_output(void **state)
 {
-    sunmc_config c = ess_defaults();
-    c.ess.slit_width_um = 120;
-    c.ess.dial_duty = 0.4;
+    sunmc_config c = default_ess();
+    ess_cfg(&c)->design.slit_width_um = 120;
+    ess_cfg(&c)->design.dial_duty = 0.4;
     fine_design f = design_of(&c);
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
-    const double th0 = c.ess.theta0_deg;
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
+    const double th0 = ess_cfg(&c)->design.theta0_deg;
     for (double a = -60.1; a <= 61; a += 1.03) {
         double ch[3], dc;
         ref_harmonics(&f, a * RAD_PER_DEG, ch, &dc);
@@ -488,10 +489,10 @@ static void test_coarse_cell_edges(void **state)
     sunmc_config c = given(0, 0);
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     const int n = s.n_coarse;
     const long ncell = 1L << n;
-    const double res = c.ess.coarse_resolution_deg, origin = -(double)(ncell / 2) * res;
+    const double res = ess_cfg(&c)->design.coarse_resolution_deg, origin = -(double)(ncell / 2) * res;
     double psi[ESS_MAX_COARSE_ROWS];
     for (long k = 0; k < ncell; k++) {
         for (int j = 0; j < n; j++)
@@ -554,17 +555,17 @@ static void test_combine_both_sides(void **state)
 static void test_output_across_coarse_edges(void **state)
 {
     sunmc_config c = given(0, 0);
-    const double H = c.ess.H_mm, th0 = c.ess.theta0_deg;
+    const double H = ess_cfg(&c)->design.H_mm, th0 = ess_cfg(&c)->design.theta0_deg;
     ess_deviations dev = {0};
     dev.dphi_deg = 0.05;
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     const double tp = tan(0.05 * RAD_PER_DEG);
     for (int edge = -60; edge <= 60; edge += 7)
         for (double d = -0.02; d <= 0.02; d += 0.004) {
             double a = edge + d, ar = a * RAD_PER_DEG, x[4];
             for (int m = 0; m < 4; m++)
-                x[m] = TWO_PI * atan(tan(ar) - c.ess.fine_rows_x_mm.v[m] * tp / H) /
+                x[m] = TWO_PI * atan(tan(ar) - ess_cfg(&c)->design.fine_rows_x_mm.v[m] * tp / H) /
                        (th0 * RAD_PER_DEG);
             assert_near(output_deg(&s, a, 0, NULL), in_period_deg(phase_of_rows(x), th0, a),
                         1e-10);
@@ -578,7 +579,7 @@ static void test_grazing_limit(void **state)
     sunmc_config c = given(0, 0);
     ess_deviations dev = {0};
     ess_sensor s;
-    ess_sensor_init(&s, &c.ess, &dev);
+    ess_sensor_init(&s, &ess_cfg(&c)->design, &dev);
     const double lim = 0.0175;
     for (int side = 0; side < 2; side++) {
         double sz = side ? lim * (1 - 1e-9) : lim * (1 + 1e-9);

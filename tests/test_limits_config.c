@@ -17,6 +17,7 @@
 #include "test_util.h"
 
 #include "config.h"
+#include "registry.h"
 #include "status.h"
 
 #include <sys/stat.h>
@@ -25,25 +26,42 @@
 #define MAX_SETS 16
 #define VALUE_LEN 1200
 
-/* ---- the key table, as (key, families it applies to) ---- */
+/* ---- the key tables, as (key, families it applies to) ---- */
 
-static const char *const families[] = {"ess", "dss"};
-#define N_FAMILIES 2
+#define MAX_FAMILIES 8
+static int n_families;
+static const char *families[MAX_FAMILIES];
 
 typedef struct {
     const config_key *k;
-    int applies[N_FAMILIES];
+    int applies[MAX_FAMILIES];
 } key_row;
 
+/* Every key of every registered family (a shared key once), and which
+ * families it applies to. */
 static size_t list_keys(key_row *rows, size_t max)
 {
-    size_t n = 0;
-    for (size_t i = 0; i < config_key_count && n < max; i++, n++) {
-        rows[n].k = &config_keys[i];
-        rows[n].applies[0] = (config_keys[i].families & FAMILY_ESS) != 0;
-        rows[n].applies[1] = (config_keys[i].families & FAMILY_DSS) != 0;
+    static const config_key *keys[CONFIG_KEYS_MAX];
+    static const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(NULL, keys, owners, CONFIG_KEYS_MAX), out = 0;
+    n_families = sensor_family_count() < MAX_FAMILIES ? sensor_family_count() : MAX_FAMILIES;
+    for (int f = 0; f < n_families; f++)
+        families[f] = sensor_family_at(f)->name;
+    for (size_t i = 0; i < n && out < max; i++, out++) {
+        rows[out].k = keys[i];
+        for (int f = 0; f < n_families; f++)
+            rows[out].applies[f] = config_key_applies(keys[i], sensor_family_at(f));
     }
-    return n;
+    return out;
+}
+
+static int family_index(const char *name)
+{
+    for (int f = 0; f < n_families; f++)
+        if (strcmp(families[f], name) == 0)
+            return f;
+    fail_msg("no family '%s'", name);
+    return -1;
 }
 
 /* ---- building with overrides ---- */
@@ -234,18 +252,20 @@ static void check_enum_key(const key_row *r, int f)
     const config_key *k = r->k;
     char dotted[128], err[SUNMC_ERRLEN], got[VALUE_LEN], set[256];
     snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
-    const char *p = k->choices;
+    char family_choices[256];
+    const char *choices = k->choices;
+    if (k->type == KEY_FAMILY) {
+        config_family_choices(family_choices, sizeof family_choices);
+        choices = family_choices;
+    }
+    const char *p = choices;
     int n = 0;
     while (p && *p) {
         const char *bar = strchr(p, '|');
         size_t len = bar ? (size_t)(bar - p) : strlen(p);
         char choice[64];
         snprintf(choice, sizeof choice, "%.*s", (int)len, p);
-        int fam = f;
-        if (strcmp(dotted, "sensor.family") == 0)
-            for (int g = 0; g < N_FAMILIES; g++)
-                if (strcmp(families[g], choice) == 0)
-                    fam = g; /* the family key chooses the family */
+        int fam = k->type == KEY_FAMILY ? family_index(choice) : f; /* it chooses the family */
         snprintf(set, sizeof set, "%s=%s", dotted, choice);
         if (build(families[fam], NULL, set, k, got, err) != SUNMC_OK)
             fail_msg("%s = %s refused: %s", dotted, choice, err);
@@ -254,7 +274,7 @@ static void check_enum_key(const key_row *r, int f)
         snprintf(set, sizeof set, "%s=%sx", dotted, choice);
         assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
         assert_non_null(strstr(err, dotted));
-        assert_non_null(strstr(err, k->choices));
+        assert_non_null(strstr(err, choices));
         snprintf(set, sizeof set, "%s=%c%s", dotted, choice[0] - 32, choice + 1);
         assert_int_equal(build(families[f], NULL, set, k, got, err), SUNMC_EINPUT);
         n++;
@@ -293,7 +313,7 @@ static void test_every_key_both_sides(void **state)
     size_t n = list_keys(rows, 1024);
     int numbers = 0, enums = 0, strings = 0;
     for (size_t i = 0; i < n; i++)
-        for (int f = 0; f < N_FAMILIES; f++) {
+        for (int f = 0; f < n_families; f++) {
             if (!rows[i].applies[f])
                 continue;
             switch (rows[i].k->type) {
@@ -306,6 +326,7 @@ static void test_every_key_both_sides(void **state)
                 numbers++;
                 break;
             case KEY_ENUM:
+            case KEY_FAMILY:
                 check_enum_key(&rows[i], f);
                 enums++;
                 break;
@@ -329,11 +350,13 @@ static void test_other_family_keys(void **state)
     char err[SUNMC_ERRLEN], set[VALUE_LEN + 256], got[VALUE_LEN], cur[VALUE_LEN];
     int checked = 0;
     for (size_t i = 0; i < n; i++)
-        for (int f = 0; f < N_FAMILIES; f++) {
+        for (int f = 0; f < n_families; f++) {
             if (rows[i].applies[f])
                 continue;
             const config_key *k = rows[i].k;
-            int owner = 1 - f;
+            int owner = 0;
+            while (!rows[i].applies[owner])
+                owner++;
             assert_int_equal(build(families[owner], NULL, NULL, k, cur, err), SUNMC_OK);
             snprintf(set, sizeof set, "%s.%s=%s", k->section, k->name, cur);
             assert_int_equal(build(families[f], NULL, set, NULL, got, err), SUNMC_EINPUT);
