@@ -25,16 +25,7 @@
 #include "status.h"
 #include "units.h"
 
-static sunmc_config default_dss(void)
-{
-    config_state st;
-    char err[SUNMC_ERRLEN];
-    const char *sets[] = {"sensor.family=dss"};
-    assert_int_equal(config_build(&st, NULL, sets, 1, err, sizeof err), SUNMC_OK);
-    sunmc_config c = st.cfg;
-    config_state_free(&st);
-    return c;
-}
+static sunmc_config default_dss(void) { return test_family_config("dss"); }
 
 /* ---- rotations written out ---- */
 
@@ -280,27 +271,8 @@ static void test_scurve_amplitudes(void **state)
     }
 }
 
-/* Centroid of a disc of diameter D px centred at x0 (pixels centred at the
- * integers), summed pixel by pixel from the chord's antiderivative. */
-static double chord_integral(double R, double a, double b)
-{
-    a = fmax(-R, fmin(R, a));
-    b = fmax(-R, fmin(R, b));
-    double Fa = a * sqrt(R * R - a * a) + R * R * asin(a / R);
-    double Fb = b * sqrt(R * R - b * b) + R * R * asin(b / R);
-    return Fb - Fa;
-}
-
-static double brute_bias(double D, double x0)
-{
-    double R = D / 2, sw = 0, sx = 0;
-    for (long n = (long)floor(x0 - R) - 1; n <= (long)ceil(x0 + R) + 1; n++) {
-        double w = chord_integral(R, n - 0.5 - x0, n + 0.5 - x0);
-        sw += w;
-        sx += w * (double)n;
-    }
-    return sx / sw - x0;
-}
+/* Bias of the centroid of a disc spot of diameter D px centred at x0. */
+static double brute_bias(double D, double x0) { return test_disc_centroid(D, x0) - x0; }
 
 /* The sensor's measured spot with the S-curve on: pixel centres sit at the
  * detector centre + 1/2 for an even number of pixels, at the centre for an

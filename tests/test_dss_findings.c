@@ -13,16 +13,7 @@
 #include "status.h"
 #include "units.h"
 
-static sunmc_config dss_test_config(void)
-{
-    config_state st;
-    char err[SUNMC_ERRLEN];
-    const char *sets[] = {"sensor.family=dss"};
-    assert_int_equal(config_build(&st, NULL, sets, 1, err, sizeof err), SUNMC_OK);
-    sunmc_config c = st.cfg;
-    config_state_free(&st);
-    return c;
-}
+static sunmc_config dss_test_config(void) { return test_family_config("dss"); }
 
 /* Errors (arcsec) of a sensor with deviations dev at truth (a, b) deg. */
 static void errors(const sunmc_config *c, const dss_deviations *dev, double a_deg, double b_deg,

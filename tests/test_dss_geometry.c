@@ -262,29 +262,6 @@ static void test_field_angle_inverse(void **state)
     }
 }
 
-/* Brute force: centre of mass of a disc of diameter D (pixels) centred at
- * x0, integrated over unit pixels centred at the integers (the chord
- * length's antiderivative in closed form). */
-static double chord_integral(double R, double a, double b)
-{
-    a = fmax(-R, fmin(R, a));
-    b = fmax(-R, fmin(R, b));
-    double Fa = a * sqrt(R * R - a * a) + R * R * asin(a / R);
-    double Fb = b * sqrt(R * R - b * b) + R * R * asin(b / R);
-    return Fb - Fa; /* integral of 2 sqrt(R^2 - x^2) */
-}
-
-static double brute_centroid(double D, double x0)
-{
-    double R = D / 2, sw = 0, sx = 0;
-    for (long n = (long)floor(x0 - R) - 1; n <= (long)ceil(x0 + R) + 1; n++) {
-        double w = chord_integral(R, n - 0.5 - x0, n + 0.5 - x0);
-        sw += w;
-        sx += w * (double)n;
-    }
-    return sx / sw;
-}
-
 /* The Bessel series equals the brute-force centroid; the bias is odd and
  * vanishes at pixel centres and edges; a larger spot has a smaller S-curve. */
 static void test_scurve(void **state)
@@ -296,8 +273,8 @@ static void test_scurve(void **state)
         double peak = 0;
         for (double x = -0.5; x <= 0.5; x += 0.01) {
             double b = dss_scurve_bias(amp, x);
-            peak = fmax(peak, fabs(brute_centroid(sizes[k], x) - x));
-            assert_near(b, brute_centroid(sizes[k], x) - x, sizes[k] < 5 ? 2e-5 : 2e-6);
+            peak = fmax(peak, fabs(test_disc_centroid(sizes[k], x) - x));
+            assert_near(b, test_disc_centroid(sizes[k], x) - x, sizes[k] < 5 ? 2e-5 : 2e-6);
             assert_near(dss_scurve_bias(amp, -x), -b, 1e-15);
         }
         assert_true(peak > 1e-3); /* the comparison above is not trivial */

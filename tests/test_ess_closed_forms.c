@@ -26,15 +26,7 @@
 
 #define TWO_PI (2.0 * M_PI)
 
-static sunmc_config default_ess(void)
-{
-    config_state st;
-    char err[SUNMC_ERRLEN];
-    assert_int_equal(config_build(&st, NULL, NULL, 0, err, sizeof err), SUNMC_OK);
-    sunmc_config c = st.cfg;
-    config_state_free(&st);
-    return c;
-}
+static sunmc_config default_ess(void) { return test_family_config("ess"); }
 
 /* Harmonics given as 1, a3, a5 (a3 = a5 = 0: a pure fundamental). */
 static sunmc_config given(double a3, double a5)

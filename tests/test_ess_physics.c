@@ -9,15 +9,7 @@
 #include "units.h"
 
 /* A config with the ESS defaults (type A) and every deviation nominal. */
-static sunmc_config base_config(void)
-{
-    config_state st;
-    char err[SUNMC_ERRLEN];
-    assert_int_equal(config_build(&st, NULL, NULL, 0, err, sizeof err), SUNMC_OK);
-    sunmc_config c = st.cfg;
-    config_state_free(&st);
-    return c;
-}
+static sunmc_config base_config(void) { return test_family_config("ess"); }
 
 /* Build a sensor with the harmonics given as a3, a5 and deviations dev. */
 static void build(const sunmc_config *c, const ess_deviations *dev, ess_sensor *s)

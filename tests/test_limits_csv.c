@@ -119,6 +119,14 @@ static void expect_accepted(int rc, const char *out)
  * weights w[i] (NULL: no weight column).  (Data the identity model fits
  * exactly would start the fit at its solution, where GSL's driver reports
  * no progress.) */
+/* End row i: its weight w[i] when there is a weight column, a newline. */
+static size_t end_row(char *text, size_t len, size_t used, const double *w, int i)
+{
+    if (w)
+        used += (size_t)snprintf(text + used, len - used, ",%g", w[i]);
+    return used + (size_t)snprintf(text + used, len - used, "\n");
+}
+
 static void ess_rows(int n, const double *w, char *text, size_t len)
 {
     size_t used = (size_t)snprintf(text, len, "alpha_deg,beta_deg,output_deg%s\n", w ? ",weight" : "");
@@ -126,9 +134,7 @@ static void ess_rows(int n, const double *w, char *text, size_t len)
         double a = -48 + 12.3 * i, b = i % 2 ? 10 : 0;
         double out = atan(1.0005 * tan(a * RAD_PER_DEG)) * DEG_PER_RAD + 1e-4 * ((i * 7) % 5 - 2);
         used += (size_t)snprintf(text + used, len - used, "%.6f,%g,%.8f", a, b, out);
-        if (w)
-            used += (size_t)snprintf(text + used, len - used, ",%g", w[i]);
-        used += (size_t)snprintf(text + used, len - used, "\n");
+        used = end_row(text, len, used, w, i);
     }
 }
 
@@ -171,9 +177,7 @@ static void dss_rows(int n, const double *w, char *text, size_t len)
         double r = h * tan(th) - t * (tan(th) - tan(thg));
         used += (size_t)snprintf(text + used, len - used, "%g,%g,%.12f,%.12f", b1, b2,
                                  -r * cos(ph) / pix, -r * sin(ph) / pix);
-        if (w)
-            used += (size_t)snprintf(text + used, len - used, ",%g", w[i]);
-        used += (size_t)snprintf(text + used, len - used, "\n");
+        used = end_row(text, len, used, w, i);
     }
 }
 

@@ -13,6 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "config.h"
+#include "status.h"
+
 /* assert |a - b| <= tol, printing both on failure. */
 #define assert_near(a, b, tol)                                                                    \
     do {                                                                                          \
@@ -84,6 +87,38 @@ static inline int test_write_file(const char *path, const char *text)
         return -1;
     fputs(text, f);
     return fclose(f);
+}
+
+/* The default config of a family ("ess", "dss"), as the command line builds
+ * it (sensor.family set, nothing else). */
+static inline sunmc_config test_family_config(const char *family)
+{
+    char set[64], err[SUNMC_ERRLEN];
+    snprintf(set, sizeof set, "sensor.family=%s", family);
+    const char *sets[] = {set};
+    config_state st;
+    if (config_build(&st, NULL, sets, 1, err, sizeof err) != SUNMC_OK)
+        fail_msg("%s", err);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    return c;
+}
+
+/* Brute-force centroid of a uniform disc of diameter D pixels centred at x0,
+ * integrated over unit pixels centred at the integers: each pixel's weight
+ * is the integral of the chord length 2 sqrt(R^2 - x^2) over it, from its
+ * antiderivative x sqrt(R^2 - x^2) + R^2 asin(x / R). */
+static inline double test_disc_centroid(double D, double x0)
+{
+    double R = D / 2, sw = 0, sx = 0;
+    for (long n = (long)floor(x0 - R) - 1; n <= (long)ceil(x0 + R) + 1; n++) {
+        double a = fmax(-R, fmin(R, n - 0.5 - x0)), b = fmax(-R, fmin(R, n + 0.5 - x0));
+        double w = (b * sqrt(R * R - b * b) + R * R * asin(b / R)) -
+                   (a * sqrt(R * R - a * a) + R * R * asin(a / R));
+        sw += w;
+        sx += w * (double)n;
+    }
+    return sx / sw;
 }
 
 #endif
