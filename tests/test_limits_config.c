@@ -21,7 +21,6 @@
 #include "status.h"
 
 #include <sys/stat.h>
-#include <unistd.h>
 
 #define MAX_SETS 16
 #define VALUE_LEN 1200
@@ -106,7 +105,8 @@ static int build(const char *fam, const set_list *extra, const char *set, const 
     "campaign.alpha_min_deg=-1", "campaign.alpha_max_deg=1", "validation.alpha_min_deg=-1",       \
         "validation.alpha_max_deg=1"
 #define NARROW_B                                                                                  \
-    "campaign.b_min_deg=-1", "campaign.b_max_deg=1", "validation.b_min_deg=-1",                   \
+    "campaign.b_min_deg=-1", "campaign.b_max_deg=1", "campaign.b_step_deg=0.5",                   \
+        "validation.b_min_deg=-1",                                                                \
         "validation.b_max_deg=1"
 
 typedef struct {
@@ -125,7 +125,11 @@ static const companion companions[] = {
      {{"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"}, 2}},
     {"validation.alpha_step_deg", 0,
      {{"validation.alpha_min_deg=-50", "validation.alpha_max_deg=50"}, 2}},
-    {"design.dss_fov_deg", 0, {{NARROW_B}, 4}},
+    {"design.dss_fov_deg", 0, {{NARROW_B}, 5}},
+    {"design.h_mm", 0, {{"design.glass_thickness_mm=0.1"}, 1}},
+    {"campaign.alpha_step_deg", 1, {{"campaign.beta_deg=-20,-10,0,10,20"}, 1}},
+    {"campaign.b_step_deg", 1, {{"calibration.fit_glass_index=off"}, 1}},
+    {"design.glass_thickness_mm", 1, {{"design.h_mm=6"}, 1}},
 };
 
 static const set_list *companion_of(const char *key, int side)
@@ -442,15 +446,17 @@ static void check_grid(const char *fam, const char *prefix, const char *min_key,
 {
     char a[128], b[128], c[128], d[128], name[64];
     snprintf(name, sizeof name, "%s", prefix);
-    /* min = max refused; min a hair below max passes */
+    /* min = max refused; min a hair below max passes (a campaign grid also
+     * needs points for the fit: there 0.04 deg below in 0.01 deg steps) */
+    int campaign = strncmp(prefix, "campaign", 8) == 0;
     snprintf(a, sizeof a, "%s=10", min_key);
     snprintf(b, sizeof b, "%s=10", max_key);
-    snprintf(c, sizeof c, "%s=1", step_key);
+    snprintf(c, sizeof c, "%s=%s", step_key, campaign ? "0.01" : "1");
     set_list eq = {{a, b, c}, 3};
     char want[160];
     snprintf(want, sizeof want, "%s: min must be below max", name);
     expect_refused(fam, &eq, want);
-    snprintf(a, sizeof a, "%s=9.999999", min_key);
+    snprintf(a, sizeof a, "%s=%s", min_key, campaign ? "9.96" : "9.999999");
     set_list below = {{a, b, c}, 3};
     expect_ok(fam, &below);
     /* ends at the field of view pass, just beyond are refused */
@@ -501,6 +507,69 @@ static void test_grids(void **state)
                                    "view +-45 deg");
 }
 
+/* The campaign must give the fit more data than parameters: the ESS's 8
+ * need 9 points (alphas x betas); the DSS's physical model 2 n residuals
+ * above its 8 free parameters (7 with the glass index held), the
+ * polynomial of order k n readings above its (k + 1)(k + 2)/2 terms.  The
+ * b grid gives n = (readings per axis)^2. */
+static void test_campaign_size(void **state)
+{
+    const char *ess_at[] = {"campaign.beta_deg=0", "campaign.alpha_min_deg=-4",
+                            "campaign.alpha_max_deg=4", "campaign.alpha_step_deg=1"};
+    set_list e9 = {{ess_at[0], ess_at[1], ess_at[2], ess_at[3]}, 4};
+    set_list e8 = e9;
+    e8.v[2] = "campaign.alpha_max_deg=3";
+    expect_ok("ess", &e9);
+    expect_refused("ess", &e8, "campaign: 8 alpha x 1 beta_deg = 8 points, fewer than the 9");
+    set_list e10 = {{"campaign.beta_deg=0,5", "campaign.alpha_min_deg=-2",
+                     "campaign.alpha_max_deg=2", "campaign.alpha_step_deg=1"}, 4};
+    set_list e8b = e10;
+    e8b.v[2] = "campaign.alpha_max_deg=1";
+    expect_ok("ess", &e10);
+    expect_refused("ess", &e8b, "4 alpha x 2 beta_deg = 8 points");
+    const struct {
+        const char *lo, *hi, *model, *index, *needle; /* needle NULL: accepted */
+    } dss[] = {
+        {"-5", "0", "physical", "on", "2 x 2 b grid = 4 readings, too few for the physical "
+                                       "model's 8 parameters"},
+        {"-5", "5", "physical", "on", NULL},
+        {"-5", "0", "physical", "off", NULL},
+        {"0", "0.001", "physical", "off", "1 x 1 b grid = 1 readings"},
+        {"-10", "0", "polynomial", "on", "3 x 3 b grid = 9 readings, too few for the polynomial "
+                                         "model's 10 parameters"},
+        {"-10", "5", "polynomial", "on", NULL},
+    };
+    for (size_t i = 0; i < sizeof dss / sizeof dss[0]; i++) {
+        char lo[64], hi[64], model[64], index[64];
+        snprintf(lo, sizeof lo, "campaign.b_min_deg=%s", dss[i].lo);
+        snprintf(hi, sizeof hi, "campaign.b_max_deg=%s", dss[i].hi);
+        snprintf(model, sizeof model, "calibration.model=%s", dss[i].model);
+        snprintf(index, sizeof index, "calibration.fit_glass_index=%s", dss[i].index);
+        set_list s = {{lo, hi, "campaign.b_step_deg=5", model, index, "calibration.poly_order=3"},
+                      6};
+        if (dss[i].needle)
+            expect_refused("dss", &s, dss[i].needle);
+        else
+            expect_ok("dss", &s);
+    }
+    /* order 7: 36 terms; 6 x 6 refused, 7 x 7 accepted */
+    set_list p36 = {{"calibration.model=polynomial", "calibration.poly_order=7",
+                     "campaign.b_min_deg=-25", "campaign.b_max_deg=0", "campaign.b_step_deg=5"}, 5};
+    set_list p49 = p36;
+    p49.v[3] = "campaign.b_max_deg=5";
+    expect_refused("dss", &p36, "36 readings, too few for the polynomial model's 36 parameters");
+    expect_ok("dss", &p49);
+}
+
+/* The cover glass lies under the pinhole: thickness below the height. */
+static void test_glass_under_pinhole(void **state)
+{
+    set_list at = {{"design.h_mm=1", "design.glass_thickness_mm=1"}, 2};
+    set_list below = {{"design.h_mm=1", "design.glass_thickness_mm=0.999999"}, 2};
+    expect_refused("dss", &at, "design.glass_thickness_mm = 1 must be below design.h_mm = 1");
+    expect_ok("dss", &below);
+}
+
 /* Bands: LO < HI, each bound in 0..90; LO = HI refused, a hair apart passes. */
 static void test_band_order(void **state)
 {
@@ -538,21 +607,6 @@ static void test_list_length(void **state)
 
 /* ---- the command line ---- */
 
-static char dir[64];
-
-static int setup(void **state)
-{
-    snprintf(dir, sizeof dir, "/tmp/sunmc_limits_XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 static int exists(const char *p)
 {
     struct stat sb;
@@ -576,14 +630,19 @@ static void test_cli_limits(void **state)
         {"configs/dss.ini", "design.detector_px=15", "design.detector_px=16", "design.detector_px"},
         {"configs/dss.ini", "tolerance.glass_index=0.5000001", "tolerance.glass_index=0.5",
          "tolerance.glass_index"},
+        {"configs/ess_type_a.ini", "campaign.alpha_step_deg=90", "campaign.alpha_step_deg=40",
+         "campaign: 2 alpha x 3 beta_deg = 6 points"},
+        {"configs/dss.ini", "campaign.b_step_deg=90", "campaign.b_step_deg=60",
+         "campaign: 2 x 2 b grid = 4 readings"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        char cmd[1024], out[4096], outdir[128];
-        snprintf(outdir, sizeof outdir, "%s/out%zu", dir, i);
+        char cmd[1024], out[4096], outdir[512], name[32];
+        snprintf(name, sizeof name, "out%zu", i);
+        snprintf(outdir, sizeof outdir, "%s", test_tmp(name));
         snprintf(cmd, sizeof cmd, "%s run %s --units 1 --quiet --set %s --out %s", test_sunmc(),
                  cases[i].config, cases[i].bad, outdir);
         int rc = test_run(cmd, out, sizeof out);
-        if (rc != 2 || !strstr(out, cases[i].needle) || !strstr(out, "out of range"))
+        if (rc != 2 || !strstr(out, cases[i].needle))
             fail_msg("%s: exit %d, '%s'", cases[i].bad, rc, out);
         assert_false(exists(outdir));
         snprintf(cmd, sizeof cmd, "%s config %s --set %s", test_sunmc(), cases[i].config,
@@ -603,9 +662,11 @@ int main(void)
         cmocka_unit_test(test_coarse_coverage),
         cmocka_unit_test(test_coarse_cell_vs_period),
         cmocka_unit_test(test_grids),
+        cmocka_unit_test(test_campaign_size),
+        cmocka_unit_test(test_glass_under_pinhole),
         cmocka_unit_test(test_band_order),
         cmocka_unit_test(test_list_length),
         cmocka_unit_test(test_cli_limits),
     };
-    return cmocka_run_group_tests_name("limits_config", tests, setup, teardown);
+    return cmocka_run_group_tests_name("limits_config", tests, NULL, NULL);
 }

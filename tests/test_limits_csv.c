@@ -10,27 +10,10 @@
 #include "status.h"
 #include "units.h"
 
-#include <sys/stat.h>
-#include <unistd.h>
-
-static char dir[64];
-
-static int setup(void **state)
-{
-    snprintf(dir, sizeof dir, "/tmp/sunmc_limits_csv_XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
-}
 
 static void path_of(const char *name, char *out, size_t len)
 {
-    snprintf(out, len, "%s/%s", dir, name);
+    snprintf(out, len, "%s", test_tmp(name));
 }
 
 /* ---- csv.h directly ---- */
@@ -380,5 +363,5 @@ int main(void)
         cmocka_unit_test(test_dss_params_physical),
         cmocka_unit_test(test_dss_params_polynomial_design),
     };
-    return cmocka_run_group_tests_name("limits_csv", tests, setup, teardown);
+    return cmocka_run_group_tests_name("limits_csv", tests, NULL, NULL);
 }

@@ -4,7 +4,11 @@
  * Defaults are from Wei et al., "System modeling based measurement error
  * analysis of digital sun sensors" (the "DSS paper").
  */
+#include "dss_calib.h"
 #include "dss_config.h"
+#include "dss_model.h"
+#include "dss_poly.h"
+#include "family.h"
 #include "status.h"
 
 #include <stddef.h>
@@ -80,11 +84,34 @@ const config_default dss_defaults[] = {
 /* `sunmc config` lists noise.encoder_arcsec before the DSS's own noise keys. */
 const char *const dss_sections_after_shared[] = {"noise", NULL};
 
+/* Readings the fit needs: more residuals than free parameters (the
+ * physical model has two per reading, the polynomial one per axis). */
+static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
+{
+    long nb = grid_count(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg, 0);
+    long n = nb * nb;
+    int phys = d->cal_model == DSS_MODEL_PHYSICAL;
+    int np = phys ? DSS_NP - !d->fit_glass_index : dss_poly_n_terms(d->poly_order);
+    if ((phys ? 2 * n : n) > np)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "campaign: %ld x %ld b grid = %ld readings, too few for the %s model's %d "
+                      "parameters (calibration.model, poly_order, fit_glass_index)",
+                      nb, nb, n, phys ? "physical" : "polynomial", np);
+}
+
 int dss_config_validate(const sunmc_config *c, char *err, size_t errlen)
 {
     const dss_config *d = dss_cfg(c);
+    if (!(d->design.glass_thickness_mm < d->design.h_mm))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "design.glass_thickness_mm = %g must be below design.h_mm = %g (the "
+                          "cover glass lies under the pinhole)",
+                          d->design.glass_thickness_mm, d->design.h_mm);
     int s = config_check_grid(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg,
                               d->design.fov_deg, "campaign.b", err, errlen);
+    if (s == SUNMC_OK)
+        s = campaign_size_check(d, err, errlen);
     if (s != SUNMC_OK)
         return s;
     return config_check_grid(d->val_b_min_deg, d->val_b_max_deg, d->val_b_step_deg,

@@ -6,6 +6,8 @@
  * configs/ess_type_b.ini overrides what differs for type B.
  */
 #include "ess_config.h"
+#include "ess_model.h"
+#include "family.h"
 #include "status.h"
 
 #include <math.h>
@@ -127,6 +129,14 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     if ((s = config_check_grid(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg,
                                d->fov_deg, "campaign.alpha", err, errlen)) != SUNMC_OK)
         return s;
+    /* The fit needs more campaign points than parameters. */
+    long na = grid_count(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg, 0);
+    long points = na * e->cal_beta_deg.n;
+    if (points <= ESS_NP)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "campaign: %ld alpha x %d beta_deg = %ld points, fewer than the %d the "
+                          "fit of %d parameters needs",
+                          na, e->cal_beta_deg.n, points, ESS_NP + 1, ESS_NP);
     return config_check_grid(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
                              d->fov_deg, "validation.alpha", err, errlen);
 }
