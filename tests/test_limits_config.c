@@ -245,7 +245,7 @@ static void check_number_key(const key_row *r, int f)
             fail_msg("%s (%s) = %s: expected SUNMC_EINPUT naming the key, got %d '%s'", dotted,
                      families[f], text, s, err);
         char range[64];
-        snprintf(range, sizeof range, "allowed %g to %g", k->min, k->max);
+        snprintf(range, sizeof range, "allowed %.10g to %.10g", k->min, k->max);
         if (!strstr(err, range))
             fail_msg("%s: message '%s' does not give the range '%s'", dotted, err, range);
     }

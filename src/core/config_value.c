@@ -62,7 +62,7 @@ void config_range_text(const config_key *k, char *buf, size_t len)
     } else if (k->type == KEY_STRING)
         snprintf(buf, len, "text of at most %d characters", CONFIG_STR_MAX - 1);
     else
-        snprintf(buf, len, "%g to %g%s%s", k->min, k->max, k->unit[0] ? " " : "", k->unit);
+        snprintf(buf, len, "%.10g to %.10g%s%s", k->min, k->max, k->unit[0] ? " " : "", k->unit);
 }
 
 static int check_range(const config_key *k, double v, const char *where, const char *what,
