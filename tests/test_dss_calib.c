@@ -283,17 +283,17 @@ static void test_errors(void **state)
     dss_sensor_init(&s, &dc->design, &none, 0);
     double x, y;
     assert_int_equal(dss_sensor_read(&s, 70 * RAD_PER_DEG, 0, NULL, &x, &y), SUNMC_EDOM);
-    /* the family refuses a campaign too small to fit */
-    const char *small[] = {"campaign.b_min_deg=-1", "campaign.b_max_deg=0", "campaign.b_step_deg=1"};
-    sunmc_config cs = dss_test_config(small, 3);
+    /* a campaign too small to fit is refused with the config */
+    const char *small[] = {"sensor.family=dss", "campaign.b_min_deg=-1", "campaign.b_max_deg=0",
+                           "campaign.b_step_deg=1"};
     char err[SUNMC_ERRLEN] = "";
-    assert_null(cs.family->workspace_alloc(&cs, err, sizeof err));
-    assert_non_null(strstr(err, "4-point campaign"));
+    config_state st;
+    assert_int_equal(config_build(&st, NULL, small, 4, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "2 x 2 b grid = 4 readings"));
     /* a bad value of the new key names file, line and key */
     assert_int_equal(test_write_file("build/tests/dss_bad.ini",
                                      "[sensor]\nfamily = dss\n[calibration]\nfit_glass_index = maybe\n"),
                      0);
-    config_state st;
     int rc = config_build(&st, "build/tests/dss_bad.ini", NULL, 0, err, sizeof err);
     assert_int_equal(rc, SUNMC_EINPUT);
     assert_non_null(strstr(err, "dss_bad.ini:4"));
