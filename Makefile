@@ -18,10 +18,23 @@ PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 
 OPT ?= -O2
+# Instruction-set baseline: x86-64-v2 (SSE4.2), which every x86-64 CPU of
+# the last decade has; the kernels are also built for x86-64-v3 (AVX2) and
+# chosen at run time (include/util/vmath.h).  ARCH= builds for any target.
+ARCH ?= $(if $(filter x86_64,$(shell uname -m)),-march=x86-64-v2)
 SUNMC_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DSUNMC_VERSION='"$(VERSION)"' -Wall -Wextra \
-                -Wshadow -Wno-unused-parameter -g $(OPT) -fopenmp $(PKG_CFLAGS)
+                -Wshadow -Wno-unused-parameter -g $(OPT) $(ARCH) -fopenmp $(PKG_CFLAGS)
 ALL_CFLAGS := $(SUNMC_CFLAGS) $(CFLAGS)
 ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
+
+# Kernel files: the loops over a unit's readings and fit points, vectorised
+# with glibc's vector math (include/util/vmath.h).  Only these get the flags
+# it needs: -fno-math-errno (libm calls may skip errno, so GCC may call the
+# vector versions) and no sin/cos builtins (GCC would fuse a sin and a cos of
+# one angle into a scalar sincos call).  IEEE semantics (isfinite, NaN
+# compares) are untouched here and everywhere else.
+KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_calib.c
+KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-builtin-sin -fno-builtin-cos
 
 # Layers, one way: cli -> families (ess, dss) -> core -> util.  Each layer
 # compiles against its own headers and those below it only, so an include
@@ -81,6 +94,9 @@ deps:
 $(BUILD)/obj/%.o: src/%.c $(ALL_HDR)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(call layer_inc,$<) -c $< -o $@
+
+$(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(KERNEL_SRC:src/%.c=$(ASAN)/obj/%.o): \
+    ALL_CFLAGS += $(KERNEL_CFLAGS)
 
 $(BUILD)/libsunmc.a: $(LIB_OBJ)
 	ar rcs $@ $^

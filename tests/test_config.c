@@ -111,6 +111,12 @@ static void test_duplicate_key(void **state)
 static void test_not_a_number(void **state)
 {
     expect_error("[design]\nH_mm = four\n", 2, "design.H_mm");
+    /* IEEE checks (isfinite) still work: only the vectorised kernels are
+     * built with relaxed math-library flags */
+    expect_error("[design]\nH_mm = nan\n", 2, "design.H_mm");
+    expect_error("[design]\nH_mm = inf\n", 2, "design.H_mm");
+    expect_error("[design]\n\nH_mm = -inf\n", 3, "design.H_mm");
+    expect_error("[design]\nH_mm = 1e999\n", 2, "design.H_mm");
 }
 
 static void test_out_of_range(void **state)

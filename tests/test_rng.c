@@ -40,6 +40,33 @@ static void test_streams_independent_of_order(void **state)
     assert_true(rng_uniform(&a) != rng_uniform(&b));
 }
 
+/* rng_normal_fill gives exactly the draws of as many rng_normal calls, in
+ * any split of the sequence (every draw takes the same vector code). */
+static void test_normal_fill_equals_single_draws(void **state)
+{
+    enum { N = 301 };
+    double one[N], all[N], parts[N];
+    rng_stream a, b, c;
+    rng_stream_init(&a, 9, 4, 0x200);
+    rng_stream_init(&b, 9, 4, 0x200);
+    rng_stream_init(&c, 9, 4, 0x200);
+    for (int i = 0; i < N; i++)
+        one[i] = rng_normal(&a);
+    rng_normal_fill(&b, all, N);
+    rng_normal_fill(&c, parts, 5);
+    rng_normal_fill(&c, parts + 5, 130);
+    rng_normal_fill(&c, parts + 135, N - 135);
+    assert_memory_equal(one, all, sizeof one);
+    assert_memory_equal(one, parts, sizeof one);
+    /* Box-Muller of the stream's uniforms, to the last few bits */
+    rng_stream u;
+    rng_stream_init(&u, 9, 4, 0x200);
+    for (int i = 0; i < N; i++) {
+        double u1 = rng_uniform(&u), u2 = rng_uniform(&u);
+        assert_near(one[i], sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2), 1e-14);
+    }
+}
+
 /* Moments of 200000 draws (fixed seed: deterministic). */
 static void test_moments(void **state)
 {
@@ -126,6 +153,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_philox_known_answer), cmocka_unit_test(test_streams_independent_of_order),
+        cmocka_unit_test(test_normal_fill_equals_single_draws),
         cmocka_unit_test(test_moments),             cmocka_unit_test(test_tolerance_distributions),
         cmocka_unit_test(test_rotations),
     };

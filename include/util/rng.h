@@ -8,6 +8,7 @@
 #ifndef SUNMC_RNG_H
 #define SUNMC_RNG_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* Stream identifiers: each purpose of a unit draws from its own stream, so
@@ -36,5 +37,9 @@ double rng_uniform(rng_stream *r);
 /* Standard normal deviate (Box-Muller, no cached second value so the k-th
  * draw of a stream is always the same). */
 double rng_normal(rng_stream *r);
+
+/* The next n normal deviates of r into out: the same values as n calls of
+ * rng_normal, computed a vector at a time. */
+void rng_normal_fill(rng_stream *r, double *out, size_t n);
 
 #endif
