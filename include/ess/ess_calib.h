@@ -39,18 +39,22 @@ void ess_alias_check(const double *alpha_rad, size_t n, double omega, double thr
                      ess_alias *out);
 
 typedef struct {
-    size_t n;             /* data points */
+    size_t n;             /* data points; every array holds vm_pad(n) (vmath.h) */
     double *alpha_rad;    /* turntable inner-frame angle, n */
     double *beta_rad;     /* turntable outer-frame angle, n */
     double *raw_rad;      /* sensor output, n */
     double *weight;       /* 1 / variance scale; 0 drops a point (gross error) */
-    mat3 *table;          /* n turntable matrices, computed by ess_calibrate */
+    /* filled by ess_calibrate */
+    double *sw;           /* sqrt(weight), 0 for a dropped point */
+    ess_table table;      /* turntable matrices */
+    double *scratch[2];   /* per-point work arrays */
     fit_workspace *fw;    /* n + ESS_CALIB_PRIOR_ROWS residuals, ESS_NP parameters */
     ess_model model;      /* working model of the residual function */
     ess_alias alias;
 } ess_calib_workspace;
 
-/* Allocate for n data points (filled by the caller). NULL on failure. */
+/* Allocate for n data points (filled by the caller: only [0, n) of each
+ * array; the pads stay 0). NULL on failure. */
 ess_calib_workspace *ess_calib_alloc(size_t n);
 void ess_calib_free(ess_calib_workspace *cw);
 
@@ -61,7 +65,8 @@ void ess_calib_free(ess_calib_workspace *cw);
 int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
                   double alias_threshold, int max_iter, ess_model *out, fit_result *res);
 
-/* Residual RMS (rad) of model m over cw's data with weight > 0. */
+/* Residual RMS (rad) of model m over cw's data with weight > 0 (after
+ * ess_calibrate on the same data: it uses the turntable matrices). */
 double ess_calib_residual_rms(const ess_calib_workspace *cw, const ess_model *m);
 
 #endif

@@ -24,6 +24,8 @@
 
 #include "rotation.h"
 
+#include <stddef.h>
+
 enum ess_param {
     ESS_P_A = 0, /* eq. 12 a (d = 1): 1 + dH/H for a pure height error */
     ESS_P_B,     /* eq. 12 b: -dd/H for a pure offset */
@@ -66,6 +68,26 @@ double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
  * fit computes once per point (ess_turntable_matrix). */
 double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP]);
 void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M);
+
+/* Turntable matrices rot_x(alpha) rot_y(beta) of n points, structure of
+ * arrays for the batch forms: m[3 r + c][i] = M_i[r][c].  Every array
+ * holds vm_pad(n) values (vmath.h). */
+typedef struct {
+    size_t n;
+    double *m[9];
+} ess_table;
+
+/* Fill t from alpha_rad, beta_rad (vm_pad(t->n) values each; pads 0). */
+void ess_table_fill(ess_table *t, const double *alpha_rad, const double *beta_rad);
+
+/* The fit's residuals and Jacobian at every point of t at once (vectorised):
+ * f[i] = sw[i] (predicted - raw_rad[i]) and J[j ld + i] = sw[i] d pred / d
+ * p_j, both 0 where sw[i] = 0 (a dropped point).  Arrays of vm_pad(t->n). */
+void ess_model_batch(const ess_model *m, const ess_table *t, const double *raw_rad,
+                     const double *sw, double *f, double *J, size_t ld);
+
+/* Predicted raw output (rad) at every point of t into raw_rad[vm_pad(n)]. */
+void ess_model_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad);
 
 /* Compensation, the exact inverse of the model: solve
  * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton, then

@@ -6,6 +6,7 @@
 #include "units.h"
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_math.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,7 +85,7 @@ static void load_params(dss_calib_workspace *cw, const double *x)
 }
 
 /* Spot residuals and their Jacobian together (fit_fdf): rows 2i, 2i + 1. */
-static int phys_fdf(const double *x, void *params, double *f, double *J)
+static int phys_fdf(const double *x, void *params, double *f, double *J, size_t ld)
 {
     dss_calib_workspace *cw = params;
     load_params(cw, x);
@@ -98,7 +99,7 @@ static int phys_fdf(const double *x, void *params, double *f, double *J)
         f[2 * i + 1] = use ? sw * (sp[1] - cw->y_px[i]) : 0.0;
         for (int a = 0; a < 2; a++)
             for (size_t k = 0; k < nf; k++)
-                J[(2 * i + (size_t)a) * nf + k] = use ? sw * g[a][cw->free_idx[k]] : 0.0;
+                J[k * ld + 2 * i + (size_t)a] = use ? sw * g[a][cw->free_idx[k]] : 0.0;
     }
     return GSL_SUCCESS;
 }
@@ -137,7 +138,7 @@ static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibra
 /* ---- polynomial model ---- */
 
 /* Residuals and Jacobian (the design matrix) of the current axis (fit_fdf). */
-static int poly_fdf(const double *x, void *params, double *f, double *J)
+static int poly_fdf(const double *x, void *params, double *f, double *J, size_t ld)
 {
     dss_calib_workspace *cw = params;
     size_t nt = cw->fw->p;
@@ -152,7 +153,7 @@ static int poly_fdf(const double *x, void *params, double *f, double *J)
         }
         f[i] = r;
         for (size_t k = 0; k < nt; k++)
-            J[i * nt + k] = sw > 0 ? sw * t[k] : 0.0;
+            J[k * ld + i] = sw > 0 ? sw * t[k] : 0.0;
     }
     return GSL_SUCCESS;
 }

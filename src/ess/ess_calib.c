@@ -1,29 +1,56 @@
 /* ess_calib.c - alias detection and the ESS calibration fit. */
 #include "ess_calib.h"
 #include "status.h"
+#include "vmath.h"
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_math.h>
 #include <math.h>
 #include <stdlib.h>
 
 /* Eigenvalue of a perfectly spread (sin, cos) sampling. */
 #define ALIAS_FULL_EIGENVALUE 0.5
+/* Angles per vectorised pass of the alias check. */
+#define ALIAS_CHUNK 256
+
+/* sin and cos of omega alpha for k <= ALIAS_CHUNK angles (padded lanes). */
+VM_KERNEL static void phase_chunk(size_t k, const double *alpha_rad, double omega, double *s,
+                                  double *c)
+{
+    _Alignas(VM_ALIGN) double a[ALIAS_CHUNK];
+    size_t kp = vm_pad(k);
+    for (size_t i = 0; i < kp; i++)
+        a[i] = i < k ? alpha_rad[i] : 0.0;
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        s[i] = sin(omega * a[i]);
+        c[i] = cos(omega * a[i]);
+    }
+}
 
 void ess_alias_check(const double *alpha_rad, size_t n, double omega, double threshold,
                      ess_alias *out)
 {
+    _Alignas(VM_ALIGN) double sn[ALIAS_CHUNK], cs[ALIAS_CHUNK];
     double ms = 0, mc = 0, ss = 0, cc = 0, sc = 0;
-    for (size_t i = 0; i < n; i++) {
-        ms += sin(omega * alpha_rad[i]);
-        mc += cos(omega * alpha_rad[i]);
+    for (size_t i0 = 0; i0 < n; i0 += ALIAS_CHUNK) {
+        size_t k = n - i0 < ALIAS_CHUNK ? n - i0 : ALIAS_CHUNK;
+        phase_chunk(k, alpha_rad + i0, omega, sn, cs);
+        for (size_t i = 0; i < k; i++) {
+            ms += sn[i];
+            mc += cs[i];
+        }
     }
     ms /= (double)n;
     mc /= (double)n;
-    for (size_t i = 0; i < n; i++) {
-        double s = sin(omega * alpha_rad[i]) - ms, c = cos(omega * alpha_rad[i]) - mc;
-        ss += s * s;
-        cc += c * c;
-        sc += s * c;
+    for (size_t i0 = 0; i0 < n; i0 += ALIAS_CHUNK) {
+        size_t k = n - i0 < ALIAS_CHUNK ? n - i0 : ALIAS_CHUNK;
+        phase_chunk(k, alpha_rad + i0, omega, sn, cs);
+        for (size_t i = 0; i < k; i++) {
+            double si = sn[i] - ms, ci = cs[i] - mc;
+            ss += si * si;
+            cc += ci * ci;
+            sc += si * ci;
+        }
     }
     ss /= (double)n;
     cc /= (double)n;
@@ -60,13 +87,16 @@ ess_calib_workspace *ess_calib_alloc(size_t n)
     if (!cw)
         return NULL;
     cw->n = n;
-    cw->alpha_rad = calloc(n, sizeof(double));
-    cw->beta_rad = calloc(n, sizeof(double));
-    cw->raw_rad = calloc(n, sizeof(double));
-    cw->weight = calloc(n, sizeof(double));
-    cw->table = calloc(n, sizeof(mat3));
+    int ok = 1;
+    double **arrays[] = {&cw->alpha_rad, &cw->beta_rad, &cw->raw_rad, &cw->weight, &cw->sw,
+                         &cw->scratch[0], &cw->scratch[1]};
+    for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
+        ok &= (*arrays[k] = vm_alloc(n)) != NULL;
+    cw->table.n = n;
+    for (int k = 0; k < 9; k++)
+        ok &= (cw->table.m[k] = vm_alloc(n)) != NULL;
     cw->fw = fit_workspace_alloc(n + ESS_CALIB_PRIOR_ROWS, ESS_NP);
-    if (!cw->alpha_rad || !cw->beta_rad || !cw->raw_rad || !cw->weight || !cw->table || !cw->fw) {
+    if (!ok || !cw->fw) {
         ess_calib_free(cw);
         return NULL;
     }
@@ -81,7 +111,11 @@ void ess_calib_free(ess_calib_workspace *cw)
     free(cw->beta_rad);
     free(cw->raw_rad);
     free(cw->weight);
-    free(cw->table);
+    free(cw->sw);
+    free(cw->scratch[0]);
+    free(cw->scratch[1]);
+    for (int k = 0; k < 9; k++)
+        free(cw->table.m[k]);
     fit_workspace_free(cw->fw);
     free(cw);
 }
@@ -98,34 +132,22 @@ static double prior_weight(const ess_calib_workspace *cw, int j)
     return cw->alias.weak[j] ? sqrt((double)cw->n) : 0.0;
 }
 
-/* Residuals and Jacobian together (fit_fdf). */
-static int residual_fdf(const double *x, void *params, double *f, double *J)
+/* Residuals and Jacobian together (fit_fdf): the data rows in one
+ * vectorised pass, then the prior rows. */
+static int residual_fdf(const double *x, void *params, double *f, double *J, size_t ld)
 {
     ess_calib_workspace *cw = params;
     load_params(cw, x);
-    for (size_t i = 0; i < cw->n; i++) {
-        double *Ji = J + i * ESS_NP;
-        if (cw->weight[i] > 0) {
-            double sw = sqrt(cw->weight[i]), g[ESS_NP];
-            double r = ess_model_predict_m(&cw->model, (const double(*)[3])cw->table[i], g);
-            f[i] = sw * (r - cw->raw_rad[i]);
-            for (int j = 0; j < ESS_NP; j++)
-                Ji[j] = sw * g[j];
-        } else {
-            f[i] = 0.0;
-            for (int j = 0; j < ESS_NP; j++)
-                Ji[j] = 0.0;
-        }
-    }
+    ess_model_batch(&cw->model, &cw->table, cw->raw_rad, cw->sw, f, J, ld);
     for (int j = 0; j < ESS_CALIB_PRIOR_ROWS; j++) {
         double w = prior_weight(cw, j);
-        double *Jr = J + (cw->n + (size_t)j) * ESS_NP;
-        f[cw->n + (size_t)j] = w * (cw->alias.evec[j][0] * cw->model.p[ESS_P_KS] +
-                                    cw->alias.evec[j][1] * cw->model.p[ESS_P_KC]);
+        size_t row = cw->n + (size_t)j;
+        f[row] = w * (cw->alias.evec[j][0] * cw->model.p[ESS_P_KS] +
+                      cw->alias.evec[j][1] * cw->model.p[ESS_P_KC]);
         for (int k = 0; k < ESS_NP; k++)
-            Jr[k] = 0.0;
-        Jr[ESS_P_KS] = w * cw->alias.evec[j][0];
-        Jr[ESS_P_KC] = w * cw->alias.evec[j][1];
+            J[(size_t)k * ld + row] = 0.0;
+        J[(size_t)ESS_P_KS * ld + row] = w * cw->alias.evec[j][0];
+        J[(size_t)ESS_P_KC * ld + row] = w * cw->alias.evec[j][1];
     }
     return GSL_SUCCESS;
 }
@@ -134,8 +156,10 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
                   double alias_threshold, int max_iter, ess_model *out, fit_result *res)
 {
     ess_model_init(&cw->model, theta0_rad, roll_rad);
-    for (size_t i = 0; i < cw->n; i++)
-        ess_turntable_matrix(cw->alpha_rad[i], cw->beta_rad[i], cw->table[i]);
+    cw->table.n = cw->n;
+    ess_table_fill(&cw->table, cw->alpha_rad, cw->beta_rad);
+    for (size_t i = 0; i < vm_pad(cw->n); i++)
+        cw->sw[i] = i < cw->n && cw->weight[i] > 0 ? sqrt(cw->weight[i]) : 0.0;
     ess_alias_check(cw->alpha_rad, cw->n, cw->model.omega, alias_threshold, &cw->alias);
     double x[ESS_NP];
     for (int j = 0; j < ESS_NP; j++)
@@ -150,11 +174,13 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
 
 double ess_calib_residual_rms(const ess_calib_workspace *cw, const ess_model *m)
 {
+    double *pred = cw->scratch[0];
+    ess_model_predict_batch(m, &cw->table, pred);
     double sum = 0;
     size_t k = 0;
     for (size_t i = 0; i < cw->n; i++)
         if (cw->weight[i] > 0) {
-            double r = ess_model_predict(m, cw->alpha_rad[i], cw->beta_rad[i], NULL) - cw->raw_rad[i];
+            double r = pred[i] - cw->raw_rad[i];
             sum += r * r;
             k++;
         }

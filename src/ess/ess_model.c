@@ -1,6 +1,7 @@
 /* ess_model.c - forward ESS calibration model, its gradient and inverse. */
 #include "ess_model.h"
 #include "status.h"
+#include "vmath.h"
 
 #include <math.h>
 #include <string.h>
@@ -41,44 +42,40 @@ void ess_model_prepare(ess_model *m)
     m->dv[2] = -sin(sy) * cos(sx);
 }
 
-/* Partials of the structural + fine-code part at one point. */
+/* Inlined into the scalar and the vectorised forms alike: everything is
+ * passed and returned by value (a loop under "omp simd" turns local arrays
+ * into per-lane memory, which stops GCC from vectorising it). */
+#define POINT_INLINE static inline __attribute__((always_inline))
+
+/* The structural + fine-code part at one point and its partials. */
 typedef struct {
+    double raw;
     double G;      /* d raw / d alpha_d */
     double dad_dT; /* d alpha_d / d T */
     double q, N, D;
     double sin_wa, cos_wa;
-} structural_partials;
+} structural_eval;
 
-/* alpha_d = atan2(a T + b, c T + 1) and the raw output; partials if sp. */
-static double structural(const ess_model *m, double T, structural_partials *sp)
+/* alpha_d = atan2(a T + b, c T + 1), the raw output and its partials. */
+POINT_INLINE structural_eval structural(const ess_model *m, double T)
 {
     const double *p = m->p;
-    double N = p[ESS_P_A] * T + p[ESS_P_B];
-    double D = p[ESS_P_C] * T + 1.0;
-    double ad = atan2(N, D);
-    double sw = sin(m->omega * ad), cw = cos(m->omega * ad);
-    double raw = ad - p[ESS_P_KS] * sw - p[ESS_P_KC] * cw;
-    if (sp) {
-        sp->q = N * N + D * D;
-        sp->G = 1.0 - m->omega * (p[ESS_P_KS] * cw - p[ESS_P_KC] * sw);
-        sp->dad_dT = (p[ESS_P_A] * D - N * p[ESS_P_C]) / sp->q;
-        sp->N = N;
-        sp->D = D;
-        sp->sin_wa = sw;
-        sp->cos_wa = cw;
-    }
-    return raw;
+    structural_eval e;
+    e.N = p[ESS_P_A] * T + p[ESS_P_B];
+    e.D = p[ESS_P_C] * T + 1.0;
+    double ad = atan2(e.N, e.D);
+    e.sin_wa = sin(m->omega * ad);
+    e.cos_wa = cos(m->omega * ad);
+    e.raw = ad - p[ESS_P_KS] * e.sin_wa - p[ESS_P_KC] * e.cos_wa;
+    e.q = e.N * e.N + e.D * e.D;
+    e.G = 1.0 - m->omega * (p[ESS_P_KS] * e.cos_wa - p[ESS_P_KC] * e.sin_wa);
+    e.dad_dT = (p[ESS_P_A] * e.D - e.N * p[ESS_P_C]) / e.q;
+    return e;
 }
 
 double ess_model_structural(const ess_model *m, double T)
 {
-    return structural(m, T, NULL);
-}
-
-/* Row i of matrix a times v. */
-static inline double row_dot(const mat3 a, int i, const double v[3])
-{
-    return a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2];
+    return structural(m, T).raw;
 }
 
 void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M)
@@ -97,33 +94,130 @@ double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
     return ess_model_predict_m(m, (const double(*)[3])M, grad);
 }
 
-double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
+/* A turntable matrix, element by element. */
+typedef struct {
+    double m00, m01, m02, m10, m11, m12, m20, m21, m22;
+} table_mat;
+
+/* The model at one point and d raw / d p, in enum ess_param order. */
+typedef struct {
+    double raw;
+    double d_a, d_b, d_c, d_ks, d_kc, d_inst_y, d_inst_z, d_sun_y;
+} point_eval;
+
+/* Row r of a times (x, y, z). */
+POINT_INLINE double row3(const mat3 a, int r, double x, double y, double z)
+{
+    return a[r][0] * x + a[r][1] * y + a[r][2] * z;
+}
+
+POINT_INLINE point_eval predict_point(const ess_model *m, table_mat M)
 {
     /* Only s_y and s_z are needed: T = s_y / s_z. */
-    double w[3];
-    mat3_vec(M, m->v, w);
-    double sy = row_dot(m->R, 1, w), sz = row_dot(m->R, 2, w);
+    const double *v = m->v, *dv = m->dv;
+    double w0 = M.m00 * v[0] + M.m01 * v[1] + M.m02 * v[2];
+    double w1 = M.m10 * v[0] + M.m11 * v[1] + M.m12 * v[2];
+    double w2 = M.m20 * v[0] + M.m21 * v[1] + M.m22 * v[2];
+    double sy = row3(m->R, 1, w0, w1, w2), sz = row3(m->R, 2, w0, w1, w2);
     double T = sy / sz;
-    if (!grad)
-        return structural(m, T, NULL);
-
-    structural_partials sp;
-    double raw = structural(m, T, &sp);
-    grad[ESS_P_A] = sp.G * (sp.D / sp.q) * T;
-    grad[ESS_P_B] = sp.G * (sp.D / sp.q);
-    grad[ESS_P_C] = sp.G * (-sp.N / sp.q) * T;
-    grad[ESS_P_KS] = -sp.sin_wa;
-    grad[ESS_P_KC] = -sp.cos_wa;
+    structural_eval sp = structural(m, T);
+    point_eval e;
+    e.raw = sp.raw;
+    e.d_a = sp.G * (sp.D / sp.q) * T;
+    e.d_b = sp.G * (sp.D / sp.q);
+    e.d_c = sp.G * (-sp.N / sp.q) * T;
+    e.d_ks = -sp.sin_wa;
+    e.d_kc = -sp.cos_wa;
 
     /* d raw / d s through T = s_y / s_z */
     double k = sp.G * sp.dad_dT;
     double g1 = k / sz, g2 = -k * sy / (sz * sz);
-    grad[ESS_P_INST_Y] = g1 * row_dot(m->dR_y, 1, w) + g2 * row_dot(m->dR_y, 2, w);
-    grad[ESS_P_INST_Z] = g1 * row_dot(m->dR_z, 1, w) + g2 * row_dot(m->dR_z, 2, w);
-    double mdv[3];
-    mat3_vec(M, m->dv, mdv);
-    grad[ESS_P_SUN_Y] = g1 * row_dot(m->R, 1, mdv) + g2 * row_dot(m->R, 2, mdv);
-    return raw;
+    e.d_inst_y = g1 * row3(m->dR_y, 1, w0, w1, w2) + g2 * row3(m->dR_y, 2, w0, w1, w2);
+    e.d_inst_z = g1 * row3(m->dR_z, 1, w0, w1, w2) + g2 * row3(m->dR_z, 2, w0, w1, w2);
+    double d0 = M.m00 * dv[0] + M.m01 * dv[1] + M.m02 * dv[2];
+    double d1 = M.m10 * dv[0] + M.m11 * dv[1] + M.m12 * dv[2];
+    double d2 = M.m20 * dv[0] + M.m21 * dv[1] + M.m22 * dv[2];
+    e.d_sun_y = g1 * row3(m->R, 1, d0, d1, d2) + g2 * row3(m->R, 2, d0, d1, d2);
+    return e;
+}
+
+double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
+{
+    table_mat t = {M[0][0], M[0][1], M[0][2], M[1][0], M[1][1], M[1][2], M[2][0], M[2][1], M[2][2]};
+    point_eval e = predict_point(m, t);
+    if (grad) {
+        double g[ESS_NP] = {e.d_a, e.d_b, e.d_c, e.d_ks, e.d_kc, e.d_inst_y, e.d_inst_z, e.d_sun_y};
+        for (int j = 0; j < ESS_NP; j++)
+            grad[j] = g[j];
+    }
+    return e.raw;
+}
+
+VM_KERNEL void ess_table_fill(ess_table *t, const double *alpha_rad, const double *beta_rad)
+{
+    size_t np = vm_pad(t->n);
+    double *restrict m0 = t->m[0], *restrict m1 = t->m[1], *restrict m2 = t->m[2];
+    double *restrict m3 = t->m[3], *restrict m4 = t->m[4], *restrict m5 = t->m[5];
+    double *restrict m6 = t->m[6], *restrict m7 = t->m[7], *restrict m8 = t->m[8];
+    VM_SIMD for (size_t i = 0; i < np; i++) {
+        /* rot_x(alpha) rot_y(beta), as ess_turntable_matrix */
+        double ca = cos(alpha_rad[i]), sa = sin(alpha_rad[i]);
+        double cb = cos(beta_rad[i]), sb = sin(beta_rad[i]);
+        m0[i] = cb;
+        m1[i] = 0.0;
+        m2[i] = sb;
+        m3[i] = -(sa * sb);
+        m4[i] = ca;
+        m5[i] = sa * cb;
+        m6[i] = -(ca * sb);
+        m7[i] = -sa;
+        m8[i] = ca * cb;
+    }
+}
+
+/* The nine matrix arrays of t as restrict pointers, for the loops below. */
+#define TABLE_POINTERS(t)                                                                     \
+    const double *restrict m0 = (t)->m[0], *restrict m1 = (t)->m[1], *restrict m2 = (t)->m[2], \
+                           *restrict m3 = (t)->m[3], *restrict m4 = (t)->m[4],                 \
+                           *restrict m5 = (t)->m[5], *restrict m6 = (t)->m[6],                 \
+                           *restrict m7 = (t)->m[7], *restrict m8 = (t)->m[8]
+#define TABLE_POINT(i) {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]}
+
+VM_KERNEL void ess_model_batch(const ess_model *m, const ess_table *t, const double *raw_rad,
+                               const double *sw, double *f, double *J, size_t ld)
+{
+    size_t np = vm_pad(t->n);
+    TABLE_POINTERS(t);
+    double *restrict j0 = J, *restrict j1 = J + ld, *restrict j2 = J + 2 * ld;
+    double *restrict j3 = J + 3 * ld, *restrict j4 = J + 4 * ld, *restrict j5 = J + 5 * ld;
+    double *restrict j6 = J + 6 * ld, *restrict j7 = J + 7 * ld, *restrict fo = f;
+    VM_SIMD for (size_t i = 0; i < np; i++) {
+        table_mat Mi = TABLE_POINT(i);
+        point_eval e = predict_point(m, Mi);
+        /* a dropped point (sw = 0) gives 0, whatever the model says there */
+        double w = sw[i];
+        int use = w > 0.0;
+        fo[i] = vm_keep(use, w * (e.raw - raw_rad[i]));
+        j0[i] = vm_keep(use, w * e.d_a);
+        j1[i] = vm_keep(use, w * e.d_b);
+        j2[i] = vm_keep(use, w * e.d_c);
+        j3[i] = vm_keep(use, w * e.d_ks);
+        j4[i] = vm_keep(use, w * e.d_kc);
+        j5[i] = vm_keep(use, w * e.d_inst_y);
+        j6[i] = vm_keep(use, w * e.d_inst_z);
+        j7[i] = vm_keep(use, w * e.d_sun_y);
+    }
+}
+
+VM_KERNEL void ess_model_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad)
+{
+    size_t np = vm_pad(t->n);
+    TABLE_POINTERS(t);
+    double *restrict out = raw_rad;
+    VM_SIMD for (size_t i = 0; i < np; i++) {
+        table_mat Mi = TABLE_POINT(i);
+        out[i] = predict_point(m, Mi).raw;
+    }
 }
 
 int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad)
