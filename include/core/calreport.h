@@ -63,7 +63,7 @@ typedef struct {
     double value[CALREPORT_MAX_PAR];
     double se[CALREPORT_MAX_PAR];     /* standard error (scaled covariance) */
     double corr[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR];
-    double cond_jacobian;             /* 1 / GSL's rcond of J at the solution */
+    double cond_jacobian;             /* 1 / rcond of J at the solution (fit.h) */
     double cond_correlation;          /* largest / smallest eigenvalue of corr */
 
     int nw;

@@ -1,6 +1,6 @@
 /* dss_calib.h - calibrating a DSS from rotary-table data: the physical model
  * (dss_model.h) or the 2-D polynomial (dss_poly.h), both fitted with the
- * shared fit.h engine (gsl_multifit_nlinear, analytic Jacobian).  One code
+ * shared fit.h engine (Levenberg-Marquardt, analytic Jacobian).  One code
  * path for the Monte Carlo and for `sunmc calibrate`.
  *
  * Data: n readings of (recorded table angles b1, b2 in rad; measured spot
