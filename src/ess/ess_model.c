@@ -45,7 +45,7 @@ void ess_model_prepare(ess_model *m)
 /* Inlined into the scalar and the vectorised forms alike: everything is
  * passed and returned by value (a loop under "omp simd" turns local arrays
  * into per-lane memory, which stops GCC from vectorising it). */
-#define POINT_INLINE static inline __attribute__((always_inline))
+#define POINT_INLINE VM_INLINE
 
 /* The structural + fine-code part at one point and its partials. */
 typedef struct {
@@ -73,7 +73,7 @@ POINT_INLINE structural_eval structural(const ess_model *m, double T)
     return e;
 }
 
-double ess_model_structural(const ess_model *m, double T)
+VM_NOSAN double ess_model_structural(const ess_model *m, double T)
 {
     return structural(m, T).raw;
 }
@@ -141,7 +141,7 @@ POINT_INLINE point_eval predict_point(const ess_model *m, table_mat M)
     return e;
 }
 
-double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
+VM_NOSAN double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
 {
     table_mat t = {M[0][0], M[0][1], M[0][2], M[1][0], M[1][1], M[1][2], M[2][0], M[2][1], M[2][2]};
     point_eval e = predict_point(m, t);
