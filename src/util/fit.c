@@ -70,20 +70,14 @@ void fit_workspace_free(fit_workspace *fw)
                         fw->x_trial, fw->dx, fw->g, fw->diag, fw->work};
     for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
         free(arrays[k]);
-    if (fw->JTJ)
-        gsl_matrix_free(fw->JTJ);
-    if (fw->fac)
-        gsl_matrix_free(fw->fac);
-    if (fw->perm)
-        gsl_permutation_free(fw->perm);
-    if (fw->rhs)
-        gsl_vector_free(fw->rhs);
-    if (fw->step)
-        gsl_vector_free(fw->step);
-    if (fw->work3p)
-        gsl_vector_free(fw->work3p);
-    if (fw->covar)
-        gsl_matrix_free(fw->covar);
+    /* GSL's free functions accept NULL */
+    gsl_matrix_free(fw->JTJ);
+    gsl_matrix_free(fw->fac);
+    gsl_matrix_free(fw->covar);
+    gsl_permutation_free(fw->perm);
+    gsl_vector_free(fw->rhs);
+    gsl_vector_free(fw->step);
+    gsl_vector_free(fw->work3p);
     free(fw);
 }
 
