@@ -30,11 +30,14 @@ ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
 # Kernel files: the loops over a unit's readings and fit points, vectorised
 # with glibc's vector math (include/util/vmath.h).  Only these get the flags
 # it needs: -fno-math-errno (libm calls may skip errno, so GCC may call the
-# vector versions) and no sin/cos builtins (GCC would fuse a sin and a cos of
-# one angle into a scalar sincos call).  IEEE semantics (isfinite, NaN
-# compares) are untouched here and everywhere else.
-KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_calib.c
-KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-builtin-sin -fno-builtin-cos
+# vector versions), -fno-trapping-math (no floating-point traps, so floor
+# and trunc vectorise and selects may compute both sides) and no sin/cos
+# builtins (GCC would fuse a sin and a cos of one angle into a scalar
+# sincos call).  None changes a result: IEEE rounding, NaN compares and
+# isfinite work here as everywhere else.
+KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_calib.c \
+              src/ess/ess_sensor.c src/ess/ess_readings.c
+KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-trapping-math -fno-builtin-sin -fno-builtin-cos
 
 # Layers, one way: cli -> families (ess, dss) -> core -> util.  Each layer
 # compiles against its own headers and those below it only, so an include

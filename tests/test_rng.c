@@ -65,6 +65,20 @@ static void test_normal_fill_equals_single_draws(void **state)
         double u1 = rng_uniform(&u), u2 = rng_uniform(&u);
         assert_near(one[i], sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2), 1e-14);
     }
+    /* a stream left mid-block by a uniform: the fill takes the same words,
+     * and leaves the stream where single draws would */
+    rng_stream d, e;
+    rng_stream_init(&d, 9, 5, 0x201);
+    rng_stream_init(&e, 9, 5, 0x201);
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    rng_normal_fill(&d, all, 37);
+    for (int i = 0; i < 37; i++) {
+        double u1 = rng_uniform(&e), u2 = rng_uniform(&e);
+        assert_near(all[i], sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2), 1e-14);
+    }
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
 }
 
 /* Moments of 200000 draws (fixed seed: deterministic). */

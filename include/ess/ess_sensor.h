@@ -71,6 +71,8 @@ typedef struct {
     double theta0_rad;
     double coarse_res_rad;
     int n_coarse;
+    double coarse_cells;      /* 2^n_coarse */
+    double coarse_origin_rad; /* lower edge of cell 0: -cells/2 x resolution */
     double coarse_x_mm[ESS_MAX_COARSE_ROWS];
     double fine_x_mm[ESS_FINE_ROWS];
     double gain[ESS_FINE_ROWS];       /* 1 + gain error */
@@ -119,6 +121,19 @@ double ess_coarse_read(const ess_sensor *s, const double psi_rad[]);
 /* Combine coarse estimate and fine phase into the output angle (radians):
  * the fine period nearest the coarse estimate. */
 double ess_combine(double coarse_rad, double fine_phase, double theta0_rad);
+
+/* Readings per vectorised chunk (ess_sensor_output_chunk). */
+#define ESS_CHUNK 64
+
+/* The raw outputs of k <= ESS_CHUNK readings at once: sun vectors (sx, sy,
+ * sz)[i] and row noises noise[m][i] (arrays of vm_pad(k) values, aligned to
+ * VM_ALIGN, pads filled with any valid values: vmath.h) into out_rad[i],
+ * status[i] = SUNMC_OK or SUNMC_EDOM (sun behind or grazing; out_rad[i] is
+ * then meaningless).  SUNMC_EINPUT if k > ESS_CHUNK.  A reading gives the
+ * same bits in any lane of any chunk. */
+int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx, const double *sy,
+                            const double *sz, const double *const noise[ESS_FINE_ROWS],
+                            double *out_rad, int *status);
 
 /* Raw output angle (radians) for sun vector sv (unit, toward the sun, s_z >
  * 0).  row_noise (NULL = noiseless) is the additive noise of the 4 fine-row

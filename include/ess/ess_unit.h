@@ -23,9 +23,40 @@ void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *
 
 /* Turntable at (alpha, beta) rad: the sun vector in the sensor frame, the true
  * incidence (rad) and the raw output (rad) with row noise (NULL: none).
- * SUNMC_EDOM when the sun is not seen. */
+ * SUNMC_EDOM when the sun is not seen.  (ess_readings.c, as the batches.) */
 int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
                   const double row_noise[ESS_FINE_ROWS], double *raw_rad, double *truth_rad);
+
+/* n readings at table angles alpha, beta (rad) with row noise
+ * row_noise[m][i] (NULL: none): raw output (0 when unseen), true incidence
+ * and status (SUNMC_OK or SUNMC_EDOM), vectorised; each reading gives the
+ * bits ess_unit_read gives. */
+void ess_unit_read_batch(const ess_unit *u, size_t n, const double *alpha_rad,
+                         const double *beta_rad, const double *const row_noise[ESS_FINE_ROWS],
+                         double *raw_rad, double *truth_rad, int *status);
+
+/* One campaign point: the true table angles (encoder error added), the
+ * true incidence, the raw output averaged over campaign.repeats (0 when
+ * not seen) and seen = 1 when the sun was seen at every repeat. */
+typedef struct {
+    double a_true_rad, b_true_rad, incidence_rad, raw_rad;
+    double sum_rad; /* work: sum of the seen repeats */
+    int seen;
+} ess_campaign_point;
+
+/* The campaign readings of n points at recorded table angles a, b (rad),
+ * drawing from r in the Monte Carlo's order (per point: the two encoder
+ * errors, then the four row noises of each repeat), vectorised
+ * (ess_readings.c).  Splitting the points over calls gives the same bits. */
+void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
+                           const double *a_rad, const double *b_rad, ess_campaign_point *out);
+
+/* n validation readings at table angles a, b (rad) with fresh row noise
+ * from r: raw output (0 when unseen), true incidence and status (enum
+ * ess_reading_status), vectorised (ess_readings.c). */
+void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
+                             const double *a_rad, const double *b_rad, double *raw_rad,
+                             double *truth_rad, int *status);
 
 /* Number of campaign points of config c (alphas x betas). */
 size_t ess_campaign_size(const sunmc_config *c);

@@ -3,12 +3,14 @@
  * The per-unit work is dominated by sin, cos, atan, atan2, log (a unit of
  * the ESS needs about 250,000 of them).  Kernel files (the Makefile's
  * KERNEL_SRC, compiled with -DSUNMC_VMATH -fno-math-errno
- * -fno-builtin-sin -fno-builtin-cos) write their loops over arrays as
+ * -fno-trapping-math -fno-builtin-sin -fno-builtin-cos) write their loops
+ * over arrays as
  *     VM_SIMD for (size_t i = 0; i < n; i++) ...
  * and GCC calls glibc's vector math library (libmvec: 2 lanes with SSE4,
  * 4 with AVX2) for these functions instead of libm's scalar ones.  Nothing
  * here relaxes IEEE semantics: NaN compares and isfinite() work as
- * everywhere else (-fno-math-errno only stops errno being set).
+ * everywhere else (-fno-math-errno only stops errno being set,
+ * -fno-trapping-math only lets GCC assume no floating-point traps).
  *
  * Instruction set: the build's baseline is plain x86-64 (every 64-bit x86);
  * a function marked VM_KERNEL is compiled twice, for that baseline and for
@@ -81,6 +83,18 @@ static inline __attribute__((always_inline)) double vm_keep(int keep, double x)
     } v = {.d = x};
     v.u &= 0ULL - (unsigned long long)(keep != 0);
     return v.d;
+}
+
+/* cond ? a : b, both computed (the same reason as vm_keep). */
+static inline __attribute__((always_inline)) double vm_select(int cond, double a, double b)
+{
+    union {
+        double d;
+        unsigned long long u;
+    } x = {.d = a}, y = {.d = b};
+    unsigned long long m = 0ULL - (unsigned long long)(cond != 0);
+    x.u = (x.u & m) | (y.u & ~m);
+    return x.d;
 }
 
 /* n rounded up to a multiple of VM_PAD. */

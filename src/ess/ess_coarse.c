@@ -6,34 +6,19 @@
  * reads it at its own position, so near a boundary rows may disagree: the
  * Gray code then decodes to one of the two neighbouring cells, never further.
  */
-#include "ess_sensor.h"
+#include "ess_lane.h"
 
-#include <math.h>
-
-double ess_coarse_read(const ess_sensor *s, const double psi_rad[])
+/* The arithmetic is inline in ess_lane.h, shared with the vectorised
+ * batch (ess_sensor_output_chunk). */
+VM_NOSAN double ess_coarse_read(const ess_sensor *s, const double psi_rad[])
 {
-    int n = s->n_coarse;
-    long ncell = 1L << n;
-    double origin = -(double)(ncell / 2) * s->coarse_res_rad;
-    unsigned long gray = 0;
-    for (int j = 0; j < n; j++) {
-        long k = (long)floor((psi_rad[j] - origin) / s->coarse_res_rad);
-        if (k < 0)
-            k = 0;
-        if (k >= ncell)
-            k = ncell - 1;
-        unsigned long g = (unsigned long)k ^ ((unsigned long)k >> 1);
-        int bit = n - 1 - j;
-        gray |= g & (1UL << bit);
-    }
-    unsigned long k = gray;
-    for (unsigned long shift = gray >> 1; shift; shift >>= 1)
-        k ^= shift;
-    return origin + ((double)k + 0.5) * s->coarse_res_rad;
+    ess_lane_coarse acc = {0.0, 0.0};
+    for (int j = 0; j < s->n_coarse; j++)
+        acc = ess_lane_coarse_row(s, ess_lane_row_bit(s, j), psi_rad[j], acc);
+    return ess_lane_coarse_angle(s, acc);
 }
 
-double ess_combine(double coarse_rad, double fine_phase, double theta0_rad)
+VM_NOSAN double ess_combine(double coarse_rad, double fine_phase, double theta0_rad)
 {
-    double fine = fine_phase / (2.0 * M_PI) * theta0_rad;
-    return fine + theta0_rad * round((coarse_rad - fine) / theta0_rad);
+    return ess_lane_combine(coarse_rad, fine_phase, theta0_rad);
 }

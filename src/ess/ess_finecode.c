@@ -18,19 +18,14 @@
  * the sun's disc (diameter S, a semicircle profile) by 2 J1(z)/z with
  * z = pi n S/theta0.
  */
-#include "ess_sensor.h"
+#include "ess_lane.h"
 
 #include <gsl/gsl_sf_bessel.h>
 #include <math.h>
 
-static const int harmonic_order[ESS_HARMONICS] = {1, 3, 5};
-
-static double sinc_pi(double z) /* sin(pi z) / (pi z) */
-{
-    if (fabs(z) < 1e-8)
-        return 1.0;
-    return sin(M_PI * z) / (M_PI * z);
-}
+/* The per-reading formulas (harmonics at a dial angle, a row's current, the
+ * demodulation) are inline in ess_lane.h, shared with the vectorised batch;
+ * here are the unit's constants and the scalar entry points. */
 
 static double disc_transfer(double z) /* 2 J1(z)/z, the projected uniform disc */
 {
@@ -39,60 +34,47 @@ static double disc_transfer(double z) /* 2 J1(z)/z, the projected uniform disc *
     return 2.0 * gsl_sf_bessel_J1(z) / z;
 }
 
-/* Unnormalised amplitude of harmonic index i at dial angle psi: the dial
- * and sun factors do not depend on psi (precomputed), the slit's does. */
-static double harmonic_raw(const ess_sensor *s, int i, double psi_rad)
-{
-    double cos_psi = cos(psi_rad);
-    double slit_ang = s->slit_width_mm * cos_psi * cos_psi / s->H_mm;
-    return s->dial_sun[i] * sinc_pi(harmonic_order[i] * slit_ang / s->theta0_rad);
-}
-
 void ess_finecode_init(ess_sensor *s)
 {
+    static const int harmonic_order[ESS_HARMONICS] = {1, 3, 5};
     for (int i = 0; i < ESS_HARMONICS; i++) {
         int n = harmonic_order[i];
         s->dial_sun[i] = sin(n * M_PI * s->duty) / n *
                          disc_transfer(M_PI * n * s->sun_diameter_rad / s->theta0_rad);
     }
-    s->norm1 = harmonic_raw(s, 0, 0.0);
+    /* the fundamental's transfer at normal incidence: the dial and sun
+     * factor times the slit's sinc there */
+    s->norm1 = 1.0;
+    int given = s->harmonics_given;
+    s->harmonics_given = 0;
+    s->norm1 = ess_lane_harmonics(s, 0.0).c1;
+    s->harmonics_given = given;
     /* Square wave of duty D: DC = D, a1 = (2/pi) sin(pi D) x transfer. */
     s->dc_ratio = M_PI * s->duty / (2.0 * s->norm1);
 }
 
-void ess_finecode_harmonics(const ess_sensor *s, double psi_rad, double c[ESS_HARMONICS])
+VM_NOSAN void ess_finecode_harmonics(const ess_sensor *s, double psi_rad,
+                                     double c[ESS_HARMONICS])
 {
-    for (int i = 0; i < ESS_HARMONICS; i++) {
-        if (s->harmonics_given)
-            c[i] = s->given_ratio[i];
-        else
-            c[i] = harmonic_raw(s, i, psi_rad) / s->norm1;
-    }
+    ess_lane_harm h = ess_lane_harmonics(s, psi_rad);
+    c[0] = h.c1;
+    c[1] = h.c3;
+    c[2] = h.c5;
 }
 
-void ess_finecode_currents(const ess_sensor *s, const double psi_rad[ESS_FINE_ROWS], double illum,
-                           const double noise[ESS_FINE_ROWS], double current[ESS_FINE_ROWS])
+VM_NOSAN void ess_finecode_currents(const ess_sensor *s, const double psi_rad[ESS_FINE_ROWS],
+                                    double illum, const double noise[ESS_FINE_ROWS],
+                                    double current[ESS_FINE_ROWS])
 {
     /* The slit's share of the harmonics changes with cos^2(psi): over the
      * few micrometres between rows that is below 1e-9, so one evaluation at
      * the first row serves the four. */
-    double c[ESS_HARMONICS];
-    ess_finecode_harmonics(s, psi_rad[0], c);
-    for (int m = 0; m < ESS_FINE_ROWS; m++) {
-        double x = 2.0 * M_PI * psi_rad[m] / s->theta0_rad;
-        double sum = 0.0;
-        for (int i = 0; i < ESS_HARMONICS; i++) {
-            int n = harmonic_order[i];
-            double phase = (n == 3) ? s->harmonic_phase_rad : 0.0;
-            if (c[i] != 0.0)
-                sum += c[i] * cos(n * (x - m * M_PI / 2.0) + phase);
-        }
-        current[m] = illum * s->gain[m] * (s->dc_ratio - sum) + (noise ? noise[m] : 0.0);
-    }
+    ess_lane_harm h = ess_lane_harmonics(s, psi_rad[0]);
+    for (int m = 0; m < ESS_FINE_ROWS; m++)
+        current[m] = ess_lane_current(s, m, h, psi_rad[m], illum, noise ? noise[m] : 0.0);
 }
 
-double ess_finecode_demodulate(const double current[ESS_FINE_ROWS])
+VM_NOSAN double ess_finecode_demodulate(const double current[ESS_FINE_ROWS])
 {
-    double ph = atan2(current[3] - current[1], current[2] - current[0]);
-    return ph < 0 ? ph + 2.0 * M_PI : ph;
+    return ess_lane_demodulate(current[0], current[1], current[2], current[3]);
 }

@@ -220,32 +220,74 @@ VM_KERNEL void ess_model_predict_batch(const ess_model *m, const ess_table *t, d
     }
 }
 
+/* Newton on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane
+ * iterates until its own step is below COMP_TOL_RAD, exactly as one
+ * reading alone would; then eq. 13.  status[i]: SUNMC_OK or SUNMC_EDOM. */
+VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
+                                       double *alpha, int *status)
+{
+    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
+    const double *p = m->p;
+    double ks = p[ESS_P_KS], kc = p[ESS_P_KC], w = m->omega;
+    size_t kp = vm_pad(k);
+    for (size_t i = 0; i < kp; i++) {
+        x[i] = r[i] = raw[i < k ? i : 0];
+        active[i] = 1;
+    }
+    long left = (long)kp;
+    for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
+        left = 0;
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double wa = w * x[i];
+            double f = x[i] - ks * sin(wa) - kc * cos(wa) - r[i];
+            double fp = 1.0 - w * (ks * cos(wa) - kc * sin(wa));
+            double dx = f / fp;
+            x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
+            active[i] = active[i] & (long)!(fabs(dx) < COMP_TOL_RAD);
+        }
+        for (size_t i = 0; i < kp; i++)
+            left += active[i];
+    }
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double td = tan(x[i]);
+        double den = p[ESS_P_C] * td - p[ESS_P_A];
+        x[i] = atan((p[ESS_P_B] - td) / den);
+        active[i] = active[i] | (long)(den == 0.0);
+    }
+    for (size_t i = 0; i < k; i++) {
+        status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
+        alpha[i] = x[i];
+    }
+}
+
+int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
+                               double *alpha_rad, int *status)
+{
+    if (m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
+        for (size_t i = 0; i < n; i++)
+            status[i] = SUNMC_EDOM;
+        return SUNMC_EDOM;
+    }
+    int st = SUNMC_OK;
+    for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
+        size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
+        compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
+        for (size_t i = 0; i < k; i++)
+            if (status[i0 + i] != SUNMC_OK)
+                st = SUNMC_EDOM;
+    }
+    return st;
+}
+
 int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad)
 {
-    const double *p = m->p;
-    double ks = p[ESS_P_KS], kc = p[ESS_P_KC];
-    if (m->omega * hypot(ks, kc) >= 1.0)
+    /* one lane of the batch, so a single reading is the same bits */
+    double a;
+    int status;
+    if (ess_model_compensate_batch(m, 1, &raw_rad, &a, &status) != SUNMC_OK)
         return SUNMC_EDOM;
-    double x = raw_rad;
-    int converged = 0;
-    for (int i = 0; i < COMP_MAX_ITER; i++) {
-        double wa = m->omega * x;
-        double f = x - ks * sin(wa) - kc * cos(wa) - raw_rad;
-        double fp = 1.0 - m->omega * (ks * cos(wa) - kc * sin(wa));
-        double dx = f / fp;
-        x -= dx;
-        if (fabs(dx) < COMP_TOL_RAD) {
-            converged = 1;
-            break;
-        }
-    }
-    if (!converged)
-        return SUNMC_EDOM;
-    double td = tan(x);
-    double den = p[ESS_P_C] * td - p[ESS_P_A];
-    if (den == 0.0)
-        return SUNMC_EDOM;
-    *alpha_rad = atan((p[ESS_P_B] - td) / den);
+    *alpha_rad = a;
     return SUNMC_OK;
 }
 

@@ -1,6 +1,7 @@
 /* ess_sensor.c - one ESS unit: its sampled deviations, its construction and
  * its raw output for a sun direction (the pieces are in ess_slit.c,
  * ess_finecode.c and ess_coarse.c). */
+#include "ess_lane.h"
 #include "ess_sensor.h"
 #include "status.h"
 #include "units.h"
@@ -53,6 +54,8 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->theta0_rad = d->theta0_deg * RAD_PER_DEG;
     s->coarse_res_rad = d->coarse_resolution_deg * RAD_PER_DEG;
     s->n_coarse = d->coarse_rows_x_mm.n;
+    s->coarse_cells = (double)(1ULL << s->n_coarse);
+    s->coarse_origin_rad = -0.5 * s->coarse_cells * s->coarse_res_rad;
     for (int j = 0; j < s->n_coarse; j++)
         s->coarse_x_mm[j] = d->coarse_rows_x_mm.v[j];
     for (int m = 0; m < ESS_FINE_ROWS; m++) {
@@ -73,26 +76,72 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     ess_finecode_init(s);
 }
 
+/* The readings of lanes [0, k) of a chunk: fine rows, harmonics,
+ * currents and phase per lane in one vector loop, then the coarse rows one
+ * row at a time, then the Gray decoding and combination per lane. */
+VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx,
+                                      const double *sy, const double *sz,
+                                      const double *const noise[ESS_FINE_ROWS], double *out_rad,
+                                      int *status)
+{
+    _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], phase[ESS_CHUNK];
+    if (k > ESS_CHUNK)
+        return SUNMC_EINPUT;
+    size_t kp = vm_pad(k);
+    const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        /* a lane at grazing incidence is computed with s_z = 1 and dropped */
+        double z = vm_select(sz[i] > ESS_MIN_COS_INCIDENCE, sz[i], 1.0);
+        u[i] = sx[i] / z;
+        v[i] = sy[i] / z;
+        double p0 = atan((ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm);
+        double p1 = atan((ess_lane_eta(s, s->fine_x_mm[1], u[i], v[i]) - s->etch_mm[1]) / s->H_mm);
+        double p2 = atan((ess_lane_eta(s, s->fine_x_mm[2], u[i], v[i]) - s->etch_mm[2]) / s->H_mm);
+        double p3 = atan((ess_lane_eta(s, s->fine_x_mm[3], u[i], v[i]) - s->etch_mm[3]) / s->H_mm);
+        /* the slit's share of the harmonics changes with cos^2(psi): over
+         * the few micrometres between rows that is below 1e-9, so one
+         * evaluation at the first row serves the four */
+        ess_lane_harm h = ess_lane_harmonics(s, p0);
+        phase[i] = ess_lane_demodulate(ess_lane_current(s, 0, h, p0, z, n0[i]),
+                                       ess_lane_current(s, 1, h, p1, z, n1[i]),
+                                       ess_lane_current(s, 2, h, p2, z, n2[i]),
+                                       ess_lane_current(s, 3, h, p3, z, n3[i]));
+    }
+    _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
+    for (int j = 0; j < s->n_coarse; j++) {
+        double xj = s->coarse_x_mm[j], two_m = ess_lane_row_bit(s, j);
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double psi = atan(ess_lane_eta(s, xj, u[i], v[i]) / s->H_mm);
+            ess_lane_coarse acc = {parity[i], cell[i]};
+            acc = ess_lane_coarse_row(s, two_m, psi, acc);
+            parity[i] = acc.parity;
+            cell[i] = acc.cell;
+        }
+    }
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        ess_lane_coarse acc = {parity[i], cell[i]};
+        out_rad[i] = ess_lane_combine(ess_lane_coarse_angle(s, acc), phase[i], s->theta0_rad);
+    }
+    for (size_t i = 0; i < k; i++)
+        status[i] = sz[i] > ESS_MIN_COS_INCIDENCE ? SUNMC_OK : SUNMC_EDOM;
+    return SUNMC_OK;
+}
+
 int ess_sensor_output(const ess_sensor *s, const double sv[3], const double row_noise[ESS_FINE_ROWS],
                       double *out_rad)
 {
-    if (!(sv[2] > ESS_MIN_COS_INCIDENCE))
-        return SUNMC_EDOM;
-    double u = sv[0] / sv[2], v = sv[1] / sv[2];
-
-    double psi_fine[ESS_FINE_ROWS], current[ESS_FINE_ROWS];
-    for (int m = 0; m < ESS_FINE_ROWS; m++) {
-        double eta = ess_slit_eta_mm(s, s->fine_x_mm[m], u, v) - s->etch_mm[m];
-        psi_fine[m] = atan(eta / s->H_mm);
-    }
-    ess_finecode_currents(s, psi_fine, sv[2], row_noise, current);
-    double phase = ess_finecode_demodulate(current);
-
-    double psi_coarse[ESS_MAX_COARSE_ROWS];
-    for (int j = 0; j < s->n_coarse; j++)
-        psi_coarse[j] = atan(ess_slit_eta_mm(s, s->coarse_x_mm[j], u, v) / s->H_mm);
-    double coarse = ess_coarse_read(s, psi_coarse);
-
-    *out_rad = ess_combine(coarse, phase, s->theta0_rad);
-    return SUNMC_OK;
+    /* one lane of the batch, so a single reading is the same bits */
+    _Alignas(VM_ALIGN) double x[VM_PAD] = {0}, y[VM_PAD] = {0}, z[VM_PAD] = {0};
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][VM_PAD] = {{0}}, out[VM_PAD];
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int status[VM_PAD];
+    x[0] = sv[0];
+    y[0] = sv[1];
+    z[0] = sv[2];
+    for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++)
+        nz[m][0] = row_noise[m];
+    ess_sensor_output_chunk(s, 1, x, y, z, noise, out, status);
+    if (status[0] == SUNMC_OK)
+        *out_rad = out[0];
+    return status[0];
 }

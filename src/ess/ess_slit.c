@@ -7,9 +7,10 @@
  * counted so that the nominal reading is +H tan(alpha), is
  *     eta = Hr v - dd - (x_r + Hr u) tan dphi.
  */
-#include "ess_sensor.h"
+#include "ess_lane.h"
 
-double ess_slit_eta_mm(const ess_sensor *s, double x_mm, double u, double v)
+/* The formula is ess_lane_eta (ess_lane.h), shared with the batch. */
+VM_NOSAN double ess_slit_eta_mm(const ess_sensor *s, double x_mm, double u, double v)
 {
-    return s->Hr_mm * v - s->dd_mm - (x_mm + s->Hr_mm * u) * s->tan_dphi;
+    return ess_lane_eta(s, x_mm, u, v);
 }

@@ -29,20 +29,6 @@ void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *
     sun_direction(dev->sun_x_arcsec * RAD_PER_ARCSEC, dev->sun_y_arcsec * RAD_PER_ARCSEC, u->v_sun);
 }
 
-int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
-                  const double row_noise[ESS_FINE_ROWS], double *raw_rad, double *truth_rad)
-{
-    mat3 rx, ry, m;
-    rot_x(alpha_rad, rx);
-    rot_y(beta_rad, ry);
-    mat3_mul(rx, ry, m);
-    double w[3], s[3];
-    mat3_vec(m, u->v_sun, w);
-    mat3_vec(u->R_install, w, s);
-    *truth_rad = atan2(s[1], s[2]);
-    return ess_sensor_output(&u->sensor, s, row_noise, raw_rad);
-}
-
 size_t ess_campaign_size(const sunmc_config *c)
 {
     const ess_config *ec = ess_cfg(c);
@@ -62,38 +48,21 @@ int ess_campaign_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r
                          double b_rad, double *a_true_rad, double *b_true_rad,
                          double *incidence_rad, double *raw_rad)
 {
-    /* The table's true angles differ from the recorded ones by the encoder
-     * error; the readings at one position are averaged. */
-    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
-    *a_true_rad = a_rad + enc * rng_normal(r);
-    *b_true_rad = b_rad + enc * rng_normal(r);
-    double sum = 0;
-    int seen = 1;
-    *incidence_rad = 0;
-    for (int rep = 0; rep < c->cal_repeats; rep++) {
-        double noise[ESS_FINE_ROWS], raw;
-        ess_row_noise(c, r, noise);
-        if (ess_unit_read(u, *a_true_rad, *b_true_rad, noise, &raw, incidence_rad) != SUNMC_OK)
-            seen = 0;
-        else
-            sum += raw;
-    }
-    *raw_rad = seen ? sum / c->cal_repeats : 0.0;
-    return seen;
+    ess_campaign_point p;
+    ess_campaign_batch(c, u, r, 1, &a_rad, &b_rad, &p);
+    *a_true_rad = p.a_true_rad;
+    *b_true_rad = p.b_true_rad;
+    *incidence_rad = p.incidence_rad;
+    *raw_rad = p.raw_rad;
+    return p.seen;
 }
 
 int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
                            double b_rad, double *raw_rad, double *truth_rad)
 {
-    double noise[ESS_FINE_ROWS];
-    ess_row_noise(c, r, noise);
-    *raw_rad = 0;
-    *truth_rad = 0;
-    if (ess_unit_read(u, a_rad, b_rad, noise, raw_rad, truth_rad) != SUNMC_OK)
-        return ESS_READING_UNSEEN;
-    if (fabs(*raw_rad - *truth_rad) > 0.5 * ess_cfg(c)->design.theta0_deg * RAD_PER_DEG)
-        return ESS_READING_GROSS;
-    return ESS_READING_OK;
+    int status;
+    ess_validation_batch(c, u, r, 1, &a_rad, &b_rad, raw_rad, truth_rad, &status);
+    return status;
 }
 
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
@@ -104,23 +73,28 @@ void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
     double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
     rng_stream r;
     rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
-    *gross = 0;
     size_t i = 0;
     for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
-            double a = (ec->cal_alpha_min_deg + (double)j * ec->cal_alpha_step_deg) * RAD_PER_DEG;
-            double b = ec->cal_beta_deg.v[k] * RAD_PER_DEG;
-            double a_true, b_true, incidence;
-            int seen = ess_campaign_reading(c, u, &r, a, b, &a_true, &b_true, &incidence,
-                                            &cw->raw_rad[i]);
-            cw->alpha_rad[i] = a;
-            cw->beta_rad[i] = b;
+            cw->alpha_rad[i] = (ec->cal_alpha_min_deg + (double)j * ec->cal_alpha_step_deg) *
+                               RAD_PER_DEG;
+            cw->beta_rad[i] = ec->cal_beta_deg.v[k] * RAD_PER_DEG;
+        }
+    *gross = 0;
+    for (size_t i0 = 0; i0 < cw->n; i0 += ESS_CHUNK) {
+        ess_campaign_point p[ESS_CHUNK];
+        size_t np = cw->n - i0 < ESS_CHUNK ? cw->n - i0 : ESS_CHUNK;
+        ess_campaign_batch(c, u, &r, np, cw->alpha_rad + i0, cw->beta_rad + i0, p);
+        for (size_t q = 0; q < np; q++) {
+            cw->raw_rad[i0 + q] = p[q].raw_rad;
             /* A lab drops a reading that is off the table angle by more than
              * half a fine period: the coarse code picked the wrong period. */
-            cw->weight[i] = (seen && fabs(cw->raw_rad[i] - a) < half_period) ? 1.0 : 0.0;
-            if (cw->weight[i] == 0.0)
+            cw->weight[i0 + q] =
+                (p[q].seen && fabs(p[q].raw_rad - cw->alpha_rad[i0 + q]) < half_period) ? 1.0 : 0.0;
+            if (cw->weight[i0 + q] == 0.0)
                 (*gross)++;
         }
+    }
 }
 
 void ess_model_report(const ess_model *m, double out[ESS_N_PAR])
@@ -180,11 +154,34 @@ static void ess_ws_free(void *ws) { ess_calib_free(ws); }
 /* Score the unit on the validation grid and betas, with fresh noise (RMS
  * before and after), and again on the same points without reading noise
  * (the systematic part of the after RMS). */
+/* One validation chunk of k points (table angles a, b): the readings
+ * with fresh noise and their compensations, the noiseless readings and
+ * theirs (the systematic part), in batches. */
+typedef struct {
+    double raw[ESS_CHUNK], truth[ESS_CHUNK], comp[ESS_CHUNK];
+    double raw0[ESS_CHUNK], truth0[ESS_CHUNK], comp0[ESS_CHUNK];
+    int st_read[ESS_CHUNK], st_comp[ESS_CHUNK], st0[ESS_CHUNK], st_comp0[ESS_CHUNK];
+} ess_val_chunk;
+
+static void validation_chunk(const sunmc_config *c, const ess_unit *u, const ess_model *m,
+                             rng_stream *r, size_t k, const double *a, const double *b,
+                             int fit_ok, ess_val_chunk *v)
+{
+    ess_validation_batch(c, u, r, k, a, b, v->raw, v->truth, v->st_read);
+    if (!fit_ok)
+        return;
+    ess_model_compensate_batch(m, k, v->raw, v->comp, v->st_comp);
+    ess_unit_read_batch(u, k, a, b, NULL, v->raw0, v->truth0, v->st0);
+    ess_model_compensate_batch(m, k, v->raw0, v->comp0, v->st_comp0);
+}
+
+/* Score the unit on the validation grid and betas, with fresh noise (RMS
+ * before and after), and again on the same points without reading noise
+ * (the systematic part of the after RMS). */
 static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const ess_model *m,
                               long unit, unit_result *res)
 {
     const ess_config *ec = ess_cfg(c);
-    static const double no_noise[ESS_FINE_ROWS] = {0};
     band_acc before, after, after_sys;
     band_acc_reset(&before);
     band_acc_reset(&after);
@@ -194,33 +191,40 @@ static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const es
     long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
                          ec->val_alpha_offset_deg);
     double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
-    for (int k = 0; k < ec->val_beta_deg.n; k++)
-        for (long j = 0; j < na; j++) {
-            double a = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
-                        (double)j * ec->val_alpha_step_deg) *
-                       RAD_PER_DEG;
-            double b = ec->val_beta_deg.v[k] * RAD_PER_DEG;
-            double raw, truth, comp;
-            int st_read = ess_validation_reading(c, u, &r, a, b, &raw, &truth);
-            if (st_read == ESS_READING_UNSEEN)
+    size_t nv = (size_t)na * (size_t)ec->val_beta_deg.n;
+    ess_val_chunk v;
+    for (size_t i0 = 0; i0 < nv; i0 += ESS_CHUNK) {
+        size_t k = nv - i0 < ESS_CHUNK ? nv - i0 : ESS_CHUNK;
+        double a[ESS_CHUNK], b[ESS_CHUNK];
+        for (size_t q = 0; q < k; q++) {
+            size_t i = i0 + q;
+            a[q] = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                    (double)(i % (size_t)na) * ec->val_alpha_step_deg) *
+                   RAD_PER_DEG;
+            b[q] = ec->val_beta_deg.v[i / (size_t)na] * RAD_PER_DEG;
+        }
+        validation_chunk(c, u, m, &r, k, a, b, res->fit_status == UNIT_FIT_OK, &v);
+        for (size_t q = 0; q < k; q++) {
+            if (v.st_read[q] == ESS_READING_UNSEEN)
                 continue;
-            if (st_read == ESS_READING_GROSS) {
+            if (v.st_read[q] == ESS_READING_GROSS) {
                 res->gross_val++;
                 continue;
             }
-            double abs_deg = fabs(truth) * DEG_PER_RAD;
-            band_acc_add(&before, &c->bands_deg, abs_deg, raw - truth);
+            double abs_deg = fabs(v.truth[q]) * DEG_PER_RAD;
+            band_acc_add(&before, &c->bands_deg, abs_deg, v.raw[q] - v.truth[q]);
             if (res->fit_status != UNIT_FIT_OK)
                 continue;
-            if (ess_model_compensate(m, raw, &comp) != SUNMC_OK) {
+            if (v.st_comp[q] != SUNMC_OK) {
                 res->fit_status = UNIT_FIT_FAILED;
                 continue;
             }
-            band_acc_add(&after, &c->bands_deg, abs_deg, comp - truth);
-            if (ess_unit_read(u, a, b, no_noise, &raw, &truth) == SUNMC_OK &&
-                fabs(raw - truth) <= half_period && ess_model_compensate(m, raw, &comp) == SUNMC_OK)
-                band_acc_add(&after_sys, &c->bands_deg, abs_deg, comp - truth);
+            band_acc_add(&after, &c->bands_deg, abs_deg, v.comp[q] - v.truth[q]);
+            if (v.st0[q] == SUNMC_OK && fabs(v.raw0[q] - v.truth0[q]) <= half_period &&
+                v.st_comp0[q] == SUNMC_OK)
+                band_acc_add(&after_sys, &c->bands_deg, abs_deg, v.comp0[q] - v.truth0[q]);
         }
+    }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
     unit_result_set_sys(res, 0, &after_sys, &c->bands_deg, DEG_PER_RAD);
 }

@@ -3,6 +3,7 @@
 #include "vmath.h"
 
 #include <Random123/philox.h>
+#include <string.h>
 
 /* Normals made per vectorised pass of rng_normal_fill. */
 #define NORMAL_CHUNK 64
@@ -32,36 +33,93 @@ static uint32_t next_word(rng_stream *r)
     return r->buf[4 - r->left--];
 }
 
-double rng_uniform(rng_stream *r)
+/* Uniform in (0, 1) from two words, 53 random bits. */
+static double uniform_of(uint32_t hi_word, uint32_t lo_word)
 {
-    uint64_t hi = next_word(r) >> 5; /* 27 bits */
-    uint64_t lo = next_word(r) >> 6; /* 26 bits */
-    /* (k + 0.5) / 2^53 lies strictly inside (0, 1). */
+    uint64_t hi = hi_word >> 5, lo = lo_word >> 6;
     return ((double)((hi << 26) | lo) + 0.5) * 0x1.0p-53;
 }
 
-/* Box-Muller on n <= NORMAL_CHUNK uniform pairs, padded to VM_PAD lanes
- * (pads are 0.5) so every draw takes the same vector code. */
-VM_KERNEL static void box_muller(size_t n, double *restrict u1, double *restrict u2,
-                                 double *restrict out)
+double rng_uniform(rng_stream *r)
 {
-    size_t np = vm_pad(n);
-    for (size_t i = n; i < np; i++)
-        u1[i] = u2[i] = 0.5;
-    VM_SIMD for (size_t i = 0; i < np; i++)
-        out[i] = sqrt(-2.0 * log(u1[i])) * cos(2.0 * M_PI * u2[i]);
+    /* 27 + 26 bits; (k + 0.5) / 2^53 lies strictly inside (0, 1). */
+    uint32_t hi = next_word(r);
+    return uniform_of(hi, next_word(r));
+}
+
+/* Philox4x32-10 (Random123's philox4x32, written out so that GCC
+ * vectorises it over counters): word j of block counter (c0, c1, c2,
+ * c3 + b) for b < vm_pad(nb) <= NORMAL_CHUNK into w[j][b]. */
+VM_KERNEL static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4], size_t nb,
+                                    uint32_t w[4][NORMAL_CHUNK])
+{
+    uint32_t c0 = ctr[0], c1 = ctr[1], c2 = ctr[2], c3 = ctr[3], key0 = key[0], key1 = key[1];
+    uint32_t *restrict w0 = w[0], *restrict w1 = w[1], *restrict w2 = w[2], *restrict w3 = w[3];
+    VM_SIMD for (uint32_t b = 0; b < (uint32_t)vm_pad(nb); b++) {
+        uint32_t x0 = c0, x1 = c1, x2 = c2, x3 = c3 + b, k0 = key0, k1 = key1;
+        for (int round = 0; round < 10; round++) {
+            uint64_t p0 = (uint64_t)x0 * 0xD2511F53u, p1 = (uint64_t)x2 * 0xCD9E8D57u;
+            uint32_t y0 = (uint32_t)(p1 >> 32) ^ x1 ^ k0, y2 = (uint32_t)(p0 >> 32) ^ x3 ^ k1;
+            x1 = (uint32_t)p1;
+            x3 = (uint32_t)p0;
+            x0 = y0;
+            x2 = y2;
+            k0 += 0x9E3779B9u;
+            k1 += 0xBB67AE85u;
+        }
+        w0[b] = x0;
+        w1[b] = x1;
+        w2[b] = x2;
+        w3[b] = x3;
+    }
+}
+
+/* Box-Muller on k <= NORMAL_CHUNK normals from their words: normal i
+ * takes words w[0..3][i] (two uniforms as rng_uniform makes them: 27 + 26
+ * bits, (m + 0.5) / 2^53, exact in doubles), padded to VM_PAD lanes. */
+VM_KERNEL static void box_muller(size_t k, const uint32_t w[4][NORMAL_CHUNK], double *out)
+{
+    const uint32_t *w0 = w[0], *w1 = w[1], *w2 = w[2], *w3 = w[3];
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        double u1 = ((double)(int32_t)(w0[i] >> 5) * 0x1.0p26 + (double)(int32_t)(w1[i] >> 6) +
+                     0.5) * 0x1.0p-53;
+        double u2 = ((double)(int32_t)(w2[i] >> 5) * 0x1.0p26 + (double)(int32_t)(w3[i] >> 6) +
+                     0.5) * 0x1.0p-53;
+        out[i] = sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2);
+    }
+}
+
+/* The words of the next k <= NORMAL_CHUNK normals of r into w[j][i] (word
+ * 4 i + j of the stream from here): what is left of the current block,
+ * then whole blocks; the last block's unused words stay in r's buffer,
+ * exactly as next_word would leave them.  Lanes from k to vm_pad(k) get
+ * words too (never used as draws). */
+static void next_words(rng_stream *r, size_t k, uint32_t w[4][NORMAL_CHUNK])
+{
+    /* 0 <= lead <= 3 words of the current block are still to come; they
+     * and k - 1 whole blocks plus 4 - lead words of one more make the 4 k,
+     * so k blocks are drawn and the misalignment (lead) stays */
+    _Alignas(VM_ALIGN) uint32_t b[4][NORMAL_CHUNK];
+    size_t lead = (size_t)r->left;
+    philox_blocks(r->key, r->ctr, k, lead == 0 ? w : b);
+    if (lead > 0)
+        for (size_t t = 0; t < 4 * vm_pad(k); t++) {
+            size_t u = t - lead; /* block word, for t >= lead */
+            w[t % 4][t / 4] = t < lead ? r->buf[4 - lead + t] : b[u % 4][u / 4];
+        }
+    for (int j = 0; j < 4; j++)
+        r->buf[j] = lead == 0 ? w[j][k - 1] : b[j][k - 1];
+    r->ctr[3] += (uint32_t)k;
 }
 
 void rng_normal_fill(rng_stream *r, double *out, size_t n)
 {
-    _Alignas(VM_ALIGN) double u1[NORMAL_CHUNK], u2[NORMAL_CHUNK], z[NORMAL_CHUNK];
+    _Alignas(VM_ALIGN) uint32_t w[4][NORMAL_CHUNK];
+    _Alignas(VM_ALIGN) double z[NORMAL_CHUNK];
     for (size_t done = 0; done < n;) {
         size_t k = n - done < NORMAL_CHUNK ? n - done : NORMAL_CHUNK;
-        for (size_t i = 0; i < k; i++) {
-            u1[i] = rng_uniform(r);
-            u2[i] = rng_uniform(r);
-        }
-        box_muller(k, u1, u2, z);
+        next_words(r, k, w);
+        box_muller(k, w, z);
         for (size_t i = 0; i < k; i++)
             out[done + i] = z[i];
         done += k;

@@ -1,0 +1,124 @@
+/* ess_lane.h - the ESS sensor's physics for one reading, as inline
+ * functions: the scalar API (ess_slit.c, ess_finecode.c) and the vectorised
+ * batch (ess_sensor_output_chunk, one reading per vector lane) are the same
+ * code.  The formulas are documented in ess_sensor.h, ess_slit.c and
+ * ess_finecode.c.  Everything is passed and returned by value so that GCC
+ * vectorises a loop calling these (vmath.h). */
+#ifndef SUNMC_ESS_LANE_H
+#define SUNMC_ESS_LANE_H
+
+#include "ess_sensor.h"
+#include "vmath.h"
+
+/* Below this |z|, sinc(z) = 1 to double precision. */
+#define ESS_SINC_SMALL 1e-8
+
+/* The dial coordinate (mm) where the slit image crosses the row at x_mm
+ * (ess_slit.c). */
+VM_INLINE double ess_lane_eta(const ess_sensor *s, double x_mm, double u, double v)
+{
+    return s->Hr_mm * v - s->dd_mm - (x_mm + s->Hr_mm * u) * s->tan_dphi;
+}
+
+/* sin(pi z) / (pi z). */
+VM_INLINE double ess_lane_sinc_pi(double z)
+{
+    double q = sin(M_PI * z) / (M_PI * z);
+    return vm_select(fabs(z) < ESS_SINC_SMALL, 1.0, q);
+}
+
+/* Relative harmonic amplitudes c_n (n = 1, 3, 5) at dial angle psi. */
+typedef struct {
+    double c1, c3, c5;
+} ess_lane_harm;
+
+VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
+{
+    double cos_psi = cos(psi_rad);
+    double slit_ang = s->slit_width_mm * cos_psi * cos_psi / s->H_mm;
+    int given = s->harmonics_given;
+    ess_lane_harm h;
+    h.c1 = vm_select(given, s->given_ratio[0],
+                     s->dial_sun[0] * ess_lane_sinc_pi(1 * slit_ang / s->theta0_rad) / s->norm1);
+    h.c3 = vm_select(given, s->given_ratio[1],
+                     s->dial_sun[1] * ess_lane_sinc_pi(3 * slit_ang / s->theta0_rad) / s->norm1);
+    h.c5 = vm_select(given, s->given_ratio[2],
+                     s->dial_sun[2] * ess_lane_sinc_pi(5 * slit_ang / s->theta0_rad) / s->norm1);
+    return h;
+}
+
+/* Current of fine row m (0..3) at dial angle psi_rad with harmonics h,
+ * illumination illum and additive noise. */
+VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, double psi_rad,
+                                  double illum, double noise)
+{
+    double x = 2.0 * M_PI * psi_rad / s->theta0_rad - m * M_PI / 2.0;
+    double sum = h.c1 * cos(1 * x) + h.c3 * cos(3 * x + s->harmonic_phase_rad) +
+                 h.c5 * cos(5 * x);
+    return illum * s->gain[m] * (s->dc_ratio - sum) + noise;
+}
+
+/* Fine-code phase in [0, 2 pi) from the four currents (ESS paper Fig. 8). */
+VM_INLINE double ess_lane_demodulate(double i0, double i1, double i2, double i3)
+{
+    double ph = atan2(i3 - i1, i2 - i0);
+    return vm_select(ph < 0, ph + 2.0 * M_PI, ph);
+}
+
+/* The Gray-coded coarse rows (ess_coarse.c) in exact double arithmetic (a
+ * vector lane has no cheap 64-bit integers): a running decode over rows
+ * j = 0 .. n-1, the most significant bit first. */
+typedef struct {
+    double parity; /* XOR of the Gray bits so far: the current binary bit */
+    double cell;   /* decoded cell index so far */
+} ess_lane_coarse;
+
+/* Bit m (0 or 1) of a whole number 0 <= k < 2^53. */
+VM_INLINE double ess_lane_bit(double k, double scale_m /* 2^-m */)
+{
+    double q = floor(k * scale_m);
+    return q - 2.0 * floor(0.5 * q);
+}
+
+/* Row j reads dial angle psi: its cell k (clamped to the dial), whose Gray
+ * code's bit m = n-1-j is this row's bit; two_m = 2^m. */
+VM_INLINE ess_lane_coarse ess_lane_coarse_row(const ess_sensor *s, double two_m, double psi_rad,
+                                              ess_lane_coarse acc)
+{
+    double ncell = s->coarse_cells;
+    double k = floor((psi_rad - s->coarse_origin_rad) / s->coarse_res_rad);
+    k = vm_select(k < 0.0, 0.0, k);
+    k = vm_select(k > ncell - 1.0, ncell - 1.0, k);
+    double g = fabs(ess_lane_bit(k, 1.0 / two_m) - ess_lane_bit(k, 0.5 / two_m));
+    acc.parity = fabs(acc.parity - g);
+    acc.cell += acc.parity * two_m;
+    return acc;
+}
+
+/* 2^(n-1-j) for coarse row j. */
+VM_INLINE double ess_lane_row_bit(const ess_sensor *s, int j)
+{
+    return (double)(1ULL << (s->n_coarse - 1 - j));
+}
+
+/* The cell centre (rad) of a decoded coarse reading. */
+VM_INLINE double ess_lane_coarse_angle(const ess_sensor *s, ess_lane_coarse acc)
+{
+    return s->coarse_origin_rad + (acc.cell + 0.5) * s->coarse_res_rad;
+}
+
+/* round(x), half away from zero, for |x| < 2^52, as a vector lane does it. */
+VM_INLINE double ess_lane_round(double x)
+{
+    double t = trunc(x), d = x - t;
+    return t + vm_select(d >= 0.5, 1.0, 0.0) - vm_select(d <= -0.5, 1.0, 0.0);
+}
+
+/* The output angle: the fine period nearest the coarse estimate. */
+VM_INLINE double ess_lane_combine(double coarse_rad, double fine_phase, double theta0_rad)
+{
+    double fine = fine_phase / (2.0 * M_PI) * theta0_rad;
+    return fine + theta0_rad * ess_lane_round((coarse_rad - fine) / theta0_rad);
+}
+
+#endif

@@ -1,0 +1,229 @@
+/* ess_readings.c - a unit's readings on the turntable, many at a time: the
+ * sun vector of each table position and the sensor's output for it in
+ * vectorised chunks (ess_sensor_output_chunk), with the noise drawn in the
+ * Monte Carlo's order.  The one-reading functions are chunks of one, so a
+ * reading is the same bits whichever way it is asked for. */
+#include "ess_unit.h"
+#include "status.h"
+#include "units.h"
+#include "vmath.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Normals drawn per pass of the campaign (at least the 2 + 4 of a point). */
+#define ESS_DRAWS_MAX 1024
+
+/* Lanes [k, kp) of a chunk repeat lane 0: every lane holds a valid reading. */
+static void pad_lanes(double *x, size_t k)
+{
+    for (size_t i = k; i < vm_pad(k); i++)
+        x[i] = x[0];
+}
+
+/* k <= ESS_CHUNK readings at true table angles a, b (padded arrays): the
+ * sun in the sensor frame (R_install rot_x(a) rot_y(b) v_sun), its true
+ * incidence, and the sensor's output. */
+VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, const double *b,
+                                 const double *const noise[ESS_FINE_ROWS], double *raw,
+                                 double *truth, int *status)
+{
+    _Alignas(VM_ALIGN) double sx[ESS_CHUNK], sy[ESS_CHUNK], sz[ESS_CHUNK];
+    const double(*R)[3] = (const double(*)[3])u->R_install, *v = u->v_sun;
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        double ca = cos(a[i]), sa = sin(a[i]), cb = cos(b[i]), sb = sin(b[i]);
+        /* w = rot_x(a) rot_y(b) v, as mat3_mul and mat3_vec (rotation.h) */
+        double w0 = cb * v[0] + 0.0 * v[1] + sb * v[2];
+        double w1 = -(sa * sb) * v[0] + ca * v[1] + sa * cb * v[2];
+        double w2 = -(ca * sb) * v[0] + -sa * v[1] + ca * cb * v[2];
+        sx[i] = R[0][0] * w0 + R[0][1] * w1 + R[0][2] * w2;
+        sy[i] = R[1][0] * w0 + R[1][1] * w1 + R[1][2] * w2;
+        sz[i] = R[2][0] * w0 + R[2][1] * w1 + R[2][2] * w2;
+        truth[i] = atan2(sy[i], sz[i]);
+    }
+    ess_sensor_output_chunk(&u->sensor, k, sx, sy, sz, noise, raw, status);
+}
+
+int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
+                  const double row_noise[ESS_FINE_ROWS], double *raw_rad, double *truth_rad)
+{
+    _Alignas(VM_ALIGN) double a[VM_PAD], b[VM_PAD], raw[VM_PAD], truth[VM_PAD];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][VM_PAD] = {{0}};
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int status[VM_PAD];
+    a[0] = alpha_rad;
+    b[0] = beta_rad;
+    pad_lanes(a, 1);
+    pad_lanes(b, 1);
+    for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++)
+        nz[m][0] = row_noise[m];
+    read_chunk(u, 1, a, b, noise, raw, truth, status);
+    *truth_rad = truth[0];
+    if (status[0] == SUNMC_OK)
+        *raw_rad = raw[0];
+    return status[0];
+}
+
+void ess_unit_read_batch(const ess_unit *u, size_t n, const double *alpha_rad,
+                         const double *beta_rad, const double *const row_noise[ESS_FINE_ROWS],
+                         double *raw_rad, double *truth_rad, int *status)
+{
+    _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK] = {{0}};
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int st[ESS_CHUNK];
+    for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
+        size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
+        memcpy(a, alpha_rad + i0, k * sizeof *a);
+        memcpy(b, beta_rad + i0, k * sizeof *b);
+        pad_lanes(a, k);
+        pad_lanes(b, k);
+        for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++) {
+            memcpy(nz[m], row_noise[m] + i0, k * sizeof *nz[m]);
+            pad_lanes(nz[m], k);
+        }
+        read_chunk(u, k, a, b, noise, raw, truth, st);
+        for (size_t i = 0; i < k; i++) {
+            raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
+            truth_rad[i0 + i] = truth[i];
+            status[i0 + i] = st[i];
+        }
+    }
+}
+
+/* The campaign's draws of points [0, np) (np (2 + 4 R) <= ESS_DRAWS_MAX
+ * normals, in the Monte Carlo's order: per point the two encoder errors,
+ * then per repeat the four row noises) and their readings. */
+static void campaign_chunk(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t np,
+                           const double *a_rad, const double *b_rad, ess_campaign_point *out)
+{
+    const ess_config *ec = ess_cfg(c);
+    size_t per = 2 + (size_t)ESS_FINE_ROWS * (size_t)c->cal_repeats;
+    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
+    double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
+    double z[ESS_DRAWS_MAX];
+    _Alignas(VM_ALIGN) double at[ESS_CHUNK], bt[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int status[ESS_CHUNK];
+    rng_normal_fill(r, z, np * per);
+    for (size_t i = 0; i < np; i++) {
+        at[i] = out[i].a_true_rad = a_rad[i] + enc * z[i * per];
+        bt[i] = out[i].b_true_rad = b_rad[i] + enc * z[i * per + 1];
+        out[i].sum_rad = 0.0;
+        out[i].seen = 1;
+    }
+    pad_lanes(at, np);
+    pad_lanes(bt, np);
+    for (int rep = 0; rep < c->cal_repeats; rep++) {
+        for (int m = 0; m < ESS_FINE_ROWS; m++) {
+            for (size_t i = 0; i < np; i++)
+                nz[m][i] = sigma * z[i * per + 2 + (size_t)(ESS_FINE_ROWS * rep + m)];
+            pad_lanes(nz[m], np);
+        }
+        read_chunk(u, np, at, bt, noise, raw, truth, status);
+        for (size_t i = 0; i < np; i++) {
+            out[i].incidence_rad = truth[i];
+            if (status[i] != SUNMC_OK)
+                out[i].seen = 0;
+            else
+                out[i].sum_rad += raw[i];
+        }
+    }
+}
+
+/* One point of a campaign whose repeats do not fit one pass: its encoder
+ * errors, then its repeats a chunk at a time (the same draws in the same
+ * order as campaign_chunk, so the same bits). */
+static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
+                          double b_rad, ess_campaign_point *out)
+{
+    const ess_config *ec = ess_cfg(c);
+    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
+    double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
+    double z[ESS_FINE_ROWS * ESS_CHUNK];
+    _Alignas(VM_ALIGN) double at[ESS_CHUNK], bt[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int status[ESS_CHUNK];
+    rng_normal_fill(r, z, 2);
+    out->a_true_rad = a_rad + enc * z[0];
+    out->b_true_rad = b_rad + enc * z[1];
+    out->sum_rad = 0.0;
+    out->seen = 1;
+    for (size_t i = 0; i < ESS_CHUNK; i++) {
+        at[i] = out->a_true_rad;
+        bt[i] = out->b_true_rad;
+    }
+    for (int rep0 = 0; rep0 < c->cal_repeats; rep0 += ESS_CHUNK) {
+        size_t g = (size_t)(c->cal_repeats - rep0) < ESS_CHUNK ? (size_t)(c->cal_repeats - rep0)
+                                                                 : ESS_CHUNK;
+        rng_normal_fill(r, z, ESS_FINE_ROWS * g);
+        for (int m = 0; m < ESS_FINE_ROWS; m++) {
+            for (size_t i = 0; i < g; i++)
+                nz[m][i] = sigma * z[ESS_FINE_ROWS * i + (size_t)m];
+            pad_lanes(nz[m], g);
+        }
+        read_chunk(u, g, at, bt, noise, raw, truth, status);
+        for (size_t i = 0; i < g; i++) {
+            out->incidence_rad = truth[i];
+            if (status[i] != SUNMC_OK)
+                out->seen = 0;
+            else
+                out->sum_rad += raw[i];
+        }
+    }
+}
+
+void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
+                           const double *a_rad, const double *b_rad, ess_campaign_point *out)
+{
+    size_t per = 2 + (size_t)ESS_FINE_ROWS * (size_t)c->cal_repeats;
+    size_t chunk = ESS_DRAWS_MAX / per < ESS_CHUNK ? ESS_DRAWS_MAX / per : ESS_CHUNK;
+    if (chunk == 0) {
+        /* more repeats than one pass holds: one point at a time */
+        for (size_t i = 0; i < n; i++)
+            campaign_long(c, u, r, a_rad[i], b_rad[i], &out[i]);
+    } else {
+        for (size_t i0 = 0; i0 < n; i0 += chunk)
+            campaign_chunk(c, u, r, n - i0 < chunk ? n - i0 : chunk, a_rad + i0, b_rad + i0,
+                           out + i0);
+    }
+    for (size_t i = 0; i < n; i++)
+        out[i].raw_rad = out[i].seen ? out[i].sum_rad / c->cal_repeats : 0.0;
+}
+
+void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
+                          const double *a_rad, const double *b_rad, double *raw_rad,
+                          double *truth_rad, int *status)
+{
+    const ess_config *ec = ess_cfg(c);
+    double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
+    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
+    double z[ESS_FINE_ROWS * ESS_CHUNK];
+    _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
+    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int st[ESS_CHUNK];
+    for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
+        size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
+        rng_normal_fill(r, z, ESS_FINE_ROWS * k);
+        memcpy(a, a_rad + i0, k * sizeof *a);
+        memcpy(b, b_rad + i0, k * sizeof *b);
+        pad_lanes(a, k);
+        pad_lanes(b, k);
+        for (int m = 0; m < ESS_FINE_ROWS; m++) {
+            for (size_t i = 0; i < k; i++)
+                nz[m][i] = sigma * z[ESS_FINE_ROWS * i + (size_t)m];
+            pad_lanes(nz[m], k);
+        }
+        read_chunk(u, k, a, b, noise, raw, truth, st);
+        for (size_t i = 0; i < k; i++) {
+            raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
+            truth_rad[i0 + i] = truth[i];
+            status[i0 + i] = st[i] != SUNMC_OK ? ESS_READING_UNSEEN
+                             : fabs(raw[i] - truth[i]) > half_period ? ESS_READING_GROSS
+                                                                       : ESS_READING_OK;
+        }
+    }
+}
