@@ -21,6 +21,18 @@ static void pad_lanes(double *x, size_t k)
         x[i] = x[0];
 }
 
+/* Row noises of k lanes from normals z (lane i's four at z[stride i + m]),
+ * scaled by sigma, pads repeating lane 0. */
+static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
+                        double nz[ESS_FINE_ROWS][ESS_CHUNK])
+{
+    for (int m = 0; m < ESS_FINE_ROWS; m++) {
+        for (size_t i = 0; i < k; i++)
+            nz[m][i] = sigma * z[stride * i + (size_t)m];
+        pad_lanes(nz[m], k);
+    }
+}
+
 /* k <= ESS_CHUNK readings at true table angles a, b (padded arrays): the
  * sun in the sensor frame (R_install rot_x(a) rot_y(b) v_sun), its true
  * incidence, and the sensor's output. */
@@ -116,11 +128,7 @@ static void campaign_chunk(const sunmc_config *c, const ess_unit *u, rng_stream 
     pad_lanes(at, np);
     pad_lanes(bt, np);
     for (int rep = 0; rep < c->cal_repeats; rep++) {
-        for (int m = 0; m < ESS_FINE_ROWS; m++) {
-            for (size_t i = 0; i < np; i++)
-                nz[m][i] = sigma * z[i * per + 2 + (size_t)(ESS_FINE_ROWS * rep + m)];
-            pad_lanes(nz[m], np);
-        }
+        noise_lanes(sigma, z + 2 + ESS_FINE_ROWS * rep, per, np, nz);
         read_chunk(u, np, at, bt, noise, raw, truth, status);
         for (size_t i = 0; i < np; i++) {
             out[i].incidence_rad = truth[i];
@@ -159,11 +167,7 @@ static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *
         size_t g = (size_t)(c->cal_repeats - rep0) < ESS_CHUNK ? (size_t)(c->cal_repeats - rep0)
                                                                  : ESS_CHUNK;
         rng_normal_fill(r, z, ESS_FINE_ROWS * g);
-        for (int m = 0; m < ESS_FINE_ROWS; m++) {
-            for (size_t i = 0; i < g; i++)
-                nz[m][i] = sigma * z[ESS_FINE_ROWS * i + (size_t)m];
-            pad_lanes(nz[m], g);
-        }
+        noise_lanes(sigma, z, ESS_FINE_ROWS, g, nz);
         read_chunk(u, g, at, bt, noise, raw, truth, status);
         for (size_t i = 0; i < g; i++) {
             out->incidence_rad = truth[i];
@@ -212,11 +216,7 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
         memcpy(b, b_rad + i0, k * sizeof *b);
         pad_lanes(a, k);
         pad_lanes(b, k);
-        for (int m = 0; m < ESS_FINE_ROWS; m++) {
-            for (size_t i = 0; i < k; i++)
-                nz[m][i] = sigma * z[ESS_FINE_ROWS * i + (size_t)m];
-            pad_lanes(nz[m], k);
-        }
+        noise_lanes(sigma, z, ESS_FINE_ROWS, k, nz);
         read_chunk(u, k, a, b, noise, raw, truth, st);
         for (size_t i = 0; i < k; i++) {
             raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
