@@ -76,7 +76,16 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
 /* Threads to use: o->threads, else run.threads, else OpenMP's default. */
 int cli_threads(const cli_options *o, const sunmc_config *c);
 
-/* Print text and return 1 when argv[2..] holds --help or -h. */
+/* Print fam's config keys section by section: key = default  unit. */
+void cli_print_keys(FILE *f, const sensor_family *fam);
+
+/* Print the keys of the family argv asks for (--family NAME, else a config
+ * file's family, else the first registered); EXIT_BAD_INPUT for an unknown
+ * family name, else 0. */
+int cli_help_keys(FILE *f, int argc, char **argv);
+
+/* Print text and return 1 when argv[2..] holds --help or -h; with
+ * --family NAME or a config file also that family's config keys. */
 int cli_wants_help(int argc, char **argv, const char *text);
 
 /* Exit status for a module status. */

@@ -227,6 +227,10 @@ void config_range_text(const config_key *k, char *buf, size_t len);
 int config_parse_value(const config_key *k, void *dst, const char *value, const char *where,
                        char *err, size_t errlen);
 
+/* " (did you mean SECTION.KEY?)" naming the key of any family nearest to
+ * section.name (case-blind, at most two edits), or "" when none is near. */
+void config_suggest(const char *section, const char *name, char *buf, size_t len);
+
 /* Registered family names as "a|b". */
 void config_family_choices(char *buf, size_t len);
 

@@ -136,11 +136,70 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
     return 0;
 }
 
+void cli_print_keys(FILE *f, const sensor_family *fam)
+{
+    const config_key *keys[CONFIG_KEYS_MAX];
+    const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(fam, keys, owners, CONFIG_KEYS_MAX);
+    char choices[128];
+    config_family_choices(choices, sizeof choices);
+    fprintf(f,
+            "config keys of the %s family, section by section (default, unit; --family %s\n"
+            "for another family's; `sunmc config --reference` explains each):\n",
+            fam->name, choices);
+    const char *section = "";
+    for (size_t i = 0; i < n; i++) {
+        const config_key *k = keys[i];
+        if (strcmp(k->section, section) != 0)
+            fprintf(f, "  [%s]\n", section = k->section);
+        fprintf(f, "    %s.%s = %s%s%s\n", k->section, k->name, config_key_default(k, fam),
+                k->unit[0] ? "  " : "", k->unit);
+    }
+}
+
+/* The family whose keys a help text lists: --family NAME, else the family
+ * of a config file among the arguments, else the registry's first. */
+static const sensor_family *help_family(int argc, char **argv)
+{
+    for (int i = 1; i + 1 < argc; i++)
+        if (strcmp(argv[i], "--family") == 0)
+            return sensor_family_find(argv[i + 1]);
+    for (int i = 2; i < argc; i++) {
+        if (argv[i][0] == '-' || access(argv[i], R_OK) != 0)
+            continue;
+        config_state st;
+        char err[SUNMC_ERRLEN];
+        if (config_build(&st, argv[i], NULL, 0, err, sizeof err) == SUNMC_OK)
+            return st.cfg.family;
+    }
+    return sensor_family_at(0);
+}
+
+int cli_help_keys(FILE *f, int argc, char **argv)
+{
+    const sensor_family *fam = help_family(argc, argv);
+    if (!fam) {
+        char choices[128];
+        config_family_choices(choices, sizeof choices);
+        fprintf(stderr, "sunmc: --family takes one of %s\n", choices);
+        return EXIT_BAD_INPUT;
+    }
+    cli_print_keys(f, fam);
+    return 0;
+}
+
 int cli_wants_help(int argc, char **argv, const char *text)
 {
     for (int i = 2; i < argc; i++)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(text, stdout);
+            for (int j = 2; j < argc; j++)
+                if (strcmp(argv[j], "--family") == 0 ||
+                    (argv[j][0] != '-' && access(argv[j], R_OK) == 0)) {
+                    fputc('\n', stdout);
+                    cli_help_keys(stdout, argc, argv);
+                    break;
+                }
             return 1;
         }
     return 0;

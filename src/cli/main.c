@@ -33,17 +33,9 @@ static void usage(FILE *f)
             "  --out DIR               write summary.tsv, units.tsv, config.ini there\n"
             "  --quiet                 no progress or timing on stderr\n"
             "  sunmc COMMAND --help    the command's own help; sunmc --version\n"
-            "\n"
-            "config keys (section.key, unit, default; `sunmc config --reference` explains each):\n",
+            "  sunmc --help --family NAME   the keys of one family (default: the first)\n"
+            "\n",
             SUNMC_VERSION);
-    const config_key *keys[CONFIG_KEYS_MAX];
-    const sensor_family *owners[CONFIG_KEYS_MAX];
-    size_t n = config_list_keys(NULL, keys, owners, CONFIG_KEYS_MAX);
-    for (size_t i = 0; i < n; i++) {
-        const config_key *k = keys[i];
-        fprintf(f, "  %s.%s%s%s = %s\n", k->section, k->name, k->unit[0] ? " [" : "",
-                k->unit[0] ? k->unit : "", config_key_default(k, owners[i]));
-    }
 }
 
 int main(int argc, char **argv)
@@ -56,7 +48,7 @@ int main(int argc, char **argv)
     const char *cmd = argv[1];
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
         usage(stdout);
-        return 0;
+        return cli_help_keys(stdout, argc, argv);
     }
     if (strcmp(cmd, "--version") == 0) {
         printf("sunmc %s\n", SUNMC_VERSION);

@@ -134,8 +134,10 @@ int config_set_value(config_state *st, const char *section, const char *name, co
                               section, name, fams, st->cfg.family->name);
         if (!section_known(section))
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown section [%s]", where, section);
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown key '%s' in section [%s]", where,
-                          name, section);
+        char hint[2 * CONFIG_STR_MAX];
+        config_suggest(section, name, hint, sizeof hint);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown key '%s' in section [%s]%s",
+                          where, name, section, hint);
     }
     if (k->type == KEY_FAMILY) {
         const sensor_family *f = NULL;
@@ -176,6 +178,17 @@ static int add_entry(ini_entries *out, const ini_entry *e, const char *path, cha
     return SUNMC_OK;
 }
 
+
+/* FILE:LINE: unknown key, with the nearest known key offered. */
+static int unknown_key(const char *path, int line, const char *section, const char *name,
+                       char *err, size_t errlen)
+{
+    char hint[2 * CONFIG_STR_MAX];
+    config_suggest(section, name, hint, sizeof hint);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key '%s' in section [%s]%s", path,
+                      line, name, section, hint);
+}
+
 /* Read path's entries; every section and key must be known to some family
  * (whether it applies to this config's family is checked when it is set). */
 static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen)
@@ -193,8 +206,7 @@ static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen
             st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]", path, e.line,
                             e.section);
         else if (item == INI_KEY && !config_find(e.section, e.key))
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key '%s' in section [%s]",
-                            path, e.line, e.key, e.section);
+            st = unknown_key(path, e.line, e.section, e.key, err, errlen);
         else if (item == INI_KEY)
             st = add_entry(out, &e, path, err, errlen);
         if (st != SUNMC_OK)

@@ -1,0 +1,125 @@
+/* test_help.c - what a newcomer reads first: --help per family with balanced
+ * brackets, and "did you mean" for a mistyped key (in a file and in --set). */
+#include "test_util.h"
+
+#include "registry.h"
+
+static char out[65536];
+
+static int sunmc(const char *args)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s %s", test_sunmc(), args);
+    return test_run(cmd, out, sizeof out);
+}
+
+/* Every '[' closed by a ']' on the same line, and never nested. */
+static void assert_brackets_balanced(const char *text)
+{
+    int depth = 0, line = 1;
+    for (const char *p = text; *p; p++) {
+        if (*p == '[' && ++depth > 1)
+            fail_msg("nested '[' on line %d", line);
+        if (*p == ']' && --depth < 0)
+            fail_msg("unopened ']' on line %d", line);
+        if (*p == '\n') {
+            if (depth != 0)
+                fail_msg("'[' left open on line %d", line);
+            line++;
+        }
+    }
+}
+
+static void test_main_help_lists_first_family_keys(void **state)
+{
+    assert_int_equal(sunmc("--help"), 0);
+    assert_brackets_balanced(out);
+    assert_non_null(strstr(out, "config keys of the ess family"));
+    assert_non_null(strstr(out, "    design.H_mm = 4.124  mm\n"));
+    assert_non_null(strstr(out, "  [tolerance]\n"));
+    assert_null(strstr(out, "design.pixel_um"));    /* a DSS key */
+}
+
+static void test_help_family_dss_lists_dss_keys_only(void **state)
+{
+    assert_int_equal(sunmc("--help --family dss"), 0);
+    assert_brackets_balanced(out);
+    assert_non_null(strstr(out, "config keys of the dss family"));
+    assert_non_null(strstr(out, "    sensor.family = dss\n"));
+    assert_null(strstr(out, "design.H_mm"));        /* an ESS key */
+    assert_null(strstr(out, "fine_rows_x_mm"));
+}
+
+static void test_command_help_follows_config_family(void **state)
+{
+    assert_int_equal(sunmc("run --help configs/dss.ini"), 0);
+    assert_brackets_balanced(out);
+    assert_non_null(strstr(out, "usage: sunmc run CONFIG"));
+    assert_non_null(strstr(out, "config keys of the dss family"));
+    assert_int_equal(sunmc("run --help --family ess"), 0);
+    assert_non_null(strstr(out, "config keys of the ess family"));
+    assert_int_equal(sunmc("run --help"), 0);      /* no family asked: no key list */
+    assert_null(strstr(out, "config keys of"));
+}
+
+static void test_unknown_family_is_refused(void **state)
+{
+    assert_int_equal(sunmc("--help --family sss"), 2);
+    assert_non_null(strstr(out, "--family takes one of ess|dss"));
+}
+
+static void test_every_command_help_balanced(void **state)
+{
+    const char *cmds[] = {"run", "config", "sweep", "budget", "curve", "simulate", "calibrate",
+                          "compensate"};
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        char args[64];
+        snprintf(args, sizeof args, "%s --help", cmds[i]);
+        assert_int_equal(sunmc(args), 0);
+        assert_brackets_balanced(out);
+    }
+}
+
+static void test_suggest_names_nearest_key(void **state)
+{
+    char hint[128];
+    config_suggest("tolerance", "dh_um", hint, sizeof hint);
+    assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
+    config_suggest("design", "dH_um", hint, sizeof hint);          /* right key, wrong section */
+    assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
+    config_suggest("design", "slitwidth_um", hint, sizeof hint);   /* one edit */
+    assert_string_equal(hint, " (did you mean design.slit_width_um?)");
+    config_suggest("design", "xyz", hint, sizeof hint);            /* nothing near */
+    assert_string_equal(hint, "");
+    config_suggest("design", "H", hint, sizeof hint);              /* too short to guess */
+    assert_string_equal(hint, "");
+}
+
+static void test_mistyped_key_suggested_in_file_and_set(void **state)
+{
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 1 --set tolerance.dh_um=2"),
+                     2);
+    assert_non_null(strstr(out, "unknown key 'dh_um' in section [tolerance] (did you mean "
+                                "tolerance.dH_um?)"));
+    const char *ini = test_tmp("typo.ini");
+    assert_int_equal(test_write_file(ini, "[sensor]\nfamily = ess\n[tolerance]\ndh_um = 2\n"), 0);
+    char args[512];
+    snprintf(args, sizeof args, "config %s", ini);
+    assert_int_equal(sunmc(args), 2);
+    assert_non_null(strstr(out, ":4: unknown key 'dh_um' in section [tolerance] (did you mean "
+                                "tolerance.dH_um?)"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_main_help_lists_first_family_keys),
+        cmocka_unit_test(test_help_family_dss_lists_dss_keys_only),
+        cmocka_unit_test(test_command_help_follows_config_family),
+        cmocka_unit_test(test_unknown_family_is_refused),
+        cmocka_unit_test(test_every_command_help_balanced),
+        cmocka_unit_test(test_suggest_names_nearest_key),
+        cmocka_unit_test(test_mistyped_key_suggested_in_file_and_set),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
