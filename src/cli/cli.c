@@ -167,10 +167,14 @@ static const sensor_family *help_family(int argc, char **argv)
     for (int i = 2; i < argc; i++) {
         if (argv[i][0] == '-' || access(argv[i], R_OK) != 0)
             continue;
-        config_state st;
+        config_state st = {0};
         char err[SUNMC_ERRLEN];
+        const sensor_family *fam = NULL;
         if (config_build(&st, argv[i], NULL, 0, err, sizeof err) == SUNMC_OK)
-            return st.cfg.family;
+            fam = st.cfg.family;
+        config_state_free(&st);
+        if (fam)
+            return fam;
     }
     return sensor_family_at(0);
 }
