@@ -80,7 +80,7 @@ ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: all run test test-plain test-fast test-asan deps clean install plots figures bench \
+.PHONY: all run test test-plain test-fast test-asan deps clean install man plots figures bench \
         reference golden mutate mutate-build mutate-tests
 
 all: $(BUILD)/sunmc
@@ -200,6 +200,13 @@ install: $(BUILD)/sunmc
 	install -m 755 $(BUILD)/sunmc $(DESTDIR)$(PREFIX)/bin/sunmc
 	install -m 644 configs/*.ini $(DESTDIR)$(PREFIX)/share/sunmc/configs/
 	install -m 644 $(wildcard scripts/*.gp) $(DESTDIR)$(PREFIX)/share/sunmc/scripts/
+	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions
+	install -m 644 man/sunmc.1 $(DESTDIR)$(PREFIX)/share/man/man1/sunmc.1
+	install -m 644 scripts/sunmc-completion.bash $(DESTDIR)$(PREFIX)/share/bash-completion/completions/sunmc
+
+# The man page is made from the binary's --help texts (tests/test_man.c checks it).
+man: $(BUILD)/sunmc
+	bash scripts/gen-man.sh $(BUILD)/sunmc > man/sunmc.1
 
 clean:
 	rm -rf $(BUILD)
