@@ -186,8 +186,8 @@ golden: $(BUILD)/sunmc
 # Figures: `make plots RUN=DIR` draws what a run directory holds, next to it;
 # `make figures` rebuilds the papers' figures into $(BUILD)/figures/.
 plots: $(BUILD)/sunmc
-	@test -n "$(RUN)" || { echo "usage: make plots RUN=DIR" >&2; exit 2; }
-	bash scripts/plots.sh $(RUN)
+	@test -n "$(RUN)" || { echo "usage: make plots RUN=DIR [svg=1]" >&2; exit 2; }
+	bash scripts/plots.sh $(RUN) $(if $(filter 1,$(svg)),svg)
 
 figures: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
