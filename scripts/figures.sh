@@ -90,7 +90,7 @@ if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh
   # Fig. 5, refraction: the on-board formula ignores the cover glass, so the
   # nominal unit's error before calibration is the refraction error itself
   # (S-curve off so that nothing else is in it).
-  "$SUNMC" curve $D --only glass_index=0 $grid --set noise.s_curve=off --out $data/dss_fig5_refraction $q >/dev/null
+  "$SUNMC" curve $D --only glass_index=0 $grid --set noise.s_curve=off --set design.onboard_refraction=ignored --out $data/dss_fig5_refraction $q >/dev/null
   gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: refraction error of the nominal design (0.4 mm glass, n = 1.52; on-board formula ignores it)'" scripts/map.gp
   # One Monte Carlo unit before and after its own calibration.
   "$SUNMC" curve $D --unit 3 $grid --out $data/dss_unit3 $q >/dev/null

@@ -119,15 +119,52 @@ static void test_spot_through_glass(void **state)
     }
 }
 
-/* The on-board formula (eq. 9-10): the pinhole inverts the image. */
+/* The on-board formula with the glass ignored (eq. 9-10): the pinhole
+ * inverts the image. */
 static void test_onboard_formula(void **state)
 {
+    const dss_onboard o = {.h_mm = 3.0, .pixel_mm = 5.5e-3, .glass_t_mm = 0, .glass_n = 1.52};
     for (double x = -900; x <= 900; x += 137.1) {
         double a, b;
-        dss_onboard_angles(3.0, 5.5e-3, x, -0.5 * x + 11, &a, &b);
+        assert_int_equal(dss_onboard_angles(&o, x, -0.5 * x + 11, &a, &b), SUNMC_OK);
         assert_near(a, atan(-x * 5.5e-3 / 3.0), 1e-15);
         assert_near(b, atan((0.5 * x - 11) * 5.5e-3 / 3.0), 1e-15);
     }
+}
+
+/* The corrected on-board formula (the default) is the exact inverse of the
+ * nominal geometry: the spot of sun (alpha, beta) through the nominal glass
+ * by the textbook plate displacement reads back (alpha, beta) to 1e-9";
+ * with the glass ignored the error is of the order of degrees at 60 deg. */
+static void test_onboard_corrected(void **state)
+{
+    sunmc_config c = default_dss();
+    dss_design *d = &dss_cfg(&c)->design;
+    assert_int_equal(d->onboard_refraction, DSS_ONBOARD_CORRECTED);
+    dss_onboard o, paper;
+    dss_onboard_init(&o, d);
+    d->onboard_refraction = DSS_ONBOARD_IGNORED;
+    dss_onboard_init(&paper, d);
+    const double pix = d->pixel_um * MM_PER_UM;
+    double worst_paper = 0;
+    for (double a = -60; a <= 60; a += 7.5)
+        for (double b = -60; b <= 60; b += 7.5) {
+            double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG;
+            double nrm = sqrt(1 + tan(ar) * tan(ar) + tan(br) * tan(br));
+            double u[3] = {tan(ar) / nrm, tan(br) / nrm, 1 / nrm}, sp[2], ga, gb;
+            ref_spot_mm(u, 0, 0, d->h_mm, d->glass_thickness_mm, d->glass_index, sp);
+            assert_int_equal(dss_onboard_angles(&o, sp[0] / pix, sp[1] / pix, &ga, &gb),
+                             SUNMC_OK);
+            assert_near((ga - ar) * ARCSEC_PER_RAD, 0.0, 1e-9);
+            assert_near((gb - br) * ARCSEC_PER_RAD, 0.0, 1e-9);
+            assert_int_equal(dss_onboard_angles(&paper, sp[0] / pix, sp[1] / pix, &ga, &gb),
+                             SUNMC_OK);
+            worst_paper = fmax(worst_paper, fabs(ga - ar) * ARCSEC_PER_RAD);
+        }
+    assert_true(worst_paper > 3600);
+    double ga, gb; /* the centre, where r = 0 */
+    assert_int_equal(dss_onboard_angles(&o, 0, 0, &ga, &gb), SUNMC_OK);
+    assert_true(ga == 0 && gb == 0);
 }
 
 /* ---- installation rotations ---- */
@@ -392,6 +429,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_spot_through_glass),
         cmocka_unit_test(test_onboard_formula),
+        cmocka_unit_test(test_onboard_corrected),
         cmocka_unit_test(test_installation_rotations),
         cmocka_unit_test(test_c3_closed_form),
         cmocka_unit_test(test_detector_edge),

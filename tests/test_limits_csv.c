@@ -259,7 +259,8 @@ static void poly_params(const char *order, int terms, const char *pixel, char *t
     size_t used = (size_t)snprintf(text, len,
                                    "[calibration]\nsensor = dss\nmodel = dss_polynomial\n"
                                    "[design]\norder = %s\nscale_rad = 1\nh_nom_mm = 3\n"
-                                   "pixel_mm = %s\n[parameters]\n",
+                                   "pixel_mm = %s\nglass_t_mm = 0\nglass_n = 1.52\n"
+                                   "[parameters]\n",
                                    order, pixel);
     for (int k = 0; k < terms; k++)
         used += (size_t)snprintf(text + used, len - used, "ca_%d = 0\ncb_%d = 0\n", k, k);
@@ -350,6 +351,37 @@ static void test_dss_params_polynomial_design(void **state)
     }
 }
 
+/* The on-board formula's glass: 0 <= glass_t_mm < h_nom_mm (0 ignores
+ * it), glass_n >= 1; each limit refused just outside, accepted on it. */
+static void test_dss_params_polynomial_glass(void **state)
+{
+    char params[8192], out[4096];
+    const struct {
+        const char *from, *to;
+        int ok;
+    } cases[] = {
+        {"glass_t_mm = 0\n", "glass_t_mm = -1e-9\n", 0},
+        {"glass_t_mm = 0\n", "glass_t_mm = 2.999999\n", 1},
+        {"glass_t_mm = 0\n", "glass_t_mm = 3\n", 0},
+        {"glass_n = 1.52\n", "glass_n = 0.999999\n", 0},
+        {"glass_n = 1.52\n", "glass_n = 1\n", 1},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        poly_params("1", 3, "0.0055", params, sizeof params);
+        char *at = strstr(params, cases[i].from);
+        assert_non_null(at);
+        size_t lf = strlen(cases[i].from), lt = strlen(cases[i].to);
+        memmove(at + lt, at + lf, strlen(at + lf) + 1);
+        memcpy(at, cases[i].to, lt);
+        int rc = compensate(params, "x_px,y_px\n1,1\n", out, sizeof out);
+        if (cases[i].ok)
+            expect_accepted(rc, out);
+        else
+            expect_refused(rc, out, strncmp(cases[i].to, "glass_n", 7) == 0 ? "design.glass_n"
+                                                                               : "design.glass_t_mm");
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -362,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_dss_params_order),
         cmocka_unit_test(test_dss_params_physical),
         cmocka_unit_test(test_dss_params_polynomial_design),
+        cmocka_unit_test(test_dss_params_polynomial_glass),
     };
     return cmocka_run_group_tests_name("limits_csv", tests, NULL, NULL);
 }

@@ -395,12 +395,21 @@ static void ess_before_from_validation(void **state)
     csv_free(v);
 }
 
-/* The DSS paper's eq. 9-10 and the field angle, written here. */
+/* The default on-board formula, written here: the field angle th whose
+ * spot through the nominal glass lies r from the centre, by bisection on
+ * r(th) = (h - t) tan th + t tan(asin(sin th / n)), then the direction. */
 static void dss_onboard(double x_px, double y_px, double *a, double *b)
 {
-    const double pixel_mm = 5.5e-3, h_mm = 3.0; /* configs/dss.ini's design */
-    *a = atan(-x_px * pixel_mm / h_mm);
-    *b = atan(-y_px * pixel_mm / h_mm);
+    const double pixel_mm = 5.5e-3, h_mm = 3.0, t_mm = 0.4, n = 1.52; /* configs/dss.ini */
+    double x = x_px * pixel_mm, y = y_px * pixel_mm, r = hypot(x, y), lo = 0, hi = 1.5;
+    for (int it = 0; it < 200; it++) {
+        double th = 0.5 * (lo + hi);
+        double rt = (h_mm - t_mm) * tan(th) + t_mm * tan(asin(sin(th) / n));
+        *(rt < r ? &lo : &hi) = th;
+    }
+    double k = r > 0 ? tan(0.5 * (lo + hi)) / r : 1 / h_mm;
+    *a = atan(-x * k);
+    *b = atan(-y * k);
 }
 
 static void direction(double a, double b, double v[3])

@@ -21,7 +21,11 @@ typedef struct {
     double glass_thickness_mm;
     double glass_index;
     double fov_deg;          /* half field of view, per axis */
+    int onboard_refraction;  /* enum dss_onboard_refraction (dss_onboard.h) */
 } dss_design;
+
+/* The values of design.onboard_refraction. */
+enum dss_onboard_refraction { DSS_ONBOARD_CORRECTED = 0, DSS_ONBOARD_IGNORED = 1 };
 
 /* One tolerance per line of DSS_DEVIATIONS. */
 typedef struct {

@@ -21,10 +21,13 @@
  *    the centre of the field and grow toward its edge (DSS paper Fig. 4).
  *  - Truth: the table's angles (alpha0, beta0) of eq. 3-4, i.e. the angles of
  *    R(b) e_z.
- *  - On-board formula (eq. 9-10) with the nominal design: the pinhole
- *    inverts the image, so alpha_m = atan(-x / h), beta_m = atan(-y / h)
- *    (x, y in mm).  It ignores the cover glass: the refraction error of the
- *    DSS paper's Fig. 5 is part of the error before calibration.
+ *  - On-board formula: the exact inverse of the nominal geometry (dss_onboard
+ *    below).  With design.onboard_refraction = corrected (the default) it
+ *    undoes the nominal cover glass, so the error before calibration is
+ *    what manufacturing and mounting do; with `ignored` it is the DSS
+ *    paper's eq. 9-10, alpha_m = atan(-x / h), beta_m = atan(-y / h) (x, y in
+ *    mm; the pinhole inverts the image), and the refraction error of the
+ *    paper's Fig. 5 is part of the error before calibration.
  *
  * Centroid: the spot is the pinhole's shadow, a disc of the pinhole's
  * diameter; its centroid carries the optional S-curve bias (dss_centroid.h)
@@ -37,6 +40,7 @@
 #include "dss_config.h"
 #include "deviation.h"
 #include "dss_centroid.h"
+#include "dss_onboard.h"
 #include "rotation.h"
 
 #include <stdint.h>
@@ -64,7 +68,7 @@ void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_
 /* One built sensor: lengths in mm, angles in radians. */
 typedef struct {
     /* design, as the on-board formula knows it */
-    double h_nom_mm;
+    dss_onboard onboard;
     double pixel_mm;
     double half_side_mm;       /* half the detector's side */
     double pixel_phase_px;     /* pixel centres sit at x_px = pixel_phase_px + integer */
@@ -96,13 +100,8 @@ int dss_sensor_spot(const dss_sensor *s, const double u[3], const double noise_p
 int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double noise_px[2],
                     double *x_px, double *y_px);
 
-/* The on-board formula, eq. 9-10: angles (rad) of a spot (px) for a design
- * height h_nom_mm and pitch pixel_mm. */
-void dss_onboard_angles(double h_nom_mm, double pixel_mm, double x_px, double y_px,
-                        double *alpha, double *beta);
-
 /* dss_onboard_angles with the sensor's nominal design. */
-void dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
+int dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
                        double *beta);
 
 #endif

@@ -327,9 +327,16 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     if (st == SUNMC_OK)
         st = params_set_double(p, "design", "scale_rad", q->scale_rad, "angle normalisation");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "h_nom_mm", q->h_nom_mm, "on-board formula height");
+        st = params_set_double(p, "design", "h_nom_mm", q->onboard.h_mm,
+                               "on-board formula height, glass included");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "pixel_mm", q->pixel_mm, "detector pitch");
+        st = params_set_double(p, "design", "pixel_mm", q->onboard.pixel_mm, "detector pitch");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "design", "glass_t_mm", q->onboard.glass_t_mm,
+                               "on-board formula's cover glass (0: ignored)");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "design", "glass_n", q->onboard.glass_n,
+                               "on-board formula's cover-glass index");
     for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
         snprintf(key, sizeof key, "ca_%d", k);
         st = params_set_double(p, "parameters", key, q->ca[k], "alpha correction term, rad");
@@ -386,16 +393,27 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
                                 whole, err, errlen);
         if (st == SUNMC_OK)
             st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
+        dss_onboard *o = &q->onboard;
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "h_nom_mm", &q->h_nom_mm, err, errlen);
+            st = params_get_double(p, "design", "h_nom_mm", &o->h_mm, err, errlen);
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "pixel_mm", &q->pixel_mm, err, errlen);
+            st = params_get_double(p, "design", "pixel_mm", &o->pixel_mm, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "glass_t_mm", &o->glass_t_mm, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "design", "glass_n", &o->glass_n, err, errlen);
         if (st == SUNMC_OK)
             st = params_require(p, "design", "scale_rad", q->scale_rad > 0, "> 0", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "h_nom_mm", q->h_nom_mm > 0, "> 0", err, errlen);
+            st = params_require(p, "design", "h_nom_mm", o->h_mm > 0, "> 0", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "pixel_mm", q->pixel_mm > 0, "> 0", err, errlen);
+            st = params_require(p, "design", "pixel_mm", o->pixel_mm > 0, "> 0", err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "glass_t_mm",
+                                o->glass_t_mm >= 0 && o->glass_t_mm < o->h_mm,
+                                ">= 0 and below design.h_nom_mm", err, errlen);
+        if (st == SUNMC_OK)
+            st = params_require(p, "design", "glass_n", o->glass_n >= 1, ">= 1", err, errlen);
         if (st != SUNMC_OK)
             return st;
         q->order = (int)order;

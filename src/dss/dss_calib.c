@@ -15,8 +15,7 @@ int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double 
                    double *beta)
 {
     if (cal->kind == DSS_MODEL_POLYNOMIAL) {
-        dss_poly_compensate(&cal->poly, x_px, y_px, alpha, beta);
-        return SUNMC_OK;
+        return dss_poly_compensate(&cal->poly, x_px, y_px, alpha, beta);
     }
     return dss_model_compensate(&cal->phys, x_px, y_px, alpha, beta);
 }
@@ -164,28 +163,32 @@ static int calibrate_poly(dss_calib_workspace *cw, int max_iter, dss_calibration
     const dss_design *d = &cw->design;
     dss_poly *p = &out->poly;
     out->kind = DSS_MODEL_POLYNOMIAL;
-    dss_poly_init(p, cw->poly_order, d->h_mm, d->pixel_um * MM_PER_UM, d->fov_deg * RAD_PER_DEG);
+    dss_onboard ob;
+    dss_onboard_init(&ob, d);
+    dss_poly_init(p, cw->poly_order, &ob, d->fov_deg * RAD_PER_DEG);
     size_t nt = (size_t)p->n_terms;
     if (usable(cw) < nt + 1) {
         memset(res, 0, sizeof *res);
         res->status = GSL_EINVAL;
         return SUNMC_EINPUT;
     }
+    /* A reading the on-board formula cannot read is left out (weight 0 in
+     * poly_fdf through a zero basis row and target). */
     for (size_t i = 0; i < cw->n; i++) {
-        if (!(cw->weight[i] > 0))
-            continue;
-        double am, bm;
-        dss_onboard_angles(p->h_nom_mm, p->pixel_mm, cw->x_px[i], cw->y_px[i], &am, &bm);
-        dss_poly_basis(p->order, am / p->scale_rad, bm / p->scale_rad, cw->basis + i * nt);
+        double *t = cw->basis + i * nt, am, bm;
+        memset(t, 0, nt * sizeof *t);
+        if (cw->weight[i] > 0 &&
+            dss_onboard_angles(&p->onboard, cw->x_px[i], cw->y_px[i], &am, &bm) == SUNMC_OK)
+            dss_poly_basis(p->order, am / p->scale_rad, bm / p->scale_rad, t);
     }
     int status = SUNMC_OK;
     for (int axis = 0; axis < 2; axis++) {
         for (size_t i = 0; i < cw->n; i++) {
             double am, bm, a0, b0;
             cw->target[i] = 0.0;
-            if (!(cw->weight[i] > 0))
+            if (!(cw->weight[i] > 0) ||
+                dss_onboard_angles(&p->onboard, cw->x_px[i], cw->y_px[i], &am, &bm) != SUNMC_OK)
                 continue;
-            dss_onboard_angles(p->h_nom_mm, p->pixel_mm, cw->x_px[i], cw->y_px[i], &am, &bm);
             dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
             cw->target[i] = axis == 0 ? a0 - am : b0 - bm;
         }

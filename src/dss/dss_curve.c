@@ -111,7 +111,8 @@ int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
     if (st != SUNMC_OK)
         return st;
     dss_table_truth(b1, b2, &a0, &b0);
-    dss_sensor_angles(&w->u.sensor, x, y, &am, &bm);
+    if ((st = dss_sensor_angles(&w->u.sensor, x, y, &am, &bm)) != SUNMC_OK)
+        return st;
     errors_of(am, bm, a0, b0, before);
     for (int a = 0; a <= CURVE_TOTAL; a++)
         after[a] = NAN;

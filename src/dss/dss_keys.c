@@ -33,6 +33,10 @@ const config_key dss_keys[] = {
      "cover-glass refractive index"},
     {"design", "dss_fov_deg", KEY_DOUBLE, "deg", "60", 1, 80, NULL, OFF(design.fov_deg),
      "half field of view per axis"},
+    {"design", "onboard_refraction", KEY_ENUM, "", "corrected", 0, 0, "corrected|ignored",
+     OFF(design.onboard_refraction),
+     "on-board formula: corrected = exact inverse of the nominal geometry, cover glass "
+     "included; ignored = the DSS paper's eq. 9-10 (its Fig. 5 refraction error stays)"},
 
     /* [tolerance]: one pair of keys per line of DSS_DEVIATIONS */
     DSS_DEVIATIONS(DEVIATION_X_KEYS)

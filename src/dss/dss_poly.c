@@ -1,6 +1,6 @@
 /* dss_poly.c - 2-D polynomial correction of the DSS angles (see dss_poly.h). */
 #include "dss_poly.h"
-#include "dss_sensor.h"
+#include "status.h"
 
 #include <math.h>
 #include <string.h>
@@ -15,14 +15,13 @@ void dss_poly_basis(int order, double u, double v, double *t)
             t[k++] = pow(u, d - j) * pow(v, j);
 }
 
-void dss_poly_init(dss_poly *p, int order, double h_nom_mm, double pixel_mm, double fov_rad)
+void dss_poly_init(dss_poly *p, int order, const dss_onboard *o, double fov_rad)
 {
     memset(p, 0, sizeof *p);
     p->order = order;
     p->n_terms = dss_poly_n_terms(order);
     p->scale_rad = fov_rad;
-    p->h_nom_mm = h_nom_mm;
-    p->pixel_mm = pixel_mm;
+    p->onboard = *o;
 }
 
 void dss_poly_apply(const dss_poly *p, double alpha_m, double beta_m, double *alpha,
@@ -39,10 +38,13 @@ void dss_poly_apply(const dss_poly *p, double alpha_m, double beta_m, double *al
     *beta = b;
 }
 
-void dss_poly_compensate(const dss_poly *p, double x_px, double y_px, double *alpha,
-                         double *beta)
+int dss_poly_compensate(const dss_poly *p, double x_px, double y_px, double *alpha,
+                        double *beta)
 {
     double am, bm;
-    dss_onboard_angles(p->h_nom_mm, p->pixel_mm, x_px, y_px, &am, &bm);
+    int st = dss_onboard_angles(&p->onboard, x_px, y_px, &am, &bm);
+    if (st != SUNMC_OK)
+        return st;
     dss_poly_apply(p, am, bm, alpha, beta);
+    return SUNMC_OK;
 }

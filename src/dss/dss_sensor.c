@@ -43,7 +43,7 @@ void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)
 {
     memset(s, 0, sizeof *s);
-    s->h_nom_mm = d->h_mm;
+    dss_onboard_init(&s->onboard, d);
     s->pixel_mm = d->pixel_um * MM_PER_UM;
     s->half_side_mm = 0.5 * d->detector_px * s->pixel_mm;
     s->pixel_phase_px = (d->detector_px % 2 == 0) ? 0.5 : 0.0;
@@ -102,15 +102,8 @@ int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double nois
     return dss_sensor_spot(s, u, noise_px, x_px, y_px);
 }
 
-void dss_onboard_angles(double h_nom_mm, double pixel_mm, double x_px, double y_px,
-                        double *alpha, double *beta)
+int dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
+                      double *beta)
 {
-    *alpha = atan(-x_px * pixel_mm / h_nom_mm);
-    *beta = atan(-y_px * pixel_mm / h_nom_mm);
-}
-
-void dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
-                       double *beta)
-{
-    dss_onboard_angles(s->h_nom_mm, s->pixel_mm, x_px, y_px, alpha, beta);
+    return dss_onboard_angles(&s->onboard, x_px, y_px, alpha, beta);
 }

@@ -209,7 +209,8 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
             if (dss_validation_reading(c, u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
                 continue;
             double field = field_angle_deg(a0, b0);
-            dss_sensor_angles(&u->sensor, x, y, &am, &bm);
+            if (dss_sensor_angles(&u->sensor, x, y, &am, &bm) != SUNMC_OK)
+                continue; /* beyond 86 deg: no spot on any detector of the config */
             add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
             if (res->fit_status != UNIT_FIT_OK)
                 continue;
