@@ -69,6 +69,25 @@ static void test_threads_byte_identical(void **state)
     }
 }
 
+/* The files of a run of 40 units streamed in blocks of 7 (the last block
+ * short) are those of one block of 256. */
+static void test_block_size_byte_identical(void **state)
+{
+    char out[8192], args[1024], a[256], b[256];
+    snprintf(args, sizeof args, SMALL " --units 40 --threads 2 --out %s/b256", dir);
+    assert_int_equal(run(args, out, sizeof out), 0);
+    snprintf(args, sizeof args, SMALL " --units 40 --threads 2 --set run.block_units=7 --out %s/b7",
+             dir);
+    assert_int_equal(run(args, out, sizeof out), 0);
+    const char *files[] = {"summary.tsv", "units.tsv"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(a, sizeof a, "%s/b256/%s", dir, files[i]);
+        snprintf(b, sizeof b, "%s/b7/%s", dir, files[i]);
+        if (!files_equal(a, b))
+            fail_msg("%s differs between blocks of 256 and of 7", files[i]);
+    }
+}
+
 /* Units 0..39 and the halves 0:17, 17:40 give the same unit rows. */
 static void test_unit_ranges_compose(void **state)
 {
@@ -177,6 +196,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_byte_identical), cmocka_unit_test(test_unit_ranges_compose),
+        cmocka_unit_test(test_block_size_byte_identical),
         cmocka_unit_test(test_summary_columns),        cmocka_unit_test(test_bad_configs_exit_2),
         cmocka_unit_test(test_bad_command_lines),      cmocka_unit_test(test_config_command),
     };

@@ -192,6 +192,38 @@ static void test_t_textbook(void **state)
     assert_true(isnan(m) && isnan(ci.lo));
 }
 
+/* Running moments: the textbook interval of 1..10, the same mean bit for
+ * bit as stats_mean_t (same sum), and no cancellation on values with a large
+ * common offset (1e9 + 1..10: the naive sum of squares loses every digit). */
+static void test_moments_stream(void **state)
+{
+    stats_moments mo = {0}, big = {0};
+    double x[10], m, m2;
+    stats_interval ci, ci2;
+    for (int i = 0; i < 10; i++) {
+        x[i] = 0.1 * (i + 1);
+        stats_moments_add(&mo, x[i]);
+        stats_moments_add(&big, 1e9 + (i + 1));
+    }
+    assert_int_equal(stats_moments_t(&mo, CONF95, &m, &ci, err, sizeof err), SUNMC_OK);
+    assert_int_equal(stats_mean_t(x, 10, CONF95, &m2, &ci2, err, sizeof err), SUNMC_OK);
+    assert_true(m == m2);
+    assert_near(ci.lo, ci2.lo, 1e-15);
+    assert_near(ci.hi, ci2.hi, 1e-15);
+    double half = 2.262157 * sqrt(110.0 / 12.0) / sqrt(10.0);
+    assert_int_equal(stats_moments_t(&big, CONF95, &m, &ci, err, sizeof err), SUNMC_OK);
+    assert_near(m, 1e9 + 5.5, 0);
+    assert_near(ci.hi - m, half, 1e-5);
+    /* one value: the mean, no interval; none: NaN */
+    stats_moments one = {0}, none = {0};
+    stats_moments_add(&one, 3.0);
+    assert_int_equal(stats_moments_t(&one, CONF95, &m, &ci, err, sizeof err), SUNMC_OK);
+    assert_near(m, 3.0, 0);
+    assert_true(isnan(ci.lo) && isnan(ci.hi));
+    assert_int_equal(stats_moments_t(&none, CONF95, &m, &ci, err, sizeof err), SUNMC_OK);
+    assert_true(isnan(m) && isnan(ci.hi));
+}
+
 /* Coverage: normal samples of 10 (exact t), and skewed exponential samples
  * of 200 (the RMS-like case; t is then approximate). */
 static void test_t_coverage(void **state)
@@ -574,6 +606,7 @@ int main(void)
         cmocka_unit_test(test_proportion_guarantee),
         cmocka_unit_test(test_proportion_shrink),
         cmocka_unit_test(test_t_textbook),
+        cmocka_unit_test(test_moments_stream),
         cmocka_unit_test(test_t_coverage),
         cmocka_unit_test(test_t_shrink),
         cmocka_unit_test(test_quantile_definition),

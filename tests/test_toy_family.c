@@ -11,6 +11,7 @@
 #include "ess_sensor.h"
 #include "montecarlo.h"
 #include "registry.h"
+#include "report.h"
 #include "status.h"
 #include "sweep.h"
 #include "toy_family.h"
@@ -163,6 +164,76 @@ static void run_in_core(void **state)
     config_state_free(&st);
 }
 
+/* Blocks for mc_stream's sink: each block's units in order. */
+typedef struct {
+    unit_result all[16];
+    long n, blocks, stop_after;
+} block_log;
+
+static int log_block(const unit_result *r, long n, void *ctx, int *stop, char *err, size_t len)
+{
+    block_log *l = ctx;
+    memcpy(&l->all[l->n], r, (size_t)n * sizeof *r);
+    l->n += n;
+    *stop = ++l->blocks == l->stop_after;
+    return SUNMC_OK;
+}
+
+/* mc_stream hands units 3..13 over in blocks of 4, 4, 2 in unit order, the
+ * same bytes as mc_run; a sink's stop after block 2 ends at 8 units. */
+static void stream_in_blocks(void **state)
+{
+    config_state st;
+    const char *sets[] = {"run.block_units=4", "noise.reading_arcsec=1"};
+    build(&st, sets, 2);
+    const sunmc_config *c = &st.cfg;
+    unit_result whole[10];
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(mc_run(c, c->family, 3, 13, 2, whole, NULL, NULL, err, sizeof err), SUNMC_OK);
+    block_log *l = calloc(1, sizeof *l);
+    mc_plan p = {3, 13, c->block_units, 2, log_block, l, NULL, NULL};
+    long done = 0;
+    assert_int_equal(mc_stream(c, c->family, &p, &done, err, sizeof err), SUNMC_OK);
+    assert_int_equal(done, 10);
+    assert_int_equal(l->blocks, 3);
+    for (long u = 0; u < 10; u++)
+        assert_int_equal(l->all[u].unit, 3 + u);
+    assert_memory_equal(l->all, whole, sizeof whole);
+    memset(l, 0, sizeof *l);
+    l->stop_after = 2;
+    assert_int_equal(mc_stream(c, c->family, &p, &done, err, sizeof err), SUNMC_OK);
+    assert_int_equal(done, 8);
+    assert_int_equal(l->n, 8);
+    free(l);
+    config_state_free(&st);
+}
+
+/* The statistics accumulated block by block, read part-way and continued,
+ * equal those of the whole array. */
+static void statistics_in_blocks(void **state)
+{
+    config_state st;
+    const char *sets[] = {"noise.reading_arcsec=1"};
+    build(&st, sets, 1);
+    const sunmc_config *c = &st.cfg;
+    unit_result r[9];
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(mc_run(c, c->family, 0, 9, 1, r, NULL, NULL, err, sizeof err), SUNMC_OK);
+    int nr = report_n_rows(c, c->family);
+    summary_row whole[CONFIG_BANDS_MAX], parts[CONFIG_BANDS_MAX];
+    assert_int_equal(report_summarize(c, c->family, r, 9, whole), SUNMC_OK);
+    report_acc *acc = report_acc_new(c, c->family);
+    assert_int_equal(report_acc_add(acc, r, 4), SUNMC_OK);
+    report_acc_rows(acc, parts);
+    assert_int_equal(parts[0].units, 4);
+    assert_int_equal(report_acc_add(acc, r + 4, 5), SUNMC_OK);
+    report_acc_rows(acc, parts);
+    assert_int_equal(report_acc_units(acc), 9);
+    assert_memory_equal(parts, whole, (size_t)nr * sizeof *whole);
+    report_acc_free(acc);
+    config_state_free(&st);
+}
+
 static void sweep_in_core(void **state)
 {
     config_state st;
@@ -289,6 +360,7 @@ int main(void)
         cmocka_unit_test(registry_lookup),      cmocka_unit_test(config_of_the_toy),
         cmocka_unit_test(config_errors),        cmocka_unit_test(reference_lists_the_toy),
         cmocka_unit_test(run_in_core),          cmocka_unit_test(sweep_in_core),
+        cmocka_unit_test(stream_in_blocks),     cmocka_unit_test(statistics_in_blocks),
         cmocka_unit_test(budget_in_core),       cmocka_unit_test(commands_run_the_toy),
         cmocka_unit_test(deviation_lists),
     };

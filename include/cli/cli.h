@@ -4,6 +4,7 @@
 #define SUNMC_CLI_H
 
 #include "registry.h"
+#include "report.h"
 
 #include <stdio.h>
 
@@ -66,12 +67,11 @@ void cli_progress_start(cli_progress *p, int quiet);
 void cli_progress_update(long done, long total, void *ctx);
 double cli_progress_end(cli_progress *p, long units, int threads);
 
-/* Run units [first, end) of c with progress and timing on stderr; fills
- * *results (n = end - first) and *rows (report_n_rows).  Prints errors and
- * returns an exit code. */
-struct unit_result_s;
+/* Run units [first, end) of c with progress and timing on stderr, in
+ * blocks (nothing held per unit but the statistics); fills rows
+ * (report_n_rows of them).  Prints errors and returns an exit code. */
 int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
-                    void **results, void **rows);
+                    summary_row *rows);
 
 /* Threads to use: o->threads, else run.threads, else OpenMP's default. */
 int cli_threads(const cli_options *o, const sunmc_config *c);

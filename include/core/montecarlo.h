@@ -1,9 +1,16 @@
 /* montecarlo.h - run units [first, end) of a config in parallel.
  *
  * OpenMP over units, dynamic schedule, one family workspace per thread.
- * results[u - first] is filled for each unit; since a unit's draws depend
- * only on (seed, u) and aggregation is in unit order, the results do not
- * depend on the thread count.
+ * Since a unit's draws depend only on (seed, u) and aggregation is in unit
+ * order, the results do not depend on the thread count.
+ *
+ * mc_run fills an array of every unit's results (small runs: budget
+ * points, tests).  mc_stream runs the units in blocks of block_units and
+ * hands each block, complete and in unit order, to a sink before the next
+ * one starts: the block buffer is the reorder buffer, so memory does not
+ * grow with the number of units, and a sink may stop the run after any
+ * block (run --until) -- the units handed over are then exactly those of a
+ * fixed run of that many units.
  */
 #ifndef SUNMC_MONTECARLO_H
 #define SUNMC_MONTECARLO_H
@@ -18,5 +25,26 @@ typedef void (*mc_progress_fn)(long done, long total, void *ctx);
  * family workspace allocation or unit run (message in err). */
 int mc_run(const sunmc_config *c, const sensor_family *fam, long first, long end, int threads,
            unit_result *results, mc_progress_fn progress, void *ctx, char *err, size_t errlen);
+
+/* Receives results[n], the next block in unit order; sets *stop = 1 to end
+ * the run after this block.  A status other than SUNMC_OK ends the run with
+ * that status (message in err). */
+typedef int (*mc_sink_fn)(const unit_result *results, long n, void *ctx, int *stop, char *err,
+                          size_t errlen);
+
+typedef struct {
+    long first, end;      /* units [first, end) */
+    long block_units;     /* units per block, > 0; block k is [first + k B, first + (k+1) B) */
+    int threads;          /* 0 = OpenMP's default */
+    mc_sink_fn sink;
+    void *sink_ctx;
+    mc_progress_fn progress; /* may be NULL; done counts from first */
+    void *progress_ctx;
+} mc_plan;
+
+/* Run the plan's blocks in order.  *done (may be NULL) gets the number of
+ * units handed to the sink. */
+int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p, long *done,
+              char *err, size_t errlen);
 
 #endif

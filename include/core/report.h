@@ -38,8 +38,25 @@ typedef struct {
 /* Number of rows = angles x bands. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);
 
+/* The statistics of a stream of units, added in unit order a block at a
+ * time: running moments for the means, counts, max/min, and per angle and
+ * band the RMS after of each unit (the p95 and its interval need them all:
+ * 8 bytes per unit per angle and band, the only memory that grows with the
+ * run).  report_acc_rows may be called after any block and adding go on. */
+typedef struct report_acc report_acc;
+
+/* NULL when out of memory; c and fam must outlive the accumulator. */
+report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam);
+/* Add results[n], the next units in unit order.  SUNMC_ENOMEM. */
+int report_acc_add(report_acc *acc, const unit_result *results, long n);
+/* Units added so far. */
+long report_acc_units(const report_acc *acc);
+/* The summary of the units so far into rows[report_n_rows]. */
+void report_acc_rows(report_acc *acc, summary_row *rows);
+void report_acc_free(report_acc *acc);
+
 /* Fill rows[report_n_rows] from results[n] (in unit order), intervals at
- * c->confidence.  SUNMC_ENOMEM. */
+ * c->confidence (an accumulator over one array).  SUNMC_ENOMEM. */
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
                      long n, summary_row *rows);
 
@@ -55,9 +72,13 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
                                const summary_row *rows, int n_lead, const double *lead_values);
 
-/* units.tsv: header then one row per unit. */
+/* units.tsv: header then one row per unit; the header and the rows apart,
+ * for writing the rows a block at a time. */
 void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const unit_result *results, long n);
+void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_family *fam);
+void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                            const unit_result *results, long n);
 
 /* Band label "0:30" of band i. */
 void report_band_label(const sunmc_config *c, int i, char *buf, size_t len);

@@ -65,6 +65,25 @@ int stats_t_interval(double mean, double sd, long n, double confidence, stats_in
 int stats_mean_t(const double *x, size_t n, double confidence, double *mean, stats_interval *ci,
                  char *err, size_t errlen);
 
+/* Running moments of a stream of values, for a mean and its t interval
+ * without holding the values: the sum in arrival order (so the mean is
+ * bit for bit stats_mean_t's sum / n) and Welford's sum of squared
+ * deviations (no cancellation: as accurate as the two-pass formula to a
+ * few units in the last place).  Zero-initialise, then add. */
+typedef struct {
+    long n;
+    double sum;   /* sum of the values, in arrival order */
+    double mean;  /* Welford's running mean (for m2 only) */
+    double m2;    /* sum of squared deviations from the running mean */
+} stats_moments;
+
+void stats_moments_add(stats_moments *m, double x);
+
+/* stats_t_interval of the moments: *mean = sum / n (NaN for n = 0), sd from
+ * m2 with the n - 1 divisor. */
+int stats_moments_t(const stats_moments *m, double confidence, double *mean, stats_interval *ci,
+                    char *err, size_t errlen);
+
 /* Point estimate of the p-quantile of sorted[n] (ascending): Hyndman & Fan
  * (1996) definition 7, the linear interpolation between order statistics at
  * h = (n - 1) p (0-based), as R's default and numpy's "linear"; bit for bit

@@ -3,6 +3,7 @@
 #include "montecarlo.h"
 #include "output.h"
 #include "report.h"
+#include "runner.h"
 #include "status.h"
 
 #include <omp.h>
@@ -31,47 +32,46 @@ int cli_threads(const cli_options *o, const sunmc_config *c)
     return omp_get_max_threads();
 }
 
-int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
-                    void **results_out, void **rows_out)
+/* Stream units [first, end) of c through r with progress and timing on
+ * stderr; prints an error and returns an exit code. */
+static int stream_units(run_sink *r, long first, long end, int threads, int quiet)
 {
-    const sensor_family *fam = c->family;
-    long n = end - first;
-    unit_result *results = calloc((size_t)n, sizeof *results);
-    summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
-    if (!results || !rows) {
-        free(results);
-        free(rows);
-        fprintf(stderr, "sunmc: out of memory for %ld units\n", n);
-        return 1;
-    }
     cli_progress prog;
     cli_progress_start(&prog, quiet);
     char err[SUNMC_ERRLEN];
-    int st = mc_run(c, fam, first, end, threads, results, cli_progress_update, &prog, err,
-                    sizeof err);
-    if (st == SUNMC_OK)
-        st = report_summarize(c, fam, results, n, rows);
-    cli_progress_end(&prog, n, threads);
-    if (st != SUNMC_OK) {
-        fprintf(stderr, "sunmc: %s\n", st == SUNMC_ENOMEM ? "out of memory" : err);
-        free(results);
-        free(rows);
-        return cli_exit_code(st);
+    long done = 0;
+    int st = run_stream(r, first, end, threads, cli_progress_update, &prog, &done, err,
+                        sizeof err);
+    cli_progress_end(&prog, done, threads);
+    if (st != SUNMC_OK)
+        fprintf(stderr, "sunmc: %s\n", err);
+    return cli_exit_code(st);
+}
+
+int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
+                    summary_row *rows)
+{
+    run_sink r;
+    char err[SUNMC_ERRLEN];
+    if (run_sink_init(&r, c, c->family, NULL, err, sizeof err) != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", err);
+        return 1;
     }
-    *results_out = results;
-    *rows_out = rows;
-    return 0;
+    int rc = stream_units(&r, first, end, threads, quiet);
+    if (rc == 0)
+        report_acc_rows(r.acc, rows);
+    run_sink_free(&r);
+    return rc;
 }
 
 /* `run --profile`: wall time per unit per thread and the phases' shares. */
-static void print_profile(const unit_result *results, long n, double wall_s, int threads)
+static void print_profile(const double phase_s[UNIT_PHASES], long n, double wall_s, int threads)
 {
     static const char *const names[UNIT_PHASES] = {"campaign", "fit", "validation"};
     double per_unit_ms = 1e3 * wall_s * threads / (double)(n > 0 ? n : 1);
     double phase_ms[UNIT_PHASES] = {0}, sum_ms = 0;
-    for (long u = 0; u < n; u++)
-        for (int k = 0; k < UNIT_PHASES; k++)
-            phase_ms[k] += 1e3 * results[u].phase_s[k] / (double)n;
+    for (int k = 0; k < UNIT_PHASES; k++)
+        phase_ms[k] = 1e3 * phase_s[k] / (double)(n > 0 ? n : 1);
     fprintf(stderr, "profile: %ld units, %d threads, %.3f s: %.3f ms per unit per thread\n"
                     "profile:", n, threads, wall_s, per_unit_ms);
     for (int k = 0; k < UNIT_PHASES; k++) {
@@ -81,6 +81,39 @@ static void print_profile(const unit_result *results, long n, double wall_s, int
     }
     fprintf(stderr, " other %.3f ms (%.0f%%)\n", per_unit_ms - sum_ms,
             100.0 * (per_unit_ms - sum_ms) / per_unit_ms);
+}
+
+/* The output files of a run; units.tsv is written as the units stream by,
+ * the rest at the end.  All NULL without --out. */
+typedef struct {
+    out_set os;
+    FILE *f[3]; /* summary.tsv, units.tsv, config.ini */
+    int open;
+} run_files;
+
+static int run_files_begin(run_files *rf, const char *out, char *err, size_t errlen)
+{
+    static const char *const names[3] = {"summary.tsv", "units.tsv", "config.ini"};
+    memset(rf, 0, sizeof *rf);
+    if (!out)
+        return SUNMC_OK;
+    int status = out_begin(&rf->os, out, err, errlen);
+    if (status == SUNMC_OK && (status = out_open_all(&rf->os, names, rf->f, 3, err, errlen)))
+        out_abort(&rf->os);
+    rf->open = status == SUNMC_OK;
+    return status;
+}
+
+static int run_files_commit(run_files *rf, const config_state *st, const summary_row *rows,
+                            long first, long end, char *err, size_t errlen)
+{
+    const sunmc_config *c = &st->cfg;
+    report_write_summary_header(rf->f[0], 0, NULL);
+    report_write_summary_rows(rf->f[0], c, c->family, rows, 0, NULL);
+    fprintf(rf->f[2], "# units %ld:%ld of this config\n", first, end);
+    config_write(rf->f[2], st);
+    rf->open = 0;
+    return out_commit(&rf->os, err, errlen);
 }
 
 int cmd_run(int argc, char **argv)
@@ -99,48 +132,41 @@ int cmd_run(int argc, char **argv)
     long first = o.end >= 0 ? o.first : 0;
     long end = o.end >= 0 ? o.end : c->units;
     int threads = cli_threads(&o, c);
-
-    unit_result *results;
-    summary_row *rows;
+    char err[SUNMC_ERRLEN];
+    summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
+    run_files rf;
+    run_sink r;
+    int status = rows ? SUNMC_OK : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
+    if (status == SUNMC_OK)
+        status = run_files_begin(&rf, o.out, err, sizeof err);
+    if (status == SUNMC_OK && (status = run_sink_init(&r, c, fam, rf.f[1], err, sizeof err)))
+        out_abort(&rf.os);
+    if (status != SUNMC_OK) {
+        fprintf(stderr, "sunmc run: %s\n", err);
+        free(rows);
+        config_state_free(&st);
+        return cli_exit_code(status);
+    }
     unit_profile_enable(o.profile);
     double t0 = unit_clock();
-    if ((rc = cli_monte_carlo(c, first, end, threads, o.quiet, (void **)&results, (void **)&rows))) {
-        config_state_free(&st);
-        return rc;
+    rc = stream_units(&r, first, end, threads, o.quiet);
+    if (rc == 0) {
+        report_acc_rows(r.acc, rows);
+        if (o.profile)
+            print_profile(r.phase_s, end - first, unit_clock() - t0, threads);
+        /* Table 1 first: a failed write must not cost the result. */
+        report_print_table(stdout, c, fam, rows);
+        fflush(stdout);
+        if (rf.open && (status = run_files_commit(&rf, &st, rows, first, end, err, sizeof err)))
+            fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
+        rc = cli_exit_code(status);
+    } else if (rf.open) {
+        out_abort(&rf.os);
     }
-    if (o.profile)
-        print_profile(results, end - first, unit_clock() - t0, threads);
-
-    /* Table 1 first: a failed write must not cost the result. */
-    report_print_table(stdout, c, fam, rows);
-    fflush(stdout);
-    int status = SUNMC_OK;
-    char err[SUNMC_ERRLEN];
-    if (o.out) {
-        out_set os;
-        static const char *const names[3] = {"summary.tsv", "units.tsv", "config.ini"};
-        FILE *f[3] = {NULL};
-        status = out_begin(&os, o.out, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open_all(&os, names, f, 3, err, sizeof err);
-        if (status == SUNMC_OK) {
-            FILE *fs = f[0], *fu = f[1], *fc = f[2];
-            report_write_summary_header(fs, 0, NULL);
-            report_write_summary_rows(fs, c, fam, rows, 0, NULL);
-            report_write_units(fu, c, fam, results, end - first);
-            fprintf(fc, "# units %ld:%ld of this config\n", first, end);
-            config_write(fc, &st);
-            status = out_commit(&os, err, sizeof err);
-        } else {
-            out_abort(&os);
-        }
-    }
-    if (status != SUNMC_OK)
-        fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
-    free(results);
+    run_sink_free(&r);
     free(rows);
     config_state_free(&st);
-    return cli_exit_code(status);
+    return rc;
 }
 
 int cmd_config(int argc, char **argv)

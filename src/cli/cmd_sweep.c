@@ -143,18 +143,13 @@ int cmd_sweep(int argc, char **argv)
                 fprintf(stderr, " %s=%.10g", axes[i].dotted, v[i]);
             fputc('\n', stderr);
         }
-        unit_result *results;
-        summary_row *prow;
-        rc = cli_monte_carlo(c, first, end, threads, o.quiet, (void **)&results, (void **)&prow);
+        rc = cli_monte_carlo(c, first, end, threads, o.quiet, &rows[p * n_rows]);
         config_state_free(&st);
         if (rc) {
             free(rows);
             config_state_free(&base);
             return rc;
         }
-        memcpy(&rows[p * n_rows], prow, (size_t)n_rows * sizeof *prow);
-        free(results);
-        free(prow);
     }
 
     const sunmc_config *c = &base.cfg;

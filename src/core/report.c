@@ -21,69 +21,127 @@ void report_band_label(const sunmc_config *c, int i, char *buf, size_t len)
     snprintf(buf, len, "%g:%g", c->bands_deg.lo[i], c->bands_deg.hi[i]);
 }
 
-/* The per-unit values of one angle and band that enter the statistics
- * (scratch arrays of the run's length). */
+/* What the statistics of one angle and band keep while units stream by:
+ * running moments for the means, max/min of the improvement, the pass count,
+ * and the RMS after of every unit with a value (the p95 needs them all). */
 typedef struct {
-    double *before, *after, *sys, *ratio;
-    long k;     /* units with a value (fit ok, band not empty) */
-    long k_sys; /* of those, units with a noise-free value */
-    long pass;  /* units meeting the spec */
-} band_sample;
+    stats_moments before, after, sys, ratio;
+    long pass;           /* units meeting the spec */
+    double imp_max, imp_min;
+    double *after_v;     /* after values, arrival order until sorted */
+    size_t cap;
+} band_cell;
 
-static void sample_collect(const unit_result *results, long n, int a, int b, double spec,
-                           band_sample *s)
+struct report_acc {
+    const sunmc_config *c;
+    const sensor_family *fam;
+    int na, nb;
+    double spec;         /* report.spec_arcsec in the rms unit */
+    long n, gross, alias, failed;
+    band_cell cell[UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
+};
+
+report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
 {
-    s->k = s->k_sys = s->pass = 0;
+    report_acc *a = calloc(1, sizeof *a);
+    if (!a)
+        return NULL;
+    a->c = c;
+    a->fam = fam;
+    a->na = fam->n_angles(c);
+    a->nb = c->bands_deg.n;
+    a->spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
+    for (int i = 0; i < a->na * a->nb; i++) {
+        a->cell[i].imp_max = -INFINITY;
+        a->cell[i].imp_min = INFINITY;
+    }
+    return a;
+}
+
+void report_acc_free(report_acc *a)
+{
+    if (!a)
+        return;
+    for (int i = 0; i < a->na * a->nb; i++)
+        free(a->cell[i].after_v);
+    free(a);
+}
+
+long report_acc_units(const report_acc *a)
+{
+    return a->n;
+}
+
+static int cell_add(band_cell *s, const unit_result *ur, int a, int b, double spec)
+{
+    double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
+    if (ur->fit_status != UNIT_FIT_OK || !isfinite(bef) || !isfinite(aft))
+        return SUNMC_OK;
+    if ((size_t)s->after.n == s->cap) {
+        size_t cap = s->cap ? s->cap + s->cap / 2 : 256;
+        double *v = realloc(s->after_v, cap * sizeof *v);
+        if (!v)
+            return SUNMC_ENOMEM;
+        s->after_v = v;
+        s->cap = cap;
+    }
+    s->after_v[s->after.n] = aft;
+    stats_moments_add(&s->before, bef);
+    stats_moments_add(&s->after, aft);
+    stats_moments_add(&s->ratio, bef / aft);
+    s->imp_max = fmax(s->imp_max, bef / aft);
+    s->imp_min = fmin(s->imp_min, bef / aft);
+    s->pass += aft <= spec;
+    if (isfinite(ur->rms_after_sys[a][b]))
+        stats_moments_add(&s->sys, ur->rms_after_sys[a][b]);
+    return SUNMC_OK;
+}
+
+int report_acc_add(report_acc *acc, const unit_result *results, long n)
+{
     for (long u = 0; u < n; u++) {
         const unit_result *ur = &results[u];
-        if (ur->fit_status != UNIT_FIT_OK)
-            continue;
-        double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
-        if (!isfinite(bef) || !isfinite(aft))
-            continue;
-        s->before[s->k] = bef;
-        s->after[s->k] = aft;
-        s->ratio[s->k] = bef / aft;
-        s->k++;
-        s->pass += aft <= spec;
-        if (isfinite(ur->rms_after_sys[a][b]))
-            s->sys[s->k_sys++] = ur->rms_after_sys[a][b];
+        acc->n++;
+        acc->gross += ur->gross_val;
+        acc->alias += ur->alias_weak > 0;
+        acc->failed += ur->fit_status != UNIT_FIT_OK;
+        for (int a = 0; a < acc->na; a++)
+            for (int b = 0; b < acc->nb; b++)
+                if (cell_add(&acc->cell[a * acc->nb + b], ur, a, b, acc->spec) != SUNMC_OK)
+                    return SUNMC_ENOMEM;
     }
+    return SUNMC_OK;
 }
 
 /* Means with Student-t intervals, max/min, p95 with its order-statistic
  * interval, yield with Wilson's; conf outside (0, 1) leaves the intervals
- * NaN (a config not built from the key table). */
-static void sample_statistics(band_sample *s, long n, double conf, summary_row *r)
+ * NaN (a config not built from the key table).  Sorts s's after values. */
+static void cell_statistics(band_cell *s, long n, double conf, summary_row *r)
 {
     char err[SUNMC_ERRLEN];
     int has_level = conf > 0.0 && conf < 1.0;
     double level = has_level ? conf : 0.5; /* any valid level; replaced by NaN below */
-    size_t k = (size_t)s->k;
-    stats_mean_t(s->before, k, level, &r->rms_before_mean, &r->rms_before_mean_ci, err, sizeof err);
-    stats_mean_t(s->after, k, level, &r->rms_after_mean, &r->rms_after_mean_ci, err, sizeof err);
-    stats_mean_t(s->sys, (size_t)s->k_sys, level, &r->rms_after_sys_mean,
-                 &r->rms_after_sys_mean_ci, err, sizeof err);
-    stats_mean_t(s->ratio, k, level, &r->improvement_mean, &r->improvement_mean_ci, err,
-                 sizeof err);
+    size_t k = (size_t)s->after.n;
+    stats_moments_t(&s->before, level, &r->rms_before_mean, &r->rms_before_mean_ci, err, sizeof err);
+    stats_moments_t(&s->after, level, &r->rms_after_mean, &r->rms_after_mean_ci, err, sizeof err);
+    stats_moments_t(&s->sys, level, &r->rms_after_sys_mean, &r->rms_after_sys_mean_ci, err,
+                    sizeof err);
+    stats_moments_t(&s->ratio, level, &r->improvement_mean, &r->improvement_mean_ci, err,
+                    sizeof err);
     stats_wilson(s->pass, n, level, &r->yield_ci, err, sizeof err);
     r->rms_after_p95_ci = (stats_interval){NAN, NAN};
     r->yield = n > 0 ? (double)s->pass / (double)n : NAN;
     r->rms_after_max = r->rms_after_min = r->rms_after_p95 = NAN;
     r->improvement_max = r->improvement_min = NAN;
     if (k > 0) {
-        gsl_sort(s->after, 1, k);
-        r->rms_after_min = s->after[0];
-        r->rms_after_max = s->after[k - 1];
-        r->rms_after_p95 = stats_quantile_sorted(s->after, k, REPORT_PERCENTILE);
-        stats_quantile_ci(s->after, k, REPORT_PERCENTILE, level, &r->rms_after_p95_ci, NULL, NULL,
-                          err, sizeof err);
-        r->improvement_max = -INFINITY;
-        r->improvement_min = INFINITY;
-        for (size_t i = 0; i < k; i++) {
-            r->improvement_max = fmax(r->improvement_max, s->ratio[i]);
-            r->improvement_min = fmin(r->improvement_min, s->ratio[i]);
-        }
+        gsl_sort(s->after_v, 1, k);
+        r->rms_after_min = s->after_v[0];
+        r->rms_after_max = s->after_v[k - 1];
+        r->rms_after_p95 = stats_quantile_sorted(s->after_v, k, REPORT_PERCENTILE);
+        stats_quantile_ci(s->after_v, k, REPORT_PERCENTILE, level, &r->rms_after_p95_ci, NULL,
+                          NULL, err, sizeof err);
+        r->improvement_max = s->imp_max;
+        r->improvement_min = s->imp_min;
     }
     if (!has_level) {
         stats_interval none = {NAN, NAN};
@@ -92,39 +150,34 @@ static void sample_statistics(band_sample *s, long n, double conf, summary_row *
     }
 }
 
-int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
-                     long n, summary_row *rows)
+void report_acc_rows(report_acc *acc, summary_row *rows)
 {
-    size_t len = (size_t)(n > 0 ? n : 1);
-    double *buf = malloc(4 * len * sizeof *buf);
-    if (!buf)
-        return SUNMC_ENOMEM;
-    band_sample s = {buf, buf + len, buf + 2 * len, buf + 3 * len, 0, 0, 0};
-    double spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
-    int na = fam->n_angles(c), nb = c->bands_deg.n;
-    long gross = 0, alias = 0, failed = 0;
-    for (long u = 0; u < n; u++) {
-        gross += results[u].gross_val;
-        alias += results[u].alias_weak > 0;
-        failed += results[u].fit_status != UNIT_FIT_OK;
-    }
-    for (int a = 0; a < na; a++)
-        for (int b = 0; b < nb; b++) {
-            summary_row *r = &rows[a * nb + b];
+    for (int a = 0; a < acc->na; a++)
+        for (int b = 0; b < acc->nb; b++) {
+            summary_row *r = &rows[a * acc->nb + b];
+            band_cell *s = &acc->cell[a * acc->nb + b];
             memset(r, 0, sizeof *r);
             r->angle = a;
             r->band = b;
-            r->units = n;
-            r->fit_failures = failed;
-            r->gross_errors = gross;
-            r->alias_units = alias;
-            r->confidence = c->confidence;
-            sample_collect(results, n, a, b, spec, &s);
-            r->stat_units = s.k;
-            sample_statistics(&s, n, c->confidence, r);
+            r->units = acc->n;
+            r->fit_failures = acc->failed;
+            r->gross_errors = acc->gross;
+            r->alias_units = acc->alias;
+            r->confidence = acc->c->confidence;
+            r->stat_units = s->after.n;
+            cell_statistics(s, acc->n, acc->c->confidence, r);
         }
-    free(buf);
-    return SUNMC_OK;
+}
+
+int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
+                     long n, summary_row *rows)
+{
+    report_acc *acc = report_acc_new(c, fam);
+    int st = acc ? report_acc_add(acc, results, n) : SUNMC_ENOMEM;
+    if (st == SUNMC_OK)
+        report_acc_rows(acc, rows);
+    report_acc_free(acc);
+    return st;
 }
 
 /* ---- Table 1 for people ---- */
@@ -361,8 +414,7 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
     }
 }
 
-void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
-                        const unit_result *results, long n)
+void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_family *fam)
 {
     const char *dev[UNIT_MAX_DEV], *par[UNIT_MAX_PAR];
     int nd = fam->dev_columns(c, dev, UNIT_MAX_DEV);
@@ -381,6 +433,15 @@ void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam
                 fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a],
                         c->bands_deg.lo[b], c->bands_deg.hi[b], fam->rms_unit);
     fputc('\n', f);
+}
+
+void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                            const unit_result *results, long n)
+{
+    const char *names[UNIT_MAX_PAR];
+    int nd = fam->dev_columns(c, names, UNIT_MAX_DEV);
+    int np = fam->par_columns(c, names, UNIT_MAX_PAR);
+    int na = fam->n_angles(c), nb = c->bands_deg.n;
     for (long u = 0; u < n; u++) {
         const unit_result *r = &results[u];
         fprintf(f, "%ld\t%s\t%d\t%d\t%d\t%d\t%d", r->unit,
@@ -402,4 +463,11 @@ void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam
                 fprintf(f, "\t%.6g", r->rms_after_sys[a][b]);
         fputc('\n', f);
     }
+}
+
+void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const unit_result *results, long n)
+{
+    report_write_units_header(f, c, fam);
+    report_write_unit_rows(f, c, fam, results, n);
 }

@@ -137,6 +137,23 @@ int stats_mean_t(const double *x, size_t n, double confidence, double *mean, sta
     return stats_t_interval(m, sd, (long)n, confidence, ci, err, errlen);
 }
 
+void stats_moments_add(stats_moments *m, double x)
+{
+    m->n++;
+    m->sum += x;
+    double d = x - m->mean;
+    m->mean += d / (double)m->n;
+    m->m2 += d * (x - m->mean);
+}
+
+int stats_moments_t(const stats_moments *m, double confidence, double *mean, stats_interval *ci,
+                    char *err, size_t errlen)
+{
+    *mean = m->n > 0 ? m->sum / (double)m->n : NAN;
+    double sd = m->n > 1 ? sqrt(fmax(m->m2, 0.0) / (double)(m->n - 1)) : 0.0;
+    return stats_t_interval(*mean, sd, m->n, confidence, ci, err, errlen);
+}
+
 double stats_quantile_sorted(const double *sorted, size_t n, double p)
 {
     if (n == 0)

@@ -1,0 +1,33 @@
+/* runner.h - what a Monte Carlo run does with its units as they stream by
+ * (montecarlo.h's blocks, in unit order): the statistics of the summary,
+ * the rows of units.tsv, the time split of `run --profile`.  Nothing is
+ * held per unit beyond what the statistics need (report.h). */
+#ifndef SUNMC_RUNNER_H
+#define SUNMC_RUNNER_H
+
+#include "montecarlo.h"
+#include "report.h"
+
+#include <stdio.h>
+
+typedef struct {
+    const sunmc_config *c;
+    const sensor_family *fam;
+    report_acc *acc;
+    FILE *units_tsv;                 /* rows written here when non-NULL */
+    double phase_s[UNIT_PHASES];     /* summed over the units (run --profile) */
+} run_sink;
+
+/* units_tsv may be NULL (no per-unit rows); its header is written here. */
+int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, FILE *units_tsv,
+                  char *err, size_t errlen);
+/* An mc_sink_fn; ctx is the run_sink. */
+int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, char *err,
+                   size_t errlen);
+void run_sink_free(run_sink *r);
+
+/* Stream units [first, end) of c through r in blocks of c->block_units. */
+int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn progress,
+               void *progress_ctx, long *done, char *err, size_t errlen);
+
+#endif
