@@ -88,6 +88,42 @@ static void test_block_size_byte_identical(void **state)
     }
 }
 
+/* run --until stops at a block end once the half-width is met, says after
+ * how many units, and writes the files of a fixed run of that many; a
+ * target not met by --units N says so and ends at N. */
+static void test_until_equals_fixed_run(void **state)
+{
+    char out[8192], args[1024], a[256], b[256];
+    snprintf(args, sizeof args,
+             SMALL " --units 400 --set run.block_units=16 --until yield:0.02 --out %s/until", dir);
+    assert_int_equal(run(args, out, sizeof out), 0);
+    const char *line = strstr(out, "--until yield:0.02: met after ");
+    assert_non_null(line);
+    long n = atol(line + strlen("--until yield:0.02: met after "));
+    /* Wilson's interval at 100 % yield, [n/(n+z^2), 1], has half-width
+     * z^2 / (2 (n + z^2)) <= 0.02 first at n = 93: the block end is 96. */
+    assert_int_equal(n, 96);
+    snprintf(args, sizeof args, SMALL " --units %ld --out %s/fixed", n, dir);
+    assert_int_equal(run(args, out, sizeof out), 0);
+    const char *files[] = {"summary.tsv", "units.tsv"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(a, sizeof a, "%s/until/%s", dir, files[i]);
+        snprintf(b, sizeof b, "%s/fixed/%s", dir, files[i]);
+        if (!files_equal(a, b))
+            fail_msg("%s of --until differs from the fixed run of %ld units", files[i], n);
+    }
+    snprintf(args, sizeof args, SMALL " --units 20 --set run.block_units=16 --until "
+             "rms_after_mean:1e-9");
+    assert_int_equal(run(args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "NOT met"));
+    assert_non_null(strstr(out, "after all 20 units"));
+    assert_int_equal(run(SMALL " --until yield", out, sizeof out), 2);
+    assert_int_equal(run(SMALL " --until yield:0", out, sizeof out), 2);
+    assert_int_equal(run(SMALL " --until max:1", out, sizeof out), 2);
+    assert_non_null(strstr(out, "unknown statistic 'max'"));
+    assert_int_equal(run(SMALL " --units 5:9 --until yield:0.1", out, sizeof out), 2);
+}
+
 /* Units 0..39 and the halves 0:17, 17:40 give the same unit rows. */
 static void test_unit_ranges_compose(void **state)
 {
@@ -197,6 +233,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_byte_identical), cmocka_unit_test(test_unit_ranges_compose),
         cmocka_unit_test(test_block_size_byte_identical),
+        cmocka_unit_test(test_until_equals_fixed_run),
         cmocka_unit_test(test_summary_columns),        cmocka_unit_test(test_bad_configs_exit_2),
         cmocka_unit_test(test_bad_command_lines),      cmocka_unit_test(test_config_command),
     };

@@ -33,6 +33,7 @@ typedef struct {
     long unit;                        /* curve/simulate --unit */
     const char *only;                 /* curve --only KEY=VALUE */
     const char *sensor;               /* calibrate --sensor */
+    const char *until;                /* run --until STAT:HALFWIDTH */
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the

@@ -55,6 +55,17 @@ long report_acc_units(const report_acc *acc);
 void report_acc_rows(report_acc *acc, summary_row *rows);
 void report_acc_free(report_acc *acc);
 
+/* `run --until STAT:HALFWIDTH`: the estimates with an interval by their
+ * summary.tsv name (index, or -1 when unknown), the list of names for
+ * messages, the band of the widest |angle| range (the last of equal ones),
+ * and the half-width (hi - lo) / 2 of stat's interval in band `band`, the
+ * largest over the measured angles: NaN while any is missing (too few
+ * units).  Only rms_after_p95 sorts (its cost grows with the units). */
+int report_stat_find(const char *name);
+void report_stat_list(char *buf, size_t len);
+int report_widest_band(const sunmc_config *c);
+double report_acc_halfwidth(report_acc *acc, int stat, int band);
+
 /* Fill rows[report_n_rows] from results[n] (in unit order), intervals at
  * c->confidence (an accumulator over one array).  SUNMC_ENOMEM. */
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,

@@ -10,12 +10,23 @@
 
 #include <stdio.h>
 
+/* run --until: stop after the first block at whose end the half-width of
+ * stat's interval in the widest band (report.h) is at most `halfwidth`. */
+typedef struct {
+    int stat;              /* report_stat_find */
+    double halfwidth;      /* target, in the statistic's unit (yield: a fraction) */
+    int band;              /* report_widest_band */
+    int met;               /* out: the target was met */
+    double reached;        /* out: the half-width after the last block (NaN: none yet) */
+} run_until;
+
 typedef struct {
     const sunmc_config *c;
     const sensor_family *fam;
     report_acc *acc;
     FILE *units_tsv;                 /* rows written here when non-NULL */
     double phase_s[UNIT_PHASES];     /* summed over the units (run --profile) */
+    run_until *until;                /* NULL: run every unit */
 } run_sink;
 
 /* units_tsv may be NULL (no per-unit rows); its header is written here. */

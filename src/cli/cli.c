@@ -125,6 +125,8 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
             o->only = v;
         } else if (strcmp(name, "sensor") == 0) {
             o->sensor = v;
+        } else if (strcmp(name, "until") == 0) {
+            o->until = v;
         } else if (strcmp(name, "config") == 0) {
             o->config = v;
         } else {

@@ -6,6 +6,7 @@
 #include "runner.h"
 #include "status.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,9 +14,15 @@
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
+    "                 [--until STAT:HALFWIDTH]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
     "--out DIR writes summary.tsv, units.tsv and config.ini (all or nothing).\n"
+    "--until STAT:HALFWIDTH runs blocks of run.block_units units until the half-width of\n"
+    "STAT's interval in the widest band is at most HALFWIDTH (STAT's unit; yield as a\n"
+    "fraction) or --units N / run.units is reached; the result is that of a fixed run of\n"
+    "the units it took.  STAT: yield, rms_after_mean, rms_before_mean, rms_after_sys_mean,\n"
+    "rms_after_p95, improvement_mean.\n"
     "--profile prints on stderr the time per unit and its split (campaign, fit, validation).\n";
 
 static const char config_help[] =
@@ -34,15 +41,14 @@ int cli_threads(const cli_options *o, const sunmc_config *c)
 
 /* Stream units [first, end) of c through r with progress and timing on
  * stderr; prints an error and returns an exit code. */
-static int stream_units(run_sink *r, long first, long end, int threads, int quiet)
+static int stream_units(run_sink *r, long first, long end, int threads, int quiet, long *done)
 {
     cli_progress prog;
     cli_progress_start(&prog, quiet);
     char err[SUNMC_ERRLEN];
-    long done = 0;
-    int st = run_stream(r, first, end, threads, cli_progress_update, &prog, &done, err,
+    int st = run_stream(r, first, end, threads, cli_progress_update, &prog, done, err,
                         sizeof err);
-    cli_progress_end(&prog, done, threads);
+    cli_progress_end(&prog, *done, threads);
     if (st != SUNMC_OK)
         fprintf(stderr, "sunmc: %s\n", err);
     return cli_exit_code(st);
@@ -57,7 +63,8 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
     }
-    int rc = stream_units(&r, first, end, threads, quiet);
+    long done = 0;
+    int rc = stream_units(&r, first, end, threads, quiet, &done);
     if (rc == 0)
         report_acc_rows(r.acc, rows);
     run_sink_free(&r);
@@ -105,15 +112,64 @@ static int run_files_begin(run_files *rf, const char *out, char *err, size_t err
 }
 
 static int run_files_commit(run_files *rf, const config_state *st, const summary_row *rows,
-                            long first, long end, char *err, size_t errlen)
+                            long first, long end, const char *note, char *err, size_t errlen)
 {
     const sunmc_config *c = &st->cfg;
     report_write_summary_header(rf->f[0], 0, NULL);
     report_write_summary_rows(rf->f[0], c, c->family, rows, 0, NULL);
-    fprintf(rf->f[2], "# units %ld:%ld of this config\n", first, end);
+    fprintf(rf->f[2], "# units %ld:%ld of this config%s\n", first, end, note);
     config_write(rf->f[2], st);
     rf->open = 0;
     return out_commit(&rf->os, err, errlen);
+}
+
+/* --until STAT:HALFWIDTH into u; prints the error and returns an exit code. */
+static int parse_until(const char *arg, const sunmc_config *c, long first, run_until *u)
+{
+    char name[64], list[256];
+    const char *colon = strrchr(arg, ':');
+    size_t n = colon ? (size_t)(colon - arg) : 0;
+    char *end = NULL;
+    double h = colon ? strtod(colon + 1, &end) : NAN;
+    report_stat_list(list, sizeof list);
+    if (!colon || n >= sizeof name || end == colon + 1 || *end != '\0' || !(h > 0) || !isfinite(h)) {
+        fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, e.g. "
+                        "yield:0.005 (STAT one of %s)\n", arg, list);
+        return EXIT_BAD_INPUT;
+    }
+    memcpy(name, arg, n);
+    name[n] = '\0';
+    if (first != 0) {
+        fprintf(stderr, "sunmc run: --until runs units from 0: give its most units as --units N, "
+                        "not FIRST:END\n");
+        return EXIT_BAD_INPUT;
+    }
+    memset(u, 0, sizeof *u);
+    u->stat = report_stat_find(name);
+    u->halfwidth = h;
+    u->band = report_widest_band(c);
+    u->reached = NAN;
+    if (u->stat < 0) {
+        fprintf(stderr, "sunmc run: --until %s: unknown statistic '%s' (one of %s)\n", arg, name,
+                list);
+        return EXIT_BAD_INPUT;
+    }
+    return 0;
+}
+
+/* The line saying whether --until met its target and after how many units;
+ * also the note in config.ini. */
+static void until_line(char *buf, size_t len, const char *arg, const run_until *u,
+                       const sunmc_config *c, long done)
+{
+    char band[32];
+    report_band_label(c, u->band, band, sizeof band);
+    if (u->met)
+        snprintf(buf, len, "--until %s: met after %ld units (half-width %.3g in band %s)", arg,
+                 done, u->reached, band);
+    else
+        snprintf(buf, len, "--until %s: NOT met: half-width %.3g in band %s after all %ld units "
+                 "(--units N or run.units); run more units", arg, u->reached, band, done);
 }
 
 int cmd_run(int argc, char **argv)
@@ -121,7 +177,7 @@ int cmd_run(int argc, char **argv)
     if (cli_wants_help(argc, argv, run_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile", &o);
+    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile until", &o);
     if (rc)
         return rc;
     config_state st;
@@ -132,6 +188,11 @@ int cmd_run(int argc, char **argv)
     long first = o.end >= 0 ? o.first : 0;
     long end = o.end >= 0 ? o.end : c->units;
     int threads = cli_threads(&o, c);
+    run_until until;
+    if (o.until && (rc = parse_until(o.until, c, first, &until))) {
+        config_state_free(&st);
+        return rc;
+    }
     char err[SUNMC_ERRLEN];
     summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
     run_files rf;
@@ -147,17 +208,27 @@ int cmd_run(int argc, char **argv)
         config_state_free(&st);
         return cli_exit_code(status);
     }
+    r.until = o.until ? &until : NULL;
     unit_profile_enable(o.profile);
     double t0 = unit_clock();
-    rc = stream_units(&r, first, end, threads, o.quiet);
+    long done = 0;
+    rc = stream_units(&r, first, end, threads, o.quiet, &done);
     if (rc == 0) {
+        char note[512] = "";
         report_acc_rows(r.acc, rows);
         if (o.profile)
-            print_profile(r.phase_s, end - first, unit_clock() - t0, threads);
+            print_profile(r.phase_s, done, unit_clock() - t0, threads);
         /* Table 1 first: a failed write must not cost the result. */
         report_print_table(stdout, c, fam, rows);
+        if (o.until) {
+            note[0] = ';';
+            note[1] = ' ';
+            until_line(note + 2, sizeof note - 2, o.until, &until, c, done);
+            printf("%s\n", note + 2);
+        }
         fflush(stdout);
-        if (rf.open && (status = run_files_commit(&rf, &st, rows, first, end, err, sizeof err)))
+        if (rf.open && (status = run_files_commit(&rf, &st, rows, first, first + done, note, err,
+                                                  sizeof err)))
             fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
         rc = cli_exit_code(status);
     } else if (rf.open) {

@@ -115,8 +115,9 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
 
 /* Means with Student-t intervals, max/min, p95 with its order-statistic
  * interval, yield with Wilson's; conf outside (0, 1) leaves the intervals
- * NaN (a config not built from the key table).  Sorts s's after values. */
-static void cell_statistics(band_cell *s, long n, double conf, summary_row *r)
+ * NaN (a config not built from the key table).  Sorts s's after values
+ * unless !quantiles (then max, min and p95 are left NaN). */
+static void cell_statistics(band_cell *s, long n, double conf, int quantiles, summary_row *r)
 {
     char err[SUNMC_ERRLEN];
     int has_level = conf > 0.0 && conf < 1.0;
@@ -133,7 +134,7 @@ static void cell_statistics(band_cell *s, long n, double conf, summary_row *r)
     r->yield = n > 0 ? (double)s->pass / (double)n : NAN;
     r->rms_after_max = r->rms_after_min = r->rms_after_p95 = NAN;
     r->improvement_max = r->improvement_min = NAN;
-    if (k > 0) {
+    if (k > 0 && quantiles) {
         gsl_sort(s->after_v, 1, k);
         r->rms_after_min = s->after_v[0];
         r->rms_after_max = s->after_v[k - 1];
@@ -165,8 +166,64 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
             r->alias_units = acc->alias;
             r->confidence = acc->c->confidence;
             r->stat_units = s->after.n;
-            cell_statistics(s, acc->n, acc->c->confidence, r);
+            cell_statistics(s, acc->n, acc->c->confidence, 1, r);
         }
+}
+
+/* The estimates with an interval, by name, and where their interval is. */
+static const struct {
+    const char *name;
+    size_t ci;
+} report_stats[] = {
+    {"yield", offsetof(summary_row, yield_ci)},
+    {"rms_after_mean", offsetof(summary_row, rms_after_mean_ci)},
+    {"rms_before_mean", offsetof(summary_row, rms_before_mean_ci)},
+    {"rms_after_sys_mean", offsetof(summary_row, rms_after_sys_mean_ci)},
+    {"rms_after_p95", offsetof(summary_row, rms_after_p95_ci)},
+    {"improvement_mean", offsetof(summary_row, improvement_mean_ci)},
+};
+#define REPORT_N_STATS ((int)(sizeof report_stats / sizeof report_stats[0]))
+
+int report_stat_find(const char *name)
+{
+    for (int i = 0; i < REPORT_N_STATS; i++)
+        if (strcmp(report_stats[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+void report_stat_list(char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < REPORT_N_STATS && used < len; i++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", i ? ", " : "",
+                                 report_stats[i].name);
+}
+
+int report_widest_band(const sunmc_config *c)
+{
+    int w = 0;
+    for (int i = 1; i < c->bands_deg.n; i++)
+        if (c->bands_deg.hi[i] - c->bands_deg.lo[i] >= c->bands_deg.hi[w] - c->bands_deg.lo[w])
+            w = i;
+    return w;
+}
+
+double report_acc_halfwidth(report_acc *acc, int stat, int band)
+{
+    double h = 0;
+    int quantiles = strcmp(report_stats[stat].name, "rms_after_p95") == 0;
+    for (int a = 0; a < acc->na; a++) {
+        summary_row r;
+        cell_statistics(&acc->cell[a * acc->nb + band], acc->n, acc->c->confidence, quantiles, &r);
+        const stats_interval *ci = (const stats_interval *)((const char *)&r + report_stats[stat].ci);
+        double half = 0.5 * (ci->hi - ci->lo);
+        if (!(half >= 0))
+            return NAN;
+        h = fmax(h, half);
+    }
+    return h;
 }
 
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,

@@ -31,7 +31,12 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
     for (long u = 0; u < n; u++)
         for (int k = 0; k < UNIT_PHASES; k++)
             r->phase_s[k] += results[u].phase_s[k];
-    (void)stop;
+    if (r->until) {
+        run_until *t = r->until;
+        t->reached = report_acc_halfwidth(r->acc, t->stat, t->band);
+        t->met = t->reached <= t->halfwidth;
+        *stop = t->met;
+    }
     return SUNMC_OK;
 }
 
