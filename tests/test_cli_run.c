@@ -37,6 +37,20 @@ static int files_equal(const char *a, const char *b)
     return test_run(cmd, out, sizeof out) == 0;
 }
 
+/* summary.tsv and units.tsv of output directories d1 and d2 (under dir)
+ * are the same bytes. */
+static void assert_same_results(const char *d1, const char *d2, const char *what)
+{
+    const char *files[] = {"summary.tsv", "units.tsv"};
+    char a[256], b[256];
+    for (int i = 0; i < 2; i++) {
+        snprintf(a, sizeof a, "%s/%s/%s", dir, d1, files[i]);
+        snprintf(b, sizeof b, "%s/%s/%s", dir, d2, files[i]);
+        if (!files_equal(a, b))
+            fail_msg("%s differs between %s", files[i], what);
+    }
+}
+
 #define SMALL "run configs/ess_type_a.ini --quiet --set campaign.alpha_step_deg=0.4 " \
               "--set validation.alpha_step_deg=0.7 --set campaign.beta_deg=-15,15"
 
@@ -73,19 +87,13 @@ static void test_threads_byte_identical(void **state)
  * short) are those of one block of 256. */
 static void test_block_size_byte_identical(void **state)
 {
-    char out[8192], args[1024], a[256], b[256];
+    char out[8192], args[1024];
     snprintf(args, sizeof args, SMALL " --units 40 --threads 2 --out %s/b256", dir);
     assert_int_equal(run(args, out, sizeof out), 0);
     snprintf(args, sizeof args, SMALL " --units 40 --threads 2 --set run.block_units=7 --out %s/b7",
              dir);
     assert_int_equal(run(args, out, sizeof out), 0);
-    const char *files[] = {"summary.tsv", "units.tsv"};
-    for (int i = 0; i < 2; i++) {
-        snprintf(a, sizeof a, "%s/b256/%s", dir, files[i]);
-        snprintf(b, sizeof b, "%s/b7/%s", dir, files[i]);
-        if (!files_equal(a, b))
-            fail_msg("%s differs between blocks of 256 and of 7", files[i]);
-    }
+    assert_same_results("b256", "b7", "blocks of 256 and of 7");
 }
 
 /* run --until stops at a block end once the half-width is met, says after
@@ -93,7 +101,7 @@ static void test_block_size_byte_identical(void **state)
  * target not met by --units N says so and ends at N. */
 static void test_until_equals_fixed_run(void **state)
 {
-    char out[8192], args[1024], a[256], b[256];
+    char out[8192], args[1024];
     snprintf(args, sizeof args,
              SMALL " --units 400 --set run.block_units=16 --until yield:0.02 --out %s/until", dir);
     assert_int_equal(run(args, out, sizeof out), 0);
@@ -105,13 +113,7 @@ static void test_until_equals_fixed_run(void **state)
     assert_int_equal(n, 96);
     snprintf(args, sizeof args, SMALL " --units %ld --out %s/fixed", n, dir);
     assert_int_equal(run(args, out, sizeof out), 0);
-    const char *files[] = {"summary.tsv", "units.tsv"};
-    for (int i = 0; i < 2; i++) {
-        snprintf(a, sizeof a, "%s/until/%s", dir, files[i]);
-        snprintf(b, sizeof b, "%s/fixed/%s", dir, files[i]);
-        if (!files_equal(a, b))
-            fail_msg("%s of --until differs from the fixed run of %ld units", files[i], n);
-    }
+    assert_same_results("until", "fixed", "--until and the fixed run");
     snprintf(args, sizeof args, SMALL " --units 20 --set run.block_units=16 --until "
              "rms_after_mean:1e-9");
     assert_int_equal(run(args, out, sizeof out), 0);
