@@ -2,7 +2,11 @@
 # (solid) and before (dashed) calibration vs the first varied key, one line
 # per band (one axis) or per value of the second key in the widest band (two
 # axes), each point with its confidence interval (sweep.tsv's _ci_lo and
-# _ci_hi columns) as an error bar; the spec as a horizontal line.
+# _ci_hi columns) as an error bar; the spec as a horizontal line.  A key
+# varied over alternatives (e.g. campaign.beta_deg=-20,0,20|-30,0,30) is
+# drawn at evenly spaced x with its `label` as tick.  Points whose campaign
+# aliased (column `aliased`) are drawn as crosses and not joined to their
+# neighbours: the curve is broken there.
 #   gnuplot -e "run='runs/step'" scripts/sweep.gp    [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/sweep.tsv'
@@ -17,7 +21,7 @@ hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
 field(c, row) = system(sprintf("awk -F'\\t' 'NR==%d {print $%d}' '%s'", row, c, file))
 uniq(c) = system(sprintf("awk -F'\\t' 'NR>1 && !s[$%d]++ {printf \"%%s \", $%d}' '%s'", c, c, file))
-nlead = col('product') - 1
+nlead = col('product') - 1   # the varied keys, label, aliased
 ca = col('angle'); cb = col('band')
 cbef = col('rms_before_mean'); caft = col('rms_after_mean')
 cbl = col('rms_before_mean_ci_lo'); cbh = col('rms_before_mean_ci_hi')
@@ -29,8 +33,23 @@ angles = uniq(ca)
 angle = word(angles, words(angles))
 bands = uniq(cb)
 wide = word(bands, words(bands))
-sel(b) = sprintf("< awk -F'\\t' 'NR>1 && $%d==\"%s\" && $%d==\"%s\"' '%s'", ca, angle, cb, b, file)
-sel2(v) = sprintf("< awk -F'\\t' 'NR>1 && $%d==\"%s\" && $%d==\"%s\" && $2==\"%s\"' '%s'", ca, angle, cb, wide, v, file)
+cali = col('aliased'); clab = col('label')
+# Every selected row is prefixed with its point number (column 1, so every
+# sweep.tsv column moves up by one); an aliased row becomes a blank line in
+# the curves (breaking them) and is the only kind of row in the crosses.
+# aliased = 2 keeps every row (the error before calibration has no campaign).
+pick(cond, aliased) = sprintf("< awk -F'\\t' 'NR>1 && %s {n++; if ($%d==%d || %d==2) print n-1 \"\\t\" $0; else if (!%d) print \"\"}' '%s'", cond, cali, aliased, aliased, aliased, file)
+selb(b) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\"", ca, angle, cb, b), 2)
+selb2(v) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\" && $2==\"%s\"", ca, angle, cb, wide, v), 2)
+sel(b) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\"", ca, angle, cb, b), 0)
+sela(b) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\"", ca, angle, cb, b), 1)
+sel2(v) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\" && $2==\"%s\"", ca, angle, cb, wide, v), 0)
+sela2(v) = pick(sprintf("$%d==\"%s\" && $%d==\"%s\" && $2==\"%s\"", ca, angle, cb, wide, v), 1)
+# A number axis is drawn against its values, alternatives against their labels.
+xnum = int(system(sprintf("awk -F'\\t' 'NR>1 && $1 !~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ {n++} END {print n+0}' '%s'", file))) == 0
+ua(c, l, h) = xnum ? sprintf("2:%d:%d:%d", c+1, l+1, h+1) : sprintf("1:%d:%d:%d:xtic(%d)", c+1, l+1, h+1, clab+1)
+UA = ua(caft, cal, cah); UB = ua(cbef, cbl, cbh)
+n_alias = int(system(sprintf("awk -F'\\t' 'NR>1 && $%d==1' '%s' | wc -l", cali, file)))
 
 set title sprintf("%s: sweep of %s (error bars: %g%% confidence)", field(col('product'), 2), word(hdr, 1), 100 * level)
 set xlabel word(hdr, 1).' (unit in the key name)'
@@ -38,13 +57,19 @@ set ylabel sprintf('mean RMS error of %s [%s]', angle, unit)
 set grid
 set key outside right top
 set yrange [0:*]
-if (nlead == 1) {
-  plot for [i=1:words(bands)] sel(word(bands, i)) using 1:caft:cal:cah with yerrorlines lw 2 pt 7 lc i title 'after, |x| '.word(bands, i).' deg', \
-       for [i=1:words(bands)] sel(word(bands, i)) using 1:cbef:cbl:cbh with yerrorlines dt 2 pt 6 lc i title 'before, |x| '.word(bands, i).' deg', \
+if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 }
+# The aliased points' crosses, only when there are some (macros @AL1, @AL2).
+AL1 = n_alias > 0 ? "for [i=1:words(bands)] sela(word(bands, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
+AL2 = n_alias > 0 ? "for [i=1:words(vals)] sela2(word(vals, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
+if (nlead == 3) {
+  plot for [i=1:words(bands)] sel(word(bands, i)) using @UA with yerrorlines lw 2 pt 7 lc i title 'after, |x| '.word(bands, i).' deg', \
+       for [i=1:words(bands)] selb(word(bands, i)) using @UB with yerrorlines dt 2 pt 6 lc i title 'before, |x| '.word(bands, i).' deg', \
+       @AL1 \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s', spec, unit)
 } else {
   vals = uniq(2)
-  plot for [i=1:words(vals)] sel2(word(vals, i)) using 1:caft:cal:cah with yerrorlines lw 2 pt 7 lc i title sprintf('after, %s = %s', word(hdr, 2), word(vals, i)), \
-       for [i=1:words(vals)] sel2(word(vals, i)) using 1:cbef:cbl:cbh with yerrorlines dt 2 pt 6 lc i title sprintf('before, %s = %s', word(hdr, 2), word(vals, i)), \
+  plot for [i=1:words(vals)] sel2(word(vals, i)) using @UA with yerrorlines lw 2 pt 7 lc i title sprintf('after, %s = %s', word(hdr, 2), word(vals, i)), \
+       for [i=1:words(vals)] selb2(word(vals, i)) using @UB with yerrorlines dt 2 pt 6 lc i title sprintf('before, %s = %s', word(hdr, 2), word(vals, i)), \
+       @AL2 \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s (|x| %s deg)', spec, unit, wide)
 }

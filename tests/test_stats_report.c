@@ -313,7 +313,7 @@ static void summary_tsv_columns(void **state)
     FILE *f = tmpfile();
     assert_non_null(f);
     const char *lead[1] = {"campaign.alpha_step_deg"};
-    const double lead_v[1] = {0.2525};
+    const char *const lead_v[1] = {"0.2525"};
     report_write_summary_header(f, 1, lead);
     report_write_summary_rows(f, &c, &fake, rows, 1, lead_v);
     rewind(f);

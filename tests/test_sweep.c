@@ -23,6 +23,52 @@ static void parse_list(void **state)
     assert_string_equal(ax.dotted, "campaign.alpha_step_deg");
 }
 
+/* A list key varied over '|' alternatives; numbers too; what is refused. */
+static void parse_alternatives(void **state)
+{
+    sweep_axis ax;
+    char err[SUNMC_ERRLEN];
+    const sensor_family *ess = sensor_family_find("ess");
+    assert_int_equal(sweep_axis_parse("campaign.beta_deg=-20,0,20| -30, 0, 30 |-30,-10,10,30",
+                                      ess, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 3);
+    assert_false(ax.numeric);
+    assert_string_equal(ax.text[0], "-20,0,20");
+    assert_string_equal(ax.text[1], "-30, 0, 30");
+    assert_true(isnan(ax.v[2]));
+    char label[SWEEP_LABEL_MAX];
+    sweep_point_label(&ax, 1, 2, label, sizeof label);
+    assert_string_equal(label, "-30,-10,10,30");
+    assert_int_equal(sweep_axis_parse("campaign.alpha_step_deg=0.3|0.2", ess, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_true(ax.numeric);
+    assert_near(ax.v[1], 0.2, 0);
+    assert_string_equal(ax.text[1], "0.2");
+    assert_int_equal(sweep_axis_parse("calibration.roll_sigma_arcsec=1|x", ess, &ax, err,
+                                      sizeof err),
+                     SUNMC_EINPUT);
+    const char *bad[] = {"campaign.beta_deg=-20,0,20", /* a list key needs '|' */
+                         "campaign.beta_deg=-20,0,20||0", "report.bands_deg=0:30|0:62",
+                         "sensor.family=ess|dss"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        if (sweep_axis_parse(bad[i], ess, &ax, err, sizeof err) != SUNMC_EINPUT)
+            fail_msg("'%s' parsed", bad[i]);
+        assert_non_null(strstr(err, "--vary"));
+    }
+    /* Applying checks each alternative as a file value would be. */
+    config_state st;
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
+    assert_int_equal(sweep_axis_parse("campaign.beta_deg=-30,0,30|0,x", ess, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_cfg(&st.cfg)->cal_beta_deg.n, 3);
+    assert_near(ess_cfg(&st.cfg)->cal_beta_deg.v[2], 30, 0);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 1, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "campaign.beta_deg"));
+    config_state_free(&st);
+}
+
 static void parse_range(void **state)
 {
     sweep_axis ax;
@@ -172,7 +218,7 @@ static void sweep_equals_runs(void **state)
     assert_non_null(strstr(out, "campaign.alpha_step_deg"));
     char hdr[4096], r1[4096], r4[4096], run[4096];
     assert_int_equal(tsv_row(sweep, 0, hdr, sizeof hdr), 0);
-    assert_true(strncmp(hdr, "campaign.alpha_step_deg\tproduct\t", 32) == 0);
+    assert_true(strncmp(hdr, "campaign.alpha_step_deg\tlabel\taliased\tproduct\t", 46) == 0);
     /* 2 points x 3 bands. */
     assert_int_equal(tsv_row(sweep, 6, r4, sizeof r4), 0);
     assert_int_not_equal(tsv_row(sweep, 7, r4, sizeof r4), 0);
@@ -184,23 +230,45 @@ static void sweep_equals_runs(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_int_equal(tsv_row(sweep, 4, r4, sizeof r4), 0);
     assert_int_equal(tsv_row(summary, 1, run, sizeof run), 0);
-    assert_true(strncmp(r4, "0.3\t", 4) == 0);
-    assert_string_equal(skip_fields(r4, 1), run);
+    assert_true(strncmp(r4, "0.3\t0.3\t0\t", 10) == 0);
+    assert_string_equal(skip_fields(r4, 3), run);
     /* Common random numbers: the error before calibration does not depend on
      * the campaign step (column rms_before_mean = 9th summary column). */
     assert_int_equal(tsv_row(sweep, 1, r1, sizeof r1), 0);
-    double b1 = atof(skip_fields(r1, 9)), b4 = atof(skip_fields(r4, 9));
+    /* The 1-deg step samples the fine-code term at one phase: aliased. */
+    assert_true(strncmp(r1, "1\t1\t1\t", 6) == 0);
+    double b1 = atof(skip_fields(r1, 11)), b4 = atof(skip_fields(r4, 11));
     assert_true(b1 > 0);
     assert_near(b1, b4, 0);
+}
+
+/* A sweep over beta-line alternatives runs and labels its rows. */
+static void sweep_list_labels(void **state)
+{
+    char out[16384], cmd[2048], row[4096];
+    snprintf(cmd, sizeof cmd,
+             "%s sweep configs/ess_type_a.ini --vary 'campaign.beta_deg=-20,0,20|-30,-10,10,30' "
+             "--units 3 --out %s --set validation.alpha_step_deg=1.3 --quiet",
+             test_sunmc(), test_tmp("sweep_list"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "-30,-10,10,30"));
+    const char *tsv = test_tmp("sweep_list/sweep.tsv");
+    assert_int_equal(tsv_row(tsv, 0, row, sizeof row), 0);
+    assert_true(strncmp(row, "campaign.beta_deg\tlabel\taliased\t", 32) == 0);
+    assert_int_equal(tsv_row(tsv, 1, row, sizeof row), 0);
+    assert_true(strncmp(row, "-20,0,20\t-20,0,20\t0\t", 20) == 0);
+    assert_int_equal(tsv_row(tsv, 4, row, sizeof row), 0);
+    assert_true(strncmp(row, "-30,-10,10,30\t-30,-10,10,30\t0\t", 30) == 0);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(parse_list),     cmocka_unit_test(parse_range),
+        cmocka_unit_test(parse_list),     cmocka_unit_test(parse_alternatives),
+        cmocka_unit_test(parse_range),
         cmocka_unit_test(parse_errors),   cmocka_unit_test(grid_order),
         cmocka_unit_test(apply_point),    cmocka_unit_test(cli_errors_write_nothing),
-        cmocka_unit_test(sweep_equals_runs),
+        cmocka_unit_test(sweep_equals_runs), cmocka_unit_test(sweep_list_labels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

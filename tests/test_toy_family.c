@@ -315,7 +315,7 @@ static void commands_run_the_toy(void **state)
     snprintf(out, sizeof out, "%s/sweep", dir);
     assert_int_equal(command(cmd_sweep, "sweep", out, "--vary", "tolerance.offset_arcsec=0,8"), 0);
     snprintf(path, sizeof path, "%s/sweep.tsv", out);
-    assert_true(file_has(path, "tolerance.offset_arcsec\tproduct\t"));
+    assert_true(file_has(path, "tolerance.offset_arcsec\tlabel\taliased\tproduct\t"));
 
     snprintf(out, sizeof out, "%s/budget", dir);
     assert_int_equal(command(cmd_budget, "budget", out, NULL, NULL), 0);

@@ -77,11 +77,11 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
 
 /* summary.tsv: header then one row per angle and band; each estimate S with
  * an interval is followed by S_ci_lo and S_ci_hi.  `lead` (may be NULL)
- * prefixes extra columns: lead_names in the header, lead_values per row (for
- * sweeps). */
+ * prefixes extra columns: lead_names in the header, lead_values (as text,
+ * without tabs) on every row (for sweeps). */
 void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names);
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
-                               const summary_row *rows, int n_lead, const double *lead_values);
+                               const summary_row *rows, int n_lead, const char *const *lead_values);
 
 /* units.tsv: header then one row per unit; the header and the rows apart,
  * for writing the rows a block at a time. */

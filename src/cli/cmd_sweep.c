@@ -11,16 +11,22 @@
 #include <string.h>
 
 static const char sweep_help[] =
-    "usage: sunmc sweep CONFIG --vary SECTION.KEY=LIST|START:STOP:STEP [--vary ...]\n"
+    "usage: sunmc sweep CONFIG --vary SECTION.KEY=VALUES [--vary ...]\n"
     "                   [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                   [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
     "Runs the Monte Carlo at every point of one axis, or of the full grid of two, with the\n"
     "same seed at every point (common random numbers: tolerance draws do not change with\n"
-    "campaign keys), and prints one row per point and band.\n"
-    "  --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2    a list\n"
+    "campaign keys), and prints one row per point and band.  VALUES is\n"
+    "  --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2    a list (number keys)\n"
     "  --vary design.H_mm=3:8:0.5                           a range, STOP included\n"
-    "--out DIR writes sweep.tsv (the varied values, then the summary.tsv columns) and\n"
-    "config.ini (the base config), all or nothing.\n";
+    "  --vary 'campaign.beta_deg=-20,0,20|-30,0,30|-30,-10,10,30'\n"
+    "                                                       alternatives separated by '|',\n"
+    "        each written as in a config file: any key (lists, choices, numbers) but\n"
+    "        sensor.family and report.bands_deg; quote the argument for the shell\n"
+    "--out DIR writes sweep.tsv and config.ini (the base config), all or nothing.  sweep.tsv:\n"
+    "the varied values (one column per key), `label` (the point's values joined by \"; \",\n"
+    "for plot labels), `aliased` (1 when the point's campaign could not resolve the\n"
+    "family's aliasing term, e.g. the ESS fine-code term), then the summary.tsv columns.\n";
 
 /* Build point p's config: file + --set, then the point's values. */
 static int point_config(const cli_options *o, const sweep_axis *axes, int n_axes, long p,
@@ -38,6 +44,15 @@ static int point_config(const cli_options *o, const sweep_axis *axes, int n_axes
     return cli_exit_code(s);
 }
 
+/* Printed width of an axis' column: its name or its longest value. */
+static int axis_width(const sweep_axis *ax)
+{
+    size_t w = 24;
+    for (int i = 0; i < ax->n; i++)
+        w = strlen(ax->text[i]) > w ? strlen(ax->text[i]) : w;
+    return (int)w;
+}
+
 static void print_table(const sunmc_config *c, const sensor_family *fam, const sweep_axis *axes,
                         int n_axes, long n_points, const summary_row *rows, int n_rows)
 {
@@ -46,18 +61,18 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
     printf("\n%s (%s): sweep of %ld points, %ld units each, seed %ld, spec %g arcsec\n",
            c->product, fam->name, n_points, rows[0].units, c->seed, c->spec_arcsec);
     for (int i = 0; i < n_axes; i++)
-        printf("%-24s ", axes[i].dotted);
+        printf("%-*s ", axis_width(&axes[i]), axes[i].dotted);
     printf("%-6s %-9s %10s %10s %10s %7s %7s %6s %6s\n", "angle", "band", "before", "after",
            "p95 after", "improve", "yield", "alias", "failed");
     for (long p = 0; p < n_points; p++) {
-        double v[SWEEP_MAX_AXES];
-        sweep_point_values(axes, n_axes, p, v);
+        const char *v[SWEEP_MAX_AXES];
+        sweep_point_text(axes, n_axes, p, v);
         for (int r = 0; r < n_rows; r++) {
             const summary_row *s = &rows[p * n_rows + r];
             char band[32];
             report_band_label(c, s->band, band, sizeof band);
             for (int i = 0; i < n_axes; i++)
-                printf("%-24.10g ", v[i]);
+                printf("%-*s ", axis_width(&axes[i]), v[i]);
             printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.1f%% %6ld %6ld\n",
                    fam->angle_names[s->angle], band, prec, s->rms_before_mean, prec,
                    s->rms_after_mean, prec, s->rms_after_p95, s->improvement_mean,
@@ -68,6 +83,27 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
     if (fam->alias_term)
         printf("; alias = units whose campaign could not resolve %s", fam->alias_term);
     putchar('\n');
+}
+
+/* sweep.tsv: the axes' values, label, aliased, then the summary columns. */
+static void write_sweep_tsv(FILE *fs, const sunmc_config *c, const sensor_family *fam,
+                            const sweep_axis *axes, int n_axes, long n_points,
+                            const summary_row *rows, int n_rows)
+{
+    const char *lead[SWEEP_MAX_AXES + 2];
+    for (int i = 0; i < n_axes; i++)
+        lead[i] = axes[i].dotted;
+    lead[n_axes] = "label";
+    lead[n_axes + 1] = "aliased";
+    report_write_summary_header(fs, n_axes + 2, lead);
+    for (long p = 0; p < n_points; p++) {
+        char label[SWEEP_LABEL_MAX];
+        sweep_point_text(axes, n_axes, p, lead);
+        sweep_point_label(axes, n_axes, p, label, sizeof label);
+        lead[n_axes] = label;
+        lead[n_axes + 1] = rows[p * n_rows].alias_units > 0 ? "1" : "0";
+        report_write_summary_rows(fs, c, fam, &rows[p * n_rows], n_axes + 2, lead);
+    }
 }
 
 int cmd_sweep(int argc, char **argv)
@@ -136,11 +172,11 @@ int cmd_sweep(int argc, char **argv)
         long end = o.end >= 0 ? o.end : c->units;
         int threads = cli_threads(&o, c);
         if (!o.quiet) {
-            double v[SWEEP_MAX_AXES];
-            sweep_point_values(axes, n_axes, p, v);
+            const char *v[SWEEP_MAX_AXES];
+            sweep_point_text(axes, n_axes, p, v);
             fprintf(stderr, "sunmc sweep: point %ld/%ld:", p + 1, n_points);
             for (int i = 0; i < n_axes; i++)
-                fprintf(stderr, " %s=%.10g", axes[i].dotted, v[i]);
+                fprintf(stderr, " %s=%s", axes[i].dotted, v[i]);
             fputc('\n', stderr);
         }
         rc = cli_monte_carlo(c, first, end, threads, o.quiet, &rows[p * n_rows]);
@@ -164,15 +200,7 @@ int cmd_sweep(int argc, char **argv)
         if (status == SUNMC_OK)
             status = out_open(&os, "config.ini", &fc, err, sizeof err);
         if (status == SUNMC_OK) {
-            const char *lead[SWEEP_MAX_AXES];
-            for (int i = 0; i < n_axes; i++)
-                lead[i] = axes[i].dotted;
-            report_write_summary_header(fs, n_axes, lead);
-            for (long p = 0; p < n_points; p++) {
-                double v[SWEEP_MAX_AXES];
-                sweep_point_values(axes, n_axes, p, v);
-                report_write_summary_rows(fs, c, fam, &rows[p * n_rows], n_axes, v);
-            }
+            write_sweep_tsv(fs, c, fam, axes, n_axes, n_points, rows, n_rows);
             fprintf(fc, "# base config of a sweep over");
             for (int i = 0; i < n_axes; i++)
                 fprintf(fc, " %s", o.vary[i]);

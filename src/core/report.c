@@ -444,7 +444,7 @@ static void write_estimate(FILE *f, double v, stats_interval ci)
 }
 
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
-                               const summary_row *rows, int n_lead, const double *lead_values)
+                               const summary_row *rows, int n_lead, const char *const *lead_values)
 {
     int n = report_n_rows(c, fam);
     char model[256];
@@ -454,7 +454,7 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         char band[32];
         report_band_label(c, r->band, band, sizeof band);
         for (int j = 0; j < n_lead; j++)
-            fprintf(f, "%.10g\t", lead_values[j]);
+            fprintf(f, "%s\t", lead_values[j]);
         fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t", c->product, fam->name,
                 fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
                 c->bands_deg.hi[r->band], r->units, fam->rms_unit);
