@@ -46,7 +46,7 @@ LAYER_INC_util := -Iinclude/util
 LAYER_INC_core := $(LAYER_INC_util) -Iinclude/core
 LAYER_INC_ess  := $(LAYER_INC_core) -Iinclude/ess
 LAYER_INC_dss  := $(LAYER_INC_core) -Iinclude/dss
-LAYER_INC_cli  := $(LAYER_INC_core) -Iinclude/cli -Iinclude/ess -Iinclude/dss
+LAYER_INC_cli  := $(LAYER_INC_core) -Iinclude/cli
 TEST_INC       := $(LAYER_INC_core) -Iinclude/cli -Iinclude/ess -Iinclude/dss -Itests
 layer_inc = $(LAYER_INC_$(word 2,$(subst /, ,$(1))))
 

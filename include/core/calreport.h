@@ -104,6 +104,11 @@ int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const d
 /* Add one warning for each pair with |corr| > threshold, naming both. */
 void calreport_check_correlations(calreport *r, double threshold);
 
+/* predicted_rms of angle a in every band: the in-sample residual RMS times
+ * dof_factor (sqrt(n / dof): the noise it underestimates) added in
+ * quadrature to the propagated calibration sigma (when there is one). */
+void calreport_predict(calreport *r, int a, double dof_factor);
+
 /* Print the report for a person. */
 int calreport_print(FILE *f, const calreport *r);
 

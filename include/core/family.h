@@ -44,6 +44,8 @@ typedef struct {
     int gross_val;                  /* validation points with a gross error */
 } unit_result;
 
+struct family_lab; /* lab.h */
+
 typedef struct sensor_family {
     const char *name;               /* "ess", "dss": the value of sensor.family */
     const char *description;        /* for sensor.family's help: "encoded sun sensor" */
@@ -117,6 +119,10 @@ typedef struct sensor_family {
     int (*curve_eval)(const sunmc_config *c, const void *cv, double axis0_deg,
                       double axis1_deg, double before[UNIT_MAX_ANGLES],
                       double after[UNIT_MAX_ANGLES]);
+
+    /* The lab commands' hooks (`simulate`, `calibrate`, `compensate`,
+     * lab.h); NULL when the family has none. */
+    const struct family_lab *lab;
 } sensor_family;
 
 /* Sum of squared errors per report band, for one unit and one angle. */
@@ -130,6 +136,8 @@ void band_acc_reset(band_acc *b);
 void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err);
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
+/* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */
+void band_max_add(double *max, const band_list *bands, double abs_deg, double v);
 
 /* Fill r's RMS before/after of measured angle `angle` from the unit's
  * accumulators (times scale, the rms unit per radian); after is NaN in every

@@ -66,6 +66,14 @@ int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const d
     return st == GSL_SUCCESS ? SUNMC_OK : SUNMC_EFIT;
 }
 
+void calreport_predict(calreport *r, int a, double dof_factor)
+{
+    for (int b = 0; b < r->bands.n; b++) {
+        double noise = r->resid_rms[a][b] * dof_factor, cs = r->cal_sigma_rms[a][b];
+        r->predicted_rms[a][b] = sqrt(noise * noise + (isnan(cs) ? 0.0 : cs * cs));
+    }
+}
+
 void calreport_check_correlations(calreport *r, double threshold)
 {
     for (int i = 0; i < r->np; i++)

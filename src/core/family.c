@@ -43,6 +43,13 @@ void band_acc_rms(const band_acc *b, const band_list *bands, double scale, doubl
         out[i] = b->n[i] ? scale * sqrt(b->sum2[i] / (double)b->n[i]) : NAN;
 }
 
+void band_max_add(double *max, const band_list *bands, double abs_deg, double v)
+{
+    for (int i = 0; i < bands->n; i++)
+        if (in_band(bands, i, abs_deg))
+            max[i] = fmax(max[i], v);
+}
+
 void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
                          const band_list *bands, double scale)
 {

@@ -3,6 +3,7 @@
 #include "dss_calfit.h"
 #include "dss_rotation.h"
 #include "family.h"
+#include "lab.h"
 #include "status.h"
 #include "units.h"
 
@@ -113,57 +114,124 @@ static int n_params(const dss_calib_workspace *cw)
     return cw->kind == DSS_MODEL_PHYSICAL ? cw->n_free : dss_poly_n_terms(cw->poly_order);
 }
 
-static void cross_validate(const sunmc_config *c, dss_calib_workspace *cw, calreport *rep)
+/* Cross-validation by grid quadrant (lab_cross_validate's hooks). */
+typedef struct {
+    const sunmc_config *c;
+    dss_calib_workspace *cw;
+} quadrant_folds;
+
+static int quadrant_of(const void *ctx, size_t i)
 {
-    double *saved = malloc(cw->n * sizeof *saved), *held = malloc(cw->n * sizeof *held);
-    if (!saved || !held) {
-        free(saved);
-        free(held);
-        snprintf(rep->cv_note, sizeof rep->cv_note, "out of memory");
-        return;
-    }
-    memcpy(saved, cw->weight, cw->n * sizeof *saved);
+    const dss_calib_workspace *cw = ((const quadrant_folds *)ctx)->cw;
+    return 2 * (cw->b1_rad[i] >= 0) + (cw->b2_rad[i] >= 0);
+}
+
+static void quadrant_label(const void *ctx, int k, char *buf, size_t len)
+{
     static const char *const names[DSS_CV_BLOCKS] = {"b1<0,b2<0", "b1<0,b2>=0", "b1>=0,b2<0",
                                                      "b1>=0,b2>=0"};
-    double s_in = 0, s_out = 0;
-    long n_in = 0, n_out = 0;
-    for (int k = 0; k < DSS_CV_BLOCKS; k++) {
-        calreport_fold *fo = &rep->fold[rep->n_folds++];
-        snprintf(fo->label, sizeof fo->label, "%s", names[k]);
-        fo->n_out = 0;
-        size_t left = 0;
-        for (size_t i = 0; i < cw->n; i++) {
-            int blk = 2 * (cw->b1_rad[i] >= 0) + (cw->b2_rad[i] >= 0);
-            held[i] = blk == k ? saved[i] : 0.0;
-            cw->weight[i] = blk == k ? 0.0 : saved[i];
-            fo->n_out += held[i] > 0;
-            left += cw->weight[i] > 0;
-        }
-        dss_calibration ck;
-        fit_result fr;
-        fo->ok = fo->n_out > 0 && (int)left > n_params(cw) &&
-                 dss_calibrate(cw, c->max_iterations, &ck, &fr) == SUNMC_OK;
-        fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
-        if (fo->ok) {
-            double si, so;
-            long ni, no;
-            angle_errors(cw, cw->weight, &ck, NULL, NULL, &si, &ni);
-            angle_errors(cw, held, &ck, NULL, NULL, &so, &no);
-            fo->rms_in_arcsec = ni ? sqrt(si / ni) * ARCSEC_PER_RAD : NAN;
-            fo->rms_out_arcsec = no ? sqrt(so / no) * ARCSEC_PER_RAD : NAN;
-            s_in += si;
-            n_in += ni;
-            s_out += so;
-            n_out += no;
+    snprintf(buf, len, "%s", names[k]);
+}
+
+static int quadrant_refit(void *ctx, const double *held, double sum2[2], long n[2])
+{
+    quadrant_folds *f = ctx;
+    dss_calibration ck;
+    fit_result fr;
+    if (dss_calibrate(f->cw, f->c->max_iterations, &ck, &fr) != SUNMC_OK)
+        return 0;
+    angle_errors(f->cw, f->cw->weight, &ck, NULL, NULL, &sum2[0], &n[0]);
+    angle_errors(f->cw, held, &ck, NULL, NULL, &sum2[1], &n[1]);
+    return 1;
+}
+
+static void cross_validate(const sunmc_config *c, dss_calib_workspace *cw, calreport *rep)
+{
+    quadrant_folds f = {c, cw};
+    lab_folds folds = {.n_folds = DSS_CV_BLOCKS, .min_fit_rows = (size_t)n_params(cw),
+                       .fold_of = quadrant_of, .label = quadrant_label, .refit = quadrant_refit};
+    lab_cross_validate(rep, cw->weight, cw->n, &folds, &f);
+}
+
+/* Physical model: parameters, standard errors and correlations; the scaled
+ * covariance into cov_s (n_free x n_free) when the fit converged.  Returns
+ * 1 when cov_s holds it. */
+static int physical_covariance(const dss_calib_workspace *cw, const dss_calibration *cal,
+                               calreport *rep, double *cov_s)
+{
+    int have_cov = 0;
+    /* chisq is in px^2 over 2 n residuals (weighted). */
+    double s2 = rep->fit.chisq / rep->dof;
+    rep->np = cw->n_free;
+    double scale[CALREPORT_MAX_PAR];
+    for (int k = 0; k < cw->n_free; k++) {
+        int idx = cw->free_idx[k];
+        snprintf(rep->name[k], sizeof rep->name[k], "%s", phys_display[idx]);
+        rep->value[k] = cal->phys.p[idx] * phys_scale(idx);
+        scale[k] = phys_scale(idx);
+    }
+    int cst = fit_covariance(cw->fw);
+    if (cst == SUNMC_OK)
+        cst = calreport_covariance(rep, cw->fw->covar, s2, scale);
+    if (cst == SUNMC_OK && rep->fit_ok) {
+        have_cov = 1;
+        for (int i = 0; i < cw->n_free; i++)
+            for (int j = 0; j < cw->n_free; j++)
+                cov_s[i * cw->n_free + j] = s2 * gsl_matrix_get(cw->fw->covar, i, j);
+    }
+    if (cst != SUNMC_OK) {
+        for (int k = 0; k < rep->np; k++)
+            rep->se[k] = NAN;
+        calreport_warn(rep, "widen the campaign or fix the parameters it cannot determine",
+                       "the parameter covariance could not be computed");
+    }
+    calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+    return have_cov;
+}
+
+/* Residual per angle and band, the calibration's own uncertainty across
+ * the field (the parameter covariance propagated to the compensated angles
+ * at each campaign point's fitted-model spot) and the predicted accuracy. */
+static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
+                       const dss_calibration *cal, const double *cov_s, int have_cov,
+                       size_t n_res, calreport *rep)
+{
+    const band_list *bands = &c->bands_deg;
+    band_acc acc[2], sig[2];
+    double sum;
+    long n;
+    angle_errors(cw, cw->weight, cal, bands, acc, &sum, &n);
+    /* Angle-domain residual scaled to the degrees of freedom. */
+    rep->sigma_arcsec = n ? sqrt(sum / n * (double)n_res / rep->dof) * ARCSEC_PER_RAD : NAN;
+    band_acc_reset(&sig[0]);
+    band_acc_reset(&sig[1]);
+    double smax[2][CONFIG_BANDS_MAX] = {{0}};
+    for (size_t i = 0; have_cov && i < cw->n; i++) {
+        double sg[2], a0, b0;
+        if (!(cw->weight[i] > 0) ||
+            dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
+                             cw->b2_rad[i], sg) != SUNMC_OK)
+            continue;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        double fd = field_deg(a0, b0);
+        for (int a = 0; a < 2; a++) {
+            band_acc_add(&sig[a], bands, fd, sg[a]);
+            band_max_add(smax[a], bands, fd, sg[a] * ARCSEC_PER_RAD);
         }
     }
-    memcpy(cw->weight, saved, cw->n * sizeof *saved);
-    free(saved);
-    free(held);
-    if (n_in)
-        rep->cv_rms_in_arcsec = sqrt(s_in / n_in) * ARCSEC_PER_RAD;
-    if (n_out)
-        rep->cv_rms_out_arcsec = sqrt(s_out / n_out) * ARCSEC_PER_RAD;
+    for (int a = 0; a < 2; a++) {
+        band_acc_rms(&acc[a], bands, ARCSEC_PER_RAD, rep->resid_rms[a]);
+        band_acc_rms(&sig[a], bands, ARCSEC_PER_RAD, rep->cal_sigma_rms[a]);
+        for (int b = 0; b < bands->n; b++) {
+            rep->band_n[a][b] = acc[a].n[b];
+            if (!have_cov || !sig[a].n[b]) {
+                rep->cal_sigma_rms[a][b] = NAN; /* polynomial, or no covariance */
+                smax[a][b] = NAN;
+            }
+            rep->cal_sigma_max[a][b] = smax[a][b];
+        }
+        calreport_predict(rep, a, sqrt((double)n_res / rep->dof));
+    }
 }
 
 int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
@@ -200,89 +268,16 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
                        "the fit did not converge: %s (GSL status %d, %zu iterations); its "
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
-
     double cov_s[DSS_NP * DSS_NP];
     int have_cov = 0;
     if (phys) {
-        /* chisq is in px^2 over 2 n residuals (weighted). */
-        double s2 = rep->fit.chisq / rep->dof;
-        rep->np = cw->n_free;
-        double scale[CALREPORT_MAX_PAR];
-        for (int k = 0; k < cw->n_free; k++) {
-            int idx = cw->free_idx[k];
-            snprintf(rep->name[k], sizeof rep->name[k], "%s", phys_display[idx]);
-            rep->value[k] = cal->phys.p[idx] * phys_scale(idx);
-            scale[k] = phys_scale(idx);
-        }
-        int cst = fit_covariance(cw->fw);
-        if (cst == SUNMC_OK)
-            cst = calreport_covariance(rep, cw->fw->covar, s2, scale);
-        if (cst == SUNMC_OK && rep->fit_ok) {
-            have_cov = 1;
-            for (int i = 0; i < cw->n_free; i++)
-                for (int j = 0; j < cw->n_free; j++)
-                    cov_s[i * cw->n_free + j] = s2 * gsl_matrix_get(cw->fw->covar, i, j);
-        }
-        if (cst != SUNMC_OK) {
-            for (int k = 0; k < rep->np; k++)
-                rep->se[k] = NAN;
-            calreport_warn(rep, "widen the campaign or fix the parameters it cannot determine",
-                           "the parameter covariance could not be computed");
-        }
-        calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+        have_cov = physical_covariance(cw, cal, rep, cov_s);
     } else {
         rep->np = 0; /* the polynomial's coefficients are listed in params.ini */
         calreport_warn(rep, "use calibration.model = physical for parameter uncertainties",
                        "the polynomial model's coefficient uncertainties are not reported");
     }
-    band_acc acc[2];
-    double sum;
-    long n;
-    angle_errors(cw, cw->weight, cal, &c->bands_deg, acc, &sum, &n);
-    /* Angle-domain residual scaled to the degrees of freedom. */
-    rep->sigma_arcsec = n ? sqrt(sum / n * (double)n_res / rep->dof) * ARCSEC_PER_RAD : NAN;
-    double dof_factor = sqrt((double)n_res / rep->dof);
-    /* The calibration's own uncertainty across the field: the parameter
-     * covariance propagated to the compensated angles at each campaign
-     * point's (fitted-model) spot. */
-    band_acc sig[2];
-    band_acc_reset(&sig[0]);
-    band_acc_reset(&sig[1]);
-    double smax[2][CONFIG_BANDS_MAX] = {{0}};
-    for (size_t i = 0; have_cov && i < cw->n; i++) {
-        if (!(cw->weight[i] > 0))
-            continue;
-        double sg[2], a0, b0;
-        if (dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
-                             cw->b2_rad[i], sg) != SUNMC_OK)
-            continue;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-        double fd = field_deg(a0, b0);
-        for (int a = 0; a < 2; a++) {
-            band_acc_add(&sig[a], &c->bands_deg, fd, sg[a]);
-            for (int b = 0; b < c->bands_deg.n; b++) {
-                band_acc one;
-                band_acc_reset(&one);
-                band_acc_add(&one, &c->bands_deg, fd, sg[a]);
-                if (one.n[b])
-                    smax[a][b] = fmax(smax[a][b], sg[a] * ARCSEC_PER_RAD);
-            }
-        }
-    }
-    for (int a = 0; a < 2; a++) {
-        band_acc_rms(&acc[a], &c->bands_deg, ARCSEC_PER_RAD, rep->resid_rms[a]);
-        band_acc_rms(&sig[a], &c->bands_deg, ARCSEC_PER_RAD, rep->cal_sigma_rms[a]);
-        for (int b = 0; b < c->bands_deg.n; b++) {
-            rep->band_n[a][b] = acc[a].n[b];
-            if (!have_cov || !sig[a].n[b]) {
-                rep->cal_sigma_rms[a][b] = NAN; /* polynomial, or no covariance */
-                smax[a][b] = NAN;
-            }
-            rep->cal_sigma_max[a][b] = smax[a][b];
-            double noise = rep->resid_rms[a][b] * dof_factor, cs = rep->cal_sigma_rms[a][b];
-            rep->predicted_rms[a][b] = sqrt(noise * noise + (isnan(cs) ? 0.0 : cs * cs));
-        }
-    }
+    band_stats(c, cw, cal, cov_s, have_cov, n_res, rep);
     cross_validate(c, cw, rep);
     return SUNMC_OK;
 }

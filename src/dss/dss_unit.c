@@ -2,6 +2,7 @@
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
 #include "dss_curve.h"
+#include "dss_lab.h"
 #include "dss_rotation.h"
 #include "family.h"
 #include "rng.h"
@@ -300,4 +301,5 @@ const sensor_family dss_family = {
     .curve_free = dss_curve_free,
     .curve_prepare = dss_curve_prepare,
     .curve_eval = dss_curve_eval,
+    .lab = &dss_lab, /* dss_lab.c */
 };

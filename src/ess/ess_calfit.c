@@ -3,6 +3,7 @@
  * params.ini. */
 #include "ess_calfit.h"
 #include "family.h"
+#include "lab.h"
 #include "status.h"
 #include "units.h"
 
@@ -66,22 +67,6 @@ int ess_angle_error(const ess_model *m, double alpha_rad, double beta_rad, doubl
     return SUNMC_OK;
 }
 
-/* Angle-domain RMS (rad) over rows with use[i] > 0; *n counts them. */
-static double angle_rms(const ess_calib_workspace *cw, const double *use, const ess_model *m,
-                        size_t *n)
-{
-    double sum = 0;
-    *n = 0;
-    for (size_t i = 0; i < cw->n; i++) {
-        double e;
-        if (use[i] > 0 && ess_angle_error(m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) == SUNMC_OK) {
-            sum += e * e;
-            (*n)++;
-        }
-    }
-    return *n ? sqrt(sum / (double)*n) : NAN;
-}
-
 static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                         ess_calfit_result *res, calreport *rep)
 {
@@ -128,82 +113,83 @@ static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw,
                            cw->alias.eig_norm[j], ec->alias_threshold);
 }
 
+/* Cross-validation by beta line (lab_cross_validate's hooks). */
+typedef struct {
+    const sunmc_config *c;
+    ess_calib_workspace *cw;
+    double theta0, roll;
+    int nb;
+    double betas[CALREPORT_MAX_FOLDS];
+} beta_folds;
+
+static int beta_fold_of(const void *ctx, size_t i)
+{
+    const beta_folds *f = ctx;
+    for (int k = 0; k < f->nb; k++)
+        if (fabs(f->cw->beta_rad[i] - f->betas[k]) <= BETA_SAME_RAD)
+            return k;
+    return -1;
+}
+
+static void beta_fold_label(const void *ctx, int k, char *buf, size_t len)
+{
+    snprintf(buf, len, "beta = %g deg", ((const beta_folds *)ctx)->betas[k] * DEG_PER_RAD);
+}
+
+/* Angle-domain sum of squares (rad^2) over rows with use[i] > 0 that can be
+ * compensated; *n counts them. */
+static double angle_sum2(const ess_calib_workspace *cw, const double *use, const ess_model *m,
+                         long *n)
+{
+    double sum = 0;
+    *n = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        double e;
+        if (use[i] > 0 &&
+            ess_angle_error(m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) == SUNMC_OK) {
+            sum += e * e;
+            (*n)++;
+        }
+    }
+    return sum;
+}
+
+static int beta_fold_refit(void *ctx, const double *held, double sum2[2], long n[2])
+{
+    beta_folds *f = ctx;
+    ess_model mk;
+    fit_result fr;
+    if (ess_calibrate(f->cw, f->theta0, f->roll, ess_cfg(f->c)->alias_threshold,
+                      f->c->max_iterations, &mk, &fr) != SUNMC_OK)
+        return 0;
+    sum2[0] = angle_sum2(f->cw, f->cw->weight, &mk, &n[0]);
+    sum2[1] = angle_sum2(f->cw, held, &mk, &n[1]);
+    return 1;
+}
+
 static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calreport *rep,
                            double theta0, double roll)
 {
-    double betas[CALREPORT_MAX_FOLDS];
-    int nb = 0, too_many = 0;
+    beta_folds f = {.c = c, .cw = cw, .theta0 = theta0, .roll = roll};
+    int too_many = 0;
     for (size_t i = 0; i < cw->n; i++) {
-        if (!(cw->weight[i] > 0))
+        if (!(cw->weight[i] > 0) || beta_fold_of(&f, i) >= 0)
             continue;
-        int k = 0;
-        while (k < nb && fabs(betas[k] - cw->beta_rad[i]) > BETA_SAME_RAD)
-            k++;
-        if (k == nb) {
-            if (nb == CALREPORT_MAX_FOLDS)
-                too_many = 1;
-            else
-                betas[nb++] = cw->beta_rad[i];
-        }
+        if (f.nb == CALREPORT_MAX_FOLDS)
+            too_many = 1;
+        else
+            f.betas[f.nb++] = cw->beta_rad[i];
     }
-    if (too_many || nb < 2) {
+    if (too_many || f.nb < 2) {
         snprintf(rep->cv_note, sizeof rep->cv_note,
                  too_many ? "more than %d beta lines" : "the campaign has %d beta line: hold-out "
                                                          "needs at least two",
-                 too_many ? CALREPORT_MAX_FOLDS : nb);
+                 too_many ? CALREPORT_MAX_FOLDS : f.nb);
         return;
     }
-    double *saved = malloc(cw->n * sizeof *saved);
-    double *held = malloc(cw->n * sizeof *held);
-    if (!saved || !held) {
-        free(saved);
-        free(held);
-        snprintf(rep->cv_note, sizeof rep->cv_note, "out of memory");
-        return;
-    }
-    memcpy(saved, cw->weight, cw->n * sizeof *saved);
-    double sum_in = 0, sum_out = 0;
-    size_t n_in_all = 0, n_out_all = 0;
-    for (int k = 0; k < nb; k++) {
-        calreport_fold *fo = &rep->fold[rep->n_folds++];
-        snprintf(fo->label, sizeof fo->label, "beta = %g deg", betas[k] * DEG_PER_RAD);
-        size_t left = 0;
-        fo->n_out = 0;
-        for (size_t i = 0; i < cw->n; i++) {
-            int out = fabs(cw->beta_rad[i] - betas[k]) <= BETA_SAME_RAD;
-            held[i] = out ? saved[i] : 0.0;
-            cw->weight[i] = out ? 0.0 : saved[i];
-            fo->n_out += held[i] > 0;
-            left += cw->weight[i] > 0;
-        }
-        ess_model mk;
-        fit_result fr;
-        fo->ok = left > ESS_NP && ess_calibrate(cw, theta0, roll, ess_cfg(c)->alias_threshold,
-                                                c->max_iterations, &mk, &fr) == SUNMC_OK;
-        fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
-        if (fo->ok) {
-            size_t ni, no;
-            double ri = angle_rms(cw, cw->weight, &mk, &ni);
-            double ro = angle_rms(cw, held, &mk, &no);
-            fo->rms_in_arcsec = ri * ARCSEC_PER_RAD;
-            fo->rms_out_arcsec = ro * ARCSEC_PER_RAD;
-            if (ni) {
-                sum_in += ri * ri * (double)ni;
-                n_in_all += ni;
-            }
-            if (no) {
-                sum_out += ro * ro * (double)no;
-                n_out_all += no;
-            }
-        }
-    }
-    memcpy(cw->weight, saved, cw->n * sizeof *saved);
-    free(saved);
-    free(held);
-    if (n_in_all)
-        rep->cv_rms_in_arcsec = sqrt(sum_in / (double)n_in_all) * ARCSEC_PER_RAD;
-    if (n_out_all)
-        rep->cv_rms_out_arcsec = sqrt(sum_out / (double)n_out_all) * ARCSEC_PER_RAD;
+    lab_folds folds = {.n_folds = f.nb, .min_fit_rows = ESS_NP, .fold_of = beta_fold_of,
+                       .label = beta_fold_label, .refit = beta_fold_refit};
+    lab_cross_validate(rep, cw->weight, cw->n, &folds, &f);
 }
 
 /* Residual per band (angle domain), propagated sigma across the field, and
@@ -241,13 +227,7 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
         double a_deg = amin * DEG_PER_RAD + (double)j * ESS_FIELD_STEP_DEG;
         double s = ess_calfit_sigma(&res->m, res->cov, a_deg * RAD_PER_DEG);
         band_acc_add(&cal, bands, fabs(a_deg), s);
-        for (int b = 0; b < bands->n; b++) {
-            band_acc one;
-            band_acc_reset(&one);
-            band_acc_add(&one, bands, fabs(a_deg), s);
-            if (one.n[b])
-                rep->cal_sigma_max[0][b] = fmax(rep->cal_sigma_max[0][b], s * ARCSEC_PER_RAD);
-        }
+        band_max_add(rep->cal_sigma_max[0], bands, fabs(a_deg), s * ARCSEC_PER_RAD);
     }
     band_acc_rms(&resid, bands, ARCSEC_PER_RAD, rep->resid_rms[0]);
     band_acc_rms(&cal, bands, ARCSEC_PER_RAD, rep->cal_sigma_rms[0]);
@@ -257,9 +237,8 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
         rep->band_n[0][b] = resid.n[b];
         if (!cal.n[b])
             rep->cal_sigma_max[0][b] = NAN;
-        double noise = rep->resid_rms[0][b] * dof_factor, cs = rep->cal_sigma_rms[0][b];
-        rep->predicted_rms[0][b] = sqrt(noise * noise + (isnan(cs) ? 0.0 : cs * cs));
     }
+    calreport_predict(rep, 0, dof_factor);
 }
 
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,

@@ -2,6 +2,7 @@
  * campaign -> fit -> validation, for one unit. */
 #include "ess_unit.h"
 #include "ess_curve.h"
+#include "ess_lab.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -288,4 +289,5 @@ const sensor_family ess_family = {
     .curve_free = ess_curve_free,
     .curve_prepare = ess_curve_prepare,
     .curve_eval = ess_curve_eval,
+    .lab = &ess_lab, /* ess_lab.c */
 };

@@ -1,0 +1,152 @@
+/* lab.h - the lab commands (`simulate`, `calibrate`, `compensate`): the
+ * hooks a family fills (family_lab, a struct of function pointers in the
+ * manner of GSL's plug-in types, reached as sensor_family.lab) and the
+ * pipeline they share, written once here:
+ *
+ *   lab_columns_read     a lab CSV's columns by name (weight optional)
+ *   lab_params_header    params.ini's [calibration] section
+ *   lab_cross_validate   hold each fold out, refit, score (the skeleton)
+ *   lab_write_calibration  params.ini, residuals.tsv, bands.tsv,
+ *                        crossval.tsv and the family's own files
+ *   lab_compensate_csv   a raw CSV with the compensated columns added
+ *
+ * Units: a family's CSV columns keep the units of their names (deg, px);
+ * the hooks convert.  Angles passed back to core are rad.
+ */
+#ifndef SUNMC_LAB_H
+#define SUNMC_LAB_H
+
+#include "calreport.h"
+#include "config.h"
+#include "params_io.h"
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define LAB_MAX_COLUMNS 8
+/* Files `simulate` writes, in this order: campaign.csv, truth.csv, validation.csv. */
+#define LAB_SIM_FILES 3
+/* Room for what a lab hook gives the command to print. */
+#define LAB_NOTE_MAX 16384
+
+extern const char *const lab_sim_files[LAB_SIM_FILES];
+
+/* A lab data file's columns, in the order of the family's list: v[k][i] in
+ * the units of column k's name; the last column of the list is "weight"
+ * (optional: 1 when absent; never negative).  line[i] is row i's line in
+ * the file. */
+typedef struct {
+    const char *path;
+    size_t n;
+    int n_cols;
+    double *v[LAB_MAX_COLUMNS];
+    int *line;
+} lab_columns;
+
+/* The simulated unit a lab file describes, for its head comments. */
+typedef struct {
+    const char *config;      /* the config file as given */
+    long unit;
+    const char *out_dir;
+} lab_unit_ref;
+
+typedef struct family_lab {
+    /* ---- simulate: one unit's campaign as a lab records it, its truth and
+     * the readings `run` validates it on. ---- */
+    /* Simulate unit ref->unit of c into a new record *sim. */
+    int (*sim_run)(const sunmc_config *c, long unit, void **sim, char *err, size_t errlen);
+    /* Write the record as lab_sim_files (f[k] is file k). */
+    int (*sim_write)(const void *sim, const sunmc_config *c, const lab_unit_ref *ref,
+                     FILE *const f[LAB_SIM_FILES]);
+    /* What `simulate` prints once the files are written (lines, ending in '\n'). */
+    void (*sim_summary)(const void *sim, const sunmc_config *c, const lab_unit_ref *ref,
+                        char *buf, size_t len);
+    void (*sim_free)(void *sim);
+
+    /* ---- calibrate: fit the family's model to a lab's data. ---- */
+    /* Data columns (NULL-terminated, "weight" last) and the shape of a row,
+     * for --help and messages. */
+    const char *const *cal_columns;
+    /* Fewest data rows c's model can be fitted to, and why (for the message). */
+    size_t (*cal_min_rows)(const sunmc_config *c, char *why, size_t len);
+    /* Fit d (which must outlive *cal) and fill rep; *cal is the fitted
+     * calibration, freed with cal_free.  Non-OK (message in err) for data
+     * the model cannot be fitted to; a fit that fails is not an error
+     * (rep->fit_ok = 0). */
+    int (*cal_run)(const sunmc_config *c, const lab_columns *d, void **cal, calreport *rep,
+                   char *err, size_t errlen);
+    /* params.ini: the title comment, and the family's sections. */
+    const char *params_title;
+    int (*params_fill)(const void *cal, const sunmc_config *c, const calreport *rep,
+                       params_file *p);
+    /* residuals.tsv: every data row with its residual and angle errors. */
+    int (*write_residuals)(const void *cal, FILE *f);
+    /* The family's further files (NULL-terminated, or NULL) and their writer. */
+    const char *const *extra_files;
+    int (*write_extra)(const void *cal, const sunmc_config *c, int k, FILE *f);
+    void (*cal_free)(void *cal);
+
+    /* ---- compensate: apply params.ini to raw readings. ---- */
+    const char *const *raw_columns;   /* read, NULL-terminated */
+    const char *const *comp_columns;  /* added, NULL-terminated; deg */
+    /* Said after the count of readings that could not be compensated, or NULL. */
+    const char *comp_fail_note;
+    /* The calibration a params.ini describes (free with free()). */
+    void *(*params_load)(const params_file *p, char *err, size_t errlen);
+    /* raw[k]: column k of raw_columns in its unit; comp_rad[k]: compensated
+     * angle k in rad.  Non-OK when the reading cannot be compensated. */
+    int (*compensate)(const void *model, const double *raw, double *comp_rad);
+} family_lab;
+
+/* Read columns names (NULL-terminated, "weight" last) of the CSV at path,
+ * every value checked, then at least min_rows rows (why: the reason, for
+ * the message).  Messages "FILE:LINE: ...".  d is freed with
+ * lab_columns_free, also after an error. */
+int lab_columns_read(const char *path, const char *const *names, size_t min_rows,
+                     const char *why, lab_columns *d, char *err, size_t errlen);
+void lab_columns_free(lab_columns *d);
+
+/* params.ini's [calibration] section: version, sensor, model, data file
+ * and its FNV-1a 64, rows, config, residual sigma, cross-validation RMS. */
+int lab_params_header(params_file *p, const char *data, const char *config, size_t rows,
+                      const calreport *rep, char *err, size_t errlen);
+
+/* The folds of a cross-validation and the family's refit. */
+typedef struct {
+    int n_folds;                     /* <= CALREPORT_MAX_FOLDS */
+    size_t min_fit_rows;             /* a refit needs more rows than this */
+    int (*fold_of)(const void *ctx, size_t i);                    /* row i's fold */
+    void (*label)(const void *ctx, int k, char *buf, size_t len); /* fold k's name */
+    /* Refit on the rows whose weight (the array given to
+     * lab_cross_validate, set for the fold) is > 0 and score the refit:
+     * sums of squared angle errors (rad^2) and their counts over the rows it
+     * used (index 0) and over the rows with held[i] > 0 (index 1).  Returns
+     * 1 when the refit converged. */
+    int (*refit)(void *ctx, const double *held, double sum2[2], long n[2]);
+} lab_folds;
+
+/* Hold out each fold in turn (weight[i] = 0 for its rows, restored after),
+ * refit and score it into rep's folds and pooled RMS.  rep->cv_note says
+ * why when it cannot be done. */
+void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_folds *f, void *ctx);
+
+/* Write a calibration's files into out_dir, all or nothing: params.ini
+ * (header and the family's sections), residuals.tsv, bands.tsv,
+ * crossval.tsv and lab->extra_files. */
+int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_config *c,
+                          const calreport *rep, const char *data, const char *config,
+                          size_t rows, const char *out_dir, char *err, size_t errlen);
+
+/* Counts of a compensation run. */
+typedef struct {
+    long failed;                     /* readings that could not be compensated */
+    int first_failed_line;
+} lab_comp_stats;
+
+/* Read raw_path (lab->raw_columns) and write it to out as CSV with
+ * lab->comp_columns added (deg, "nan" where a reading cannot be
+ * compensated).  Non-OK (nothing written) for bad input. */
+int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw_path,
+                       FILE *out, lab_comp_stats *s, char *err, size_t errlen);
+
+#endif

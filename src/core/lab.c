@@ -1,0 +1,295 @@
+/* lab.c - the lab commands' shared pipeline: CSV columns, params.ini's
+ * header, the cross-validation skeleton, a calibration's files and the
+ * compensated CSV (lab.h). */
+#include "lab.h"
+#include "csv.h"
+#include "output.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const lab_sim_files[LAB_SIM_FILES] = {"campaign.csv", "truth.csv", "validation.csv"};
+
+/* Columns names[0..n-2] (required) and names[n-1] = "weight" (optional,
+ * default 1, must not be negative) of t into freshly allocated v[k]. */
+static int read_columns(const csv_table *t, const char *path, const char *const *names, int n,
+                        double **v, char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    for (int k = 0; k < n && st == SUNMC_OK; k++) {
+        int col;
+        st = csv_column(t, names[k], k < n - 1, &col, err, errlen);
+        if (st != SUNMC_OK)
+            break;
+        v[k] = malloc((t->n_rows + 1) * sizeof(double));
+        if (!v[k])
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        else if (col >= 0)
+            st = csv_doubles(t, col, v[k], err, errlen);
+        else
+            for (size_t i = 0; i < t->n_rows; i++)
+                v[k][i] = 1.0;
+    }
+    for (size_t i = 0; i < t->n_rows && st == SUNMC_OK; i++)
+        if (v[n - 1][i] < 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: column 'weight': %g is negative (1 / relative variance; 0 "
+                            "drops the row)",
+                            path, t->line[i], v[n - 1][i]);
+    return st;
+}
+
+int lab_columns_read(const char *path, const char *const *names, size_t min_rows,
+                     const char *why, lab_columns *d, char *err, size_t errlen)
+{
+    memset(d, 0, sizeof *d);
+    d->path = path;
+    while (names[d->n_cols])
+        d->n_cols++;
+    if (d->n_cols > LAB_MAX_COLUMNS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: more than %d lab columns", path,
+                          LAB_MAX_COLUMNS);
+    csv_table *t;
+    int st = csv_read(path, &t, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    st = read_columns(t, path, names, d->n_cols, d->v, err, errlen);
+    if (st == SUNMC_OK)
+        st = csv_require_rows(t, min_rows, why, err, errlen);
+    if (st == SUNMC_OK) {
+        d->n = t->n_rows;
+        d->line = malloc((t->n_rows + 1) * sizeof *d->line);
+        if (!d->line)
+            st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+        else
+            memcpy(d->line, t->line, t->n_rows * sizeof *d->line);
+    }
+    csv_free(t);
+    return st;
+}
+
+void lab_columns_free(lab_columns *d)
+{
+    for (int k = 0; k < LAB_MAX_COLUMNS; k++)
+        free(d->v[k]);
+    free(d->line);
+    memset(d, 0, sizeof *d);
+}
+
+int lab_params_header(params_file *p, const char *data, const char *config, size_t rows,
+                      const calreport *rep, char *err, size_t errlen)
+{
+    unsigned long long h;
+    int st = params_file_fnv1a64(data, &h, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    char hex[32];
+    snprintf(hex, sizeof hex, "%016llx", h);
+    st = params_set_text(p, "calibration", "sunmc_version", SUNMC_VERSION, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_text(p, "calibration", "sensor", rep->sensor, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_text(p, "calibration", "model", rep->model, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_text(p, "calibration", "data_file", data, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_text(p, "calibration", "data_fnv1a64", hex,
+                             "FNV-1a 64 of the data file's bytes");
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "calibration", "data_rows", (double)rows, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_text(p, "calibration", "config", config, NULL);
+    if (st == SUNMC_OK)
+        st = params_set_double(p, "calibration", "residual_sigma_arcsec", rep->sigma_arcsec,
+                               "in-sample");
+    if (st == SUNMC_OK && rep->n_folds > 0)
+        st = params_set_double(p, "calibration", "crossval_rms_arcsec", rep->cv_rms_out_arcsec,
+                               "held-out error: the honest accuracy estimate");
+    if (st != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "cannot record the data file or config name in params.ini (too long, "
+                          "or holds '#')");
+    return SUNMC_OK;
+}
+
+/* ---- cross-validation ---- */
+
+/* Fold k: hold its rows out (held = their weights, weight = 0), refit the
+ * rest and score both parts; adds to the pooled sums. */
+static void one_fold(calreport *rep, int k, double *weight, const double *saved, double *held,
+                     size_t n, const lab_folds *f, void *ctx, double pool[2], long pool_n[2])
+{
+    calreport_fold *fo = &rep->fold[rep->n_folds++];
+    f->label(ctx, k, fo->label, sizeof fo->label);
+    size_t left = 0;
+    fo->n_out = 0;
+    for (size_t i = 0; i < n; i++) {
+        int out = f->fold_of(ctx, i) == k;
+        held[i] = out ? saved[i] : 0.0;
+        weight[i] = out ? 0.0 : saved[i];
+        fo->n_out += held[i] > 0;
+        left += weight[i] > 0;
+    }
+    double sum2[2] = {0, 0};
+    long cnt[2] = {0, 0};
+    fo->ok = fo->n_out > 0 && left > f->min_fit_rows && f->refit(ctx, held, sum2, cnt);
+    fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
+    if (!fo->ok)
+        return;
+    fo->rms_in_arcsec = cnt[0] ? sqrt(sum2[0] / (double)cnt[0]) * ARCSEC_PER_RAD : NAN;
+    fo->rms_out_arcsec = cnt[1] ? sqrt(sum2[1] / (double)cnt[1]) * ARCSEC_PER_RAD : NAN;
+    for (int j = 0; j < 2; j++) {
+        pool[j] += sum2[j];
+        pool_n[j] += cnt[j];
+    }
+}
+
+void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_folds *f, void *ctx)
+{
+    double *saved = malloc((n + 1) * sizeof *saved), *held = malloc((n + 1) * sizeof *held);
+    if (!saved || !held) {
+        free(saved);
+        free(held);
+        snprintf(rep->cv_note, sizeof rep->cv_note, "out of memory");
+        return;
+    }
+    memcpy(saved, weight, n * sizeof *saved);
+    double pool[2] = {0, 0};
+    long pool_n[2] = {0, 0};
+    for (int k = 0; k < f->n_folds && k < CALREPORT_MAX_FOLDS; k++)
+        one_fold(rep, k, weight, saved, held, n, f, ctx, pool, pool_n);
+    memcpy(weight, saved, n * sizeof *saved);
+    free(saved);
+    free(held);
+    if (pool_n[0])
+        rep->cv_rms_in_arcsec = sqrt(pool[0] / (double)pool_n[0]) * ARCSEC_PER_RAD;
+    if (pool_n[1])
+        rep->cv_rms_out_arcsec = sqrt(pool[1] / (double)pool_n[1]) * ARCSEC_PER_RAD;
+}
+
+/* ---- a calibration's files ---- */
+
+#define LAB_CAL_FILES 4 /* params.ini, residuals.tsv, bands.tsv, crossval.tsv */
+
+int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_config *c,
+                          const calreport *rep, const char *data, const char *config,
+                          size_t rows, const char *out_dir, char *err, size_t errlen)
+{
+    params_file *pf = malloc(sizeof *pf);
+    if (!pf)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    params_init(pf);
+    int st = lab_params_header(pf, data, config, rows, rep, err, errlen);
+    if (st == SUNMC_OK && lab->params_fill(cal, c, rep, pf) != SUNMC_OK)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "params.ini: too many entries");
+    const char *names[OUT_MAX_FILES] = {"params.ini", "residuals.tsv", "bands.tsv",
+                                        "crossval.tsv"};
+    int n = LAB_CAL_FILES;
+    while (lab->extra_files && lab->extra_files[n - LAB_CAL_FILES] && n < OUT_MAX_FILES - 1)
+        names[n] = lab->extra_files[n - LAB_CAL_FILES], n++;
+    FILE *f[OUT_MAX_FILES] = {NULL};
+    out_set os;
+    if (st == SUNMC_OK)
+        st = out_begin(&os, out_dir, err, errlen);
+    if (st == SUNMC_OK) {
+        st = out_open_all(&os, names, f, n, err, errlen);
+        if (st == SUNMC_OK) {
+            params_write(f[0], pf, lab->params_title);
+            lab->write_residuals(cal, f[1]);
+            calreport_write_bands(f[2], rep);
+            calreport_write_folds(f[3], rep);
+            for (int k = LAB_CAL_FILES; k < n; k++)
+                lab->write_extra(cal, c, k - LAB_CAL_FILES, f[k]);
+            st = out_commit(&os, err, errlen);
+        } else {
+            out_abort(&os);
+        }
+    }
+    free(pf);
+    return st;
+}
+
+/* ---- compensate ---- */
+
+/* Column indices of lab->raw_columns in t (cols), and a refusal when t
+ * already has one of lab->comp_columns. */
+static int comp_columns(const family_lab *lab, const csv_table *t, const char *raw_path,
+                        int *cols, int *n_raw, char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    *n_raw = 0;
+    for (; lab->raw_columns[*n_raw] && st == SUNMC_OK; (*n_raw)++)
+        st = csv_column(t, lab->raw_columns[*n_raw], 1, &cols[*n_raw], err, errlen);
+    for (int k = 0; lab->comp_columns[k] && st == SUNMC_OK; k++) {
+        int dup;
+        st = csv_column(t, lab->comp_columns[k], 0, &dup, err, errlen);
+        if (st == SUNMC_OK && dup >= 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: the input already has a column '%s'",
+                            raw_path, t->header_line, lab->comp_columns[k]);
+    }
+    return st;
+}
+
+/* The raw columns of t as numbers, v[k][i]. */
+static int comp_values(const csv_table *t, const int *cols, int n_raw, double **v, char *err,
+                       size_t errlen)
+{
+    int st = SUNMC_OK;
+    for (int k = 0; k < n_raw && st == SUNMC_OK; k++) {
+        v[k] = malloc((t->n_rows + 1) * sizeof *v[k]);
+        st = v[k] ? csv_doubles(t, cols[k], v[k], err, errlen)
+                  : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    }
+    return st;
+}
+
+static void comp_rows(const family_lab *lab, const void *model, const csv_table *t,
+                      double *const *v, int n_raw, FILE *out, lab_comp_stats *s)
+{
+    for (int j = 0; j < t->n_cols; j++)
+        fprintf(out, "%s,", t->names[j]);
+    int n_comp = 0;
+    for (; lab->comp_columns[n_comp]; n_comp++)
+        fprintf(out, "%s%s", n_comp ? "," : "", lab->comp_columns[n_comp]);
+    fprintf(out, "\n");
+    for (size_t i = 0; i < t->n_rows; i++) {
+        for (int j = 0; j < t->n_cols; j++)
+            fprintf(out, "%s,", t->field[i * (size_t)t->n_cols + (size_t)j]);
+        double raw[LAB_MAX_COLUMNS], comp[LAB_MAX_COLUMNS];
+        for (int k = 0; k < n_raw; k++)
+            raw[k] = v[k][i];
+        int ok = lab->compensate(model, raw, comp) == SUNMC_OK;
+        for (int k = 0; k < n_comp; k++) {
+            if (ok)
+                fprintf(out, "%s%.15g", k ? "," : "", comp[k] * DEG_PER_RAD);
+            else
+                fprintf(out, "%snan", k ? "," : "");
+        }
+        fprintf(out, "\n");
+        if (!ok && !s->failed++)
+            s->first_failed_line = t->line[i];
+    }
+}
+
+int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw_path,
+                       FILE *out, lab_comp_stats *s, char *err, size_t errlen)
+{
+    memset(s, 0, sizeof *s);
+    csv_table *t = NULL;
+    int st = csv_read(raw_path, &t, err, errlen);
+    int cols[LAB_MAX_COLUMNS], n_raw = 0;
+    double *v[LAB_MAX_COLUMNS] = {NULL};
+    if (st == SUNMC_OK)
+        st = comp_columns(lab, t, raw_path, cols, &n_raw, err, errlen);
+    if (st == SUNMC_OK)
+        st = comp_values(t, cols, n_raw, v, err, errlen);
+    if (st == SUNMC_OK)
+        comp_rows(lab, model, t, v, n_raw, out, s);
+    for (int k = 0; k < LAB_MAX_COLUMNS; k++)
+        free(v[k]);
+    csv_free(t);
+    return st;
+}

@@ -1,0 +1,292 @@
+/* ess_lab.c - the ESS's lab hooks (lab.h): `simulate` writes a unit's
+ * campaign, truth and validation readings; `calibrate` fits turntable data
+ * (ess_calfit.h); `compensate` applies params.ini. */
+#include "ess_calfit.h"
+#include "ess_lab.h"
+#include "ess_simulate.h"
+#include "ess_unit.h"
+#include "family.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- simulate ---- */
+
+typedef struct {
+    ess_deviations dev;
+    ess_calib_workspace *cw;   /* the campaign as `run` fits it */
+    int gross;                 /* campaign points dropped as gross errors */
+    size_t n, nv;
+    double *a_true, *b_true, *inc, *raw;
+    int *seen;
+    double *va, *vb, *vraw, *vtruth;
+    int *vstatus;
+    long n_val, n_val_gross, n_val_unseen;
+} ess_sim;
+
+static void sim_free(void *p)
+{
+    ess_sim *s = p;
+    if (!s)
+        return;
+    ess_calib_free(s->cw);
+    free(s->a_true);
+    free(s->b_true);
+    free(s->inc);
+    free(s->raw);
+    free(s->seen);
+    free(s->va);
+    free(s->vb);
+    free(s->vraw);
+    free(s->vtruth);
+    free(s->vstatus);
+    free(s);
+}
+
+static ess_sim *sim_alloc(size_t n, size_t nv)
+{
+    ess_sim *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->n = n;
+    s->nv = nv;
+    s->cw = ess_calib_alloc(n);
+    s->a_true = malloc(n * sizeof(double));
+    s->b_true = malloc(n * sizeof(double));
+    s->inc = malloc(n * sizeof(double));
+    s->raw = malloc(n * sizeof(double));
+    s->seen = malloc(n * sizeof(int));
+    s->va = malloc((nv + 1) * sizeof(double));
+    s->vb = malloc((nv + 1) * sizeof(double));
+    s->vraw = malloc((nv + 1) * sizeof(double));
+    s->vtruth = malloc((nv + 1) * sizeof(double));
+    s->vstatus = malloc((nv + 1) * sizeof(int));
+    if (s->cw && s->a_true && s->b_true && s->inc && s->raw && s->seen && s->va && s->vb &&
+        s->vraw && s->vtruth && s->vstatus)
+        return s;
+    sim_free(s);
+    return NULL;
+}
+
+static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size_t errlen)
+{
+    size_t n = ess_campaign_size(c), nv = ess_validation_size(c);
+    if (n <= ESS_NP)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "the campaign has %zu points, the ess model %d parameters", n, ESS_NP);
+    ess_sim *s = sim_alloc(n, nv);
+    if (!s)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    ess_unit u;
+    ess_deviations_sample(c, (uint64_t)c->seed, unit, &s->dev);
+    ess_unit_build(c, &s->dev, &u);
+    ess_unit_campaign(c, &u, unit, s->cw, &s->gross);
+    ess_campaign_truth(c, &u, unit, s->a_true, s->b_true, s->inc, s->raw, s->seen);
+    ess_validation_readings(c, &u, unit, s->va, s->vb, s->vraw, s->vtruth, s->vstatus);
+    for (size_t i = 0; i < n; i++)
+        if (s->raw[i] != s->cw->raw_rad[i]) {
+            sim_free(s);
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "internal error: the truth replay differs from the campaign at "
+                              "row %zu", i);
+        }
+    for (size_t i = 0; i < nv; i++) {
+        s->n_val_unseen += s->vstatus[i] == ESS_READING_UNSEEN;
+        s->n_val_gross += s->vstatus[i] == ESS_READING_GROSS;
+        s->n_val += s->vstatus[i] == ESS_READING_OK;
+    }
+    *out = s;
+    return SUNMC_OK;
+}
+
+static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_unit_ref *ref,
+                           FILE *fc, FILE *ft)
+{
+    const ess_config *ec = ess_cfg(c);
+    fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld\n", SUNMC_VERSION, ref->unit,
+            ref->config, c->product, c->seed);
+    fprintf(fc, "# measured installation roll: calibration.roll_measured_arcsec = %.17g\n",
+            s->dev.roll_measured_arcsec);
+    fprintf(fc, "alpha_deg,beta_deg,output_deg,weight\n");
+    fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
+            ref->unit, ref->config, c->seed);
+    double dv[ESS_N_DEV];
+    ess_deviations_values(&s->dev, dv);
+    for (int i = 0; i < ESS_N_DEV; i++)
+        fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
+    fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,seen\n");
+    long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
+    const ess_calib_workspace *cw = s->cw;
+    for (size_t i = 0; i < s->n; i++) {
+        /* The recorded angles as the campaign computes them, so that
+         * reading them back gives the very same radians. */
+        double a_deg = ec->cal_alpha_min_deg + (double)((long)i % na) * ec->cal_alpha_step_deg;
+        double b_deg = ec->cal_beta_deg.v[(long)i / na];
+        fprintf(fc, "%.17g,%.17g,%.17g,%g\n", a_deg, b_deg, cw->raw_rad[i] * DEG_PER_RAD,
+                cw->weight[i]);
+        fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", a_deg, b_deg,
+                s->a_true[i] * DEG_PER_RAD, s->b_true[i] * DEG_PER_RAD, s->inc[i] * DEG_PER_RAD,
+                cw->raw_rad[i] * DEG_PER_RAD, s->seen[i]);
+    }
+}
+
+static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *ref,
+                     FILE *const f[LAB_SIM_FILES])
+{
+    const ess_sim *s = p;
+    write_campaign(s, c, ref, f[0], f[1]);
+    FILE *fv = f[2];
+    fprintf(fv, "# sunmc %s simulate: validation readings of unit %ld of %s, seed %ld;\n"
+                "# %ld readings off the truth by more than half a fine period and %ld with "
+                "the sun unseen are left out, as in `run`\n",
+            SUNMC_VERSION, ref->unit, ref->config, c->seed, s->n_val_gross, s->n_val_unseen);
+    fprintf(fv, "alpha_deg,beta_deg,output_deg,truth_deg\n");
+    for (size_t i = 0; i < s->nv; i++)
+        if (s->vstatus[i] == ESS_READING_OK)
+            fprintf(fv, "%.17g,%.17g,%.17g,%.17g\n", s->va[i] * DEG_PER_RAD,
+                    s->vb[i] * DEG_PER_RAD, s->vraw[i] * DEG_PER_RAD, s->vtruth[i] * DEG_PER_RAD);
+    return SUNMC_OK;
+}
+
+static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref *ref, char *buf,
+                        size_t len)
+{
+    const ess_sim *s = p;
+    snprintf(buf, len,
+             "unit %ld of %s (seed %ld): %zu campaign points (%d dropped as gross errors), "
+             "%ld validation readings\n"
+             "wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n"
+             "calibrate with the unit's measured roll:\n"
+             "  sunmc calibrate --sensor ess --config %s --set "
+             "calibration.roll_measured_arcsec=%.17g %s/campaign.csv --out DIR\n",
+             ref->unit, c->product, c->seed, s->n, s->gross, s->n_val, ref->out_dir,
+             ref->out_dir, ref->out_dir, ref->config, s->dev.roll_measured_arcsec, ref->out_dir);
+}
+
+/* ---- calibrate ---- */
+
+static const char *const cal_columns[] = {"alpha_deg", "beta_deg", "output_deg", "weight", NULL};
+
+typedef struct {
+    ess_calib_workspace *cw;
+    const int *line;
+    ess_calfit_result res;
+} ess_cal;
+
+static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
+{
+    snprintf(why, len, "the ess model has %d parameters: need at least %d rows", ESS_NP,
+             ESS_NP + 1);
+    return ESS_NP + 1;
+}
+
+static void cal_free(void *p)
+{
+    ess_cal *k = p;
+    if (k)
+        ess_calib_free(k->cw);
+    free(k);
+}
+
+static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calreport *rep,
+                   char *err, size_t errlen)
+{
+    ess_cal *k = calloc(1, sizeof *k);
+    if (k)
+        k->cw = ess_calib_alloc(d->n);
+    if (!k || !k->cw) {
+        cal_free(k);
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    }
+    k->line = d->line;
+    for (size_t i = 0; i < d->n; i++) {
+        k->cw->alpha_rad[i] = d->v[0][i] * RAD_PER_DEG;
+        k->cw->beta_rad[i] = d->v[1][i] * RAD_PER_DEG;
+        k->cw->raw_rad[i] = d->v[2][i] * RAD_PER_DEG;
+        k->cw->weight[i] = d->v[3][i];
+    }
+    int st = ess_calfit_run(c, k->cw, k->line, &k->res, rep, err, errlen);
+    if (st != SUNMC_OK) {
+        cal_free(k);
+        return st;
+    }
+    *out = k;
+    return SUNMC_OK;
+}
+
+static int params_fill(const void *p, const sunmc_config *c, const calreport *rep,
+                       params_file *pf)
+{
+    const ess_cal *k = p;
+    return ess_params_fill(pf, &k->res, rep, ess_cfg(c)->design.theta0_deg);
+}
+
+static int write_residuals(const void *p, FILE *f)
+{
+    const ess_cal *k = p;
+    return ess_calfit_write_residuals(f, k->cw, k->line, &k->res.m);
+}
+
+static const char *const extra_files[] = {"field.tsv", NULL};
+
+/* field.tsv: the propagated sigma over the campaign's alpha range (the
+ * config's, widened to the data's). */
+static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
+{
+    const ess_cal *k = p;
+    const ess_config *ec = ess_cfg(c);
+    double amin = ec->cal_alpha_min_deg, amax = ec->cal_alpha_max_deg;
+    for (size_t i = 0; i < k->cw->n; i++) {
+        amin = fmin(amin, k->cw->alpha_rad[i] * DEG_PER_RAD);
+        amax = fmax(amax, k->cw->alpha_rad[i] * DEG_PER_RAD);
+    }
+    return ess_calfit_write_field(f, &k->res, amin, amax);
+}
+
+/* ---- compensate ---- */
+
+static const char *const raw_columns[] = {"output_deg", NULL};
+static const char *const comp_columns[] = {"compensated_deg", NULL};
+
+static void *params_load(const params_file *p, char *err, size_t errlen)
+{
+    ess_model *m = malloc(sizeof *m);
+    if (!m)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    else if (ess_params_load(p, m, err, errlen) != SUNMC_OK) {
+        free(m);
+        m = NULL;
+    }
+    return m;
+}
+
+static int compensate(const void *model, const double *raw, double *comp_rad)
+{
+    return ess_model_compensate(model, raw[0] * RAD_PER_DEG, &comp_rad[0]);
+}
+
+const family_lab ess_lab = {
+    .sim_run = sim_run,
+    .sim_write = sim_write,
+    .sim_summary = sim_summary,
+    .sim_free = sim_free,
+    .cal_columns = cal_columns,
+    .cal_min_rows = cal_min_rows,
+    .cal_run = cal_run,
+    .params_title = "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"
+                    "read by `sunmc compensate`; units are in the key names, standard "
+                    "errors in the comments",
+    .params_fill = params_fill,
+    .write_residuals = write_residuals,
+    .extra_files = extra_files,
+    .write_extra = write_extra,
+    .cal_free = cal_free,
+    .raw_columns = raw_columns,
+    .comp_columns = comp_columns,
+    .comp_fail_note = "the model is not invertible there",
+    .params_load = params_load,
+    .compensate = compensate,
+};
