@@ -91,8 +91,9 @@ typedef struct family_lab {
     const char *const *comp_columns;  /* added, NULL-terminated; deg */
     /* Said after the count of readings that could not be compensated, or NULL. */
     const char *comp_fail_note;
-    /* The calibration a params.ini describes (free with free()). */
-    void *(*params_load)(const params_file *p, char *err, size_t errlen);
+    /* The calibration a params.ini describes, into model (model_size bytes). */
+    size_t model_size;
+    int (*params_load)(const params_file *p, void *model, char *err, size_t errlen);
     /* raw[k]: column k of raw_columns in its unit; comp_rad[k]: compensated
      * angle k in rad.  Non-OK when the reading cannot be compensated. */
     int (*compensate)(const void *model, const double *raw, double *comp_rad);

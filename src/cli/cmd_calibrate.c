@@ -127,10 +127,12 @@ int cmd_calibrate(int argc, char **argv)
 static int compensate(const family_lab *lab, const params_file *pf, const char *raw_path)
 {
     char err[SUNMC_ERRLEN];
-    void *model = lab->params_load(pf, err, sizeof err);
+    void *model = malloc(lab->model_size);
+    int st = model ? lab->params_load(pf, model, err, sizeof err)
+                   : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
     lab_comp_stats cs;
-    int st = model ? lab_compensate_csv(lab, model, raw_path, stdout, &cs, err, sizeof err)
-                   : SUNMC_EINPUT;
+    if (st == SUNMC_OK)
+        st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, err, sizeof err);
     free(model);
     if (st != SUNMC_OK) {
         fprintf(stderr, "sunmc compensate: %s\n", err);

@@ -215,16 +215,9 @@ static int write_residuals(const void *p, FILE *f)
 static const char *const raw_columns[] = {"x_px", "y_px", NULL};
 static const char *const comp_columns[] = {"compensated_alpha_deg", "compensated_beta_deg", NULL};
 
-static void *params_load(const params_file *p, char *err, size_t errlen)
+static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {
-    dss_calibration *cal = malloc(sizeof *cal);
-    if (!cal)
-        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
-    else if (dss_params_load(p, cal, err, errlen) != SUNMC_OK) {
-        free(cal);
-        cal = NULL;
-    }
-    return cal;
+    return dss_params_load(p, model, err, errlen);
 }
 
 static int compensate(const void *model, const double *raw, double *comp_rad)
@@ -250,6 +243,7 @@ const family_lab dss_lab = {
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
     .comp_fail_note = NULL,
+    .model_size = sizeof(dss_calibration),
     .params_load = params_load,
     .compensate = compensate,
 };

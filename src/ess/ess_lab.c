@@ -251,16 +251,9 @@ static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
 static const char *const raw_columns[] = {"output_deg", NULL};
 static const char *const comp_columns[] = {"compensated_deg", NULL};
 
-static void *params_load(const params_file *p, char *err, size_t errlen)
+static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {
-    ess_model *m = malloc(sizeof *m);
-    if (!m)
-        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
-    else if (ess_params_load(p, m, err, errlen) != SUNMC_OK) {
-        free(m);
-        m = NULL;
-    }
-    return m;
+    return ess_params_load(p, model, err, errlen);
 }
 
 static int compensate(const void *model, const double *raw, double *comp_rad)
@@ -287,6 +280,7 @@ const family_lab ess_lab = {
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
     .comp_fail_note = "the model is not invertible there",
+    .model_size = sizeof(ess_model),
     .params_load = params_load,
     .compensate = compensate,
 };
