@@ -3,8 +3,10 @@
 #ifndef SUNMC_CLI_H
 #define SUNMC_CLI_H
 
+#include "output.h"
 #include "registry.h"
 #include "report.h"
+#include "unitfile.h"
 
 #include <stdio.h>
 
@@ -34,6 +36,7 @@ typedef struct {
     const char *only;                 /* curve --only KEY=VALUE */
     const char *sensor;               /* calibrate --sensor */
     const char *until;                /* run --until STAT:HALFWIDTH */
+    long shard_k, shard_n;            /* run --shard K/N; shard_n = 0: none */
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the
@@ -56,6 +59,7 @@ int cmd_curve(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);
 int cmd_calibrate(int argc, char **argv);
 int cmd_compensate(int argc, char **argv);
+int cmd_merge(int argc, char **argv);
 
 /* Progress line on stderr when it is a terminal. */
 typedef struct {
@@ -73,6 +77,22 @@ double cli_progress_end(cli_progress *p, long units, int threads);
  * (report_n_rows of them).  Prints errors and returns an exit code. */
 int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
                     summary_row *rows);
+
+/* The files of a run or a merge in --out DIR: units.tsv and units.bin are
+ * written as the units stream by (run_sink), config.ini by the caller,
+ * summary.tsv and manifest.ini at the commit.  Without --out nothing is
+ * opened (every f NULL). */
+enum { RUN_FILE_SUMMARY, RUN_FILE_UNITS, RUN_FILE_CONFIG, RUN_FILE_MANIFEST, RUN_FILE_BIN,
+       RUN_FILES };
+typedef struct {
+    out_set os;
+    FILE *f[RUN_FILES];
+    int open;
+} cli_run_files;
+int cli_run_files_begin(cli_run_files *rf, const char *out, char *err, size_t errlen);
+int cli_run_files_commit(cli_run_files *rf, const sunmc_config *c, const summary_row *rows,
+                         const run_manifest *m, char *err, size_t errlen);
+void cli_run_files_abort(cli_run_files *rf);
 
 /* Threads to use: o->threads, else run.threads, else OpenMP's default. */
 int cli_threads(const cli_options *o, const sunmc_config *c);

@@ -238,6 +238,13 @@ void config_family_choices(char *buf, size_t len);
  * with the origin of each value as a comment when origins != NULL. */
 int config_write(FILE *f, const config_state *st);
 
+/* FNV-1a 64 of the effective config as config.ini writes it
+ * ("section.key=value" lines, origins left out) without the keys that do
+ * not change a unit's result or the summary: run.units (the unit range is
+ * recorded apart), run.threads and run.block_units.  Shards of one run
+ * and a run and its resume have the same hash. */
+unsigned long long config_hash(const config_state *st);
+
 /* Write the commented reference config: every key of every registered
  * family with its unit, range, default and help. */
 int config_write_reference(FILE *f);

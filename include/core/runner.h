@@ -7,6 +7,7 @@
 
 #include "montecarlo.h"
 #include "report.h"
+#include "unitfile.h"
 
 #include <stdio.h>
 
@@ -25,13 +26,16 @@ typedef struct {
     const sensor_family *fam;
     report_acc *acc;
     FILE *units_tsv;                 /* rows written here when non-NULL */
+    FILE *units_bin;                 /* records written here when non-NULL */
+    unitfile_layout layout;
     double phase_s[UNIT_PHASES];     /* summed over the units (run --profile) */
     run_until *until;                /* NULL: run every unit */
 } run_sink;
 
-/* units_tsv may be NULL (no per-unit rows); its header is written here. */
+/* units_tsv and units_bin may be NULL (no per-unit rows, records); their
+ * headers are written here. */
 int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, FILE *units_tsv,
-                  char *err, size_t errlen);
+                  FILE *units_bin, char *err, size_t errlen);
 /* An mc_sink_fn; ctx is the run_sink. */
 int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, char *err,
                    size_t errlen);
@@ -40,5 +44,13 @@ void run_sink_free(run_sink *r);
 /* Stream units [first, end) of c through r in blocks of c->block_units. */
 int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn progress,
                void *progress_ctx, long *done, char *err, size_t errlen);
+
+/* Hand the records of units [first, end) in the units.bin file `path` to
+ * r, in blocks of c->block_units, as if they were being run: SUNMC_EINPUT
+ * naming the unit when the file holds another unit where one is expected,
+ * fewer or more records than end - first, or another layout.  *done (may
+ * be NULL) gets the units handed over (fewer when r's --until stopped). */
+int run_replay(run_sink *r, const char *path, long first, long end, long *done, char *err,
+               size_t errlen);
 
 #endif

@@ -127,6 +127,14 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
             o->sensor = v;
         } else if (strcmp(name, "until") == 0) {
             o->until = v;
+        } else if (strcmp(name, "shard") == 0) {
+            char *e1 = NULL, *e2 = NULL;
+            errno = 0;
+            o->shard_k = strtol(v, &e1, 10);
+            o->shard_n = *e1 == '/' ? strtol(e1 + 1, &e2, 10) : 0;
+            if (e1 == v || *e1 != '/' || !e2 || e2 == e1 + 1 || *e2 || errno || o->shard_n < 1 ||
+                o->shard_n > 1000000 || o->shard_k < 0 || o->shard_k >= o->shard_n)
+                return bad(command, "--shard K/N needs 0 <= K < N (e.g. 0/4 .. 3/4)", v);
         } else if (strcmp(name, "config") == 0) {
             o->config = v;
         } else {
@@ -267,4 +275,39 @@ double cli_progress_end(cli_progress *p, long units, int threads)
                 units / fmax(dt, 1e-9), threads);
     }
     return dt;
+}
+
+int cli_run_files_begin(cli_run_files *rf, const char *out, char *err, size_t errlen)
+{
+    static const char *const names[RUN_FILES] = {"summary.tsv", "units.tsv", "config.ini",
+                                                 MANIFEST_NAME, UNITFILE_NAME};
+    memset(rf, 0, sizeof *rf);
+    if (!out)
+        return SUNMC_OK;
+    int status = out_begin(&rf->os, out, err, errlen);
+    if (status == SUNMC_OK && (status = out_open_all(&rf->os, names, rf->f, RUN_FILES, err, errlen)))
+        out_abort(&rf->os);
+    rf->open = status == SUNMC_OK;
+    return status;
+}
+
+int cli_run_files_commit(cli_run_files *rf, const sunmc_config *c, const summary_row *rows,
+                         const run_manifest *m, char *err, size_t errlen)
+{
+    report_write_summary_header(rf->f[RUN_FILE_SUMMARY], 0, NULL);
+    report_write_summary_rows(rf->f[RUN_FILE_SUMMARY], c, c->family, rows, 0, NULL);
+    int st = manifest_write(rf->f[RUN_FILE_MANIFEST], m, err, errlen);
+    rf->open = 0;
+    if (st != SUNMC_OK) {
+        out_abort(&rf->os);
+        return st;
+    }
+    return out_commit(&rf->os, err, errlen);
+}
+
+void cli_run_files_abort(cli_run_files *rf)
+{
+    if (rf->open)
+        out_abort(&rf->os);
+    rf->open = 0;
 }

@@ -14,10 +14,12 @@
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
-    "                 [--until STAT:HALFWIDTH]\n"
+    "                 [--until STAT:HALFWIDTH] [--shard K/N]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
-    "--out DIR writes summary.tsv, units.tsv and config.ini (all or nothing).\n"
+    "--out DIR writes summary.tsv, units.tsv, config.ini, manifest.ini and units.bin (the\n"
+    "per-unit results at full precision, for `sunmc merge`), all or nothing.\n"
+    "--shard K/N runs the K-th (0..N-1) of N near-equal parts of the units, for merge.\n"
     "--until STAT:HALFWIDTH runs blocks of run.block_units units until the half-width of\n"
     "STAT's interval in the widest band is at most HALFWIDTH (STAT's unit; yield as a\n"
     "fraction) or --units N / run.units is reached; the result is that of a fixed run of\n"
@@ -59,7 +61,7 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
 {
     run_sink r;
     char err[SUNMC_ERRLEN];
-    if (run_sink_init(&r, c, c->family, NULL, err, sizeof err) != SUNMC_OK) {
+    if (run_sink_init(&r, c, c->family, NULL, NULL, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
     }
@@ -90,37 +92,23 @@ static void print_profile(const double phase_s[UNIT_PHASES], long n, double wall
             100.0 * (per_unit_ms - sum_ms) / per_unit_ms);
 }
 
-/* The output files of a run; units.tsv is written as the units stream by,
- * the rest at the end.  All NULL without --out. */
-typedef struct {
-    out_set os;
-    FILE *f[3]; /* summary.tsv, units.tsv, config.ini */
-    int open;
-} run_files;
-
-static int run_files_begin(run_files *rf, const char *out, char *err, size_t errlen)
+/* --shard K/N: the K-th of N near-equal parts of units 0..run.units-1
+ * (--units N sets run.units); prints the error and returns an exit code. */
+static int shard_range(const cli_options *o, const sunmc_config *c, long *first, long *end)
 {
-    static const char *const names[3] = {"summary.tsv", "units.tsv", "config.ini"};
-    memset(rf, 0, sizeof *rf);
-    if (!out)
-        return SUNMC_OK;
-    int status = out_begin(&rf->os, out, err, errlen);
-    if (status == SUNMC_OK && (status = out_open_all(&rf->os, names, rf->f, 3, err, errlen)))
-        out_abort(&rf->os);
-    rf->open = status == SUNMC_OK;
-    return status;
-}
-
-static int run_files_commit(run_files *rf, const config_state *st, const summary_row *rows,
-                            long first, long end, const char *note, char *err, size_t errlen)
-{
-    const sunmc_config *c = &st->cfg;
-    report_write_summary_header(rf->f[0], 0, NULL);
-    report_write_summary_rows(rf->f[0], c, c->family, rows, 0, NULL);
-    fprintf(rf->f[2], "# units %ld:%ld of this config%s\n", first, end, note);
-    config_write(rf->f[2], st);
-    rf->open = 0;
-    return out_commit(&rf->os, err, errlen);
+    if (o->end >= 0 || o->until) {
+        fprintf(stderr, "sunmc run: --shard K/N splits run.units (--units N); it takes no "
+                        "--units FIRST:END or --until\n");
+        return EXIT_BAD_INPUT;
+    }
+    if (o->shard_n > c->units) {
+        fprintf(stderr, "sunmc run: --shard %ld/%ld: more shards than the %ld units\n", o->shard_k,
+                o->shard_n, c->units);
+        return EXIT_BAD_INPUT;
+    }
+    *first = o->shard_k * c->units / o->shard_n;
+    *end = (o->shard_k + 1) * c->units / o->shard_n;
+    return 0;
 }
 
 /* --until STAT:HALFWIDTH into u; prints the error and returns an exit code. */
@@ -177,7 +165,7 @@ int cmd_run(int argc, char **argv)
     if (cli_wants_help(argc, argv, run_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile until", &o);
+    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile until shard", &o);
     if (rc)
         return rc;
     config_state st;
@@ -193,15 +181,20 @@ int cmd_run(int argc, char **argv)
         config_state_free(&st);
         return rc;
     }
+    if (o.shard_n > 0 && (rc = shard_range(&o, c, &first, &end))) {
+        config_state_free(&st);
+        return rc;
+    }
     char err[SUNMC_ERRLEN];
     summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
-    run_files rf;
+    cli_run_files rf;
     run_sink r;
     int status = rows ? SUNMC_OK : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
     if (status == SUNMC_OK)
-        status = run_files_begin(&rf, o.out, err, sizeof err);
-    if (status == SUNMC_OK && (status = run_sink_init(&r, c, fam, rf.f[1], err, sizeof err)))
-        out_abort(&rf.os);
+        status = cli_run_files_begin(&rf, o.out, err, sizeof err);
+    if (status == SUNMC_OK && (status = run_sink_init(&r, c, fam, rf.f[RUN_FILE_UNITS],
+                                                      rf.f[RUN_FILE_BIN], err, sizeof err)))
+        cli_run_files_abort(&rf);
     if (status != SUNMC_OK) {
         fprintf(stderr, "sunmc run: %s\n", err);
         free(rows);
@@ -227,12 +220,18 @@ int cmd_run(int argc, char **argv)
             printf("%s\n", note + 2);
         }
         fflush(stdout);
-        if (rf.open && (status = run_files_commit(&rf, &st, rows, first, first + done, note, err,
-                                                  sizeof err)))
-            fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
+        if (rf.open) {
+            run_manifest m;
+            manifest_of(&st, first, first + done, &m);
+            fprintf(rf.f[RUN_FILE_CONFIG], "# units %ld:%ld of this config%s\n", first,
+                    first + done, note);
+            config_write(rf.f[RUN_FILE_CONFIG], &st);
+            if ((status = cli_run_files_commit(&rf, c, rows, &m, err, sizeof err)))
+                fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
+        }
         rc = cli_exit_code(status);
-    } else if (rf.open) {
-        out_abort(&rf.os);
+    } else {
+        cli_run_files_abort(&rf);
     }
     run_sink_free(&r);
     free(rows);

@@ -24,13 +24,14 @@ static void usage(FILE *f)
             "  simulate CONFIG    --unit U: one unit's campaign as a lab records it (CSV)\n"
             "  calibrate          --sensor ess|dss --config CONFIG DATA.csv: fit a real sensor\n"
             "  compensate         PARAMS.ini RAW.csv: apply a calibration\n"
+            "  merge OUT DIR...   the shards (run --shard K/N --out DIR) of one run into OUT\n"
             "\n"
             "common options:\n"
             "  --units N | FIRST:END   units 0..N-1, or FIRST..END-1 (same rows as in a whole run)\n"
             "  --seed S                random seed (run.seed)\n"
             "  --threads T             OpenMP threads (results do not depend on it)\n"
             "  --set SECTION.KEY=VALUE override a config key (repeatable)\n"
-            "  --out DIR               write summary.tsv, units.tsv, config.ini there\n"
+            "  --out DIR               write the command's files there (all or nothing)\n"
             "  --quiet                 no progress or timing on stderr\n"
             "  sunmc COMMAND --help    the command's own help; sunmc --version\n"
             "  sunmc --help --family NAME   the keys of one family (default: the first)\n"
@@ -60,7 +61,8 @@ int main(int argc, char **argv)
     } commands[] = {{"run", cmd_run},           {"config", cmd_config},
                     {"sweep", cmd_sweep},       {"budget", cmd_budget},
                     {"curve", cmd_curve},       {"simulate", cmd_simulate},
-                    {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate}};
+                    {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate},
+                    {"merge", cmd_merge}};
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(cmd, commands[i].name) == 0)
             return commands[i].fn(argc, argv);

@@ -2,6 +2,7 @@
  * commented reference of every key (configs/reference.ini). */
 #include "config.h"
 #include "ini.h"
+#include "params_io.h"
 #include "registry.h"
 #include "status.h"
 
@@ -29,6 +30,25 @@ int config_write(FILE *f, const config_state *st)
             fprintf(f, "%s = %s\n", k->name, buf);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+unsigned long long config_hash(const config_state *st)
+{
+    static const char *const skip[] = {"units", "threads", "block_units"};
+    unsigned long long h = PARAMS_FNV1A64_INIT;
+    char buf[INI_LINE_MAX], line[INI_LINE_MAX + 2 * CONFIG_STR_MAX];
+    for (size_t i = 0; i < st->n_keys; i++) {
+        const config_key *k = st->keys[i];
+        int skipped = 0;
+        for (size_t j = 0; j < sizeof skip / sizeof skip[0]; j++)
+            skipped |= strcmp(k->section, "run") == 0 && strcmp(k->name, skip[j]) == 0;
+        if (skipped)
+            continue;
+        config_format_value(k, &st->cfg, buf, sizeof buf);
+        int n = snprintf(line, sizeof line, "%s.%s=%s\n", k->section, k->name, buf);
+        h = params_fnv1a64(h, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1);
+    }
+    return h;
 }
 
 void config_key_help(const config_key *k, char *buf, size_t len)

@@ -2,20 +2,27 @@
 #include "runner.h"
 #include "status.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, FILE *units_tsv,
-                  char *err, size_t errlen)
+                  FILE *units_bin, char *err, size_t errlen)
 {
     memset(r, 0, sizeof *r);
     r->c = c;
     r->fam = fam;
     r->units_tsv = units_tsv;
+    r->units_bin = units_bin;
+    unitfile_layout_of(c, fam, &r->layout);
     r->acc = report_acc_new(c, fam);
     if (!r->acc)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the statistics");
     if (units_tsv)
         report_write_units_header(units_tsv, c, fam);
+    if (units_bin && unitfile_write_header(units_bin, &r->layout, err, errlen) != SUNMC_OK) {
+        run_sink_free(r);
+        return SUNMC_EIO;
+    }
     return SUNMC_OK;
 }
 
@@ -28,6 +35,8 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
                           report_acc_units(r->acc) + n);
     if (r->units_tsv)
         report_write_unit_rows(r->units_tsv, r->c, r->fam, results, n);
+    if (r->units_bin && unitfile_write(r->units_bin, &r->layout, results, n, err, errlen))
+        return SUNMC_EIO;
     for (long u = 0; u < n; u++)
         for (int k = 0; k < UNIT_PHASES; k++)
             r->phase_s[k] += results[u].phase_s[k];
@@ -52,4 +61,50 @@ int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn pr
     mc_plan p = {first, end, r->c->block_units, threads, run_sink_block, r, progress,
                  progress_ctx};
     return mc_stream(r->c, r->fam, &p, done, err, errlen);
+}
+
+/* Check that the records r[n] read at position `at` are units at, at+1, ... */
+static int check_units(const unit_result *r, long n, long at, const char *path, char *err,
+                       size_t errlen)
+{
+    for (long i = 0; i < n; i++)
+        if (r[i].unit != at + i)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: record %ld holds unit %ld where unit %ld was expected", path,
+                              at + i, r[i].unit, at + i);
+    return SUNMC_OK;
+}
+
+int run_replay(run_sink *r, const char *path, long first, long end, long *done, char *err,
+               size_t errlen)
+{
+    long bsize = r->c->block_units > 0 ? r->c->block_units : 1, handed = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: cannot be read", path);
+    unit_result *buf = calloc((size_t)bsize, sizeof *buf);
+    int st = buf ? unitfile_read_header(f, path, &r->layout, err, errlen)
+                 : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    int stop = 0;
+    for (long at = first; st == SUNMC_OK && at < end && !stop; at += bsize) {
+        long want = end - at < bsize ? end - at : bsize, got = 0;
+        st = unitfile_read(f, path, &r->layout, buf, want, &got, err, errlen);
+        if (st == SUNMC_OK && got < want)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: ends after unit %ld; units %ld:%ld "
+                            "are missing", path, at + got - 1, at + got, end);
+        if (st == SUNMC_OK)
+            st = check_units(buf, got, at, path, err, errlen);
+        if (st == SUNMC_OK && (st = run_sink_block(buf, got, r, &stop, err, errlen)) == SUNMC_OK)
+            handed += got;
+    }
+    long extra = 0;
+    if (st == SUNMC_OK && !stop && unitfile_read(f, path, &r->layout, buf, 1, &extra, err,
+                                                 errlen) == SUNMC_OK && extra > 0)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: holds units beyond %ld (unit %ld)", path,
+                        end - 1, buf[0].unit);
+    free(buf);
+    fclose(f);
+    if (done)
+        *done = handed;
+    return st;
 }

@@ -1,0 +1,152 @@
+/* cmd_merge.c - `sunmc merge OUT SHARD_DIR...`: shards of one run into the
+ * run's files. */
+#include "cli.h"
+#include "merge.h"
+#include "runner.h"
+#include "status.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char merge_help[] =
+    "usage: sunmc merge OUT SHARD_DIR... [--quiet]\n"
+    "Merges the output directories of `run --units FIRST:END --out DIR` or `run --shard K/N\n"
+    "--out DIR` of one run (same sunmc version, config and seed; their unit ranges must tile\n"
+    "one range with no gap or overlap) into OUT: every statistic is recomputed in unit order\n"
+    "from the shards' units.bin, so OUT holds the files of the single run of that range.\n";
+
+/* The shard's config.ini without its "# units" line: the merged file's body. */
+static char *config_body(const char *dir, char *err, size_t errlen)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/config.ini", dir);
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s", path, strerror(errno));
+        return NULL;
+    }
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    char line[4096];
+    int first = 1;
+    while (m && fgets(line, sizeof line, f)) {
+        if (!(first && strncmp(line, "# units ", 8) == 0))
+            fputs(line, m);
+        first = 0;
+    }
+    fclose(f);
+    if (m)
+        fclose(m);
+    if (!buf)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    return buf;
+}
+
+/* The config of the shards, from the first one's config.ini, checked
+ * against its manifest's hash. */
+static int shard_config(const merge_shard *s, config_state *st, char *err, size_t errlen)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/config.ini", s->dir);
+    int rc = config_build(st, path, NULL, 0, err, errlen);
+    if (rc != SUNMC_OK)
+        return rc;
+    if (config_hash(st) != s->m.config_hash) {
+        config_state_free(st);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s does not match its manifest's config_fnv1a64 (edited?)", path);
+    }
+    return SUNMC_OK;
+}
+
+/* Replay every shard's units through r in unit order. */
+static int replay_shards(run_sink *r, const merge_shard *s, int n, char *err, size_t errlen)
+{
+    char path[PATH_MAX];
+    int st = SUNMC_OK;
+    for (int i = 0; i < n && st == SUNMC_OK; i++) {
+        snprintf(path, sizeof path, "%s/%s", s[i].dir, UNITFILE_NAME);
+        st = run_replay(r, path, s[i].m.first, s[i].m.end, NULL, err, errlen);
+    }
+    return st;
+}
+
+static int merge_into(const char *out, const merge_shard *s, int n, const config_state *st,
+                      char *err, size_t errlen)
+{
+    const sunmc_config *c = &st->cfg;
+    summary_row *rows = calloc((size_t)report_n_rows(c, c->family), sizeof *rows);
+    char *body = config_body(s[0].dir, err, errlen);
+    cli_run_files rf;
+    run_sink r;
+    int rc = rows && body ? cli_run_files_begin(&rf, out, err, errlen) : SUNMC_ENOMEM;
+    if (rc == SUNMC_OK && (rc = run_sink_init(&r, c, c->family, rf.f[RUN_FILE_UNITS],
+                                              rf.f[RUN_FILE_BIN], err, errlen)))
+        cli_run_files_abort(&rf);
+    if (rc == SUNMC_OK) {
+        if ((rc = replay_shards(&r, s, n, err, errlen)) == SUNMC_OK) {
+            run_manifest m = s[0].m;
+            m.end = s[n - 1].m.end;
+            report_acc_rows(r.acc, rows);
+            report_print_table(stdout, c, c->family, rows);
+            printf("merged units %ld:%ld from %d shard%s into %s\n", m.first, m.end, n,
+                   n == 1 ? "" : "s", out);
+            fflush(stdout);
+            fprintf(rf.f[RUN_FILE_CONFIG], "# units %ld:%ld of this config\n%s", m.first, m.end,
+                    body);
+            rc = cli_run_files_commit(&rf, c, rows, &m, err, errlen);
+        } else {
+            cli_run_files_abort(&rf);
+        }
+        run_sink_free(&r);
+    }
+    free(rows);
+    free(body);
+    return rc;
+}
+
+int cmd_merge(int argc, char **argv)
+{
+    if (cli_wants_help(argc, argv, merge_help))
+        return 0;
+    const char **dirs = calloc((size_t)argc, sizeof *dirs);
+    const char *out = NULL;
+    int n = 0;
+    char err[SUNMC_ERRLEN];
+    for (int i = 2; dirs && i < argc; i++) {
+        if (strcmp(argv[i], "--quiet") == 0)
+            continue; /* merge prints no progress; accepted like the other commands */
+        if (strncmp(argv[i], "--", 2) == 0) {
+            fprintf(stderr, "sunmc merge: unknown option %s (see sunmc merge --help)\n", argv[i]);
+            free(dirs);
+            return EXIT_BAD_INPUT;
+        }
+        if (!out)
+            out = argv[i];
+        else
+            dirs[n++] = argv[i];
+    }
+    if (!out || n == 0) {
+        fprintf(stderr, "sunmc merge: needs OUT and at least one SHARD_DIR (see sunmc merge "
+                        "--help)\n");
+        free(dirs);
+        return EXIT_BAD_INPUT;
+    }
+    merge_shard *s = calloc((size_t)n, sizeof *s);
+    config_state st;
+    int rc = s ? out_check(out, err, sizeof err) : SUNMC_ENOMEM;
+    if (rc == SUNMC_OK)
+        rc = merge_plan(dirs, n, s, err, sizeof err);
+    if (rc == SUNMC_OK && (rc = shard_config(&s[0], &st, err, sizeof err)) == SUNMC_OK) {
+        rc = merge_into(out, s, n, &st, err, sizeof err);
+        config_state_free(&st);
+    }
+    if (rc != SUNMC_OK)
+        fprintf(stderr, "sunmc merge: %s\n", rc == SUNMC_ENOMEM ? "out of memory" : err);
+    free(s);
+    free(dirs);
+    return cli_exit_code(rc);
+}

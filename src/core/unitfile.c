@@ -1,0 +1,263 @@
+/* unitfile.c - units.bin (per-unit results, lossless) and manifest.ini. */
+#include "unitfile.h"
+#include "ini.h"
+#include "status.h"
+
+#include <errno.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define UNITFILE_MAGIC "SUNMCUB1"
+#define UNITFILE_ORDER 0x0102030405060708ULL
+#define UNITFILE_INT_WORDS 7
+#define UNITFILE_MAX_WORDS \
+    (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 + 3 * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
+
+void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfile_layout *l)
+{
+    const char *names[UNIT_MAX_PAR];
+    l->nd = fam->dev_columns(c, names, UNIT_MAX_DEV);
+    l->np = fam->par_columns(c, names, UNIT_MAX_PAR);
+    l->na = fam->n_angles(c);
+    l->nb = c->bands_deg.n;
+    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + 3L * l->na * l->nb;
+}
+
+long unitfile_header_bytes(void)
+{
+    return UNITFILE_HEADER_WORDS * 8;
+}
+
+long unitfile_record_bytes(const unitfile_layout *l)
+{
+    return l->words * 8;
+}
+
+int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t errlen)
+{
+    uint64_t w[UNITFILE_HEADER_WORDS] = {0, UNITFILE_ORDER, (uint64_t)l->words, (uint64_t)l->nd,
+                                         (uint64_t)l->np, (uint64_t)l->na, (uint64_t)l->nb, 0};
+    memcpy(&w[0], UNITFILE_MAGIC, 8);
+    if (fwrite(w, sizeof w, 1, f) != 1)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error: %s", UNITFILE_NAME,
+                          strerror(errno));
+    return SUNMC_OK;
+}
+
+/* One record into w (words): the integers, then the doubles in order. */
+static void pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
+{
+    int64_t ints[UNITFILE_INT_WORDS] = {r->unit,        r->fit_status, r->fit_gsl_status,
+                                        r->fit_iterations, r->alias_weak, r->gross_cal,
+                                        r->gross_val};
+    memcpy(w, ints, sizeof ints);
+    double *d = (double *)(void *)(w + UNITFILE_INT_WORDS);
+    memcpy(d, r->dev, (size_t)l->nd * sizeof *d);
+    d += l->nd;
+    memcpy(d, r->par, (size_t)l->np * sizeof *d);
+    d += l->np;
+    *d++ = r->fit_rms;
+    const double(*m[3])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys};
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < l->na; a++) {
+            memcpy(d, m[k][a], (size_t)l->nb * sizeof *d);
+            d += l->nb;
+        }
+}
+
+static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
+{
+    int64_t ints[UNITFILE_INT_WORDS];
+    memset(r, 0, sizeof *r);
+    memcpy(ints, w, sizeof ints);
+    r->unit = (long)ints[0];
+    r->fit_status = (int)ints[1];
+    r->fit_gsl_status = (int)ints[2];
+    r->fit_iterations = (int)ints[3];
+    r->alias_weak = (int)ints[4];
+    r->gross_cal = (int)ints[5];
+    r->gross_val = (int)ints[6];
+    const double *d = (const double *)(const void *)(w + UNITFILE_INT_WORDS);
+    memcpy(r->dev, d, (size_t)l->nd * sizeof *d);
+    d += l->nd;
+    memcpy(r->par, d, (size_t)l->np * sizeof *d);
+    d += l->np;
+    r->fit_rms = *d++;
+    double(*m[3])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys};
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < l->na; a++) {
+            memcpy(m[k][a], d, (size_t)l->nb * sizeof *d);
+            d += l->nb;
+        }
+}
+
+int unitfile_write(FILE *f, const unitfile_layout *l, const unit_result *r, long n, char *err,
+                   size_t errlen)
+{
+    uint64_t w[UNITFILE_MAX_WORDS];
+    for (long u = 0; u < n; u++) {
+        pack(l, &r[u], w);
+        if (fwrite(w, 8, (size_t)l->words, f) != (size_t)l->words)
+            return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error: %s", UNITFILE_NAME,
+                              strerror(errno));
+    }
+    return SUNMC_OK;
+}
+
+int unitfile_read_header(FILE *f, const char *path, const unitfile_layout *l, char *err,
+                         size_t errlen)
+{
+    uint64_t w[UNITFILE_HEADER_WORDS];
+    if (fread(w, sizeof w, 1, f) != 1 || memcmp(&w[0], UNITFILE_MAGIC, 8) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: not a sunmc units file (no %s header)",
+                          path, UNITFILE_MAGIC);
+    if (w[1] != UNITFILE_ORDER)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: written on a machine of another byte order", path);
+    uint64_t want[5] = {(uint64_t)l->words, (uint64_t)l->nd, (uint64_t)l->np, (uint64_t)l->na,
+                        (uint64_t)l->nb};
+    if (memcmp(&w[2], want, sizeof want) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: records of %llu words (%llu deviations, %llu parameters, %llu "
+                          "angles, %llu bands); this config's have %ld (%d, %d, %d, %d)",
+                          path, (unsigned long long)w[2], (unsigned long long)w[3],
+                          (unsigned long long)w[4], (unsigned long long)w[5],
+                          (unsigned long long)w[6], l->words, l->nd, l->np, l->na, l->nb);
+    return SUNMC_OK;
+}
+
+int unitfile_read(FILE *f, const char *path, const unitfile_layout *l, unit_result *r, long max,
+                  long *got, char *err, size_t errlen)
+{
+    uint64_t w[UNITFILE_MAX_WORDS];
+    *got = 0;
+    while (*got < max) {
+        size_t k = fread(w, 8, (size_t)l->words, f);
+        if (k == 0 && !ferror(f))
+            break;
+        if (k != (size_t)l->words)
+            return sunmc_fail(err, errlen, ferror(f) ? SUNMC_EIO : SUNMC_EINPUT,
+                              "%s: %s after %ld records of this block", path,
+                              ferror(f) ? strerror(errno) : "truncated record", *got);
+        unpack(l, w, &r[(*got)++]);
+    }
+    return SUNMC_OK;
+}
+
+/* ---- manifest.ini ---- */
+
+void manifest_of(const config_state *st, long first, long end, run_manifest *m)
+{
+    memset(m, 0, sizeof *m);
+    m->format = MANIFEST_FORMAT;
+    snprintf(m->version, sizeof m->version, "%s", SUNMC_VERSION);
+    snprintf(m->family, sizeof m->family, "%s", st->cfg.family->name);
+    m->config_hash = config_hash(st);
+    m->seed = st->cfg.seed;
+    m->first = first;
+    m->end = end;
+}
+
+int manifest_write(FILE *f, const run_manifest *m, char *err, size_t errlen)
+{
+    fprintf(f,
+            "# sunmc run manifest: what `sunmc merge` and `run --resume` check\n"
+            "[manifest]\nformat = %d\nsunmc_version = %s\nfamily = %s\nconfig_fnv1a64 = %016llx\n"
+            "seed = %ld\nfirst_unit = %ld\nend_unit = %ld\nunits_file = %s\n",
+            m->format, m->version, m->family, m->config_hash, m->seed, m->first, m->end,
+            UNITFILE_NAME);
+    return ferror(f) ? sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error", MANIFEST_NAME)
+                     : SUNMC_OK;
+}
+
+/* One key of the manifest into m; bit `seen` of *mask marks it read. */
+static int manifest_key(const ini_entry *e, const char *path, run_manifest *m, unsigned *mask,
+                        char *err, size_t errlen)
+{
+    static const char *const keys[] = {"format", "sunmc_version", "family", "config_fnv1a64",
+                                       "seed", "first_unit", "end_unit", "units_file"};
+    int k = -1;
+    for (int i = 0; i < 8; i++)
+        if (strcmp(e->key, keys[i]) == 0)
+            k = i;
+    char *end = NULL;
+    errno = 0;
+    long v = k == 0 || (k >= 4 && k <= 6) ? strtol(e->value, &end, 10) : 0;
+    if (k < 0 || strcmp(e->section, "manifest") != 0 ||
+        (end && (end == e->value || *end != '\0' || errno || v < 0)))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unexpected %s.%s = %s", path, e->line,
+                          e->section, e->key, e->value);
+    *mask |= 1u << k;
+    if (k == 0)
+        m->format = (int)v;
+    else if (k == 1)
+        snprintf(m->version, sizeof m->version, "%.31s", e->value);
+    else if (k == 2)
+        snprintf(m->family, sizeof m->family, "%.*s", (int)sizeof m->family - 1, e->value);
+    else if (k == 3)
+        m->config_hash = strtoull(e->value, NULL, 16);
+    else if (k == 4)
+        m->seed = v;
+    else if (k == 5)
+        m->first = v;
+    else if (k == 6)
+        m->end = v;
+    return SUNMC_OK;
+}
+
+int manifest_read(const char *path, run_manifest *m, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s (not a sunmc run directory?)", path,
+                          strerror(errno));
+    memset(m, 0, sizeof *m);
+    ini_reader r;
+    ini_begin(&r, f, path);
+    ini_entry e;
+    int item, st;
+    unsigned mask = 0;
+    while ((st = ini_next(&r, &item, &e, err, errlen)) == SUNMC_OK && item != INI_END)
+        if (item == INI_KEY && (st = manifest_key(&e, path, m, &mask, err, errlen)) != SUNMC_OK)
+            break;
+    ini_end(&r);
+    fclose(f);
+    if (st == SUNMC_OK && mask != 0xffu)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: incomplete manifest (keys missing)", path);
+    if (st == SUNMC_OK && m->format != MANIFEST_FORMAT)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: manifest format %d; this sunmc reads %d",
+                        path, m->format, MANIFEST_FORMAT);
+    if (st == SUNMC_OK && m->end <= m->first)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: empty unit range %ld:%ld", path, m->first,
+                        m->end);
+    return st;
+}
+
+int manifest_compatible(const run_manifest *a, const char *a_name, const run_manifest *b,
+                        const char *b_name, char *err, size_t errlen)
+{
+    const char *what = NULL;
+    char va[64], vb[64];
+    if (strcmp(a->version, b->version) != 0) {
+        what = "sunmc version";
+        snprintf(va, sizeof va, "%s", a->version);
+        snprintf(vb, sizeof vb, "%s", b->version);
+    } else if (strcmp(a->family, b->family) != 0) {
+        what = "sensor family";
+        snprintf(va, sizeof va, "%s", a->family);
+        snprintf(vb, sizeof vb, "%s", b->family);
+    } else if (a->seed != b->seed) {
+        what = "seed";
+        snprintf(va, sizeof va, "%ld", a->seed);
+        snprintf(vb, sizeof vb, "%ld", b->seed);
+    } else if (a->config_hash != b->config_hash) {
+        what = "config (config_fnv1a64)";
+        snprintf(va, sizeof va, "%016llx", a->config_hash);
+        snprintf(vb, sizeof vb, "%016llx", b->config_hash);
+    }
+    if (!what)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s and %s are of different runs: %s %s against %s",
+                      a_name, b_name, what, va, vb);
+}
