@@ -368,7 +368,7 @@ static void test_cli_no_stale_files(void **state)
     assert_int_equal(sunmc(args, out, sizeof out), 0);
     snprintf(p, sizeof p, "%s/campaign.csv", o);
     assert_false(exists(p));
-    assert_int_equal(entries(o), 4); /* summary, units, config and the marker */
+    assert_int_equal(entries(o), 6); /* summary, units, config, manifest, units.bin, marker */
     assert_int_equal(hidden_entries(dir), 0);
 }
 
@@ -417,7 +417,7 @@ static void test_cli_sigterm(void **state)
             assert_int_equal(st, 128 + SIGTERM);
             continue;
         }
-        assert_int_equal(entries(o), 4);
+        assert_int_equal(entries(o), 6);
         snprintf(cmd, sizeof cmd, "test $(wc -l < %s/units.tsv) -eq 2001 && "
                  "test $(wc -l < %s/summary.tsv) -ge 2 && grep -q '^\\[run\\]' %s/config.ini",
                  o, o, o);

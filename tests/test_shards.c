@@ -12,21 +12,16 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char dir[] = "/tmp/sunmc_test_shards_XXXXXX";
+static char dir[128];
 
 #define SMALL "run configs/ess_type_a.ini --quiet --set campaign.alpha_step_deg=0.4 " \
               "--set validation.alpha_step_deg=0.7 --set campaign.beta_deg=-15,15 --units 1000"
 
+/* The test's private directory (test_tmp's, removed at exit). */
 static int setup(void **state)
 {
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    snprintf(dir, sizeof dir, "%s", test_tmp("shards"));
+    return mkdir(dir, 0700);
 }
 
 /* Run `sunmc ARGS` with D in ARGS standing for the test's directory;
@@ -225,5 +220,5 @@ int main(void)
         cmocka_unit_test(shard_option_errors),
         cmocka_unit_test(units_file_round_trip),
     };
-    return cmocka_run_group_tests_name("shards", tests, setup, teardown);
+    return cmocka_run_group_tests_name("shards", tests, setup, NULL);
 }

@@ -35,8 +35,10 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
                           report_acc_units(r->acc) + n);
     if (r->units_tsv)
         report_write_unit_rows(r->units_tsv, r->c, r->fam, results, n);
-    if (r->units_bin && unitfile_write(r->units_bin, &r->layout, results, n, err, errlen))
-        return SUNMC_EIO;
+    /* A write error (full disk) leaves the stream in error: the output's
+     * commit refuses it, and the run goes on to print its result. */
+    if (r->units_bin && !ferror(r->units_bin))
+        unitfile_write(r->units_bin, &r->layout, results, n, NULL, 0);
     for (long u = 0; u < n; u++)
         for (int k = 0; k < UNIT_PHASES; k++)
             r->phase_s[k] += results[u].phase_s[k];
