@@ -699,6 +699,7 @@ static void test_cli_bad_data(void **state)
     assert_non_null(strstr(out, "--sensor must be ess or dss"));
     snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess a.csv", test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "needs --config CONFIG and one data file"));
     snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s/none.csv",
              test_sunmc(), dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 1); /* unreadable: an I/O error */
@@ -762,7 +763,7 @@ static void test_cli_dss_reproduces_run(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     snprintf(cmd, sizeof cmd, "%s simulate %s --unit 3 --out %s/d3", test_sunmc(), cfg, dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    snprintf(cmd, sizeof cmd, "%s calibrate --sensor dss --config %s %s/d3/campaign.csv --out %s/d3cal",
+    snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s/d3/campaign.csv --out %s/d3cal",
              test_sunmc(), cfg, dir, dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "held out b1<0,b2<0"));
@@ -845,9 +846,16 @@ static void test_cli_dss_reproduces_run(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
     assert_non_null(strstr(out, "dbad.csv:1: missing column 'y_px'"));
     assert_false(file_exists(outdir));
-    /* The config's family must match --sensor. */
+    /* Without --sensor the family is the config's: the same DSS refusal. */
+    snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s --out %s", test_sunmc(), cfg, path,
+             outdir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "dbad.csv:1: missing column 'y_px'"));
+    assert_false(file_exists(outdir));
+    /* The config's family must match --sensor: exit 2 naming both. */
     snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config %s %s", test_sunmc(), cfg, path);
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "--sensor ess, but"));
     assert_non_null(strstr(out, "is a dss config"));
 }
 

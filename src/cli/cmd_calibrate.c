@@ -11,8 +11,9 @@
 #include <string.h>
 
 static const char calibrate_help[] =
-    "usage: sunmc calibrate --sensor ess|dss --config CONFIG DATA.csv [--out DIR]\n"
+    "usage: sunmc calibrate --config CONFIG DATA.csv [--sensor FAMILY] [--out DIR]\n"
     "                       [--set SECTION.KEY=VALUE]...\n"
+    "The family (ess, dss) is CONFIG's sensor.family; --sensor, when given, must agree.\n"
     "Fits the family's calibration model (the Monte Carlo's own fit) to turntable data and\n"
     "prints the parameters with standard errors, the correlation matrix, condition numbers,\n"
     "residual RMS and predicted accuracy per band, cross-validation and warnings.\n"
@@ -98,22 +99,29 @@ int cmd_calibrate(int argc, char **argv)
         return rc;
     char names[256];
     lab_family_names(names, sizeof names);
-    if (!o.sensor || !o.config || o.n_positional != 1) {
-        fprintf(stderr, "sunmc calibrate: needs --sensor %s, --config CONFIG and one data "
-                        "file (see sunmc calibrate --help)\n", names);
+    if (!o.config || o.n_positional != 1) {
+        fprintf(stderr, "sunmc calibrate: needs --config CONFIG and one data file (see sunmc "
+                        "calibrate --help)\n");
         return EXIT_BAD_INPUT;
     }
-    const sensor_family *fam = sensor_family_find(o.sensor);
-    if (!fam || !fam->lab) {
+    const sensor_family *fam = o.sensor ? sensor_family_find(o.sensor) : NULL;
+    if (o.sensor && (!fam || !fam->lab)) {
         fprintf(stderr, "sunmc calibrate: --sensor must be %s, not '%s'\n", names, o.sensor);
         return EXIT_BAD_INPUT;
     }
     config_state st;
     if ((rc = cli_config(&o, &st)))
         return rc;
-    if (st.cfg.family != fam) {
+    if (fam && st.cfg.family != fam) {
         fprintf(stderr, "sunmc calibrate: --sensor %s, but %s is a %s config (sensor.family)\n",
                 o.sensor, o.config, st.cfg.family->name);
+        config_state_free(&st);
+        return EXIT_BAD_INPUT;
+    }
+    fam = st.cfg.family;
+    if (!fam->lab) {
+        fprintf(stderr, "sunmc calibrate: %s is a %s config: that family has no lab commands "
+                        "(%s have)\n", o.config, fam->name, names);
         config_state_free(&st);
         return EXIT_BAD_INPUT;
     }
