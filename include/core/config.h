@@ -24,6 +24,7 @@
 #define CONFIG_BANDS_MAX 8     /* most report bands */
 #define CONFIG_STR_MAX 64      /* longest string value */
 #define CONFIG_ORIGIN_MAX 300  /* "file:line" or "--set" or "default" */
+#define CONFIG_PICK_MAX 8      /* most streams one pick-freeze source swaps */
 
 /* Distribution of a manufacturing or assembly tolerance.
  * fixed:       the deviation is `value` for every unit;
@@ -88,6 +89,15 @@ typedef struct {
     double confidence;                  /* level of the confidence intervals */
 
     family_config fam;                  /* the family's own keys (its keys table) */
+
+    /* Pick-freeze of `sunmc sensitivity`, not a key: the n random streams
+     * listed (rng.h ids) draw from seed `seed` instead of run.seed; n = 0
+     * in every other command (family.h: unit_stream_seed). */
+    struct {
+        long seed;
+        int n;
+        uint32_t stream[CONFIG_PICK_MAX];
+    } pick;
 } sunmc_config;
 
 /* One row of a key table: core's shared keys (config_keys.c) or a family's

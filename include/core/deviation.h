@@ -30,7 +30,8 @@ typedef struct {
     const char *const *columns;   /* count column names for units.tsv */
 } deviation_spec;
 
-/* Draw unit `unit`'s deviations for seed into dev (the family's deviations
+/* Draw unit `unit`'s deviations for seed (a stream that c->pick lists draws
+ * from c->pick.seed instead, family.h) into dev (the family's deviations
  * struct): entry e's count values from its own stream, with the tolerances
  * of the family's config `fam_cfg` (c->fam) and c->truncation_sigmas. */
 void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c, uint64_t seed,

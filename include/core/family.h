@@ -10,8 +10,11 @@
 #define SUNMC_FAMILY_H
 
 #include "config.h"
+#include "deviation.h"
+#include "rng.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #define UNIT_MAX_DEV 32
 #define UNIT_MAX_PAR 48
@@ -46,6 +49,16 @@ typedef struct {
 
 struct family_lab; /* lab.h */
 
+/* A random input of a unit besides its tolerances: one of its random
+ * streams (rng.h) and the config keys whose values scale its draws.  The
+ * budget sets those keys to 0 like tolerances; `sunmc sensitivity` swaps the
+ * stream between its two samples (pick-freeze). */
+typedef struct {
+    const char *name;               /* "campaign_noise" */
+    uint32_t stream;                /* rng.h stream id */
+    const char *const *keys;        /* "section.key" names, NULL-terminated */
+} family_noise;
+
 typedef struct sensor_family {
     const char *name;               /* "ess", "dss": the value of sensor.family */
     const char *description;        /* for sensor.family's help: "encoded sun sensor" */
@@ -73,6 +86,14 @@ typedef struct sensor_family {
     /* Measured angles reported (ESS: alpha; DSS: alpha, beta, total). */
     int (*n_angles)(const sunmc_config *c);
     const char *const *angle_names;
+
+    /* The random inputs: the deviation list (each tolerance's stream) and
+     * the noise streams (NULL-name terminated).  NULL when the family does
+     * not declare them (budget and sensitivity then see tolerances only /
+     * refuse). */
+    const deviation_spec *deviations;
+    int n_deviations;
+    const family_noise *noise;
 
     /* Column names of unit_result.dev and .par for this config. */
     int (*dev_columns)(const sunmc_config *c, const char **names, int max);
@@ -149,6 +170,15 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
  * NaN in every band when the unit's fit failed. */
 void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
                          const band_list *bands, double scale);
+
+/* Seed of random stream `stream` of c's units: c->pick.seed when c->pick
+ * lists the stream (the pick-freeze of `sunmc sensitivity`), else `seed`
+ * (the run's, c->seed). */
+uint64_t unit_stream_seed(const sunmc_config *c, uint64_t seed, uint32_t stream);
+
+/* rng_stream_init of stream `stream` of unit `unit` of c (run.seed, or the
+ * pick-freeze seed as above). */
+void unit_stream_init(rng_stream *r, const sunmc_config *c, long unit, uint32_t stream);
 
 /* The phase timer, off by default (phase_s stays 0, so a unit's result is
  * the same bytes in every run); `run --profile` turns it on before the

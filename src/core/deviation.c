@@ -1,5 +1,6 @@
 /* deviation.c - one unit's deviations from a family's deviation list. */
 #include "deviation.h"
+#include "family.h"
 #include "rng.h"
 #include "tolerance.h"
 
@@ -10,7 +11,8 @@ void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c,
         const tolerance *t = (const tolerance *)(const void *)(c->fam.bytes + list[e].tol_offset);
         double *out = (double *)(void *)((char *)dev + list[e].dev_offset);
         rng_stream r;
-        rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_TOLERANCE + list[e].stream);
+        uint32_t id = RNG_STREAM_TOLERANCE + list[e].stream;
+        rng_stream_init(&r, unit_stream_seed(c, seed, id), (uint64_t)unit, id);
         for (int i = 0; i < list[e].count; i++)
             out[i] = tolerance_draw(t, c->truncation_sigmas, &r);
     }

@@ -8,6 +8,19 @@
 /* Slack so that a grid end hit exactly in decimal is not lost to rounding. */
 #define GRID_EPS 1e-9
 
+uint64_t unit_stream_seed(const sunmc_config *c, uint64_t seed, uint32_t stream)
+{
+    for (int i = 0; i < c->pick.n; i++)
+        if (c->pick.stream[i] == stream)
+            return (uint64_t)c->pick.seed;
+    return seed;
+}
+
+void unit_stream_init(rng_stream *r, const sunmc_config *c, long unit, uint32_t stream)
+{
+    rng_stream_init(r, unit_stream_seed(c, (uint64_t)c->seed, stream), (uint64_t)unit, stream);
+}
+
 long grid_count(double lo, double hi, double step, double offset)
 {
     double span = hi - (lo + offset);

@@ -28,7 +28,7 @@ void dss_validation_readings(const sunmc_config *c, const dss_unit *u, long unit
 {
     const dss_config *dc = dss_cfg(c);
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long nb = val_axis_count(c);
     size_t i = 0;
     for (long j1 = 0; j1 < nb; j1++)

@@ -55,7 +55,7 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
     double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
     double sigma = dc->noise.centroid_px;
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
     size_t seen = 0, i = 0;
     for (long j1 = 0; j1 < nb; j1++)
         for (long j2 = 0; j2 < nb; j2++, i++) {
@@ -195,7 +195,7 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
         band_acc_reset(&after_sys[a]);
     }
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long nb =
         grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
     for (long j1 = 0; j1 < nb; j1++)
@@ -277,6 +277,15 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
                  dc->fit_glass_index ? " (thickness and index)" : " (thickness)");
 }
 
+/* The random inputs besides the tolerances (family.h); encoder and centroid
+ * noise of the campaign share one stream. */
+static const char *const dss_cal_noise_keys[] = {"noise.centroid_px", "noise.encoder_arcsec", NULL};
+static const char *const dss_val_noise_keys[] = {"noise.centroid_px", NULL};
+static const family_noise dss_random_noise[] = {
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys},
+    {NULL, 0, NULL}};
+
 const sensor_family dss_family = {
     .name = "dss",
     .description = "pinhole digital sun sensor",
@@ -290,6 +299,9 @@ const sensor_family dss_family = {
     .model_label = dss_model_label,
     .n_angles = dss_n_angles,
     .angle_names = dss_angle_names,
+    .deviations = dss_deviation_list,
+    .n_deviations = DSS_N_TOL,
+    .noise = dss_random_noise,
     .dev_columns = dss_dev_columns,
     .par_columns = dss_par_names,
     .workspace_alloc = dss_ws_alloc,

@@ -3,6 +3,7 @@
  * ess_finecode.c and ess_coarse.c). */
 #include "ess_lane.h"
 #include "ess_sensor.h"
+#include "family.h"
 #include "status.h"
 #include "units.h"
 
@@ -39,7 +40,8 @@ void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_
     memset(d, 0, sizeof *d);
     deviations_sample(ess_deviation_list, ESS_N_TOL, c, seed, unit, d);
     rng_stream r;
-    rng_stream_init(&r, seed, (uint64_t)unit, RNG_STREAM_ALIGNMENT);
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_ALIGNMENT), (uint64_t)unit,
+                    RNG_STREAM_ALIGNMENT);
     d->roll_measured_arcsec =
         d->install_x_arcsec + ess_cfg(c)->roll_sigma_arcsec * rng_normal(&r);
 }

@@ -14,7 +14,7 @@ void ess_campaign_truth(const sunmc_config *c, const ess_unit *u, long unit,
     /* The same draws, in the same order, as ess_unit_campaign. */
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
     size_t i = 0;
     for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
@@ -40,7 +40,7 @@ void ess_validation_readings(const sunmc_config *c, const ess_unit *u, long unit
     const ess_config *ec = ess_cfg(c);
     /* The same grid, draws and checks as ess_family's unit_run. */
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
                          ec->val_alpha_offset_deg);
     size_t i = 0;

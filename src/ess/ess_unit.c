@@ -73,7 +73,7 @@ void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
     size_t i = 0;
     for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
@@ -113,6 +113,20 @@ void ess_model_report(const ess_model *m, double out[ESS_N_PAR])
 }
 
 /* ---- the family ---- */
+
+/* The random inputs besides the tolerances (family.h).  Encoder and row
+ * noise of the campaign share one stream, so sensitivity sees them as one
+ * input (the campaign's noise, which reaches the result through the fit);
+ * the validation's row noise is the sensor's repeatability. */
+static const char *const ess_cal_noise_keys[] = {"noise.row_current_pct", "noise.encoder_arcsec",
+                                                 NULL};
+static const char *const ess_val_noise_keys[] = {"noise.row_current_pct", NULL};
+static const char *const ess_roll_keys[] = {"calibration.roll_sigma_arcsec", NULL};
+static const family_noise ess_random_noise[] = {
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, ess_cal_noise_keys},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, ess_val_noise_keys},
+    {"roll_measurement", RNG_STREAM_ALIGNMENT, ess_roll_keys},
+    {NULL, 0, NULL}};
 
 static int ess_n_angles(const sunmc_config *c) { return 1; }
 
@@ -188,7 +202,7 @@ static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const es
     band_acc_reset(&after);
     band_acc_reset(&after_sys);
     rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
                          ec->val_alpha_offset_deg);
     double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
@@ -277,6 +291,9 @@ const sensor_family ess_family = {
     .model_label = ess_model_label,
     .n_angles = ess_n_angles,
     .angle_names = ess_angle_names,
+    .deviations = ess_deviation_list,
+    .n_deviations = ESS_N_TOL,
+    .noise = ess_random_noise,
     .dev_columns = ess_dev_columns,
     .par_columns = ess_par_columns,
     .workspace_alloc = ess_ws_alloc,
