@@ -269,6 +269,50 @@ static void test_t_shrink(void **state)
     assert_near(w250 / w1000, 2.0, 0.1);
 }
 
+/* Ratio of means: a hand value (x = 1, 2, 3 over a = 2: R = 1, z = -1, 0, 1,
+ * sd(z) / mean(a) = 1/2, t_{2, .975} = 4.302653 from tables), coverage of
+ * paired samples whose ratio is known, and the pairing's tight interval. */
+static void test_ratio(void **state)
+{
+    double x[3] = {1, 2, 3}, a[3] = {2, 2, 2}, r;
+    stats_interval ci;
+    assert_int_equal(stats_ratio_t(x, a, 3, CONF95, &r, &ci, err, sizeof err), SUNMC_OK);
+    assert_near(r, 1.0, 1e-15);
+    assert_near(ci.hi - 1.0, 4.302653 * 0.5 / sqrt(3.0), 1e-6);
+    assert_near(1.0 - ci.lo, 4.302653 * 0.5 / sqrt(3.0), 1e-6);
+    static double xs[200], as[200];
+    long cover = 0;
+    double w_paired = 0, w_unpaired = 0;
+    for (long rep = 0; rep < SIM_REPS; rep++) {
+        rng_stream rs;
+        rng_stream_init(&rs, 33, (uint64_t)rep, 0);
+        for (int i = 0; i < 200; i++) {
+            as[i] = 1.0 - log(rng_uniform(&rs)); /* mean 2 */
+            xs[i] = 0.3 * as[i] + 0.05 * rng_normal(&rs); /* E x / E a = 0.3 */
+        }
+        stats_ratio_t(xs, as, 200, CONF95, &r, &ci, err, sizeof err);
+        cover += ci.lo <= 0.3 && 0.3 <= ci.hi;
+        w_paired += ci.hi - ci.lo;
+        double m;
+        stats_mean_t(xs, 200, CONF95, &m, &ci, err, sizeof err);
+        w_unpaired += (ci.hi - ci.lo) / 2.0;
+    }
+    print_message("ratio coverage %.4f, width paired/unpaired %.3f\n", (double)cover / SIM_REPS,
+                  w_paired / w_unpaired);
+    assert_near((double)cover / SIM_REPS, CONF95, COVER_SLACK);
+    assert_true(w_paired < 0.5 * w_unpaired); /* x moves with a: the pairing pays */
+    /* Limits: a zero denominator, too few values, no data. */
+    a[0] = a[1] = a[2] = 0;
+    assert_int_equal(stats_ratio_t(x, a, 3, CONF95, &r, &ci, err, sizeof err), SUNMC_OK);
+    assert_true(isnan(r) && isnan(ci.lo) && isnan(ci.hi));
+    a[0] = 2;
+    assert_int_equal(stats_ratio_t(x, a, 1, CONF95, &r, &ci, err, sizeof err), SUNMC_OK);
+    assert_near(r, 0.5, 1e-15);
+    assert_true(isnan(ci.lo) && isnan(ci.hi));
+    assert_int_equal(stats_ratio_t(NULL, a, 3, CONF95, &r, &ci, err, sizeof err), SUNMC_EINPUT);
+    assert_int_equal(stats_ratio_t(x, a, 3, 1.5, &r, &ci, err, sizeof err), SUNMC_EINPUT);
+}
+
 /* ---- quantiles ------------------------------------------------------ */
 
 /* Definition 7 against GSL's quantile and a hand value. */
@@ -609,6 +653,7 @@ int main(void)
         cmocka_unit_test(test_moments_stream),
         cmocka_unit_test(test_t_coverage),
         cmocka_unit_test(test_t_shrink),
+        cmocka_unit_test(test_ratio),
         cmocka_unit_test(test_quantile_definition),
         cmocka_unit_test(test_quantile_ranks),
         cmocka_unit_test(test_quantile_coverage),

@@ -84,6 +84,16 @@ void stats_moments_add(stats_moments *m, double x);
 int stats_moments_t(const stats_moments *m, double confidence, double *mean, stats_interval *ci,
                     char *err, size_t errlen);
 
+/* Ratio of two means R = mean(x) / mean(a) over n paired values (x_i, a_i
+ * from the same unit: common random numbers), with the delta-method
+ * Student-t interval R +- t_{n-1} sd(z) / (sqrt(n) mean(a)), where
+ * z_i = x_i - R a_i (the linearised ratio; its variance carries the pairing,
+ * so a difference x_i = y_i - w_i of two correlated runs gets the tight
+ * interval of the paired differences).  mean(a) == 0 or n == 0 gives NaN;
+ * n < 2 NaN bounds. */
+int stats_ratio_t(const double *x, const double *a, size_t n, double confidence, double *ratio,
+                  stats_interval *ci, char *err, size_t errlen);
+
 /* Point estimate of the p-quantile of sorted[n] (ascending): Hyndman & Fan
  * (1996) definition 7, the linear interpolation between order statistics at
  * h = (n - 1) p (0-based), as R's default and numpy's "linear"; bit for bit

@@ -154,6 +154,27 @@ int stats_moments_t(const stats_moments *m, double confidence, double *mean, sta
     return stats_t_interval(*mean, sd, m->n, confidence, ci, err, errlen);
 }
 
+int stats_ratio_t(const double *x, const double *a, size_t n, double confidence, double *ratio,
+                  stats_interval *ci, char *err, size_t errlen)
+{
+    if (n > 0 && (x == NULL || a == NULL))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "ratio interval: no data for %zu values", n);
+    double sx = 0.0, sa = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        sx += x[i];
+        sa += a[i];
+    }
+    double r = n > 0 && sa != 0.0 ? sx / sa : NAN, ss = 0.0;
+    for (size_t i = 0; i < n && isfinite(r); i++) {
+        double z = x[i] - r * a[i];
+        ss += z * z;
+    }
+    double abar = n > 0 ? sa / (double)n : NAN;
+    double sd = n > 1 && isfinite(r) ? sqrt(ss / (double)(n - 1)) / fabs(abar) : 0.0;
+    *ratio = r;
+    return stats_t_interval(r, sd, (long)n, confidence, ci, err, errlen);
+}
+
 double stats_quantile_sorted(const double *sorted, size_t n, double p)
 {
     if (n == 0)
