@@ -1,12 +1,18 @@
-# budget.gp - the tolerance budget from `sunmc budget --out RUN`: for each
-# source, in rank order, the share of the mean-square error that goes away
-# without it, after and before calibration.
+# budget.gp - the error budget from `sunmc budget --out RUN`: the share of the
+# mean-square error of each row of budget.tsv -- the floor (nominal design,
+# no noise) as its own grey bar, every source in rank order, the interaction
+# last -- after (blue) and before (orange) calibration, each with its
+# confidence interval as an error bar.  Floor + sources + interaction = 100 %.
+# A hatched bar (and ~ after its name) is inside the Monte Carlo noise: its
+# after-calibration interval includes 0.
 #   gnuplot -e "run='runs/budget'" scripts/budget.gp   [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/budget.tsv'
 if (!exists("svg")) svg = 0
 if (!exists("out")) out = run.(svg ? '/budget.svg' : '/budget.png')
-if (svg) { set terminal svg size 1000,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 1000,600 font 'Sans,11' }
+# the longest label sets the bottom margin: vertical labels are never clipped
+maxlen = int(system(sprintf("awk -F'\\t' 'NR>1 {n=length($3)+length($5)+length($4)+6; if (n>m) m=n} END {print m+0}' '%s'", file)))
+if (svg) { set terminal svg size 1100,720 dynamic font 'Sans,12' } else { set terminal pngcairo size 1100,720 font 'Sans,11' }
 set output out
 set termoption noenhanced
 set datafile separator "\t"
@@ -14,18 +20,31 @@ set datafile separator "\t"
 hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
 field(c, row) = system(sprintf("awk -F'\\t' 'NR==%d {print $%d}' '%s'", row, c, file))
-ranked = sprintf("< awk -F'\\t' 'NR>1 && $1>0' '%s'", file)
-csrc = col('source'); ctol = col('tolerance'); cu = col('unit')
-set title sprintf("tolerance budget: %s in band %s deg, %s units per run", field(col('angle'), 2), field(col('band'), 2), field(col('units'), 2))
-set ylabel 'share of the mean-square error removed without the source [%]'
-set xlabel 'error source (today''s tolerance), in rank order'
-set style data histograms
-set style histogram clustered gap 1
-set style fill solid 0.8 border -1
-set boxwidth 0.9
-set xtics rotate by -35 left
+ckind = col('kind'); csrc = col('source'); ctol = col('tolerance'); cu = col('unit')
+csa = col('share_after'); csal = col('share_after_ci_lo'); csah = col('share_after_ci_hi')
+csb = col('share_before'); csbl = col('share_before_ci_lo'); csbh = col('share_before_ci_hi')
+csig = col('significant_after')
+level = real(field(col('confidence'), 2))
+label(k, s, t, u, sig) = (k eq 'floor' ? 'FLOOR (design, no noise)' : k eq 'interaction' ? 'INTERACTION' : sprintf('%s (%s %s)', s, t, u)).(sig eq 'no' ? ' ~' : '')
+issig(s) = s eq 'yes'
+isfloor(k) = k eq 'floor'
+
+set title sprintf("error budget: %s in band %s deg, %s units per run; bars: %g%% intervals; floor + sources + interaction = 100%%", field(col('angle'), 2), field(col('band'), 2), field(col('units'), 2), 100 * level)
+set ylabel 'share of the mean-square error [%]'
+set xtics rotate by 90 right nomirror
+set bmargin maxlen * 0.44 + 2
 set grid ytics
-set key top right
-set yrange [*:*]
-plot ranked using (100*column(col('share_removed_after'))):xtic(sprintf('%s (%s %s)', strcol(csrc), strcol(ctol), strcol(cu))) title 'after calibration' lc rgb '#1f77b4', \
-     ranked using (100*column(col('share_removed_before'))) title 'before calibration' lc rgb '#ff7f0e'
+set key top right box opaque
+set xrange [-0.6:*]
+set boxwidth 0.38
+set style fill solid 0.85 border -1
+w = 0.2
+plot file skip 1 using ($0 - w):(isfloor(strcol(ckind)) || !issig(strcol(csig)) ? NaN : 100*column(csa)) with boxes lc rgb '#1f77b4' title 'after calibration', \
+     file skip 1 using ($0 + w):(isfloor(strcol(ckind)) || !issig(strcol(csig)) ? NaN : 100*column(csb)) with boxes lc rgb '#ff7f0e' title 'before calibration', \
+     file skip 1 using ($0 - w):(isfloor(strcol(ckind)) ? 100*column(csa) : NaN) with boxes lc rgb '#555555' title 'floor after', \
+     file skip 1 using ($0 + w):(isfloor(strcol(ckind)) ? 100*column(csb) : NaN) with boxes lc rgb '#aaaaaa' title 'floor before', \
+     file skip 1 using ($0 - w):(!isfloor(strcol(ckind)) && !issig(strcol(csig)) ? 100*column(csa) : NaN) with boxes fs pattern 4 border lc rgb '#1f77b4' title 'inside the noise (~)', \
+     file skip 1 using ($0 + w):(!isfloor(strcol(ckind)) && !issig(strcol(csig)) ? 100*column(csb) : NaN) with boxes fs pattern 5 border lc rgb '#ff7f0e' notitle, \
+     file skip 1 using ($0 - w):(100*column(csal)):(0):(100*(column(csah) - column(csal))) with vectors heads size 0.06,90 lc rgb 'black' lw 1.5 notitle, \
+     file skip 1 using ($0 + w):(100*column(csbl)):(0):(100*(column(csbh) - column(csbl))) with vectors heads size 0.06,90 lc rgb 'black' lw 1.5 notitle, \
+     file skip 1 using 0:(NaN):xtic(label(strcol(ckind), strcol(csrc), strcol(ctol), strcol(cu), strcol(csig))) notitle

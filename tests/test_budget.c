@@ -31,9 +31,17 @@ static void sources_of_type_a(void **state)
     assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
     budget_result *b = calloc(1, sizeof *b);
     assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_OK);
-    assert_int_equal(b->n, 12);
+    assert_int_equal(b->n, 12 + 3); /* the tolerances, then the noise keys */
     assert_string_equal(b->src[0].name, "dH_um");
     assert_near(b->src[0].tolerance, 2, 0);
+    assert_int_equal(b->src[0].kind, BUDGET_TOLERANCE);
+    const char *noise[3] = {"noise.row_current_pct", "noise.encoder_arcsec",
+                            "calibration.roll_sigma_arcsec"};
+    for (int i = 0; i < 3; i++) {
+        assert_string_equal(b->src[12 + i].name, noise[i]);
+        assert_int_equal(b->src[12 + i].kind, BUDGET_NOISE);
+    }
+    assert_near(b->src[12].tolerance, 1.5, 0);
     assert_int_equal(b->band, 2); /* 0:62 is the widest band */
     assert_int_equal(b->angle, 0);
     free(b);
@@ -50,7 +58,7 @@ static void no_source_is_an_error(void **state)
     budget_result *b = calloc(1, sizeof *b);
     budget_set_tolerance(&st.cfg, config_find("tolerance", "dH_um"), 0.0);
     assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_EINPUT);
-    assert_non_null(strstr(err, "no tolerance"));
+    assert_non_null(strstr(err, "no tolerance or noise"));
     free(b);
     config_state_free(&st);
 }
@@ -84,10 +92,13 @@ static void alone_matches_closed_form(void **state)
     double rms_deg = sqrt(s2 / (double)n) * DEG_PER_RAD;
     assert_near(b->src[0].alone.before_mean, rms_deg, 1e-6);
     assert_near(b->all.before_mean, rms_deg, 1e-6);
-    /* One source: alone is all, removed is none. */
-    assert_near(b->src[0].share_alone_before, 1.0, 1e-9);
-    assert_near(b->src[0].share_removed_before, 1.0, 1e-6);
-    assert_near(b->none.before_mean, 0.0, 1e-6);
+    /* One source, no noise: alone is all, the floor (the ideal nominal
+     * design) has no error, the share is 100 %, nothing interacts. */
+    assert_near(b->src[0].share_before.v, 1.0, 1e-9);
+    assert_near(b->floor.before_mean, 0.0, 1e-6);
+    assert_near(b->floor_before.v, 0.0, 1e-9);
+    assert_near(b->interaction_before.v, 0.0, 1e-9);
+    assert_int_equal(b->paired_units, 3);
     /* Calibration removes a pure height error. */
     assert_true(b->all.after_mean < 0.01 * rms_deg);
     assert_int_equal(b->src[0].rank, 1);
@@ -147,7 +158,8 @@ static void cli(void **state)
     }
     snprintf(cmd, sizeof cmd, "test -e %s", dir);
     assert_int_not_equal(system(cmd), 0);
-    /* A small real budget: table, budget.tsv with ALL, NONE and 12 ranked rows. */
+    /* A small real budget: table, budget.tsv with the floor, 12 + 3 ranked
+     * rows and the interaction, whose shares sum to 100 %. */
     snprintf(cmd, sizeof cmd,
              "%s budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 "
              "--set report.budget_steps=1 --set validation.alpha_step_deg=2.3 "
@@ -155,12 +167,15 @@ static void cli(void **state)
              test_sunmc(), dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "inverse limit"));
-    snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 12",
+    assert_non_null(strstr(out, "FLOOR"));
+    assert_non_null(strstr(out, "INTERACTION"));
+    snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 15",
              dir);
     assert_int_equal(system(cmd), 0);
     snprintf(cmd, sizeof cmd,
-             "awk -F'\\t' 'NR==2 && $2==\"ALL\" {ok=1} NR==3 && $2==\"NONE\" {ok2=1} "
-             "END {exit !(ok && ok2)}' %s/budget.tsv",
+             "awk -F'\\t' 'NR==2 && $3==\"FLOOR\" {ok=1} $3==\"INTERACTION\" {ok2=NR} "
+             "NR>1 {sb+=$9; sa+=$13} END {exit !(ok && ok2==NR && sb>0.999999 && sb<1.000001 "
+             "&& sa>0.999999 && sa<1.000001)}' %s/budget.tsv",
              dir);
     assert_int_equal(system(cmd), 0);
 }

@@ -1,7 +1,8 @@
 /* test_budget_stats.c - the budget's numbers against a recomputation here:
- * the mean squares of each run (all, none, alone, removed) from the unit
- * results of the same Monte Carlo, the four shares from those mean squares
- * by their definitions (budget.h), the ranks from the shares, and each
+ * the per-unit squares of each run (all, floor, alone) from the unit results
+ * of the same Monte Carlo, the shares by their definition (budget.h) and
+ * their delta-method intervals written out here, the sum to 100 %, the ranks
+ * from the shares, and each
  * inverse limit checked by running at it (the yield meets the target) and
  * just past it, one bisection resolution further (it does not); a source
  * that fails even at 0 is unmet, and yields are computed here from the units.
@@ -12,6 +13,8 @@
 #include "montecarlo.h"
 #include "status.h"
 
+#include <gsl/gsl_cdf.h>
+
 static void build(config_state *st, const char *path, const char *const *sets, int n)
 {
     char err[SUNMC_ERRLEN];
@@ -21,8 +24,11 @@ static void build(config_state *st, const char *path, const char *const *sets, i
 
 /* Mean squares, means and yield of config c over units [0, n) in one report
  * row, from the unit results. */
+#define UNITS 12
+
 typedef struct {
-    double before_ms, after_ms, before_mean, after_mean, yield;
+    double before_mean, after_mean, yield;
+    double sq[2][UNITS]; /* per-unit RMS^2 before, after (NaN: no fit) */
 } recomputed;
 
 static recomputed recompute(const sunmc_config *c, long n, int angle, int band)
@@ -31,23 +37,25 @@ static recomputed recompute(const sunmc_config *c, long n, int angle, int band)
     unit_result *res = calloc((size_t)n, sizeof *res);
     char err[SUNMC_ERRLEN];
     assert_int_equal(mc_run(c, fam, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
-    recomputed r = {0, 0, 0, 0, 0};
+    recomputed r;
+    memset(&r, 0, sizeof r);
     long k = 0, pass = 0;
     double spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
     for (long u = 0; u < n; u++) {
         double b = res[u].rms_before[angle][band], a = res[u].rms_after[angle][band];
-        if (res[u].fit_status != UNIT_FIT_OK || isnan(a) || isnan(b))
+        int ok = res[u].fit_status == UNIT_FIT_OK && !isnan(a) && !isnan(b);
+        if (u < UNITS) {
+            r.sq[0][u] = ok ? b * b : NAN;
+            r.sq[1][u] = ok ? a * a : NAN;
+        }
+        if (!ok)
             continue;
-        r.before_ms += b * b;
-        r.after_ms += a * a;
         r.before_mean += b;
         r.after_mean += a;
         pass += a <= spec;
         k++;
     }
     assert_true(k > 0);
-    r.before_ms /= (double)k;
-    r.after_ms /= (double)k;
     r.before_mean /= (double)k;
     r.after_mean /= (double)k;
     r.yield = (double)pass / (double)n;
@@ -58,17 +66,38 @@ static recomputed recompute(const sunmc_config *c, long n, int angle, int band)
 static void expect_stats(const budget_stats *s, const recomputed *r, const char *what)
 {
     const double tol = 1e-12;
-    if (!(fabs(s->before_ms - r->before_ms) <= tol * r->before_ms &&
-          fabs(s->after_ms - r->after_ms) <= tol * r->after_ms &&
-          fabs(s->before_mean - r->before_mean) <= tol * r->before_mean &&
+    if (!(fabs(s->before_mean - r->before_mean) <= tol * r->before_mean &&
           fabs(s->after_mean - r->after_mean) <= tol * r->after_mean &&
           fabs(s->yield - r->yield) <= 1e-15))
-        fail_msg("%s: MS %g %g mean %g %g yield %g; recomputed %g %g, %g %g, %g", what,
-                 s->before_ms, s->after_ms, s->before_mean, s->after_mean, s->yield,
-                 r->before_ms, r->after_ms, r->before_mean, r->after_mean, r->yield);
+        fail_msg("%s: mean %g %g yield %g; recomputed %g %g, %g", what, s->before_mean,
+                 s->after_mean, s->yield, r->before_mean, r->after_mean, r->yield);
 }
 
-#define UNITS 12
+/* The share sum(x) / sum(a) over the units with a value in every run, and
+ * its interval written out: R +- t sd(x - R a) / (sqrt(n) mean(a)). */
+static void expect_share(const budget_share *got, const double *x, const double *a,
+                         const unsigned char *paired, double conf, const char *what)
+{
+    double sx = 0, sa = 0;
+    int n = 0;
+    for (int u = 0; u < UNITS; u++)
+        if (paired[u]) {
+            sx += x[u];
+            sa += a[u];
+            n++;
+        }
+    double r = sx / sa, ss = 0;
+    for (int u = 0; u < UNITS; u++)
+        if (paired[u])
+            ss += (x[u] - r * a[u]) * (x[u] - r * a[u]);
+    double half = gsl_cdf_tdist_Pinv(0.5 + 0.5 * conf, n - 1) * sqrt(ss / (n - 1)) /
+                  sqrt((double)n) / (sa / n);
+    if (!(fabs(got->v - r) <= 1e-9 && fabs(got->ci.lo - (r - half)) <= 1e-9 &&
+          fabs(got->ci.hi - (r + half)) <= 1e-9))
+        fail_msg("%s: share %g [%g, %g], recomputed %g [%g, %g]", what, got->v, got->ci.lo,
+                 got->ci.hi, r, r - half, r + half);
+    assert_int_equal(got->significant, r - half > 0 || r + half < 0);
+}
 #define SMALL_SETS                                                                                \
     "campaign.alpha_step_deg=0.4", "validation.alpha_step_deg=0.7", "report.spec_arcsec=33",      \
         "report.yield_target=0.5", "report.budget_units=12", "report.budget_steps=4",            \
@@ -83,39 +112,56 @@ static void check_budget(const sunmc_config *c, budget_result *b)
     assert_int_equal(budget_run(c, UNITS, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->angle, 0);
     assert_int_equal(b->band, 2); /* 0:62 is the widest */
-    recomputed all = recompute(c, UNITS, b->angle, b->band);
-    expect_stats(&b->all, &all, "all");
-    sunmc_config none = *c;
+    static recomputed run[BUDGET_MAX_SOURCES + 2];
+    run[0] = recompute(c, UNITS, b->angle, b->band);
+    expect_stats(&b->all, &run[0], "all");
+    sunmc_config floor = *c;
     for (int i = 0; i < b->n; i++)
-        budget_set_tolerance(&none, b->src[i].key, 0.0);
-    recomputed nn = recompute(&none, UNITS, b->angle, b->band);
-    expect_stats(&b->none, &nn, "none");
+        budget_set_tolerance(&floor, b->src[i].key, 0.0);
+    run[1] = recompute(&floor, UNITS, b->angle, b->band);
+    expect_stats(&b->floor, &run[1], "floor");
     for (int i = 0; i < b->n; i++) {
-        const budget_source *s = &b->src[i];
-        sunmc_config t = none;
-        budget_set_tolerance(&t, s->key, s->tolerance);
-        recomputed alone = recompute(&t, UNITS, b->angle, b->band);
-        expect_stats(&s->alone, &alone, s->name);
-        t = *c;
-        budget_set_tolerance(&t, s->key, 0.0);
-        recomputed removed = recompute(&t, UNITS, b->angle, b->band);
-        expect_stats(&s->removed, &removed, s->name);
-        /* budget.h's definitions */
-        assert_near(s->share_removed_before,
-                    (all.before_ms - removed.before_ms) / all.before_ms, 1e-9);
-        assert_near(s->share_removed_after, (all.after_ms - removed.after_ms) / all.after_ms,
-                    1e-9);
-        assert_near(s->share_alone_before,
-                    (alone.before_ms - nn.before_ms) / (all.before_ms - nn.before_ms), 1e-9);
-        assert_near(s->share_alone_after,
-                    (alone.after_ms - nn.after_ms) / (all.after_ms - nn.after_ms), 1e-9);
+        sunmc_config t = floor;
+        budget_set_tolerance(&t, b->src[i].key, b->src[i].tolerance);
+        run[2 + i] = recompute(&t, UNITS, b->angle, b->band);
+        expect_stats(&b->src[i].alone, &run[2 + i], b->src[i].name);
     }
-    /* ranks: 1 = the largest after-calibration share removed */
+    unsigned char paired[UNITS];
+    long np = 0;
+    for (int u = 0; u < UNITS; u++) {
+        paired[u] = 1;
+        for (int r = 0; r < 2 + b->n; r++)
+            paired[u] = paired[u] && !isnan(run[r].sq[0][u]) && !isnan(run[r].sq[1][u]);
+        np += paired[u];
+    }
+    assert_int_equal(b->paired_units, np);
+    for (int w = 0; w < 2; w++) {
+        double x[UNITS], rest[UNITS];
+        const double *all = run[0].sq[w], *fl = run[1].sq[w];
+        expect_share(w ? &b->floor_after : &b->floor_before, fl, all, paired, c->confidence,
+                     "floor");
+        double sum = w ? b->floor_after.v : b->floor_before.v;
+        for (int u = 0; u < UNITS; u++)
+            rest[u] = all[u] - fl[u];
+        for (int i = 0; i < b->n; i++) {
+            for (int u = 0; u < UNITS; u++) {
+                x[u] = run[2 + i].sq[w][u] - fl[u];
+                rest[u] -= x[u];
+            }
+            const budget_share *s = w ? &b->src[i].share_after : &b->src[i].share_before;
+            expect_share(s, x, all, paired, c->confidence, b->src[i].name);
+            sum += s->v;
+        }
+        const budget_share *in = w ? &b->interaction_after : &b->interaction_before;
+        expect_share(in, rest, all, paired, c->confidence, "interaction");
+        assert_near(sum + in->v, 1.0, 1e-12); /* floor + sources + interaction = 100 % */
+    }
+    /* ranks: 1 = the largest after-calibration share */
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
         assert_int_equal(s->rank, i + 1);
         if (i > 0)
-            assert_true(s->share_removed_after <= b->src[b->order[i - 1]].share_removed_after);
+            assert_true(s->share_after.v <= b->src[b->order[i - 1]].share_after.v);
     }
 }
 
@@ -147,6 +193,11 @@ static void check_limit(const sunmc_config *c, const budget_result *b, const bud
         fail_msg("%s: yield %g at %g, past its limit %g, still meets the target %g", s->name,
                  past, s->limit + step, s->limit, c->yield_target);
     assert_true(s->limit > 0);
+    /* the interval from the tried values' yield intervals holds the limit */
+    if (!isnan(s->limit_ci.lo))
+        assert_true(s->limit_ci.lo <= s->limit);
+    if (!isnan(s->limit_ci.hi))
+        assert_true(s->limit < s->limit_ci.hi);
 }
 
 /* The budget of a config with gain_pct and etch_um at the given values
@@ -179,19 +230,20 @@ static void gain_budget(const char *gain, const char *etch, int n_sources, int t
     config_state_free(&st);
 }
 
+/* (3 + 3, 2 + 3 sources: the tolerances and the three noise keys.) */
 /* Today's gain tolerance fails the target: the limit is below it; etch_um
  * fails it even at 0. */
 static void limit_below_today(void **state)
 {
     (void)state;
-    gain_budget("tolerance.gain_pct=3", "tolerance.etch_um=0.5", 3, 0);
+    gain_budget("tolerance.gain_pct=3", "tolerance.etch_um=0.5", 3 + 3, 0);
 }
 
 /* Today's gain tolerance meets the target: the limit is above it. */
 static void limit_above_today(void **state)
 {
     (void)state;
-    gain_budget("tolerance.gain_pct=1", "tolerance.etch_um=0", 2, 1);
+    gain_budget("tolerance.gain_pct=1", "tolerance.etch_um=0", 2 + 3, 1);
 }
 
 /* DSS: the budget is read on the total angle in the widest band. */

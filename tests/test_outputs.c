@@ -7,7 +7,7 @@
  *   here, bands by the field angle, the total as the angle between the two
  *   directions), and the DSS fitted parameters against the drawn deviations
  *   of a noise-free unit;
- *   budget.tsv's ALL, NONE, alone and removed rows against runs of the same
+ *   budget.tsv's all columns, FLOOR and alone rows against runs of the same
  *   configs, in the budget's row (last angle, widest band);
  *   output errors: a write error at commit (a file-size limit) and an
  *   output path that is a file exit non-zero and leave nothing behind;
@@ -533,55 +533,50 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
         assert_string_equal(tsv_str(b, r, "angle"), angle);
         assert_string_equal(tsv_str(b, r, "band"), band);
     }
-    /* ranks 1..n in row order, ranked on the after-calibration share removed */
-    for (int r = 2; r < b->nr; r++) {
-        assert_int_equal(atoi(tsv_str(b, r, "rank")), r - 1);
-        if (r > 2)
-            assert_true(tsv_num(b, r, "share_removed_after") <=
-                        tsv_num(b, r - 1, "share_removed_after"));
+    /* FLOOR first, INTERACTION last, ranks 1..n between in order of the
+     * after-calibration share */
+    assert_string_equal(tsv_str(b, 0, "source"), "FLOOR");
+    assert_string_equal(tsv_str(b, b->nr - 1, "source"), "INTERACTION");
+    for (int r = 1; r < b->nr - 1; r++) {
+        assert_int_equal(atoi(tsv_str(b, r, "rank")), r);
+        if (r > 1)
+            assert_true(tsv_num(b, r, "share_after") <= tsv_num(b, r - 1, "share_after"));
     }
-    /* ALL: the run itself; NONE: every source at 0; a source alone; removed */
+    /* all: the run itself; FLOOR: every source at 0; a source alone */
     char run[256], sets2[1024];
     double rb, ra, ry;
     snprintf(run, sizeof run, "%s/all", sub);
     snprintf(cmd, sizeof cmd, "%s run %s --out %s", test_sunmc(), args, run);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     summary_row_of(run, angle, band, &rb, &ra, &ry);
-    assert_string_equal(tsv_str(b, 0, "source"), "ALL");
-    expect_g6(tsv_num(b, 0, "before_alone"), rb, "ALL before");
-    expect_g6(tsv_num(b, 0, "after_alone"), ra, "ALL after");
-    expect_g6(tsv_num(b, 0, "yield_today"), ry, "ALL yield");
-    char zero_all[512] = "", one[128];
-    for (int r = 2; r < b->nr; r++) {
-        snprintf(one, sizeof one, " --set tolerance.%s=0", tsv_str(b, r, "source"));
+    expect_g6(tsv_num(b, 0, "all_before"), rb, "all before");
+    expect_g6(tsv_num(b, 0, "all_after"), ra, "all after");
+    expect_g6(tsv_num(b, 0, "all_yield"), ry, "all yield");
+    char zero_all[1024] = "", one[160], key[4][96];
+    for (int r = 1; r < b->nr - 1; r++) {
+        const char *src = tsv_str(b, r, "source");
+        int tol = strcmp(tsv_str(b, r, "kind"), "tolerance") == 0;
+        snprintf(one, sizeof one, " --set %s%s=0", tol ? "tolerance." : "", src);
         strcat(zero_all, one);
+        if (r < 4)
+            snprintf(key[r], sizeof key[r], "%s%s", tol ? "tolerance." : "", src);
     }
-    snprintf(run, sizeof run, "%s/none", sub);
+    snprintf(run, sizeof run, "%s/floor", sub);
     snprintf(cmd, sizeof cmd, "%s run %s %s --out %s", test_sunmc(), args, zero_all, run);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     summary_row_of(run, angle, band, &rb, &ra, &ry);
-    assert_string_equal(tsv_str(b, 1, "source"), "NONE");
-    expect_g6(tsv_num(b, 1, "before_alone"), rb, "NONE before");
-    expect_g6(tsv_num(b, 1, "after_alone"), ra, "NONE after");
-    for (int r = 2; r < b->nr && r < 4; r++) {
-        const char *src = tsv_str(b, r, "source");
-        /* alone: every source at 0 but this one at its tolerance */
-        snprintf(sets2, sizeof sets2, "%s --set tolerance.%s=%s", zero_all, src,
+    expect_g6(tsv_num(b, 0, "before_alone"), rb, "FLOOR before");
+    expect_g6(tsv_num(b, 0, "after_alone"), ra, "FLOOR after");
+    for (int r = 1; r < b->nr - 1 && r < 4; r++) {
+        /* alone: every source at 0 but this one at its value */
+        snprintf(sets2, sizeof sets2, "%s --set %s=%s", zero_all, key[r],
                  tsv_str(b, r, "tolerance"));
-        snprintf(run, sizeof run, "%s/alone_%s", sub, src);
+        snprintf(run, sizeof run, "%s/alone_%d", sub, r);
         snprintf(cmd, sizeof cmd, "%s run %s %s --out %s", test_sunmc(), args, sets2, run);
         assert_int_equal(test_run(cmd, out, sizeof out), 0);
         summary_row_of(run, angle, band, &rb, &ra, &ry);
         expect_g6(tsv_num(b, r, "before_alone"), rb, "before alone");
         expect_g6(tsv_num(b, r, "after_alone"), ra, "after alone");
-        /* removed: this one at 0, the others at theirs */
-        snprintf(run, sizeof run, "%s/removed_%s", sub, src);
-        snprintf(cmd, sizeof cmd, "%s run %s --set tolerance.%s=0 --out %s", test_sunmc(), args,
-                 src, run);
-        assert_int_equal(test_run(cmd, out, sizeof out), 0);
-        summary_row_of(run, angle, band, &rb, &ra, &ry);
-        expect_g6(tsv_num(b, r, "before_removed"), rb, "before removed");
-        expect_g6(tsv_num(b, r, "after_removed"), ra, "after removed");
     }
     tsv_free(b);
 }

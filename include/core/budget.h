@@ -1,33 +1,48 @@
-/* budget.h - the tolerance budget (the optician's "worst offenders").
+/* budget.h - the error budget: what each source contributes to the mean
+ * square error, with intervals, and how far each may go (inverse limits).
  *
- * The error sources are the tolerance keys of the config's family whose
- * value is > 0 (ESS: dH_um, dd_um, dphi_deg, ...).  For each source the
- * Monte Carlo runs (same seed, so differences are not noise)
- *   alone:   that source at its tolerance, every other tolerance 0;
- *   removed: that source 0, every other at its tolerance;
- * plus "all" (every source on) and "none" (every tolerance 0: what the
- * design and the noise leave).  The budget is read in one report row: the
- * last measured angle (ESS alpha, DSS total) and the widest band.
+ * Sources: every tolerance key of the config's family whose value is > 0
+ * (ESS: dH_um, dd_um, ...) and every noise key the family declares
+ * (family.h: family_noise; ESS noise.row_current_pct, noise.encoder_arcsec,
+ * calibration.roll_sigma_arcsec; DSS noise.centroid_px,
+ * noise.encoder_arcsec) whose value is > 0, treated alike.  The Monte Carlo
+ * runs, all on the same seed and units (common random numbers):
+ *   all:    the config as it is;
+ *   floor:  every source at 0 (the nominal design, noise-free);
+ *   alone:  per source, the floor with that source at its value;
+ *   no tolerance: tolerances 0, noise on (design + noise, for reference).
+ * The budget is read in one report row: the last measured angle (ESS
+ * alpha, DSS total) and the widest band.
  *
- * Shares are of mean squares (MS = mean over units of RMS^2, which add for
- * independent sources):
- *   share_removed = (MS_all - MS_removed) / MS_all: the part of the total
- *                   that goes away without the source; ranked on the
- *                   after-calibration value;
- *   share_alone   = (MS_alone - MS_none) / (MS_all - MS_none): the part of
- *                   the tolerance-caused error the source makes on its own.
+ * One share definition, of mean squares (MS = mean over units of RMS^2;
+ * independent additive sources add in MS), all over the same denominator:
+ *   floor share       = MS_floor / MS_all
+ *   share of source i = (MS_alone_i - MS_floor) / MS_all
+ *   interaction       = 1 - floor - sum of the source shares
+ * so floor + sources + interaction = 100 % exactly; the interaction is what
+ * the sources do together beyond the sum of what each does alone (the
+ * calibration fit couples them).  Before and after calibration alike.  Each
+ * share is a ratio of means over the units that have a fit in every run
+ * (paired_units), with the delta-method t interval of the paired per-unit
+ * values (stats_ratio_t); `significant` when the interval excludes 0.
+ * Sources are ranked on the after-calibration share.
  *
- * Inverse limit: the largest tolerance of the source (others at theirs) for
+ * Inverse limit: the largest value of the source (others at theirs) for
  * which the yield (fraction of units whose after-calibration RMS meets
  * report.spec_arcsec) is still >= report.yield_target, found by expanding
  * the bracket by BUDGET_EXPAND and bisecting report.budget_steps times on
- * Monte Carlos of report.budget_units units.
+ * Monte Carlos of report.budget_units units.  Its interval comes from the
+ * yield intervals (Wilson) of the values the search tried: lo = the largest
+ * value whose yield interval lies wholly at or above the target, hi = the
+ * smallest whose interval lies wholly below; NaN where no tried value is
+ * that clear (more budget_units narrow it).
  */
 #ifndef SUNMC_BUDGET_H
 #define SUNMC_BUDGET_H
 
 #include "config.h"
 #include "family.h"
+#include "stats.h"
 
 #include <stddef.h>
 
@@ -40,56 +55,79 @@ enum budget_limit_status {
     BUDGET_LIMIT_UNMET      /* the yield fails even with this source at 0 */
 };
 
+enum budget_kind { BUDGET_TOLERANCE = 0, BUDGET_NOISE };
+
 /* The Monte Carlo statistics of one configuration in the budget row. */
 typedef struct {
-    double before_mean, after_mean; /* mean RMS, family rms unit */
-    double before_ms, after_ms;     /* mean of RMS^2 */
+    double before_mean, after_mean; /* mean RMS over units with a fit, family rms unit */
     double yield;
+    stats_interval yield_ci;        /* Wilson, report.confidence */
     long fit_failures;
 } budget_stats;
 
+/* A share of MS_all with its interval; significant = interval excludes 0. */
 typedef struct {
-    char name[CONFIG_STR_MAX];      /* tolerance key name, e.g. "dH_um" */
+    double v;
+    stats_interval ci;
+    int significant;
+} budget_share;
+
+typedef struct {
+    char name[CONFIG_STR_MAX];      /* tolerance "dH_um", noise "noise.row_current_pct" */
+    int kind;                       /* enum budget_kind */
     const config_key *key;          /* its row in the key table */
     double tolerance;               /* today's value, unit of the key */
-    budget_stats alone, removed;
-    double share_alone_before, share_alone_after;
-    double share_removed_before, share_removed_after;
-    int rank;                       /* 1 = explains most after calibration */
+    budget_stats alone;             /* the floor plus this source */
+    budget_share share_before, share_after;
+    int rank;                       /* 1 = largest share after calibration */
     double limit;                   /* inverse limit, unit of the key */
+    stats_interval limit_ci;        /* from the yield intervals (see above) */
     int limit_status;               /* enum budget_limit_status */
-    double yield_today;             /* yield at today's tolerance (budget_units units) */
+    double yield_today;             /* yield at today's value (budget_units units) */
+    stats_interval yield_today_ci;
     int limit_runs;                 /* Monte Carlos the search took */
 } budget_source;
 
 typedef struct {
     int angle, band;                /* the report row of the budget */
-    long units;                     /* units per alone/removed run */
+    long units;                     /* units per run */
+    long paired_units;              /* units with a fit in every run: the shares' sample */
     int n;
     budget_source src[BUDGET_MAX_SOURCES];
-    budget_stats all, none;
+    budget_stats all, floor, no_tolerance;
+    budget_share floor_before, floor_after;
+    budget_share interaction_before, interaction_after;
     int order[BUDGET_MAX_SOURCES];  /* src indices, rank order */
 } budget_result;
 
-/* Called before each Monte Carlo: what (e.g. "dH_um removed"), i of n. */
+/* Called before each Monte Carlo: what (e.g. "dH_um alone"), i of n. */
 typedef void (*budget_progress_fn)(const char *what, int i, int n, void *ctx);
 
 /* Fill b->src with c's sources (tolerance keys of its family with value >
- * 0) and choose the budget row.  SUNMC_EINPUT when there is none. */
+ * 0, then its noise keys with value > 0) and choose the budget row.
+ * SUNMC_EINPUT when there is none. */
 int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t errlen);
 
-/* The statistics of config c over units [0, units) in row (angle, band). */
+/* The statistics of config c over units [0, units) in row (angle, band);
+ * sq_before, sq_after (may be NULL) get each unit's RMS^2, NaN for a unit
+ * without a fit or a value. */
 int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
-                       budget_stats *out, char *err, size_t errlen);
+                       budget_stats *out, double *sq_before, double *sq_after, char *err,
+                       size_t errlen);
 
 /* Set source `key`'s value in cfg (unit of the key). */
 void budget_set_tolerance(sunmc_config *cfg, const config_key *key, double value);
 
-/* The whole budget of c: sources, alone/removed/all/none with `units`
- * units each, shares and ranks, and (when with_limits) the inverse limits.
- * threads: 0 = OpenMP default.  progress may be NULL. */
+/* The whole budget of c: sources, all/floor/alone/no-tolerance runs with
+ * `units` units each, shares with intervals and ranks, and (when
+ * with_limits) the inverse limits.  threads: 0 = OpenMP default.  progress
+ * may be NULL. */
 int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
                budget_progress_fn progress, void *ctx, budget_result *b, char *err,
                size_t errlen);
+
+/* The inverse limit of source s (budget_limit.c). */
+int budget_inverse_limit(const sunmc_config *c, const budget_result *b, budget_source *s,
+                         int threads, char *err, size_t errlen);
 
 #endif

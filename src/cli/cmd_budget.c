@@ -6,22 +6,32 @@
 #include "status.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const char budget_help[] =
     "usage: sunmc budget CONFIG [--units N] [--seed S] [--threads T]\n"
     "                    [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
-    "Tolerance budget: for each error source (tolerance key > 0) the Monte Carlo with that\n"
-    "source alone (others 0) and with it removed (others on), same seed, in the widest band\n"
-    "of the last measured angle; sources ranked by the share of the after-calibration mean\n"
-    "square that goes away without them.  Inverse limit: the largest tolerance of each\n"
-    "source (others at theirs) whose yield against report.spec_arcsec is still at least\n"
-    "report.yield_target, by bisection on Monte Carlos of report.budget_units units\n"
-    "(report.budget_steps steps; --set report.budget_steps=1 for a rough, fast answer).\n"
+    "Error budget in the widest band of the last measured angle.  Sources: every tolerance\n"
+    "key > 0 and every noise key > 0 of the family (ESS noise.row_current_pct,\n"
+    "noise.encoder_arcsec, calibration.roll_sigma_arcsec; DSS noise.centroid_px,\n"
+    "noise.encoder_arcsec).  Monte Carlos on the same seed and units: all sources; the floor\n"
+    "(every source 0: the nominal design without noise); each source alone on the floor.\n"
+    "Share, of the mean square MS (mean over units of RMS^2), all over MS_all:\n"
+    "  floor = MS_floor / MS_all;  source = (MS_alone - MS_floor) / MS_all;\n"
+    "  interaction = 100 % - floor - sum of the sources (what they do together).\n"
+    "They add up to 100 %, before and after calibration.  Each share has a confidence\n"
+    "interval (report.confidence) from the paired per-unit values (common random numbers);\n"
+    "one whose interval includes 0 is inside the Monte Carlo noise (marked ~, significant\n"
+    "= no).  Inverse limit: the largest value of each source (others at theirs) whose yield\n"
+    "against report.spec_arcsec is still at least report.yield_target, by bisection on\n"
+    "Monte Carlos of report.budget_units units (report.budget_steps steps); its interval\n"
+    "from the Wilson yield intervals of the values tried (- where none is clear).\n"
     "--out DIR writes budget.tsv and config.ini (all or nothing).\n";
 
 static const char *const limit_names[] = {"ok", "at_key_max", "unmet"};
+static const char *const kind_names[] = {"tolerance", "noise"};
 
 static void progress(const char *what, int i, int n, void *ctx)
 {
@@ -33,43 +43,110 @@ static void dist_name(const sunmc_config *c, const budget_source *s, char *buf, 
 {
     char dname[2 * CONFIG_STR_MAX];
     snprintf(dname, sizeof dname, "%s_dist", s->name);
-    const config_key *dk = config_find_in(c->family, "tolerance", dname);
+    const config_key *dk =
+        s->kind == BUDGET_TOLERANCE ? config_find_in(c->family, "tolerance", dname) : NULL;
     if (dk)
         config_format_value(dk, c, buf, len);
     else
-        snprintf(buf, len, "?");
+        snprintf(buf, len, s->kind == BUDGET_NOISE ? "normal" : "-");
+}
+
+/* "S\tS_ci_lo\tS_ci_hi\tsignificant\t" */
+static void write_share(FILE *f, const budget_share *s)
+{
+    fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t", s->v, s->ci.lo, s->ci.hi, s->significant ? "yes" : "no");
+}
+
+/* The columns every row ends with. */
+static void write_tail(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                       const budget_result *b)
+{
+    char band[32];
+    report_band_label(c, b->band, band, sizeof band);
+    fprintf(f, "%g\t%g\t%g\t%s\t%s\t%s\t%ld\t%ld\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n",
+            c->yield_target, c->spec_arcsec, c->confidence, fam->rms_unit,
+            fam->angle_names[b->angle], band, b->units, b->paired_units, c->budget_units,
+            b->all.before_mean, b->all.after_mean, b->all.yield, b->all.yield_ci.lo,
+            b->all.yield_ci.hi, b->no_tolerance.before_mean, b->no_tolerance.after_mean);
 }
 
 static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
                       const budget_result *b)
 {
-    char band[32];
-    report_band_label(c, b->band, band, sizeof band);
-    fprintf(f, "rank\tsource\tunit\ttolerance\tdist\tbefore_alone\tafter_alone\tbefore_removed\t"
-               "after_removed\tshare_alone_before\tshare_alone_after\tshare_removed_before\t"
-               "share_removed_after\tyield_today\tlimit\tlimit_status\tyield_target\t"
-               "spec_arcsec\trms_unit\tangle\tband\tunits\tlimit_units\n");
-    const budget_stats *tot[2] = {&b->all, &b->none};
-    const char *tname[2] = {"ALL", "NONE"};
-    for (int t = 0; t < 2; t++)
-        fprintf(f, "0\t%s\t-\tnan\t-\t%.6g\t%.6g\tnan\tnan\tnan\tnan\tnan\tnan\t%.6g\tnan\t-\t%g\t"
-                   "%g\t%s\t%s\t%s\t%ld\t%ld\n",
-                tname[t], tot[t]->before_mean, tot[t]->after_mean, tot[t]->yield,
-                c->yield_target, c->spec_arcsec, fam->rms_unit, fam->angle_names[b->angle], band,
-                b->units, c->budget_units);
+    fprintf(f, "rank\tkind\tsource\tunit\ttolerance\tdist\tbefore_alone\tafter_alone\t"
+               "share_before\tshare_before_ci_lo\tshare_before_ci_hi\tsignificant_before\t"
+               "share_after\tshare_after_ci_lo\tshare_after_ci_hi\tsignificant_after\t"
+               "yield_today\tyield_today_ci_lo\tyield_today_ci_hi\tlimit\tlimit_ci_lo\t"
+               "limit_ci_hi\tlimit_status\tyield_target\tspec_arcsec\tconfidence\trms_unit\t"
+               "angle\tband\tunits\tpaired_units\tlimit_units\tall_before\tall_after\t"
+               "all_yield\tall_yield_ci_lo\tall_yield_ci_hi\tno_tolerance_before\t"
+               "no_tolerance_after\n");
+    fprintf(f, "0\tfloor\tFLOOR\t-\tnan\t-\t%.6g\t%.6g\t", b->floor.before_mean,
+            b->floor.after_mean);
+    write_share(f, &b->floor_before);
+    write_share(f, &b->floor_after);
+    fprintf(f, "%.6g\t%.6g\t%.6g\tnan\tnan\tnan\t-\t", b->floor.yield, b->floor.yield_ci.lo,
+            b->floor.yield_ci.hi);
+    write_tail(f, c, fam, b);
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
         char dist[CONFIG_STR_MAX];
         dist_name(c, s, dist, sizeof dist);
-        fprintf(f, "%d\t%s\t%s\t%.10g\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
-                   "%.6g\t%s\t%g\t%g\t%s\t%s\t%s\t%ld\t%ld\n",
-                s->rank, s->name, s->key->unit[0] ? s->key->unit : "-", s->tolerance, dist,
-                s->alone.before_mean, s->alone.after_mean, s->removed.before_mean,
-                s->removed.after_mean, s->share_alone_before, s->share_alone_after,
-                s->share_removed_before, s->share_removed_after, s->yield_today, s->limit,
-                limit_names[s->limit_status], c->yield_target, c->spec_arcsec, fam->rms_unit,
-                fam->angle_names[b->angle], band, b->units, c->budget_units);
+        fprintf(f, "%d\t%s\t%s\t%s\t%.10g\t%s\t%.6g\t%.6g\t", s->rank, kind_names[s->kind], s->name,
+                s->key->unit[0] ? s->key->unit : "-", s->tolerance, dist, s->alone.before_mean,
+                s->alone.after_mean);
+        write_share(f, &s->share_before);
+        write_share(f, &s->share_after);
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t", s->yield_today,
+                s->yield_today_ci.lo, s->yield_today_ci.hi, s->limit, s->limit_ci.lo,
+                s->limit_ci.hi, limit_names[s->limit_status]);
+        write_tail(f, c, fam, b);
     }
+    fprintf(f, "0\tinteraction\tINTERACTION\t-\tnan\t-\tnan\tnan\t");
+    write_share(f, &b->interaction_before);
+    write_share(f, &b->interaction_after);
+    fprintf(f, "nan\tnan\tnan\tnan\tnan\tnan\t-\t");
+    write_tail(f, c, fam, b);
+}
+
+/* "12.34% [11.90, 12.80]~" (~: the interval includes 0). */
+static void fmt_share(char *buf, size_t len, const budget_share *s)
+{
+    snprintf(buf, len, "%6.2f%% [%6.2f, %6.2f]%s", 100 * s->v, 100 * s->ci.lo, 100 * s->ci.hi,
+             s->significant ? " " : "~");
+}
+
+static void fmt_limit(char *buf, size_t len, const budget_source *s)
+{
+    char lo[32] = "-", hi[32] = "-";
+    if (!isnan(s->limit_ci.lo))
+        snprintf(lo, sizeof lo, "%.3g", s->limit_ci.lo);
+    if (!isnan(s->limit_ci.hi))
+        snprintf(hi, sizeof hi, "%.3g", s->limit_ci.hi);
+    if (s->limit_runs == 0)
+        snprintf(buf, len, "-");
+    else if (s->limit_status == BUDGET_LIMIT_UNMET)
+        snprintf(buf, len, "unmet even at 0");
+    else if (s->limit_status == BUDGET_LIMIT_AT_MAX)
+        snprintf(buf, len, ">= %g (key max) [%s, -]", s->limit, lo);
+    else
+        snprintf(buf, len, "%.4g [%s, %s] (%.1fx today)", s->limit, lo, hi,
+                 s->limit / s->tolerance);
+}
+
+static void print_row(const char *rank, const char *name, const char *today, const char *unit,
+                      const budget_stats *alone, const budget_share *sb, const budget_share *sa,
+                      const char *limit, int prec)
+{
+    char cb[64], ca[64], rb[32] = "", ra[32] = "";
+    fmt_share(cb, sizeof cb, sb);
+    fmt_share(ca, sizeof ca, sa);
+    if (alone) {
+        snprintf(rb, sizeof rb, "%.*f", prec, alone->before_mean);
+        snprintf(ra, sizeof ra, "%.*f", prec, alone->after_mean);
+    }
+    printf("%-4s %-29s %8s %-6s | %9s %9s | %s  %s | %s\n", rank, name, today, unit, rb, ra, cb,
+           ca, limit);
 }
 
 static void print_table(const sunmc_config *c, const sensor_family *fam, const budget_result *b)
@@ -78,41 +155,38 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
     report_band_label(c, b->band, band, sizeof band);
     const char *u = fam->rms_unit;
     int prec = strcmp(u, "deg") == 0 ? 4 : 2;
-    printf("\n%s (%s): tolerance budget, %ld units per run, seed %ld; %s in band %s deg\n",
-           c->product, fam->name, b->units, c->seed, fam->angle_names[b->angle], band);
-    printf("all sources: RMS before %.*f, after %.*f %s, yield %.1f%%;  no source (design + "
-           "noise): before %.*f, after %.*f\n",
-           prec, b->all.before_mean, prec, b->all.after_mean, u, 100 * b->all.yield, prec,
-           b->none.before_mean, prec, b->none.after_mean);
-    printf("%-4s %-20s %10s %-8s | %9s %9s | %9s %9s | %7s %7s | %7s %7s | %-24s\n", "rank",
-           "source", "tolerance", "unit", "alone", "", "removed", "", "share", "removed",
-           "share", "alone", "inverse limit");
-    printf("%-4s %-20s %10s %-8s | %9s %9s | %9s %9s | %7s %7s | %7s %7s | yield %.0f%%, spec "
-           "%g\"\n",
-           "", "", "today", "", "before", "after", "before", "after", "before", "after",
-           "before", "after", 100 * c->yield_target, c->spec_arcsec);
+    printf("\n%s (%s): error budget, %ld units per run (%ld with a fit in every run), seed %ld;"
+           " %s in band %s deg\n",
+           c->product, fam->name, b->units, b->paired_units, c->seed, fam->angle_names[b->angle],
+           band);
+    printf("all sources: mean RMS before %.*f, after %.*f %s, yield %.1f%% [%.1f, %.1f];  every "
+           "tolerance 0 (design + noise): before %.*f, after %.*f\n",
+           prec, b->all.before_mean, prec, b->all.after_mean, u, 100 * b->all.yield,
+           100 * b->all.yield_ci.lo, 100 * b->all.yield_ci.hi, prec, b->no_tolerance.before_mean,
+           prec, b->no_tolerance.after_mean);
+    char h[64];
+    snprintf(h, sizeof h, "share of the mean square [%g%% CI]", 100 * c->confidence);
+    printf("%-4s %-29s %8s %-6s | %19s | %-53s | %s\n", "rank", "source", "today", "unit",
+           "mean RMS alone", h, "inverse limit [CI]");
+    printf("%-4s %-29s %8s %-6s | %9s %9s | %-26s %-26s | yield %.0f%%, spec %g\"\n", "", "", "",
+           "", "before", "after", "before", "after", 100 * c->yield_target, c->spec_arcsec);
+    print_row("", "FLOOR (design, no noise)", "", "", &b->floor, &b->floor_before, &b->floor_after,
+              "", prec);
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
-        char lim[64];
-        if (b->src[0].limit_runs == 0)
-            snprintf(lim, sizeof lim, "-");
-        else if (s->limit_status == BUDGET_LIMIT_UNMET)
-            snprintf(lim, sizeof lim, "unmet even at 0");
-        else if (s->limit_status == BUDGET_LIMIT_AT_MAX)
-            snprintf(lim, sizeof lim, ">= %g (key max)", s->limit);
-        else
-            snprintf(lim, sizeof lim, "%.4g (%.1fx today)", s->limit, s->limit / s->tolerance);
-        printf("%-4d %-20s %10.4g %-8s | %9.*f %9.*f | %9.*f %9.*f | %6.1f%% %6.1f%% | %6.1f%% "
-               "%6.1f%% | %s\n",
-               s->rank, s->name, s->tolerance, s->key->unit[0] ? s->key->unit : "-", prec,
-               s->alone.before_mean, prec, s->alone.after_mean, prec, s->removed.before_mean,
-               prec, s->removed.after_mean, 100 * s->share_removed_before,
-               100 * s->share_removed_after, 100 * s->share_alone_before,
-               100 * s->share_alone_after, lim);
+        char rank[16], today[32], lim[96];
+        snprintf(rank, sizeof rank, "%d", s->rank);
+        snprintf(today, sizeof today, "%.4g", s->tolerance);
+        fmt_limit(lim, sizeof lim, s);
+        print_row(rank, s->name, today, s->key->unit[0] ? s->key->unit : "-", &s->alone,
+                  &s->share_before, &s->share_after, lim, prec);
     }
-    printf("RMS in %s.  share removed = part of the mean square that goes away without the "
-           "source;\nshare alone = part of the tolerance-caused mean square the source makes "
-           "alone.\n",
+    print_row("", "INTERACTION (rest)", "", "", NULL, &b->interaction_before,
+              &b->interaction_after, "", prec);
+    printf("RMS in %s.  Floor + sources + interaction = 100 %% of the mean square of all sources "
+           "(MS_all);\na source's share is (MS of the floor with it alone - MS of the floor) / "
+           "MS_all.  ~ = the interval\nincludes 0: inside the Monte Carlo noise (more --units "
+           "narrow it).\n",
            u);
 }
 

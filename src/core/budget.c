@@ -1,4 +1,5 @@
-/* budget.c - each source alone / removed, shares, ranks, inverse limits. */
+/* budget.c - sources, the all / floor / alone runs, shares with intervals,
+ * ranks (the inverse limits are in budget_limit.c). */
 #include "budget.h"
 #include "montecarlo.h"
 #include "report.h"
@@ -19,6 +20,47 @@ void budget_set_tolerance(sunmc_config *cfg, const config_key *key, double value
     *(double *)config_value_ptr(key, cfg) = value;
 }
 
+static int add_source(budget_result *b, const config_key *k, const char *name, int kind,
+                      double value, char *err, size_t errlen)
+{
+    for (int i = 0; i < b->n; i++)
+        if (b->src[i].key == k)
+            return SUNMC_OK; /* a noise key of two streams: one source */
+    if (b->n >= BUDGET_MAX_SOURCES)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "more than %d error sources",
+                          BUDGET_MAX_SOURCES);
+    budget_source *s = &b->src[b->n++];
+    snprintf(s->name, sizeof s->name, "%s", name);
+    s->key = k;
+    s->kind = kind;
+    s->tolerance = value;
+    return SUNMC_OK;
+}
+
+/* The family's noise keys with a value > 0. */
+static int noise_sources(const sunmc_config *c, budget_result *b, char *err, size_t errlen)
+{
+    const sensor_family *fam = c->family;
+    for (const family_noise *nz = fam->noise; nz && nz->name; nz++)
+        for (const char *const *dotted = nz->keys; *dotted; dotted++) {
+            char sec[CONFIG_STR_MAX];
+            const char *dot = strchr(*dotted, '.');
+            snprintf(sec, sizeof sec, "%.*s", dot ? (int)(dot - *dotted) : 0, *dotted);
+            const config_key *k = dot ? config_find_in(fam, sec, dot + 1) : NULL;
+            if (!k || k->type != KEY_DOUBLE)
+                return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                                  "family %s: noise key %s is not a number key", fam->name,
+                                  *dotted);
+            double v = get_value(c, k);
+            if (v > 0) {
+                int rc = add_source(b, k, *dotted, BUDGET_NOISE, v, err, errlen);
+                if (rc)
+                    return rc;
+            }
+        }
+    return SUNMC_OK;
+}
+
 int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t errlen)
 {
     memset(b, 0, sizeof *b);
@@ -32,22 +74,22 @@ int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t er
     for (const config_key *k = fam->keys; k && k->section; k++) {
         if (!config_is_tolerance(k, fam) || !(get_value(c, k) > 0))
             continue;
-        if (b->n >= BUDGET_MAX_SOURCES)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "more than %d tolerance sources",
-                              BUDGET_MAX_SOURCES);
-        budget_source *s = &b->src[b->n++];
-        snprintf(s->name, sizeof s->name, "%s", k->name);
-        s->key = k;
-        s->tolerance = get_value(c, k);
+        int rc = add_source(b, k, k->name, BUDGET_TOLERANCE, get_value(c, k), err, errlen);
+        if (rc)
+            return rc;
     }
+    int rc = noise_sources(c, b, err, errlen);
+    if (rc)
+        return rc;
     if (b->n == 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "no tolerance is above 0: the budget has no error source");
+                          "no tolerance or noise is above 0: the budget has no error source");
     return SUNMC_OK;
 }
 
 int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
-                       budget_stats *out, char *err, size_t errlen)
+                       budget_stats *out, double *sq_before, double *sq_after, char *err,
+                       size_t errlen)
 {
     const sensor_family *fam = c->family;
     int nr = report_n_rows(c, fam);
@@ -66,91 +108,151 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
         out->before_mean = r->rms_before_mean;
         out->after_mean = r->rms_after_mean;
         out->yield = r->yield;
+        out->yield_ci = r->yield_ci;
         out->fit_failures = r->fit_failures;
-        double sb = 0, sa = 0;
-        long k = 0;
-        for (long u = 0; u < units; u++) {
+        for (long u = 0; u < units && (sq_before || sq_after); u++) {
             double bef = res[u].rms_before[angle][band], aft = res[u].rms_after[angle][band];
-            if (res[u].fit_status != UNIT_FIT_OK || !isfinite(bef) || !isfinite(aft))
-                continue;
-            sb += bef * bef;
-            sa += aft * aft;
-            k++;
+            int ok = res[u].fit_status == UNIT_FIT_OK && isfinite(bef) && isfinite(aft);
+            if (sq_before)
+                sq_before[u] = ok ? bef * bef : NAN;
+            if (sq_after)
+                sq_after[u] = ok ? aft * aft : NAN;
         }
-        out->before_ms = k ? sb / (double)k : NAN;
-        out->after_ms = k ? sa / (double)k : NAN;
     }
     free(res);
     free(rows);
     return st;
 }
 
-/* Yield with source s at value v (others as in c), budget_units units. */
-static int yield_at(const sunmc_config *c, const budget_result *b, budget_source *s, double v,
-                    int threads, double *yield, char *err, size_t errlen)
+/* Per-unit squares of the runs: all, floor, then each source alone; before
+ * and after.  run r's values at sq[(2 r + after) * units]. */
+typedef struct {
+    long units;
+    int runs;
+    double *sq;
+} budget_squares;
+
+static double *squares(budget_squares *q, int run, int after)
 {
-    sunmc_config t = *c;
-    budget_set_tolerance(&t, s->key, v);
-    budget_stats st;
-    int rc = budget_monte_carlo(&t, c->budget_units, threads, b->angle, b->band, &st, err, errlen);
-    s->limit_runs++;
-    *yield = st.yield;
-    return rc;
+    return q->sq + (size_t)(2 * run + after) * (size_t)q->units;
 }
 
-static int inverse_limit(const sunmc_config *c, const budget_result *b, budget_source *s,
-                         int threads, char *err, size_t errlen)
+static void set_share(budget_share *s, const double *x, const double *a, size_t n, double conf)
 {
-    double target = c->yield_target, y;
-    double kmax = s->key->max;
-    int rc = yield_at(c, b, s, s->tolerance, threads, &y, err, errlen);
-    if (rc)
-        return rc;
-    s->yield_today = y;
-    double lo, hi;
-    if (y >= target) {
-        lo = s->tolerance;
-        for (;;) {
-            if (lo >= kmax) {
-                s->limit = kmax;
-                s->limit_status = BUDGET_LIMIT_AT_MAX;
-                return SUNMC_OK;
-            }
-            hi = fmin(lo * BUDGET_EXPAND, kmax);
-            if ((rc = yield_at(c, b, s, hi, threads, &y, err, errlen)))
-                return rc;
-            if (y < target)
-                break;
-            lo = hi;
-        }
-    } else {
-        hi = s->tolerance;
-        if ((rc = yield_at(c, b, s, 0.0, threads, &y, err, errlen)))
-            return rc;
-        if (y < target) {
-            s->limit = 0;
-            s->limit_status = BUDGET_LIMIT_UNMET;
-            return SUNMC_OK;
-        }
-        lo = 0;
+    char err[SUNMC_ERRLEN];
+    if (stats_ratio_t(x, a, n, conf, &s->v, &s->ci, err, sizeof err) != SUNMC_OK)
+        s->ci.lo = s->ci.hi = NAN; /* a config outside the key table's range */
+    s->significant = s->ci.lo > 0 || s->ci.hi < 0;
+}
+
+/* Keep the units with a value in every run, before and after (the pairs
+ * the shares are over); their count. */
+static long pair_units(budget_squares *q)
+{
+    long k = 0;
+    for (long u = 0; u < q->units; u++) {
+        int ok = 1;
+        for (int r = 0; r < q->runs; r++)
+            ok = ok && isfinite(squares(q, r, 0)[u]) && isfinite(squares(q, r, 1)[u]);
+        if (!ok)
+            continue;
+        for (int r = 0; r < 2 * q->runs; r++)
+            q->sq[(size_t)r * (size_t)q->units + (size_t)k] =
+                q->sq[(size_t)r * (size_t)q->units + (size_t)u];
+        k++;
     }
-    for (int i = 0; i < c->budget_steps; i++) {
-        double mid = 0.5 * (lo + hi);
-        if ((rc = yield_at(c, b, s, mid, threads, &y, err, errlen)))
-            return rc;
-        if (y >= target)
-            lo = mid;
-        else
-            hi = mid;
+    return k;
+}
+
+/* Shares over the n paired units, before (after = 0) or after calibration:
+ * the floor, each source's increment over the floor, and the rest. */
+static int shares(const sunmc_config *c, budget_result *b, budget_squares *q, long n, int after)
+{
+    size_t len = (size_t)(n > 0 ? n : 1);
+    double *x = malloc(2 * len * sizeof *x), *rest = x ? x + len : NULL;
+    if (!x)
+        return SUNMC_ENOMEM;
+    const double *all = squares(q, 0, after), *floor = squares(q, 1, after);
+    for (long u = 0; u < n; u++)
+        rest[u] = all[u] - floor[u];
+    set_share(after ? &b->floor_after : &b->floor_before, floor, all, (size_t)n, c->confidence);
+    for (int i = 0; i < b->n; i++) {
+        const double *alone = squares(q, 2 + i, after);
+        for (long u = 0; u < n; u++) {
+            x[u] = alone[u] - floor[u];
+            rest[u] -= x[u];
+        }
+        budget_source *s = &b->src[i];
+        set_share(after ? &s->share_after : &s->share_before, x, all, (size_t)n, c->confidence);
     }
-    s->limit = lo;
-    s->limit_status = BUDGET_LIMIT_OK;
+    set_share(after ? &b->interaction_after : &b->interaction_before, rest, all, (size_t)n,
+              c->confidence);
+    free(x);
     return SUNMC_OK;
 }
 
-static double share(double num, double den)
+/* Rank on the after-calibration share (NaN last), ties by the before share,
+ * then in source order: a stable insertion sort. */
+static void rank_sources(budget_result *b)
 {
-    return den > 0 ? num / den : NAN;
+    for (int i = 0; i < b->n; i++)
+        b->order[i] = i;
+    for (int i = 1; i < b->n; i++) {
+        int x = b->order[i], j = i;
+        const budget_source *sx = &b->src[x];
+        while (j > 0) {
+            const budget_source *sy = &b->src[b->order[j - 1]];
+            double ax = isnan(sx->share_after.v) ? -INFINITY : sx->share_after.v;
+            double ay = isnan(sy->share_after.v) ? -INFINITY : sy->share_after.v;
+            int first = ax > ay || (ax == ay && sx->share_before.v > sy->share_before.v);
+            if (!first)
+                break;
+            b->order[j] = b->order[j - 1];
+            j--;
+        }
+        b->order[j] = x;
+    }
+    for (int i = 0; i < b->n; i++)
+        b->src[b->order[i]].rank = i + 1;
+}
+
+/* The Monte Carlo runs: all, floor, each source alone, no tolerance. */
+static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
+                       budget_progress_fn progress, void *ctx, char *err, size_t errlen)
+{
+    int n_runs = 3 + b->n, run = 0, rc;
+    char what[2 * CONFIG_STR_MAX];
+    sunmc_config floor = *c, no_tol = *c;
+    for (int i = 0; i < b->n; i++) {
+        budget_set_tolerance(&floor, b->src[i].key, 0.0);
+        if (b->src[i].kind == BUDGET_TOLERANCE)
+            budget_set_tolerance(&no_tol, b->src[i].key, 0.0);
+    }
+    if (progress)
+        progress("all sources", ++run, n_runs, ctx);
+    if ((rc = budget_monte_carlo(c, q->units, threads, b->angle, b->band, &b->all,
+                                 squares(q, 0, 0), squares(q, 0, 1), err, errlen)))
+        return rc;
+    if (progress)
+        progress("floor (nominal design, no noise)", ++run, n_runs, ctx);
+    if ((rc = budget_monte_carlo(&floor, q->units, threads, b->angle, b->band, &b->floor,
+                                 squares(q, 1, 0), squares(q, 1, 1), err, errlen)))
+        return rc;
+    for (int i = 0; i < b->n; i++) {
+        budget_source *s = &b->src[i];
+        sunmc_config t = floor;
+        budget_set_tolerance(&t, s->key, s->tolerance);
+        snprintf(what, sizeof what, "%s alone", s->name);
+        if (progress)
+            progress(what, ++run, n_runs, ctx);
+        if ((rc = budget_monte_carlo(&t, q->units, threads, b->angle, b->band, &s->alone,
+                                     squares(q, 2 + i, 0), squares(q, 2 + i, 1), err, errlen)))
+            return rc;
+    }
+    if (progress)
+        progress("no tolerance (design and noise)", ++run, n_runs, ctx);
+    return budget_monte_carlo(&no_tol, q->units, threads, b->angle, b->band, &b->no_tolerance,
+                              NULL, NULL, err, errlen);
 }
 
 int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
@@ -161,76 +263,28 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     if (rc)
         return rc;
     b->units = units;
-    int n_runs = 2 + 2 * b->n, run = 0;
-    char what[2 * CONFIG_STR_MAX];
-
-    sunmc_config none = *c;
-    for (int i = 0; i < b->n; i++)
-        budget_set_tolerance(&none, b->src[i].key, 0.0);
-    if (progress)
-        progress("all sources", ++run, n_runs, ctx);
-    if ((rc = budget_monte_carlo(c, units, threads, b->angle, b->band, &b->all, err, errlen)))
+    budget_squares q = {units, 2 + b->n, NULL};
+    q.sq = malloc((size_t)(2 * q.runs) * (size_t)(units > 0 ? units : 1) * sizeof *q.sq);
+    if (!q.sq)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units x %d runs",
+                          units, q.runs);
+    rc = budget_runs(c, b, &q, threads, progress, ctx, err, errlen);
+    if (rc == SUNMC_OK) {
+        b->paired_units = pair_units(&q);
+        if (shares(c, b, &q, b->paired_units, 0) || shares(c, b, &q, b->paired_units, 1))
+            rc = sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the shares");
+        rank_sources(b);
+    }
+    free(q.sq);
+    if (rc || !with_limits)
         return rc;
-    if (progress)
-        progress("no source (design and noise)", ++run, n_runs, ctx);
-    if ((rc = budget_monte_carlo(&none, units, threads, b->angle, b->band, &b->none, err, errlen)))
-        return rc;
-
     for (int i = 0; i < b->n; i++) {
-        budget_source *s = &b->src[i];
-        sunmc_config t = none;
-        budget_set_tolerance(&t, s->key, s->tolerance);
-        snprintf(what, sizeof what, "%s alone", s->name);
+        char what[2 * CONFIG_STR_MAX];
+        snprintf(what, sizeof what, "%s inverse limit", b->src[i].name);
         if (progress)
-            progress(what, ++run, n_runs, ctx);
-        if ((rc = budget_monte_carlo(&t, units, threads, b->angle, b->band, &s->alone, err,
-                                     errlen)))
+            progress(what, i + 1, b->n, ctx);
+        if ((rc = budget_inverse_limit(c, b, &b->src[i], threads, err, errlen)))
             return rc;
-        t = *c;
-        budget_set_tolerance(&t, s->key, 0.0);
-        snprintf(what, sizeof what, "%s removed", s->name);
-        if (progress)
-            progress(what, ++run, n_runs, ctx);
-        if ((rc = budget_monte_carlo(&t, units, threads, b->angle, b->band, &s->removed, err,
-                                     errlen)))
-            return rc;
-        s->share_removed_before = share(b->all.before_ms - s->removed.before_ms, b->all.before_ms);
-        s->share_removed_after = share(b->all.after_ms - s->removed.after_ms, b->all.after_ms);
-        s->share_alone_before = share(s->alone.before_ms - b->none.before_ms,
-                                      b->all.before_ms - b->none.before_ms);
-        s->share_alone_after = share(s->alone.after_ms - b->none.after_ms,
-                                     b->all.after_ms - b->none.after_ms);
     }
-
-    /* Rank on the after-calibration share removed (NaN last), ties by the
-     * share alone, then in key-table order: a stable insertion sort. */
-    for (int i = 0; i < b->n; i++)
-        b->order[i] = i;
-    for (int i = 1; i < b->n; i++) {
-        int x = b->order[i], j = i;
-        const budget_source *sx = &b->src[x];
-        while (j > 0) {
-            const budget_source *sy = &b->src[b->order[j - 1]];
-            double ax = isnan(sx->share_removed_after) ? -INFINITY : sx->share_removed_after;
-            double ay = isnan(sy->share_removed_after) ? -INFINITY : sy->share_removed_after;
-            int before = ax > ay || (ax == ay && sx->share_alone_after > sy->share_alone_after);
-            if (!before)
-                break;
-            b->order[j] = b->order[j - 1];
-            j--;
-        }
-        b->order[j] = x;
-    }
-    for (int i = 0; i < b->n; i++)
-        b->src[b->order[i]].rank = i + 1;
-
-    if (with_limits)
-        for (int i = 0; i < b->n; i++) {
-            snprintf(what, sizeof what, "%s inverse limit", b->src[i].name);
-            if (progress)
-                progress(what, i + 1, b->n, ctx);
-            if ((rc = inverse_limit(c, b, &b->src[i], threads, err, errlen)))
-                return rc;
-        }
     return SUNMC_OK;
 }
