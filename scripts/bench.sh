@@ -28,7 +28,7 @@ for cfg in configs/ess_type_a.ini configs/ess_type_b.ini configs/dss.ini; do
   t1=$(run "$cfg" 1)
   split=$(awk '/^profile: campaign/ { printf "%s %s %s", $3, $7, $11 }' "$tmp/prof")
   tn=$(run "$cfg" "$ALL")
-  awk -v c="$cfg" -v n="$UNITS" -v t1="$t1" -v tn="$tn" -v all="$ALL" -v split="$split" \
+  awk -v c="$cfg" -v n="$UNITS" -v t1="$t1" -v tn="$tn" -v all="$ALL" -v parts="$split" \
     'BEGIN { printf "%-24s %8d %14.3f %12.1f %7.2fx   %s (threads: %d)\n",
-             c, n, 1e3 * t1 / n, n / tn, t1 / tn, split, all }'
+             c, n, 1e3 * t1 / n, n / tn, t1 / tn, parts, all }'
 done
