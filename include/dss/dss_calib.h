@@ -59,6 +59,11 @@ typedef struct {
 int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double *alpha,
                    double *beta);
 
+/* The same for n spots at once (vectorised for the physical model; each
+ * gives the bits it gives alone): status[i] = SUNMC_OK or SUNMC_EDOM. */
+void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_px,
+                          const double *y_px, double *alpha, double *beta, int *status);
+
 typedef struct {
     size_t n;             /* readings */
     double *b1_rad;       /* recorded table angle about X, n */
@@ -66,6 +71,7 @@ typedef struct {
     double *x_px;         /* measured spot x, n */
     double *y_px;         /* measured spot y, n */
     double *weight;       /* n; 0 drops a reading */
+    /* (the five arrays above hold vm_pad(n) values, pads 0: vmath.h) */
 
     dss_design design;    /* the nominal design (start point, on-board formula) */
     int kind;             /* enum dss_model_kind */
@@ -74,6 +80,9 @@ typedef struct {
     int free_idx[DSS_NP]; /* physical: their dss_param indices */
     fit_workspace *fw;    /* physical: 2n x n_free; polynomial: n x n_terms */
     dss_model work;       /* physical: the residual function's model */
+    dss_table table;      /* physical: the table rotation of each reading */
+    double *sw;           /* physical: sqrt(weight), vm_pad(n) */
+    double *jscratch;     /* physical: Jacobian column of a parameter held fixed */
     double *basis;        /* polynomial: n x n_terms design matrix */
     double *target;       /* polynomial: the current axis's targets, n */
 } dss_calib_workspace;

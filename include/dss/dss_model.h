@@ -22,6 +22,8 @@
 #include "dss_config.h"
 #include "rotation.h"
 
+#include <stddef.h>
+
 enum dss_param {
     DSS_P_X0 = 0, /* pinhole foot x (mm): dx */
     DSS_P_Y0,     /* pinhole foot y (mm): dy */
@@ -62,5 +64,32 @@ int dss_model_spot(const dss_model *m, double b1, double b2, double spot_px[2],
  * cannot come from a sun in front of the sensor. */
 int dss_model_compensate(const dss_model *m, double x_px, double y_px, double *alpha,
                          double *beta);
+
+/* Readings per vectorised chunk of the batch forms. */
+#define DSS_CHUNK 64
+
+/* Rotary-table rotations R(b1, b2) of n points, structure of arrays for the
+ * fit: m[3 r + c][i] = R_i[r][c], each array vm_pad(n) values (vmath.h). */
+typedef struct {
+    size_t n;
+    double *m[9];
+} dss_table;
+
+/* Fill t from b1_rad, b2_rad (vm_pad(t->n) values each). */
+void dss_table_fill(dss_table *t, const double *b1_rad, const double *b2_rad);
+
+/* The fit's residuals and Jacobian at every point of t at once
+ * (vectorised), rows 2i (x) and 2i + 1 (y): f = sw (model - measured) px,
+ * col[j][row] = sw d model / d p_j, all 0 where sw[i] = 0 or the model has
+ * no spot.  Arrays of vm_pad(t->n) points (f and each col of twice that);
+ * col[j] may point to a scratch column for a parameter not fitted. */
+void dss_model_batch(const dss_model *m, const dss_table *t, const double *x_px,
+                     const double *y_px, const double *sw, double *f, double *const col[DSS_NP]);
+
+/* dss_model_compensate for n spots at once (vectorised; each gives the bits
+ * it gives alone): alpha[i], beta[i], status[i] = SUNMC_OK or SUNMC_EDOM.
+ * Returns SUNMC_EDOM if any failed. */
+int dss_model_compensate_batch(const dss_model *m, size_t n, const double *x_px,
+                               const double *y_px, double *alpha, double *beta, int *status);
 
 #endif

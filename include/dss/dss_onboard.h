@@ -12,6 +12,8 @@
 
 #include "dss_config.h"
 
+#include <stddef.h>
+
 /* The on-board formula: the nominal design as the sensor's software knows
  * it.  A spot at (x, y) px lies r = pixel_mm hypot(x, y) from the nominal
  * pinhole foot (the detector centre); the field angle theta solves
@@ -34,5 +36,11 @@ void dss_onboard_init(dss_onboard *o, const dss_design *d);
  * there. */
 int dss_onboard_angles(const dss_onboard *o, double x_px, double y_px, double *alpha,
                        double *beta);
+
+/* The same for k <= DSS_CHUNK spots at once (dss_model.h; arrays of
+ * vm_pad(k) values, pads any valid numbers: vmath.h): status[i] = SUNMC_OK
+ * or SUNMC_EDOM (angles NaN). */
+void dss_onboard_chunk(const dss_onboard *o, size_t k, const double *x_px, const double *y_px,
+                       double *alpha, double *beta, int *status);
 
 #endif

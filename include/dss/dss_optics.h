@@ -18,6 +18,8 @@
 #ifndef SUNMC_DSS_OPTICS_H
 #define SUNMC_DSS_OPTICS_H
 
+#include <stddef.h>
+
 /* Trace the ray through pinhole_mm[3] = (x0, y0, H) along -u through the
  * glass (gap_mm, t_mm, index n) to the detector: spot_mm[2].  SUNMC_EDOM when
  * the sun is at or below the horizon, or the glass does not fit under the
@@ -36,5 +38,12 @@ double dss_optics_q(const double u[3], double H_mm, double t_mm, double n,
  * foot: the inverse of r = (H - t) tan(theta) + t tan(theta_g), by Newton's
  * method (r is monotonic in theta).  SUNMC_EDOM if it does not converge. */
 int dss_optics_field_angle(double r_mm, double H_mm, double t_mm, double n, double *theta);
+
+/* The same for k <= DSS_CHUNK (dss_model.h) radial distances at once, by
+ * Newton on arrays (vectorised, dss_model_batch.c: each lane iterates as
+ * one alone would): theta[i], failed[i] = 1 where it did not converge.
+ * Arrays of vm_pad(k) values (vmath.h), r_mm's pads any valid numbers. */
+void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm, double n,
+                           double *theta, long *failed);
 
 #endif

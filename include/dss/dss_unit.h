@@ -61,6 +61,33 @@ int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream 
                            double b2_rad, double *x_px, double *y_px, double *a0_rad,
                            double *b0_rad);
 
+/* One campaign point as the lab records it (dss_campaign_batch). */
+typedef struct {
+    double b1_true_rad, b2_true_rad; /* where the table really stood */
+    double x_px, y_px;               /* mean over the repeats; NaN if not seen */
+    int seen;
+} dss_campaign_point;
+
+/* The readings of n campaign points at recorded table angles (b1, b2) rad,
+ * their draws taken from r in the order of dss_unit_campaign (per point the
+ * two encoder errors, then per repeat the two centroid noises), computed in
+ * vectorised chunks (dss_readings.c). */
+void dss_campaign_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
+                        const double *b1_rad, const double *b2_rad, dss_campaign_point *out);
+
+/* One validation point (dss_validation_batch). */
+typedef struct {
+    double x_px, y_px;             /* with centroid noise */
+    double x0_px, y0_px;           /* the same reading without noise */
+    double alpha0_rad, beta0_rad;  /* the table's truth, eq. 3-4 */
+    int seen;                      /* 0: spot off the detector (x, y meaningless) */
+} dss_validation_point;
+
+/* n validation readings, as n calls of dss_validation_reading on r (the
+ * same draws, the same bits), plus each reading without its noise. */
+void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
+                          const double *b1_rad, const double *b2_rad, dss_validation_point *out);
+
 int dss_par_names(const sunmc_config *c, const char **names, int max);
 int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
                    double rcond, double *out, int max);

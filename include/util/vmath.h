@@ -1,6 +1,7 @@
 /* vmath.h - vectorised transcendental functions for the kernel loops.
  *
- * The per-unit work is dominated by sin, cos, atan, atan2, log (a unit of
+ * The per-unit work is dominated by sin, cos, tan, atan, atan2, asin, hypot
+ * and log (a unit of
  * the ESS needs about 250,000 of them).  Kernel files (the Makefile's
  * KERNEL_SRC, compiled with -DSUNMC_VMATH -fno-math-errno
  * -fno-trapping-math -fno-builtin-sin -fno-builtin-cos) write their loops
@@ -50,6 +51,10 @@ double atan(double) __attribute__((const));
 double atan2(double, double) __attribute__((const));
 #pragma omp declare simd notinbranch
 double log(double) __attribute__((const));
+#pragma omp declare simd notinbranch
+double asin(double) __attribute__((const));
+#pragma omp declare simd notinbranch
+double hypot(double, double) __attribute__((const));
 #endif
 #endif
 

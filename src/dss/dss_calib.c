@@ -1,9 +1,11 @@
 /* dss_calib.c - fitting the DSS calibration models (see dss_calib.h). */
 #include "dss_calib.h"
 #include "dss_rotation.h"
+#include "dss_score.h"
 #include "dss_sensor.h"
 #include "status.h"
 #include "units.h"
+#include "vmath.h"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_math.h>
@@ -20,6 +22,19 @@ int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double 
     return dss_model_compensate(&cal->phys, x_px, y_px, alpha, beta);
 }
 
+void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_px,
+                          const double *y_px, double *alpha, double *beta, int *status)
+{
+    if (cal->kind != DSS_MODEL_POLYNOMIAL) {
+        dss_model_compensate_batch(&cal->phys, n, x_px, y_px, alpha, beta, status);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        dss_poly_compensate(&cal->poly, x_px[i], y_px[i], &alpha[i], &beta[i]);
+        status[i] = SUNMC_OK;
+    }
+}
+
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index)
 {
@@ -32,11 +47,11 @@ dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, in
     cw->design = *d;
     cw->kind = kind;
     cw->poly_order = poly_order;
-    cw->b1_rad = calloc(n, sizeof(double));
-    cw->b2_rad = calloc(n, sizeof(double));
-    cw->x_px = calloc(n, sizeof(double));
-    cw->y_px = calloc(n, sizeof(double));
-    cw->weight = calloc(n, sizeof(double));
+    cw->b1_rad = vm_alloc(n);
+    cw->b2_rad = vm_alloc(n);
+    cw->x_px = vm_alloc(n);
+    cw->y_px = vm_alloc(n);
+    cw->weight = vm_alloc(n);
     int ok = cw->b1_rad && cw->b2_rad && cw->x_px && cw->y_px && cw->weight;
     if (ok && kind == DSS_MODEL_POLYNOMIAL) {
         size_t nt = (size_t)dss_poly_n_terms(poly_order);
@@ -48,9 +63,16 @@ dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, in
         for (int j = 0; j < DSS_NP; j++)
             if (j != DSS_P_N || fit_index)
                 cw->free_idx[cw->n_free++] = j;
-        cw->fw = 2 * n > (size_t)cw->n_free ? fit_workspace_alloc(2 * n, (size_t)cw->n_free)
-                                              : NULL;
-        ok = cw->fw != NULL;
+        /* rows 2i, 2i + 1 of every padded point: the pads' rows stay 0 */
+        cw->fw = 2 * n > (size_t)cw->n_free
+                     ? fit_workspace_alloc(2 * vm_pad(n), (size_t)cw->n_free)
+                     : NULL;
+        cw->table.n = n;
+        for (int k = 0; k < 9; k++)
+            ok &= (cw->table.m[k] = vm_alloc(n)) != NULL;
+        ok &= (cw->sw = vm_alloc(n)) != NULL;
+        ok &= (cw->jscratch = vm_alloc(2 * vm_pad(n))) != NULL;
+        ok &= cw->fw != NULL;
     }
     if (!ok) {
         dss_calib_free(cw);
@@ -70,6 +92,10 @@ void dss_calib_free(dss_calib_workspace *cw)
     free(cw->weight);
     free(cw->basis);
     free(cw->target);
+    for (int k = 0; k < 9; k++)
+        free(cw->table.m[k]);
+    free(cw->sw);
+    free(cw->jscratch);
     fit_workspace_free(cw->fw);
     free(cw);
 }
@@ -83,23 +109,18 @@ static void load_params(dss_calib_workspace *cw, const double *x)
     dss_model_prepare(&cw->work);
 }
 
-/* Spot residuals and their Jacobian together (fit_fdf): rows 2i, 2i + 1. */
+/* Spot residuals and their Jacobian together (fit_fdf): rows 2i, 2i + 1,
+ * every point in one vectorised pass over the cached table rotations. */
 static int phys_fdf(const double *x, void *params, double *f, double *J, size_t ld)
 {
     dss_calib_workspace *cw = params;
     load_params(cw, x);
-    size_t nf = (size_t)cw->n_free;
-    for (size_t i = 0; i < cw->n; i++) {
-        double sp[2], g[2][DSS_NP];
-        int use = cw->weight[i] > 0 &&
-                  dss_model_spot(&cw->work, cw->b1_rad[i], cw->b2_rad[i], sp, g) == SUNMC_OK;
-        double sw = use ? sqrt(cw->weight[i]) : 0.0;
-        f[2 * i] = use ? sw * (sp[0] - cw->x_px[i]) : 0.0;
-        f[2 * i + 1] = use ? sw * (sp[1] - cw->y_px[i]) : 0.0;
-        for (int a = 0; a < 2; a++)
-            for (size_t k = 0; k < nf; k++)
-                J[k * ld + 2 * i + (size_t)a] = use ? sw * g[a][cw->free_idx[k]] : 0.0;
-    }
+    double *col[DSS_NP];
+    for (int j = 0; j < DSS_NP; j++)
+        col[j] = cw->jscratch;
+    for (int k = 0; k < cw->n_free; k++)
+        col[cw->free_idx[k]] = J + (size_t)k * ld;
+    dss_model_batch(&cw->work, &cw->table, cw->x_px, cw->y_px, cw->sw, f, col);
     return GSL_SUCCESS;
 }
 
@@ -122,6 +143,9 @@ static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibra
         res->status = GSL_EINVAL;
         return SUNMC_EINPUT;
     }
+    dss_table_fill(&cw->table, cw->b1_rad, cw->b2_rad);
+    for (size_t i = 0; i < vm_pad(cw->n); i++)
+        cw->sw[i] = i < cw->n && cw->weight[i] > 0 ? sqrt(cw->weight[i]) : 0.0;
     double x[DSS_NP];
     for (int k = 0; k < cw->n_free; k++)
         x[k] = cw->work.p[cw->free_idx[k]];
@@ -220,20 +244,23 @@ int dss_calibrate(dss_calib_workspace *cw, int max_iter, dss_calibration *out, f
 
 double dss_calib_residual_rms(const dss_calib_workspace *cw, const dss_calibration *cal)
 {
+    _Alignas(VM_ALIGN) double a[DSS_CHUNK], b[DSS_CHUNK], a0[DSS_CHUNK], b0[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double e[DSS_CHUNK];
+    int st[DSS_CHUNK];
     double sum = 0.0;
     size_t k = 0;
-    for (size_t i = 0; i < cw->n; i++) {
-        if (!(cw->weight[i] > 0))
-            continue;
-        double a, b, a0, b0, u[3], v[3];
-        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
-            continue;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-        dss_vector_of(a, b, u);
-        dss_vector_of(a0, b0, v);
-        double e = dss_angle_between(u, v);
-        sum += e * e;
-        k++;
+    /* chunks of the padded arrays (vm_pad(n) values each) */
+    for (size_t i0 = 0; i0 < cw->n; i0 += DSS_CHUNK) {
+        size_t m = cw->n - i0 < DSS_CHUNK ? cw->n - i0 : DSS_CHUNK;
+        dss_compensate_batch(cal, vm_pad(m), cw->x_px + i0, cw->y_px + i0, a, b, st);
+        dss_table_truth_batch(m, cw->b1_rad + i0, cw->b2_rad + i0, a0, b0);
+        dss_total_error_chunk(m, a, b, a0, b0, e);
+        for (size_t q = 0; q < m; q++) {
+            if (!(cw->weight[i0 + q] > 0) || st[q] != SUNMC_OK)
+                continue;
+            sum += e[q] * e[q];
+            k++;
+        }
     }
     return k ? sqrt(sum / (double)k) : GSL_NAN;
 }

@@ -1,5 +1,6 @@
 /* dss_centroid.c - S-curve centroid bias of a disc spot (see dss_centroid.h). */
 #include "dss_centroid.h"
+#include "dss_lane.h"
 #include "units.h"
 
 #include <gsl/gsl_sf_bessel.h>
@@ -17,16 +18,7 @@ void dss_scurve_amplitudes(double spot_px, double amp_px[DSS_SCURVE_HARMONICS])
     }
 }
 
-double dss_scurve_bias(const double amp_px[DSS_SCURVE_HARMONICS], double x_px)
+VM_NOSAN double dss_scurve_bias(const double amp_px[DSS_SCURVE_HARMONICS], double x_px)
 {
-    /* sin(2 pi k x) by the recurrence s_{k+1} = 2 cos(w) s_k - s_{k-1}. */
-    double w = 2.0 * M_PI * x_px, c2 = 2.0 * cos(w);
-    double s_prev = 0.0, s_k = sin(w), b = 0.0;
-    for (int k = 1; k <= DSS_SCURVE_HARMONICS; k++) {
-        b += amp_px[k - 1] * s_k;
-        double s_next = c2 * s_k - s_prev;
-        s_prev = s_k;
-        s_k = s_next;
-    }
-    return b;
+    return dss_lane_scurve(amp_px, x_px, 0.0).x;
 }

@@ -1,7 +1,7 @@
 /* dss_sensor.c - one DSS unit: deviations, construction, spot and on-board
  * angles (see dss_sensor.h). */
 #include "dss_sensor.h"
-#include "dss_optics.h"
+#include "dss_lane.h"
 #include "dss_rotation.h"
 #include "rng.h"
 #include "status.h"
@@ -9,10 +9,6 @@
 
 #include <math.h>
 #include <string.h>
-
-/* The plane-parallel glass may sit anywhere under the pinhole (dss_optics.h);
- * it is traced lying on the detector. */
-#define DSS_GLASS_GAP_MM 0.0
 
 _Static_assert(sizeof(dss_deviations) == DSS_N_DEV * sizeof(double),
                "dss_deviations: one double per column of DSS_DEVIATIONS");
@@ -61,46 +57,26 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
 }
 
-void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u[3])
+VM_NOSAN void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u[3])
 {
-    mat3 R;
-    double w[3];
-    dss_table_rotation(b1, b2, R);
-    mat3_vec(R, s->v0, w);
-    mat3_vec(s->M, w, u);
+    dss_v3 v = dss_lane_sun(s, b1, b2);
+    u[0] = v.x;
+    u[1] = v.y;
+    u[2] = v.z;
 }
 
-int dss_sensor_spot(const dss_sensor *s, const double u[3], const double noise_px[2],
-                    double *x_px, double *y_px)
+VM_NOSAN int dss_sensor_spot(const dss_sensor *s, const double u[3], const double noise_px[2],
+                             double *x_px, double *y_px)
 {
-    double spot[2];
-    int st = dss_optics_trace(u, s->pinhole_mm, DSS_GLASS_GAP_MM, s->glass_t_mm, s->glass_n, spot);
-    if (st != SUNMC_OK)
-        return st;
-    double lim = s->half_side_mm - 0.5 * s->spot_px * s->pixel_mm;
-    if (fabs(spot[0]) > lim || fabs(spot[1]) > lim)
+    dss_lane_spot sp = dss_lane_sensor_spot(s, dss_lane_v3_of(u));
+    if (!sp.ok)
         return SUNMC_EDOM;
-    double x = spot[0] / s->pixel_mm, y = spot[1] / s->pixel_mm;
-    if (s->s_curve) {
-        x += dss_scurve_bias(s->scurve_amp_px, x - s->pixel_phase_px);
-        y += dss_scurve_bias(s->scurve_amp_px, y - s->pixel_phase_px);
-    }
-    if (noise_px) {
-        x += noise_px[0];
-        y += noise_px[1];
-    }
-    *x_px = x;
-    *y_px = y;
+    *x_px = noise_px ? sp.x + noise_px[0] : sp.x;
+    *y_px = noise_px ? sp.y + noise_px[1] : sp.y;
     return SUNMC_OK;
 }
 
-int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double noise_px[2],
-                    double *x_px, double *y_px)
-{
-    double u[3];
-    dss_sensor_sun(s, b1, b2, u);
-    return dss_sensor_spot(s, u, noise_px, x_px, y_px);
-}
+/* dss_sensor_read: dss_readings.c, as the batches. */
 
 int dss_sensor_angles(const dss_sensor *s, double x_px, double y_px, double *alpha,
                       double *beta)

@@ -4,10 +4,12 @@
 #include "dss_curve.h"
 #include "dss_lab.h"
 #include "dss_rotation.h"
+#include "dss_score.h"
 #include "family.h"
 #include "rng.h"
 #include "status.h"
 #include "units.h"
+#include "vmath.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -52,40 +54,31 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
 {
     const dss_config *dc = dss_cfg(c);
     long nb = cal_axis_count(c);
-    double enc = c->encoder_arcsec * RAD_PER_ARCSEC;
-    double sigma = dc->noise.centroid_px;
+    size_t n = (size_t)nb * (size_t)nb, seen = 0;
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
-    size_t seen = 0, i = 0;
-    for (long j1 = 0; j1 < nb; j1++)
-        for (long j2 = 0; j2 < nb; j2++, i++) {
-            double b1 = (dc->cal_b_min_deg + (double)j1 * dc->cal_b_step_deg) * RAD_PER_DEG;
-            double b2 = (dc->cal_b_min_deg + (double)j2 * dc->cal_b_step_deg) * RAD_PER_DEG;
-            /* The table really stands at the recorded angles plus the encoder
-             * error; the draws are made for every point so that a point's
-             * noise does not depend on whether others are seen. */
-            double b1_true = b1 + enc * rng_normal(&r);
-            double b2_true = b2 + enc * rng_normal(&r);
-            double sx = 0.0, sy = 0.0;
-            int ok = 1;
-            for (int rep = 0; rep < c->cal_repeats; rep++) {
-                double noise[2], x, y;
-                noise[0] = sigma * rng_normal(&r);
-                noise[1] = sigma * rng_normal(&r);
-                if (dss_sensor_read(&u->sensor, b1_true, b2_true, noise, &x, &y) != SUNMC_OK)
-                    ok = 0;
-                sx += x;
-                sy += y;
-            }
-            b1_rad[i] = b1;
-            b2_rad[i] = b2;
-            x_px[i] = ok ? sx / c->cal_repeats : NAN;
-            y_px[i] = ok ? sy / c->cal_repeats : NAN;
-            weight[i] = ok ? 1.0 : 0.0;
-            seen += (size_t)ok;
+    for (size_t i = 0; i < n; i++) {
+        b1_rad[i] = (dc->cal_b_min_deg + (double)(i / (size_t)nb) * dc->cal_b_step_deg) * RAD_PER_DEG;
+        b2_rad[i] = (dc->cal_b_min_deg + (double)(i % (size_t)nb) * dc->cal_b_step_deg) * RAD_PER_DEG;
+    }
+    /* The table really stands at the recorded angles plus the encoder error;
+     * the draws are made for every point so that a point's noise does not
+     * depend on whether others are seen. */
+    for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
+        dss_campaign_point p[DSS_CHUNK];
+        size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
+        dss_campaign_batch(c, u, &r, k, b1_rad + i0, b2_rad + i0, p);
+        for (size_t q = 0; q < k; q++) {
+            size_t i = i0 + q;
+            x_px[i] = p[q].x_px;
+            y_px[i] = p[q].y_px;
+            weight[i] = p[q].seen ? 1.0 : 0.0;
+            seen += (size_t)p[q].seen;
             if (truth_alpha_rad && truth_beta_rad)
-                dss_table_truth(b1_true, b2_true, &truth_alpha_rad[i], &truth_beta_rad[i]);
+                dss_table_truth(p[q].b1_true_rad, p[q].b2_true_rad, &truth_alpha_rad[i],
+                                &truth_beta_rad[i]);
         }
+    }
     return seen;
 }
 
@@ -151,32 +144,69 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 
 static void dss_ws_free(void *ws) { dss_calib_free(ws); }
 
-/* Field angle (deg) of the sun direction with angles (alpha, beta). */
-static double field_angle_deg(double alpha, double beta)
-{
-    return atan(hypot(tan(alpha), tan(beta))) * DEG_PER_RAD;
-}
-
-/* Add one validation reading's errors (rad) to the accumulators. */
-static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, double field_deg,
-                       double a, double b, double a0, double b0)
-{
-    double u[3], v[3];
-    dss_vector_of(a, b, u);
-    dss_vector_of(a0, b0, v);
-    band_acc_add(&acc[ANGLE_ALPHA], bands, field_deg, a - a0);
-    band_acc_add(&acc[ANGLE_BETA], bands, field_deg, b - b0);
-    band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, dss_angle_between(u, v));
-}
-
 int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream *r, double b1_rad,
                            double b2_rad, double *x_px, double *y_px, double *a0_rad,
                            double *b0_rad)
 {
-    double sigma = dss_cfg(c)->noise.centroid_px;
-    double noise[2] = {sigma * rng_normal(r), sigma * rng_normal(r)};
-    dss_table_truth(b1_rad, b2_rad, a0_rad, b0_rad);
-    return dss_sensor_read(&u->sensor, b1_rad, b2_rad, noise, x_px, y_px);
+    dss_validation_point p;
+    dss_validation_batch(c, u, r, 1, &b1_rad, &b2_rad, &p);
+    *a0_rad = p.alpha0_rad;
+    *b0_rad = p.beta0_rad;
+    if (!p.seen)
+        return SUNMC_EDOM;
+    *x_px = p.x_px;
+    *y_px = p.y_px;
+    return SUNMC_OK;
+}
+
+/* One validation chunk of k points, scored in vectorised passes: the
+ * on-board angles, the truth's field angle and, with a fit, the
+ * compensated angles of the noisy and of the noiseless readings, each with
+ * its total angle error.  Arrays of DSS_CHUNK, the pads repeating lane 0. */
+typedef struct {
+    _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK], x0[DSS_CHUNK], y0[DSS_CHUNK];
+    double a0[DSS_CHUNK], b0[DSS_CHUNK], field[DSS_CHUNK];
+    double am[DSS_CHUNK], bm[DSS_CHUNK], tm[DSS_CHUNK];  /* before calibration */
+    double ac[DSS_CHUNK], bc[DSS_CHUNK], tc[DSS_CHUNK];  /* after */
+    double as[DSS_CHUNK], bs[DSS_CHUNK], ts[DSS_CHUNK];  /* after, without noise */
+    int seen[DSS_CHUNK], st_m[DSS_CHUNK], st_c[DSS_CHUNK], st_s[DSS_CHUNK];
+} dss_val_chunk;
+
+static void validation_chunk(const sunmc_config *c, const dss_unit *u, const dss_calibration *cal,
+                             rng_stream *r, size_t k, const double *b1, const double *b2,
+                             int fit_ok, dss_val_chunk *v)
+{
+    dss_validation_point p[DSS_CHUNK];
+    dss_validation_batch(c, u, r, k, b1, b2, p);
+    for (size_t i = 0; i < vm_pad(k); i++) {
+        const dss_validation_point *q = &p[i < k ? i : 0];
+        v->x[i] = q->x_px;
+        v->y[i] = q->y_px;
+        v->x0[i] = q->x0_px;
+        v->y0[i] = q->y0_px;
+        v->a0[i] = q->alpha0_rad;
+        v->b0[i] = q->beta0_rad;
+        v->seen[i] = q->seen;
+    }
+    const dss_sensor *s = &u->sensor;
+    dss_onboard_chunk(&s->onboard, k, v->x, v->y, v->am, v->bm, v->st_m);
+    dss_field_chunk(k, v->a0, v->b0, v->field);
+    dss_total_error_chunk(k, v->am, v->bm, v->a0, v->b0, v->tm);
+    if (!fit_ok)
+        return;
+    dss_compensate_batch(cal, vm_pad(k), v->x, v->y, v->ac, v->bc, v->st_c);
+    dss_total_error_chunk(k, v->ac, v->bc, v->a0, v->b0, v->tc);
+    dss_compensate_batch(cal, vm_pad(k), v->x0, v->y0, v->as, v->bs, v->st_s);
+    dss_total_error_chunk(k, v->as, v->bs, v->a0, v->b0, v->ts);
+}
+
+/* Add one validation reading's errors (rad) to the accumulators. */
+static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, double field_deg,
+                       double a, double b, double a0, double b0, double total)
+{
+    band_acc_add(&acc[ANGLE_ALPHA], bands, field_deg, a - a0);
+    band_acc_add(&acc[ANGLE_BETA], bands, field_deg, b - b0);
+    band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, total);
 }
 
 /* Score the unit on its validation grid, table at exactly the set angles,
@@ -187,7 +217,6 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
                               const dss_calibration *cal, long unit, unit_result *res)
 {
     const dss_config *dc = dss_cfg(c);
-    static const double no_noise[2] = {0.0, 0.0};
     band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES], after_sys[DSS_N_ANGLES];
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         band_acc_reset(&before[a]);
@@ -198,32 +227,39 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
     unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long nb =
         grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
-    for (long j1 = 0; j1 < nb; j1++)
-        for (long j2 = 0; j2 < nb; j2++) {
-            double b1 =
-                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j1 * dc->val_b_step_deg) *
-                RAD_PER_DEG;
-            double b2 =
-                (dc->val_b_min_deg + dc->val_b_offset_deg + (double)j2 * dc->val_b_step_deg) *
-                RAD_PER_DEG;
-            double x, y, a0, b0, am, bm, ac, bc;
-            if (dss_validation_reading(c, u, &r, b1, b2, &x, &y, &a0, &b0) != SUNMC_OK)
+    size_t n = (size_t)nb * (size_t)nb;
+    dss_val_chunk v;
+    for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
+        size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
+        double b1[DSS_CHUNK], b2[DSS_CHUNK];
+        for (size_t q = 0; q < k; q++) {
+            size_t i = i0 + q;
+            b1[q] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                     (double)(i / (size_t)nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+            b2[q] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                     (double)(i % (size_t)nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+        }
+        validation_chunk(c, u, cal, &r, k, b1, b2, res->fit_status == UNIT_FIT_OK, &v);
+        for (size_t q = 0; q < k; q++) {
+            if (!v.seen[q])
                 continue;
-            double field = field_angle_deg(a0, b0);
-            if (dss_sensor_angles(&u->sensor, x, y, &am, &bm) != SUNMC_OK)
+            if (v.st_m[q] != SUNMC_OK)
                 continue; /* beyond 86 deg: no spot on any detector of the config */
-            add_errors(before, &c->bands_deg, field, am, bm, a0, b0);
+            add_errors(before, &c->bands_deg, v.field[q], v.am[q], v.bm[q], v.a0[q], v.b0[q],
+                       v.tm[q]);
             if (res->fit_status != UNIT_FIT_OK)
                 continue;
-            if (dss_compensate(cal, x, y, &ac, &bc) != SUNMC_OK) {
+            if (v.st_c[q] != SUNMC_OK) {
                 res->fit_status = UNIT_FIT_FAILED;
                 continue;
             }
-            add_errors(after, &c->bands_deg, field, ac, bc, a0, b0);
-            if (dss_sensor_read(&u->sensor, b1, b2, no_noise, &x, &y) == SUNMC_OK &&
-                dss_compensate(cal, x, y, &ac, &bc) == SUNMC_OK)
-                add_errors(after_sys, &c->bands_deg, field, ac, bc, a0, b0);
+            add_errors(after, &c->bands_deg, v.field[q], v.ac[q], v.bc[q], v.a0[q], v.b0[q],
+                       v.tc[q]);
+            if (v.st_s[q] == SUNMC_OK)
+                add_errors(after_sys, &c->bands_deg, v.field[q], v.as[q], v.bs[q], v.a0[q],
+                           v.b0[q], v.ts[q]);
         }
+    }
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
         unit_result_set_sys(res, a, &after_sys[a], &c->bands_deg, ARCSEC_PER_RAD);

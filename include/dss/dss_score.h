@@ -1,0 +1,23 @@
+/* dss_score.h - scoring DSS readings against the table's truth, many at a
+ * time (vectorised, dss_score.c): the on-board angles of spots, the field
+ * angle of the truth and the total angle error.  Arrays hold vm_pad(k)
+ * values (vmath.h), the pads any valid numbers. */
+#ifndef SUNMC_DSS_SCORE_H
+#define SUNMC_DSS_SCORE_H
+
+#include <stddef.h>
+
+/* The table's truth angles (eq. 3-4, dss_table_truth) of k positions. */
+void dss_table_truth_batch(size_t k, const double *b1, const double *b2, double *alpha,
+                           double *beta);
+
+/* Field angle (deg) of the directions with angles (alpha0, beta0) rad:
+ * atan(hypot(tan alpha0, tan beta0)). */
+void dss_field_chunk(size_t k, const double *alpha0, const double *beta0, double *field_deg);
+
+/* The angle (rad) between the directions of (alpha, beta) and of
+ * (alpha0, beta0): dss_angle_between of their dss_vector_of. */
+void dss_total_error_chunk(size_t k, const double *alpha, const double *beta,
+                           const double *alpha0, const double *beta0, double *total);
+
+#endif

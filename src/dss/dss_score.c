@@ -1,0 +1,34 @@
+/* dss_score.c - scoring DSS readings in vectorised chunks (see dss_score.h;
+ * the formulas are dss_lane.h's). */
+#include "dss_score.h"
+#include "dss_lane.h"
+#include "units.h"
+#include "vmath.h"
+
+#include <math.h>
+
+VM_KERNEL void dss_table_truth_batch(size_t k, const double *b1, const double *b2, double *alpha,
+                                     double *beta)
+{
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        alpha[i] = -b2[i];
+        beta[i] = dss_lane_truth_beta(b1[i], b2[i]);
+    }
+}
+
+VM_KERNEL void dss_field_chunk(size_t k, const double *alpha0, const double *beta0,
+                               double *field_deg)
+{
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++)
+        field_deg[i] = atan(hypot(tan(alpha0[i]), tan(beta0[i]))) * DEG_PER_RAD;
+}
+
+VM_KERNEL void dss_total_error_chunk(size_t k, const double *alpha, const double *beta,
+                                     const double *alpha0, const double *beta0, double *total)
+{
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        dss_v3 u = dss_lane_vector_of(tan(alpha[i]), tan(beta[i]));
+        dss_v3 v = dss_lane_vector_of(tan(alpha0[i]), tan(beta0[i]));
+        total[i] = dss_lane_angle_between(u, v);
+    }
+}
