@@ -44,16 +44,21 @@ static int exists(const char *path)
 
 /* Entries of d whose name starts with '.' (temporaries, probes), besides
  * "." and ".." and the marker. */
+/* Hidden entries left in d, not counting the checkpoints of interrupted
+ * runs (.NAME.resume, kept on purpose for run --resume). */
 static int hidden_entries(const char *d)
 {
     DIR *h = opendir(d);
     assert_non_null(h);
     int n = 0;
     struct dirent *e;
-    while ((e = readdir(h)) != NULL)
+    while ((e = readdir(h)) != NULL) {
+        size_t len = strlen(e->d_name);
+        int checkpoint = len > 7 && strcmp(e->d_name + len - 7, ".resume") == 0;
         if (e->d_name[0] == '.' && strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0 &&
-            strcmp(e->d_name, OUT_MARKER) != 0)
+            strcmp(e->d_name, OUT_MARKER) != 0 && !checkpoint)
             n++;
+    }
     closedir(h);
     return n;
 }

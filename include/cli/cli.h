@@ -37,6 +37,7 @@ typedef struct {
     const char *sensor;               /* calibrate --sensor */
     const char *until;                /* run --until STAT:HALFWIDTH */
     long shard_k, shard_n;            /* run --shard K/N; shard_n = 0: none */
+    int resume;                       /* run --resume */
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the

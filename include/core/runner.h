@@ -5,8 +5,10 @@
 #ifndef SUNMC_RUNNER_H
 #define SUNMC_RUNNER_H
 
+#include "checkpoint.h"
 #include "montecarlo.h"
 #include "report.h"
+#include "status.h"
 #include "unitfile.h"
 
 #include <stdio.h>
@@ -30,6 +32,9 @@ typedef struct {
     unitfile_layout layout;
     double phase_s[UNIT_PHASES];     /* summed over the units (run --profile) */
     run_until *until;                /* NULL: run every unit */
+    checkpoint *ckpt;                /* each block committed here when non-NULL */
+    int ckpt_status;                 /* the first checkpoint error (then no more) */
+    char ckpt_err[SUNMC_ERRLEN];
 } run_sink;
 
 /* units_tsv and units_bin may be NULL (no per-unit rows, records); their

@@ -75,6 +75,10 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
             o->reference = 1;
             continue;
         }
+        if (strcmp(name, "resume") == 0) {
+            o->resume = 1;
+            continue;
+        }
         if (i + 1 >= argc)
             return bad(command, "option needs a value", a);
         const char *v = argv[++i];

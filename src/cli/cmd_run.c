@@ -3,6 +3,7 @@
 #include "montecarlo.h"
 #include "output.h"
 #include "report.h"
+#include "checkpoint.h"
 #include "runner.h"
 #include "status.h"
 
@@ -14,12 +15,15 @@
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
-    "                 [--until STAT:HALFWIDTH] [--shard K/N]\n"
+    "                 [--until STAT:HALFWIDTH] [--shard K/N] [--resume]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
     "--out DIR writes summary.tsv, units.tsv, config.ini, manifest.ini and units.bin (the\n"
     "per-unit results at full precision, for `sunmc merge`), all or nothing.\n"
     "--shard K/N runs the K-th (0..N-1) of N near-equal parts of the units, for merge.\n"
+    "With --out, completed blocks are checkpointed beside DIR (.NAME.resume/); after an\n"
+    "interruption (Ctrl-C, SIGTERM, kill -9, power cut) the same command with --resume\n"
+    "runs the missing blocks only and ends with the files of an uninterrupted run.\n"
     "--until STAT:HALFWIDTH runs blocks of run.block_units units until the half-width of\n"
     "STAT's interval in the widest band is at most HALFWIDTH (STAT's unit; yield as a\n"
     "fraction) or --units N / run.units is reached; the result is that of a fixed run of\n"
@@ -160,82 +164,194 @@ static void until_line(char *buf, size_t len, const char *arg, const run_until *
                  "(--units N or run.units); run more units", arg, u->reached, band, done);
 }
 
+/* One `sunmc run`: its options, config, unit range, files and checkpoint. */
+typedef struct {
+    cli_options o;
+    config_state st;
+    long first, end;
+    int threads;
+    run_until until;
+    summary_row *rows;
+    cli_run_files rf;
+    run_sink r;
+    checkpoint ckpt;
+    int has_ckpt;
+    long replayed;          /* units taken from the checkpoint */
+} run_job;
+
+/* Options, config, unit range and --until; prints errors, returns an exit code. */
+static int job_setup(run_job *j, int argc, char **argv)
+{
+    int rc = cli_parse(argc, argv, 2, "run",
+                       "CONFIG units seed threads set out quiet profile until shard resume", &j->o);
+    if (rc)
+        return rc;
+    if (j->o.resume && !j->o.out) {
+        fprintf(stderr, "sunmc run: --resume needs the --out DIR of the interrupted run\n");
+        return EXIT_BAD_INPUT;
+    }
+    if ((rc = cli_config(&j->o, &j->st)))
+        return rc;
+    const sunmc_config *c = &j->st.cfg;
+    j->first = j->o.end >= 0 ? j->o.first : 0;
+    j->end = j->o.end >= 0 ? j->o.end : c->units;
+    j->threads = cli_threads(&j->o, c);
+    if (j->o.until && (rc = parse_until(j->o.until, c, j->first, &j->until)))
+        return rc;
+    if (j->o.shard_n > 0 && (rc = shard_range(&j->o, c, &j->first, &j->end)))
+        return rc;
+    return 0;
+}
+
+/* The checkpoint beside --out: resumed (--resume, same run) or new.  A
+ * checkpoint of another run is refused on --resume; without --resume an
+ * earlier one is discarded, saying so. */
+static int job_checkpoint(run_job *j, char *err, size_t errlen)
+{
+    const sunmc_config *c = &j->st.cfg;
+    run_manifest m;
+    manifest_of(&j->st, j->first, j->end, &m);
+    int found = 0, st = SUNMC_OK;
+    if (j->o.resume) {
+        st = checkpoint_open(&j->ckpt, j->o.out, &m, c->block_units, &j->r.layout, &found, err,
+                             errlen);
+        if (st != SUNMC_OK)
+            return st;
+        if (!found)
+            fprintf(stderr, "sunmc run: --resume: no checkpoint of %s; running every unit\n",
+                    j->o.out);
+        else if (!j->o.quiet)
+            fprintf(stderr, "sunmc run: resuming %s: %ld of units %ld:%ld done\n", j->o.out,
+                    j->ckpt.done, j->first, j->end);
+    }
+    if (!found) {
+        long old;
+        checkpoint_remove(j->o.out, &old);
+        if (old >= 0)
+            fprintf(stderr, "sunmc run: discarded the checkpoint of an interrupted run into %s "
+                            "(%ld units; --resume continues one)\n", j->o.out, old);
+        st = checkpoint_create(&j->ckpt, j->o.out, &m, c->block_units, &j->r.layout, err, errlen);
+    }
+    j->has_ckpt = st == SUNMC_OK;
+    return st;
+}
+
+/* Rows, files, the streaming sink and the checkpoint. */
+static int job_open(run_job *j, char *err, size_t errlen)
+{
+    const sunmc_config *c = &j->st.cfg;
+    j->rows = calloc((size_t)report_n_rows(c, c->family), sizeof *j->rows);
+    if (!j->rows)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    int st = cli_run_files_begin(&j->rf, j->o.out, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    st = run_sink_init(&j->r, c, c->family, j->rf.f[RUN_FILE_UNITS], j->rf.f[RUN_FILE_BIN], err,
+                       errlen);
+    if (st == SUNMC_OK && j->o.out && (st = job_checkpoint(j, err, errlen)) != SUNMC_OK)
+        run_sink_free(&j->r);
+    if (st != SUNMC_OK)
+        cli_run_files_abort(&j->rf);
+    j->r.until = j->o.until ? &j->until : NULL;
+    return st;
+}
+
+/* The checkpoint's units replayed, then the rest run (each block
+ * checkpointed); *done = all units handed to the sink. */
+static int job_execute(run_job *j, long *done)
+{
+    char err[SUNMC_ERRLEN];
+    long streamed = 0;
+    int stop = 0;
+    if (j->has_ckpt && j->ckpt.done > 0) {
+        char path[PATH_MAX + 16];
+        checkpoint_units_path(&j->ckpt, path, sizeof path);
+        int st = run_replay(&j->r, path, j->first, j->first + j->ckpt.done, &j->replayed, err,
+                            sizeof err);
+        if (st != SUNMC_OK) {
+            fprintf(stderr, "sunmc run: --resume: %s\n", err);
+            return cli_exit_code(st);
+        }
+        stop = j->r.until && j->r.until->met;
+    }
+    j->r.ckpt = j->has_ckpt ? &j->ckpt : NULL;
+    int rc = stop ? 0 : stream_units(&j->r, j->first + j->replayed, j->end, j->threads,
+                                     j->o.quiet, &streamed);
+    *done = j->replayed + streamed;
+    if (j->r.ckpt_status != SUNMC_OK)
+        fprintf(stderr, "sunmc run: checkpointing stopped (the run went on): %s\n",
+                j->r.ckpt_err);
+    return rc;
+}
+
+/* Table 1 and the --until line, then the files; the checkpoint is
+ * removed once they are complete. */
+static int job_finish(run_job *j, long done, double wall_s)
+{
+    const sunmc_config *c = &j->st.cfg;
+    char note[512] = "", err[SUNMC_ERRLEN];
+    report_acc_rows(j->r.acc, j->rows);
+    if (j->o.profile)
+        print_profile(j->r.phase_s, done, wall_s, j->threads);
+    /* Table 1 first: a failed write must not cost the result. */
+    report_print_table(stdout, c, c->family, j->rows);
+    if (j->o.until) {
+        note[0] = ';';
+        note[1] = ' ';
+        until_line(note + 2, sizeof note - 2, j->o.until, &j->until, c, done);
+        printf("%s\n", note + 2);
+    }
+    fflush(stdout);
+    if (!j->rf.open)
+        return 0;
+    run_manifest m;
+    manifest_of(&j->st, j->first, j->first + done, &m);
+    fprintf(j->rf.f[RUN_FILE_CONFIG], "# units %ld:%ld of this config%s\n", j->first,
+            j->first + done, note);
+    config_write(j->rf.f[RUN_FILE_CONFIG], &j->st);
+    int status = cli_run_files_commit(&j->rf, c, j->rows, &m, err, sizeof err);
+    if (status != SUNMC_OK) {
+        fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
+        return cli_exit_code(status);
+    }
+    checkpoint_close(&j->ckpt);
+    checkpoint_remove(j->o.out, NULL);
+    j->has_ckpt = 0;
+    return 0;
+}
+
 int cmd_run(int argc, char **argv)
 {
     if (cli_wants_help(argc, argv, run_help))
         return 0;
-    cli_options o;
-    int rc = cli_parse(argc, argv, 2, "run", "CONFIG units seed threads set out quiet profile until shard", &o);
-    if (rc)
-        return rc;
-    config_state st;
-    if ((rc = cli_config(&o, &st)))
-        return rc;
-    const sunmc_config *c = &st.cfg;
-    const sensor_family *fam = c->family;
-    long first = o.end >= 0 ? o.first : 0;
-    long end = o.end >= 0 ? o.end : c->units;
-    int threads = cli_threads(&o, c);
-    run_until until;
-    if (o.until && (rc = parse_until(o.until, c, first, &until))) {
-        config_state_free(&st);
-        return rc;
-    }
-    if (o.shard_n > 0 && (rc = shard_range(&o, c, &first, &end))) {
-        config_state_free(&st);
-        return rc;
-    }
+    run_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return 1;
     char err[SUNMC_ERRLEN];
-    summary_row *rows = calloc((size_t)report_n_rows(c, fam), sizeof *rows);
-    cli_run_files rf;
-    run_sink r;
-    int status = rows ? SUNMC_OK : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
-    if (status == SUNMC_OK)
-        status = cli_run_files_begin(&rf, o.out, err, sizeof err);
-    if (status == SUNMC_OK && (status = run_sink_init(&r, c, fam, rf.f[RUN_FILE_UNITS],
-                                                      rf.f[RUN_FILE_BIN], err, sizeof err)))
-        cli_run_files_abort(&rf);
-    if (status != SUNMC_OK) {
-        fprintf(stderr, "sunmc run: %s\n", err);
-        free(rows);
-        config_state_free(&st);
-        return cli_exit_code(status);
-    }
-    r.until = o.until ? &until : NULL;
-    unit_profile_enable(o.profile);
-    double t0 = unit_clock();
-    long done = 0;
-    rc = stream_units(&r, first, end, threads, o.quiet, &done);
+    int rc = job_setup(j, argc, argv), opened = 0;
     if (rc == 0) {
-        char note[512] = "";
-        report_acc_rows(r.acc, rows);
-        if (o.profile)
-            print_profile(r.phase_s, done, unit_clock() - t0, threads);
-        /* Table 1 first: a failed write must not cost the result. */
-        report_print_table(stdout, c, fam, rows);
-        if (o.until) {
-            note[0] = ';';
-            note[1] = ' ';
-            until_line(note + 2, sizeof note - 2, o.until, &until, c, done);
-            printf("%s\n", note + 2);
-        }
-        fflush(stdout);
-        if (rf.open) {
-            run_manifest m;
-            manifest_of(&st, first, first + done, &m);
-            fprintf(rf.f[RUN_FILE_CONFIG], "# units %ld:%ld of this config%s\n", first,
-                    first + done, note);
-            config_write(rf.f[RUN_FILE_CONFIG], &st);
-            if ((status = cli_run_files_commit(&rf, c, rows, &m, err, sizeof err)))
-                fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
-        }
-        rc = cli_exit_code(status);
-    } else {
-        cli_run_files_abort(&rf);
+        int st = job_open(j, err, sizeof err);
+        if (st != SUNMC_OK)
+            fprintf(stderr, "sunmc run: %s\n", err);
+        rc = cli_exit_code(st);
+        opened = st == SUNMC_OK;
     }
-    run_sink_free(&r);
-    free(rows);
-    config_state_free(&st);
+    if (opened) {
+        unit_profile_enable(j->o.profile);
+        double t0 = unit_clock();
+        long done = 0;
+        rc = job_execute(j, &done);
+        if (rc == 0)
+            rc = job_finish(j, done, unit_clock() - t0);
+        else
+            cli_run_files_abort(&j->rf);
+        checkpoint_close(&j->ckpt);
+        run_sink_free(&j->r);
+    }
+    free(j->rows);
+    if (j->st.keys)
+        config_state_free(&j->st);
+    free(j);
     return rc;
 }
 

@@ -53,7 +53,7 @@ const config_key config_keys[] = {
     {"run", "threads", KEY_INT, "", "0", 0, 1024, NULL, OFF(threads),
      "OpenMP threads, 0 = all cores; results do not depend on it"},
     {"run", "block_units", KEY_LONG, "", "256", 1, 1000000, NULL, OFF(block_units),
-     "units per block, each written to the files as it ends; `run --until` checks between blocks"},
+     "units per block, each written and checkpointed as it ends; `run --until` checks between blocks"},
 
     /* [report] */
     {"report", "bands_deg", KEY_BANDS, "deg", "0:30, 30:60, 0:62", 0, 90, NULL, OFF(bands_deg),

@@ -42,6 +42,9 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
     for (long u = 0; u < n; u++)
         for (int k = 0; k < UNIT_PHASES; k++)
             r->phase_s[k] += results[u].phase_s[k];
+    /* A checkpoint that cannot be written stops checkpointing, not the run. */
+    if (r->ckpt && r->ckpt_status == SUNMC_OK)
+        r->ckpt_status = checkpoint_append(r->ckpt, results, n, r->ckpt_err, sizeof r->ckpt_err);
     if (r->until) {
         run_until *t = r->until;
         t->reached = report_acc_halfwidth(r->acc, t->stat, t->band);
