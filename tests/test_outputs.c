@@ -619,7 +619,9 @@ static int dir_entries(const char *path)
 static int entries_starting(const char *path, const char *prefix);
 
 /* A write error at commit (here: the file-size limit) fails the command
- * and leaves no file, not even a temporary. */
+ * and leaves no file, not even a temporary (the checkpoint .full.resume of
+ * the units run is kept on purpose: --resume writes them once there is
+ * room). */
 static void run_write_error(void **state)
 {
     (void)state;
@@ -634,7 +636,7 @@ static void run_write_error(void **state)
     assert_int_not_equal(st, 0);
     assert_non_null(strstr(out, "write error"));
     assert_int_equal(dir_entries(sub), 0);
-    assert_int_equal(entries_starting(dir, ".full."), 0);
+    assert_int_equal(entries_starting(dir, ".full.tmp"), 0);
 }
 
 /* An output path that is a regular file: refused, the file untouched. */

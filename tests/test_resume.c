@@ -18,15 +18,12 @@ static char dir[128];
 
 static int setup(void **state)
 {
-    snprintf(dir, sizeof dir, "%s", test_tmp("resume"));
-    return mkdir(dir, 0700);
+    return test_private_dir(dir, sizeof dir, "resume");
 }
 
 static int sunmc(const char *args, char *out, size_t len)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "D=%s; %s %s", dir, test_sunmc(), args);
-    return test_run(cmd, out, len);
+    return test_sunmc_in(dir, args, out, len);
 }
 
 static int same_files(const char *a, const char *b)

@@ -20,17 +20,12 @@ static char dir[128];
 /* The test's private directory (test_tmp's, removed at exit). */
 static int setup(void **state)
 {
-    snprintf(dir, sizeof dir, "%s", test_tmp("shards"));
-    return mkdir(dir, 0700);
+    return test_private_dir(dir, sizeof dir, "shards");
 }
 
-/* Run `sunmc ARGS` with D in ARGS standing for the test's directory;
- * returns the exit status, output in out. */
 static int sunmc(const char *args, char *out, size_t len)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "D=%s; %s %s", dir, test_sunmc(), args);
-    return test_run(cmd, out, len);
+    return test_sunmc_in(dir, args, out, len);
 }
 
 static int same_file(const char *a, const char *b)

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "config.h"
 #include "status.h"
@@ -77,6 +78,23 @@ static inline const char *test_tmp(const char *name)
     char *b = buf[next++ % 8];
     snprintf(b, sizeof buf[0], "%s/%s", test_tmp_dir_, name);
     return b;
+}
+
+/* A new directory `name` in the private temporary directory, its path in
+ * buf; 0 on success (for a group setup). */
+static inline int test_private_dir(char *buf, size_t len, const char *name)
+{
+    snprintf(buf, len, "%s", test_tmp(name));
+    return mkdir(buf, 0700);
+}
+
+/* Run `sunmc ARGS` (the binary under test) with $D in ARGS standing for
+ * directory d; the exit status, stdout+stderr in out. */
+static inline int test_sunmc_in(const char *d, const char *args, char *out, size_t len)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "D=%s; %s %s", d, test_sunmc(), args);
+    return test_run(cmd, out, len);
 }
 
 /* Write text to a file; returns 0 on success. */

@@ -312,6 +312,10 @@ static int job_finish(run_job *j, long done, double wall_s)
     int status = cli_run_files_commit(&j->rf, c, j->rows, &m, err, sizeof err);
     if (status != SUNMC_OK) {
         fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
+        if (j->has_ckpt && j->ckpt.done > 0)
+            fprintf(stderr, "sunmc run: %ld units are checkpointed in %s: the same command with "
+                            "--resume writes them without running them again\n",
+                    j->ckpt.done, j->ckpt.dir);
         return cli_exit_code(status);
     }
     checkpoint_close(&j->ckpt);
