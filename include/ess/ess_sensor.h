@@ -128,12 +128,13 @@ double ess_combine(double coarse_rad, double fine_phase, double theta0_rad);
 /* The raw outputs of k <= ESS_CHUNK readings at once: sun vectors (sx, sy,
  * sz)[i] and row noises noise[m][i] (arrays of vm_pad(k) values, aligned to
  * VM_ALIGN, pads filled with any valid values: vmath.h) into out_rad[i],
- * status[i] = SUNMC_OK or SUNMC_EDOM (sun behind or grazing; out_rad[i] is
- * then meaningless).  SUNMC_EINPUT if k > ESS_CHUNK.  A reading gives the
- * same bits in any lane of any chunk. */
+ * the same readings without the noise into out0_rad[i] (NULL: not wanted;
+ * the bits of a call with zero noise), status[i] = SUNMC_OK or SUNMC_EDOM
+ * (sun behind or grazing; out_rad[i] is then meaningless).  SUNMC_EINPUT if
+ * k > ESS_CHUNK.  A reading gives the same bits in any lane of any chunk. */
 int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx, const double *sy,
                             const double *sz, const double *const noise[ESS_FINE_ROWS],
-                            double *out_rad, int *status);
+                            double *out_rad, double *out0_rad, int *status);
 
 /* Raw output angle (radians) for sun vector sv (unit, toward the sun, s_z >
  * 0).  row_noise (NULL = noiseless) is the additive noise of the 4 fine-row

@@ -27,14 +27,6 @@ void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *
 int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
                   const double row_noise[ESS_FINE_ROWS], double *raw_rad, double *truth_rad);
 
-/* n readings at table angles alpha, beta (rad) with row noise
- * row_noise[m][i] (NULL: none): raw output (0 when unseen), true incidence
- * and status (SUNMC_OK or SUNMC_EDOM), vectorised; each reading gives the
- * bits ess_unit_read gives. */
-void ess_unit_read_batch(const ess_unit *u, size_t n, const double *alpha_rad,
-                         const double *beta_rad, const double *const row_noise[ESS_FINE_ROWS],
-                         double *raw_rad, double *truth_rad, int *status);
-
 /* One campaign point: the true table angles (encoder error added), the
  * true incidence, the raw output averaged over campaign.repeats (0 when
  * not seen) and seen = 1 when the sun was seen at every repeat. */
@@ -52,11 +44,13 @@ void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r,
                            const double *a_rad, const double *b_rad, ess_campaign_point *out);
 
 /* n validation readings at table angles a, b (rad) with fresh row noise
- * from r: raw output (0 when unseen), true incidence and status (enum
- * ess_reading_status), vectorised (ess_readings.c). */
+ * from r: raw output (0 when unseen), the same reading without its noise
+ * (raw0_rad, NULL: not wanted; the bits of ess_unit_read without noise),
+ * true incidence and status (enum ess_reading_status), vectorised
+ * (ess_readings.c). */
 void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
-                             const double *a_rad, const double *b_rad, double *raw_rad,
-                             double *truth_rad, int *status);
+                          const double *a_rad, const double *b_rad, double *raw_rad,
+                          double *raw0_rad, double *truth_rad, int *status);
 
 /* Number of campaign points of config c (alphas x betas). */
 size_t ess_campaign_size(const sunmc_config *c);

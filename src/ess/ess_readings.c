@@ -35,10 +35,11 @@ static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
 
 /* k <= ESS_CHUNK readings at true table angles a, b (padded arrays): the
  * sun in the sensor frame (R_install rot_x(a) rot_y(b) v_sun), its true
- * incidence, and the sensor's output. */
+ * incidence, and the sensor's output with and (raw0 != NULL) without the
+ * noise. */
 VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, const double *b,
                                  const double *const noise[ESS_FINE_ROWS], double *raw,
-                                 double *truth, int *status)
+                                 double *raw0, double *truth, int *status)
 {
     _Alignas(VM_ALIGN) double sx[ESS_CHUNK], sy[ESS_CHUNK], sz[ESS_CHUNK];
     const double(*R)[3] = (const double(*)[3])u->R_install, *v = u->v_sun;
@@ -53,7 +54,7 @@ VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, c
         sz[i] = R[2][0] * w0 + R[2][1] * w1 + R[2][2] * w2;
         truth[i] = atan2(sy[i], sz[i]);
     }
-    ess_sensor_output_chunk(&u->sensor, k, sx, sy, sz, noise, raw, status);
+    ess_sensor_output_chunk(&u->sensor, k, sx, sy, sz, noise, raw, raw0, status);
 }
 
 int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
@@ -69,38 +70,11 @@ int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
     pad_lanes(b, 1);
     for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++)
         nz[m][0] = row_noise[m];
-    read_chunk(u, 1, a, b, noise, raw, truth, status);
+    read_chunk(u, 1, a, b, noise, raw, NULL, truth, status);
     *truth_rad = truth[0];
     if (status[0] == SUNMC_OK)
         *raw_rad = raw[0];
     return status[0];
-}
-
-void ess_unit_read_batch(const ess_unit *u, size_t n, const double *alpha_rad,
-                         const double *beta_rad, const double *const row_noise[ESS_FINE_ROWS],
-                         double *raw_rad, double *truth_rad, int *status)
-{
-    _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
-    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK] = {{0}};
-    const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
-    int st[ESS_CHUNK];
-    for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
-        size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
-        memcpy(a, alpha_rad + i0, k * sizeof *a);
-        memcpy(b, beta_rad + i0, k * sizeof *b);
-        pad_lanes(a, k);
-        pad_lanes(b, k);
-        for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++) {
-            memcpy(nz[m], row_noise[m] + i0, k * sizeof *nz[m]);
-            pad_lanes(nz[m], k);
-        }
-        read_chunk(u, k, a, b, noise, raw, truth, st);
-        for (size_t i = 0; i < k; i++) {
-            raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
-            truth_rad[i0 + i] = truth[i];
-            status[i0 + i] = st[i];
-        }
-    }
 }
 
 /* The campaign's draws of points [0, np) (np (2 + 4 R) <= ESS_DRAWS_MAX
@@ -129,7 +103,7 @@ static void campaign_chunk(const sunmc_config *c, const ess_unit *u, rng_stream 
     pad_lanes(bt, np);
     for (int rep = 0; rep < c->cal_repeats; rep++) {
         noise_lanes(sigma, z + 2 + ESS_FINE_ROWS * rep, per, np, nz);
-        read_chunk(u, np, at, bt, noise, raw, truth, status);
+        read_chunk(u, np, at, bt, noise, raw, NULL, truth, status);
         for (size_t i = 0; i < np; i++) {
             out[i].incidence_rad = truth[i];
             if (status[i] != SUNMC_OK)
@@ -168,7 +142,7 @@ static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *
                                                                  : ESS_CHUNK;
         rng_normal_fill(r, z, ESS_FINE_ROWS * g);
         noise_lanes(sigma, z, ESS_FINE_ROWS, g, nz);
-        read_chunk(u, g, at, bt, noise, raw, truth, status);
+        read_chunk(u, g, at, bt, noise, raw, NULL, truth, status);
         for (size_t i = 0; i < g; i++) {
             out->incidence_rad = truth[i];
             if (status[i] != SUNMC_OK)
@@ -199,14 +173,14 @@ void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r,
 
 void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
                           const double *a_rad, const double *b_rad, double *raw_rad,
-                          double *truth_rad, int *status)
+                          double *raw0_rad, double *truth_rad, int *status)
 {
     const ess_config *ec = ess_cfg(c);
     double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
     double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
     double z[ESS_FINE_ROWS * ESS_CHUNK];
     _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
-    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
+    _Alignas(VM_ALIGN) double raw0[ESS_CHUNK], nz[ESS_FINE_ROWS][ESS_CHUNK];
     const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
     int st[ESS_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
@@ -217,9 +191,11 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
         pad_lanes(a, k);
         pad_lanes(b, k);
         noise_lanes(sigma, z, ESS_FINE_ROWS, k, nz);
-        read_chunk(u, k, a, b, noise, raw, truth, st);
+        read_chunk(u, k, a, b, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
         for (size_t i = 0; i < k; i++) {
             raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
+            if (raw0_rad)
+                raw0_rad[i0 + i] = st[i] == SUNMC_OK ? raw0[i] : 0.0;
             truth_rad[i0 + i] = truth[i];
             status[i0 + i] = st[i] != SUNMC_OK ? ESS_READING_UNSEEN
                              : fabs(raw[i] - truth[i]) > half_period ? ESS_READING_GROSS

@@ -80,13 +80,16 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
 
 /* The readings of lanes [0, k) of a chunk: fine rows, harmonics,
  * currents and phase per lane in one vector loop, then the coarse rows one
- * row at a time, then the Gray decoding and combination per lane. */
+ * row at a time, then the Gray decoding and combination per lane.  The
+ * noiseless reading shares everything but the noise's add: its currents
+ * are the noisy ones' before it (x + 0 = x: the bits of a reading with
+ * zero noise). */
 VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx,
                                       const double *sy, const double *sz,
                                       const double *const noise[ESS_FINE_ROWS], double *out_rad,
-                                      int *status)
+                                      double *out0_rad, int *status)
 {
-    _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], phase[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], phase[ESS_CHUNK], phase0[ESS_CHUNK];
     if (k > ESS_CHUNK)
         return SUNMC_EINPUT;
     size_t kp = vm_pad(k);
@@ -104,10 +107,10 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
          * the few micrometres between rows that is below 1e-9, so one
          * evaluation at the first row serves the four */
         ess_lane_harm h = ess_lane_harmonics(s, p0);
-        phase[i] = ess_lane_demodulate(ess_lane_current(s, 0, h, p0, z, n0[i]),
-                                       ess_lane_current(s, 1, h, p1, z, n1[i]),
-                                       ess_lane_current(s, 2, h, p2, z, n2[i]),
-                                       ess_lane_current(s, 3, h, p3, z, n3[i]));
+        double c0 = ess_lane_current(s, 0, h, p0, z, 0.0), c1 = ess_lane_current(s, 1, h, p1, z, 0.0);
+        double c2 = ess_lane_current(s, 2, h, p2, z, 0.0), c3 = ess_lane_current(s, 3, h, p3, z, 0.0);
+        phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
+        phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
     }
     _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
     for (int j = 0; j < s->n_coarse; j++) {
@@ -124,6 +127,12 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         ess_lane_coarse acc = {parity[i], cell[i]};
         out_rad[i] = ess_lane_combine(ess_lane_coarse_angle(s, acc), phase[i], s->theta0_rad);
     }
+    if (out0_rad)
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            ess_lane_coarse acc = {parity[i], cell[i]};
+            out0_rad[i] =
+                ess_lane_combine(ess_lane_coarse_angle(s, acc), phase0[i], s->theta0_rad);
+        }
     for (size_t i = 0; i < k; i++)
         status[i] = sz[i] > ESS_MIN_COS_INCIDENCE ? SUNMC_OK : SUNMC_EDOM;
     return SUNMC_OK;
@@ -142,7 +151,7 @@ int ess_sensor_output(const ess_sensor *s, const double sv[3], const double row_
     z[0] = sv[2];
     for (int m = 0; m < ESS_FINE_ROWS && row_noise; m++)
         nz[m][0] = row_noise[m];
-    ess_sensor_output_chunk(s, 1, x, y, z, noise, out, status);
+    ess_sensor_output_chunk(s, 1, x, y, z, noise, out, NULL, status);
     if (status[0] == SUNMC_OK)
         *out_rad = out[0];
     return status[0];

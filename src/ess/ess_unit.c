@@ -62,7 +62,7 @@ int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream 
                            double b_rad, double *raw_rad, double *truth_rad)
 {
     int status;
-    ess_validation_batch(c, u, r, 1, &a_rad, &b_rad, raw_rad, truth_rad, &status);
+    ess_validation_batch(c, u, r, 1, &a_rad, &b_rad, raw_rad, NULL, truth_rad, &status);
     return status;
 }
 
@@ -166,27 +166,24 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 
 static void ess_ws_free(void *ws) { ess_calib_free(ws); }
 
-/* Score the unit on the validation grid and betas, with fresh noise (RMS
- * before and after), and again on the same points without reading noise
- * (the systematic part of the after RMS). */
 /* One validation chunk of k points (table angles a, b): the readings
- * with fresh noise and their compensations, the noiseless readings and
- * theirs (the systematic part), in batches. */
+ * with fresh noise and their compensations, the same readings without the
+ * noise (read in the same pass: only the noise differs) and theirs (the
+ * systematic part), in batches. */
 typedef struct {
     double raw[ESS_CHUNK], truth[ESS_CHUNK], comp[ESS_CHUNK];
-    double raw0[ESS_CHUNK], truth0[ESS_CHUNK], comp0[ESS_CHUNK];
-    int st_read[ESS_CHUNK], st_comp[ESS_CHUNK], st0[ESS_CHUNK], st_comp0[ESS_CHUNK];
+    double raw0[ESS_CHUNK], comp0[ESS_CHUNK];
+    int st_read[ESS_CHUNK], st_comp[ESS_CHUNK], st_comp0[ESS_CHUNK];
 } ess_val_chunk;
 
 static void validation_chunk(const sunmc_config *c, const ess_unit *u, const ess_model *m,
                              rng_stream *r, size_t k, const double *a, const double *b,
                              int fit_ok, ess_val_chunk *v)
 {
-    ess_validation_batch(c, u, r, k, a, b, v->raw, v->truth, v->st_read);
+    ess_validation_batch(c, u, r, k, a, b, v->raw, v->raw0, v->truth, v->st_read);
     if (!fit_ok)
         return;
     ess_model_compensate_batch(m, k, v->raw, v->comp, v->st_comp);
-    ess_unit_read_batch(u, k, a, b, NULL, v->raw0, v->truth0, v->st0);
     ess_model_compensate_batch(m, k, v->raw0, v->comp0, v->st_comp0);
 }
 
@@ -235,9 +232,8 @@ static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const es
                 continue;
             }
             band_acc_add(&after, &c->bands_deg, abs_deg, v.comp[q] - v.truth[q]);
-            if (v.st0[q] == SUNMC_OK && fabs(v.raw0[q] - v.truth0[q]) <= half_period &&
-                v.st_comp0[q] == SUNMC_OK)
-                band_acc_add(&after_sys, &c->bands_deg, abs_deg, v.comp0[q] - v.truth0[q]);
+            if (fabs(v.raw0[q] - v.truth[q]) <= half_period && v.st_comp0[q] == SUNMC_OK)
+                band_acc_add(&after_sys, &c->bands_deg, abs_deg, v.comp0[q] - v.truth[q]);
         }
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
