@@ -237,8 +237,8 @@ static void dss_deviations_independent(void **state)
     (void)state;
     static const char *const keys[DSS_N_DEV] = {"dh_px", "dx_px", "dy_px", "c1_arcsec",
                                                 "c2_arcsec", "c3_arcsec", "glass_thickness_um",
-                                                "glass_index"};
-    static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004};
+                                                "glass_index", "sun_b1_arcsec", "sun_b2_arcsec"};
+    static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004, 15, 25};
     config_state st;
     build_normal(&st, "configs/dss.ini", keys, sigma, DSS_N_DEV, NULL, 0);
     static double x[DSS_N_DEV][NU];
@@ -368,19 +368,23 @@ static void ess_repeats_averaged(void **state)
 static void dss_campaign_noise(void **state)
 {
     (void)state;
+    /* a perfect sun simulator, so that the truth is eq. 3-4 of the table */
     const char *quiet[] = {"campaign.b_min_deg=-20", "campaign.b_max_deg=20",
                            "campaign.b_step_deg=10", "noise.centroid_px=0",
-                           "noise.encoder_arcsec=0", "campaign.repeats=2"};
+                           "noise.encoder_arcsec=0", "campaign.repeats=2",
+                           "tolerance.sun_b1_arcsec=0", "tolerance.sun_b2_arcsec=0"};
     const char *noisy[] = {"campaign.b_min_deg=-20", "campaign.b_max_deg=20",
                            "campaign.b_step_deg=10", "noise.centroid_px=0.05",
-                           "noise.encoder_arcsec=0", "campaign.repeats=2"};
+                           "noise.encoder_arcsec=0", "campaign.repeats=2",
+                           "tolerance.sun_b1_arcsec=0", "tolerance.sun_b2_arcsec=0"};
     const char *enc[] = {"campaign.b_min_deg=-20", "campaign.b_max_deg=20",
                          "campaign.b_step_deg=10", "noise.centroid_px=0",
-                         "noise.encoder_arcsec=3", "campaign.repeats=2"};
+                         "noise.encoder_arcsec=3", "campaign.repeats=2",
+                         "tolerance.sun_b1_arcsec=0", "tolerance.sun_b2_arcsec=0"};
     config_state q, s, e;
-    build(&q, "configs/dss.ini", quiet, 6);
-    build(&s, "configs/dss.ini", noisy, 6);
-    build(&e, "configs/dss.ini", enc, 6);
+    build(&q, "configs/dss.ini", quiet, 8);
+    build(&s, "configs/dss.ini", noisy, 8);
+    build(&e, "configs/dss.ini", enc, 8);
     size_t n = dss_campaign_size(&q.cfg);
     assert_int_equal((int)n, 25);
     static double nx[NC], ny[NC], nx1[NC], eb1[NC], eb2[NC];

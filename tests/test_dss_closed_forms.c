@@ -45,19 +45,32 @@ static void rz(double a, const double v[3], double o[3])
     memcpy(o, t, sizeof t);
 }
 
-/* u = M R(b) M^T e_z, M^T = Rz(-c3) Rx(-c1) Ry(-c2). */
-static void ref_sun(double c1, double c2, double c3, double b1, double b2, double u[3])
+/* u = M R(b) v_sun, M = Ry(c2) Rx(c1) Rz(c3), R(b) = Ry(b2) Rx(b1):
+ * aligned (s == NULL): v_sun = M^T e_z = Rz(-c3) Rx(-c1) Ry(-c2) e_z;
+ * as mounted: v_sun = R(s[0], s[1]) e_z. */
+static void ref_sun_general(double c1, double c2, double c3, const double *s, double b1,
+                            double b2, double u[3])
 {
     double v[3] = {0, 0, 1};
-    ry(-c2, v, v);
-    rx(-c1, v, v);
-    rz(-c3, v, v);
+    if (s) {
+        rx(s[0], v, v);
+        ry(s[1], v, v);
+    } else {
+        ry(-c2, v, v);
+        rx(-c1, v, v);
+        rz(-c3, v, v);
+    }
     rx(b1, v, v);
     ry(b2, v, v);
     rz(c3, v, v);
     rx(c1, v, v);
     ry(c2, v, v);
     memcpy(u, v, sizeof v);
+}
+
+static void ref_sun(double c1, double c2, double c3, double b1, double b2, double u[3])
+{
+    ref_sun_general(c1, c2, c3, NULL, b1, b2, u);
 }
 
 /* Spot (mm) of sun u through a pinhole at (x0, y0, H) and a plate of
@@ -175,20 +188,27 @@ static void test_installation_rotations(void **state)
 {
     sunmc_config c = default_dss();
     dss_cfg(&c)->design.glass_thickness_mm = 0;
-    const double sets[][3] = {{10, 0, 0}, {0, 10, 0}, {0, 0, 10}, {3600, -1800, 900},
-                              {-7, 12, -20}};
+    const double sets[][5] = {{10, 0, 0, 0, 0},        {0, 10, 0, 0, 0},   {0, 0, 10, 0, 0},
+                              {3600, -1800, 900, 0, 0}, {-7, 12, -20, 0, 0}, {0, 0, 0, 10, 0},
+                              {0, 0, 0, 0, 10},         {-7, 12, -20, 30, -45}};
+    for (int mount = DSS_MOUNT_ALIGNED; mount <= DSS_MOUNT_AS_MOUNTED; mount++)
     for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++) {
+        dss_cfg(&c)->design.mount = mount;
         dss_deviations d = {0};
         d.c1_arcsec = sets[k][0];
         d.c2_arcsec = sets[k][1];
         d.c3_arcsec = sets[k][2];
+        d.sun_b1_arcsec = sets[k][3];
+        d.sun_b2_arcsec = sets[k][4];
+        double sun[2] = {d.sun_b1_arcsec * RAD_PER_ARCSEC, d.sun_b2_arcsec * RAD_PER_ARCSEC};
         dss_sensor s;
         dss_sensor_init(&s, &dss_cfg(&c)->design, &d, 0);
         for (double b1 = -40; b1 <= 40; b1 += 8)
             for (double b2 = -40; b2 <= 40; b2 += 8) {
                 double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, u[3], got[3], x, y, am, bm;
-                ref_sun(d.c1_arcsec * RAD_PER_ARCSEC, d.c2_arcsec * RAD_PER_ARCSEC,
-                        d.c3_arcsec * RAD_PER_ARCSEC, r1, r2, u);
+                ref_sun_general(d.c1_arcsec * RAD_PER_ARCSEC, d.c2_arcsec * RAD_PER_ARCSEC,
+                                d.c3_arcsec * RAD_PER_ARCSEC,
+                                mount == DSS_MOUNT_ALIGNED ? NULL : sun, r1, r2, u);
                 dss_sensor_sun(&s, r1, r2, got);
                 for (int i = 0; i < 3; i++)
                     assert_near(got[i], u[i], 1e-14);
@@ -390,14 +410,22 @@ static void to_model(const ref_params *r, double pixel_mm, dss_model *m)
 }
 
 /* The model's spot is the written-out chain; compensating that spot gives
- * the table's truth angles back (eq. 3-4), to 1e-10 rad. */
+ * the truth back to 1e-10 rad: aligned, the table's angles (eq. 3-4); as
+ * mounted, the angles of the sun w = R(b) v_sun in the table-top frame. */
 static void test_model_and_inverse(void **state)
 {
-    const double pix = 5.5e-3;
-    for (size_t k = 0; k < sizeof params / sizeof params[0]; k++) {
-        const ref_params *r = &params[k];
+    const double pix = 5.5e-3, sun[2] = {3e-4, -2.2e-4};
+    for (size_t k = 0; k < 2 * sizeof params / sizeof params[0]; k++) {
+        const ref_params *r = &params[k / 2];
+        int mounted = k % 2;
         dss_model m;
         to_model(r, pix, &m);
+        if (mounted) {
+            m.mount = DSS_MOUNT_AS_MOUNTED;
+            m.p[DSS_P_S1] = sun[0];
+            m.p[DSS_P_S2] = sun[1];
+            dss_model_prepare(&m);
+        }
         dss_calibration cal;
         memset(&cal, 0, sizeof cal);
         cal.kind = DSS_MODEL_PHYSICAL;
@@ -405,13 +433,22 @@ static void test_model_and_inverse(void **state)
         for (double b1 = -58; b1 <= 58; b1 += 4.7)
             for (double b2 = -58; b2 <= 58; b2 += 4.7) {
                 double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, u[3], want[2], got[2];
-                ref_sun(r->c1, r->c2, r->c3, r1, r2, u);
+                ref_sun_general(r->c1, r->c2, r->c3, mounted ? sun : NULL, r1, r2, u);
                 ref_spot_mm(u, r->x0, r->y0, r->H, r->t, r->n, want);
                 assert_int_equal(dss_model_spot(&m, r1, r2, got, NULL), SUNMC_OK);
                 assert_near(got[0], want[0] / pix, 1e-9);
                 assert_near(got[1], want[1] / pix, 1e-9);
                 double a, b, a0, b0;
                 table_truth(r1, r2, &a0, &b0);
+                if (mounted) {
+                    double w[3] = {0, 0, 1};
+                    rx(sun[0], w, w);
+                    ry(sun[1], w, w);
+                    rx(r1, w, w);
+                    ry(r2, w, w);
+                    a0 = atan(w[0] / w[2]);
+                    b0 = atan(w[1] / w[2]);
+                }
                 assert_int_equal(dss_model_compensate(&m, want[0] / pix, want[1] / pix, &a, &b),
                                  SUNMC_OK);
                 assert_near(a, a0, 1e-10);

@@ -128,7 +128,7 @@ static const companion companions[] = {
     {"design.dss_fov_deg", 0, {{NARROW_B}, 5}},
     {"design.h_mm", 0, {{"design.glass_thickness_mm=0.1"}, 1}},
     {"campaign.alpha_step_deg", 1, {{"campaign.beta_deg=-20,-10,0,10,20"}, 1}},
-    {"campaign.b_step_deg", 1, {{"calibration.fit_glass_index=off"}, 1}},
+    {"campaign.b_step_deg", 1, {{"calibration.fit_glass_index=off", "campaign.mount=aligned"}, 2}},
     {"design.glass_thickness_mm", 1, {{"design.h_mm=6"}, 1}},
 };
 
@@ -528,25 +528,32 @@ static void test_campaign_size(void **state)
     expect_ok("ess", &e10);
     expect_refused("ess", &e8b, "4 alpha x 2 beta_deg = 8 points");
     const struct {
-        const char *lo, *hi, *model, *index, *needle; /* needle NULL: accepted */
+        const char *lo, *hi, *model, *index, *mount, *needle; /* needle NULL: accepted */
     } dss[] = {
-        {"-5", "0", "physical", "on", "2 x 2 b grid = 4 readings, too few for the physical "
-                                       "model's 8 parameters"},
-        {"-5", "5", "physical", "on", NULL},
-        {"-5", "0", "physical", "off", NULL},
-        {"0", "0.001", "physical", "off", "1 x 1 b grid = 1 readings"},
-        {"-10", "0", "polynomial", "on", "3 x 3 b grid = 9 readings, too few for the polynomial "
-                                         "model's 10 parameters"},
-        {"-10", "5", "polynomial", "on", NULL},
+        /* aligned: 8 parameters (7 with the index held) */
+        {"-5", "0", "physical", "on", "aligned", "2 x 2 b grid = 4 readings, too few for the "
+                                                 "physical model's 8 parameters"},
+        {"-5", "5", "physical", "on", "aligned", NULL},
+        {"-5", "0", "physical", "off", "aligned", NULL},
+        {"0", "0.001", "physical", "off", "aligned", "1 x 1 b grid = 1 readings"},
+        /* as mounted: the sun simulator's two angles too, 10 (9) */
+        {"-5", "0", "physical", "off", "as_mounted", "2 x 2 b grid = 4 readings, too few for "
+                                                     "the physical model's 9 parameters"},
+        {"-5", "5", "physical", "on", "as_mounted", NULL},
+        {"-10", "0", "polynomial", "on", "as_mounted", "3 x 3 b grid = 9 readings, too few for "
+                                                       "the polynomial model's 10 parameters"},
+        {"-10", "5", "polynomial", "on", "as_mounted", NULL},
     };
     for (size_t i = 0; i < sizeof dss / sizeof dss[0]; i++) {
-        char lo[64], hi[64], model[64], index[64];
+        char lo[64], hi[64], model[64], index[64], mount[64];
         snprintf(lo, sizeof lo, "campaign.b_min_deg=%s", dss[i].lo);
         snprintf(hi, sizeof hi, "campaign.b_max_deg=%s", dss[i].hi);
         snprintf(model, sizeof model, "calibration.model=%s", dss[i].model);
         snprintf(index, sizeof index, "calibration.fit_glass_index=%s", dss[i].index);
-        set_list s = {{lo, hi, "campaign.b_step_deg=5", model, index, "calibration.poly_order=3"},
-                      6};
+        snprintf(mount, sizeof mount, "campaign.mount=%s", dss[i].mount);
+        set_list s = {{lo, hi, "campaign.b_step_deg=5", model, index, "calibration.poly_order=3",
+                       mount},
+                      7};
         if (dss[i].needle)
             expect_refused("dss", &s, dss[i].needle);
         else

@@ -164,29 +164,36 @@ static void dss_rows(int n, const double *w, char *text, size_t len)
     }
 }
 
-/* The physical model: the file needs 9 rows (8 parameters at most); the fit
- * needs 2 n > free parameters (8 with the glass index fitted, 7 without). */
+/* The physical model: the file needs 11 rows (10 parameters at most); the
+ * fit needs 2 n > free parameters: as mounted 10 with the glass index
+ * fitted; aligned (no sun-simulator angles) 8, or 7 with the index held. */
 static void test_dss_physical_rows(void **state)
 {
     char text[8192], out[1 << 14];
     const char *cfg = "configs/dss.ini";
-    dss_rows(8, NULL, text, sizeof text);
+    dss_rows(10, NULL, text, sizeof text);
     expect_refused(calibrate("dss", cfg, "", text, out, sizeof out), out,
-                   "data.csv:9: only 8 data rows; the dss model has up to 8 parameters: need at "
-                   "least 9 rows");
-    dss_rows(9, NULL, text, sizeof text);
+                   "data.csv:11: only 10 data rows; the dss model has up to 10 parameters: need "
+                   "at least 11 rows");
+    dss_rows(11, NULL, text, sizeof text);
     expect_accepted(calibrate("dss", cfg, "", text, out, sizeof out), out);
-    double w[9] = {1, 0, 1, 0, 1, 0, 1, 0, 1}; /* 5 usable: 10 residuals > 8 */
-    dss_rows(9, w, text, sizeof text);
+    double w[11] = {1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1}; /* 6 usable: 12 residuals > 10 */
+    dss_rows(11, w, text, sizeof text);
     expect_accepted(calibrate("dss", cfg, "", text, out, sizeof out), out);
+    w[10] = 0; /* 5 usable: 10 residuals */
+    dss_rows(11, w, text, sizeof text);
+    expect_refused(calibrate("dss", cfg, "", text, out, sizeof out), out,
+                   "only 5 usable readings (weight > 0); the dss_physical model has 10 parameters");
+    const char *al = "--set campaign.mount=aligned";
+    expect_accepted(calibrate("dss", cfg, al, text, out, sizeof out), out); /* 10 > 8 */
     w[8] = 0; /* 4 usable: 8 residuals */
-    dss_rows(9, w, text, sizeof text);
-    expect_refused(calibrate("dss", cfg, "", text, out, sizeof out), out,
+    dss_rows(11, w, text, sizeof text);
+    expect_refused(calibrate("dss", cfg, al, text, out, sizeof out), out,
                    "only 4 usable readings (weight > 0); the dss_physical model has 8 parameters");
-    const char *off = "--set calibration.fit_glass_index=off";
+    const char *off = "--set campaign.mount=aligned --set calibration.fit_glass_index=off";
     expect_accepted(calibrate("dss", cfg, off, text, out, sizeof out), out); /* 8 > 7 */
     w[6] = 0; /* 3 usable: 6 residuals <= 7 */
-    dss_rows(9, w, text, sizeof text);
+    dss_rows(11, w, text, sizeof text);
     expect_refused(calibrate("dss", cfg, off, text, out, sizeof out), out,
                    "only 3 usable readings (weight > 0); the dss_physical model has 7 parameters");
 }
@@ -288,31 +295,46 @@ static void test_dss_params_order(void **state)
     }
 }
 
+/* pixel_mm, h_mm, glass_thickness_mm, mount, fit_dh_px,
+ * fit_glass_thickness_um */
 static const char dss_phys_fmt[] =
     "[calibration]\nsensor = dss\nmodel = dss_physical\n[design]\npixel_mm = %s\n"
-    "[parameters]\nx0_mm = 0\ny0_mm = 0\nH_mm = %s\nt_mm = %s\nc1_arcsec = 0\n"
-    "c2_arcsec = 0\nc3_arcsec = 0\nn = 1.52\n";
+    "h_mm = %s\nglass_thickness_mm = %s\nglass_index = 1.52\nmount = %s\n"
+    "[parameters]\nfit_dx_px = 0\nfit_dy_px = 0\nfit_dh_px = %s\nfit_glass_thickness_um = %s\n"
+    "fit_c1_arcsec = 0\nfit_c2_arcsec = 0\nfit_c3_arcsec = 0\nfit_glass_index = 0\n"
+    "fit_sun_b1_arcsec = 0\nfit_sun_b2_arcsec = 0\n";
 
 /* The physical model needs a pitch and a height, and the glass under the
- * pinhole: pixel_mm and H_mm > 0, t_mm < H_mm (a negative t, the fit's
- * extrapolation for a sensor without glass, is its business). */
+ * pinhole: pixel_mm and h_mm > 0, the fitted height above the detector,
+ * the fitted thickness below the fitted height (a negative one, the fit's
+ * extrapolation for a sensor without glass, is its business), a known
+ * mount. */
 static void test_dss_params_physical(void **state)
 {
     char params[2048], out[4096];
     const struct {
-        const char *pixel, *H, *t, *needle;
+        const char *pixel, *h, *t, *mount, *dh, *dt, *needle;
     } cases[] = {
-        {"0.0055", "3", "0.4", NULL},
-        {"0", "3", "0.4", "p.ini:5: key design.pixel_mm must be > 0"},
-        {"1e-9", "3", "0.4", NULL},
-        {"-0.0055", "3", "0.4", "design.pixel_mm must be > 0"},
-        {"0.0055", "0", "0", "p.ini:9: key parameters.H_mm must be > 0"},
-        {"0.0055", "3", "3", "p.ini:10: key parameters.t_mm must be below parameters.H_mm"},
-        {"0.0055", "3", "2.999", NULL},
-        {"0.0055", "3", "-1e-6", NULL},
+        {"0.0055", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"0.0055", "3", "0.4", "aligned", "0", "0", NULL},
+        {"0.0055", "3", "0.4", "tilted", "0", "0",
+         "p.ini:9: key design.mount must be aligned or as_mounted"},
+        {"0", "3", "0.4", "as_mounted", "0", "0", "p.ini:5: key design.pixel_mm must be > 0"},
+        {"1e-9", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"-0.0055", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm must be > 0"},
+        {"0.0055", "0", "0", "as_mounted", "0", "0", "p.ini:6: key design.h_mm must be > 0"},
+        {"0.0055", "3", "0", "as_mounted", "-545.45454545", "0", NULL}, /* h + dh = 2.5e-9 mm */
+        {"0.0055", "3", "0", "as_mounted", "-545.4545454546", "0",
+         "p.ini:13: key parameters.fit_dh_px must be > -design.h_mm / design.pixel_mm"},
+        {"0.0055", "3", "0.4", "as_mounted", "0", "2600",
+         "p.ini:14: key parameters.fit_glass_thickness_um must be such that the glass lies "
+         "under the pinhole"},
+        {"0.0055", "3", "0.4", "as_mounted", "0", "2599", NULL},
+        {"0.0055", "3", "0.4", "as_mounted", "0", "-400.001", NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        snprintf(params, sizeof params, dss_phys_fmt, cases[i].pixel, cases[i].H, cases[i].t);
+        snprintf(params, sizeof params, dss_phys_fmt, cases[i].pixel, cases[i].h, cases[i].t,
+                 cases[i].mount, cases[i].dh, cases[i].dt);
         int rc = compensate(params, "x_px,y_px\n10,-5\n", out, sizeof out);
         if (cases[i].needle)
             expect_refused(rc, out, cases[i].needle);
@@ -321,7 +343,7 @@ static void test_dss_params_physical(void **state)
     }
     /* the nominal design through its own glass: the spot of a sun at
      * (alpha, beta) = (20, 0) deg compensates back to it */
-    snprintf(params, sizeof params, dss_phys_fmt, "0.0055", "3", "0.4");
+    snprintf(params, sizeof params, dss_phys_fmt, "0.0055", "3", "0.4", "as_mounted", "0", "0");
     double th = 20 * RAD_PER_DEG, thg = asin(sin(th) / 1.52);
     double x = -(3 * tan(th) - 0.4 * (tan(th) - tan(thg))) / 0.0055;
     char raw[128];

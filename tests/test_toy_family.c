@@ -351,7 +351,7 @@ static void deviation_lists(void **state)
     assert_string_equal(ess_deviation_names[5], "gain1_pct");
     assert_string_equal(ess_deviation_names[12], "etch4_um");
     assert_string_equal(ess_deviation_names[18], "roll_measured_arcsec");
-    assert_int_equal(DSS_N_DEV, 8);
+    assert_int_equal(DSS_N_DEV, 10);
 }
 
 int main(void)

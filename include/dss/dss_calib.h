@@ -8,11 +8,38 @@
  * the reading).  The caller fills the arrays of an allocated workspace.
  *
  * Physical model: residuals are the spot's (x, y) in px, 2n rows, weighted.
- * Identifiability, from the Jacobian's conditioning over the default
- * campaign (b1, b2 in -60..60 deg step 5, columns normalised): the smallest
- * singular value (0.013; the next 0.155, the largest 1.7) belongs to the
- * direction (H, t, n) = (0.81, 0.33, 0.48): the height, glass thickness and
- * index act on the radial spot distance r through, with s = sin(theta),
+ * Fitted: dx, dy, dh, glass thickness, glass index (unless
+ * calibration.fit_glass_index = off), the mount c1-c3 and, as mounted, the
+ * sun simulator's sun_b1, sun_b2.  Identifiability, from the Jacobian at
+ * the nominal unit over the default campaign (b1, b2 in -60..60 deg step
+ * 5, 581 seen readings; columns normalised; tests/test_dss_calib.c
+ * recomputes it):
+ *
+ *     singular value  direction (largest components)
+ *     1.73            dh, t, n together (the spot's scale)
+ *     1.67, 1.66      dy, c1, sun_b1 and dx, c2, sun_b2 together (a shift)
+ *     1.00            c3 alone
+ *     0.48, 0.41      principal point against the tilts: dx vs c2 + sun_b2,
+ *                     dy vs c1
+ *     0.21            sun_b1 against c1 and dy
+ *     0.155           t against n
+ *     0.128           c2 against sun_b2
+ *     0.013           dh against t and n
+ *
+ * So: the principal point and the tilts separate (a shift is constant over
+ * the field, a tilt grows as sec^2 of the field angle); c3 is a rotation
+ * about the detector normal, which no other parameter makes; the mount's
+ * tilt and the sun simulator's separate because the table's two axes do
+ * not commute: at the centre both shift the spot alike, but R(b) moves a
+ * tilt of v_sun differently from one of the mount, by O(b) at the edge.
+ * With 0.01 px of centroid noise the standard errors are 0.2-0.5" for
+ * c1, c2, sun_b1, sun_b2, 0.13" for c3, 0.001 px for dx, dy: nothing the
+ * default campaign cannot determine is left free.  On a narrow campaign
+ * the tilt-vs-simulator pair goes first (+-10 deg: 15-40"): the report's
+ * correlation warning and its propagated uncertainty say so; use the
+ * aligned procedure there.  The one weak direction is the height against
+ * the glass: height, glass thickness and index act on the radial spot
+ * distance r through, with s = sin(theta),
  * r = (H - t + t/n) s + (H - t + t/n^3) s^3 / 2 + O(s^5): only the higher
  * orders tell all three
  * apart (correlations H-n 0.992, H-t 0.984, t-n 0.954).  The three are
@@ -21,12 +48,9 @@
  * and holding n at its design value (calibration.fit_glass_index = off, t
  * then an effective thickness) leaves a bias: noise-free, after-calibration
  * RMS 0.45" (alpha, 0-60 deg) for dn uniform +-0.005 against 0.00" fitted;
- * with 0.01 px centroid noise 3.27" against 3.23" (200 units, dss.ini).  The
- * principal point and the installation rotations are separable because the
- * lab aligns the sun to the detector normal at the table's zero (rotations
- * vanish at the centre while a principal-point shift does not): their
- * largest correlation is x0-c2 = 0.58, y0-c1 = -0.11.  The per-unit largest
- * |correlation| and its pair are reported (dss_calib_correlation).
+ * with 0.01 px centroid noise 3.27" against 3.23" (200 units, dss.ini).
+ * The per-unit largest |correlation| and its pair are reported
+ * (dss_calib_correlation).
  *
  * Polynomial model: alpha and beta corrections are two linear least-squares
  * problems with the same design matrix, solved one after the other on the
@@ -63,6 +87,22 @@ int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double 
  * gives the bits it gives alone): status[i] = SUNMC_OK or SUNMC_EDOM. */
 void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_px,
                           const double *y_px, double *alpha, double *beta, int *status);
+
+/* The truth (rad) a calibration assigns to recorded table angles (b1, b2)
+ * rad: the physical model's (dss_model_truth, its fitted sun simulator when
+ * as_mounted); eq. 3-4 for the polynomial, which assumes a perfect sun
+ * simulator (it cannot tell a tilted one from the unit's own error). */
+void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *alpha,
+                     double *beta);
+
+/* The same for k <= DSS_CHUNK table positions (padded arrays). */
+void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b1,
+                           const double *b2, double *alpha, double *beta);
+
+/* The physical model's fitted parameters for design d (its mount) and
+ * fit_index, as dss_param indices into free_idx (may be NULL); returns
+ * their count. */
+int dss_calib_free_params(const dss_design *d, int fit_index, int free_idx[DSS_NP]);
 
 typedef struct {
     size_t n;             /* readings */

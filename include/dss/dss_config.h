@@ -22,7 +22,15 @@ typedef struct {
     double glass_index;
     double fov_deg;          /* half field of view, per axis */
     int onboard_refraction;  /* enum dss_onboard_refraction (dss_onboard.h) */
+    int mount;               /* enum dss_mount: campaign.mount, the lab's procedure, carried
+                              * with the design so every model of the unit knows it */
 } dss_design;
+
+/* The values of campaign.mount (dss_sensor.h): aligned = the DSS paper's
+ * eq. 6, the lab aligns the sun to the detector normal at the table's zero
+ * (sun simulator at M^T e_z); as_mounted = the unit sits on the table as
+ * mounted and the sun simulator points where it points. */
+enum dss_mount { DSS_MOUNT_ALIGNED = 0, DSS_MOUNT_AS_MOUNTED = 1 };
 
 /* The values of design.onboard_refraction. */
 enum dss_onboard_refraction { DSS_ONBOARD_CORRECTED = 0, DSS_ONBOARD_IGNORED = 1 };

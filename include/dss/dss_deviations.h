@@ -5,7 +5,9 @@
  * dss_tolerances and dss_deviations; stream: RNG_STREAM_TOLERANCE + stream,
  * fixed forever).  Adding a tolerance: one line here, its field in
  * dss_deviations (dss_sensor.h), and its physics.
- * Defaults: the DSS paper (Wei et al.), Figs. 2-4.
+ * Defaults: the DSS paper (Wei et al.), Figs. 2-4; c1-c3 are the mount's
+ * rotation on the table top, sun_b1, sun_b2 the sun simulator's direction
+ * (dss_sensor.h).
  */
 #ifndef SUNMC_DSS_DEVIATIONS_H
 #define SUNMC_DSS_DEVIATIONS_H
@@ -29,7 +31,12 @@
     X(glass_thickness_um, "um", 1, 6, "glass_thickness_um", "10", "uniform", 1000,                \
       "cover-glass thickness error")                                                              \
     X(glass_index, "", 1, 7, "glass_index", "0.005", "uniform", 0.5,                              \
-      "cover-glass refractive index error")
+      "cover-glass refractive index error")                                                       \
+    X(sun_b1_arcsec, "arcsec", 1, 8, "sun_b1_arcsec", "10", "uniform", 36000,                     \
+      "sun-simulator axis in the table base frame: it points where a perfect one would with the " \
+      "table at (sun_b1, sun_b2); campaign.mount = as_mounted only")                              \
+    X(sun_b2_arcsec, "arcsec", 1, 9, "sun_b2_arcsec", "10", "uniform", 36000,                     \
+      "sun-simulator axis, the table angle about Y it equals (see sun_b1_arcsec)")
 
 enum {
     DSS_N_TOL = 0 DSS_DEVIATIONS(DEVIATION_X_ONE),

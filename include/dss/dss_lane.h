@@ -168,6 +168,24 @@ VM_INLINE dss_lane_spot dss_lane_sensor_spot(const dss_sensor *s, dss_v3 u)
     return o;
 }
 
+/* The truth angles of a table at (b1, b2) under the sun simulator v
+ * (dss_truth_angles): the angles of R(b) v when mounted, eq. 3-4 when
+ * aligned. */
+VM_INLINE double dss_lane_truth_beta(double b1, double b2);
+
+typedef struct {
+    double alpha, beta;
+} dss_lane_ab;
+
+VM_INLINE dss_lane_ab dss_lane_truth(int mount, dss_v3 v, double b1, double b2)
+{
+    dss_v3 w = dss_lane_table_mul(dss_lane_table_of(b1, b2), v);
+    int mounted = mount != DSS_MOUNT_ALIGNED;
+    dss_lane_ab o = {vm_select(mounted, atan2(w.x, w.z), -b2),
+                     vm_select(mounted, atan2(w.y, w.z), dss_lane_truth_beta(b1, b2))};
+    return o;
+}
+
 /* The table's truth angles of eq. 3-4 (dss_table_truth). */
 VM_INLINE double dss_lane_truth_beta(double b1, double b2)
 {
@@ -204,7 +222,7 @@ VM_INLINE dss_lane_q dss_lane_optics_q(dss_v3 u, double H_mm, double t_mm, doubl
  * parameters (dss_model_spot).  ok = 0 where the sun is behind the sensor
  * or totally reflected. */
 typedef struct {
-    double x0, y0, H, t, c1, c2, c3, n;
+    double x0, y0, H, t, c1, c2, c3, n, s1, s2;
 } dss_lane_par;
 
 typedef struct {
@@ -219,6 +237,14 @@ VM_INLINE double dss_lane_dc(const dss_model *m, int k, dss_lane_table R, dss_v3
     dss_v3 t1 = dss_lane_mul(m->dM[k], w);
     dss_v3 t3 = dss_lane_mul(m->M, dss_lane_table_mul(R, dss_lane_v3_of(m->dv0[k])));
     return dsdu.x * (t1.x + t3.x) + dsdu.y * (t1.y + t3.y) + dsdu.z * (t1.z + t3.z);
+}
+
+/* d spot / d s_k (the sun simulator's angles, k = 3, 4 of dv0) from
+ * du/ds_k = M R dv0_k (0 when the lab is aligned: dv0_k = 0). */
+VM_INLINE double dss_lane_ds(const dss_model *m, int k, dss_lane_table R, dss_v3 dsdu)
+{
+    dss_v3 t3 = dss_lane_mul(m->M, dss_lane_table_mul(R, dss_lane_v3_of(m->dv0[k])));
+    return dsdu.x * t3.x + dsdu.y * t3.y + dsdu.z * t3.z;
 }
 
 VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, dss_lane_table R, int want_j)
@@ -257,6 +283,10 @@ VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, dss_lane_table 
     e.jy.c2 = dss_lane_dc(m, 1, R, w, dy);
     e.jx.c3 = dss_lane_dc(m, 2, R, w, dx);
     e.jy.c3 = dss_lane_dc(m, 2, R, w, dy);
+    e.jx.s1 = dss_lane_ds(m, 3, R, dx);
+    e.jy.s1 = dss_lane_ds(m, 3, R, dy);
+    e.jx.s2 = dss_lane_ds(m, 4, R, dx);
+    e.jy.s2 = dss_lane_ds(m, 4, R, dy);
     return e;
 }
 
@@ -285,7 +315,8 @@ VM_INLINE double dss_lane_field_start(double r_mm, double H_mm, double t_mm, dou
 
 /* The calibrated angles of a spot whose field angle th and azimuth
  * (dx, dy) / r from the pinhole's foot are known: u taken back through
- * M, the table solved for R(b) v0 = M^T u (dss_table_solve), the truth
+ * M, w = M^T u.  As mounted: w's angles (the sun in the mount's frame).
+ * Aligned: the table solved for R(b) v0 = w (dss_table_solve), the truth
  * angles of that b (eq. 3-4).  ok = 0 where no table angle gives it. */
 typedef struct {
     double alpha, beta;
@@ -310,8 +341,10 @@ VM_INLINE dss_lane_angles dss_lane_model_angles(const dss_model *m, double dx, d
     double q1 = 0.0 * w.x + 1.0 * w.y + 0.0 * w.z;
     double q2 = sn * w.x + 0.0 * w.y + c * w.z;
     double b1 = atan2(q1, q2) - v_phi;
-    o.alpha = -b2;
-    o.beta = dss_lane_truth_beta(b1, b2);
+    int mounted = m->mount != DSS_MOUNT_ALIGNED;
+    o.ok = (mounted & (w.z > 0.0)) | ((!mounted) & o.ok);
+    o.alpha = vm_select(mounted, atan2(w.x, w.z), -b2);
+    o.beta = vm_select(mounted, atan2(w.y, w.z), dss_lane_truth_beta(b1, b2));
     return o;
 }
 

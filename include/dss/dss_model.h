@@ -4,7 +4,8 @@
  *
  * It is the geometry of dss_sensor.h with the as-built quantities as
  * parameters (lengths in mm, angles in rad):
- *     u    = M R(b) M^T e_z,          M = dss_zxy(c1, c2, c3)
+ *     u    = M R(b) v_sun,            M = dss_zxy(c1, c2, c3)
+ *     v_sun = M^T e_z (campaign.mount = aligned) or R(s1, s2) e_z (as_mounted)
  *     spot = (x0, y0) - (ux, uy) q(u; H, t, n)          (dss_optics.h)
  * and is fitted in pixels.  What the campaign cannot separate (found from
  * the Jacobian's conditioning, see dss_calib.h) is held fixed by the fit;
@@ -12,9 +13,11 @@
  *
  * Compensation inverts it exactly: the spot's distance from (x0, y0) gives
  * the field angle (Newton on the glass formula), its direction the azimuth;
- * that u is taken back through M and the table is solved for the b with
- * M R(b) M^T e_z = u; the output is that b's truth angles (eq. 3-4), the
- * angles the table would have set.
+ * that u is taken back through M into the table-top frame, w = M^T u.
+ * as_mounted: the output is w's angles (atan(w_x/w_z), atan(w_y/w_z)), the
+ * sun in the mount's frame.  aligned: the table is solved for the b with
+ * R(b) v_sun = w and the output is that b's truth angles (eq. 3-4), the
+ * angles the table would have set (dss_sensor.h, Truth).
  */
 #ifndef SUNMC_DSS_MODEL_H
 #define SUNMC_DSS_MODEL_H
@@ -33,23 +36,43 @@ enum dss_param {
     DSS_P_C2,     /* about Y (rad) */
     DSS_P_C3,     /* about Z (rad) */
     DSS_P_N,      /* cover-glass index */
+    DSS_P_S1,     /* sun simulator: table angle b1 it equals (rad), as_mounted */
+    DSS_P_S2,     /* and b2 (rad) */
     DSS_NP
 };
+/* Rotation parameters whose d v_sun / d p the model caches: c1-c3, s1, s2. */
+#define DSS_N_ROT 5
 
-/* Parameter names with units, in enum order (for messages and tables). */
+/* The parameters as every output names them (units.tsv, the calibrate
+ * report, params.ini), in enum order: each the fitted deviation from the
+ * nominal design in its name's unit, as the matching tolerance is:
+ * fit_dx_px, fit_dy_px, fit_dh_px (height, glass included),
+ * fit_glass_thickness_um, fit_c1_arcsec .. fit_c3_arcsec (the mount),
+ * fit_glass_index, fit_sun_b1_arcsec, fit_sun_b2_arcsec (the sun
+ * simulator). */
 extern const char *const dss_param_names[DSS_NP];
 
 typedef struct {
     double p[DSS_NP];
     double pixel_mm;       /* detector pitch: the model's spots are in px */
+    int mount;             /* enum dss_mount */
+    double nominal[DSS_NP]; /* the design's values (dss_model_init) */
     /* filled by dss_model_prepare */
     mat3 M, dM[3];         /* M and dM/dc1, dM/dc2, dM/dc3 */
-    double v0[3];          /* M^T e_z */
-    double dv0[3][3];      /* d v0 / dc_k */
+    double v0[3];          /* v_sun */
+    double dv0[DSS_N_ROT][3]; /* d v_sun / d (c1, c2, c3, s1, s2) */
 } dss_model;
 
-/* The nominal unit of design d (prepared). */
+/* The nominal unit of design d (prepared; d->mount is the model's). */
 void dss_model_init(dss_model *m, const dss_design *d);
+
+/* Named value of parameter k (see dss_param_names): (p - nominal) times
+ * dss_param_scale; and the scale (named unit per internal unit). */
+double dss_param_value(const dss_model *m, int k);
+double dss_param_scale(const dss_model *m, int k);
+
+/* Set parameter k from its named value (not prepared). */
+void dss_param_set(dss_model *m, int k, double value);
 
 /* Recompute the cached rotations after changing m->p. */
 void dss_model_prepare(dss_model *m);
@@ -59,6 +82,10 @@ void dss_model_prepare(dss_model *m);
  * SUNMC_EDOM when the sun is behind the sensor or totally reflected. */
 int dss_model_spot(const dss_model *m, double b1, double b2, double spot_px[2],
                    double J[2][DSS_NP]);
+
+/* The truth angles (rad) the model assigns to table angles (b1, b2) rad:
+ * dss_truth_angles with its v_sun. */
+void dss_model_truth(const dss_model *m, double b1, double b2, double *alpha, double *beta);
 
 /* Calibrated angles (rad) of a measured spot (px).  SUNMC_EDOM when the spot
  * cannot come from a sun in front of the sensor. */

@@ -11,6 +11,12 @@
 void dss_table_truth_batch(size_t k, const double *b1, const double *b2, double *alpha,
                            double *beta);
 
+/* The truth angles (dss_truth_angles, dss_sensor.h) of k table positions
+ * under mount mode `mount` and sun simulator v_sun: the angles of R(b)
+ * v_sun when mounted, eq. 3-4 when aligned (padded arrays). */
+void dss_truth_batch(int mount, const double v_sun[3], size_t k, const double *b1,
+                     const double *b2, double *alpha, double *beta);
+
 /* Field angle (deg) of the directions with angles (alpha0, beta0) rad:
  * atan(hypot(tan alpha0, tan beta0)). */
 void dss_field_chunk(size_t k, const double *alpha0, const double *beta0, double *field_deg);

@@ -14,13 +14,23 @@
  *    t + dt and index n + dn.
  *  - The sensor is mounted on the table top rotated by zxy (c1 about X, c2
  *    about Y, c3 about Z): M = dss_zxy(c1, c2, c3) takes table-top vectors
- *    into frame b.  As in the DSS paper (eq. 6, S_b = C_bc C_ca C_ba^-1 S_b0),
- *    the lab first aligns the sun perpendicular to the detector at the
- *    table's zero, so the sun is e_z in frame b at b = 0 and, at table angles
- *    b, u = M R(b) M^T e_z.  The installation rotations therefore vanish at
- *    the centre of the field and grow toward its edge (DSS paper Fig. 4).
- *  - Truth: the table's angles (alpha0, beta0) of eq. 3-4, i.e. the angles of
- *    R(b) e_z.
+ *    into frame b.  The sun simulator's direction in the table's base
+ *    frame is v_sun, and at table angles b the sun in frame b is
+ *        u = M R(b) v_sun                       (general lab geometry).
+ *    campaign.mount = as_mounted (default): the unit sits as mounted and the
+ *    simulator points where it points, v_sun = R(sun_b1, sun_b2) e_z (the
+ *    direction a perfect simulator would have with the table at sun_b1,
+ *    sun_b2; both deviations).  campaign.mount = aligned: the DSS paper's
+ *    eq. 6 (S_b = C_bc C_ca C_ba^-1 S_b0): the lab first aligns the sun
+ *    perpendicular to the detector at the table's zero, v_sun = M^T e_z, so
+ *    the installation rotations vanish at the centre of the field and grow
+ *    toward its edge (DSS paper Fig. 4); sun_b1, sun_b2 are not used.
+ *  - Truth, the frame of every calibrated angle: as_mounted, the angles
+ *    (alpha, beta) = (atan(w_x/w_z), atan(w_y/w_z)) of the true sun w =
+ *    R(b) v_sun in the table-top frame, i.e. the mount's frame with the
+ *    installation removed; with a perfect simulator (v_sun = e_z) these are
+ *    the table's angles of eq. 3-4.  aligned: the table's angles (alpha0,
+ *    beta0) of eq. 3-4, the paper's truth.
  *  - On-board formula: the exact inverse of the nominal geometry (dss_onboard
  *    below).  With design.onboard_refraction = corrected (the default) it
  *    undoes the nominal cover glass, so the error before calibration is
@@ -52,6 +62,7 @@ typedef struct {
     double c1_arcsec, c2_arcsec, c3_arcsec;
     double glass_thickness_um; /* deviation from design.glass_thickness_mm */
     double glass_index;        /* deviation from design.glass_index */
+    double sun_b1_arcsec, sun_b2_arcsec;
 } dss_deviations;
 
 /* DSS_DEVIATIONS as a table (dss_sensor.c). */
@@ -76,8 +87,10 @@ typedef struct {
     double pinhole_mm[3];      /* (dx, dy, h + dh) */
     double glass_t_mm;
     double glass_n;
+    int mount;                 /* enum dss_mount */
     mat3 M;                    /* table top -> sensor frame */
-    double v0[3];              /* sun at table zero in table-top axes: M^T e_z */
+    double v0[3];              /* sun in the table base frame: M^T e_z (aligned) or
+                                * R(sun_b1, sun_b2) e_z (as_mounted) */
     double spot_px;            /* spot diameter */
     int s_curve;               /* 1: apply the S-curve bias */
     double scurve_amp_px[DSS_SCURVE_HARMONICS];
@@ -85,6 +98,19 @@ typedef struct {
 
 /* Build the sensor from design d, deviations dev and s_curve (0 or 1). */
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve);
+
+/* The sun simulator's direction (unit) in the table base frame for mount
+ * mode `mount` and mount rotation M: M^T e_z (aligned) or R(sun_b1,
+ * sun_b2) e_z (as_mounted; angles in rad). */
+void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, double v[3]);
+
+/* The truth angles (rad) of a table at (b1, b2) rad under mount mode
+ * `mount` with sun simulator v_sun (see Truth above). */
+void dss_truth_angles(int mount, const double v_sun[3], double b1, double b2, double *alpha,
+                      double *beta);
+
+/* dss_truth_angles of sensor s. */
+void dss_sensor_truth(const dss_sensor *s, double b1, double b2, double *alpha, double *beta);
 
 /* Sun direction u[3] (unit, toward the sun) in frame b at true table angles
  * (b1, b2) rad. */

@@ -51,7 +51,7 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
 /* The parameter columns of units.tsv for c's model, and their values from a
  * calibration (cal) with its largest correlation (corr, pair i < j) and the
  * fit's reciprocal condition number. */
-#define DSS_N_PAR_PHYSICAL 11
+#define DSS_N_PAR_PHYSICAL (DSS_NP + 3)
 #define DSS_N_PAR_POLYNOMIAL 5
 /* One validation reading at table angles (b1, b2) rad, with fresh centroid
  * noise drawn from r (two normals, always drawn so the stream stays in step):

@@ -32,7 +32,7 @@ int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx,
             double c1 = b1 + (k == 0 ? d : 0.0), c2 = b2 + (k == 1 ? d : 0.0);
             if (dss_model_spot(m, c1, c2, sp[k][s], NULL) != SUNMC_OK)
                 return SUNMC_EDOM;
-            dss_table_truth(c1, c2, &tr[k][s][0], &tr[k][s][1]);
+            dss_model_truth(m, c1, c2, &tr[k][s][0], &tr[k][s][1]);
         }
     /* Fb[i][k] = d spot_i / d b_k, Tb[i][k] = d angle_i / d b_k. */
     double Fb[2][2], Tb[2][2];
@@ -45,15 +45,29 @@ int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx,
     if (!(fabs(det) > 0) || !isfinite(det))
         return SUNMC_EDOM;
     double Fi[2][2] = {{Fb[1][1] / det, -Fb[0][1] / det}, {-Fb[1][0] / det, Fb[0][0] / det}};
-    /* The compensated angles g(spot; p) satisfy spot(b(g), p) = spot, so at
-     * a fixed spot d b / d p = -Fb^-1 d spot / d p and d g / d p = Tb d b / d p. */
+    /* The compensated angles are g = truth(b(spot; p); p) with spot(b, p) =
+     * spot, so at a fixed spot d b / d p = -Fb^-1 d spot / d p and
+     * d g / d p = Tb d b / d p + d truth / d p at fixed b (the sun simulator's
+     * direction, as_mounted; central differences). */
     double G[2][DSS_NP];
     for (int k = 0; k < n_free; k++) {
         int j = free_idx[k];
         double db0 = -(Fi[0][0] * J[0][j] + Fi[0][1] * J[1][j]);
         double db1 = -(Fi[1][0] * J[0][j] + Fi[1][1] * J[1][j]);
-        G[0][k] = Tb[0][0] * db0 + Tb[0][1] * db1;
-        G[1][k] = Tb[1][0] * db0 + Tb[1][1] * db1;
+        double dt[2] = {0, 0};
+        if (m->mount == DSS_MOUNT_AS_MOUNTED && (j == DSS_P_S1 || j == DSS_P_S2)) {
+            double t[2][2];
+            for (int s = 0; s < 2; s++) {
+                dss_model q = *m;
+                q.p[j] += s ? h : -h;
+                dss_model_prepare(&q);
+                dss_model_truth(&q, b1, b2, &t[s][0], &t[s][1]);
+            }
+            dt[0] = (t[1][0] - t[0][0]) / (2 * h);
+            dt[1] = (t[1][1] - t[0][1]) / (2 * h);
+        }
+        G[0][k] = Tb[0][0] * db0 + Tb[0][1] * db1 + dt[0];
+        G[1][k] = Tb[1][0] * db0 + Tb[1][1] * db1 + dt[1];
     }
     for (int a = 0; a < 2; a++) {
         double v = 0;
@@ -67,13 +81,6 @@ int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx,
     return SUNMC_OK;
 }
 
-/* Display scale of each physical parameter (internal -> name's unit). */
-static double phys_scale(int k)
-{
-    return (k == DSS_P_C1 || k == DSS_P_C2 || k == DSS_P_C3) ? ARCSEC_PER_RAD : 1.0;
-}
-static const char *const phys_display[DSS_NP] = {"x0_mm", "y0_mm", "H_mm", "t_mm",
-                                                 "c1_arcsec", "c2_arcsec", "c3_arcsec", "n"};
 
 static double field_deg(double a, double b)
 {
@@ -96,7 +103,7 @@ static void angle_errors(const dss_calib_workspace *cw, const double *use,
         if (!(use[i] > 0))
             continue;
         double a0, b0, a, b;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
         if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
             continue;
         if (acc) {
@@ -166,9 +173,9 @@ static int physical_covariance(const dss_calib_workspace *cw, const dss_calibrat
     double scale[CALREPORT_MAX_PAR];
     for (int k = 0; k < cw->n_free; k++) {
         int idx = cw->free_idx[k];
-        snprintf(rep->name[k], sizeof rep->name[k], "%s", phys_display[idx]);
-        rep->value[k] = cal->phys.p[idx] * phys_scale(idx);
-        scale[k] = phys_scale(idx);
+        snprintf(rep->name[k], sizeof rep->name[k], "%s", dss_param_names[idx]);
+        rep->value[k] = dss_param_value(&cal->phys, idx);
+        scale[k] = dss_param_scale(&cal->phys, idx);
     }
     int cst = fit_covariance(cw->fw);
     if (cst == SUNMC_OK)
@@ -212,7 +219,7 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
             dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
                              cw->b2_rad[i], sg) != SUNMC_OK)
             continue;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
         double fd = field_deg(a0, b0);
         for (int a = 0; a < 2; a++) {
             band_acc_add(&sig[a], bands, fd, sg[a]);
@@ -289,7 +296,7 @@ int dss_calfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int
                "alpha_error_arcsec\tbeta_error_arcsec\n");
     for (size_t i = 0; i < cw->n; i++) {
         double a0, b0, a = NAN, b = NAN;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+        dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
         if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
             a = b = NAN;
         fprintf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
@@ -306,14 +313,28 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     int st = SUNMC_OK;
     char key[PARAMS_KEY_MAX], comment[PARAMS_COMMENT_MAX];
     if (cal->kind == DSS_MODEL_PHYSICAL) {
-        st = params_set_double(p, "design", "pixel_mm", cal->phys.pixel_mm, "detector pitch");
+        const dss_model *m = &cal->phys;
+        st = params_set_double(p, "design", "pixel_mm", m->pixel_mm, "detector pitch");
+        if (st == SUNMC_OK)
+            st = params_set_double(p, "design", "h_mm", m->nominal[DSS_P_H],
+                                   "nominal pinhole height over the detector, glass included");
+        if (st == SUNMC_OK)
+            st = params_set_double(p, "design", "glass_thickness_mm", m->nominal[DSS_P_T],
+                                   "nominal cover-glass thickness");
+        if (st == SUNMC_OK)
+            st = params_set_double(p, "design", "glass_index", m->nominal[DSS_P_N],
+                                   "nominal cover-glass index");
+        if (st == SUNMC_OK)
+            st = params_set_text(p, "design", "mount",
+                                 m->mount == DSS_MOUNT_ALIGNED ? "aligned" : "as_mounted",
+                                 "campaign.mount: the frame of the compensated angles");
         for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
             comment[0] = '\0';
             for (int j = 0; rep && j < rep->np; j++)
-                if (strcmp(rep->name[j], phys_display[k]) == 0 && isfinite(rep->se[j]))
+                if (strcmp(rep->name[j], dss_param_names[k]) == 0 && isfinite(rep->se[j]))
                     snprintf(comment, sizeof comment, "standard error %.3g", rep->se[j]);
-            st = params_set_double(p, "parameters", phys_display[k],
-                                   cal->phys.p[k] * phys_scale(k), comment[0] ? comment : "fixed");
+            st = params_set_double(p, "parameters", dss_param_names[k], dss_param_value(m, k),
+                                   comment[0] ? comment : "fixed");
         }
         return st;
     }
@@ -342,6 +363,57 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     return st;
 }
 
+/* The physical model of a params.ini: [design] nominal values and mount,
+ * [parameters] the named deviations. */
+static int load_physical(const params_file *p, dss_model *m, char *err, size_t errlen)
+{
+    static const char *const design_keys[] = {"pixel_mm", "h_mm", "glass_thickness_mm",
+                                              "glass_index"};
+    double dv[4];
+    const char *mount = NULL;
+    int st = params_check_keys(p, "parameters", dss_param_names, DSS_NP, err, errlen);
+    for (int k = 0; k < 4 && st == SUNMC_OK; k++)
+        st = params_get_double(p, "design", design_keys[k], &dv[k], err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_text(p, "design", "mount", &mount, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "mount",
+                            strcmp(mount, "aligned") == 0 || strcmp(mount, "as_mounted") == 0,
+                            "aligned or as_mounted", err, errlen);
+    /* What the inverse cannot work with: no pitch, no height, an index
+     * below 1. */
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "pixel_mm", dv[0] > 0, "> 0", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "h_mm", dv[1] > 0, "> 0", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "glass_index", dv[3] >= 1, ">= 1", err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    dss_design d = {.h_mm = dv[1], .pixel_um = dv[0] * UM_PER_MM, .glass_thickness_mm = dv[2],
+                    .glass_index = dv[3],
+                    .mount = strcmp(mount, "aligned") == 0 ? DSS_MOUNT_ALIGNED
+                                                           : DSS_MOUNT_AS_MOUNTED};
+    dss_model_init(m, &d);
+    m->pixel_mm = dv[0]; /* exactly as written */
+    for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+        double v;
+        st = params_get_double(p, "parameters", dss_param_names[k], &v, err, errlen);
+        dss_param_set(m, k, v);
+    }
+    const double *q = m->p;
+    if (st == SUNMC_OK)
+        st = params_require(p, "parameters", "fit_dh_px", q[DSS_P_H] > 0,
+                            "> -design.h_mm / design.pixel_mm (a pinhole above the detector)",
+                            err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "parameters", "fit_glass_thickness_um", q[DSS_P_T] < q[DSS_P_H],
+                            "such that the glass lies under the pinhole", err, errlen);
+    if (st == SUNMC_OK)
+        dss_model_prepare(m);
+    return st;
+}
+
 int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
 {
     const char *model;
@@ -351,29 +423,7 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
     memset(cal, 0, sizeof *cal);
     if (strcmp(model, DSS_CALFIT_MODEL_PHYSICAL) == 0) {
         cal->kind = DSS_MODEL_PHYSICAL;
-        st = params_check_keys(p, "parameters", phys_display, DSS_NP, err, errlen);
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "pixel_mm", &cal->phys.pixel_mm, err, errlen);
-        for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
-            double v;
-            st = params_get_double(p, "parameters", phys_display[k], &v, err, errlen);
-            cal->phys.p[k] = v / phys_scale(k);
-        }
-        /* What the inverse cannot work with: no pitch, no height, a glass
-         * that does not fit under the pinhole. */
-        const double *q = cal->phys.p;
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "pixel_mm", cal->phys.pixel_mm > 0, "> 0", err,
-                                errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "parameters", "H_mm", q[DSS_P_H] > 0, "> 0", err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "parameters", "t_mm", q[DSS_P_T] < q[DSS_P_H],
-                                "below parameters.H_mm (the glass lies under the pinhole)", err,
-                                errlen);
-        if (st == SUNMC_OK)
-            dss_model_prepare(&cal->phys);
-        return st;
+        return load_physical(p, &cal->phys, err, errlen);
     }
     if (strcmp(model, DSS_CALFIT_MODEL_POLYNOMIAL) == 0) {
         cal->kind = DSS_MODEL_POLYNOMIAL;

@@ -35,6 +35,39 @@ void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_
     }
 }
 
+int dss_calib_free_params(const dss_design *d, int fit_index, int free_idx[DSS_NP])
+{
+    int n = 0;
+    for (int j = 0; j < DSS_NP; j++) {
+        if (j == DSS_P_N && !fit_index)
+            continue;
+        if ((j == DSS_P_S1 || j == DSS_P_S2) && d->mount == DSS_MOUNT_ALIGNED)
+            continue;
+        if (free_idx)
+            free_idx[n] = j;
+        n++;
+    }
+    return n;
+}
+
+void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *alpha,
+                     double *beta)
+{
+    if (cal->kind == DSS_MODEL_PHYSICAL)
+        dss_model_truth(&cal->phys, b1, b2, alpha, beta);
+    else
+        dss_table_truth(b1, b2, alpha, beta);
+}
+
+void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b1,
+                           const double *b2, double *alpha, double *beta)
+{
+    if (cal->kind == DSS_MODEL_PHYSICAL)
+        dss_truth_batch(cal->phys.mount, cal->phys.v0, k, b1, b2, alpha, beta);
+    else
+        dss_table_truth_batch(k, b1, b2, alpha, beta);
+}
+
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index)
 {
@@ -60,9 +93,7 @@ dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, in
         cw->fw = n > nt ? fit_workspace_alloc(n, nt) : NULL;
         ok = cw->basis && cw->target && cw->fw;
     } else if (ok) {
-        for (int j = 0; j < DSS_NP; j++)
-            if (j != DSS_P_N || fit_index)
-                cw->free_idx[cw->n_free++] = j;
+        cw->n_free = dss_calib_free_params(d, fit_index, cw->free_idx);
         /* rows 2i, 2i + 1 of every padded point: the pads' rows stay 0 */
         cw->fw = 2 * n > (size_t)cw->n_free
                      ? fit_workspace_alloc(2 * vm_pad(n), (size_t)cw->n_free)
@@ -253,7 +284,7 @@ double dss_calib_residual_rms(const dss_calib_workspace *cw, const dss_calibrati
     for (size_t i0 = 0; i0 < cw->n; i0 += DSS_CHUNK) {
         size_t m = cw->n - i0 < DSS_CHUNK ? cw->n - i0 : DSS_CHUNK;
         dss_compensate_batch(cal, vm_pad(m), cw->x_px + i0, cw->y_px + i0, a, b, st);
-        dss_table_truth_batch(m, cw->b1_rad + i0, cw->b2_rad + i0, a0, b0);
+        dss_calib_truth_batch(cal, m, cw->b1_rad + i0, cw->b2_rad + i0, a0, b0);
         dss_total_error_chunk(m, a, b, a0, b0, e);
         for (size_t q = 0; q < m; q++) {
             if (!(cw->weight[i0 + q] > 0) || st[q] != SUNMC_OK)

@@ -68,6 +68,8 @@ static void deviations_scale(dss_deviations *d, double s)
     d->c3_arcsec *= s;
     d->glass_thickness_um *= s;
     d->glass_index *= s;
+    d->sun_b1_arcsec *= s;
+    d->sun_b2_arcsec *= s;
 }
 
 int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
@@ -110,7 +112,7 @@ int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
     int st = dss_sensor_read(&w->u.sensor, b1, b2, NULL, &x, &y);
     if (st != SUNMC_OK)
         return st;
-    dss_table_truth(b1, b2, &a0, &b0);
+    dss_sensor_truth(&w->u.sensor, b1, b2, &a0, &b0);
     if ((st = dss_sensor_angles(&w->u.sensor, x, y, &am, &bm)) != SUNMC_OK)
         return st;
     errors_of(am, bm, a0, b0, before);

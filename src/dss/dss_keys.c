@@ -54,6 +54,11 @@ const config_key dss_keys[] = {
      "last rotary-table angle of the b1 x b2 grid"},
     {"campaign", "b_step_deg", KEY_DOUBLE, "deg", "5", 0.01, 90, NULL, OFF(cal_b_step_deg),
      "rotary-table step, both axes"},
+    {"campaign", "mount", KEY_ENUM, "", "as_mounted", 0, 0, "aligned|as_mounted",
+     OFF(design.mount),
+     "as_mounted: sun_sensor = C R(b) v_sun, the mount C (c1-c3) and the sun simulator v_sun "
+     "(sun_b1, sun_b2) as they are; aligned: the DSS paper's eq. 6, the lab aligns the sun to "
+     "the detector normal at table zero (v_sun = C^T z)"},
 
     /* [calibration] */
     {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial", OFF(cal_model),
@@ -95,7 +100,8 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
     long nb = grid_count(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg, 0);
     long n = nb * nb;
     int phys = d->cal_model == DSS_MODEL_PHYSICAL;
-    int np = phys ? DSS_NP - !d->fit_glass_index : dss_poly_n_terms(d->poly_order);
+    int np = phys ? dss_calib_free_params(&d->design, d->fit_glass_index, NULL)
+                  : dss_poly_n_terms(d->poly_order);
     if ((phys ? 2 * n : n) > np)
         return SUNMC_OK;
     return sunmc_fail(err, errlen, SUNMC_EINPUT,

@@ -40,6 +40,7 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
     const double *restrict m6 = t->m[6], *restrict m7 = t->m[7], *restrict m8 = t->m[8];
     double *jx0 = col[DSS_P_X0], *jy0 = col[DSS_P_Y0], *jh = col[DSS_P_H], *jt = col[DSS_P_T];
     double *jc1 = col[DSS_P_C1], *jc2 = col[DSS_P_C2], *jc3 = col[DSS_P_C3], *jn = col[DSS_P_N];
+    double *js1 = col[DSS_P_S1], *js2 = col[DSS_P_S2];
     VM_SIMD for (size_t i = 0; i < vm_pad(t->n); i++) {
         dss_lane_table R = {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]};
         dss_lane_model e = dss_lane_model_spot(m, R, 1);
@@ -64,6 +65,10 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
         jc3[2 * i + 1] = vm_keep(use, w * e.jy.c3);
         jn[2 * i] = vm_keep(use, w * e.jx.n);
         jn[2 * i + 1] = vm_keep(use, w * e.jy.n);
+        js1[2 * i] = vm_keep(use, w * e.jx.s1);
+        js1[2 * i + 1] = vm_keep(use, w * e.jy.s1);
+        js2[2 * i] = vm_keep(use, w * e.jx.s2);
+        js2[2 * i + 1] = vm_keep(use, w * e.jy.s2);
     }
 }
 

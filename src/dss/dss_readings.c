@@ -143,7 +143,7 @@ void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *
         pad_lanes(p, k);
         pad_lanes(q, k);
         read_chunk(&u->sensor, k, p, q, x, y, seen);
-        dss_table_truth_batch(k, p, q, a0, b0);
+        dss_truth_batch(u->sensor.mount, u->sensor.v0, k, p, q, a0, b0);
         for (size_t i = 0; i < k; i++) {
             dss_validation_point *o = &out[i0 + i];
             o->seen = seen[i] != 0.0;

@@ -16,6 +16,17 @@ VM_KERNEL void dss_table_truth_batch(size_t k, const double *b1, const double *b
     }
 }
 
+VM_KERNEL void dss_truth_batch(int mount, const double v_sun[3], size_t k, const double *b1,
+                               const double *b2, double *alpha, double *beta)
+{
+    dss_v3 v = dss_lane_v3_of(v_sun);
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        dss_lane_ab t = dss_lane_truth(mount, v, b1[i], b2[i]);
+        alpha[i] = t.alpha;
+        beta[i] = t.beta;
+    }
+}
+
 VM_KERNEL void dss_field_chunk(size_t k, const double *alpha0, const double *beta0,
                                double *field_deg)
 {

@@ -2,6 +2,7 @@
  * angles (see dss_sensor.h). */
 #include "dss_sensor.h"
 #include "dss_lane.h"
+#include "dss_score.h"
 #include "dss_rotation.h"
 #include "rng.h"
 #include "status.h"
@@ -50,11 +51,44 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     s->glass_n = d->glass_index + dev->glass_index;
     dss_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
             dev->c3_arcsec * RAD_PER_ARCSEC, s->M);
-    for (int i = 0; i < 3; i++)
-        s->v0[i] = s->M[2][i]; /* M^T e_z: the third row of M */
+    s->mount = d->mount;
+    dss_sun_direction(d->mount, s->M, dev->sun_b1_arcsec * RAD_PER_ARCSEC,
+                      dev->sun_b2_arcsec * RAD_PER_ARCSEC, s->v0);
     s->spot_px = d->pinhole_um / d->pixel_um;
     s->s_curve = s_curve;
     dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
+}
+
+void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, double v[3])
+{
+    if (mount == DSS_MOUNT_ALIGNED) {
+        for (int i = 0; i < 3; i++)
+            v[i] = M[2][i]; /* M^T e_z: the third row of M */
+        return;
+    }
+    mat3 S;
+    dss_table_rotation(sun_b1, sun_b2, S);
+    for (int i = 0; i < 3; i++)
+        v[i] = S[i][2]; /* R(s) e_z: the third column */
+}
+
+void dss_truth_angles(int mount, const double v_sun[3], double b1, double b2, double *alpha,
+                      double *beta)
+{
+    /* a chunk of one, padded (the kernel reads vm_pad(1) lanes) */
+    _Alignas(VM_ALIGN) double p[DSS_CHUNK], q[DSS_CHUNK], a[DSS_CHUNK], b[DSS_CHUNK];
+    for (size_t i = 0; i < vm_pad(1); i++) {
+        p[i] = b1;
+        q[i] = b2;
+    }
+    dss_truth_batch(mount, v_sun, 1, p, q, a, b);
+    *alpha = a[0];
+    *beta = b[0];
+}
+
+void dss_sensor_truth(const dss_sensor *s, double b1, double b2, double *alpha, double *beta)
+{
+    dss_truth_angles(s->mount, s->v0, b1, b2, alpha, beta);
 }
 
 VM_NOSAN void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u[3])

@@ -22,10 +22,10 @@
 enum { ANGLE_ALPHA = 0, ANGLE_BETA, ANGLE_TOTAL, DSS_N_ANGLES };
 static const char *const dss_angle_names[DSS_N_ANGLES] = {"alpha", "beta", "total"};
 
-static const char *const par_physical[DSS_N_PAR_PHYSICAL] = {
-    "fit_dx_px", "fit_dy_px", "fit_dh_px", "fit_glass_thickness_um", "fit_c1_arcsec",
-    "fit_c2_arcsec", "fit_c3_arcsec", "fit_glass_index", "corr_max_abs", "corr_pair",
-    "log10_rcond"};
+/* After the DSS_NP parameters (dss_param_names, the same names as the
+ * calibrate report and params.ini). */
+static const char *const par_fit_quality[DSS_N_PAR_PHYSICAL - DSS_NP] = {
+    "corr_max_abs", "corr_pair", "log10_rcond"};
 static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
     "poly_order", "poly_terms", "corr_max_abs", "corr_pair", "log10_rcond"};
 
@@ -75,8 +75,8 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
             weight[i] = p[q].seen ? 1.0 : 0.0;
             seen += (size_t)p[q].seen;
             if (truth_alpha_rad && truth_beta_rad)
-                dss_table_truth(p[q].b1_true_rad, p[q].b2_true_rad, &truth_alpha_rad[i],
-                                &truth_beta_rad[i]);
+                dss_sensor_truth(&u->sensor, p[q].b1_true_rad, p[q].b2_true_rad,
+                                 &truth_alpha_rad[i], &truth_beta_rad[i]);
         }
     }
     return seen;
@@ -87,7 +87,8 @@ int dss_par_names(const sunmc_config *c, const char **names, int max)
     int poly = dss_cfg(c)->cal_model == DSS_MODEL_POLYNOMIAL;
     int n = poly ? DSS_N_PAR_POLYNOMIAL : DSS_N_PAR_PHYSICAL;
     for (int i = 0; i < n && i < max; i++)
-        names[i] = poly ? par_polynomial[i] : par_physical[i];
+        names[i] = poly ? par_polynomial[i]
+                        : (i < DSS_NP ? dss_param_names[i] : par_fit_quality[i - DSS_NP]);
     return n;
 }
 
@@ -102,18 +103,12 @@ int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double cor
         memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
         return DSS_N_PAR_POLYNOMIAL;
     }
-    const dss_model *m = &cal->phys;
-    double pix = dc->design.pixel_um * MM_PER_UM;
-    double v[DSS_N_PAR_PHYSICAL] = {
-        m->p[DSS_P_X0] / pix,
-        m->p[DSS_P_Y0] / pix,
-        (m->p[DSS_P_H] - dc->design.h_mm) / pix,
-        (m->p[DSS_P_T] - dc->design.glass_thickness_mm) * UM_PER_MM,
-        m->p[DSS_P_C1] * ARCSEC_PER_RAD,
-        m->p[DSS_P_C2] * ARCSEC_PER_RAD,
-        m->p[DSS_P_C3] * ARCSEC_PER_RAD,
-        m->p[DSS_P_N] - dc->design.glass_index,
-        corr, pair, lrc};
+    double v[DSS_N_PAR_PHYSICAL];
+    for (int k = 0; k < DSS_NP; k++)
+        v[k] = dss_param_value(&cal->phys, k);
+    v[DSS_NP] = corr;
+    v[DSS_NP + 1] = pair;
+    v[DSS_NP + 2] = lrc;
     memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
     return DSS_N_PAR_PHYSICAL;
 }
