@@ -556,7 +556,7 @@ static void test_cli_simulate_calibrate_compensate_reproduces_run(void **state)
     ess_unit_build(&st.cfg, &dev, &u);
     ess_calib_workspace *cw = ess_calib_alloc(ess_campaign_size(&st.cfg));
     int gross;
-    ess_unit_campaign(&st.cfg, &u, 3, cw, &gross);
+    ess_unit_campaign(&st.cfg, &u, 3, cw, NULL, &gross);
     char path[600];
     snprintf(path, sizeof path, "%s/u3/campaign.csv", dir);
     csv_table *t;

@@ -13,7 +13,6 @@
 #include "test_util.h"
 
 #include "dss_unit.h"
-#include "ess_simulate.h"
 #include "ess_unit.h"
 #include "rng.h"
 #include "status.h"
@@ -275,18 +274,20 @@ static void ess_campaign_noise(void **state)
     size_t n = ess_campaign_size(c);
     assert_int_equal((int)n, 14);
     static double ea[NC][14], eb[NC][14], roll_err[NC];
-    double at[14], bt[14], inc[14], raw[14];
-    int seen[14];
+    ess_calib_workspace *cw = ess_calib_alloc(n);
+    assert_non_null(cw);
+    ess_campaign_point pt[14];
     for (long u = 0; u < NC; u++) {
         ess_deviations d;
         ess_unit un;
         ess_deviations_sample(c, (uint64_t)c->seed, u, &d);
         ess_unit_build(c, &d, &un);
-        ess_campaign_truth(c, &un, u, at, bt, inc, raw, seen);
+        int gross;
+        ess_unit_campaign(c, &un, u, cw, pt, &gross);
         for (size_t i = 0; i < n; i++) {
             double a = (-3.0 + (double)(i % 7)) * RAD_PER_DEG, b = (i < 7 ? 0.0 : 10.0) * RAD_PER_DEG;
-            ea[u][i] = (at[i] - a) * ARCSEC_PER_RAD;
-            eb[u][i] = (bt[i] - b) * ARCSEC_PER_RAD;
+            ea[u][i] = (pt[i].a_true_rad - a) * ARCSEC_PER_RAD;
+            eb[u][i] = (pt[i].b_true_rad - b) * ARCSEC_PER_RAD;
         }
         roll_err[u] = d.roll_measured_arcsec - d.install_x_arcsec;
     }
@@ -308,6 +309,7 @@ static void ess_campaign_noise(void **state)
         assert_true(fabs(correlation(col_b, roll_err, NC)) < lim);
         assert_true(fabs(correlation(col_a, col_a + 1, NC - 1)) < lim); /* unit u vs u + 1 */
     }
+    ess_calib_free(cw);
     config_state_free(&st);
 }
 
@@ -352,13 +354,15 @@ static void ess_repeats_averaged(void **state)
     rng_stream r;
     rng_stream_init(&r, 5, 2, RNG_STREAM_CAL_NOISE);
     for (double a_deg = -40; a_deg <= 40; a_deg += 16.5) {
-        double at, bt, inc, raw, one, truth;
+        double one, truth;
         double a = a_deg * RAD_PER_DEG, b = 10 * RAD_PER_DEG;
-        assert_int_equal(ess_campaign_reading(&st.cfg, &u, &r, a, b, &at, &bt, &inc, &raw), 1);
-        assert_true(at == a && bt == b);
+        ess_campaign_point p;
+        ess_campaign_batch(&st.cfg, &u, &r, 1, &a, &b, &p);
+        assert_int_equal(p.seen, 1);
+        assert_true(p.a_true_rad == a && p.b_true_rad == b);
         assert_int_equal(ess_unit_read(&u, a, b, NULL, &one, &truth), SUNMC_OK);
-        assert_near(raw, one, 1e-15);
-        assert_near(inc, truth, 1e-15);
+        assert_near(p.raw_rad, one, 1e-15);
+        assert_near(p.incidence_rad, truth, 1e-15);
     }
     config_state_free(&st);
 }

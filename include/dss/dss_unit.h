@@ -4,7 +4,7 @@
  *
  * For `sunmc simulate / calibrate / compensate` and `curve`:
  *   dss_deviations_sample + dss_unit_build     a unit (or fill the deviations)
- *   dss_unit_campaign                          its readings and the truth
+ *   dss_unit_campaign, dss_unit_validation     its readings and the truth
  *   dss_calib_alloc + dss_calibrate            the fit (dss_calib.h)
  *   dss_compensate                             spot -> (alpha, beta)
  *   dss_sensor_read + dss_sensor_angles        one raw reading anywhere
@@ -53,13 +53,29 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
  * fit's reciprocal condition number. */
 #define DSS_N_PAR_PHYSICAL (DSS_NP + 3)
 #define DSS_N_PAR_POLYNOMIAL 5
-/* One validation reading at table angles (b1, b2) rad, with fresh centroid
- * noise drawn from r (two normals, always drawn so the stream stays in step):
- * the table's truth (a0, b0) rad of eq. 3-4 and the measured spot (px).
- * Returns SUNMC_OK, or SUNMC_EDOM when the spot is off the detector. */
-int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream *r, double b1_rad,
-                           double b2_rad, double *x_px, double *y_px, double *a0_rad,
-                           double *b0_rad);
+/* A unit's validation readings on c's validation grid (b1 varying
+ * slowest; the table at exactly these angles): table angles rad, the
+ * measured spot (px from the detector centre, one reading with centroid
+ * noise; meaningless with seen[i] = 0 when there is no spot), the same
+ * spot without the noise (for the systematic part) and the truth angles of
+ * eq. 3-4, rad.  `run` scores these arrays and `simulate` writes them. */
+typedef struct {
+    size_t n;
+    double *b1_rad, *b2_rad, *x_px, *y_px, *x0_px, *y0_px, *truth_alpha_rad, *truth_beta_rad;
+    int *seen;
+} dss_val_readings;
+
+/* Number of validation grid points of config c (b1 x b2). */
+size_t dss_validation_size(const sunmc_config *c);
+
+/* Arrays for c's validation grid; SUNMC_ENOMEM.  Free with dss_val_free. */
+int dss_val_alloc(const sunmc_config *c, dss_val_readings *v);
+void dss_val_free(dss_val_readings *v);
+
+/* The validation readings of unit `unit`, fresh centroid noise from stream
+ * RNG_STREAM_VAL_NOISE of (seed, unit) (two normals per point, spot or not). */
+void dss_unit_validation(const sunmc_config *c, const dss_unit *u, long unit,
+                         dss_val_readings *v);
 
 /* One campaign point as the lab records it (dss_campaign_batch). */
 typedef struct {
@@ -83,8 +99,10 @@ typedef struct {
     int seen;                      /* 0: spot off the detector (x, y meaningless) */
 } dss_validation_point;
 
-/* n validation readings, as n calls of dss_validation_reading on r (the
- * same draws, the same bits), plus each reading without its noise. */
+/* n validation readings with fresh centroid noise from r (two normals per
+ * point, spot or not), plus each reading without its noise, in vectorised
+ * chunks (dss_readings.c); splitting the points over calls gives the same
+ * bits. */
 void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
                           const double *b1_rad, const double *b2_rad, dss_validation_point *out);
 

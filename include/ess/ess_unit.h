@@ -11,6 +11,8 @@
 #include "ess_sensor.h"
 #include "rng.h"
 
+#include <math.h>
+
 typedef struct {
     ess_deviations dev;
     ess_sensor sensor;
@@ -55,28 +57,51 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
 /* Number of campaign points of config c (alphas x betas). */
 size_t ess_campaign_size(const sunmc_config *c);
 
-/* Simulate the campaign of unit `unit` into cw (alpha, beta as recorded by
- * the turntable; raw averaged over campaign.repeats; weight 0 for a point
- * with a gross error or no sun).  *gross counts the dropped points. */
-void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
-                       ess_calib_workspace *cw, int *gross);
+/* Half the fine-code period (rad) of c's design. */
+double ess_half_period_rad(const sunmc_config *c);
 
-/* One campaign reading at recorded table angles (a, b) rad, drawing from r
- * in the Monte Carlo's order: the true table angles (encoder error added),
- * the true incidence and the raw output averaged over campaign.repeats.
- * Returns 1 when the sun was seen at every repeat, else 0. */
-int ess_campaign_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
-                         double b_rad, double *a_true_rad, double *b_true_rad,
-                         double *incidence_rad, double *raw_rad);
+/* The ESS's one gross-error rule: a reading off its reference angle (a
+ * campaign point's table alpha, a validation reading's true incidence) by
+ * half a fine period or more: the coarse code picked the wrong period.  A
+ * lab drops such a reading; `run` counts it and leaves it out of the RMS. */
+static inline int ess_is_gross(double raw_rad, double ref_rad, double half_period_rad)
+{
+    return !(fabs(raw_rad - ref_rad) < half_period_rad);
+}
+
+/* Simulate the campaign of unit `unit` into cw (alpha, beta as recorded by
+ * the turntable, alphas fastest; raw averaged over campaign.repeats; weight
+ * 0 for a point with a gross error or no sun).  *gross counts the dropped
+ * points.  truth (n = ess_campaign_size(c) points, or NULL) gets each
+ * point's true table angles and incidence and whether the sun was seen. */
+void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
+                       ess_calib_workspace *cw, ess_campaign_point *truth, int *gross);
 
 /* Status of a validation reading. */
 enum ess_reading_status { ESS_READING_OK = 0, ESS_READING_UNSEEN = 1, ESS_READING_GROSS = 2 };
 
-/* One validation reading at table angles (a, b) rad with fresh row noise
- * from r: raw output and true incidence (rad); ESS_READING_GROSS when they
- * differ by more than half a fine period (the wrong period was picked). */
-int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
-                           double b_rad, double *raw_rad, double *truth_rad);
+/* A unit's validation readings on c's validation grid (alphas fastest):
+ * table angles, raw output (0 when unseen), the same reading without its
+ * noise (for the systematic part) and true incidence, rad, and each
+ * reading's status (enum ess_reading_status).  `run` scores these arrays
+ * and `simulate` writes them. */
+typedef struct {
+    size_t n;
+    double *alpha_rad, *beta_rad, *raw_rad, *raw0_rad, *truth_rad;
+    int *status;
+} ess_val_readings;
+
+/* Number of validation grid points of config c (alphas x betas). */
+size_t ess_validation_size(const sunmc_config *c);
+
+/* Arrays for c's validation grid; SUNMC_ENOMEM.  Free with ess_val_free. */
+int ess_val_alloc(const sunmc_config *c, ess_val_readings *v);
+void ess_val_free(ess_val_readings *v);
+
+/* The validation readings of unit `unit` with fresh row noise (stream
+ * RNG_STREAM_VAL_NOISE of (seed, unit)). */
+void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
+                         ess_val_readings *v);
 
 /* Draw the 4 fine-row current noises (units of a1) from stream r. */
 void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_ROWS]);

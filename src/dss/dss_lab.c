@@ -3,7 +3,6 @@
  * data (dss_calfit.h); `compensate` applies params.ini. */
 #include "dss_calfit.h"
 #include "dss_lab.h"
-#include "dss_simulate.h"
 #include "dss_unit.h"
 #include "family.h"
 #include "status.h"
@@ -15,14 +14,14 @@
 
 /* ---- simulate ---- */
 
+/* The campaign's columns (dss_unit_campaign), b1 varying slowest. */
+enum { C_B1, C_B2, C_X, C_Y, C_WEIGHT, C_TRUTH_A, C_TRUTH_B, C_COLUMNS };
+
 typedef struct {
     dss_deviations dev;
-    size_t n, nv, n_spot;
-    /* campaign, b1 varying slowest (dss_unit_campaign) */
-    double *b1_rad, *b2_rad, *x_px, *y_px, *weight, *truth_a_rad, *truth_b_rad;
-    /* validation (dss_validation_readings) */
-    double *vb1_rad, *vb2_rad, *vx_px, *vy_px, *vtruth_a_rad, *vtruth_b_rad;
-    int *vseen;
+    size_t n, n_spot;
+    double *col[C_COLUMNS];  /* the campaign as `run` fits it, and its truth */
+    dss_val_readings val;    /* the readings `run` validates on */
     long n_val;
 } dss_sim;
 
@@ -31,52 +30,33 @@ static void sim_free(void *p)
     dss_sim *s = p;
     if (!s)
         return;
-    double *arrays[] = {s->b1_rad, s->b2_rad, s->x_px, s->y_px, s->weight, s->truth_a_rad,
-                        s->truth_b_rad, s->vb1_rad, s->vb2_rad, s->vx_px, s->vy_px,
-                        s->vtruth_a_rad, s->vtruth_b_rad};
-    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
-        free(arrays[k]);
-    free(s->vseen);
+    for (int k = 0; k < C_COLUMNS; k++)
+        free(s->col[k]);
+    dss_val_free(&s->val);
     free(s);
-}
-
-static dss_sim *sim_alloc(size_t n, size_t nv)
-{
-    dss_sim *s = calloc(1, sizeof *s);
-    if (!s)
-        return NULL;
-    s->n = n;
-    s->nv = nv;
-    double **camp[] = {&s->b1_rad, &s->b2_rad, &s->x_px, &s->y_px, &s->weight, &s->truth_a_rad,
-                       &s->truth_b_rad};
-    double **val[] = {&s->vb1_rad, &s->vb2_rad, &s->vx_px, &s->vy_px, &s->vtruth_a_rad,
-                      &s->vtruth_b_rad};
-    int ok = 1;
-    for (size_t k = 0; k < sizeof camp / sizeof camp[0]; k++)
-        ok &= (*camp[k] = malloc((n + 1) * sizeof(double))) != NULL;
-    for (size_t k = 0; k < sizeof val / sizeof val[0]; k++)
-        ok &= (*val[k] = malloc((nv + 1) * sizeof(double))) != NULL;
-    ok &= (s->vseen = malloc((nv + 1) * sizeof(int))) != NULL;
-    if (ok)
-        return s;
-    sim_free(s);
-    return NULL;
 }
 
 static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size_t errlen)
 {
-    dss_sim *s = sim_alloc(dss_campaign_size(c), dss_validation_size(c));
-    if (!s)
+    dss_sim *s = calloc(1, sizeof *s);
+    int ok = s && dss_val_alloc(c, &s->val) == SUNMC_OK;
+    if (s)
+        s->n = dss_campaign_size(c);
+    for (int k = 0; ok && k < C_COLUMNS; k++)
+        ok = (s->col[k] = malloc((s->n + 1) * sizeof(double))) != NULL;
+    if (!ok) {
+        sim_free(s);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    }
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &s->dev);
     dss_unit_build(c, &s->dev, &u);
-    s->n_spot = dss_unit_campaign(c, &u, unit, s->b1_rad, s->b2_rad, s->x_px, s->y_px, s->weight,
-                                  s->truth_a_rad, s->truth_b_rad);
-    dss_validation_readings(c, &u, unit, s->vb1_rad, s->vb2_rad, s->vx_px, s->vy_px,
-                            s->vtruth_a_rad, s->vtruth_b_rad, s->vseen);
-    for (size_t i = 0; i < s->nv; i++)
-        s->n_val += s->vseen[i];
+    double **v = s->col;
+    s->n_spot = dss_unit_campaign(c, &u, unit, v[C_B1], v[C_B2], v[C_X], v[C_Y], v[C_WEIGHT],
+                                  v[C_TRUTH_A], v[C_TRUTH_B]);
+    dss_unit_validation(c, &u, unit, &s->val);
+    for (size_t i = 0; i < s->val.n; i++)
+        s->n_val += s->val.seen[i];
     *out = s;
     return SUNMC_OK;
 }
@@ -100,11 +80,12 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
         /* b1 varies slowest; the degrees as the campaign computes them. */
         double b1 = dc->cal_b_min_deg + (double)((long)i / nb) * dc->cal_b_step_deg;
         double b2 = dc->cal_b_min_deg + (double)((long)i % nb) * dc->cal_b_step_deg;
-        int spot = s->weight[i] > 0 && isfinite(s->x_px[i]) && isfinite(s->y_px[i]);
-        fprintf(fc, "%.17g,%.17g,%.17g,%.17g,%g\n", b1, b2, spot ? s->x_px[i] : 0.0,
-                spot ? s->y_px[i] : 0.0, spot ? s->weight[i] : 0.0);
-        fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%d\n", b1, b2, s->truth_a_rad[i] * DEG_PER_RAD,
-                s->truth_b_rad[i] * DEG_PER_RAD, spot);
+        double *const *v = s->col;
+        int spot = v[C_WEIGHT][i] > 0 && isfinite(v[C_X][i]) && isfinite(v[C_Y][i]);
+        fprintf(fc, "%.17g,%.17g,%.17g,%.17g,%g\n", b1, b2, spot ? v[C_X][i] : 0.0,
+                spot ? v[C_Y][i] : 0.0, spot ? v[C_WEIGHT][i] : 0.0);
+        fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%d\n", b1, b2, v[C_TRUTH_A][i] * DEG_PER_RAD,
+                v[C_TRUTH_B][i] * DEG_PER_RAD, spot);
     }
 }
 
@@ -116,13 +97,14 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
     FILE *fv = f[2];
     fprintf(fv, "# sunmc %s simulate: validation readings of unit %ld of %s, seed %ld; table "
                 "at exactly b1, b2; %ld points without a spot left out, as in `run`\n",
-            SUNMC_VERSION, ref->unit, ref->config, c->seed, (long)s->nv - s->n_val);
+            SUNMC_VERSION, ref->unit, ref->config, c->seed, (long)s->val.n - s->n_val);
     fprintf(fv, "b1_deg,b2_deg,x_px,y_px,truth_alpha_deg,truth_beta_deg\n");
-    for (size_t i = 0; i < s->nv; i++)
-        if (s->vseen[i])
-            fprintf(fv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", s->vb1_rad[i] * DEG_PER_RAD,
-                    s->vb2_rad[i] * DEG_PER_RAD, s->vx_px[i], s->vy_px[i],
-                    s->vtruth_a_rad[i] * DEG_PER_RAD, s->vtruth_b_rad[i] * DEG_PER_RAD);
+    const dss_val_readings *v = &s->val;
+    for (size_t i = 0; i < v->n; i++)
+        if (v->seen[i])
+            fprintf(fv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", v->b1_rad[i] * DEG_PER_RAD,
+                    v->b2_rad[i] * DEG_PER_RAD, v->x_px[i], v->y_px[i],
+                    v->truth_alpha_rad[i] * DEG_PER_RAD, v->truth_beta_rad[i] * DEG_PER_RAD);
     return SUNMC_OK;
 }
 

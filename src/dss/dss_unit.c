@@ -124,34 +124,107 @@ static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
     return DSS_N_DEV;
 }
 
+/* A thread's workspace: the campaign's fit and the validation readings. */
+typedef struct {
+    dss_calib_workspace *cw;
+    dss_val_readings val;
+} dss_ws;
+
+static void dss_ws_free(void *p)
+{
+    dss_ws *w = p;
+    if (!w)
+        return;
+    dss_calib_free(w->cw);
+    dss_val_free(&w->val);
+    free(w);
+}
+
 static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     const dss_config *dc = dss_cfg(c);
     size_t n = dss_campaign_size(c);
-    dss_calib_workspace *cw =
-        dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order, dc->fit_glass_index);
-    if (!cw)
+    dss_ws *w = calloc(1, sizeof *w);
+    if (w)
+        w->cw = dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order,
+                                dc->fit_glass_index);
+    if (!w || !w->cw || dss_val_alloc(c, &w->val) != SUNMC_OK) {
+        dss_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
                    "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
                    "or fewer points than parameters)", n);
-    return cw;
+        return NULL;
+    }
+    return w;
 }
 
-static void dss_ws_free(void *ws) { dss_calib_free(ws); }
-
-int dss_validation_reading(const sunmc_config *c, const dss_unit *u, rng_stream *r, double b1_rad,
-                           double b2_rad, double *x_px, double *y_px, double *a0_rad,
-                           double *b0_rad)
+static long val_axis_count(const sunmc_config *c)
 {
-    dss_validation_point p;
-    dss_validation_batch(c, u, r, 1, &b1_rad, &b2_rad, &p);
-    *a0_rad = p.alpha0_rad;
-    *b0_rad = p.beta0_rad;
-    if (!p.seen)
-        return SUNMC_EDOM;
-    *x_px = p.x_px;
-    *y_px = p.y_px;
-    return SUNMC_OK;
+    const dss_config *dc = dss_cfg(c);
+    return grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg,
+                      dc->val_b_offset_deg);
+}
+
+size_t dss_validation_size(const sunmc_config *c)
+{
+    size_t n = (size_t)val_axis_count(c);
+    return n * n;
+}
+
+int dss_val_alloc(const sunmc_config *c, dss_val_readings *v)
+{
+    size_t n = dss_validation_size(c);
+    memset(v, 0, sizeof *v);
+    v->n = n;
+    double **arrays[] = {&v->b1_rad, &v->b2_rad, &v->x_px, &v->y_px, &v->x0_px, &v->y0_px,
+                         &v->truth_alpha_rad, &v->truth_beta_rad};
+    int ok = (v->seen = malloc((n + 1) * sizeof(int))) != NULL;
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
+        ok &= (*arrays[k] = malloc((n + 1) * sizeof(double))) != NULL;
+    if (ok)
+        return SUNMC_OK;
+    dss_val_free(v);
+    return SUNMC_ENOMEM;
+}
+
+void dss_val_free(dss_val_readings *v)
+{
+    double *arrays[] = {v->b1_rad, v->b2_rad, v->x_px, v->y_px, v->x0_px, v->y0_px,
+                        v->truth_alpha_rad, v->truth_beta_rad};
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
+        free(arrays[k]);
+    free(v->seen);
+    memset(v, 0, sizeof *v);
+}
+
+void dss_unit_validation(const sunmc_config *c, const dss_unit *u, long unit,
+                         dss_val_readings *v)
+{
+    const dss_config *dc = dss_cfg(c);
+    size_t nb = (size_t)val_axis_count(c);
+    for (size_t i = 0; i < v->n; i++) {
+        v->b1_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                        (double)(i / nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+        v->b2_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                        (double)(i % nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+    }
+    rng_stream r;
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    for (size_t i0 = 0; i0 < v->n; i0 += DSS_CHUNK) {
+        dss_validation_point p[DSS_CHUNK];
+        size_t k = v->n - i0 < DSS_CHUNK ? v->n - i0 : DSS_CHUNK;
+        dss_validation_batch(c, u, &r, k, v->b1_rad + i0, v->b2_rad + i0, p);
+        for (size_t q = 0; q < k; q++) {
+            size_t i = i0 + q;
+            v->x_px[i] = p[q].x_px;
+            v->y_px[i] = p[q].y_px;
+            v->x0_px[i] = p[q].x0_px;
+            v->y0_px[i] = p[q].y0_px;
+            v->truth_alpha_rad[i] = p[q].alpha0_rad;
+            v->truth_beta_rad[i] = p[q].beta0_rad;
+            v->seen[i] = p[q].seen;
+        }
+    }
 }
 
 /* One validation chunk of k points, scored in vectorised passes: the
@@ -167,21 +240,19 @@ typedef struct {
     int seen[DSS_CHUNK], st_m[DSS_CHUNK], st_c[DSS_CHUNK], st_s[DSS_CHUNK];
 } dss_val_chunk;
 
-static void validation_chunk(const sunmc_config *c, const dss_unit *u, const dss_calibration *cal,
-                             rng_stream *r, size_t k, const double *b1, const double *b2,
-                             int fit_ok, dss_val_chunk *v)
+static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
+                             const dss_val_readings *r, size_t i0, size_t k, int fit_ok,
+                             dss_val_chunk *v)
 {
-    dss_validation_point p[DSS_CHUNK];
-    dss_validation_batch(c, u, r, k, b1, b2, p);
     for (size_t i = 0; i < vm_pad(k); i++) {
-        const dss_validation_point *q = &p[i < k ? i : 0];
-        v->x[i] = q->x_px;
-        v->y[i] = q->y_px;
-        v->x0[i] = q->x0_px;
-        v->y0[i] = q->y0_px;
-        v->a0[i] = q->alpha0_rad;
-        v->b0[i] = q->beta0_rad;
-        v->seen[i] = q->seen;
+        size_t j = i0 + (i < k ? i : 0);
+        v->x[i] = r->x_px[j];
+        v->y[i] = r->y_px[j];
+        v->x0[i] = r->x0_px[j];
+        v->y0[i] = r->y0_px[j];
+        v->a0[i] = r->truth_alpha_rad[j];
+        v->b0[i] = r->truth_beta_rad[j];
+        v->seen[i] = r->seen[j];
     }
     const dss_sensor *s = &u->sensor;
     dss_onboard_chunk(&s->onboard, k, v->x, v->y, v->am, v->bm, v->st_m);
@@ -204,37 +275,23 @@ static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, doubl
     band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, total);
 }
 
-/* Score the unit on its validation grid, table at exactly the set angles,
- * fresh noise, one reading per point (RMS before and after), and again on
- * the same points without centroid noise (the systematic part of the after
+/* Score the unit's validation readings r (RMS before and after), and the
+ * same points without centroid noise (the systematic part of the after
  * RMS; the S-curve bias, a property of the detector, stays in). */
 static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
-                              const dss_calibration *cal, long unit, unit_result *res)
+                              const dss_calibration *cal, const dss_val_readings *r,
+                              unit_result *res)
 {
-    const dss_config *dc = dss_cfg(c);
     band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES], after_sys[DSS_N_ANGLES];
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         band_acc_reset(&before[a]);
         band_acc_reset(&after[a]);
         band_acc_reset(&after_sys[a]);
     }
-    rng_stream r;
-    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
-    long nb =
-        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
-    size_t n = (size_t)nb * (size_t)nb;
     dss_val_chunk v;
-    for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
-        size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
-        double b1[DSS_CHUNK], b2[DSS_CHUNK];
-        for (size_t q = 0; q < k; q++) {
-            size_t i = i0 + q;
-            b1[q] = (dc->val_b_min_deg + dc->val_b_offset_deg +
-                     (double)(i / (size_t)nb) * dc->val_b_step_deg) * RAD_PER_DEG;
-            b2[q] = (dc->val_b_min_deg + dc->val_b_offset_deg +
-                     (double)(i % (size_t)nb) * dc->val_b_step_deg) * RAD_PER_DEG;
-        }
-        validation_chunk(c, u, cal, &r, k, b1, b2, res->fit_status == UNIT_FIT_OK, &v);
+    for (size_t i0 = 0; i0 < r->n; i0 += DSS_CHUNK) {
+        size_t k = r->n - i0 < DSS_CHUNK ? r->n - i0 : DSS_CHUNK;
+        validation_chunk(u, cal, r, i0, k, res->fit_status == UNIT_FIT_OK, &v);
         for (size_t q = 0; q < k; q++) {
             if (!v.seen[q])
                 continue;
@@ -263,7 +320,8 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
 
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
-    dss_calib_workspace *cw = ws;
+    dss_ws *w = ws;
+    dss_calib_workspace *cw = w->cw;
     double t = unit_clock();
     dss_deviations dev;
     dss_unit u;
@@ -292,7 +350,8 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    dss_unit_validate(c, &u, &cal, unit, res);
+    dss_unit_validation(c, &u, unit, &w->val);
+    dss_unit_validate(c, &u, &cal, &w->val, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }

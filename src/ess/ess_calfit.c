@@ -2,6 +2,7 @@
  * (ess_calibrate) plus uncertainty, residuals, cross-validation and
  * params.ini. */
 #include "ess_calfit.h"
+#include "ess_unit.h"
 #include "family.h"
 #include "lab.h"
 #include "status.h"
@@ -71,12 +72,12 @@ static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const in
                         ess_calfit_result *res, calreport *rep)
 {
     const ess_config *ec = ess_cfg(c);
-    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
+    double half_period = ess_half_period_rad(c);
     char lines[CALREPORT_TEXT_MAX / 2] = "";
     size_t used = 0;
     res->n_gross = 0;
     for (size_t i = 0; i < cw->n; i++) {
-        if (!(cw->weight[i] > 0) || fabs(cw->raw_rad[i] - cw->alpha_rad[i]) < half_period)
+        if (!(cw->weight[i] > 0) || !ess_is_gross(cw->raw_rad[i], cw->alpha_rad[i], half_period))
             continue;
         cw->weight[i] = 0.0;
         if (res->n_gross < GROSS_LINES_QUOTED && line && used < sizeof lines)

@@ -90,7 +90,7 @@ int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     deviations_scale(&dev, dev_sign);
     ess_unit_build(c, &dev, &w->u);
     int gross;
-    ess_unit_campaign(c, &w->u, unit, w->cw, &gross);
+    ess_unit_campaign(c, &w->u, unit, w->cw, NULL, &gross);
     fit_result fr;
     int st = ess_calibrate(w->cw, ec->design.theta0_deg * RAD_PER_DEG,
                            dev.roll_measured_arcsec * RAD_PER_ARCSEC, ec->alias_threshold,
@@ -111,7 +111,7 @@ int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
         return st;
     /* The coarse code picked the wrong fine period: a gross error, not a
      * point of the curve (the validation drops it the same way). */
-    if (fabs(raw - truth) > 0.5 * ess_cfg(c)->design.theta0_deg * RAD_PER_DEG)
+    if (ess_is_gross(raw, truth, ess_half_period_rad(c)))
         return SUNMC_EDOM;
     before[0] = (raw - truth) * DEG_PER_RAD;
     after[0] = NAN;

@@ -3,7 +3,6 @@
  * (ess_calfit.h); `compensate` applies params.ini. */
 #include "ess_calfit.h"
 #include "ess_lab.h"
-#include "ess_simulate.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "status.h"
@@ -18,12 +17,9 @@
 typedef struct {
     ess_deviations dev;
     ess_calib_workspace *cw;   /* the campaign as `run` fits it */
+    ess_campaign_point *truth; /* and the truth behind each point */
     int gross;                 /* campaign points dropped as gross errors */
-    size_t n, nv;
-    double *a_true, *b_true, *inc, *raw;
-    int *seen;
-    double *va, *vb, *vraw, *vtruth;
-    int *vstatus;
+    ess_val_readings val;      /* the readings `run` validates on */
     long n_val, n_val_gross, n_val_unseen;
 } ess_sim;
 
@@ -33,70 +29,32 @@ static void sim_free(void *p)
     if (!s)
         return;
     ess_calib_free(s->cw);
-    free(s->a_true);
-    free(s->b_true);
-    free(s->inc);
-    free(s->raw);
-    free(s->seen);
-    free(s->va);
-    free(s->vb);
-    free(s->vraw);
-    free(s->vtruth);
-    free(s->vstatus);
+    free(s->truth);
+    ess_val_free(&s->val);
     free(s);
-}
-
-static ess_sim *sim_alloc(size_t n, size_t nv)
-{
-    ess_sim *s = calloc(1, sizeof *s);
-    if (!s)
-        return NULL;
-    s->n = n;
-    s->nv = nv;
-    s->cw = ess_calib_alloc(n);
-    s->a_true = malloc(n * sizeof(double));
-    s->b_true = malloc(n * sizeof(double));
-    s->inc = malloc(n * sizeof(double));
-    s->raw = malloc(n * sizeof(double));
-    s->seen = malloc(n * sizeof(int));
-    s->va = malloc((nv + 1) * sizeof(double));
-    s->vb = malloc((nv + 1) * sizeof(double));
-    s->vraw = malloc((nv + 1) * sizeof(double));
-    s->vtruth = malloc((nv + 1) * sizeof(double));
-    s->vstatus = malloc((nv + 1) * sizeof(int));
-    if (s->cw && s->a_true && s->b_true && s->inc && s->raw && s->seen && s->va && s->vb &&
-        s->vraw && s->vtruth && s->vstatus)
-        return s;
-    sim_free(s);
-    return NULL;
 }
 
 static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size_t errlen)
 {
-    size_t n = ess_campaign_size(c), nv = ess_validation_size(c);
+    size_t n = ess_campaign_size(c);
     if (n <= ESS_NP)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "the campaign has %zu points, the ess model %d parameters", n, ESS_NP);
-    ess_sim *s = sim_alloc(n, nv);
-    if (!s)
+    ess_sim *s = calloc(1, sizeof *s);
+    if (!s || !(s->cw = ess_calib_alloc(n)) || !(s->truth = malloc(n * sizeof *s->truth)) ||
+        ess_val_alloc(c, &s->val) != SUNMC_OK) {
+        sim_free(s);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    }
     ess_unit u;
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &s->dev);
     ess_unit_build(c, &s->dev, &u);
-    ess_unit_campaign(c, &u, unit, s->cw, &s->gross);
-    ess_campaign_truth(c, &u, unit, s->a_true, s->b_true, s->inc, s->raw, s->seen);
-    ess_validation_readings(c, &u, unit, s->va, s->vb, s->vraw, s->vtruth, s->vstatus);
-    for (size_t i = 0; i < n; i++)
-        if (s->raw[i] != s->cw->raw_rad[i]) {
-            sim_free(s);
-            return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "internal error: the truth replay differs from the campaign at "
-                              "row %zu", i);
-        }
-    for (size_t i = 0; i < nv; i++) {
-        s->n_val_unseen += s->vstatus[i] == ESS_READING_UNSEEN;
-        s->n_val_gross += s->vstatus[i] == ESS_READING_GROSS;
-        s->n_val += s->vstatus[i] == ESS_READING_OK;
+    ess_unit_campaign(c, &u, unit, s->cw, s->truth, &s->gross);
+    ess_unit_validation(c, &u, unit, &s->val);
+    for (size_t i = 0; i < s->val.n; i++) {
+        s->n_val_unseen += s->val.status[i] == ESS_READING_UNSEEN;
+        s->n_val_gross += s->val.status[i] == ESS_READING_GROSS;
+        s->n_val += s->val.status[i] == ESS_READING_OK;
     }
     *out = s;
     return SUNMC_OK;
@@ -120,7 +78,8 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
     fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,seen\n");
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     const ess_calib_workspace *cw = s->cw;
-    for (size_t i = 0; i < s->n; i++) {
+    for (size_t i = 0; i < cw->n; i++) {
+        const ess_campaign_point *p = &s->truth[i];
         /* The recorded angles as the campaign computes them, so that
          * reading them back gives the very same radians. */
         double a_deg = ec->cal_alpha_min_deg + (double)((long)i % na) * ec->cal_alpha_step_deg;
@@ -128,8 +87,8 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
         fprintf(fc, "%.17g,%.17g,%.17g,%g\n", a_deg, b_deg, cw->raw_rad[i] * DEG_PER_RAD,
                 cw->weight[i]);
         fprintf(ft, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", a_deg, b_deg,
-                s->a_true[i] * DEG_PER_RAD, s->b_true[i] * DEG_PER_RAD, s->inc[i] * DEG_PER_RAD,
-                cw->raw_rad[i] * DEG_PER_RAD, s->seen[i]);
+                p->a_true_rad * DEG_PER_RAD, p->b_true_rad * DEG_PER_RAD,
+                p->incidence_rad * DEG_PER_RAD, cw->raw_rad[i] * DEG_PER_RAD, p->seen);
     }
 }
 
@@ -144,10 +103,12 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
                 "the sun unseen are left out, as in `run`\n",
             SUNMC_VERSION, ref->unit, ref->config, c->seed, s->n_val_gross, s->n_val_unseen);
     fprintf(fv, "alpha_deg,beta_deg,output_deg,truth_deg\n");
-    for (size_t i = 0; i < s->nv; i++)
-        if (s->vstatus[i] == ESS_READING_OK)
-            fprintf(fv, "%.17g,%.17g,%.17g,%.17g\n", s->va[i] * DEG_PER_RAD,
-                    s->vb[i] * DEG_PER_RAD, s->vraw[i] * DEG_PER_RAD, s->vtruth[i] * DEG_PER_RAD);
+    const ess_val_readings *v = &s->val;
+    for (size_t i = 0; i < v->n; i++)
+        if (v->status[i] == ESS_READING_OK)
+            fprintf(fv, "%.17g,%.17g,%.17g,%.17g\n", v->alpha_rad[i] * DEG_PER_RAD,
+                    v->beta_rad[i] * DEG_PER_RAD, v->raw_rad[i] * DEG_PER_RAD,
+                    v->truth_rad[i] * DEG_PER_RAD);
     return SUNMC_OK;
 }
 
@@ -162,7 +123,7 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
              "calibrate with the unit's measured roll:\n"
              "  sunmc calibrate --sensor ess --config %s --set "
              "calibration.roll_measured_arcsec=%.17g %s/campaign.csv --out DIR\n",
-             ref->unit, c->product, c->seed, s->n, s->gross, s->n_val, ref->out_dir,
+             ref->unit, c->product, c->seed, s->cw->n, s->gross, s->n_val, ref->out_dir,
              ref->out_dir, ref->out_dir, ref->config, s->dev.roll_measured_arcsec, ref->out_dir);
 }
 

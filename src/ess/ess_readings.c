@@ -115,8 +115,8 @@ static void campaign_chunk(const sunmc_config *c, const ess_unit *u, rng_stream 
 }
 
 /* One point of a campaign whose repeats do not fit one pass: its encoder
- * errors, then its repeats a chunk at a time (the same draws in the same
- * order as campaign_chunk, so the same bits). */
+ * errors, then its repeats a chunk at a time (drawn as campaign_chunk
+ * draws them, so a point's bits do not depend on the pass size). */
 static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
                           double b_rad, ess_campaign_point *out)
 {
@@ -177,7 +177,7 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
 {
     const ess_config *ec = ess_cfg(c);
     double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
-    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
+    double half_period = ess_half_period_rad(c);
     double z[ESS_FINE_ROWS * ESS_CHUNK];
     _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
     _Alignas(VM_ALIGN) double raw0[ESS_CHUNK], nz[ESS_FINE_ROWS][ESS_CHUNK];
@@ -198,7 +198,7 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
                 raw0_rad[i0 + i] = st[i] == SUNMC_OK ? raw0[i] : 0.0;
             truth_rad[i0 + i] = truth[i];
             status[i0 + i] = st[i] != SUNMC_OK ? ESS_READING_UNSEEN
-                             : fabs(raw[i] - truth[i]) > half_period ? ESS_READING_GROSS
+                             : ess_is_gross(raw[i], truth[i], half_period) ? ESS_READING_GROSS
                                                                        : ESS_READING_OK;
         }
     }

@@ -45,33 +45,17 @@ void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_R
         noise[m] = sigma * rng_normal(r);
 }
 
-int ess_campaign_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
-                         double b_rad, double *a_true_rad, double *b_true_rad,
-                         double *incidence_rad, double *raw_rad)
+double ess_half_period_rad(const sunmc_config *c)
 {
-    ess_campaign_point p;
-    ess_campaign_batch(c, u, r, 1, &a_rad, &b_rad, &p);
-    *a_true_rad = p.a_true_rad;
-    *b_true_rad = p.b_true_rad;
-    *incidence_rad = p.incidence_rad;
-    *raw_rad = p.raw_rad;
-    return p.seen;
-}
-
-int ess_validation_reading(const sunmc_config *c, const ess_unit *u, rng_stream *r, double a_rad,
-                           double b_rad, double *raw_rad, double *truth_rad)
-{
-    int status;
-    ess_validation_batch(c, u, r, 1, &a_rad, &b_rad, raw_rad, NULL, truth_rad, &status);
-    return status;
+    return 0.5 * ess_cfg(c)->design.theta0_deg * RAD_PER_DEG;
 }
 
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
-                       ess_calib_workspace *cw, int *gross)
+                       ess_calib_workspace *cw, ess_campaign_point *truth, int *gross)
 {
     const ess_config *ec = ess_cfg(c);
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
-    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
+    double half_period = ess_half_period_rad(c);
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
     size_t i = 0;
@@ -83,19 +67,70 @@ void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
         }
     *gross = 0;
     for (size_t i0 = 0; i0 < cw->n; i0 += ESS_CHUNK) {
-        ess_campaign_point p[ESS_CHUNK];
+        ess_campaign_point chunk[ESS_CHUNK];
         size_t np = cw->n - i0 < ESS_CHUNK ? cw->n - i0 : ESS_CHUNK;
+        ess_campaign_point *p = truth ? truth + i0 : chunk;
         ess_campaign_batch(c, u, &r, np, cw->alpha_rad + i0, cw->beta_rad + i0, p);
         for (size_t q = 0; q < np; q++) {
             cw->raw_rad[i0 + q] = p[q].raw_rad;
-            /* A lab drops a reading that is off the table angle by more than
-             * half a fine period: the coarse code picked the wrong period. */
-            cw->weight[i0 + q] =
-                (p[q].seen && fabs(p[q].raw_rad - cw->alpha_rad[i0 + q]) < half_period) ? 1.0 : 0.0;
-            if (cw->weight[i0 + q] == 0.0)
-                (*gross)++;
+            int keep = p[q].seen && !ess_is_gross(p[q].raw_rad, cw->alpha_rad[i0 + q], half_period);
+            cw->weight[i0 + q] = keep ? 1.0 : 0.0;
+            *gross += !keep;
         }
     }
+}
+
+size_t ess_validation_size(const sunmc_config *c)
+{
+    const ess_config *ec = ess_cfg(c);
+    return (size_t)grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                              ec->val_alpha_offset_deg) *
+           (size_t)ec->val_beta_deg.n;
+}
+
+int ess_val_alloc(const sunmc_config *c, ess_val_readings *v)
+{
+    size_t n = ess_validation_size(c);
+    v->n = n;
+    v->alpha_rad = malloc((n + 1) * sizeof(double));
+    v->beta_rad = malloc((n + 1) * sizeof(double));
+    v->raw_rad = malloc((n + 1) * sizeof(double));
+    v->raw0_rad = malloc((n + 1) * sizeof(double));
+    v->truth_rad = malloc((n + 1) * sizeof(double));
+    v->status = malloc((n + 1) * sizeof(int));
+    if (v->alpha_rad && v->beta_rad && v->raw_rad && v->raw0_rad && v->truth_rad && v->status)
+        return SUNMC_OK;
+    ess_val_free(v);
+    return SUNMC_ENOMEM;
+}
+
+void ess_val_free(ess_val_readings *v)
+{
+    free(v->alpha_rad);
+    free(v->beta_rad);
+    free(v->raw_rad);
+    free(v->raw0_rad);
+    free(v->truth_rad);
+    free(v->status);
+    memset(v, 0, sizeof *v);
+}
+
+void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
+                         ess_val_readings *v)
+{
+    const ess_config *ec = ess_cfg(c);
+    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                         ec->val_alpha_offset_deg);
+    for (size_t i = 0; i < v->n; i++) {
+        v->alpha_rad[i] = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                           (double)(i % (size_t)na) * ec->val_alpha_step_deg) *
+                          RAD_PER_DEG;
+        v->beta_rad[i] = ec->val_beta_deg.v[i / (size_t)na] * RAD_PER_DEG;
+    }
+    rng_stream r;
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    ess_validation_batch(c, u, &r, v->n, v->alpha_rad, v->beta_rad, v->raw_rad, v->raw0_rad,
+                         v->truth_rad, v->status);
 }
 
 void ess_model_report(const ess_model *m, double out[ESS_N_PAR])
@@ -150,6 +185,22 @@ static int ess_par_columns(const sunmc_config *c, const char **names, int max)
     return ESS_N_PAR;
 }
 
+/* A thread's workspace: the campaign's fit and the validation readings. */
+typedef struct {
+    ess_calib_workspace *cw;
+    ess_val_readings val;
+} ess_ws;
+
+static void ess_ws_free(void *p)
+{
+    ess_ws *w = p;
+    if (!w)
+        return;
+    ess_calib_free(w->cw);
+    ess_val_free(&w->val);
+    free(w);
+}
+
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
@@ -158,82 +209,66 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
                    "campaign has %zu points, fewer than the %d parameters to fit", n, ESS_NP + 1);
         return NULL;
     }
-    ess_calib_workspace *cw = ess_calib_alloc(n);
-    if (!cw)
+    ess_ws *w = calloc(1, sizeof *w);
+    if (!w || !(w->cw = ess_calib_alloc(n)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
+        ess_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
-    return cw;
+        return NULL;
+    }
+    return w;
 }
 
-static void ess_ws_free(void *ws) { ess_calib_free(ws); }
-
-/* One validation chunk of k points (table angles a, b): the readings
- * with fresh noise and their compensations, the same readings without the
- * noise (read in the same pass: only the noise differs) and theirs (the
- * systematic part), in batches. */
+/* What the fitted model makes of k validation readings: the noisy
+ * readings and the same readings without the noise (the systematic part)
+ * compensated, in batches. */
 typedef struct {
-    double raw[ESS_CHUNK], truth[ESS_CHUNK], comp[ESS_CHUNK];
-    double raw0[ESS_CHUNK], comp0[ESS_CHUNK];
-    int st_read[ESS_CHUNK], st_comp[ESS_CHUNK], st_comp0[ESS_CHUNK];
+    double comp[ESS_CHUNK], comp0[ESS_CHUNK];
+    int st_comp[ESS_CHUNK], st_comp0[ESS_CHUNK];
 } ess_val_chunk;
 
-static void validation_chunk(const sunmc_config *c, const ess_unit *u, const ess_model *m,
-                             rng_stream *r, size_t k, const double *a, const double *b,
-                             int fit_ok, ess_val_chunk *v)
+static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size_t i0, size_t k,
+                             ess_val_chunk *w)
 {
-    ess_validation_batch(c, u, r, k, a, b, v->raw, v->raw0, v->truth, v->st_read);
-    if (!fit_ok)
-        return;
-    ess_model_compensate_batch(m, k, v->raw, v->comp, v->st_comp);
-    ess_model_compensate_batch(m, k, v->raw0, v->comp0, v->st_comp0);
+    ess_model_compensate_batch(m, k, v->raw_rad + i0, w->comp, w->st_comp);
+    ess_model_compensate_batch(m, k, v->raw0_rad + i0, w->comp0, w->st_comp0);
 }
 
-/* Score the unit on the validation grid and betas, with fresh noise (RMS
- * before and after), and again on the same points without reading noise
- * (the systematic part of the after RMS). */
+/* Score the unit's validation readings v (RMS before and after), and the
+ * same points without reading noise (the systematic part of the after
+ * RMS); gross errors are counted and left out. */
 static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const ess_model *m,
-                              long unit, unit_result *res)
+                              const ess_val_readings *v, unit_result *res)
 {
-    const ess_config *ec = ess_cfg(c);
     band_acc before, after, after_sys;
     band_acc_reset(&before);
     band_acc_reset(&after);
     band_acc_reset(&after_sys);
-    rng_stream r;
-    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
-    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
-                         ec->val_alpha_offset_deg);
-    double half_period = 0.5 * ec->design.theta0_deg * RAD_PER_DEG;
-    size_t nv = (size_t)na * (size_t)ec->val_beta_deg.n;
-    ess_val_chunk v;
-    for (size_t i0 = 0; i0 < nv; i0 += ESS_CHUNK) {
-        size_t k = nv - i0 < ESS_CHUNK ? nv - i0 : ESS_CHUNK;
-        double a[ESS_CHUNK], b[ESS_CHUNK];
+    double half_period = ess_half_period_rad(c);
+    ess_val_chunk w;
+    for (size_t i0 = 0; i0 < v->n; i0 += ESS_CHUNK) {
+        size_t k = v->n - i0 < ESS_CHUNK ? v->n - i0 : ESS_CHUNK;
+        if (res->fit_status == UNIT_FIT_OK)
+            compensate_chunk(m, v, i0, k, &w);
         for (size_t q = 0; q < k; q++) {
             size_t i = i0 + q;
-            a[q] = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
-                    (double)(i % (size_t)na) * ec->val_alpha_step_deg) *
-                   RAD_PER_DEG;
-            b[q] = ec->val_beta_deg.v[i / (size_t)na] * RAD_PER_DEG;
-        }
-        validation_chunk(c, u, m, &r, k, a, b, res->fit_status == UNIT_FIT_OK, &v);
-        for (size_t q = 0; q < k; q++) {
-            if (v.st_read[q] == ESS_READING_UNSEEN)
+            if (v->status[i] == ESS_READING_UNSEEN)
                 continue;
-            if (v.st_read[q] == ESS_READING_GROSS) {
+            if (v->status[i] == ESS_READING_GROSS) {
                 res->gross_val++;
                 continue;
             }
-            double abs_deg = fabs(v.truth[q]) * DEG_PER_RAD;
-            band_acc_add(&before, &c->bands_deg, abs_deg, v.raw[q] - v.truth[q]);
+            double abs_deg = fabs(v->truth_rad[i]) * DEG_PER_RAD;
+            band_acc_add(&before, &c->bands_deg, abs_deg, v->raw_rad[i] - v->truth_rad[i]);
             if (res->fit_status != UNIT_FIT_OK)
                 continue;
-            if (v.st_comp[q] != SUNMC_OK) {
+            if (w.st_comp[q] != SUNMC_OK) {
                 res->fit_status = UNIT_FIT_FAILED;
                 continue;
             }
-            band_acc_add(&after, &c->bands_deg, abs_deg, v.comp[q] - v.truth[q]);
-            if (fabs(v.raw0[q] - v.truth[q]) <= half_period && v.st_comp0[q] == SUNMC_OK)
-                band_acc_add(&after_sys, &c->bands_deg, abs_deg, v.comp0[q] - v.truth[q]);
+            band_acc_add(&after, &c->bands_deg, abs_deg, w.comp[q] - v->truth_rad[i]);
+            if (!ess_is_gross(v->raw0_rad[i], v->truth_rad[i], half_period) &&
+                w.st_comp0[q] == SUNMC_OK)
+                band_acc_add(&after_sys, &c->bands_deg, abs_deg, w.comp0[q] - v->truth_rad[i]);
         }
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
@@ -243,7 +278,8 @@ static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const es
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     const ess_config *ec = ess_cfg(c);
-    ess_calib_workspace *cw = ws;
+    ess_ws *w = ws;
+    ess_calib_workspace *cw = w->cw;
     double t = unit_clock();
     ess_deviations dev;
     ess_unit u;
@@ -254,7 +290,7 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->unit = unit;
     ess_deviations_values(&dev, res->dev);
 
-    ess_unit_campaign(c, &u, unit, cw, &res->gross_cal);
+    ess_unit_campaign(c, &u, unit, cw, NULL, &res->gross_cal);
     unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     ess_model m;
@@ -270,7 +306,8 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = ess_calib_residual_rms(cw, &m) * DEG_PER_RAD;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    ess_unit_validate(c, &u, &m, unit, res);
+    ess_unit_validation(c, &u, unit, &w->val);
+    ess_unit_validate(c, &u, &m, &w->val, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
