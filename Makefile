@@ -13,6 +13,18 @@ PREFIX  ?= /usr/local
 BUILD   ?= build
 VERSION := 0.1.0
 
+# MPI=1 builds with MPI (mpicc; Debian's MPICH, see README "Running on a
+# cluster"): `mpirun -np R build/sunmc run ...` splits the units across R
+# ranks.  The choice is remembered in $(BUILD)/mpi.flag, so a later plain
+# `make` or `make test` keeps it (MPI=0 switches back); every object is
+# rebuilt when it changes.
+MPI ?= $(or $(shell cat $(BUILD)/mpi.flag 2>/dev/null),0)
+MPI_FLAG_STALE := $(shell mkdir -p $(BUILD) && [ "$$(cat $(BUILD)/mpi.flag 2>/dev/null)" = "$(MPI)" ] || echo $(MPI) > $(BUILD)/mpi.flag)
+ifeq ($(MPI),1)
+CC := mpicc
+MPI_CFLAGS := -DSUNMC_MPI
+endif
+
 PKG_CFLAGS := $(shell pkg-config --cflags gsl 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
@@ -23,7 +35,7 @@ OPT ?= -O2
 # chosen at run time (include/util/vmath.h).  ARCH= builds for any target.
 ARCH ?= $(if $(filter x86_64,$(shell uname -m)),-march=x86-64-v2)
 SUNMC_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DSUNMC_VERSION='"$(VERSION)"' -Wall -Wextra \
-                -Wshadow -Wno-unused-parameter -g $(OPT) $(ARCH) -fopenmp $(PKG_CFLAGS)
+                -Wshadow -Wno-unused-parameter -g $(OPT) $(ARCH) -fopenmp $(PKG_CFLAGS) $(MPI_CFLAGS)
 ALL_CFLAGS := $(SUNMC_CFLAGS) $(CFLAGS)
 ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
 
@@ -81,7 +93,7 @@ ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: all run test test-plain test-fast test-asan deps clean install man plots figures bench \
+.PHONY: all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
         reference golden mutate mutate-build mutate-tests
 
 all: $(BUILD)/sunmc
@@ -92,10 +104,28 @@ deps:
 	    [ ! -f /usr/include/Random123/philox.h ] || ! command -v gnuplot >/dev/null 2>&1 || \
 	    ! command -v cc >/dev/null 2>&1; then \
 	  echo "sunmc: installing missing system packages (scripts/install-deps.sh)"; \
-	  bash scripts/install-deps.sh; \
+	  MPI=$(MPI) bash scripts/install-deps.sh; \
+	elif [ "$(MPI)" = 1 ] && ! command -v mpicc >/dev/null 2>&1; then \
+	  echo "sunmc: installing MPI (scripts/install-deps.sh, MPI=1)"; \
+	  MPI=1 bash scripts/install-deps.sh; \
 	fi
 
-$(BUILD)/obj/%.o: src/%.c $(ALL_HDR)
+# An MPI build installs MPI first when it is missing.
+ifeq ($(MPI),1)
+all: deps
+endif
+
+# The MPI tests (2 and 3 ranks, scripts/mpi-batch.sh) on an MPI build of
+# its own (build/mpi/), for CI: the plain build stays as it is.  `make
+# test` on an MPI build (make MPI=1) runs them too.
+test-mpi:
+	$(MAKE) --no-print-directory BUILD=$(BUILD)/mpi MPI=1 deps $(BUILD)/mpi/sunmc \
+	    $(BUILD)/mpi/tests/test_mpi $(BUILD)/mpi/tests/test_cluster
+	@SUNMC=$(BUILD)/mpi/sunmc bash tests/run-suite.sh $(BUILD)/mpi/tests/test_mpi \
+	    $(BUILD)/mpi/tests/test_cluster > $(BUILD)/mpi/test-mpi.log; st=$$?; \
+	    cat $(BUILD)/mpi/test-mpi.log; exit $$st
+
+$(BUILD)/obj/%.o: src/%.c $(ALL_HDR) $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(call layer_inc,$<) -c $< -o $@
 
@@ -108,7 +138,7 @@ $(BUILD)/libsunmc.a: $(LIB_OBJ)
 $(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(BUILD)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
+$(BUILD)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR) $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(TEST_INC) -c $< -o $@
 
@@ -119,7 +149,7 @@ $(BUILD)/tests/%: $(BUILD)/tobj/%.o $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(B
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a \
 	    $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
-$(ASAN)/obj/%.o: src/%.c $(ALL_HDR)
+$(ASAN)/obj/%.o: src/%.c $(ALL_HDR) $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(call layer_inc,$<) -c $< -o $@
 
@@ -129,7 +159,7 @@ $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 $(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(ASAN)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR)
+$(ASAN)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR) $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -c $< -o $@
 
@@ -151,7 +181,7 @@ run: deps
 
 test: deps
 	$(MAKE) --no-print-directory test-plain test-asan
-	@bash tests/summarize.sh $(BUILD)/test-plain.log $(ASAN)/test-asan.log
+	@bash tests/summarize.sh $(BUILD)/test-plain.log $(ASAN)/test-asan.log $(SUMMARY_EXTRA)
 
 test-plain: $(BUILD)/sunmc $(TEST_BIN)
 	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(TEST_BIN) | tee $(BUILD)/test-plain.log

@@ -8,7 +8,7 @@ bin=${1:?usage: gen-man.sh SUNMC}
 # Escape troff: backslashes, and a leading '.' or '\'' on a line.
 esc() { sed -e 's/\\/\\e/g' -e "s/^\\./\\\\\\&./" -e "s/^'/\\\\\\&'/"; }
 block() { printf '.nf\n'; esc; printf '.fi\n'; }
-version=$("$bin" --version | awk '{print $2}')
+version=$("$bin" --version | awk 'NR == 1 {print $2}')
 commands=$("$bin" --help | sed -n '/^usage:/,/^$/p' | awk 'NR > 1 && NF { print $1 }')
 families=$("$bin" --help | sed -n 's/.*--family \([a-z|]*\)$/\1/p' | head -1 | tr '|' ' ')
 cat <<HEAD

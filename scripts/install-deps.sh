@@ -5,6 +5,11 @@
 set -euo pipefail
 
 PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev gnuplot-nox"
+# MPI=1 (make MPI=1, make test-mpi): Debian's MPICH as well (README,
+# "Running on a cluster", says why MPICH).
+if [ "${MPI:-0}" = 1 ]; then
+  PACKAGES="$PACKAGES mpich libmpich-dev"
+fi
 
 if ! command -v apt-get >/dev/null 2>&1; then
   echo "install-deps: no apt-get on this machine; please install: $PACKAGES" >&2

@@ -191,7 +191,7 @@ static void stream_in_blocks(void **state)
     char err[SUNMC_ERRLEN];
     assert_int_equal(mc_run(c, c->family, 3, 13, 2, whole, NULL, NULL, err, sizeof err), SUNMC_OK);
     block_log *l = calloc(1, sizeof *l);
-    mc_plan p = {3, 13, c->block_units, 2, log_block, l, NULL, NULL};
+    mc_plan p = {3, 13, c->block_units, 2, log_block, l, NULL, NULL, 0};
     long done = 0;
     assert_int_equal(mc_stream(c, c->family, &p, &done, err, sizeof err), SUNMC_OK);
     assert_int_equal(done, 10);

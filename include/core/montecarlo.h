@@ -40,10 +40,16 @@ typedef struct {
     void *sink_ctx;
     mc_progress_fn progress; /* may be NULL; done counts from first */
     void *progress_ctx;
+    /* Split the blocks across the MPI ranks (par.h): every rank calls
+     * mc_stream with the same plan; block k is run by rank k mod R and
+     * rank 0 receives every block in unit order and alone calls the sink
+     * (the others' sink is never called); its stop ends every rank.  The
+     * sink thus sees exactly what a single process would. */
+    int distribute;
 } mc_plan;
 
 /* Run the plan's blocks in order.  *done (may be NULL) gets the number of
- * units handed to the sink. */
+ * units handed to the sink (0 on ranks other than 0). */
 int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p, long *done,
               char *err, size_t errlen);
 

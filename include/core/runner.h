@@ -33,6 +33,7 @@ typedef struct {
     double phase_s[UNIT_PHASES];     /* summed over the units (run --profile) */
     run_until *until;                /* NULL: run every unit */
     checkpoint *ckpt;                /* each block committed here when non-NULL */
+    int distribute;                  /* split the blocks across MPI ranks (mc_plan) */
     int ckpt_status;                 /* the first checkpoint error (then no more) */
     char ckpt_err[SUNMC_ERRLEN];
 } run_sink;

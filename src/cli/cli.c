@@ -2,6 +2,7 @@
  * shared by the commands. */
 #include "cli.h"
 #include "output.h"
+#include "par.h"
 #include "status.h"
 
 #include <errno.h>
@@ -275,8 +276,11 @@ double cli_progress_end(cli_progress *p, long units, int threads)
     if (!p->quiet) {
         if (p->tty)
             fprintf(stderr, "\r%60s\r", "");
-        fprintf(stderr, "sunmc: %ld units in %.2f s (%.0f units/s, %d threads)\n", units, dt,
+        fprintf(stderr, "sunmc: %ld units in %.2f s (%.0f units/s, %d threads", units, dt,
                 units / fmax(dt, 1e-9), threads);
+        if (par_size() > 1)
+            fprintf(stderr, " on each of %d MPI ranks", par_size());
+        fprintf(stderr, ")\n");
     }
     return dt;
 }

@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "montecarlo.h"
 #include "output.h"
+#include "par.h"
 #include "report.h"
 #include "checkpoint.h"
 #include "runner.h"
@@ -196,6 +197,11 @@ static int job_setup(run_job *j, int argc, char **argv)
     j->first = j->o.end >= 0 ? j->o.first : 0;
     j->end = j->o.end >= 0 ? j->o.end : c->units;
     j->threads = cli_threads(&j->o, c);
+    if (par_rank() != 0) { /* under mpirun: rank 0 alone prints and writes */
+        j->o.out = NULL;
+        j->o.quiet = 1;
+        j->o.profile = 0;
+    }
     if (j->o.until && (rc = parse_until(j->o.until, c, j->first, &j->until)))
         return rc;
     if (j->o.shard_n > 0 && (rc = shard_range(&j->o, c, &j->first, &j->end)))
@@ -217,7 +223,7 @@ static int job_checkpoint(run_job *j, char *err, size_t errlen)
                              errlen);
         if (st != SUNMC_OK)
             return st;
-        if (!found)
+        if (!found && !j->o.quiet)
             fprintf(stderr, "sunmc run: --resume: no checkpoint of %s; running every unit\n",
                     j->o.out);
         else if (!j->o.quiet)
@@ -274,9 +280,13 @@ static int job_execute(run_job *j, long *done)
         }
         stop = j->r.until && j->r.until->met;
     }
+    /* Under mpirun every rank starts where rank 0's checkpoint ends. */
+    long start = j->first + j->replayed, go = !stop;
+    if (par_bcast_long(&start) != SUNMC_OK || par_bcast_long(&go) != SUNMC_OK)
+        return 1;
     j->r.ckpt = j->has_ckpt ? &j->ckpt : NULL;
-    int rc = stop ? 0 : stream_units(&j->r, j->first + j->replayed, j->end, j->threads,
-                                     j->o.quiet, &streamed);
+    j->r.distribute = 1;
+    int rc = go ? stream_units(&j->r, start, j->end, j->threads, j->o.quiet, &streamed) : 0;
     *done = j->replayed + streamed;
     if (j->r.ckpt_status != SUNMC_OK)
         fprintf(stderr, "sunmc run: checkpointing stopped (the run went on): %s\n",
@@ -332,20 +342,29 @@ int cmd_run(int argc, char **argv)
     if (!j)
         return 1;
     char err[SUNMC_ERRLEN];
-    int rc = job_setup(j, argc, argv), opened = 0;
-    if (rc == 0) {
+    int rc = job_setup(j, argc, argv), opened = 0, setup_ok = rc == 0;
+    if (setup_ok) {
         int st = job_open(j, err, sizeof err);
         if (st != SUNMC_OK)
             fprintf(stderr, "sunmc run: %s\n", err);
         rc = cli_exit_code(st);
         opened = st == SUNMC_OK;
     }
+    /* Every rank reads the same input, so a bad one stops them all; rank 0
+     * alone opens the files, and its failure must stop the others. */
+    long all_open = opened;
+    if (setup_ok && par_bcast_long(&all_open) == SUNMC_OK && !all_open && opened) {
+        rc = 1;
+        cli_run_files_abort(&j->rf);
+        run_sink_free(&j->r);
+        opened = 0;
+    }
     if (opened) {
         unit_profile_enable(j->o.profile);
         double t0 = unit_clock();
         long done = 0;
         rc = job_execute(j, &done);
-        if (rc == 0)
+        if (rc == 0 && par_rank() == 0)
             rc = job_finish(j, done, unit_clock() - t0);
         else
             cli_run_files_abort(&j->rf);

@@ -1,6 +1,7 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
  * satellite sun sensors.  Dispatches to one command per file (main_*.c). */
 #include "cli.h"
+#include "par.h"
 #include "status.h"
 
 #include <gsl/gsl_errno.h>
@@ -39,9 +40,8 @@ static void usage(FILE *f)
             SUNMC_VERSION);
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
-    gsl_set_error_handler_off();
     if (argc < 2) {
         usage(stderr);
         return EXIT_BAD_INPUT;
@@ -53,6 +53,9 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "--version") == 0) {
         printf("sunmc %s\n", SUNMC_VERSION);
+#ifdef SUNMC_MPI
+        printf("built with MPI: %s\n", par_library());
+#endif
         return 0;
     }
     static const struct {
@@ -68,4 +71,21 @@ int main(int argc, char **argv)
             return commands[i].fn(argc, argv);
     fprintf(stderr, "sunmc: unknown command '%s' (see sunmc --help)\n", cmd);
     return EXIT_BAD_INPUT;
+}
+
+/* Under mpirun every rank runs `run` (its units split across the ranks);
+ * any other command runs on rank 0 alone. */
+int main(int argc, char **argv)
+{
+    gsl_set_error_handler_off();
+    char err[SUNMC_ERRLEN];
+    if (par_init(&argc, &argv, err, sizeof err) != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", err);
+        return 1;
+    }
+    int rc = 0;
+    if (par_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0))
+        rc = dispatch(argc, argv);
+    par_finalize();
+    return rc;
 }

@@ -1,5 +1,6 @@
 /* montecarlo.c - the parallel loop over units, whole or in blocks. */
 #include "montecarlo.h"
+#include "par.h"
 #include "status.h"
 
 #include <omp.h>
@@ -77,44 +78,132 @@ int mc_run(const sunmc_config *c, const sensor_family *fam, long first, long end
     return s.status;
 }
 
+/* Tags of the messages of a distributed stream. */
+enum { MC_TAG_STATUS = 1, MC_TAG_DATA = 2 };
+
+/* A stream in rounds: round j is blocks jR .. jR+R-1, block jR+r run by
+ * rank r (R = 1 without MPI: a round is a block).  Rank 0 hands every block
+ * to the sink in unit order and tells the ranks whether to go on. */
+typedef struct {
+    const mc_plan *p;
+    long bsize;
+    int ranks, me;
+    unit_result *buf;   /* this rank's block */
+    unit_result *rbuf;  /* rank 0: a block received */
+    long handed;
+    int stop;
+    long go_on;
+} mc_round;
+
+static long block_start(const mc_round *rd, long round, int rank)
+{
+    return rd->p->first + (round * rd->ranks + rank) * rd->bsize;
+}
+
+static long block_len(const mc_round *rd, long b0)
+{
+    return rd->p->end - b0 < rd->bsize ? rd->p->end - b0 : rd->bsize;
+}
+
+/* Rank 0's master thread: the round's blocks to the sink in order, its own
+ * from buf and the others' as they arrive (all of them are received, even
+ * after a stop, so that no rank is left waiting). */
+static void round_collect(mc_shared *s, mc_round *rd, long round)
+{
+    for (int r = 0; r < rd->ranks; r++) {
+        long b0 = block_start(rd, round, r);
+        if (b0 >= rd->p->end)
+            break;
+        long n = block_len(rd, b0);
+        const unit_result *blk = rd->buf;
+        if (r > 0) {
+            int rs = SUNMC_OK;
+            if (par_recv(&rs, sizeof rs, r, MC_TAG_STATUS) != SUNMC_OK ||
+                par_recv(rd->rbuf, (size_t)n * sizeof *rd->rbuf, r, MC_TAG_DATA) != SUNMC_OK)
+                rs = SUNMC_EIO;
+            if (rs != SUNMC_OK && s->status == SUNMC_OK)
+                s->status = sunmc_fail(s->err, s->errlen, rs, "rank %d: units %ld:%ld failed", r,
+                                       b0, b0 + n);
+            blk = rd->rbuf;
+        }
+        if (s->status != SUNMC_OK || rd->stop)
+            continue;
+        int st = rd->p->sink(blk, n, rd->p->sink_ctx, &rd->stop, s->err, s->errlen);
+        if (st != SUNMC_OK)
+            s->status = st;
+        rd->handed += n;
+        if (rd->ranks > 1 && rd->p->progress)
+            rd->p->progress(rd->handed, s->total, rd->p->progress_ctx);
+    }
+    rd->go_on = s->status == SUNMC_OK && !rd->stop && block_start(rd, round + 1, 0) < rd->p->end;
+}
+
+/* Another rank's master thread: its block and status to rank 0. */
+static void round_send(mc_shared *s, mc_round *rd, long round)
+{
+    long b0 = block_start(rd, round, rd->me);
+    if (b0 >= rd->p->end)
+        return;
+    int st = s->status;
+    if (par_send(&st, sizeof st, 0, MC_TAG_STATUS) != SUNMC_OK ||
+        par_send(rd->buf, (size_t)block_len(rd, b0) * sizeof *rd->buf, 0, MC_TAG_DATA) != SUNMC_OK)
+        par_abort(1);
+}
+
+static void stream_rounds(mc_shared *s, mc_round *rd)
+{
+    void *ws = workspace(s);
+    for (long round = 0;; round++) {
+        long b0 = block_start(rd, round, rd->me);
+        if (b0 < rd->p->end)
+            run_units(s, ws, b0, b0 + block_len(rd, b0), rd->buf);
+        /* The block is complete (barrier); the master thread passes it on
+         * while the others wait, so every thread sees the same go_on. */
+#pragma omp master
+        {
+            if (rd->me == 0)
+                round_collect(s, rd, round);
+            else
+                round_send(s, rd, round);
+            if (rd->ranks > 1 && par_bcast_long(&rd->go_on) != SUNMC_OK)
+                par_abort(1);
+        }
+#pragma omp barrier
+        if (!rd->go_on)
+            break;
+    }
+    if (ws)
+        s->fam->workspace_free(ws);
+}
+
 int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p, long *done,
               char *err, size_t errlen)
 {
-    long bsize = p->block_units > 0 ? p->block_units : 1;
+    mc_round rd = {p, p->block_units > 0 ? p->block_units : 1, 1, 0, NULL, NULL, 0, 0, 0};
+    if (p->distribute) {
+        rd.ranks = par_size();
+        rd.me = par_rank();
+    }
     long span = p->end - p->first;
-    unit_result *buf = calloc((size_t)(span < bsize ? (span > 0 ? span : 1) : bsize), sizeof *buf);
-    if (!buf)
+    size_t len = (size_t)(span < rd.bsize ? (span > 0 ? span : 1) : rd.bsize);
+    rd.buf = calloc(len, sizeof *rd.buf);
+    rd.rbuf = rd.ranks > 1 ? calloc(len, sizeof *rd.rbuf) : NULL;
+    if (!rd.buf || (rd.ranks > 1 && !rd.rbuf)) {
+        free(rd.buf);
+        free(rd.rbuf);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a block of %ld units",
-                          bsize);
-    mc_shared s = {c, fam, SUNMC_OK, 0, span, p->progress, p->progress_ctx, err, errlen};
-    long handed = 0;
-    int stop = 0;
+                          rd.bsize);
+    }
+    /* Several ranks: progress per block received (rank 0 runs a part). */
+    mc_shared s = {c, fam, SUNMC_OK, 0, span, rd.ranks > 1 ? NULL : p->progress,
+                   p->progress_ctx, err, errlen};
     if (p->threads > 0)
         omp_set_num_threads(p->threads);
 #pragma omp parallel
-    {
-        void *ws = workspace(&s);
-        for (long b0 = p->first; b0 < p->end; b0 += bsize) {
-            long b1 = b0 + bsize < p->end ? b0 + bsize : p->end;
-            run_units(&s, ws, b0, b1, buf);
-            /* The block is complete (barrier): one thread hands it on while
-             * the others wait, so every thread sees the same stop. */
-#pragma omp single
-            if (s.status == SUNMC_OK) {
-                int st = p->sink(buf, b1 - b0, p->sink_ctx, &stop, err, errlen);
-                if (st != SUNMC_OK)
-                    s.status = st;
-                else
-                    handed += b1 - b0;
-            }
-            if (stop || s.status != SUNMC_OK)
-                break;
-        }
-        if (ws)
-            fam->workspace_free(ws);
-    }
-    free(buf);
+    stream_rounds(&s, &rd);
+    free(rd.buf);
+    free(rd.rbuf);
     if (done)
-        *done = handed;
+        *done = rd.handed;
     return s.status;
 }

@@ -63,8 +63,10 @@ void run_sink_free(run_sink *r)
 int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn progress,
                void *progress_ctx, long *done, char *err, size_t errlen)
 {
-    mc_plan p = {first, end, r->c->block_units, threads, run_sink_block, r, progress,
-                 progress_ctx};
+    mc_plan p = {.first = first, .end = end, .block_units = r->c->block_units,
+                 .threads = threads, .sink = run_sink_block, .sink_ctx = r,
+                 .progress = progress, .progress_ctx = progress_ctx,
+                 .distribute = r->distribute};
     return mc_stream(r->c, r->fam, &p, done, err, errlen);
 }
 
