@@ -21,16 +21,11 @@ static int setup(void **state)
     return test_private_dir(dir, sizeof dir, "mpi");
 }
 
-static int sunmc(const char *args, char *out, size_t len)
-{
-    return test_sunmc_in(dir, args, out, len);
-}
-
 /* An MPI build with a launcher at hand? */
 static int mpi_present(void)
 {
     char out[1024];
-    if (sunmc("--version", out, sizeof out) != 0 || !strstr(out, "built with MPI"))
+    if (test_sunmc_in(dir, "--version", out, sizeof out) != 0 || !strstr(out, "built with MPI"))
         return 0;
     return test_run("command -v mpirun", out, sizeof out) == 0;
 }
@@ -51,7 +46,7 @@ static void ranks_equal_threads(int ranks, const char *extra, const char *name)
 {
     char args[2048], out[16384], cmd[4096];
     snprintf(args, sizeof args, RUN " %s --threads 2 --out $D/%s_t2", extra, name);
-    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    assert_int_equal(test_sunmc_in(dir, args, out, sizeof out), 0);
     snprintf(cmd, sizeof cmd, "D=%s; " MPIRUN " %d %s " RUN " %s --threads 1 --out $D/%s_mpi", dir,
              ranks, test_sunmc(), extra, name);
     int st = test_run(cmd, out, sizeof out);
