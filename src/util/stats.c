@@ -332,7 +332,7 @@ static int sobol_estimate(const size_t *idx, size_t m, void *ctx, double *out)
         for (size_t j = 0; j < m; j++) {
             size_t r = idx[j];
             double diff = fab[r] - s->fA[r];
-            v1 += s->fB[r] * diff;
+            v1 += (s->fB[r] - mean) * diff; /* centred: see stats.h */
             vt += diff * diff;
         }
         out[2 * i] = var > 0 ? v1 / (double)m / var : NAN;
