@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # plots.sh RUN [svg] - draw every figure a run directory holds, next to its data:
-#   summary.tsv + units.tsv (sunmc run)  -> yield.png, hist.png
+#   summary.tsv + units.tsv (sunmc run)  -> yield.png, hist.png, convergence.png
 #   sweep.tsv   (sunmc sweep)            -> sweep.png
 #   budget.tsv  (sunmc budget)           -> budget.png
+#   sensitivity.tsv (sunmc sensitivity)  -> sensitivity.png
 #   curve.tsv   (sunmc curve)            -> curve.png + curve_source.png (one measured
 #                                           angle: ESS) or map_{before,after,source}.png
 # Pass "svg" as the second argument for SVG instead of PNG.
@@ -15,10 +16,11 @@ dir=$(cd "$(dirname "$0")" && pwd)
 gp() { gnuplot -e "run='$run'; svg=$svg" "$@"; }
 drew=0
 if [ -f "$run/units.tsv" ] && [ -f "$run/summary.tsv" ]; then
-  gp "$dir/yield.gp"; gp "$dir/hist.gp"; drew=1
+  gp "$dir/yield.gp"; gp "$dir/hist.gp"; gp "$dir/convergence.gp"; drew=1
 fi
 if [ -f "$run/sweep.tsv" ]; then gp "$dir/sweep.gp"; drew=1; fi
 if [ -f "$run/budget.tsv" ]; then gp "$dir/budget.gp"; drew=1; fi
+if [ -f "$run/sensitivity.tsv" ]; then gp "$dir/sensitivity.gp"; drew=1; fi
 if [ -f "$run/curve.tsv" ]; then
   n=$(head -1 "$run/curve.tsv" | tr '\t' '\n' | grep -c '^error_before_')
   if [ "$n" -eq 1 ]; then

@@ -70,7 +70,8 @@ static void test_unknown_family_is_refused(void **state)
 
 static void test_every_command_help_balanced(void **state)
 {
-    const char *cmds[] = {"run", "config", "sweep", "budget", "curve", "simulate", "calibrate",
+    const char *cmds[] = {"run", "config", "sweep", "budget", "sensitivity",
+                          "curve", "simulate", "calibrate",
                           "compensate"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char args[64];

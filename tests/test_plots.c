@@ -16,6 +16,7 @@ static int setup(void **state)
          "report.budget_steps=1",
          "budget"},
         {"curve configs/ess_type_a.ini --unit 3", "curve"},
+        {"sensitivity configs/ess_type_a.ini --units 8", "sens"},
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
         snprintf(cmd, sizeof cmd, "%s %s --out %s " SMALL, test_sunmc(), runs[i][0],
@@ -55,6 +56,8 @@ static void hist_gp(void **state) { check_script("hist", test_tmp("run"), ""); }
 static void sweep_gp_one_axis(void **state) { check_script("sweep", test_tmp("sweep1"), ""); }
 static void sweep_gp_two_axes(void **state) { check_script("sweep", test_tmp("sweep2"), ""); }
 static void budget_gp(void **state) { check_script("budget", test_tmp("budget"), ""); }
+static void convergence_gp(void **state) { check_script("convergence", test_tmp("run"), ""); }
+static void sensitivity_gp(void **state) { check_script("sensitivity", test_tmp("sens"), ""); }
 static void curve_gp(void **state)
 {
     char extra[600];
@@ -149,7 +152,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(yield_gp),          cmocka_unit_test(hist_gp),
         cmocka_unit_test(sweep_gp_one_axis), cmocka_unit_test(sweep_gp_two_axes),
-        cmocka_unit_test(budget_gp),         cmocka_unit_test(curve_gp),
+        cmocka_unit_test(budget_gp),         cmocka_unit_test(convergence_gp),
+        cmocka_unit_test(sensitivity_gp),         cmocka_unit_test(curve_gp),
         cmocka_unit_test(map_gp),            cmocka_unit_test(plots_sh),
         cmocka_unit_test(curve_closed_form), cmocka_unit_test(curve_errors),
     };

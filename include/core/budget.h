@@ -103,6 +103,9 @@ typedef struct {
 /* Called before each Monte Carlo: what (e.g. "dH_um alone"), i of n. */
 typedef void (*budget_progress_fn)(const char *what, int i, int n, void *ctx);
 
+/* The budget's report row: the last measured angle, the widest band. */
+void budget_row(const sunmc_config *c, int *angle, int *band);
+
 /* Fill b->src with c's sources (tolerance keys of its family with value >
  * 0, then its noise keys with value > 0) and choose the budget row.
  * SUNMC_EINPUT when there is none. */

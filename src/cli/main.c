@@ -20,7 +20,8 @@ static void usage(FILE *f)
             "  run CONFIG         simulate, calibrate and validate many units; print Table 1\n"
             "  config [CONFIG]    print the effective config (--reference: every key, commented)\n"
             "  sweep CONFIG       --vary KEY=LIST|START:STOP:STEP (1 or 2 axes): Monte Carlo per point\n"
-            "  budget CONFIG      tolerance budget: each source alone / removed, inverse limits\n"
+            "  budget CONFIG      error budget: floor, each tolerance and noise source, inverse limits\n"
+            "  sensitivity CONFIG Sobol indices (first order, total) of the unit RMS per random input\n"
             "  curve CONFIG       one unit's (--unit U) or one source's (--only KEY=V) error curves\n"
             "  simulate CONFIG    --unit U: one unit's campaign as a lab records it (CSV)\n"
             "  calibrate          --sensor ess|dss --config CONFIG DATA.csv: fit a real sensor\n"
@@ -63,6 +64,7 @@ static int dispatch(int argc, char **argv)
         int (*fn)(int, char **);
     } commands[] = {{"run", cmd_run},           {"config", cmd_config},
                     {"sweep", cmd_sweep},       {"budget", cmd_budget},
+                    {"sensitivity", cmd_sensitivity},
                     {"curve", cmd_curve},       {"simulate", cmd_simulate},
                     {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate},
                     {"merge", cmd_merge}};

@@ -61,16 +61,21 @@ static int noise_sources(const sunmc_config *c, budget_result *b, char *err, siz
     return SUNMC_OK;
 }
 
+void budget_row(const sunmc_config *c, int *angle, int *band)
+{
+    *angle = c->family->n_angles(c) - 1;
+    *band = 0;
+    for (int i = 1; i < c->bands_deg.n; i++)
+        if (c->bands_deg.hi[i] - c->bands_deg.lo[i] >=
+            c->bands_deg.hi[*band] - c->bands_deg.lo[*band])
+            *band = i;
+}
+
 int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t errlen)
 {
     memset(b, 0, sizeof *b);
     const sensor_family *fam = c->family;
-    b->angle = fam->n_angles(c) - 1;
-    b->band = 0;
-    for (int i = 1; i < c->bands_deg.n; i++)
-        if (c->bands_deg.hi[i] - c->bands_deg.lo[i] >=
-            c->bands_deg.hi[b->band] - c->bands_deg.lo[b->band])
-            b->band = i;
+    budget_row(c, &b->angle, &b->band);
     for (const config_key *k = fam->keys; k && k->section; k++) {
         if (!config_is_tolerance(k, fam) || !(get_value(c, k) > 0))
             continue;

@@ -1,0 +1,224 @@
+/* sensitivity.c - Sobol indices by pick-freeze on the per-purpose random
+ * streams (sensitivity.h). */
+#include "sensitivity.h"
+#include "budget.h"
+#include "montecarlo.h"
+#include "status.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int add_source(sens_result *s, const char *name, int kind, const char *keys,
+                      uint32_t stream, char *err, size_t errlen)
+{
+    if (s->n >= SENS_MAX_SOURCES)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "more than %d random inputs",
+                          SENS_MAX_SOURCES);
+    sens_source *src = &s->src[s->n++];
+    snprintf(src->name, sizeof src->name, "%s", name);
+    snprintf(src->keys, sizeof src->keys, "%s", keys);
+    src->kind = kind;
+    src->stream = stream;
+    return SUNMC_OK;
+}
+
+/* The value of a "section.key" number key of c's family; 0 when unknown. */
+static double dotted_value(const sunmc_config *c, const char *dotted)
+{
+    char sec[CONFIG_STR_MAX];
+    const char *dot = strchr(dotted, '.');
+    if (!dot)
+        return 0.0;
+    snprintf(sec, sizeof sec, "%.*s", (int)(dot - dotted), dotted);
+    const config_key *k = config_find_in(c->family, sec, dot + 1);
+    return k && k->type == KEY_DOUBLE ? *(const double *)config_value_cptr(k, c) : 0.0;
+}
+
+/* A noise stream is an input when any key scaling it is > 0. */
+static int noise_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen)
+{
+    for (const family_noise *nz = c->family->noise; nz && nz->name; nz++) {
+        char keys[2 * CONFIG_STR_MAX] = "";
+        int on = 0;
+        for (const char *const *k = nz->keys; *k; k++) {
+            on |= dotted_value(c, *k) > 0;
+            size_t len = strlen(keys);
+            snprintf(keys + len, sizeof keys - len, "%s%s", len ? ", " : "", *k);
+        }
+        int rc = on ? add_source(s, nz->name, SENS_NOISE, keys, nz->stream, err, errlen) : 0;
+        if (rc)
+            return rc;
+    }
+    return SUNMC_OK;
+}
+
+int sens_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen)
+{
+    memset(s, 0, sizeof *s);
+    const sensor_family *fam = c->family;
+    budget_row(c, &s->angle, &s->band);
+    if (!fam->deviations && !fam->noise)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "family %s declares no random inputs: no sensitivity", fam->name);
+    for (int e = 0; e < fam->n_deviations; e++) {
+        const deviation_spec *d = &fam->deviations[e];
+        const tolerance *t = (const tolerance *)(const void *)(c->fam.bytes + d->tol_offset);
+        if (!(t->value > 0) || t->dist == DIST_FIXED)
+            continue;
+        char keys[2 * CONFIG_STR_MAX];
+        snprintf(keys, sizeof keys, "tolerance.%s", d->name);
+        int rc = add_source(s, d->name, SENS_TOLERANCE, keys, RNG_STREAM_TOLERANCE + d->stream,
+                            err, errlen);
+        if (rc)
+            return rc;
+    }
+    int rc = noise_sources(c, s, err, errlen);
+    if (rc)
+        return rc;
+    if (s->n == 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "no random input varies (every tolerance 0 or fixed, every noise 0)");
+    return SUNMC_OK;
+}
+
+/* Y before and after of config c over units [0, units): NaN without a fit. */
+static int run_y(const sunmc_config *c, long units, int threads, const sens_result *s,
+                 unit_result *res, double *yb, double *ya, char *err, size_t errlen)
+{
+    int rc = mc_run(c, c->family, 0, units, threads, res, NULL, NULL, err, errlen);
+    if (rc)
+        return rc;
+    for (long u = 0; u < units; u++) {
+        double b = res[u].rms_before[s->angle][s->band], a = res[u].rms_after[s->angle][s->band];
+        int ok = res[u].fit_status == UNIT_FIT_OK && isfinite(b) && isfinite(a);
+        yb[u] = ok ? b : NAN;
+        ya[u] = ok ? a : NAN;
+    }
+    return SUNMC_OK;
+}
+
+/* Keep the rows finite in every run (A, B, each A_B^i), compacting each of
+ * the (d + 2) columns of y (units each, before then after); their count. */
+static long pair_rows(double *y, int cols, long units)
+{
+    long k = 0;
+    for (long u = 0; u < units; u++) {
+        int ok = 1;
+        for (int j = 0; j < 2 * cols; j++)
+            ok = ok && isfinite(y[(size_t)j * (size_t)units + (size_t)u]);
+        if (!ok)
+            continue;
+        for (int j = 0; j < 2 * cols; j++)
+            y[(size_t)j * (size_t)units + (size_t)k] = y[(size_t)j * (size_t)units + (size_t)u];
+        k++;
+    }
+    return k;
+}
+
+/* Mean and variance (divisor 2n) of the 2n values of A and B. */
+static void moments(const double *fa, const double *fb, long n, double *mean, double *var)
+{
+    double s = 0, ss = 0;
+    for (long j = 0; j < n; j++)
+        s += fa[j] + fb[j];
+    double m = n > 0 ? s / (double)(2 * n) : NAN;
+    for (long j = 0; j < n; j++)
+        ss += (fa[j] - m) * (fa[j] - m) + (fb[j] - m) * (fb[j] - m);
+    *mean = m;
+    *var = n > 0 ? ss / (double)(2 * n) : NAN;
+}
+
+/* Indices of the paired rows into s, before (after = 0) or after. */
+static int indices(const sunmc_config *c, sens_result *s, const double *y, long units, long n,
+                   int after, char *err, size_t errlen)
+{
+    int cols = s->n + 2;
+    size_t nn = (size_t)n;
+    double *fab = malloc((size_t)s->n * (nn ? nn : 1) * sizeof *fab);
+    stats_sobol_index *idx = malloc((size_t)s->n * sizeof *idx);
+    int rc = fab && idx ? SUNMC_OK : SUNMC_ENOMEM;
+    const double *fa = y + (size_t)(after * cols) * (size_t)units;
+    const double *fb = fa + (size_t)units;
+    for (int i = 0; rc == SUNMC_OK && i < s->n; i++)
+        memcpy(fab + (size_t)i * nn, fa + (size_t)(2 + i) * (size_t)units, nn * sizeof *fab);
+    if (rc == SUNMC_OK)
+        rc = stats_sobol(fa, fb, fab, nn, (size_t)s->n, SENS_BOOTSTRAP, SENS_BOOT_SEED,
+                         c->confidence, idx, err, errlen);
+    else
+        sunmc_fail(err, errlen, rc, "out of memory for the indices of %ld units", n);
+    for (int i = 0; rc == SUNMC_OK && i < s->n; i++)
+        *(after ? &s->src[i].after : &s->src[i].before) = idx[i];
+    if (rc == SUNMC_OK)
+        moments(fa, fb, n, after ? &s->mean_after : &s->mean_before,
+                after ? &s->var_after : &s->var_before);
+    free(fab);
+    free(idx);
+    return rc;
+}
+
+/* The d + 2 Monte Carlos: A, B, then A with each input's stream from B.
+ * Column j of y (units values) is run j's before, column cols + j its after. */
+static int sens_runs(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
+                     void *ctx, sens_result *s, double *y, char *err, size_t errlen)
+{
+    unit_result *res = calloc((size_t)units, sizeof *res);
+    if (!res)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", units);
+    int cols = s->n + 2, rc = SUNMC_OK;
+    for (int j = 0; j < cols && rc == SUNMC_OK; j++) {
+        sunmc_config t = *c;
+        char what[2 * CONFIG_STR_MAX];
+        t.pick.n = 0;
+        if (j == 1)
+            t.seed = s->seed_b;
+        if (j >= 2) {
+            t.pick.seed = s->seed_b;
+            t.pick.n = 1;
+            t.pick.stream[0] = s->src[j - 2].stream;
+        }
+        snprintf(what, sizeof what, "%s", j == 0 ? "sample A" : j == 1 ? "sample B" : "");
+        if (j >= 2)
+            snprintf(what, sizeof what, "A with %s from B", s->src[j - 2].name);
+        if (progress)
+            progress(what, j + 1, cols, ctx);
+        rc = run_y(&t, units, threads, s, res, y + (size_t)j * (size_t)units,
+                   y + (size_t)(cols + j) * (size_t)units, err, errlen);
+    }
+    free(res);
+    return rc;
+}
+
+int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
+             void *ctx, sens_result *s, char *err, size_t errlen)
+{
+    int rc = sens_sources(c, s, err, errlen);
+    if (rc)
+        return rc;
+    if (units < 2)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensitivity needs at least 2 units, not %ld",
+                          units);
+    s->units = units;
+    s->seed = c->seed;
+    s->seed_b = c->seed ^ SENS_SEED_B_XOR;
+    int cols = s->n + 2;
+    double *y = malloc((size_t)(2 * cols) * (size_t)units * sizeof *y);
+    if (!y)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units x %d runs",
+                          units, cols);
+    rc = sens_runs(c, units, threads, progress, ctx, s, y, err, errlen);
+    if (rc == SUNMC_OK) {
+        s->paired_units = pair_rows(y, cols, units);
+        if (s->paired_units < 2)
+            rc = sunmc_fail(err, errlen, SUNMC_EDOM,
+                            "only %ld of %ld units have a fit in every run: no indices",
+                            s->paired_units, units);
+    }
+    if (rc == SUNMC_OK)
+        rc = indices(c, s, y, units, s->paired_units, 0, err, errlen);
+    if (rc == SUNMC_OK)
+        rc = indices(c, s, y, units, s->paired_units, 1, err, errlen);
+    free(y);
+    return rc;
+}
