@@ -150,14 +150,7 @@ static void cli(void **state)
                          "configs/ess_type_a.ini --set report.yield_target=2",
                          "configs/ess_type_a.ini --set report.budget_units=x",
                          "configs/ess_type_a.ini --bogus"};
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(cmd, sizeof cmd, "%s budget %s --out %s --quiet", test_sunmc(), bad[i], dir);
-        int rc = test_run(cmd, out, sizeof out);
-        if (rc != 2)
-            fail_msg("'%s' exited %d: %s", bad[i], rc, out);
-    }
-    snprintf(cmd, sizeof cmd, "test -e %s", dir);
-    assert_int_not_equal(system(cmd), 0);
+    test_refused("budget", bad, sizeof bad / sizeof bad[0], dir);
     /* A small real budget: table, budget.tsv with the floor, 12 + 3 ranked
      * rows and the interaction, whose shares sum to 100 %. */
     snprintf(cmd, sizeof cmd,

@@ -50,6 +50,22 @@ static inline int test_run(const char *cmd, char *out, size_t outlen)
     return (st >= 0 && (st & 0x7f) == 0) ? (st >> 8) & 0xff : -1;
 }
 
+/* `sunmc COMMAND ARGS --out dir --quiet` for each of the n ARGS in bad: every
+ * one must exit 2 and leave dir unmade (nothing written). */
+static inline void test_refused(const char *command, const char *const *bad, size_t n,
+                                const char *dir)
+{
+    char out[16384], cmd[4096];
+    for (size_t i = 0; i < n; i++) {
+        snprintf(cmd, sizeof cmd, "%s %s %s --out %s --quiet", test_sunmc(), command, bad[i], dir);
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 2)
+            fail_msg("%s '%s' exited %d: %s", command, bad[i], rc, out);
+    }
+    snprintf(cmd, sizeof cmd, "test -e %s", dir);
+    assert_int_not_equal(system(cmd), 0);
+}
+
 /* Remove the private directory at exit. */
 static char test_tmp_dir_[64];
 static inline void test_tmp_cleanup_(void)

@@ -27,13 +27,9 @@ static int add_source(sens_result *s, const char *name, int kind, const char *ke
 /* The value of a "section.key" number key of c's family; 0 when unknown. */
 static double dotted_value(const sunmc_config *c, const char *dotted)
 {
-    char sec[CONFIG_STR_MAX];
-    const char *dot = strchr(dotted, '.');
-    if (!dot)
-        return 0.0;
-    snprintf(sec, sizeof sec, "%.*s", (int)(dot - dotted), dotted);
-    const config_key *k = config_find_in(c->family, sec, dot + 1);
-    return k && k->type == KEY_DOUBLE ? *(const double *)config_value_cptr(k, c) : 0.0;
+    char err[SUNMC_ERRLEN];
+    double v;
+    return config_get_number(c, dotted, &v, err, sizeof err) == SUNMC_OK ? v : 0.0;
 }
 
 /* A noise stream is an input when any key scaling it is > 0. */
