@@ -358,7 +358,10 @@ static void summary_tsv_columns(void **state)
                           "fit_failures",
                           "gross_errors",
                           "alias_units",
-                          "model"};
+                          "model",
+                          "campaign_points",
+                          "campaign_hours",
+                          "extrapolation_deg"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);
@@ -387,6 +390,9 @@ static void summary_tsv_columns(void **state)
         assert_printed(v[col_of(h, nh, "improvement_min")], r->improvement_min, "imp min");
         assert_printed(v[col_of(h, nh, "yield")], r->yield, "yield");
         assert_printed(v[col_of(h, nh, "rms_after_sys_mean")], r->rms_after_sys_mean, "sys mean");
+        assert_int_equal(atol(v[col_of(h, nh, "campaign_points")]), r->campaign_points);
+        assert_printed(v[col_of(h, nh, "campaign_hours")], r->campaign_hours, "hours");
+        assert_printed(v[col_of(h, nh, "extrapolation_deg")], r->extrapolation_deg, "extrap");
         const char *est[6] = {"rms_before_mean", "rms_after_mean", "rms_after_sys_mean",
                               "rms_after_p95",   "improvement_mean", "yield"};
         const stats_interval ci[6] = {r->rms_before_mean_ci,  r->rms_after_mean_ci,

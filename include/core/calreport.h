@@ -12,6 +12,7 @@
 #ifndef SUNMC_CALREPORT_H
 #define SUNMC_CALREPORT_H
 
+#include "campaign.h"
 #include "config.h"
 #include "fit.h"
 
@@ -51,6 +52,7 @@ typedef struct {
     size_t n_rows;                    /* rows in the file */
     size_t n_used;                    /* rows with weight > 0 after gross-error checks */
     int dof;                          /* degrees of freedom of the residual variance */
+    campaign_info campaign;           /* the data's table angles in file order: cost, span */
 
     /* fit */
     fit_result fit;

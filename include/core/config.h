@@ -72,6 +72,10 @@ typedef struct {
     double truncation_sigmas;           /* [tolerance] truncnormal limit */
     double encoder_arcsec;              /* [noise] sigma of each table axis reading */
     int cal_repeats;                    /* [campaign] readings averaged per point */
+    double dwell_s;                     /* [campaign] cost: time per reading */
+    double point_settle_s;              /* [campaign] cost: settling after a step */
+    double line_settle_s;               /* [campaign] cost: settling after a slow-axis move */
+    double slew_deg_per_s;              /* [campaign] cost: table rate */
     int max_iterations;                 /* [calibration] most fit iterations */
 
     /* [run] */

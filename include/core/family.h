@@ -23,6 +23,9 @@
 /* Fit status of a unit, as written in units.tsv. */
 enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
 
+/* Which grid table_grid lists. */
+enum family_grid { FAMILY_GRID_CAMPAIGN = 0, FAMILY_GRID_VALIDATION = 1 };
+
 /* Phases of a unit's run, timed for `run --profile` (never written to files). */
 enum unit_phase { UNIT_PHASE_CAMPAIGN = 0, UNIT_PHASE_FIT, UNIT_PHASE_VALIDATION, UNIT_PHASES };
 
@@ -106,6 +109,23 @@ typedef struct sensor_family {
     /* Run unit `unit` end to end.  A failed fit is recorded in r and is not
      * an error; only a failure of the machinery returns non-zero. */
     int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
+
+    /* ---- The turntable grids, for a campaign's cost and span
+     * (campaign.h); NULL when the family has none.  Table positions (deg)
+     * of the campaign (which = FAMILY_GRID_CAMPAIGN) or of the validation
+     * (FAMILY_GRID_VALIDATION), in the order the table visits them: axis 0
+     * the fast axis, axis 1 the slow one.  Returns the count; writes at most
+     * max (none when the arrays are NULL). ---- */
+    long (*table_grid)(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
+                       long max);
+    const char *const *table_axis_names; /* {"alpha", "beta"}: for messages */
+
+    /* ---- `sunmc design` (design.h): the campaign keys it searches, as
+     * "section.key"; NULL when the family has none.  step: the fast axis'
+     * step (a number key); lines: the slow axis' positions (a list key,
+     * one scan each), or NULL when the step sets both axes. ---- */
+    const char *design_step_key;
+    const char *design_lines_key;
 
     /* ---- Error curves and maps (`sunmc curve`); all NULL when the family
      * has none.  A curve is one unit's error at every point of a 2-D grid:

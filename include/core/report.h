@@ -31,6 +31,12 @@ typedef struct {
      * interval for p95, Wilson's score interval for the yield (stats.h).
      * NaN bounds when the units are too few. */
     double confidence;
+    /* The campaign (campaign.h): table positions, estimated turntable hours
+     * and how far (deg) validation angles lie beyond its span (0: none);
+     * 0, NaN, NaN for a family without table grids. */
+    long campaign_points;
+    double campaign_hours;
+    double extrapolation_deg;
     stats_interval rms_before_mean_ci, rms_after_mean_ci, rms_after_sys_mean_ci;
     stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci;
 } summary_row;
@@ -70,6 +76,11 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band);
  * c->confidence (an accumulator over one array).  SUNMC_ENOMEM. */
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
                      long n, summary_row *rows);
+
+/* The campaign's size and turntable hours, and a WARNING line when
+ * validation angles lie beyond its span (campaign.h); nothing for a family
+ * without table grids. */
+void report_print_campaign(FILE *f, const sunmc_config *c);
 
 /* Table 1 and the extra statistics with their intervals, for people. */
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,

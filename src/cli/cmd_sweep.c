@@ -62,8 +62,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
            c->product, fam->name, n_points, rows[0].units, c->seed, c->spec_arcsec);
     for (int i = 0; i < n_axes; i++)
         printf("%-*s ", axis_width(&axes[i]), axes[i].dotted);
-    printf("%-6s %-9s %10s %10s %10s %7s %7s %6s %6s\n", "angle", "band", "before", "after",
-           "p95 after", "improve", "yield", "alias", "failed");
+    printf("%-6s %-9s %10s %10s %10s %7s %7s %6s %6s %7s %6s\n", "angle", "band", "before",
+           "after", "p95 after", "improve", "yield", "alias", "failed", "points", "hours");
+    int extrapolated = 0;
     for (long p = 0; p < n_points; p++) {
         const char *v[SWEEP_MAX_AXES];
         sweep_point_text(axes, n_axes, p, v);
@@ -73,16 +74,21 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             report_band_label(c, s->band, band, sizeof band);
             for (int i = 0; i < n_axes; i++)
                 printf("%-*s ", axis_width(&axes[i]), v[i]);
-            printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.1f%% %6ld %6ld\n",
+            printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.1f%% %6ld %6ld %7ld %6.2f%s\n",
                    fam->angle_names[s->angle], band, prec, s->rms_before_mean, prec,
                    s->rms_after_mean, prec, s->rms_after_p95, s->improvement_mean,
-                   100.0 * s->yield, s->alias_units, s->fit_failures);
+                   100.0 * s->yield, s->alias_units, s->fit_failures, s->campaign_points,
+                   s->campaign_hours, s->extrapolation_deg > 0 ? " *" : "");
+            extrapolated |= s->extrapolation_deg > 0;
         }
     }
     printf("mean RMS in %s", u);
     if (fam->alias_term)
         printf("; alias = units whose campaign could not resolve %s", fam->alias_term);
-    putchar('\n');
+    printf("; points and turntable hours of the campaign\n");
+    if (extrapolated)
+        printf("WARNING: * = validation angles beyond the campaign's span: the calibration is "
+               "extrapolated there (sweep.tsv: extrapolation_deg)\n");
 }
 
 /* sweep.tsv: the axes' values, label, aliased, then the summary columns. */

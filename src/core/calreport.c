@@ -102,6 +102,11 @@ int calreport_print(FILE *f, const calreport *r)
 {
     fprintf(f, "calibration: sensor family %s, model %s\n", r->sensor, r->model);
     fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used, r->dof);
+    if (r->campaign.known)
+        fprintf(f,
+                "campaign: %ld points on %ld lines, %ld readings: %.2f turntable hours (the "
+                "rows' table angles in file order, the config's campaign.* cost keys)\n",
+                r->campaign.points, r->campaign.lines, r->campaign.readings, r->campaign.hours);
     fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
             r->fit.iterations, fit_reason(&r->fit));
     fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);

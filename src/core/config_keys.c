@@ -40,6 +40,16 @@ const config_key config_keys[] = {
     /* [campaign] */
     {"campaign", "repeats", KEY_INT, "", "1", 1, 1000, NULL, OFF(cal_repeats),
      "readings averaged at each campaign point"},
+    {"campaign", "dwell_s", KEY_DOUBLE, "s", "1", 0, 3600, NULL, OFF(dwell_s),
+     "campaign cost: time to take one reading (integration and readout), per repeat"},
+    {"campaign", "point_settle_s", KEY_DOUBLE, "s", "1", 0, 3600, NULL, OFF(point_settle_s),
+     "campaign cost: settling time of the table after each step along a line"},
+    {"campaign", "line_settle_s", KEY_DOUBLE, "s", "30", 0, 36000, NULL, OFF(line_settle_s),
+     "campaign cost: settling time after a move of the slow axis (a new beta line) and "
+     "before the first point"},
+    {"campaign", "slew_deg_per_s", KEY_DOUBLE, "deg/s", "5", 0.001, 1000, NULL,
+     OFF(slew_deg_per_s),
+     "campaign cost: table rate; both axes move at once, the longer travel sets the time"},
 
     /* [calibration] */
     {"calibration", "max_iterations", KEY_INT, "", "100", 5, 10000, NULL, OFF(max_iterations),

@@ -1,5 +1,6 @@
 /* report.c - statistics over units and the TSV / table writers. */
 #include "report.h"
+#include "campaign.h"
 #include "status.h"
 
 #include <gsl/gsl_sort.h>
@@ -38,6 +39,7 @@ struct report_acc {
     int na, nb;
     double spec;         /* report.spec_arcsec in the rms unit */
     long n, gross, alias, failed;
+    campaign_info campaign;
     band_cell cell[UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
 };
 
@@ -51,6 +53,11 @@ report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
     a->na = fam->n_angles(c);
     a->nb = c->bands_deg.n;
     a->spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
+    char err[SUNMC_ERRLEN];
+    if (campaign_describe(c, &a->campaign, err, sizeof err) != SUNMC_OK) {
+        free(a);
+        return NULL;
+    }
     for (int i = 0; i < a->na * a->nb; i++) {
         a->cell[i].imp_max = -INFINITY;
         a->cell[i].imp_min = INFINITY;
@@ -165,6 +172,9 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
             r->gross_errors = acc->gross;
             r->alias_units = acc->alias;
             r->confidence = acc->c->confidence;
+            r->campaign_points = acc->campaign.points;
+            r->campaign_hours = acc->campaign.known ? acc->campaign.hours : NAN;
+            r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
             r->stat_units = s->after.n;
             cell_statistics(s, acc->n, acc->c->confidence, 1, r);
         }
@@ -385,6 +395,23 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
     table_print(f, cols, 6, n);
 }
 
+void report_print_campaign(FILE *f, const sunmc_config *c)
+{
+    campaign_info ci;
+    char err[SUNMC_ERRLEN], text[2 * SUNMC_ERRLEN];
+    if (campaign_describe(c, &ci, err, sizeof err) != SUNMC_OK || !ci.known)
+        return;
+    fprintf(f,
+            "campaign: %ld points on %ld lines, %d reading%s each: %.2f turntable hours "
+            "(campaign.dwell_s, point_settle_s, line_settle_s, slew_deg_per_s)\n",
+            ci.points, ci.lines, c->cal_repeats, c->cal_repeats == 1 ? "" : "s", ci.hours);
+    campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
+    if (text[0])
+        fprintf(f, "WARNING: %s: the calibration is extrapolated there; let the campaign "
+                   "cover the validation angles\n",
+                text);
+}
+
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const summary_row *rows)
 {
@@ -397,6 +424,7 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     fam->model_label(c, model, sizeof model);
     fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec\ncalibration model: %s\n",
             c->product, fam->name, rows[0].units, c->seed, c->spec_arcsec, model);
+    report_print_campaign(f, c);
     print_table1(f, c, fam, rows, n, prec, cols);
     fputc('\n', f);
     print_means(f, c, fam, rows, n, prec, cols);
@@ -434,7 +462,8 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
                "rms_after_p95\trms_after_p95_ci_lo\trms_after_p95_ci_hi\t"
                "improvement_mean\timprovement_mean_ci_lo\timprovement_mean_ci_hi\t"
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
-               "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\n");
+               "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
+               "campaign_points\tcampaign_hours\textrapolation_deg\n");
 }
 
 /* "S\tS_ci_lo\tS_ci_hi\t" */
@@ -466,8 +495,9 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
         fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
         write_estimate(f, r->yield, r->yield_ci);
-        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\n", c->spec_arcsec, r->confidence, r->stat_units,
-                r->fit_failures, r->gross_errors, r->alias_units, model);
+        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\n", c->spec_arcsec,
+                r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
+                model, r->campaign_points, r->campaign_hours, r->extrapolation_deg);
     }
 }
 

@@ -247,6 +247,7 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     int phys = cw->kind == DSS_MODEL_PHYSICAL;
     calreport_init(rep, "dss", phys ? DSS_CALFIT_MODEL_PHYSICAL : DSS_CALFIT_MODEL_POLYNOMIAL);
     rep->n_rows = cw->n;
+    campaign_cost(c, cw->b2_rad, cw->b1_rad, (long)cw->n, DEG_PER_RAD, &rep->campaign);
     rep->n_angles = 2;
     rep->angle_name[0] = "alpha";
     rep->angle_name[1] = "beta";

@@ -3,6 +3,7 @@
 #include "dss_unit.h"
 #include "dss_curve.h"
 #include "dss_lab.h"
+#include "dss_grid.h"
 #include "dss_rotation.h"
 #include "dss_score.h"
 #include "family.h"
@@ -397,6 +398,10 @@ const sensor_family dss_family = {
     .workspace_alloc = dss_ws_alloc,
     .workspace_free = dss_ws_free,
     .unit_run = dss_unit_run,
+    .table_grid = dss_table_grid,
+    .table_axis_names = dss_table_axis_names,
+    .design_step_key = "campaign.b_step_deg",
+    .design_lines_key = NULL,
     .curve_axis_names = dss_curve_axis_names,
     .curve_axis = dss_curve_axis,
     .curve_alloc = dss_curve_alloc,

@@ -251,6 +251,7 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
     double roll = ec->roll_measured_arcsec * RAD_PER_ARCSEC;
     rep->n_rows = cw->n;
+    campaign_cost(c, cw->alpha_rad, cw->beta_rad, (long)cw->n, DEG_PER_RAD, &rep->campaign);
     rep->n_angles = 1;
     rep->angle_name[0] = "alpha";
     rep->bands = c->bands_deg;

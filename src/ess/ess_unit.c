@@ -3,6 +3,7 @@
 #include "ess_unit.h"
 #include "ess_curve.h"
 #include "ess_lab.h"
+#include "ess_grid.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -333,6 +334,10 @@ const sensor_family ess_family = {
     .workspace_free = ess_ws_free,
     .unit_run = ess_unit_run,
     /* curve hooks: ess_curve.c */
+    .table_grid = ess_table_grid,
+    .table_axis_names = ess_table_axis_names,
+    .design_step_key = "campaign.alpha_step_deg",
+    .design_lines_key = "campaign.beta_deg",
     .curve_axis_names = ess_curve_axis_names,
     .curve_axis = ess_curve_axis,
     .curve_alloc = ess_curve_alloc,
