@@ -5,6 +5,8 @@
 #include "test_util.h"
 
 #include "config.h"
+#include "calreport.h"
+#include "dss_calfit.h"
 #include "dss_calib.h"
 #include "dss_model.h"
 #include "dss_rotation.h"
@@ -15,6 +17,7 @@
 
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_linalg.h>
+#include <gsl/gsl_multifit.h>
 
 static sunmc_config dss_test_config(const char *const *extra, int n_extra)
 {
@@ -408,6 +411,80 @@ static void test_identifiability(void **state)
     assert_true(isnan(se[DSS_P_S1]) && isnan(se[DSS_P_S2]));
 }
 
+/* The polynomial's standard errors against GSL's ordinary least squares
+ * (gsl_multifit_linear: cov = sigma^2 (X^T X)^-1, sigma^2 = chisq / (n - p))
+ * on the same monomials and targets, per axis; and the cross-axis
+ * correlations are zero (two separate fits). */
+static void test_polynomial_standard_errors(void **state)
+{
+    const char *sets[] = {"calibration.model=polynomial", "calibration.poly_order=2"};
+    sunmc_config c = dss_test_config(sets, 2);
+    dss_config *dc = dss_cfg(&c);
+    const size_t n = 400;
+    dss_calib_workspace *cw = dss_calib_alloc(&dc->design, n, DSS_MODEL_POLYNOMIAL, 2, 0);
+    assert_non_null(cw);
+    uint64_t seed = 99;
+    for (size_t i = 0; i < n; i++) {
+        double b1 = (-50 + 5.0 * (double)(i / 20)) * RAD_PER_DEG;
+        double b2 = (-50 + 5.0 * (double)(i % 20)) * RAD_PER_DEG;
+        cw->b1_rad[i] = b1;
+        cw->b2_rad[i] = b2;
+        /* a spot near the nominal one, with noise the polynomial cannot fit */
+        double a0, be0;
+        dss_table_truth(b1, b2, &a0, &be0);
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        double e1 = ((double)(seed >> 11) / 9007199254740992.0 - 0.5) * 0.5;
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        double e2 = ((double)(seed >> 11) / 9007199254740992.0 - 0.5) * 0.5;
+        cw->x_px[i] = -3.0 * tan(a0) / 5.5e-3 + e1;
+        cw->y_px[i] = -3.0 * tan(be0) / 5.5e-3 + e2;
+        cw->weight[i] = 1;
+    }
+    dss_calibration cal;
+    static calreport rep;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(dss_calfit_run(&c, cw, &cal, &rep, err, sizeof err), SUNMC_OK);
+    assert_true(rep.fit_ok);
+    int nt = cal.poly.n_terms;
+    assert_int_equal(rep.np, 2 * nt);
+    gsl_matrix *X = gsl_matrix_alloc(n, (size_t)nt), *cov = gsl_matrix_alloc((size_t)nt, (size_t)nt);
+    gsl_vector *y = gsl_vector_alloc(n), *cf = gsl_vector_alloc((size_t)nt);
+    gsl_multifit_linear_workspace *w = gsl_multifit_linear_alloc(n, (size_t)nt);
+    for (int a = 0; a < 2; a++) {
+        for (size_t i = 0; i < n; i++) {
+            double am, bm;
+            /* the corrected on-board formula: the nominal glass undone */
+            assert_int_equal(dss_onboard_angles(&cal.poly.onboard, cw->x_px[i], cw->y_px[i], &am,
+                                                &bm),
+                             SUNMC_OK);
+            double a0, be0, t[DSS_POLY_MAX_TERMS], s = cal.poly.scale_rad;
+            dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &be0);
+            double u = am / s, v = bm / s;
+            const double mono[6] = {1, u, v, u * u, u * v, v * v};
+            memcpy(t, mono, sizeof mono);
+            for (int k = 0; k < nt; k++)
+                gsl_matrix_set(X, i, (size_t)k, t[k]);
+            gsl_vector_set(y, i, a ? be0 - bm : a0 - am);
+        }
+        double chisq;
+        assert_int_equal(gsl_multifit_linear(X, y, cf, cov, &chisq, w), 0);
+        for (int k = 0; k < nt; k++) {
+            double want = sqrt(gsl_matrix_get(cov, (size_t)k, (size_t)k));
+            assert_near(rep.value[a * nt + k], gsl_vector_get(cf, (size_t)k), 1e-9 * want + 1e-15);
+            assert_near(rep.se[a * nt + k], want, 1e-6 * want);
+        }
+    }
+    for (int i = 0; i < nt; i++)
+        for (int j = 0; j < nt; j++)
+            assert_near(rep.corr[i][nt + j], 0.0, 1e-12);
+    gsl_multifit_linear_free(w);
+    gsl_matrix_free(X);
+    gsl_matrix_free(cov);
+    gsl_vector_free(y);
+    gsl_vector_free(cf);
+    dss_calib_free(cw);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -416,6 +493,7 @@ int main(void)
         cmocka_unit_test(test_polynomial_exact),     cmocka_unit_test(test_family_units),
         cmocka_unit_test(test_errors),               cmocka_unit_test(test_cli),
         cmocka_unit_test(test_identifiability),
+        cmocka_unit_test(test_polynomial_standard_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

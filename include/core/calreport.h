@@ -20,7 +20,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#define CALREPORT_MAX_PAR 16
+#define CALREPORT_MAX_PAR 72 /* e.g. the DSS polynomial of order 7: 2 x 36 terms */
 #define CALREPORT_MAX_WARN 24
 #define CALREPORT_MAX_FOLDS 64
 #define CALREPORT_MAX_ANGLES 2

@@ -196,6 +196,83 @@ static int physical_covariance(const dss_calib_workspace *cw, const dss_calibrat
     return have_cov;
 }
 
+/* The polynomial's coefficients with their standard errors: the alpha and
+ * beta fits share the design matrix (weighted monomials of the on-board
+ * angles), so their covariances are C = (J^T J)^-1 times each axis's own
+ * residual variance (n_used - n_terms degrees of freedom); the two axes are
+ * fitted apart, so the correlation matrix is block-diagonal.  cov_s
+ * receives s2_alpha C then s2_beta C (n_terms^2 each).  Returns 1 when the
+ * covariance could be formed. */
+static int poly_covariance(const dss_calib_workspace *cw, const dss_calibration *cal,
+                           calreport *rep, double *cov_s)
+{
+    const dss_poly *q = &cal->poly;
+    int nt = q->n_terms;
+    rep->np = 2 * nt;
+    double s2[2] = {0, 0}, scale[CALREPORT_MAX_PAR];
+    for (int k = 0; k < nt; k++) {
+        snprintf(rep->name[k], sizeof rep->name[k], "ca_%d", k);
+        snprintf(rep->name[nt + k], sizeof rep->name[nt + k], "cb_%d", k);
+        rep->value[k] = q->ca[k];
+        rep->value[nt + k] = q->cb[k];
+        scale[k] = scale[nt + k] = 1.0; /* rad, as params.ini */
+    }
+    long used = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        double am, bm, a0, b0;
+        if (!(cw->weight[i] > 0) ||
+            dss_onboard_angles(&q->onboard, cw->x_px[i], cw->y_px[i], &am, &bm) != SUNMC_OK)
+            continue;
+        const double *t = cw->basis + i * (size_t)nt;
+        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0); /* the polynomial's truth */
+        double ra = am - a0, rb = bm - b0;
+        for (int k = 0; k < nt; k++) {
+            ra += q->ca[k] * t[k];
+            rb += q->cb[k] * t[k];
+        }
+        s2[0] += cw->weight[i] * ra * ra;
+        s2[1] += cw->weight[i] * rb * rb;
+        used++;
+    }
+    int ok = used > nt && fit_covariance(cw->fw) == SUNMC_OK;
+    gsl_matrix *M = ok ? gsl_matrix_calloc(2 * (size_t)nt, 2 * (size_t)nt) : NULL;
+    if (M) {
+        for (int a = 0; a < 2; a++) {
+            s2[a] /= (double)(used - nt);
+            for (int i = 0; i < nt; i++)
+                for (int j = 0; j < nt; j++) {
+                    double v = s2[a] * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
+                    gsl_matrix_set(M, (size_t)(a * nt + i), (size_t)(a * nt + j), v);
+                    cov_s[a * nt * nt + i * nt + j] = v;
+                }
+        }
+        ok = calreport_covariance(rep, M, 1.0, scale) == SUNMC_OK;
+        gsl_matrix_free(M);
+    }
+    if (!ok) {
+        for (int k = 0; k < rep->np; k++)
+            rep->se[k] = NAN;
+        calreport_warn(rep, "widen the campaign or lower calibration.poly_order",
+                       "the polynomial's coefficient covariance could not be computed");
+    }
+    return ok && rep->fit_ok;
+}
+
+/* The polynomial's propagated uncertainty (rad) at reading i: t^T cov t
+ * per axis, t the reading's monomials. */
+static void poly_sigma(const dss_calib_workspace *cw, int nt, const double *cov_s, size_t i,
+                       double sg[2])
+{
+    const double *t = cw->basis + i * (size_t)nt;
+    for (int a = 0; a < 2; a++) {
+        double v = 0;
+        for (int k = 0; k < nt; k++)
+            for (int l = 0; l < nt; l++)
+                v += t[k] * cov_s[a * nt * nt + k * nt + l] * t[l];
+        sg[a] = sqrt(fmax(v, 0.0));
+    }
+}
+
 /* Residual per angle and band, the calibration's own uncertainty across
  * the field (the parameter covariance propagated to the compensated angles
  * at each campaign point's fitted-model spot) and the predicted accuracy. */
@@ -215,9 +292,12 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
     double smax[2][CONFIG_BANDS_MAX] = {{0}};
     for (size_t i = 0; have_cov && i < cw->n; i++) {
         double sg[2], a0, b0;
-        if (!(cw->weight[i] > 0) ||
-            dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
-                             cw->b2_rad[i], sg) != SUNMC_OK)
+        if (!(cw->weight[i] > 0))
+            continue;
+        if (cal->kind == DSS_MODEL_POLYNOMIAL)
+            poly_sigma(cw, cal->poly.n_terms, cov_s, i, sg);
+        else if (dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
+                                  cw->b2_rad[i], sg) != SUNMC_OK)
             continue;
         dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
         double fd = field_deg(a0, b0);
@@ -232,7 +312,7 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
         for (int b = 0; b < bands->n; b++) {
             rep->band_n[a][b] = acc[a].n[b];
             if (!have_cov || !sig[a].n[b]) {
-                rep->cal_sigma_rms[a][b] = NAN; /* polynomial, or no covariance */
+                rep->cal_sigma_rms[a][b] = NAN; /* no covariance */
                 smax[a][b] = NAN;
             }
             rep->cal_sigma_max[a][b] = smax[a][b];
@@ -276,15 +356,9 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
                        "the fit did not converge: %s (GSL status %d, %zu iterations); its "
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
-    double cov_s[DSS_NP * DSS_NP];
-    int have_cov = 0;
-    if (phys) {
-        have_cov = physical_covariance(cw, cal, rep, cov_s);
-    } else {
-        rep->np = 0; /* the polynomial's coefficients are listed in params.ini */
-        calreport_warn(rep, "use calibration.model = physical for parameter uncertainties",
-                       "the polynomial model's coefficient uncertainties are not reported");
-    }
+    double cov_s[2 * DSS_POLY_MAX_TERMS * DSS_POLY_MAX_TERMS]; /* >= DSS_NP^2 */
+    int have_cov = phys ? physical_covariance(cw, cal, rep, cov_s)
+                        : poly_covariance(cw, cal, rep, cov_s);
     band_stats(c, cw, cal, cov_s, have_cov, n_res, rep);
     cross_validate(c, cw, rep);
     return SUNMC_OK;
@@ -355,11 +429,16 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
         st = params_set_double(p, "design", "glass_n", q->onboard.glass_n,
                                "on-board formula's cover-glass index");
     for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
-        snprintf(key, sizeof key, "ca_%d", k);
-        st = params_set_double(p, "parameters", key, q->ca[k], "alpha correction term, rad");
-        snprintf(key, sizeof key, "cb_%d", k);
-        if (st == SUNMC_OK)
-            st = params_set_double(p, "parameters", key, q->cb[k], "beta correction term, rad");
+        for (int a = 0; a < 2 && st == SUNMC_OK; a++) {
+            snprintf(key, sizeof key, "%s_%d", a ? "cb" : "ca", k);
+            int j = a * q->n_terms + k;
+            if (rep && j < rep->np && isfinite(rep->se[j]))
+                snprintf(comment, sizeof comment, "%s correction term, rad, standard error %.3g",
+                         a ? "beta" : "alpha", rep->se[j]);
+            else
+                snprintf(comment, sizeof comment, "%s correction term, rad", a ? "beta" : "alpha");
+            st = params_set_double(p, "parameters", key, a ? q->cb[k] : q->ca[k], comment);
+        }
     }
     return st;
 }
