@@ -67,9 +67,7 @@ LAYERS   := util core ess dss
 MAIN_SRC := $(wildcard src/cli/*.c)
 LIB_SRC  := $(foreach l,$(LAYERS),$(wildcard src/$(l)/*.c))
 TEST_SRC := $(wildcard tests/test_*.c)
-ALL_HDR  := $(wildcard include/*/*.h)
 
-TEST_HDR := $(wildcard tests/*.h)
 # Test-only code linked into every test (the toy family), and the commands
 # without main() so that tests can run them in process.
 TEST_HELP_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
@@ -89,6 +87,17 @@ ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
 ASAN_TEST_OBJ := $(TEST_SRC:tests/%.c=$(ASAN)/tobj/%.o)
 ASAN_TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(ASAN)/tobj/%.o)
 ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
+
+# Each object depends on the headers it includes (compiler-written .d files),
+# so a header change recompiles only its includers; an object without its .d
+# (a build from before this rule) is recompiled once.
+DEPFLAGS = -MMD -MP
+ALL_DEP := $(LIB_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(TEST_HELP_OBJ:.o=.d) \
+           $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.d) $(ASAN_OBJ:.o=.d) $(ASAN_TEST_OBJ:.o=.d) \
+           $(ASAN_TEST_HELP_OBJ:.o=.d) $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.d)
+$(ALL_DEP): ;
+.PRECIOUS: $(ALL_DEP)
+-include $(wildcard $(ALL_DEP))
 
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
@@ -125,9 +134,9 @@ test-mpi:
 	    $(BUILD)/mpi/tests/test_cluster > $(BUILD)/mpi/test-mpi.log; st=$$?; \
 	    cat $(BUILD)/mpi/test-mpi.log; exit $$st
 
-$(BUILD)/obj/%.o: src/%.c $(ALL_HDR) $(BUILD)/mpi.flag
+$(BUILD)/obj/%.o: src/%.c $(BUILD)/obj/%.d $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(call layer_inc,$<) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(DEPFLAGS) $(call layer_inc,$<) -c $< -o $@
 
 $(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(KERNEL_SRC:src/%.c=$(ASAN)/obj/%.o): \
     ALL_CFLAGS += $(KERNEL_CFLAGS)
@@ -138,9 +147,9 @@ $(BUILD)/libsunmc.a: $(LIB_OBJ)
 $(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(BUILD)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR) $(BUILD)/mpi.flag
+$(BUILD)/tobj/%.o: tests/%.c $(BUILD)/tobj/%.d $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(TEST_INC) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(DEPFLAGS) $(TEST_INC) -c $< -o $@
 
 $(BUILD)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
 	ar rcs $@ $^
@@ -149,9 +158,9 @@ $(BUILD)/tests/%: $(BUILD)/tobj/%.o $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(B
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a \
 	    $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
-$(ASAN)/obj/%.o: src/%.c $(ALL_HDR) $(BUILD)/mpi.flag
+$(ASAN)/obj/%.o: src/%.c $(ASAN)/obj/%.d $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(call layer_inc,$<) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(DEPFLAGS) $(call layer_inc,$<) -c $< -o $@
 
 $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 	ar rcs $@ $^
@@ -159,9 +168,9 @@ $(ASAN)/libsunmc.a: $(ASAN_OBJ)
 $(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
 	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
 
-$(ASAN)/tobj/%.o: tests/%.c $(TEST_HDR) $(ALL_HDR) $(BUILD)/mpi.flag
+$(ASAN)/tobj/%.o: tests/%.c $(ASAN)/tobj/%.d $(BUILD)/mpi.flag
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(TEST_INC) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(DEPFLAGS) $(TEST_INC) -c $< -o $@
 
 $(ASAN)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
 	ar rcs $@ $^
