@@ -302,10 +302,11 @@ static void test_errors(void **state)
     assert_int_equal(config_build(&st, NULL, small, 4, err, sizeof err), SUNMC_EINPUT);
     assert_non_null(strstr(err, "2 x 2 b grid = 4 readings"));
     /* a bad value of the new key names file, line and key */
-    assert_int_equal(test_write_file("build/tests/dss_bad.ini",
+    const char *bad = test_tmp("dss_bad.ini");
+    assert_int_equal(test_write_file(bad,
                                      "[sensor]\nfamily = dss\n[calibration]\nfit_glass_index = maybe\n"),
                      0);
-    int rc = config_build(&st, "build/tests/dss_bad.ini", NULL, 0, err, sizeof err);
+    int rc = config_build(&st, bad, NULL, 0, err, sizeof err);
     assert_int_equal(rc, SUNMC_EINPUT);
     assert_non_null(strstr(err, "dss_bad.ini:4"));
     assert_non_null(strstr(err, "fit_glass_index"));
@@ -315,21 +316,18 @@ static void test_errors(void **state)
  * and names the model in units.tsv's columns. */
 static void test_cli(void **state)
 {
-    char cmd[1024], out[8192];
+    char cmd[2048], out[8192];
+    const char *run[2] = {test_tmp("dss_run1"), test_tmp("dss_run2")};
     for (int t = 1; t <= 2; t++) {
-        snprintf(cmd, sizeof cmd,
-                 "rm -rf build/tests/dss_run%d && %s run configs/dss.ini --units 12 --threads %d "
-                 "--out build/tests/dss_run%d",
-                 t, test_sunmc(), t, t);
+        snprintf(cmd, sizeof cmd, "%s run configs/dss.ini --units 12 --threads %d --out %s",
+                 test_sunmc(), t, run[t - 1]);
         assert_int_equal(test_run(cmd, out, sizeof out), 0);
     }
-    assert_int_equal(test_run("cmp build/tests/dss_run1/units.tsv build/tests/dss_run2/units.tsv && "
-                              "cmp build/tests/dss_run1/summary.tsv build/tests/dss_run2/summary.tsv",
-                              out, sizeof out),
-                     0);
-    assert_int_equal(test_run("head -1 build/tests/dss_run1/units.tsv | grep -q fit_glass_index",
-                              out, sizeof out),
-                     0);
+    snprintf(cmd, sizeof cmd, "cmp %s/units.tsv %s/units.tsv && cmp %s/summary.tsv %s/summary.tsv",
+             run[0], run[1], run[0], run[1]);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "head -1 %s/units.tsv | grep -q fit_glass_index", run[0]);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
     snprintf(cmd, sizeof cmd, "%s run configs/dss.ini --units 2 --set calibration.poly_order=9",
              test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
