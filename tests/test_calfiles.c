@@ -1,0 +1,408 @@
+/* test_calfiles.c - what `sunmc calibrate --out` writes, every column
+ * recomputed here from other files: a unit's campaign from `simulate`
+ * (campaign.csv), the compensated angles from `sunmc compensate`, the
+ * fitted model from params.ini, and the printed report.
+ *   residuals.tsv: line numbers and inputs as in the CSV; the ESS residual
+ *   (model - output) from params.ini's model, the angle error from
+ *   compensate's output against the model's incidence; the DSS compensated
+ *   angles from compensate and their errors against the table truth worked
+ *   out here (the DSS paper's eq. 2-4: alpha = -b2, beta =
+ *   atan(tan b1 / cos b2));
+ *   bands.tsv: points and residual RMS per band from residuals.tsv (ESS:
+ *   bands of |compensated alpha|; DSS: of the field angle of the truth;
+ *   lower band edge exclusive except at 0), the ESS calibration sigma's RMS
+ *   and max over field.tsv's grid in the band, the predicted RMS from the
+ *   residual scaled by sqrt(used / dof) and the calibration sigma;
+ *   crossval.tsv: one fold per beta line (ESS) or grid quadrant (DSS) with
+ *   its held-out count;
+ *   the printed residual standard deviation from the residuals and the
+ *   degrees of freedom. */
+#include "test_tsv.h"
+
+#include "ess_calfit.h"
+#include "params_io.h"
+#include "units.h"
+
+/* ---- a CSV file (comma-separated, '#' comments) with its line numbers ---- */
+
+#define CSV_MAX_ROWS 4096
+#define CSV_MAX_COLS 8
+
+typedef struct {
+    int nc, nr;
+    char names[CSV_MAX_COLS][32];
+    double v[CSV_MAX_ROWS][CSV_MAX_COLS];
+    int line[CSV_MAX_ROWS];
+} csvt;
+
+static csvt *csv_load(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        fail_msg("%s: cannot read", path);
+    csvt *t = calloc(1, sizeof *t);
+    char buf[4096];
+    int ln = 0, header = 1;
+    while (fgets(buf, sizeof buf, f)) {
+        ln++;
+        buf[strcspn(buf, "\r\n")] = '\0';
+        if (buf[0] == '#' || buf[0] == '\0')
+            continue;
+        int n = 0;
+        char *save = NULL;
+        for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+            assert_true(n < CSV_MAX_COLS);
+            if (header)
+                snprintf(t->names[n], sizeof t->names[n], "%s", tok);
+            else
+                t->v[t->nr][n] = strtod(tok, NULL);
+            n++;
+        }
+        if (header) {
+            t->nc = n;
+            header = 0;
+        } else {
+            assert_int_equal(n, t->nc);
+            t->line[t->nr++] = ln;
+            assert_true(t->nr < CSV_MAX_ROWS);
+        }
+    }
+    fclose(f);
+    return t;
+}
+
+static int csv_col(const csvt *t, const char *name)
+{
+    for (int i = 0; i < t->nc; i++)
+        if (strcmp(t->names[i], name) == 0)
+            return i;
+    fail_msg("no CSV column '%s'", name);
+    return -1;
+}
+
+/* ---- helpers ---- */
+
+static void run_ok(const char *cmd, char *out, size_t len)
+{
+    int st = test_run(cmd, out, len);
+    if (st != 0)
+        fail_msg("%s: exit %d\n%s", cmd, st, out);
+}
+
+/* "data: N rows, U used, D degrees of freedom" and the residual standard
+ * deviation from calibrate's report. */
+static void report_numbers(const char *out, long *used, long *dof, double *sigma_arcsec)
+{
+    long rows;
+    const char *d = strstr(out, "data: ");
+    assert_non_null(d);
+    assert_int_equal(sscanf(d, "data: %ld rows, %ld used, %ld degrees", &rows, used, dof), 3);
+    const char *s = strstr(out, "residual standard deviation: ");
+    assert_non_null(s);
+    assert_int_equal(sscanf(s, "residual standard deviation: %lf", sigma_arcsec), 1);
+}
+
+/* The family's band rule: (lo, hi], or [0, hi] for a band from 0. */
+static int in_band(double x, double lo, double hi)
+{
+    const double eps = 1e-9;
+    return (lo == 0 ? x >= 0 : x > lo + eps) && x <= hi + eps;
+}
+
+/* Equal to a value written with %.10g / %.12g. */
+static void expect_close(double got, double want, double rel, const char *what, int row)
+{
+    if (!(fabs(got - want) <= rel * fabs(want) + 1e-12))
+        fail_msg("%s, row %d: %.12g, expected %.12g", what, row, got, want);
+}
+
+/* ---- ESS ---- */
+
+static void ess_files(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16];
+    const char *sim = test_tmp("ess_sim"), *cal = test_tmp("ess_cal");
+    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 3 --out %s",
+             test_sunmc(), sim);
+    run_ok(cmd, out, sizeof out);
+    snprintf(cmd, sizeof cmd,
+             "%s calibrate --sensor ess --config configs/ess_type_a.ini "
+             "--set calibration.roll_measured_arcsec=-7 %s/campaign.csv --out %s",
+             test_sunmc(), sim, cal);
+    run_ok(cmd, out, sizeof out);
+    long used, dof;
+    double sigma;
+    report_numbers(out, &used, &dof, &sigma);
+    const char *comp_path = test_tmp("ess_comp.csv");
+    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
+             cal, sim, comp_path);
+    char cout[4096];
+    run_ok(cmd, cout, sizeof cout);
+
+    char path[600], err[SUNMC_ERRLEN];
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    csvt *camp = csv_load(path);
+    csvt *comp = csv_load(comp_path);
+    snprintf(path, sizeof path, "%s/residuals.tsv", cal);
+    tsv *res = tsv_load(path);
+    snprintf(path, sizeof path, "%s/bands.tsv", cal);
+    tsv *bands = tsv_load(path);
+    snprintf(path, sizeof path, "%s/field.tsv", cal);
+    tsv *field = tsv_load(path);
+    snprintf(path, sizeof path, "%s/crossval.tsv", cal);
+    tsv *cv = tsv_load(path);
+    params_file pf;
+    snprintf(path, sizeof path, "%s/params.ini", cal);
+    assert_int_equal(params_read(path, &pf, err, sizeof err), SUNMC_OK);
+    ess_model m;
+    assert_int_equal(ess_params_load(&pf, &m, err, sizeof err), SUNMC_OK);
+    assert_near(m.roll_rad * ARCSEC_PER_RAD, -7.0, 1e-9);
+
+    /* residuals.tsv row by row */
+    assert_int_equal(res->nr, camp->nr);
+    assert_int_equal(comp->nr, camp->nr);
+    int ca = csv_col(camp, "alpha_deg"), cb = csv_col(camp, "beta_deg");
+    int co = csv_col(camp, "output_deg"), cw = csv_col(camp, "weight");
+    int cc = csv_col(comp, "compensated_deg");
+    double chi2 = 0;
+    long n_used = 0;
+    double *err_as = calloc((size_t)res->nr, sizeof *err_as);
+    for (int i = 0; i < res->nr; i++) {
+        double a = camp->v[i][ca], b = camp->v[i][cb], o = camp->v[i][co], w = camp->v[i][cw];
+        assert_int_equal(atoi(tsv_str(res, i, "line")), camp->line[i]);
+        expect_close(tsv_num(res, i, "alpha_deg"), a, 1e-9, "alpha_deg", i);
+        expect_close(tsv_num(res, i, "beta_deg"), b, 1e-9, "beta_deg", i);
+        expect_close(tsv_num(res, i, "output_deg"), o, 1e-11, "output_deg", i);
+        assert_near(tsv_num(res, i, "weight"), w, 0);
+        double r = (ess_model_predict(&m, a * RAD_PER_DEG, b * RAD_PER_DEG, NULL) -
+                    o * RAD_PER_DEG) * ARCSEC_PER_RAD;
+        expect_g6(tsv_num(res, i, "residual_arcsec"), r, "residual_arcsec");
+        /* the model's incidence at the table angles, from its installation */
+        mat3 M;
+        double wv[3], s[3];
+        ess_turntable_matrix(a * RAD_PER_DEG, b * RAD_PER_DEG, M);
+        mat3_vec(M, m.v, wv);
+        mat3_vec(m.R, wv, s);
+        double e = (comp->v[i][cc] * RAD_PER_DEG - atan2(s[1], s[2])) * ARCSEC_PER_RAD;
+        expect_g6(tsv_num(res, i, "angle_error_arcsec"), e, "angle_error_arcsec");
+        err_as[i] = e;
+        if (w > 0) {
+            chi2 += w * r * r;
+            n_used++;
+        }
+    }
+    assert_int_equal(n_used, used);
+    assert_int_equal(dof, used - ESS_NP); /* no aliased direction at a 0.2 deg step */
+    assert_near(sigma, sqrt(chi2 / (double)dof), 5.0001e-4); /* printed with 3 decimals */
+
+    /* bands.tsv: one row per band of alpha */
+    const double lo[3] = {0, 30, 0}, hi[3] = {30, 60, 62};
+    assert_int_equal(bands->nr, 3);
+    for (int bnd = 0; bnd < 3; bnd++) {
+        assert_string_equal(tsv_str(bands, bnd, "angle"), "alpha");
+        assert_near(tsv_num(bands, bnd, "band_lo_deg"), lo[bnd], 0);
+        assert_near(tsv_num(bands, bnd, "band_hi_deg"), hi[bnd], 0);
+        long pts = 0;
+        double s2 = 0;
+        for (int i = 0; i < res->nr; i++)
+            if (camp->v[i][cw] > 0 && in_band(fabs(comp->v[i][cc]), lo[bnd], hi[bnd])) {
+                pts++;
+                s2 += err_as[i] * err_as[i];
+            }
+        assert_true(pts > 100);
+        assert_int_equal(atol(tsv_str(bands, bnd, "points")), pts);
+        double rr = sqrt(s2 / (double)pts);
+        expect_g6(tsv_num(bands, bnd, "residual_rms_arcsec"), rr, "residual_rms_arcsec");
+        /* the calibration's sigma over field.tsv's grid in the band */
+        long nf = 0;
+        double f2 = 0, fmax_ = 0;
+        for (int j = 0; j < field->nr; j++) {
+            double aj = tsv_num(field, j, "alpha_deg"), sj = tsv_num(field, j, "sigma_arcsec");
+            if (in_band(fabs(aj), lo[bnd], hi[bnd])) {
+                nf++;
+                f2 += sj * sj;
+                fmax_ = fmax(fmax_, sj);
+            }
+        }
+        assert_true(nf > 100);
+        double crms = sqrt(f2 / (double)nf);
+        expect_g6(tsv_num(bands, bnd, "cal_sigma_rms_arcsec"), crms, "cal_sigma_rms_arcsec");
+        /* field.tsv holds %.6g roundings of the values the max is taken of */
+        assert_near(tsv_num(bands, bnd, "cal_sigma_max_arcsec"), fmax_, 2e-5 * fmax_);
+        double noise = rr * sqrt((double)used / (double)dof);
+        expect_g6(tsv_num(bands, bnd, "predicted_rms_arcsec"), sqrt(noise * noise + crms * crms),
+                  "predicted_rms_arcsec");
+    }
+    /* field.tsv: the campaign's alpha range in 0.1 deg steps */
+    assert_near(tsv_num(field, 0, "alpha_deg"), -62, 1e-9);
+    assert_near(tsv_num(field, field->nr - 1, "alpha_deg"), 62, 1e-6);
+    assert_int_equal(field->nr, 1241);
+
+    /* crossval.tsv: one fold per beta line, its points held out */
+    double betas[16];
+    long count[16] = {0};
+    int nb = 0;
+    for (int i = 0; i < camp->nr; i++) {
+        int k = 0;
+        while (k < nb && betas[k] != camp->v[i][cb])
+            k++;
+        if (k == nb) {
+            assert_true(nb < 16);
+            betas[nb++] = camp->v[i][cb];
+        }
+        count[k] += camp->v[i][cw] > 0;
+    }
+    assert_true(nb >= 2);
+    assert_int_equal(cv->nr, nb);
+    for (int k = 0; k < nb; k++) {
+        assert_int_equal(atoi(tsv_str(cv, k, "fold")), k + 1);
+        assert_int_equal(atol(tsv_str(cv, k, "points")), count[k]);
+        assert_int_equal(atoi(tsv_str(cv, k, "ok")), 1);
+        /* held out, a line is predicted about as well as the others */
+        double in = tsv_num(cv, k, "rms_in_arcsec"), outr = tsv_num(cv, k, "rms_out_arcsec");
+        assert_true(in > 0.5 * sigma && in < 2 * sigma);
+        assert_true(outr > 0.5 * sigma && outr < 4 * sigma);
+    }
+    free(err_as);
+    free(camp);
+    free(comp);
+    tsv_free(res);
+    tsv_free(bands);
+    tsv_free(field);
+    tsv_free(cv);
+}
+
+/* ---- DSS ---- */
+
+static void dss_files(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16];
+    const char *sim = test_tmp("dss_sim"), *cal = test_tmp("dss_cal");
+    snprintf(cmd, sizeof cmd, "%s simulate configs/dss.ini --unit 2 --out %s", test_sunmc(), sim);
+    run_ok(cmd, out, sizeof out);
+    snprintf(cmd, sizeof cmd,
+             "%s calibrate --sensor dss --config configs/dss.ini %s/campaign.csv --out %s",
+             test_sunmc(), sim, cal);
+    run_ok(cmd, out, sizeof out);
+    long used, dof;
+    double sigma;
+    report_numbers(out, &used, &dof, &sigma);
+    const char *comp_path = test_tmp("dss_comp.csv");
+    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
+             cal, sim, comp_path);
+    char cout[4096];
+    run_ok(cmd, cout, sizeof cout);
+
+    char path[600];
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    csvt *camp = csv_load(path);
+    csvt *comp = csv_load(comp_path);
+    snprintf(path, sizeof path, "%s/residuals.tsv", cal);
+    tsv *res = tsv_load(path);
+    snprintf(path, sizeof path, "%s/bands.tsv", cal);
+    tsv *bands = tsv_load(path);
+    snprintf(path, sizeof path, "%s/crossval.tsv", cal);
+    tsv *cv = tsv_load(path);
+
+    assert_int_equal(res->nr, camp->nr);
+    assert_int_equal(comp->nr, camp->nr);
+    int c1 = csv_col(camp, "b1_deg"), c2 = csv_col(camp, "b2_deg"), cx = csv_col(camp, "x_px");
+    int cy = csv_col(camp, "y_px");
+    int kw = -1;
+    for (int j = 0; j < camp->nc; j++)
+        if (strcmp(camp->names[j], "weight") == 0)
+            kw = j;
+    int ka = csv_col(comp, "compensated_alpha_deg"), kb = csv_col(comp, "compensated_beta_deg");
+    double *ea = calloc((size_t)res->nr, sizeof *ea), *eb = calloc((size_t)res->nr, sizeof *eb);
+    double *fd = calloc((size_t)res->nr, sizeof *fd);
+    long n_used = 0;
+    long quadrant[4] = {0};
+    double sum2 = 0;
+    for (int i = 0; i < res->nr; i++) {
+        double b1 = camp->v[i][c1], b2 = camp->v[i][c2], w = kw >= 0 ? camp->v[i][kw] : 1.0;
+        assert_int_equal(atoi(tsv_str(res, i, "line")), camp->line[i]);
+        expect_close(tsv_num(res, i, "b1_deg"), b1, 1e-9, "b1_deg", i);
+        expect_close(tsv_num(res, i, "b2_deg"), b2, 1e-9, "b2_deg", i);
+        expect_close(tsv_num(res, i, "x_px"), camp->v[i][cx], 1e-9, "x_px", i);
+        expect_close(tsv_num(res, i, "y_px"), camp->v[i][cy], 1e-9, "y_px", i);
+        assert_near(tsv_num(res, i, "weight"), w, 0);
+        double a = comp->v[i][ka], b = comp->v[i][kb];
+        expect_close(tsv_num(res, i, "alpha_deg"), a, 1e-9, "alpha_deg", i);
+        expect_close(tsv_num(res, i, "beta_deg"), b, 1e-9, "beta_deg", i);
+        /* the table's truth, eq. 2-4 */
+        double a0 = -b2 * RAD_PER_DEG;
+        double b0 = atan(tan(b1 * RAD_PER_DEG) / cos(b2 * RAD_PER_DEG));
+        ea[i] = (a * RAD_PER_DEG - a0) * ARCSEC_PER_RAD;
+        eb[i] = (b * RAD_PER_DEG - b0) * ARCSEC_PER_RAD;
+        fd[i] = atan(hypot(tan(a0), tan(b0))) * DEG_PER_RAD;
+        expect_g6(tsv_num(res, i, "alpha_error_arcsec"), ea[i], "alpha_error_arcsec");
+        expect_g6(tsv_num(res, i, "beta_error_arcsec"), eb[i], "beta_error_arcsec");
+        if (w > 0) {
+            n_used++;
+            sum2 += ea[i] * ea[i] + eb[i] * eb[i];
+            quadrant[2 * (b1 >= 0) + (b2 >= 0)]++;
+        }
+    }
+    assert_int_equal(n_used, used);
+    /* physical model (dss.ini fits the glass index): two residuals per reading, 8 parameters */
+    long n_res = 2 * used;
+    assert_int_equal(dof, n_res - 8);
+    /* the printed sigma: the angle-domain RMS scaled to the degrees of freedom */
+    assert_near(sigma, sqrt(sum2 / (double)n_res * (double)n_res / (double)dof), 5.0001e-4);
+
+    const double lo[3] = {0, 20, 0}, hi[3] = {20, 40, 60};
+    const char *angle[2] = {"alpha", "beta"};
+    assert_int_equal(bands->nr, 6);
+    for (int an = 0; an < 2; an++)
+        for (int bnd = 0; bnd < 3; bnd++) {
+            int r = an * 3 + bnd;
+            assert_string_equal(tsv_str(bands, r, "angle"), angle[an]);
+            assert_near(tsv_num(bands, r, "band_lo_deg"), lo[bnd], 0);
+            assert_near(tsv_num(bands, r, "band_hi_deg"), hi[bnd], 0);
+            long pts = 0;
+            double s2 = 0;
+            for (int i = 0; i < res->nr; i++)
+                if ((kw < 0 || camp->v[i][kw] > 0) && in_band(fd[i], lo[bnd], hi[bnd])) {
+                    double e = an == 0 ? ea[i] : eb[i];
+                    pts++;
+                    s2 += e * e;
+                }
+            assert_true(pts > 20);
+            assert_int_equal(atol(tsv_str(bands, r, "points")), pts);
+            double rr = sqrt(s2 / (double)pts);
+            expect_g6(tsv_num(bands, r, "residual_rms_arcsec"), rr, "residual_rms_arcsec");
+            double crms = tsv_num(bands, r, "cal_sigma_rms_arcsec");
+            double cmax = tsv_num(bands, r, "cal_sigma_max_arcsec");
+            assert_true(crms > 0 && cmax >= crms * (1 - 1e-5));
+            double noise = rr * sqrt((double)n_res / (double)dof);
+            expect_g6(tsv_num(bands, r, "predicted_rms_arcsec"),
+                      sqrt(noise * noise + crms * crms), "predicted_rms_arcsec");
+        }
+    /* crossval.tsv: the four quadrants of the grid, by the signs of b1, b2 */
+    static const char *const qname[4] = {"b1<0,b2<0", "b1<0,b2>=0", "b1>=0,b2<0",
+                                         "b1>=0,b2>=0"};
+    assert_int_equal(cv->nr, 4);
+    for (int k = 0; k < 4; k++) {
+        assert_string_equal(tsv_str(cv, k, "held_out"), qname[k]);
+        assert_int_equal(atol(tsv_str(cv, k, "points")), quadrant[k]);
+    }
+    free(ea);
+    free(eb);
+    free(fd);
+    free(camp);
+    free(comp);
+    tsv_free(res);
+    tsv_free(bands);
+    tsv_free(cv);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ess_files),
+        cmocka_unit_test(dss_files),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
