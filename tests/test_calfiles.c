@@ -16,7 +16,12 @@
  *   crossval.tsv: one fold per beta line (ESS) or grid quadrant (DSS) with
  *   its held-out count;
  *   the printed residual standard deviation from the residuals and the
- *   degrees of freedom. */
+ *   degrees of freedom;
+ *   and simulate's truth.csv: the unit's deviations as units.tsv of `run`
+ *   has them, the recorded angles and outputs as campaign.csv has them, the
+ *   true table angles off the recorded ones by the encoder noise (mean 0,
+ *   sigma noise.encoder_arcsec, alpha and beta independent), the DSS truth
+ *   by eq. 2-4 of the true table angles, the ESS incidence near alpha. */
 #include "test_tsv.h"
 
 #include "ess_calfit.h"
@@ -398,11 +403,174 @@ static void dss_files(void **state)
     tsv_free(cv);
 }
 
+/* ---- simulate's truth.csv ---- */
+
+/* "# name = value" comment lines of a file, looked up by name. */
+static double comment_value(const char *path, const char *name)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[512], key[256];
+    double v;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "# %255s = %lf", key, &v) == 2 && strcmp(key, name) == 0) {
+            fclose(f);
+            return v;
+        }
+    fclose(f);
+    fail_msg("%s: no comment '# %s = '", path, name);
+    return NAN;
+}
+
+/* Mean, standard deviation and correlation of two samples of n. */
+static void moments2(const double *x, const double *y, long n, double *sx, double *sy,
+                     double *mx, double *my, double *r)
+{
+    double ax = 0, ay = 0, xx = 0, yy = 0, xy = 0;
+    for (long i = 0; i < n; i++) {
+        ax += x[i];
+        ay += y[i];
+    }
+    ax /= (double)n;
+    ay /= (double)n;
+    for (long i = 0; i < n; i++) {
+        xx += (x[i] - ax) * (x[i] - ax);
+        yy += (y[i] - ay) * (y[i] - ay);
+        xy += (x[i] - ax) * (y[i] - ay);
+    }
+    *mx = ax;
+    *my = ay;
+    *sx = sqrt(xx / (double)(n - 1));
+    *sy = sqrt(yy / (double)(n - 1));
+    *r = xy / sqrt(xx * yy);
+}
+
+/* The encoder errors (arcsec) of a campaign: sigma `enc`, mean 0, alpha
+ * and beta independent. */
+static void expect_encoder(const double *da, const double *db, long n, double enc)
+{
+    double sa, sb, ma, mb, r;
+    moments2(da, db, n, &sa, &sb, &ma, &mb, &r);
+    double se = enc / sqrt((double)n);
+    if (!(fabs(sa / enc - 1) < 0.12 && fabs(sb / enc - 1) < 0.12 && fabs(ma) < 5 * se &&
+          fabs(mb) < 5 * se && fabs(r) < 5 / sqrt((double)n)))
+        fail_msg("encoder errors: sigma %g, %g (want %g), mean %g, %g, correlation %g", sa, sb,
+                 enc, ma, mb, r);
+}
+
+/* The deviation columns of units.tsv (unit U alone) against truth.csv's
+ * comments. */
+static void expect_deviations(const char *units_path, const char *truth_path)
+{
+    tsv *u = tsv_load(units_path);
+    assert_int_equal(u->nr, 1);
+    int first = tsv_col(u, "gross_val") + 1, last = -1;
+    for (int j = first; j < u->nc; j++)
+        if (strncmp(u->names[j], "fit_", 4) == 0 || strcmp(u->names[j], "a") == 0) {
+            last = j;
+            break;
+        }
+    assert_true(last > first + 3);
+    for (int j = first; j < last; j++)
+        expect_close(comment_value(truth_path, u->names[j]), strtod(u->cell[0][j], NULL), 1e-9,
+                     u->names[j], 0);
+    tsv_free(u);
+}
+
+static void ess_truth(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16], path[600], upath[600];
+    const char *sim = test_tmp("ess_truth_sim"), *run = test_tmp("ess_truth_run");
+    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 5 --out %s",
+             test_sunmc(), sim);
+    run_ok(cmd, out, sizeof out);
+    snprintf(cmd, sizeof cmd, "%s run configs/ess_type_a.ini --units 5:6 --quiet --out %s",
+             test_sunmc(), run);
+    run_ok(cmd, out, sizeof out);
+    snprintf(path, sizeof path, "%s/truth.csv", sim);
+    snprintf(upath, sizeof upath, "%s/units.tsv", run);
+    expect_deviations(upath, path);
+    csvt *t = csv_load(path);
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    csvt *camp = csv_load(path);
+    assert_int_equal(t->nr, camp->nr);
+    int ta = csv_col(t, "alpha_deg"), tb = csv_col(t, "beta_deg");
+    int tat = csv_col(t, "alpha_true_deg"), tbt = csv_col(t, "beta_true_deg");
+    int ti = csv_col(t, "incidence_deg"), to = csv_col(t, "output_deg"), ts = csv_col(t, "seen");
+    double *da = calloc((size_t)t->nr, sizeof *da), *db = calloc((size_t)t->nr, sizeof *db);
+    for (int i = 0; i < t->nr; i++) {
+        assert_near(t->v[i][ta], camp->v[i][csv_col(camp, "alpha_deg")], 0);
+        assert_near(t->v[i][tb], camp->v[i][csv_col(camp, "beta_deg")], 0);
+        assert_near(t->v[i][to], camp->v[i][csv_col(camp, "output_deg")], 0);
+        assert_near(t->v[i][ts], 1, 0);
+        da[i] = (t->v[i][tat] - t->v[i][ta]) * ARCSEC_PER_DEG;
+        db[i] = (t->v[i][tbt] - t->v[i][tb]) * ARCSEC_PER_DEG;
+        /* the incidence is the true alpha seen through the installation
+         * (arcminutes at most) and the output reads it to a few 0.01 deg */
+        assert_true(fabs(t->v[i][ti] - t->v[i][tat]) < 0.2);
+        assert_true(fabs(t->v[i][to] - t->v[i][ti]) < 0.1);
+    }
+    expect_encoder(da, db, t->nr, 1.0); /* noise.encoder_arcsec's default */
+    free(da);
+    free(db);
+    free(t);
+    free(camp);
+}
+
+static void dss_truth(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16], path[600], upath[600];
+    const char *sim = test_tmp("dss_truth_sim"), *run = test_tmp("dss_truth_run");
+    snprintf(cmd, sizeof cmd,
+             "%s simulate configs/dss.ini --unit 4 --set noise.encoder_arcsec=20 --out %s",
+             test_sunmc(), sim);
+    run_ok(cmd, out, sizeof out);
+    snprintf(cmd, sizeof cmd,
+             "%s run configs/dss.ini --units 4:5 --set noise.encoder_arcsec=20 --quiet --out %s",
+             test_sunmc(), run);
+    run_ok(cmd, out, sizeof out);
+    snprintf(path, sizeof path, "%s/truth.csv", sim);
+    snprintf(upath, sizeof upath, "%s/units.tsv", run);
+    expect_deviations(upath, path);
+    csvt *t = csv_load(path);
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    csvt *camp = csv_load(path);
+    assert_int_equal(t->nr, camp->nr);
+    int t1 = csv_col(t, "b1_deg"), t2 = csv_col(t, "b2_deg");
+    int tal = csv_col(t, "truth_alpha_deg"), tbe = csv_col(t, "truth_beta_deg");
+    int ts = csv_col(t, "seen"), cw = csv_col(camp, "weight");
+    double *da = calloc((size_t)t->nr, sizeof *da), *db = calloc((size_t)t->nr, sizeof *db);
+    long n = 0;
+    for (int i = 0; i < t->nr; i++) {
+        double b1 = t->v[i][t1], b2 = t->v[i][t2];
+        assert_near(b1, camp->v[i][csv_col(camp, "b1_deg")], 0);
+        assert_near(b2, camp->v[i][csv_col(camp, "b2_deg")], 0);
+        assert_near(t->v[i][ts], camp->v[i][cw], 0);
+        /* alpha = -b2 and beta = atan(tan b1 / cos b2) of the true table
+         * angles: b2 and b1 recovered from them are off the recorded ones
+         * by the encoder errors */
+        double b2t = -t->v[i][tal] * RAD_PER_DEG;
+        double b1t = atan(tan(t->v[i][tbe] * RAD_PER_DEG) * cos(b2t));
+        da[n] = (b2t * DEG_PER_RAD - b2) * ARCSEC_PER_DEG;
+        db[n] = (b1t * DEG_PER_RAD - b1) * ARCSEC_PER_DEG;
+        n++;
+    }
+    expect_encoder(da, db, n, 20.0);
+    free(da);
+    free(db);
+    free(t);
+    free(camp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ess_files),
         cmocka_unit_test(dss_files),
+        cmocka_unit_test(ess_truth),
+        cmocka_unit_test(dss_truth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -261,6 +261,32 @@ static void sweep_list_labels(void **state)
     assert_true(strncmp(row, "-30,-10,10,30\t-30,-10,10,30\t0\t", 30) == 0);
 }
 
+/* A range whose STOP binary rounding puts just below a whole step count
+ * ((0.3 - 0.1) / 0.1 = 1.9999999999999998) keeps it; a point's value is
+ * applied with all its digits. */
+static void range_end_and_digits(void **state)
+{
+    sweep_axis ax;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(sweep_axis_parse("tolerance.dH_um=0.1:0.3:0.1", sensor_family_find("ess"),
+                                      &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 3);
+    assert_near(ax.v[0], 0.1, 1e-15);
+    assert_near(ax.v[1], 0.2, 1e-15);
+    assert_near(ax.v[2], 0.3, 1e-15);
+    config_state st;
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
+    assert_int_equal(sweep_axis_parse("design.H_mm=5.123456789,7.25", sensor_family_find("ess"),
+                                      &ax, err, sizeof err),
+                     0);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 0, err, sizeof err), SUNMC_OK);
+    assert_near(ess_cfg(&st.cfg)->design.H_mm, 5.123456789, 1e-15);
+    assert_int_equal(sweep_apply(&st, &ax, 1, 1, err, sizeof err), SUNMC_OK);
+    assert_near(ess_cfg(&st.cfg)->design.H_mm, 7.25, 0);
+    config_state_free(&st);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -269,6 +295,7 @@ int main(void)
         cmocka_unit_test(parse_errors),   cmocka_unit_test(grid_order),
         cmocka_unit_test(apply_point),    cmocka_unit_test(cli_errors_write_nothing),
         cmocka_unit_test(sweep_equals_runs), cmocka_unit_test(sweep_list_labels),
+        cmocka_unit_test(range_end_and_digits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
