@@ -564,6 +564,56 @@ static void dss_truth(void **state)
     free(camp);
 }
 
+/* A unit whose slit tilt makes the coarse rows misread near cell edges:
+ * campaign.csv weighs 0 exactly the readings off the table alpha by half
+ * a fine period (1 deg) or more, as many as simulate reports and run's
+ * units.tsv counts (gross_cal); calibrate uses the others. */
+static void ess_gross_rows(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16], path[600];
+    const char *sim = test_tmp("ess_gross_sim"), *run = test_tmp("ess_gross_run");
+    const char *sets = "--set tolerance.dphi_deg=1 --set tolerance.dphi_deg_dist=fixed";
+    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 3 %s --out %s",
+             test_sunmc(), sets, sim);
+    run_ok(cmd, out, sizeof out);
+    long n_pts, n_gross;
+    const char *p = strstr(out, "): ");
+    assert_non_null(p);
+    assert_int_equal(sscanf(p, "): %ld campaign points (%ld dropped", &n_pts, &n_gross), 2);
+    assert_true(n_gross > 10);
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    csvt *camp = csv_load(path);
+    assert_int_equal(camp->nr, n_pts);
+    int ca = csv_col(camp, "alpha_deg"), co = csv_col(camp, "output_deg");
+    int cw = csv_col(camp, "weight");
+    long zero = 0;
+    for (int i = 0; i < camp->nr; i++) {
+        int off = !(fabs(camp->v[i][co] - camp->v[i][ca]) < 1.0);
+        if (camp->v[i][cw] != (off ? 0.0 : 1.0))
+            fail_msg("line %d: output %g at alpha %g has weight %g", camp->line[i],
+                     camp->v[i][co], camp->v[i][ca], camp->v[i][cw]);
+        zero += off;
+    }
+    assert_int_equal(zero, n_gross);
+    snprintf(cmd, sizeof cmd, "%s run configs/ess_type_a.ini --units 3:4 %s --quiet --out %s",
+             test_sunmc(), sets, run);
+    run_ok(cmd, out, sizeof out);
+    snprintf(path, sizeof path, "%s/units.tsv", run);
+    tsv *u = tsv_load(path);
+    assert_int_equal(atol(tsv_str(u, 0, "gross_cal")), n_gross);
+    tsv_free(u);
+    snprintf(cmd, sizeof cmd,
+             "%s calibrate --sensor ess --config configs/ess_type_a.ini %s/campaign.csv",
+             test_sunmc(), sim);
+    run_ok(cmd, out, sizeof out);
+    long used, dof;
+    double sigma;
+    report_numbers(out, &used, &dof, &sigma);
+    assert_int_equal(used, n_pts - n_gross);
+    free(camp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -571,6 +621,7 @@ int main(void)
         cmocka_unit_test(dss_files),
         cmocka_unit_test(ess_truth),
         cmocka_unit_test(dss_truth),
+        cmocka_unit_test(ess_gross_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -264,6 +264,54 @@ static void test_turntable_truth(void **state)
     assert_int_equal(ess_sensor_output(&u.sensor, sv, NULL, &out), SUNMC_EDOM);
 }
 
+/* With the sun simulator tilted (toward X and Y) and the sensor mounted
+ * rotated about all three axes, the truth of a reading is the incidence of
+ * s = R_x(ix) R_y(iy) R_z(iz) R_x(alpha) R_y(beta) v_sun, computed here
+ * from the elementary rotations; the campaign reading (its encoder
+ * errors off) reads the same table position. */
+static void test_turntable_truth_tilted(void **state)
+{
+    sunmc_config c = no_harmonics();
+    ess_deviations dev = {0};
+    dev.install_x_arcsec = 900;
+    dev.install_y_arcsec = -1500;
+    dev.install_z_arcsec = 2400;
+    dev.sun_x_arcsec = 3000;
+    dev.sun_y_arcsec = -2000;
+    ess_unit u;
+    ess_unit_build(&c, &dev, &u);
+    mat3 rx, ry, rz, ta, tb, t1, t2, R;
+    rot_x(900 * RAD_PER_ARCSEC, rx);
+    rot_y(-1500 * RAD_PER_ARCSEC, ry);
+    rot_z(2400 * RAD_PER_ARCSEC, rz);
+    mat3_mul(rx, ry, t1);
+    mat3_mul(t1, rz, R);
+    double sx = 3000 * RAD_PER_ARCSEC, sy = -2000 * RAD_PER_ARCSEC;
+    const double v[3] = {cos(sy) * sin(sx), sin(sy), cos(sy) * cos(sx)};
+    c.encoder_arcsec = 0;
+    for (double a = -50; a <= 50; a += 12.5)
+        for (double b = -30; b <= 30; b += 15) {
+            rot_x(a * RAD_PER_DEG, ta);
+            rot_y(b * RAD_PER_DEG, tb);
+            mat3_mul(ta, tb, t1);
+            mat3_mul(R, t1, t2);
+            double s[3];
+            mat3_vec(t2, v, s);
+            double raw, truth;
+            assert_int_equal(ess_unit_read(&u, a * RAD_PER_DEG, b * RAD_PER_DEG, NULL, &raw, &truth),
+                             SUNMC_OK);
+            assert_near(truth, atan2(s[1], s[2]), 1e-13);
+            rng_stream r;
+            rng_stream_init(&r, 1, 0, RNG_STREAM_CAL_NOISE);
+            double at, bt, inc;
+            ess_campaign_reading(&c, &u, &r, a * RAD_PER_DEG, b * RAD_PER_DEG, &at, &bt, &inc,
+                                 &raw);
+            assert_near(at, a * RAD_PER_DEG, 0);
+            assert_near(bt, b * RAD_PER_DEG, 0);
+            assert_near(inc, atan2(s[1], s[2]), 1e-13);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -272,7 +320,7 @@ int main(void)
         cmocka_unit_test(test_derived_harmonics),    cmocka_unit_test(test_coarse_gray),
         cmocka_unit_test(test_paper_dH_dd_dphi_sizes), cmocka_unit_test(test_tilt_period_1deg),
         cmocka_unit_test(test_gain_errors),          cmocka_unit_test(test_deviation_sampling),
-        cmocka_unit_test(test_turntable_truth),
+        cmocka_unit_test(test_turntable_truth),      cmocka_unit_test(test_turntable_truth_tilted),
     };
     return cmocka_run_group_tests_name("ess_physics", tests, NULL, NULL);
 }
