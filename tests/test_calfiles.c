@@ -21,7 +21,9 @@
  *   has them, the recorded angles and outputs as campaign.csv has them, the
  *   true table angles off the recorded ones by the encoder noise (mean 0,
  *   sigma noise.encoder_arcsec, alpha and beta independent), the DSS truth
- *   by eq. 2-4 of the true table angles, the ESS incidence near alpha. */
+ *   by eq. 2-4 of the true table angles, the ESS incidence near alpha;
+ *   units.tsv's systematic part (rms_after_sys) from `curve`'s noiseless
+ *   errors after calibration of the same unit. */
 #include "test_tsv.h"
 
 #include "ess_calfit.h"
@@ -614,6 +616,51 @@ static void ess_gross_rows(void **state)
     free(camp);
 }
 
+/* rms_after_sys of units.tsv is the RMS of the noiseless error after
+ * calibration that `curve` writes for the same unit, per band of |alpha|
+ * (no installation or sun tilt, so the true incidence is the table alpha). */
+static void ess_sys_from_curve(void **state)
+{
+    (void)state;
+    char cmd[4096], out[1 << 16], path[600];
+    const char *run = test_tmp("ess_sys_run"), *cur = test_tmp("ess_sys_curve");
+    const char *sets = "--set tolerance.install_x_arcsec=0 --set tolerance.install_y_arcsec=0 "
+                       "--set tolerance.install_z_arcsec=0 --set tolerance.sun_x_arcsec=0 "
+                       "--set tolerance.sun_y_arcsec=0";
+    snprintf(cmd, sizeof cmd, "%s run configs/ess_type_a.ini --units 6:7 %s --quiet --out %s",
+             test_sunmc(), sets, run);
+    run_ok(cmd, out, sizeof out);
+    snprintf(cmd, sizeof cmd, "%s curve configs/ess_type_a.ini --unit 6 %s --out %s",
+             test_sunmc(), sets, cur);
+    run_ok(cmd, out, sizeof out);
+    snprintf(path, sizeof path, "%s/units.tsv", run);
+    tsv *u = tsv_load(path);
+    snprintf(path, sizeof path, "%s/curve.tsv", cur);
+    tsv *cv = tsv_load(path);
+    const double lo[3] = {0, 30, 0}, hi[3] = {30, 60, 62};
+    for (int b = 0; b < 3; b++) {
+        double s2 = 0;
+        long n = 0;
+        for (int i = 0; i < cv->nr; i++) {
+            double e = tsv_num(cv, i, "error_after_alpha_deg");
+            if (in_band(fabs(tsv_num(cv, i, "alpha_deg")), lo[b], hi[b]) && !isnan(e)) {
+                s2 += e * e;
+                n++;
+            }
+        }
+        assert_true(n > 500);
+        char name[64];
+        snprintf(name, sizeof name, "rms_after_sys_alpha_%g_%g_deg", lo[b], hi[b]);
+        double sys = tsv_num(u, 0, name);
+        expect_g6(sys, sqrt(s2 / (double)n), name);
+        /* the reading noise adds to it */
+        snprintf(name, sizeof name, "rms_after_alpha_%g_%g_deg", lo[b], hi[b]);
+        assert_true(tsv_num(u, 0, name) > sys);
+    }
+    tsv_free(u);
+    tsv_free(cv);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -622,6 +669,7 @@ int main(void)
         cmocka_unit_test(ess_truth),
         cmocka_unit_test(dss_truth),
         cmocka_unit_test(ess_gross_rows),
+        cmocka_unit_test(ess_sys_from_curve),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
