@@ -661,6 +661,38 @@ static void ess_sys_from_curve(void **state)
     tsv_free(cv);
 }
 
+/* units.tsv's alias_weak: the fine-code term sin/cos(omega alpha), omega =
+ * 2 pi / (theta0 / 4) = 2 pi / 0.5 deg, sampled at a 1 deg step is
+ * constant (both directions unresolved), at 0.25 deg takes two opposite
+ * phases (sin = 0: one direction), at 0.2 deg many (none); the summary
+ * counts the units with any. */
+static void ess_alias_counts(void **state)
+{
+    (void)state;
+    const double step[3] = {1, 0.25, 0.2};
+    const int weak[3] = {2, 1, 0};
+    for (int k = 0; k < 3; k++) {
+        char cmd[4096], out[1 << 16], path[600];
+        const char *run = test_tmp("ess_alias_run");
+        snprintf(cmd, sizeof cmd,
+                 "rm -rf %s && %s run configs/ess_type_a.ini --units 0:3 "
+                 "--set campaign.alpha_step_deg=%g --set validation.alpha_step_deg=1.3 --quiet "
+                 "--out %s",
+                 run, test_sunmc(), step[k], run);
+        run_ok(cmd, out, sizeof out);
+        snprintf(path, sizeof path, "%s/units.tsv", run);
+        tsv *u = tsv_load(path);
+        assert_int_equal(u->nr, 3);
+        for (int i = 0; i < 3; i++)
+            assert_int_equal(atoi(tsv_str(u, i, "alias_weak")), weak[k]);
+        tsv_free(u);
+        snprintf(path, sizeof path, "%s/summary.tsv", run);
+        tsv *s = tsv_load(path);
+        assert_int_equal(atoi(tsv_str(s, 0, "alias_units")), weak[k] ? 3 : 0);
+        tsv_free(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -670,6 +702,7 @@ int main(void)
         cmocka_unit_test(dss_truth),
         cmocka_unit_test(ess_gross_rows),
         cmocka_unit_test(ess_sys_from_curve),
+        cmocka_unit_test(ess_alias_counts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
