@@ -123,6 +123,29 @@ static void expect_close(double got, double want, double rel, const char *what, 
         fail_msg("%s, row %d: %.12g, expected %.12g", what, row, got, want);
 }
 
+/* Fold k's line of the printed cross-validation ("held out LABEL  N
+ * points: in-sample X  held-out Y", two decimals) against crossval.tsv. */
+static void expect_fold_printed(const char *out, int k, long n, double in, double held)
+{
+    const char *p = strstr(out, "cross-validation");
+    assert_non_null(p);
+    for (int i = 0; i <= k; i++) {
+        p = strstr(p + 1, "held out ");
+        assert_non_null(p);
+    }
+    const char *q = strstr(p, " points: in-sample ");
+    assert_non_null(q);
+    long pn;
+    double pi, po;
+    const char *num = q;
+    while (num > p && num[-1] != ' ')
+        num--;
+    assert_int_equal(sscanf(num, "%ld points: in-sample %lf held-out %lf", &pn, &pi, &po), 3);
+    assert_int_equal(pn, n);
+    assert_near(pi, in, 0.005 + 1e-5 * in);
+    assert_near(po, held, 0.005 + 1e-5 * held);
+}
+
 /* ---- ESS ---- */
 
 static void ess_files(void **state)
@@ -268,6 +291,7 @@ static void ess_files(void **state)
         assert_int_equal(atoi(tsv_str(cv, k, "ok")), 1);
         /* held out, a line is predicted about as well as the others */
         double in = tsv_num(cv, k, "rms_in_arcsec"), outr = tsv_num(cv, k, "rms_out_arcsec");
+        expect_fold_printed(out, k, count[k], in, outr);
         assert_true(in > 0.5 * sigma && in < 2 * sigma);
         assert_true(outr > 0.5 * sigma && outr < 4 * sigma);
     }

@@ -113,6 +113,17 @@ static void test_alias_detector(void **state)
         ess_alias al;
         ess_alias_check(cw->alpha_rad, cw->n, 2 * M_PI / (THETA0_RAD / 4), 0.2, &al);
         assert_int_equal(al.n_weak, weak[s]);
+        /* Eigenvalues against a full spread's 1/2: at 0.25 deg the phases
+         * are 0 and pi (sin = 0, cos = +-1: variances 0 and 1), at 0.2 deg
+         * five phases 144 deg apart (1/2 each). */
+        if (steps[s] == 0.25) {
+            assert_near(al.eig_norm[0], 0, 1e-12);
+            assert_near(al.eig_norm[1], 2, 1e-4);
+            assert_near(fabs(al.evec[0][0]), 1, 1e-9); /* the sine direction */
+        } else if (steps[s] == 0.2) {
+            assert_near(al.eig_norm[0], 1, 0.02);
+            assert_near(al.eig_norm[1], 1, 0.02);
+        }
         ess_calib_free(cw);
     }
 }
