@@ -146,29 +146,41 @@ static void expect_fold_printed(const char *out, int k, long n, double in, doubl
     assert_near(po, held, 0.005 + 1e-5 * held);
 }
 
+/* `simulate` unit U of cfg, `calibrate` its campaign (with extra --set
+ * options) and `compensate` it: the directories and the compensated CSV
+ * (names tagged), calibrate's report in out. */
+static void sim_cal_comp(const char *cfg, int unit, const char *cal_sets, const char *tag,
+                         char *out, size_t len, char sim[512], char cal[512], char comp[512])
+{
+    char cmd[4096], name[64], cout[4096];
+    snprintf(name, sizeof name, "%s_sim", tag);
+    snprintf(sim, 512, "%s", test_tmp(name));
+    snprintf(name, sizeof name, "%s_cal", tag);
+    snprintf(cal, 512, "%s", test_tmp(name));
+    snprintf(name, sizeof name, "%s_comp.csv", tag);
+    snprintf(comp, 512, "%s", test_tmp(name));
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d --out %s", test_sunmc(), cfg, unit, sim);
+    run_ok(cmd, out, len);
+    snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s %s/campaign.csv --out %s", test_sunmc(),
+             cfg, cal_sets, sim, cal);
+    run_ok(cmd, out, len);
+    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
+             cal, sim, comp);
+    run_ok(cmd, cout, sizeof cout);
+}
+
 /* ---- ESS ---- */
 
 static void ess_files(void **state)
 {
     (void)state;
-    char cmd[4096], out[1 << 16];
-    const char *sim = test_tmp("ess_sim"), *cal = test_tmp("ess_cal");
-    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 3 --out %s",
-             test_sunmc(), sim);
-    run_ok(cmd, out, sizeof out);
-    snprintf(cmd, sizeof cmd,
-             "%s calibrate --sensor ess --config configs/ess_type_a.ini "
-             "--set calibration.roll_measured_arcsec=-7 %s/campaign.csv --out %s",
-             test_sunmc(), sim, cal);
-    run_ok(cmd, out, sizeof out);
+    char out[1 << 16];
+    char sim[512], cal[512], comp_path[512];
     long used, dof;
     double sigma;
+    sim_cal_comp("configs/ess_type_a.ini", 3, "--set calibration.roll_measured_arcsec=-7", "ess",
+                 out, sizeof out, sim, cal, comp_path);
     report_numbers(out, &used, &dof, &sigma);
-    const char *comp_path = test_tmp("ess_comp.csv");
-    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
-             cal, sim, comp_path);
-    char cout[4096];
-    run_ok(cmd, cout, sizeof cout);
 
     char path[600], err[SUNMC_ERRLEN];
     snprintf(path, sizeof path, "%s/campaign.csv", sim);
@@ -309,22 +321,12 @@ static void ess_files(void **state)
 static void dss_files(void **state)
 {
     (void)state;
-    char cmd[4096], out[1 << 16];
-    const char *sim = test_tmp("dss_sim"), *cal = test_tmp("dss_cal");
-    snprintf(cmd, sizeof cmd, "%s simulate configs/dss.ini --unit 2 --out %s", test_sunmc(), sim);
-    run_ok(cmd, out, sizeof out);
-    snprintf(cmd, sizeof cmd,
-             "%s calibrate --sensor dss --config configs/dss.ini %s/campaign.csv --out %s",
-             test_sunmc(), sim, cal);
-    run_ok(cmd, out, sizeof out);
+    char out[1 << 16];
+    char sim[512], cal[512], comp_path[512];
     long used, dof;
     double sigma;
+    sim_cal_comp("configs/dss.ini", 2, "", "dss", out, sizeof out, sim, cal, comp_path);
     report_numbers(out, &used, &dof, &sigma);
-    const char *comp_path = test_tmp("dss_comp.csv");
-    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
-             cal, sim, comp_path);
-    char cout[4096];
-    run_ok(cmd, cout, sizeof cout);
 
     char path[600];
     snprintf(path, sizeof path, "%s/campaign.csv", sim);
