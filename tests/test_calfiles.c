@@ -146,27 +146,59 @@ static void expect_fold_printed(const char *out, int k, long n, double in, doubl
     assert_near(po, held, 0.005 + 1e-5 * held);
 }
 
-/* `simulate` unit U of cfg, `calibrate` its campaign (with extra --set
- * options) and `compensate` it: the directories and the compensated CSV
- * (names tagged), calibrate's report in out. */
-static void sim_cal_comp(const char *cfg, int unit, const char *cal_sets, const char *tag,
-                         char *out, size_t len, char sim[512], char cal[512], char comp[512])
+/* A unit simulated, calibrated and compensated: `simulate` unit U of cfg,
+ * `calibrate` its campaign (extra --set options) and `compensate` it; the
+ * files read back and the report's numbers (its text in out). */
+typedef struct {
+    char sim[512], cal[512];
+    csvt *camp, *comp;     /* campaign.csv, compensate's output */
+    tsv *res, *bands, *cv; /* residuals.tsv, bands.tsv, crossval.tsv */
+    long used, dof;
+    double sigma;
+} calrun;
+
+static tsv *tsv_in(const char *dir, const char *name)
 {
-    char cmd[4096], name[64], cout[4096];
+    char path[600];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return tsv_load(path);
+}
+
+static void calrun_load(calrun *r, const char *cfg, int unit, const char *cal_sets,
+                        const char *tag, char *out, size_t len)
+{
+    char cmd[4096], name[64], comp[512], cout[4096];
     snprintf(name, sizeof name, "%s_sim", tag);
-    snprintf(sim, 512, "%s", test_tmp(name));
+    snprintf(r->sim, sizeof r->sim, "%s", test_tmp(name));
     snprintf(name, sizeof name, "%s_cal", tag);
-    snprintf(cal, 512, "%s", test_tmp(name));
+    snprintf(r->cal, sizeof r->cal, "%s", test_tmp(name));
     snprintf(name, sizeof name, "%s_comp.csv", tag);
-    snprintf(comp, 512, "%s", test_tmp(name));
-    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d --out %s", test_sunmc(), cfg, unit, sim);
+    snprintf(comp, sizeof comp, "%s", test_tmp(name));
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d --out %s", test_sunmc(), cfg, unit,
+             r->sim);
     run_ok(cmd, out, len);
     snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s %s/campaign.csv --out %s", test_sunmc(),
-             cfg, cal_sets, sim, cal);
+             cfg, cal_sets, r->sim, r->cal);
     run_ok(cmd, out, len);
+    report_numbers(out, &r->used, &r->dof, &r->sigma);
     snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
-             cal, sim, comp);
+             r->cal, r->sim, comp);
     run_ok(cmd, cout, sizeof cout);
+    snprintf(cmd, sizeof cmd, "%s/campaign.csv", r->sim);
+    r->camp = csv_load(cmd);
+    r->comp = csv_load(comp);
+    r->res = tsv_in(r->cal, "residuals.tsv");
+    r->bands = tsv_in(r->cal, "bands.tsv");
+    r->cv = tsv_in(r->cal, "crossval.tsv");
+}
+
+static void calrun_free(calrun *r)
+{
+    free(r->camp);
+    free(r->comp);
+    tsv_free(r->res);
+    tsv_free(r->bands);
+    tsv_free(r->cv);
 }
 
 /* ---- ESS ---- */
@@ -175,27 +207,18 @@ static void ess_files(void **state)
 {
     (void)state;
     char out[1 << 16];
-    char sim[512], cal[512], comp_path[512];
-    long used, dof;
-    double sigma;
-    sim_cal_comp("configs/ess_type_a.ini", 3, "--set calibration.roll_measured_arcsec=-7", "ess",
-                 out, sizeof out, sim, cal, comp_path);
-    report_numbers(out, &used, &dof, &sigma);
-
+    calrun run;
+    calrun_load(&run, "configs/ess_type_a.ini", 3, "--set calibration.roll_measured_arcsec=-7",
+                "ess", out, sizeof out);
+    csvt *camp = run.camp, *comp = run.comp;
+    tsv *res = run.res, *bands = run.bands, *cv = run.cv;
+    long used = run.used, dof = run.dof;
+    double sigma = run.sigma;
     char path[600], err[SUNMC_ERRLEN];
-    snprintf(path, sizeof path, "%s/campaign.csv", sim);
-    csvt *camp = csv_load(path);
-    csvt *comp = csv_load(comp_path);
-    snprintf(path, sizeof path, "%s/residuals.tsv", cal);
-    tsv *res = tsv_load(path);
-    snprintf(path, sizeof path, "%s/bands.tsv", cal);
-    tsv *bands = tsv_load(path);
-    snprintf(path, sizeof path, "%s/field.tsv", cal);
+    snprintf(path, sizeof path, "%s/field.tsv", run.cal);
     tsv *field = tsv_load(path);
-    snprintf(path, sizeof path, "%s/crossval.tsv", cal);
-    tsv *cv = tsv_load(path);
     params_file pf;
-    snprintf(path, sizeof path, "%s/params.ini", cal);
+    snprintf(path, sizeof path, "%s/params.ini", run.cal);
     assert_int_equal(params_read(path, &pf, err, sizeof err), SUNMC_OK);
     ess_model m;
     assert_int_equal(ess_params_load(&pf, &m, err, sizeof err), SUNMC_OK);
@@ -308,12 +331,8 @@ static void ess_files(void **state)
         assert_true(outr > 0.5 * sigma && outr < 4 * sigma);
     }
     free(err_as);
-    free(camp);
-    free(comp);
-    tsv_free(res);
-    tsv_free(bands);
     tsv_free(field);
-    tsv_free(cv);
+    calrun_free(&run);
 }
 
 /* ---- DSS ---- */
@@ -322,22 +341,12 @@ static void dss_files(void **state)
 {
     (void)state;
     char out[1 << 16];
-    char sim[512], cal[512], comp_path[512];
-    long used, dof;
-    double sigma;
-    sim_cal_comp("configs/dss.ini", 2, "", "dss", out, sizeof out, sim, cal, comp_path);
-    report_numbers(out, &used, &dof, &sigma);
-
-    char path[600];
-    snprintf(path, sizeof path, "%s/campaign.csv", sim);
-    csvt *camp = csv_load(path);
-    csvt *comp = csv_load(comp_path);
-    snprintf(path, sizeof path, "%s/residuals.tsv", cal);
-    tsv *res = tsv_load(path);
-    snprintf(path, sizeof path, "%s/bands.tsv", cal);
-    tsv *bands = tsv_load(path);
-    snprintf(path, sizeof path, "%s/crossval.tsv", cal);
-    tsv *cv = tsv_load(path);
+    calrun run;
+    calrun_load(&run, "configs/dss.ini", 2, "", "dss", out, sizeof out);
+    csvt *camp = run.camp, *comp = run.comp;
+    tsv *res = run.res, *bands = run.bands, *cv = run.cv;
+    long used = run.used, dof = run.dof;
+    double sigma = run.sigma;
 
     assert_int_equal(res->nr, camp->nr);
     assert_int_equal(comp->nr, camp->nr);
@@ -424,11 +433,7 @@ static void dss_files(void **state)
     free(ea);
     free(eb);
     free(fd);
-    free(camp);
-    free(comp);
-    tsv_free(res);
-    tsv_free(bands);
-    tsv_free(cv);
+    calrun_free(&run);
 }
 
 /* ---- simulate's truth.csv ---- */

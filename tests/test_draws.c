@@ -13,6 +13,7 @@
 #include "test_util.h"
 
 #include "dss_unit.h"
+#include "family.h"
 #include "ess_unit.h"
 #include "rng.h"
 #include "status.h"
@@ -432,6 +433,56 @@ static void dss_campaign_noise(void **state)
     config_state_free(&e);
 }
 
+/* The DSS campaign's centroid noise and the validation's are independent
+ * streams: across units, each of the first campaign noises is uncorrelated
+ * with each of the first validation noises (the validation's draws taken as
+ * the unit takes them, from its validation stream). */
+static void dss_campaign_validation_independent(void **state)
+{
+    (void)state;
+    const char *sets[] = {"campaign.b_min_deg=-20", "campaign.b_max_deg=20",
+                          "campaign.b_step_deg=10", "noise.centroid_px=0.05",
+                          "noise.encoder_arcsec=0", "campaign.repeats=1"};
+    config_state st;
+    build(&st, "configs/dss.ini", sets, 6);
+    const sunmc_config *c = &st.cfg;
+    enum { K = 4 };
+    static double cn[2 * K][NC], vn[2 * K][NC];
+    double b1[25], b2[25], x[25], y[25], w[25];
+    for (long u = 0; u < NC; u++) {
+        dss_deviations d;
+        dss_unit un;
+        dss_deviations_sample(c, (uint64_t)c->seed, u, &d);
+        dss_unit_build(c, &d, &un);
+        assert_int_equal((int)dss_unit_campaign(c, &un, u, b1, b2, x, y, w, NULL, NULL), 25);
+        rng_stream r;
+        unit_stream_init(&r, c, u, RNG_STREAM_VAL_NOISE);
+        dss_validation_point v[K];
+        dss_validation_batch(c, &un, &r, K, b1 + 6, b2 + 6, v);
+        for (int k = 0; k < K; k++) {
+            double xs, ys;
+            assert_int_equal(dss_sensor_read(&un.sensor, b1[k], b2[k], NULL, &xs, &ys), SUNMC_OK);
+            cn[2 * k][u] = x[k] - xs;
+            cn[2 * k + 1][u] = y[k] - ys;
+            assert_true(v[k].seen);
+            vn[2 * k][u] = v[k].x_px - v[k].x0_px;
+            vn[2 * k + 1][u] = v[k].y_px - v[k].y0_px;
+        }
+    }
+    double lim = Z / sqrt((double)NC);
+    for (int i = 0; i < 2 * K; i++) {
+        moments m = moments_of(cn[i], NC);
+        expect_centred(&m, 0.05, NC, "campaign centroid noise");
+        m = moments_of(vn[i], NC);
+        expect_centred(&m, 0.05, NC, "validation centroid noise");
+        for (int j = 0; j < 2 * K; j++)
+            if (!(fabs(correlation(cn[i], vn[j], NC)) < lim))
+                fail_msg("campaign noise %d and validation noise %d correlate: %g", i, j,
+                         correlation(cn[i], vn[j], NC));
+    }
+    config_state_free(&st);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -442,7 +493,7 @@ int main(void)
         cmocka_unit_test(ess_campaign_noise),
         cmocka_unit_test(ess_row_noise_sigma),
         cmocka_unit_test(ess_repeats_averaged),
-        cmocka_unit_test(dss_campaign_noise),
+        cmocka_unit_test(dss_campaign_noise), cmocka_unit_test(dss_campaign_validation_independent),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
