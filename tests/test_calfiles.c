@@ -510,24 +510,36 @@ static void expect_deviations(const char *units_path, const char *truth_path)
     tsv_free(u);
 }
 
+/* Unit U of cfg simulated and run alone (same --set options): truth.csv's
+ * deviations checked against units.tsv; truth.csv and campaign.csv read. */
+static void truth_and_campaign(const char *cfg, int unit, const char *sets, const char *tag,
+                               csvt **truth, csvt **camp)
+{
+    char cmd[4096], out[1 << 16], path[600], upath[600], name[64];
+    snprintf(name, sizeof name, "%s_truth_sim", tag);
+    const char *sim = test_tmp(name);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d %s --out %s", test_sunmc(), cfg, unit,
+             sets, sim);
+    run_ok(cmd, out, sizeof out);
+    snprintf(path, sizeof path, "%s/truth.csv", sim);
+    snprintf(name, sizeof name, "%s_truth_run", tag);
+    const char *run = test_tmp(name);
+    snprintf(cmd, sizeof cmd, "%s run %s --units %d:%d %s --quiet --out %s", test_sunmc(), cfg,
+             unit, unit + 1, sets, run);
+    run_ok(cmd, out, sizeof out);
+    snprintf(upath, sizeof upath, "%s/units.tsv", run);
+    expect_deviations(upath, path);
+    *truth = csv_load(path);
+    snprintf(path, sizeof path, "%s/campaign.csv", sim);
+    *camp = csv_load(path);
+    assert_int_equal((*truth)->nr, (*camp)->nr);
+}
+
 static void ess_truth(void **state)
 {
     (void)state;
-    char cmd[4096], out[1 << 16], path[600], upath[600];
-    const char *sim = test_tmp("ess_truth_sim"), *run = test_tmp("ess_truth_run");
-    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 5 --out %s",
-             test_sunmc(), sim);
-    run_ok(cmd, out, sizeof out);
-    snprintf(cmd, sizeof cmd, "%s run configs/ess_type_a.ini --units 5:6 --quiet --out %s",
-             test_sunmc(), run);
-    run_ok(cmd, out, sizeof out);
-    snprintf(path, sizeof path, "%s/truth.csv", sim);
-    snprintf(upath, sizeof upath, "%s/units.tsv", run);
-    expect_deviations(upath, path);
-    csvt *t = csv_load(path);
-    snprintf(path, sizeof path, "%s/campaign.csv", sim);
-    csvt *camp = csv_load(path);
-    assert_int_equal(t->nr, camp->nr);
+    csvt *t, *camp;
+    truth_and_campaign("configs/ess_type_a.ini", 5, "", "ess", &t, &camp);
     int ta = csv_col(t, "alpha_deg"), tb = csv_col(t, "beta_deg");
     int tat = csv_col(t, "alpha_true_deg"), tbt = csv_col(t, "beta_true_deg");
     int ti = csv_col(t, "incidence_deg"), to = csv_col(t, "output_deg"), ts = csv_col(t, "seen");
@@ -554,23 +566,8 @@ static void ess_truth(void **state)
 static void dss_truth(void **state)
 {
     (void)state;
-    char cmd[4096], out[1 << 16], path[600], upath[600];
-    const char *sim = test_tmp("dss_truth_sim"), *run = test_tmp("dss_truth_run");
-    snprintf(cmd, sizeof cmd,
-             "%s simulate configs/dss.ini --unit 4 --set noise.encoder_arcsec=20 --out %s",
-             test_sunmc(), sim);
-    run_ok(cmd, out, sizeof out);
-    snprintf(cmd, sizeof cmd,
-             "%s run configs/dss.ini --units 4:5 --set noise.encoder_arcsec=20 --quiet --out %s",
-             test_sunmc(), run);
-    run_ok(cmd, out, sizeof out);
-    snprintf(path, sizeof path, "%s/truth.csv", sim);
-    snprintf(upath, sizeof upath, "%s/units.tsv", run);
-    expect_deviations(upath, path);
-    csvt *t = csv_load(path);
-    snprintf(path, sizeof path, "%s/campaign.csv", sim);
-    csvt *camp = csv_load(path);
-    assert_int_equal(t->nr, camp->nr);
+    csvt *t, *camp;
+    truth_and_campaign("configs/dss.ini", 4, "--set noise.encoder_arcsec=20", "dss", &t, &camp);
     int t1 = csv_col(t, "b1_deg"), t2 = csv_col(t, "b2_deg");
     int tal = csv_col(t, "truth_alpha_deg"), tbe = csv_col(t, "truth_beta_deg");
     int ts = csv_col(t, "seen"), cw = csv_col(camp, "weight");
