@@ -5,9 +5,8 @@
  *   residuals.tsv: line numbers and inputs as in the CSV; the ESS residual
  *   (model - output) from params.ini's model, the angle error from
  *   compensate's output against the model's incidence; the DSS compensated
- *   angles from compensate and their errors against the table truth worked
- *   out here (the DSS paper's eq. 2-4: alpha = -b2, beta =
- *   atan(tan b1 / cos b2));
+ *   angles from compensate and their errors against the sun in the mount's
+ *   frame worked out here (R(b) R(s) e_z, the simulator s as fitted);
  *   bands.tsv: points and residual RMS per band from residuals.tsv (ESS:
  *   bands of |compensated alpha|; DSS: of the field angle of the truth;
  *   lower band edge exclusive except at 0), the ESS calibration sigma's RMS
@@ -27,6 +26,7 @@
 #include "test_tsv.h"
 
 #include "ess_calfit.h"
+#include "dss_rotation.h"
 #include "params_io.h"
 #include "units.h"
 
@@ -147,7 +147,7 @@ static void expect_fold_printed(const char *out, int k, long n, double in, doubl
 }
 
 /* A unit simulated, calibrated and compensated: `simulate` unit U of cfg,
- * `calibrate` its campaign (extra --set options) and `compensate` it; the
+ * `calibrate` its campaign (both with the --set options) and `compensate` it; the
  * files read back and the report's numbers (its text in out). */
 typedef struct {
     char sim[512], cal[512];
@@ -174,8 +174,8 @@ static void calrun_load(calrun *r, const char *cfg, int unit, const char *cal_se
     snprintf(r->cal, sizeof r->cal, "%s", test_tmp(name));
     snprintf(name, sizeof name, "%s_comp.csv", tag);
     snprintf(comp, sizeof comp, "%s", test_tmp(name));
-    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d --out %s", test_sunmc(), cfg, unit,
-             r->sim);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d %s --out %s", test_sunmc(), cfg, unit,
+             cal_sets, r->sim);
     run_ok(cmd, out, len);
     snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s %s/campaign.csv --out %s", test_sunmc(),
              cfg, cal_sets, r->sim, r->cal);
@@ -337,12 +337,16 @@ static void ess_files(void **state)
 
 /* ---- DSS ---- */
 
+/* The sun simulator on the table's axis (no tilt tolerances): the sun in
+ * the mount's frame is then the table's truth of eq. 2-4. */
+#define DSS_SUN_ON_AXIS "--set tolerance.sun_b1_arcsec=0 --set tolerance.sun_b2_arcsec=0"
+
 static void dss_files(void **state)
 {
     (void)state;
     char out[1 << 16];
     calrun run;
-    calrun_load(&run, "configs/dss.ini", 2, "", "dss", out, sizeof out);
+    calrun_load(&run, "configs/dss.ini", 2, DSS_SUN_ON_AXIS, "dss", out, sizeof out);
     csvt *camp = run.camp, *comp = run.comp;
     tsv *res = run.res, *bands = run.bands, *cv = run.cv;
     long used = run.used, dof = run.dof;
@@ -350,6 +354,20 @@ static void dss_files(void **state)
 
     assert_int_equal(res->nr, camp->nr);
     assert_int_equal(comp->nr, camp->nr);
+    /* the fitted sun simulator direction R(s) e_z from params.ini */
+    params_file pf;
+    char ppath[600], err[SUNMC_ERRLEN];
+    double sb1, sb2, v_sun[3];
+    mat3 Rs;
+    snprintf(ppath, sizeof ppath, "%s/params.ini", run.cal);
+    assert_int_equal(params_read(ppath, &pf, err, sizeof err), SUNMC_OK);
+    assert_int_equal(params_get_double(&pf, "parameters", "fit_sun_b1_arcsec", &sb1, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(params_get_double(&pf, "parameters", "fit_sun_b2_arcsec", &sb2, err, sizeof err),
+                     SUNMC_OK);
+    dss_table_rotation(sb1 * RAD_PER_ARCSEC, sb2 * RAD_PER_ARCSEC, Rs);
+    for (int i = 0; i < 3; i++)
+        v_sun[i] = Rs[i][2];
     int c1 = csv_col(camp, "b1_deg"), c2 = csv_col(camp, "b2_deg"), cx = csv_col(camp, "x_px");
     int cy = csv_col(camp, "y_px");
     int kw = -1;
@@ -373,9 +391,13 @@ static void dss_files(void **state)
         double a = comp->v[i][ka], b = comp->v[i][kb];
         expect_close(tsv_num(res, i, "alpha_deg"), a, 1e-9, "alpha_deg", i);
         expect_close(tsv_num(res, i, "beta_deg"), b, 1e-9, "beta_deg", i);
-        /* the table's truth, eq. 2-4 */
-        double a0 = -b2 * RAD_PER_DEG;
-        double b0 = atan(tan(b1 * RAD_PER_DEG) / cos(b2 * RAD_PER_DEG));
+        /* the sun in the mount's frame, the simulator as fitted:
+         * w = R(b) R(s) e_z, alpha = atan2(w_x, w_z), beta = atan2(w_y, w_z) */
+        mat3 Rb;
+        double sv[3];
+        dss_table_rotation(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, Rb);
+        mat3_vec(Rb, v_sun, sv);
+        double a0 = atan2(sv[0], sv[2]), b0 = atan2(sv[1], sv[2]);
         ea[i] = (a * RAD_PER_DEG - a0) * ARCSEC_PER_RAD;
         eb[i] = (b * RAD_PER_DEG - b0) * ARCSEC_PER_RAD;
         fd[i] = atan(hypot(tan(a0), tan(b0))) * DEG_PER_RAD;
@@ -388,9 +410,10 @@ static void dss_files(void **state)
         }
     }
     assert_int_equal(n_used, used);
-    /* physical model (dss.ini fits the glass index): two residuals per reading, 8 parameters */
+    /* physical model (dss.ini fits the glass index and the sun simulator as mounted): two
+     * residuals per reading, 10 parameters */
     long n_res = 2 * used;
-    assert_int_equal(dof, n_res - 8);
+    assert_int_equal(dof, n_res - 10);
     /* the printed sigma: the angle-domain RMS scaled to the degrees of freedom */
     assert_near(sigma, sqrt(sum2 / (double)n_res * (double)n_res / (double)dof), 5.0001e-4);
 
@@ -567,7 +590,8 @@ static void dss_truth(void **state)
 {
     (void)state;
     csvt *t, *camp;
-    truth_and_campaign("configs/dss.ini", 4, "--set noise.encoder_arcsec=20", "dss", &t, &camp);
+    truth_and_campaign("configs/dss.ini", 4, "--set noise.encoder_arcsec=20 " DSS_SUN_ON_AXIS,
+                       "dss", &t, &camp);
     int t1 = csv_col(t, "b1_deg"), t2 = csv_col(t, "b2_deg");
     int tal = csv_col(t, "truth_alpha_deg"), tbe = csv_col(t, "truth_beta_deg");
     int ts = csv_col(t, "seen"), cw = csv_col(camp, "weight");
