@@ -303,12 +303,12 @@ static void test_turntable_truth_tilted(void **state)
             assert_near(truth, atan2(s[1], s[2]), 1e-13);
             rng_stream r;
             rng_stream_init(&r, 1, 0, RNG_STREAM_CAL_NOISE);
-            double at, bt, inc;
-            ess_campaign_reading(&c, &u, &r, a * RAD_PER_DEG, b * RAD_PER_DEG, &at, &bt, &inc,
-                                 &raw);
-            assert_near(at, a * RAD_PER_DEG, 0);
-            assert_near(bt, b * RAD_PER_DEG, 0);
-            assert_near(inc, atan2(s[1], s[2]), 1e-13);
+            double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG;
+            ess_campaign_point p;
+            ess_campaign_batch(&c, &u, &r, 1, &ar, &br, &p);
+            assert_near(p.a_true_rad, ar, 0);
+            assert_near(p.b_true_rad, br, 0);
+            assert_near(p.incidence_rad, atan2(s[1], s[2]), 1e-13);
         }
 }
 
