@@ -20,11 +20,22 @@ VM_INLINE double ess_lane_eta(const ess_sensor *s, double x_mm, double u, double
     return s->Hr_mm * v - s->dd_mm - (x_mm + s->Hr_mm * u) * s->tan_dphi;
 }
 
-/* sin(pi z) / (pi z). */
-VM_INLINE double ess_lane_sinc_pi(double z)
+/* sin(n pi z) / (n pi z) for n = 1, 3, 5 from one sine: sin 3t = sin t
+ * (3 - 4 sin^2 t), sin 5t = sin t (16 sin^4 t - 20 sin^2 t + 5). */
+typedef struct {
+    double s1, s3, s5;
+} ess_lane_sinc135;
+
+VM_INLINE ess_lane_sinc135 ess_lane_sinc_pi135(double z)
 {
-    double q = sin(M_PI * z) / (M_PI * z);
-    return vm_select(fabs(z) < ESS_SINC_SMALL, 1.0, q);
+    double s = sin(M_PI * z), s2 = s * s;
+    double t = M_PI * z;
+    ess_lane_sinc135 o;
+    o.s1 = vm_select(fabs(z) < ESS_SINC_SMALL, 1.0, s / t);
+    o.s3 = vm_select(fabs(3 * z) < ESS_SINC_SMALL, 1.0, s * (3.0 - 4.0 * s2) / (3 * t));
+    o.s5 = vm_select(fabs(5 * z) < ESS_SINC_SMALL, 1.0,
+                     s * ((16.0 * s2 - 20.0) * s2 + 5.0) / (5 * t));
+    return o;
 }
 
 /* Relative harmonic amplitudes c_n (n = 1, 3, 5) at dial angle psi. */
@@ -37,24 +48,27 @@ VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
     double cos_psi = cos(psi_rad);
     double slit_ang = s->slit_width_mm * cos_psi * cos_psi / s->H_mm;
     int given = s->harmonics_given;
+    ess_lane_sinc135 q = ess_lane_sinc_pi135(slit_ang / s->theta0_rad);
     ess_lane_harm h;
-    h.c1 = vm_select(given, s->given_ratio[0],
-                     s->dial_sun[0] * ess_lane_sinc_pi(1 * slit_ang / s->theta0_rad) / s->norm1);
-    h.c3 = vm_select(given, s->given_ratio[1],
-                     s->dial_sun[1] * ess_lane_sinc_pi(3 * slit_ang / s->theta0_rad) / s->norm1);
-    h.c5 = vm_select(given, s->given_ratio[2],
-                     s->dial_sun[2] * ess_lane_sinc_pi(5 * slit_ang / s->theta0_rad) / s->norm1);
+    h.c1 = vm_select(given, s->given_ratio[0], s->dial_sun[0] * q.s1 / s->norm1);
+    h.c3 = vm_select(given, s->given_ratio[1], s->dial_sun[1] * q.s3 / s->norm1);
+    h.c5 = vm_select(given, s->given_ratio[2], s->dial_sun[2] * q.s5 / s->norm1);
     return h;
 }
 
 /* Current of fine row m (0..3) at dial angle psi_rad with harmonics h,
- * illumination illum and additive noise. */
+ * illumination illum and additive noise: cos 3x and cos 5x from cos x and
+ * sin x (Chebyshev: cos 3x = cos x (4 cos^2 x - 3), sin 3x = sin x (3 -
+ * 4 sin^2 x), cos 5x = cos x (16 cos^4 x - 20 cos^2 x + 5)), the third
+ * harmonic's phase as its cosine and sine (ess_sensor). */
 VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, double psi_rad,
                                   double illum, double noise)
 {
     double x = 2.0 * M_PI * psi_rad / s->theta0_rad - m * M_PI / 2.0;
-    double sum = h.c1 * cos(1 * x) + h.c3 * cos(3 * x + s->harmonic_phase_rad) +
-                 h.c5 * cos(5 * x);
+    double c = cos(x), sn = sin(x), c2 = c * c;
+    double c3 = c * (4.0 * c2 - 3.0), s3 = sn * (3.0 - 4.0 * sn * sn);
+    double c5 = c * ((16.0 * c2 - 20.0) * c2 + 5.0);
+    double sum = h.c1 * c + h.c3 * (c3 * s->harmonic_cos - s3 * s->harmonic_sin) + h.c5 * c5;
     return illum * s->gain[m] * (s->dc_ratio - sum) + noise;
 }
 

@@ -83,6 +83,7 @@ typedef struct {
     double duty;
     double sun_diameter_rad;
     double harmonic_phase_rad;        /* phase of the 3rd harmonic */
+    double harmonic_cos, harmonic_sin;/* its cosine and sine */
     double dial_sun[ESS_HARMONICS];   /* dial x sun-disc transfer of n = 1, 3, 5 */
     double dc_ratio;                  /* DC / a1 of the fine-row currents */
     double norm1;                     /* fundamental transfer at normal incidence */

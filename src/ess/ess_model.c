@@ -239,10 +239,12 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
         VM_SIMD for (size_t i = 0; i < kp; i++) {
-            double wa = w * x[i];
-            double f = x[i] - ks * sin(wa) - kc * cos(wa) - r[i];
-            double fp = 1.0 - w * (ks * cos(wa) - kc * sin(wa));
-            double dx = f / fp;
+            double wa = w * x[i], sn = sin(wa), cs = cos(wa);
+            double f = x[i] - ks * sn - kc * cs - r[i];
+            double fp = 1.0 - w * (ks * cs - kc * sn);
+            double fpp = w * w * (ks * sn + kc * cs);
+            /* Halley's step: cubic convergence from the same sin and cos */
+            double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp);
             x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
             active[i] = active[i] & (long)!(fabs(dx) < COMP_TOL_RAD);
         }

@@ -75,6 +75,8 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->duty = d->dial_duty;
     s->sun_diameter_rad = d->sun_diameter_deg * RAD_PER_DEG;
     s->harmonic_phase_rad = dev->harmonic_phase_deg * RAD_PER_DEG;
+    s->harmonic_cos = cos(s->harmonic_phase_rad);
+    s->harmonic_sin = sin(s->harmonic_phase_rad);
     ess_finecode_init(s);
 }
 
