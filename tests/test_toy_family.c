@@ -1,7 +1,8 @@
 /* test_toy_family.c - a third family (tests/toy_family.c, a tiny analytic
  * sensor) registered at run time goes through the registry, the config
- * (its keys, defaults, checks, the reference), run, sweep and budget, in
- * core and through the commands, with closed-form numbers; and the
+ * (its keys, defaults, checks, the reference), run, sweep, budget and the
+ * lab commands (simulate, calibrate, compensate), in core and through the
+ * commands, with closed-form numbers; and the
  * built-in families' deviation lists keep their stream ids. */
 #include "test_util.h"
 
@@ -10,6 +11,7 @@
 #include "dss_sensor.h"
 #include "ess_sensor.h"
 #include "montecarlo.h"
+#include "params_io.h"
 #include "registry.h"
 #include "report.h"
 #include "status.h"
@@ -17,6 +19,7 @@
 #include "toy_family.h"
 #include "units.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #define SCALE_PCT 2.0
@@ -323,6 +326,80 @@ static void commands_run_the_toy(void **state)
     assert_true(file_has(path, "\toffset_arcsec\tarcsec\t40\tfixed\t"));
 }
 
+/* Run fn(argc, argv) in process with its stdout into file path. */
+static int command_to(const char *path, int (*fn)(int, char **), char **argv)
+{
+    int argc = 0;
+    while (argv[argc])
+        argc++;
+    fflush(stdout);
+    int saved = dup(1), fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 1);
+    close(fd);
+    int rc = fn(argc, argv);
+    fflush(stdout);
+    dup2(saved, 1);
+    close(saved);
+    return rc;
+}
+
+/* simulate -> calibrate (the family from the config, no --sensor) ->
+ * compensate, through the registry: noise-free, the line is the toy's own
+ * (p1 = 1 + scale, p0 = offset) and compensation gives the truth back. */
+static void lab_commands_run_the_toy(void **state)
+{
+    char sim[400], cal[400], csv[500], val[500], params[500], log[500], comp[500];
+    snprintf(sim, sizeof sim, "%s/sim", dir);
+    snprintf(cal, sizeof cal, "%s/cal", dir);
+    snprintf(csv, sizeof csv, "%s/campaign.csv", sim);
+    snprintf(val, sizeof val, "%s/validation.csv", sim);
+    snprintf(params, sizeof params, "%s/params.ini", cal);
+    snprintf(log, sizeof log, "%s/lab.stdout", dir);
+    snprintf(comp, sizeof comp, "%s/comp.csv", dir);
+    char *sim_argv[] = {"sunmc", "simulate", ini, "--unit", "2", "--out", sim, NULL};
+    assert_int_equal(command_to(log, cmd_simulate, sim_argv), 0);
+    assert_true(file_has(log, "toy unit 2: 17 campaign readings, 25 validation readings"));
+    assert_true(file_has(csv, "alpha_deg,reading_deg,weight\n-40,"));
+
+    char *cal_argv[] = {"sunmc", "calibrate", "--config", ini, csv, "--out", cal, NULL};
+    assert_int_equal(command_to(log, cmd_calibrate, cal_argv), 0);
+    assert_true(file_has(params, "sensor = toy"));
+    params_file *pf = malloc(sizeof *pf);
+    char err[SUNMC_ERRLEN];
+    double p0, p1;
+    assert_int_equal(params_read(params, pf, err, sizeof err), SUNMC_OK);
+    assert_int_equal(params_get_double(pf, "parameters", "p0_arcsec", &p0, err, sizeof err), 0);
+    assert_int_equal(params_get_double(pf, "parameters", "p1", &p1, err, sizeof err), 0);
+    free(pf);
+    assert_near(p0, OFFSET_ARCSEC, 1e-9);
+    assert_near(p1, 1 + SCALE_PCT / 100, 1e-12);
+    char folds[500];
+    snprintf(folds, sizeof folds, "%s/crossval.tsv", cal);
+    assert_true(file_has(folds, "alpha<0") && file_has(folds, "alpha>=0"));
+
+    char *comp_argv[] = {"sunmc", "compensate", params, val, NULL};
+    assert_int_equal(command_to(comp, cmd_compensate, comp_argv), 0);
+    FILE *f = fopen(comp, "r");
+    assert_non_null(f);
+    char line[256];
+    int rows = 0;
+    assert_non_null(fgets(line, sizeof line, f));
+    assert_string_equal(line, "alpha_deg,reading_deg,truth_deg,compensated_deg\n");
+    while (fgets(line, sizeof line, f)) {
+        double a, y, t, c;
+        assert_int_equal(sscanf(line, "%lf,%lf,%lf,%lf", &a, &y, &t, &c), 4);
+        assert_near(c, t, 1e-12);
+        rows++;
+    }
+    fclose(f);
+    assert_int_equal(rows, 25);
+
+    /* --sensor must agree with the config's family, naming both. */
+    char *bad_argv[] = {"sunmc", "calibrate", "--sensor", "ess", "--config", ini, csv, NULL};
+    assert_int_equal(command_to(log, cmd_calibrate, bad_argv), EXIT_BAD_INPUT);
+}
+
 /* The built-in lists: stream ids unique and today's, columns counted, and
  * each line has its two config keys. */
 static void deviation_lists(void **state)
@@ -362,6 +439,7 @@ int main(void)
         cmocka_unit_test(run_in_core),          cmocka_unit_test(sweep_in_core),
         cmocka_unit_test(stream_in_blocks),     cmocka_unit_test(statistics_in_blocks),
         cmocka_unit_test(budget_in_core),       cmocka_unit_test(commands_run_the_toy),
+        cmocka_unit_test(lab_commands_run_the_toy),
         cmocka_unit_test(deviation_lists),
     };
     return cmocka_run_group_tests_name("toy family", tests, setup, teardown);

@@ -93,39 +93,81 @@ static int toy_par_columns(const sunmc_config *c, const char **names, int max)
     return 2;
 }
 
-static int toy_ws_dummy;
-static void *toy_ws_alloc(const sunmc_config *c, char *err, size_t errlen) { return &toy_ws_dummy; }
-static void toy_ws_free(void *ws) {}
-
-/* Least-squares line through the campaign: p[0] + p[1] alpha (rad). */
-static void toy_fit(const sunmc_config *c, const toy_deviations *d, long unit, double p[2])
+long toy_cal_count(const sunmc_config *c)
 {
-    const toy_config *t = toy_cfg(c);
-    rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_CAL_NOISE);
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    long n = grid_n(t->span_deg, t->cal_step_deg);
-    for (long i = 0; i < n; i++) {
-        double a = (-t->span_deg + (double)i * t->cal_step_deg) * RAD_PER_DEG;
-        double y = toy_read_rad(d, a, t->reading_arcsec * rng_normal(&r));
-        sx += a;
-        sy += y;
-        sxx += a * a;
-        sxy += a * y;
-    }
-    p[1] = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    p[0] = (sy - p[1] * sx) / n;
+    return grid_n(toy_cfg(c)->span_deg, toy_cfg(c)->cal_step_deg);
 }
+
+/* One walk over a grid of n alphas from -span in steps of step_deg: the
+ * readings, noise from stream `stream` of (seed, unit). */
+static void toy_walk(const sunmc_config *c, const toy_deviations *d, long unit, uint32_t stream,
+                     double step_deg, long n, double *a_rad, double *y_rad)
+{
+    rng_stream r;
+    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, stream);
+    for (long i = 0; i < n; i++) {
+        a_rad[i] = (-toy_cfg(c)->span_deg + (double)i * step_deg) * RAD_PER_DEG;
+        y_rad[i] = toy_read_rad(d, a_rad[i], toy_cfg(c)->reading_arcsec * rng_normal(&r));
+    }
+}
+
+void toy_campaign(const sunmc_config *c, const toy_deviations *d, long unit, double *a_rad,
+                  double *y_rad)
+{
+    toy_walk(c, d, unit, RNG_STREAM_CAL_NOISE, toy_cfg(c)->cal_step_deg, toy_cal_count(c), a_rad,
+             y_rad);
+}
+
+void toy_validation(const sunmc_config *c, const toy_deviations *d, long unit, double *a_rad,
+                    double *y_rad)
+{
+    toy_walk(c, d, unit, RNG_STREAM_VAL_NOISE, toy_cfg(c)->val_step_deg, toy_val_count(c), a_rad,
+             y_rad);
+}
+
+void toy_line_fit(long n, const double *a, const double *y, const double *w, double p[2])
+{
+    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (long i = 0; i < n; i++) {
+        double wi = w ? w[i] : 1.0;
+        sw += wi;
+        sx += wi * a[i];
+        sy += wi * y[i];
+        sxx += wi * a[i] * a[i];
+        sxy += wi * a[i] * y[i];
+    }
+    p[1] = (sw * sxy - sx * sy) / (sw * sxx - sx * sx);
+    p[0] = (sy - p[1] * sx) / sw;
+}
+
+void toy_sample(const sunmc_config *c, long unit, toy_deviations *d)
+{
+    deviations_sample(toy_deviation_list, TOY_N_TOL, c, (uint64_t)c->seed, unit, d);
+}
+
+/* The thread's workspace: one grid's alphas and readings. */
+static void *toy_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    long n = toy_cal_count(c) > toy_val_count(c) ? toy_cal_count(c) : toy_val_count(c);
+    double *w = malloc(2 * (size_t)n * sizeof *w);
+    if (!w)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    return w;
+}
+
+static void toy_ws_free(void *ws) { free(ws); }
 
 static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     toy_deviations d;
-    double p[2];
-    deviations_sample(toy_deviation_list, TOY_N_TOL, c, (uint64_t)c->seed, unit, &d);
+    double p[2], *a = ws, *y = a + (toy_cal_count(c) > toy_val_count(c) ? toy_cal_count(c)
+                                                                            : toy_val_count(c));
+    toy_sample(c, unit, &d);
     memset(res, 0, sizeof *res);
     res->unit = unit;
     deviations_values(toy_deviation_list, TOY_N_TOL, &d, res->dev, UNIT_MAX_DEV);
-    toy_fit(c, &d, unit, p);
+    toy_campaign(c, &d, unit, a, y);
+    toy_line_fit(toy_cal_count(c), a, y, NULL, p);
     res->par[0] = p[0] * ARCSEC_PER_RAD;
     res->par[1] = p[1];
     res->fit_status = UNIT_FIT_OK;
@@ -133,13 +175,10 @@ static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     band_acc before, after;
     band_acc_reset(&before);
     band_acc_reset(&after);
-    rng_stream r;
-    rng_stream_init(&r, (uint64_t)c->seed, (uint64_t)unit, RNG_STREAM_VAL_NOISE);
+    toy_validation(c, &d, unit, a, y);
     for (long i = 0; i < toy_val_count(c); i++) {
-        double a = toy_val_alpha_deg(c, i) * RAD_PER_DEG;
-        double y = toy_read_rad(&d, a, toy_cfg(c)->reading_arcsec * rng_normal(&r));
-        band_acc_add(&before, &c->bands_deg, fabs(a) * DEG_PER_RAD, y - a);
-        band_acc_add(&after, &c->bands_deg, fabs(a) * DEG_PER_RAD, (y - p[0]) / p[1] - a);
+        band_acc_add(&before, &c->bands_deg, fabs(a[i]) * DEG_PER_RAD, y[i] - a[i]);
+        band_acc_add(&after, &c->bands_deg, fabs(a[i]) * DEG_PER_RAD, (y[i] - p[0]) / p[1] - a[i]);
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, ARCSEC_PER_RAD);
     return SUNMC_OK;
@@ -163,4 +202,5 @@ const sensor_family toy_family = {
     .workspace_alloc = toy_ws_alloc,
     .workspace_free = toy_ws_free,
     .unit_run = toy_unit_run,
+    .lab = &toy_lab, /* toy_lab.c */
 };

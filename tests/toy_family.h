@@ -41,6 +41,23 @@ typedef struct {
 
 extern const sensor_family toy_family;
 
+/* The lab hooks (toy_lab.c). */
+extern const struct family_lab toy_lab;
+
+/* Unit `unit`'s deviations. */
+void toy_sample(const sunmc_config *c, long unit, toy_deviations *d);
+
+/* The campaign grid's size, and the one walk over each grid: alphas and
+ * readings (rad), as `run` scores them and `simulate` writes them. */
+long toy_cal_count(const sunmc_config *c);
+void toy_campaign(const sunmc_config *c, const toy_deviations *d, long unit, double *a_rad,
+                  double *y_rad);
+void toy_validation(const sunmc_config *c, const toy_deviations *d, long unit, double *a_rad,
+                    double *y_rad);
+
+/* Least-squares line y = p[0] + p[1] a over n points with weights w (NULL: 1). */
+void toy_line_fit(long n, const double *a, const double *y, const double *w, double p[2]);
+
 /* The validation grid's alphas (deg): count, and value i. */
 long toy_val_count(const sunmc_config *c);
 double toy_val_alpha_deg(const sunmc_config *c, long i);
