@@ -20,6 +20,7 @@ if [ -f "$run/units.tsv" ] && [ -f "$run/summary.tsv" ]; then
 fi
 if [ -f "$run/sweep.tsv" ]; then gp "$dir/sweep.gp"; drew=1; fi
 if [ -f "$run/budget.tsv" ]; then gp "$dir/budget.gp"; drew=1; fi
+if [ -f "$run/design.tsv" ]; then gp "$dir/design.gp"; drew=1; fi
 if [ -f "$run/sensitivity.tsv" ]; then gp "$dir/sensitivity.gp"; drew=1; fi
 if [ -f "$run/curve.tsv" ]; then
   n=$(head -1 "$run/curve.tsv" | tr '\t' '\n' | grep -c '^error_before_')

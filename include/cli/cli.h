@@ -55,6 +55,7 @@ int cli_config(const cli_options *o, config_state *st);
 int cmd_run(int argc, char **argv);
 int cmd_config(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
+int cmd_design(int argc, char **argv);
 int cmd_budget(int argc, char **argv);
 int cmd_sensitivity(int argc, char **argv);
 int cmd_curve(int argc, char **argv);

@@ -76,6 +76,15 @@ typedef struct {
     double point_settle_s;              /* [campaign] cost: settling after a step */
     double line_settle_s;               /* [campaign] cost: settling after a slow-axis move */
     double slew_deg_per_s;              /* [campaign] cost: table rate */
+    /* [campaign] search_*: the candidate space of `sunmc design` (design.h) */
+    double_list search_steps_deg;       /* fast-axis steps */
+    int search_max_lines;               /* symmetric line sets of 1..this many lines */
+    double search_beta_max_deg;         /* largest |line| */
+    double search_beta_step_deg;        /* line-set extents: this step up to the max */
+    double_list search_repeats;         /* readings per point */
+    long search_screen_units;           /* units of the screen */
+    long search_max_units;              /* most units a candidate is run on */
+    int search_shortlist;               /* passing candidates settled before stopping */
     int max_iterations;                 /* [calibration] most fit iterations */
 
     /* [run] */

@@ -119,6 +119,12 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
                 return EXIT_BAD_INPUT;
             }
             o->out = v;
+        } else if (strcmp(name, "space") == 0) {
+            if (o->n_sets >= CLI_MAX_SETS)
+                return bad(command, "too many options", v);
+            snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "campaign.search_%s", v);
+            o->sets[o->n_sets] = o->set_buf[o->n_sets];
+            o->n_sets++;
         } else if (strcmp(name, "vary") == 0) {
             if (o->n_vary >= CLI_MAX_VARY)
                 return bad(command, "at most two --vary axes", v);

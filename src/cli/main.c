@@ -20,6 +20,7 @@ static void usage(FILE *f)
             "  run CONFIG         simulate, calibrate and validate many units; print Table 1\n"
             "  config [CONFIG]    print the effective config (--reference: every key, commented)\n"
             "  sweep CONFIG       --vary KEY=LIST|START:STOP:STEP (1 or 2 axes): Monte Carlo per point\n"
+            "  design CONFIG      the cheapest calibration campaign meeting the yield target\n"
             "  budget CONFIG      error budget: floor, each tolerance and noise source, inverse limits\n"
             "  sensitivity CONFIG Sobol indices (first order, total) of the unit RMS per random input\n"
             "  curve CONFIG       one unit's (--unit U) or one source's (--only KEY=V) error curves\n"
@@ -64,6 +65,7 @@ static int dispatch(int argc, char **argv)
         int (*fn)(int, char **);
     } commands[] = {{"run", cmd_run},           {"config", cmd_config},
                     {"sweep", cmd_sweep},       {"budget", cmd_budget},
+                    {"design", cmd_design},
                     {"sensitivity", cmd_sensitivity},
                     {"curve", cmd_curve},       {"simulate", cmd_simulate},
                     {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate},

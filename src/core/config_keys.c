@@ -50,6 +50,29 @@ const config_key config_keys[] = {
     {"campaign", "slew_deg_per_s", KEY_DOUBLE, "deg/s", "5", 0.001, 1000, NULL,
      OFF(slew_deg_per_s),
      "campaign cost: table rate; both axes move at once, the longer travel sets the time"},
+    {"campaign", "search_steps_deg", KEY_LIST, "deg", "0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.8, 1",
+     0.001, 90, NULL, OFF(search_steps_deg),
+     "`design`: fast-axis steps tried (ESS alpha, DSS b); steps that alias are run, marked "
+     "and never chosen"},
+    {"campaign", "search_max_lines", KEY_INT, "", "5", 1, 7, NULL, OFF(search_max_lines),
+     "`design`: symmetric slow-axis line sets of 1 to this many evenly spaced lines (ESS beta)"},
+    {"campaign", "search_beta_max_deg", KEY_DOUBLE, "deg", "40", 0, 89, NULL,
+     OFF(search_beta_max_deg), "`design`: largest |beta| of a line set"},
+    {"campaign", "search_beta_step_deg", KEY_DOUBLE, "deg", "10", 0.1, 89, NULL,
+     OFF(search_beta_step_deg),
+     "`design`: line sets span +-B for B in steps of this up to search_beta_max_deg"},
+    {"campaign", "search_repeats", KEY_LIST, "", "1, 2", 1, 1000, NULL, OFF(search_repeats),
+     "`design`: readings per point tried (campaign.repeats)"},
+    {"campaign", "search_screen_units", KEY_LONG, "", "64", 10, 100000, NULL,
+     OFF(search_screen_units),
+     "`design`: units of the screen; a candidate whose yield's upper bound is then below "
+     "report.yield_target is dropped"},
+    {"campaign", "search_max_units", KEY_LONG, "", "4096", 10, 10000000, NULL,
+     OFF(search_max_units),
+     "`design`: most units a candidate runs (blocks of run.block_units) while its yield's "
+     "bound has not settled against report.yield_target"},
+    {"campaign", "search_shortlist", KEY_INT, "", "5", 1, 100, NULL, OFF(search_shortlist),
+     "`design`: stop after this many candidates, cheapest first, settled as meeting the target"},
 
     /* [calibration] */
     {"calibration", "max_iterations", KEY_INT, "", "100", 5, 10000, NULL, OFF(max_iterations),

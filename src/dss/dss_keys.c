@@ -87,6 +87,7 @@ const config_default dss_defaults[] = {
     {"sensor", "product", "DSS"},
     {"report", "bands_deg", "0:20, 20:40, 0:60"},
     {"report", "spec_arcsec", "10"},
+    {"campaign", "search_steps_deg", "2, 3, 4, 5, 6, 8, 10"},
     {NULL} /* end */
 };
 

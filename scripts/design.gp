@@ -1,0 +1,31 @@
+# design.gp - `sunmc design --out RUN`: the yield of every candidate campaign
+# against its turntable hours, with its confidence interval, the Pareto front
+# (no cheaper candidate has a higher yield) as a line, the target as a
+# horizontal line, aliased candidates as crosses, the input campaign and the
+# chosen one (best.ini) marked.
+#   gnuplot -e "run='runs/design'" scripts/design.gp    [-e "out='x.png'"] [-e "svg=1"]
+if (!exists("run")) run = '.'
+file = run.'/design.tsv'
+if (!exists("svg")) svg = 0
+if (!exists("out")) out = run.(svg ? '/design.svg' : '/design.png')
+if (svg) { set terminal svg size 900,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 900,600 font 'Sans,11' }
+set output out
+set termoption noenhanced
+set datafile separator "\t"
+
+hdr = system(sprintf("head -1 '%s'", file))
+col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
+ch = col('hours'); cy = col('yield'); cl = col('yield_ci_lo'); cu = col('yield_ci_hi')
+cv = col('verdict'); cp = col('pareto'); cb = col('best'); ci = col('input')
+rows(cond) = sprintf("< awk -F'\\t' 'NR>1 && (%s)' '%s'", cond, file)
+set title 'campaign design: yield against turntable time (error bars: confidence interval)'
+set xlabel 'turntable time [h]'
+set ylabel 'yield (widest band)'
+set grid
+set key outside right top
+set yrange [*:1.01]
+plot rows(sprintf("$%d!=\"aliased\" && $%d==0 && $%d==0", cv, cp, ci)) using ch:cy:cl:cu with yerrorbars pt 7 ps 0.6 lc rgb '#9090c0' title 'candidate', \
+     rows(sprintf("$%d==1", cp)) using ch:cy with linespoints lw 2 pt 7 lc rgb '#1060c0' title 'Pareto front', \
+     rows(sprintf("$%d==\"aliased\"", cv)) using ch:cy with points pt 2 ps 1.2 lc rgb 'grey' title 'aliased step (never chosen)', \
+     rows(sprintf("$%d==1", ci)) using ch:cy:cl:cu with yerrorbars pt 5 ps 1.5 lc rgb 'black' title 'input campaign', \
+     rows(sprintf("$%d==1", cb)) using ch:cy:cl:cu with yerrorbars pt 9 ps 2 lc rgb 'red' title 'chosen (best.ini)'

@@ -1,0 +1,283 @@
+/* design.c - candidate campaigns, screened and settled against the yield
+ * target with common random numbers (design.h). */
+#include "design.h"
+#include "campaign.h"
+#include "family.h"
+#include "montecarlo.h"
+#include "report.h"
+#include "status.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DESIGN_MAX_CANDIDATES 4096
+
+const char *const design_verdict_names[DESIGN_VERDICTS] = {
+    "pass", "fail", "screened out", "aliased", "undecided", "not settled"};
+
+/* Set "section.key" of cfg from text, as a file value would be. */
+static int set_key(sunmc_config *cfg, const char *dotted, const char *text, char *err,
+                   size_t errlen)
+{
+    char sec[CONFIG_STR_MAX];
+    const char *dot = strchr(dotted, '.');
+    size_t ls = dot ? (size_t)(dot - dotted) : 0;
+    if (!dot || ls >= sizeof sec)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: malformed key %s", dotted);
+    memcpy(sec, dotted, ls);
+    sec[ls] = '\0';
+    const config_key *k = config_find_in(cfg->family, sec, dot + 1);
+    if (!k)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: the family has no key %s", dotted);
+    return config_parse_value(k, config_value_ptr(k, cfg), text, "sunmc design", err, errlen);
+}
+
+/* Line set of n lines evenly spaced over +-extent, as config text. */
+static void line_set(int n, double extent, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < n && used < len; i++) {
+        double v = n == 1 ? 0.0 : -extent + 2.0 * extent * i / (n - 1);
+        used += (size_t)snprintf(buf + used, len - used, "%s%.10g", i ? ", " : "",
+                                 fabs(v) < 1e-12 ? 0.0 : v);
+    }
+}
+
+/* Add a candidate (skipped when its config does not validate, e.g. too few
+ * points for the fit); a copy of the input campaign marks the input. */
+static int add_candidate(design_result *d, const sunmc_config *base, const char *step,
+                         const char *lines, int repeats)
+{
+    const sensor_family *fam = base->family;
+    for (int i = 0; i < d->n; i++)
+        if (strcmp(d->cand[i].step, step) == 0 && strcmp(d->cand[i].lines, lines) == 0 &&
+            d->cand[i].repeats == repeats)
+            return SUNMC_OK;
+    if (d->n >= DESIGN_MAX_CANDIDATES)
+        return SUNMC_OK;
+    design_candidate *k = &d->cand[d->n];
+    memset(k, 0, sizeof *k);
+    k->cfg = *base;
+    char err[SUNMC_ERRLEN], rep[16];
+    snprintf(rep, sizeof rep, "%d", repeats);
+    if (set_key(&k->cfg, fam->design_step_key, step, err, sizeof err) != SUNMC_OK ||
+        (lines[0] && set_key(&k->cfg, fam->design_lines_key, lines, err, sizeof err) != SUNMC_OK) ||
+        set_key(&k->cfg, "campaign.repeats", rep, err, sizeof err) != SUNMC_OK ||
+        config_validate(&k->cfg, err, sizeof err) != SUNMC_OK)
+        return SUNMC_OK;
+    snprintf(k->step, sizeof k->step, "%s", step);
+    snprintf(k->lines, sizeof k->lines, "%s", lines);
+    k->repeats = repeats;
+    k->is_input = d->n == 0;
+    campaign_info ci;
+    if (campaign_describe(&k->cfg, &ci, err, sizeof err) != SUNMC_OK)
+        return SUNMC_ENOMEM;
+    k->points = ci.points;
+    k->hours = ci.known ? ci.hours : NAN;
+    k->extrapolation_deg = ci.known ? ci.extrapolation_deg : NAN;
+    k->yield = k->after_mean = NAN;
+    k->yield_ci = k->after_ci = (stats_interval){NAN, NAN};
+    d->n++;
+    return SUNMC_OK;
+}
+
+int design_space(const sunmc_config *c, design_result *d, char *err, size_t errlen)
+{
+    memset(d, 0, sizeof *d);
+    d->best = -1;
+    const sensor_family *fam = c->family;
+    if (!fam->design_step_key)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "design: the %s family names no campaign keys to search", fam->name);
+    d->cand = calloc(DESIGN_MAX_CANDIDATES, sizeof *d->cand);
+    if (!d->cand)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
+    d->angle = fam->n_angles(c) - 1;
+    d->band = report_widest_band(c);
+    char step[DESIGN_TEXT], lines[DESIGN_TEXT] = "";
+    const config_key *ks = NULL, *kl = NULL;
+    for (const config_key *k = fam->keys; k && k->section; k++) {
+        char dotted[2 * CONFIG_STR_MAX + 2];
+        snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
+        ks = strcmp(dotted, fam->design_step_key) == 0 ? k : ks;
+        kl = fam->design_lines_key && strcmp(dotted, fam->design_lines_key) == 0 ? k : kl;
+    }
+    if (!ks || (fam->design_lines_key && !kl))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: %s's design keys are not its keys",
+                          fam->name);
+    config_format_value(ks, c, step, sizeof step);
+    if (kl)
+        config_format_value(kl, c, lines, sizeof lines);
+    int s = add_candidate(d, c, step, lines, c->cal_repeats);
+    if (s == SUNMC_OK && d->n == 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: the input campaign is not valid");
+    for (int i = 0; s == SUNMC_OK && i < c->search_steps_deg.n; i++) {
+        snprintf(step, sizeof step, "%.10g", c->search_steps_deg.v[i]);
+        for (int r = 0; s == SUNMC_OK && r < c->search_repeats.n; r++) {
+            int rep = (int)c->search_repeats.v[r];
+            if (!kl) {
+                s = add_candidate(d, c, step, lines, rep);
+                continue;
+            }
+            line_set(1, 0, lines, sizeof lines);
+            s = add_candidate(d, c, step, lines, rep);
+            for (int n = 2; s == SUNMC_OK && n <= c->search_max_lines; n++)
+                for (double b = c->search_beta_step_deg;
+                     s == SUNMC_OK && b <= c->search_beta_max_deg + 1e-9;
+                     b += c->search_beta_step_deg) {
+                    line_set(n, b, lines, sizeof lines);
+                    s = add_candidate(d, c, step, lines, rep);
+                }
+        }
+    }
+    if (s != SUNMC_OK)
+        return sunmc_fail(err, errlen, s, "design: out of memory");
+    return SUNMC_OK;
+}
+
+/* Run candidate k on its next n units (common random numbers: units
+ * [k->units, k->units + n) of the same seed) and refresh its statistics. */
+static int run_more(design_result *d, design_candidate *k, report_acc *acc, long n, int threads,
+                    unit_result *buf, summary_row *rows, char *err, size_t errlen)
+{
+    const sensor_family *fam = k->cfg.family;
+    int s = mc_run(&k->cfg, fam, k->units, k->units + n, threads, buf, NULL, NULL, err, errlen);
+    if (s == SUNMC_OK && report_acc_add(acc, buf, n) != SUNMC_OK)
+        s = sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
+    if (s != SUNMC_OK)
+        return s;
+    k->units += n;
+    d->units_run += n;
+    report_acc_rows(acc, rows);
+    const summary_row *r = &rows[d->angle * k->cfg.bands_deg.n + d->band];
+    k->yield = r->yield;
+    k->yield_ci = r->yield_ci;
+    k->after_mean = r->rms_after_mean;
+    k->after_ci = r->rms_after_mean_ci;
+    k->alias_units = r->alias_units;
+    k->fit_failures = r->fit_failures;
+    return SUNMC_OK;
+}
+
+static const design_result *sort_ctx;
+
+static int by_cost(const void *a, const void *b)
+{
+    const design_candidate *x = &sort_ctx->cand[*(const int *)a];
+    const design_candidate *y = &sort_ctx->cand[*(const int *)b];
+    if (x->hours != y->hours)
+        return x->hours < y->hours ? -1 : 1;
+    if (x->yield != y->yield)
+        return x->yield > y->yield ? -1 : 1;
+    return *(const int *)a - *(const int *)b;
+}
+
+/* Pareto front of yield against hours over the candidates with a yield
+ * that did not alias: none cheaper-or-equal with a higher yield. */
+static void mark_pareto(design_result *d)
+{
+    double best_yield = -1;
+    for (int j = 0; j < d->n; j++) {
+        design_candidate *k = &d->cand[d->order[j]];
+        if (k->verdict == DESIGN_ALIASED || !isfinite(k->yield))
+            continue;
+        k->pareto = k->yield > best_yield;
+        best_yield = fmax(best_yield, k->yield);
+    }
+}
+
+/* Settle candidate k in blocks: pass, fail or undecided. */
+static int settle(design_result *d, design_candidate *k, report_acc *acc, int threads,
+                  unit_result *buf, summary_row *rows, char *err, size_t errlen)
+{
+    const sunmc_config *c = &k->cfg;
+    for (;;) {
+        if (k->yield_ci.lo >= c->yield_target) {
+            k->verdict = DESIGN_PASS;
+            return SUNMC_OK;
+        }
+        if (k->yield_ci.hi < c->yield_target) {
+            k->verdict = DESIGN_FAIL;
+            return SUNMC_OK;
+        }
+        if (k->units >= c->search_max_units) {
+            k->verdict = DESIGN_UNDECIDED;
+            return SUNMC_OK;
+        }
+        long n = c->block_units;
+        n = k->units + n > c->search_max_units ? c->search_max_units - k->units : n;
+        int s = run_more(d, k, acc, n, threads, buf, rows, err, errlen);
+        if (s != SUNMC_OK)
+            return s;
+    }
+}
+
+int design_run(design_result *d, int threads, design_progress_fn progress, void *ctx, char *err,
+               size_t errlen)
+{
+    const sunmc_config *c0 = &d->cand[0].cfg;
+    long block = c0->block_units > c0->search_screen_units ? c0->block_units
+                                                           : c0->search_screen_units;
+    unit_result *buf = calloc((size_t)block, sizeof *buf);
+    summary_row *rows = calloc((size_t)report_n_rows(c0, c0->family), sizeof *rows);
+    report_acc **acc = calloc((size_t)d->n, sizeof *acc);
+    d->order = calloc((size_t)d->n, sizeof *d->order);
+    int s = buf && rows && acc && d->order ? SUNMC_OK : SUNMC_ENOMEM;
+    for (int i = 0; s == SUNMC_OK && i < d->n; i++) {
+        design_candidate *k = &d->cand[i];
+        if (!(acc[i] = report_acc_new(&k->cfg, k->cfg.family)))
+            s = SUNMC_ENOMEM;
+        if (progress && s == SUNMC_OK)
+            progress("screen", i + 1, d->n, ctx);
+        if (s == SUNMC_OK)
+            s = run_more(d, k, acc[i], c0->search_screen_units, threads, buf, rows, err, errlen);
+        k->verdict = k->alias_units > 0                         ? DESIGN_ALIASED
+                     : k->yield_ci.hi < k->cfg.yield_target     ? DESIGN_SCREENED_OUT
+                                                                : DESIGN_NOT_SETTLED;
+        if (k->verdict != DESIGN_NOT_SETTLED && !k->is_input) {
+            report_acc_free(acc[i]);
+            acc[i] = NULL;
+        }
+    }
+    for (int i = 0; i < d->n; i++)
+        d->order[i] = i;
+    sort_ctx = d;
+    if (s == SUNMC_OK)
+        qsort(d->order, (size_t)d->n, sizeof *d->order, by_cost);
+    int passed = 0;
+    for (int j = 0; s == SUNMC_OK && j < d->n; j++) {
+        design_candidate *k = &d->cand[d->order[j]];
+        int input = k->is_input && k->verdict != DESIGN_ALIASED;
+        if ((k->verdict != DESIGN_NOT_SETTLED && !input) || (passed >= c0->search_shortlist && !input))
+            continue;
+        if (progress)
+            progress("settle", j + 1, d->n, ctx);
+        s = settle(d, k, acc[d->order[j]], threads, buf, rows, err, errlen);
+        passed += s == SUNMC_OK && k->verdict == DESIGN_PASS;
+    }
+    if (s == SUNMC_OK) {
+        qsort(d->order, (size_t)d->n, sizeof *d->order, by_cost);
+        mark_pareto(d);
+        for (int j = 0; j < d->n && d->best < 0; j++)
+            if (d->cand[d->order[j]].verdict == DESIGN_PASS)
+                d->best = d->order[j];
+    }
+    if (s == SUNMC_ENOMEM)
+        sunmc_fail(err, errlen, s, "design: out of memory");
+    for (int i = 0; acc && i < d->n; i++)
+        report_acc_free(acc[i]);
+    free(acc);
+    free(buf);
+    free(rows);
+    return s;
+}
+
+void design_free(design_result *d)
+{
+    free(d->cand);
+    free(d->order);
+    memset(d, 0, sizeof *d);
+}

@@ -1,0 +1,109 @@
+/* test_design.c - the candidate space, the aliased step marked and never
+ * chosen, best.ini that run takes as it is, and the refusals. */
+#include "test_util.h"
+
+#include "design.h"
+#include "registry.h"
+
+static void build(config_state *st, const char *const *sets, int n)
+{
+    char err[SUNMC_ERRLEN];
+    if (config_build(st, "configs/ess_type_a.ini", sets, n, err, sizeof err) != SUNMC_OK)
+        fail_msg("%s", err);
+}
+
+/* 2 steps x (1 line + 2..3 lines x 2 extents) x 1 repeat + the input. */
+static void space_counts(void **state)
+{
+    config_state st;
+    const char *sets[] = {"campaign.search_steps_deg=0.3,1", "campaign.search_max_lines=3",
+                          "campaign.search_beta_step_deg=15", "campaign.search_beta_max_deg=30",
+                          "campaign.search_repeats=1"};
+    build(&st, sets, 5);
+    design_result d;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(design_space(&st.cfg, &d, err, sizeof err), SUNMC_OK);
+    assert_int_equal(d.n, 1 + 2 * (1 + 2 * 2));
+    assert_true(d.cand[0].is_input);
+    assert_string_equal(d.cand[0].lines, "-20, 0, 20");
+    int found = 0;
+    for (int i = 0; i < d.n; i++)
+        found += strcmp(d.cand[i].step, "0.3") == 0 && strcmp(d.cand[i].lines, "-15, 0, 15") == 0;
+    assert_int_equal(found, 1);
+    design_free(&d);
+    config_state_free(&st);
+}
+
+static int file_has(const char *path, const char *text)
+{
+    char buf[65536];
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return strstr(buf, text) != NULL;
+}
+
+#define SPACE                                                                                     \
+    "--space steps_deg=0.5,0.3 --space max_lines=3 --space beta_step_deg=30 "                     \
+    "--space beta_max_deg=30 --space repeats=1 --space screen_units=12 --space max_units=24 "     \
+    "--space shortlist=1 --set run.block_units=12 --set validation.alpha_step_deg=1.3 "          \
+    "--set report.yield_target=0.5 --quiet"
+
+static void design_command(void **state)
+{
+    char out[16384], cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s design configs/ess_type_a.ini " SPACE " --out %s", test_sunmc(),
+             test_tmp("d"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "campaign design"));
+    const char *tsv = test_tmp("d/design.tsv");
+    assert_true(file_has(tsv, "rank\tcandidate\tcampaign.alpha_step_deg\tcampaign.beta_deg\t"));
+    /* 0.5 deg is the fine-code period: aliased, marked, never best. */
+    snprintf(cmd, sizeof cmd, "awk -F'\\t' '$3==\"0.5\" && ($19!=\"aliased\" || $21!=0)' %s", tsv);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_string_equal(out, "");
+    snprintf(cmd, sizeof cmd, "awk -F'\\t' '$21==1 {print $3, $19}' %s", tsv);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_string_equal(out, "0.3 pass\n");
+    const char *best = test_tmp("d/best.ini");
+    assert_true(file_has(best, "alpha_step_deg = 0.3  # sunmc design"));
+    snprintf(cmd, sizeof cmd, "%s run %s --units 2 --seed 9 --quiet", test_sunmc(), best);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "points on"));
+}
+
+static void design_refusals(void **state)
+{
+    char out[8192], cmd[4096];
+    const char *bad[] = {"--space nonsense=1", "--space max_lines=8", "--vary design.H_mm=3"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(cmd, sizeof cmd, "%s design configs/ess_type_a.ini %s --out %s --quiet",
+                 test_sunmc(), bad[i], test_tmp("bad"));
+        if (test_run(cmd, out, sizeof out) != 2)
+            fail_msg("'%s' was not refused: %s", bad[i], out);
+    }
+    snprintf(cmd, sizeof cmd, "test -e %s", test_tmp("bad"));
+    assert_int_not_equal(system(cmd), 0);
+    /* Nothing can reach a 100 % lower bound: exit 1, design.tsv but no best.ini. */
+    snprintf(cmd, sizeof cmd,
+             "%s design configs/ess_type_a.ini " SPACE " --set report.yield_target=1 --out %s",
+             test_sunmc(), test_tmp("none"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 1);
+    assert_non_null(strstr(out, "WARNING: no candidate met the target"));
+    assert_true(file_has(test_tmp("none/design.tsv"), "rank"));
+    snprintf(cmd, sizeof cmd, "test -e %s", test_tmp("none/best.ini"));
+    assert_int_not_equal(system(cmd), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(space_counts),
+        cmocka_unit_test(design_command),
+        cmocka_unit_test(design_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
