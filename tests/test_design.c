@@ -34,17 +34,6 @@ static void space_counts(void **state)
     config_state_free(&st);
 }
 
-static int file_has(const char *path, const char *text)
-{
-    char buf[65536];
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return 0;
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-    return strstr(buf, text) != NULL;
-}
 
 #define SPACE                                                                                     \
     "--space steps_deg=0.5,0.3 --space max_lines=3 --space beta_step_deg=30 "                     \
@@ -60,7 +49,7 @@ static void design_command(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "campaign design"));
     const char *tsv = test_tmp("d/design.tsv");
-    assert_true(file_has(tsv, "rank\tcandidate\tcampaign.alpha_step_deg\tcampaign.beta_deg\t"));
+    assert_true(test_file_has(tsv, "rank\tcandidate\tcampaign.alpha_step_deg\tcampaign.beta_deg\t"));
     /* 0.5 deg is the fine-code period: aliased, marked, never best. */
     snprintf(cmd, sizeof cmd, "awk -F'\\t' '$3==\"0.5\" && ($19!=\"aliased\" || $21!=0)' %s", tsv);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
@@ -69,7 +58,7 @@ static void design_command(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_string_equal(out, "0.3 pass\n");
     const char *best = test_tmp("d/best.ini");
-    assert_true(file_has(best, "alpha_step_deg = 0.3  # sunmc design"));
+    assert_true(test_file_has(best, "alpha_step_deg = 0.3  # sunmc design"));
     snprintf(cmd, sizeof cmd, "%s run %s --units 2 --seed 9 --quiet", test_sunmc(), best);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "points on"));
@@ -93,7 +82,7 @@ static void design_refusals(void **state)
              test_sunmc(), test_tmp("none"));
     assert_int_equal(test_run(cmd, out, sizeof out), 1);
     assert_non_null(strstr(out, "WARNING: no candidate met the target"));
-    assert_true(file_has(test_tmp("none/design.tsv"), "rank"));
+    assert_true(test_file_has(test_tmp("none/design.tsv"), "rank"));
     snprintf(cmd, sizeof cmd, "test -e %s", test_tmp("none/best.ini"));
     assert_int_not_equal(system(cmd), 0);
 }

@@ -291,17 +291,6 @@ static int command(int (*fn)(int, char **), const char *a1, const char *a2, cons
     return fn(argc, argv);
 }
 
-static int file_has(const char *path, const char *needle)
-{
-    char buf[8192] = "";
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return 0;
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-    return strstr(buf, needle) != NULL;
-}
 
 static void commands_run_the_toy(void **state)
 {
@@ -309,21 +298,21 @@ static void commands_run_the_toy(void **state)
     snprintf(out, sizeof out, "%s/run", dir);
     assert_int_equal(command(cmd_run, "run", out, NULL, NULL), 0);
     snprintf(path, sizeof path, "%s/units.tsv", out);
-    assert_true(file_has(path, "\tscale_pct\toffset_arcsec\tp0_arcsec\tp1\tfit_rms_arcsec\t"));
+    assert_true(test_file_has(path, "\tscale_pct\toffset_arcsec\tp0_arcsec\tp1\tfit_rms_arcsec\t"));
     snprintf(path, sizeof path, "%s/summary.tsv", out);
-    assert_true(file_has(path, "toy\ttoy\talpha\t0:20\t"));
+    assert_true(test_file_has(path, "toy\ttoy\talpha\t0:20\t"));
     snprintf(path, sizeof path, "%s/config.ini", out);
-    assert_true(file_has(path, "[design]\nspan_deg = 40  # default\n"));
+    assert_true(test_file_has(path, "[design]\nspan_deg = 40  # default\n"));
 
     snprintf(out, sizeof out, "%s/sweep", dir);
     assert_int_equal(command(cmd_sweep, "sweep", out, "--vary", "tolerance.offset_arcsec=0,8"), 0);
     snprintf(path, sizeof path, "%s/sweep.tsv", out);
-    assert_true(file_has(path, "tolerance.offset_arcsec\tlabel\taliased\tproduct\t"));
+    assert_true(test_file_has(path, "tolerance.offset_arcsec\tlabel\taliased\tproduct\t"));
 
     snprintf(out, sizeof out, "%s/budget", dir);
     assert_int_equal(command(cmd_budget, "budget", out, NULL, NULL), 0);
     snprintf(path, sizeof path, "%s/budget.tsv", out);
-    assert_true(file_has(path, "\toffset_arcsec\tarcsec\t40\tfixed\t"));
+    assert_true(test_file_has(path, "\toffset_arcsec\tarcsec\t40\tfixed\t"));
 }
 
 /* Run fn(argc, argv) in process with its stdout into file path. */

@@ -155,4 +155,17 @@ static inline double test_disc_centroid(double D, double x0)
     return sx / sw;
 }
 
+/* 1 when the first 64 KiB of file path hold needle. */
+static inline int test_file_has(const char *path, const char *needle)
+{
+    static char buf[65536];
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return strstr(buf, needle) != NULL;
+}
+
 #endif
