@@ -348,12 +348,12 @@ static void lab_commands_run_the_toy(void **state)
     snprintf(comp, sizeof comp, "%s/comp.csv", dir);
     char *sim_argv[] = {"sunmc", "simulate", ini, "--unit", "2", "--out", sim, NULL};
     assert_int_equal(command_to(log, cmd_simulate, sim_argv), 0);
-    assert_true(file_has(log, "toy unit 2: 17 campaign readings, 25 validation readings"));
-    assert_true(file_has(csv, "alpha_deg,reading_deg,weight\n-40,"));
+    assert_true(test_file_has(log, "toy unit 2: 17 campaign readings, 25 validation readings"));
+    assert_true(test_file_has(csv, "alpha_deg,reading_deg,weight\n-40,"));
 
     char *cal_argv[] = {"sunmc", "calibrate", "--config", ini, csv, "--out", cal, NULL};
     assert_int_equal(command_to(log, cmd_calibrate, cal_argv), 0);
-    assert_true(file_has(params, "sensor = toy"));
+    assert_true(test_file_has(params, "sensor = toy"));
     params_file *pf = malloc(sizeof *pf);
     char err[SUNMC_ERRLEN];
     double p0, p1;
@@ -365,7 +365,7 @@ static void lab_commands_run_the_toy(void **state)
     assert_near(p1, 1 + SCALE_PCT / 100, 1e-12);
     char folds[500];
     snprintf(folds, sizeof folds, "%s/crossval.tsv", cal);
-    assert_true(file_has(folds, "alpha<0") && file_has(folds, "alpha>=0"));
+    assert_true(test_file_has(folds, "alpha<0") && test_file_has(folds, "alpha>=0"));
 
     char *comp_argv[] = {"sunmc", "compensate", params, val, NULL};
     assert_int_equal(command_to(comp, cmd_compensate, comp_argv), 0);
