@@ -22,6 +22,15 @@ static const char calibrate_help[] =
     "  ess: alpha_deg,beta_deg,output_deg[,weight]   (turntable inner/outer angle, raw output)\n"
     "       the known installation roll is calibration.roll_measured_arcsec (default 0)\n"
     "  dss: b1_deg,b2_deg,x_px,y_px[,weight]\n"
+    "Conventions (README, \"Calibrating a real sensor\"; simulate writes them into its CSVs):\n"
+    "  ess: alpha = inner frame about the sensor's X (across the code rows), beta = outer\n"
+    "       frame about Y: sun s = R_install Rx(alpha) Ry(beta) v_sun; output = raw incidence\n"
+    "       atan2(s_y, s_z) with its errors; gross errors (codes off by > half a fine period)\n"
+    "       must be dropped (weight 0)\n"
+    "  dss: x_px, y_px = spot centroid in pixels from the detector centre (pixel i at\n"
+    "       i - (N - 1)/2), X along the rows; the image is inverted (sun toward +X: x_px < 0);\n"
+    "       b1 turns the table top about the base's X, then b2 about the new Y; design.h_mm\n"
+    "       includes the cover glass; only spots wholly on the detector are readings\n"
     "--out DIR writes params.ini (for `sunmc compensate`), residuals.tsv, bands.tsv,\n"
     "crossval.tsv and field.tsv (propagated sigma across the field), all or nothing.\n"
     "Exit status 2 for bad data (FILE:LINE: message), 1 when the fit fails.\n";
@@ -29,8 +38,14 @@ static const char calibrate_help[] =
 static const char compensate_help[] =
     "usage: sunmc compensate PARAMS.ini RAW.csv > COMPENSATED.csv\n"
     "Applies a calibration written by `sunmc calibrate` to raw readings.  RAW.csv needs the\n"
-    "column output_deg (ess) or x_px,y_px (dss); the output repeats every input column and\n"
-    "adds the compensated angle(s): compensated_deg (ess).\n";
+    "column output_deg (ess) or x_px,y_px (dss) ('#' comment lines skipped); the output\n"
+    "repeats every input column and adds the compensated angle(s):\n"
+    "  ess: compensated_deg, the incidence atan2(s_y, s_z) in the sensor frame\n"
+    "  dss: compensated_alpha_deg,compensated_beta_deg: with params.ini's design.mount =\n"
+    "       as_mounted the sun's direction w in the mount's (table-top) frame, alpha =\n"
+    "       atan(w_x/w_z), beta = atan(w_y/w_z); aligned: the table's angles of the DSS\n"
+    "       paper's eq. 3-4, alpha = -b2, beta = atan(tan b1 / cos b2)\n"
+    "Conventions of x_px, y_px, b1, b2: see `sunmc calibrate --help`.\n";
 
 /* Read the data, fit, print the report; with --out write the files. */
 static int calibrate(const cli_options *o, const sunmc_config *c, const family_lab *lab)

@@ -61,6 +61,35 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     return SUNMC_OK;
 }
 
+/* The conventions of every file simulate writes, as '#' lines (the same
+ * as README "Calibrating a real sensor" and calibrate --help). */
+static void write_conventions(FILE *f, const sunmc_config *c)
+{
+    const dss_design *d = &dss_cfg(c)->design;
+    fprintf(f,
+            "# conventions: x_px, y_px = spot centroid in pixels from the detector centre, X along\n"
+            "#   the pixel rows, Y along the columns; pixel i (0-based from the -X edge) has its\n"
+            "#   centre at x_px = i - (%d - 1) / 2.  The pinhole inverts the image: a sun toward\n"
+            "#   +X (alpha > 0) puts the spot at x_px < 0 (alpha ~ atan(-x_px pitch / h)).\n"
+            "# b1_deg, b2_deg = rotary-table angles: the table top turned by b1 about the base's X,\n"
+            "#   then by b2 about the new Y (R(b) = Ry(b2) Rx(b1), zxy order); a perfect sun\n"
+            "#   simulator shines along the base's +Z.\n"
+            "# h (design.h_mm = %g) = pinhole height over the detector surface, the cover glass\n"
+            "#   (%g mm, lying on the detector) included.\n",
+            d->detector_px, d->h_mm, d->glass_thickness_mm);
+    if (d->mount == DSS_MOUNT_ALIGNED)
+        fputs("# truth and compensated angles (campaign.mount = aligned): the table's angles,\n"
+              "#   alpha0 = -b2, beta0 = atan(tan b1 / cos b2) (DSS paper eq. 3-4).\n",
+              f);
+    else
+        fputs("# truth and compensated angles (campaign.mount = as_mounted): the sun's direction w\n"
+              "#   in the mount's (table-top) frame, alpha = atan(w_x / w_z), beta = atan(w_y / w_z);\n"
+              "#   with a perfect sun simulator alpha = -b2, beta = atan(tan b1 / cos b2).\n",
+              f);
+    fprintf(f, "# seen: the spot's whole %g um disc on the %d px detector (not design.dss_fov_deg).\n",
+            d->pinhole_um, d->detector_px);
+}
+
 static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_unit_ref *ref,
                            FILE *fc, FILE *ft)
 {
@@ -68,6 +97,7 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
     long nb = grid_count(dc->cal_b_min_deg, dc->cal_b_max_deg, dc->cal_b_step_deg, 0);
     fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",
             SUNMC_VERSION, ref->unit, ref->config, c->product, c->seed);
+    write_conventions(fc, c);
     fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
     fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
             ref->unit, ref->config, c->seed);
@@ -75,6 +105,7 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
     dss_deviations_values(&s->dev, dv);
     for (int i = 0; i < DSS_N_DEV; i++)
         fprintf(ft, "# %s = %.17g\n", dss_deviation_names[i], dv[i]);
+    write_conventions(ft, c);
     fprintf(ft, "b1_deg,b2_deg,truth_alpha_deg,truth_beta_deg,seen\n");
     for (size_t i = 0; i < s->n; i++) {
         /* b1 varies slowest; the degrees as the campaign computes them. */
@@ -98,6 +129,7 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
     fprintf(fv, "# sunmc %s simulate: validation readings of unit %ld of %s, seed %ld; table "
                 "at exactly b1, b2; %ld points without a spot left out, as in `run`\n",
             SUNMC_VERSION, ref->unit, ref->config, c->seed, (long)s->val.n - s->n_val);
+    write_conventions(fv, c);
     fprintf(fv, "b1_deg,b2_deg,x_px,y_px,truth_alpha_deg,truth_beta_deg\n");
     const dss_val_readings *v = &s->val;
     for (size_t i = 0; i < v->n; i++)

@@ -60,6 +60,22 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     return SUNMC_OK;
 }
 
+/* The conventions of every file simulate writes, as '#' lines (the same
+ * as README "Calibrating a real sensor" and calibrate --help). */
+static void write_conventions(FILE *f)
+{
+    fputs("# conventions: sensor frame X across the code rows, Y along them (the sensing\n"
+          "#   direction), Z the boresight; incidence = atan2(s_y, s_z) of the sun s.\n"
+          "# alpha_deg = turntable inner frame, about X; beta_deg = outer frame, about Y: the sun\n"
+          "#   in the sensor frame is s = R_install Rx(alpha) Ry(beta) v_sun.\n"
+          "# output_deg = the raw output (coarse + fine code); truth_deg = the true incidence;\n"
+          "#   compensated_deg (sunmc compensate) estimates the incidence in the sensor frame.\n"
+          "# seen: the sun in front of the sensor (incidence below 89 deg); a reading whose\n"
+          "#   coarse and fine codes disagree by more than half a fine period is a gross error\n"
+          "#   (weight 0 in campaign.csv, left out of validation.csv).\n",
+          f);
+}
+
 static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_unit_ref *ref,
                            FILE *fc, FILE *ft)
 {
@@ -68,6 +84,7 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
             ref->config, c->product, c->seed);
     fprintf(fc, "# measured installation roll: calibration.roll_measured_arcsec = %.17g\n",
             s->dev.roll_measured_arcsec);
+    write_conventions(fc);
     fprintf(fc, "alpha_deg,beta_deg,output_deg,weight\n");
     fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
             ref->unit, ref->config, c->seed);
@@ -75,6 +92,7 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
     ess_deviations_values(&s->dev, dv);
     for (int i = 0; i < ESS_N_DEV; i++)
         fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
+    write_conventions(ft);
     fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,seen\n");
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     const ess_calib_workspace *cw = s->cw;
@@ -102,6 +120,7 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
                 "# %ld readings off the truth by more than half a fine period and %ld with "
                 "the sun unseen are left out, as in `run`\n",
             SUNMC_VERSION, ref->unit, ref->config, c->seed, s->n_val_gross, s->n_val_unseen);
+    write_conventions(fv);
     fprintf(fv, "alpha_deg,beta_deg,output_deg,truth_deg\n");
     const ess_val_readings *v = &s->val;
     for (size_t i = 0; i < v->n; i++)
