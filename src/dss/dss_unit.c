@@ -364,8 +364,10 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
         snprintf(buf, len, "2-D polynomial of order %d in the alpha and beta errors",
                  dc->poly_order);
     else
-        snprintf(buf, len, "physical: principal point, height, cover glass%s, c1-c3",
-                 dc->fit_glass_index ? " (thickness and index)" : " (thickness)");
+        snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s",
+                 dc->fit_glass_index ? " (thickness and index)" : " (thickness)",
+                 dc->design.mount == DSS_MOUNT_ALIGNED ? " (aligned lab)"
+                                                       : ", sun simulator sun_b1, sun_b2");
 }
 
 /* The random inputs besides the tolerances (family.h); encoder and centroid
