@@ -43,6 +43,108 @@ static int bad(const char *command, const char *msg, const char *arg)
     return EXIT_BAD_INPUT;
 }
 
+/* A flag without a value (--quiet, --profile, --reference, --resume):
+ * set it and return 1; 0 for any other name. */
+static int set_flag(cli_options *o, const char *name)
+{
+    int *flag = strcmp(name, "quiet") == 0       ? &o->quiet
+                : strcmp(name, "profile") == 0   ? &o->profile
+                : strcmp(name, "reference") == 0 ? &o->reference
+                : strcmp(name, "resume") == 0    ? &o->resume
+                                                 : NULL;
+    if (flag)
+        *flag = 1;
+    return flag != NULL;
+}
+
+/* --seed S, --units N or --units FIRST:END: a run.* override, or the range. */
+static int set_run_key(cli_options *o, const char *command, const char *name, const char *v)
+{
+    const char *colon = strchr(v, ':');
+    if (strcmp(name, "units") == 0 && colon) {
+        char lo[64];
+        size_t n = (size_t)(colon - v);
+        if (n >= sizeof lo)
+            return bad(command, "--units FIRST:END is malformed", v);
+        memcpy(lo, v, n);
+        lo[n] = '\0';
+        if (parse_long_arg(lo, &o->first) != 0 || parse_long_arg(colon + 1, &o->end) != 0 ||
+            o->first < 0 || o->end <= o->first)
+            return bad(command, "--units FIRST:END needs 0 <= FIRST < END", v);
+        return 0;
+    }
+    if (o->n_sets >= CLI_MAX_SETS)
+        return bad(command, "too many options", v);
+    snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%s", name, v);
+    o->sets[o->n_sets] = o->set_buf[o->n_sets];
+    o->n_sets++;
+    return 0;
+}
+
+static int set_shard(cli_options *o, const char *command, const char *v)
+{
+    char *e1 = NULL, *e2 = NULL;
+    errno = 0;
+    o->shard_k = strtol(v, &e1, 10);
+    o->shard_n = *e1 == '/' ? strtol(e1 + 1, &e2, 10) : 0;
+    if (e1 == v || *e1 != '/' || !e2 || e2 == e1 + 1 || *e2 || errno || o->shard_n < 1 ||
+        o->shard_n > 1000000 || o->shard_k < 0 || o->shard_k >= o->shard_n)
+        return bad(command, "--shard K/N needs 0 <= K < N (e.g. 0/4 .. 3/4)", v);
+    return 0;
+}
+
+/* Option --name (argument a) with its value v. */
+static int set_option(cli_options *o, const char *command, const char *name, const char *a,
+                      const char *v)
+{
+    if (strcmp(name, "set") == 0) {
+        if (o->n_sets >= CLI_MAX_SETS)
+            return bad(command, "too many --set options", v);
+        o->sets[o->n_sets++] = v;
+    } else if (strcmp(name, "seed") == 0 || strcmp(name, "units") == 0) {
+        return set_run_key(o, command, name, v);
+    } else if (strcmp(name, "threads") == 0) {
+        long t;
+        if (parse_long_arg(v, &t) != 0 || t < 1 || t > 1024)
+            return bad(command, "--threads needs a whole number from 1 to 1024", v);
+        o->threads = (int)t;
+    } else if (strcmp(name, "out") == 0) {
+        /* Before any work: a run must not end in an unwritable --out. */
+        char err[SUNMC_ERRLEN];
+        if (out_check(v, err, sizeof err) != SUNMC_OK) {
+            fprintf(stderr, "sunmc %s: %s\n", command, err);
+            return EXIT_BAD_INPUT;
+        }
+        o->out = v;
+    } else if (strcmp(name, "space") == 0) {
+        if (o->n_sets >= CLI_MAX_SETS)
+            return bad(command, "too many options", v);
+        snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "campaign.search_%s", v);
+        o->sets[o->n_sets] = o->set_buf[o->n_sets];
+        o->n_sets++;
+    } else if (strcmp(name, "vary") == 0) {
+        if (o->n_vary >= CLI_MAX_VARY)
+            return bad(command, "at most two --vary axes", v);
+        o->vary[o->n_vary++] = v;
+    } else if (strcmp(name, "unit") == 0) {
+        if (parse_long_arg(v, &o->unit) != 0 || o->unit < 0)
+            return bad(command, "--unit needs a unit index >= 0", v);
+    } else if (strcmp(name, "only") == 0) {
+        o->only = v;
+    } else if (strcmp(name, "sensor") == 0) {
+        o->sensor = v;
+    } else if (strcmp(name, "until") == 0) {
+        o->until = v;
+    } else if (strcmp(name, "shard") == 0) {
+        return set_shard(o, command, v);
+    } else if (strcmp(name, "config") == 0) {
+        o->config = v;
+    } else {
+        return bad(command, "unknown option", a);
+    }
+    return 0;
+}
+
 int cli_parse(int argc, char **argv, int first, const char *command, const char *allowed,
               cli_options *o)
 {
@@ -64,93 +166,13 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
         const char *name = a + 2;
         if (!allowed_has(allowed, name))
             return bad(command, "unknown option", a);
-        if (strcmp(name, "quiet") == 0) {
-            o->quiet = 1;
+        if (set_flag(o, name))
             continue;
-        }
-        if (strcmp(name, "profile") == 0) {
-            o->profile = 1;
-            continue;
-        }
-        if (strcmp(name, "reference") == 0) {
-            o->reference = 1;
-            continue;
-        }
-        if (strcmp(name, "resume") == 0) {
-            o->resume = 1;
-            continue;
-        }
         if (i + 1 >= argc)
             return bad(command, "option needs a value", a);
-        const char *v = argv[++i];
-        if (strcmp(name, "set") == 0) {
-            if (o->n_sets >= CLI_MAX_SETS)
-                return bad(command, "too many --set options", v);
-            o->sets[o->n_sets++] = v;
-        } else if (strcmp(name, "seed") == 0 || strcmp(name, "units") == 0) {
-            const char *colon = strchr(v, ':');
-            if (strcmp(name, "units") == 0 && colon) {
-                char lo[64];
-                size_t n = (size_t)(colon - v);
-                if (n >= sizeof lo)
-                    return bad(command, "--units FIRST:END is malformed", v);
-                memcpy(lo, v, n);
-                lo[n] = '\0';
-                if (parse_long_arg(lo, &o->first) != 0 || parse_long_arg(colon + 1, &o->end) != 0 ||
-                    o->first < 0 || o->end <= o->first)
-                    return bad(command, "--units FIRST:END needs 0 <= FIRST < END", v);
-                continue;
-            }
-            if (o->n_sets >= CLI_MAX_SETS)
-                return bad(command, "too many options", v);
-            snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%s", name, v);
-            o->sets[o->n_sets] = o->set_buf[o->n_sets];
-            o->n_sets++;
-        } else if (strcmp(name, "threads") == 0) {
-            long t;
-            if (parse_long_arg(v, &t) != 0 || t < 1 || t > 1024)
-                return bad(command, "--threads needs a whole number from 1 to 1024", v);
-            o->threads = (int)t;
-        } else if (strcmp(name, "out") == 0) {
-            /* Before any work: a run must not end in an unwritable --out. */
-            char err[SUNMC_ERRLEN];
-            if (out_check(v, err, sizeof err) != SUNMC_OK) {
-                fprintf(stderr, "sunmc %s: %s\n", command, err);
-                return EXIT_BAD_INPUT;
-            }
-            o->out = v;
-        } else if (strcmp(name, "space") == 0) {
-            if (o->n_sets >= CLI_MAX_SETS)
-                return bad(command, "too many options", v);
-            snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "campaign.search_%s", v);
-            o->sets[o->n_sets] = o->set_buf[o->n_sets];
-            o->n_sets++;
-        } else if (strcmp(name, "vary") == 0) {
-            if (o->n_vary >= CLI_MAX_VARY)
-                return bad(command, "at most two --vary axes", v);
-            o->vary[o->n_vary++] = v;
-        } else if (strcmp(name, "unit") == 0) {
-            if (parse_long_arg(v, &o->unit) != 0 || o->unit < 0)
-                return bad(command, "--unit needs a unit index >= 0", v);
-        } else if (strcmp(name, "only") == 0) {
-            o->only = v;
-        } else if (strcmp(name, "sensor") == 0) {
-            o->sensor = v;
-        } else if (strcmp(name, "until") == 0) {
-            o->until = v;
-        } else if (strcmp(name, "shard") == 0) {
-            char *e1 = NULL, *e2 = NULL;
-            errno = 0;
-            o->shard_k = strtol(v, &e1, 10);
-            o->shard_n = *e1 == '/' ? strtol(e1 + 1, &e2, 10) : 0;
-            if (e1 == v || *e1 != '/' || !e2 || e2 == e1 + 1 || *e2 || errno || o->shard_n < 1 ||
-                o->shard_n > 1000000 || o->shard_k < 0 || o->shard_k >= o->shard_n)
-                return bad(command, "--shard K/N needs 0 <= K < N (e.g. 0/4 .. 3/4)", v);
-        } else if (strcmp(name, "config") == 0) {
-            o->config = v;
-        } else {
-            return bad(command, "unknown option", a);
-        }
+        int rc = set_option(o, command, name, a, argv[++i]);
+        if (rc)
+            return rc;
     }
     if (allowed_has(allowed, "CONFIG") && !o->config)
         return bad(command, "missing CONFIG file", NULL);

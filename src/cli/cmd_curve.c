@@ -89,6 +89,175 @@ static void stats_add(series_stats *s, int i, double e)
     s->n[i]++;
 }
 
+/* One curve command's state: the unit (c) and the nominal design (nom),
+ * their prepared curve workspaces, the grid and the statistics per series
+ * (axis-1 value) and angle. */
+typedef struct {
+    const sensor_family *fam;
+    const sunmc_config *c, *nom;
+    long n0, n1;
+    int na;
+    double *ax0, *ax1;
+    series_stats *ss;
+    void *cv, *cn;
+    int fit_ok, nom_ok;
+    long unseen;
+} curve_run;
+
+static void curve_free(curve_run *r)
+{
+    if (r->cv)
+        r->fam->curve_free(r->cv);
+    if (r->cn)
+        r->fam->curve_free(r->cn);
+    free(r->ax0);
+    free(r->ax1);
+    free(r->ss);
+}
+
+/* Allocate the grid and workspaces, and prepare unit `unit` (its
+ * deviations times sign) and the nominal unit. */
+static int curve_setup(curve_run *r, const sunmc_config *c, const sunmc_config *nom, long unit,
+                       double sign, char *err, size_t errlen)
+{
+    const sensor_family *fam = c->family;
+    memset(r, 0, sizeof *r);
+    r->fam = fam;
+    r->c = c;
+    r->nom = nom;
+    r->n0 = fam->curve_axis(c, 0, NULL, 0);
+    r->n1 = fam->curve_axis(c, 1, NULL, 0);
+    r->na = fam->n_angles(c);
+    r->ax0 = malloc((size_t)(r->n0 > 0 ? r->n0 : 1) * sizeof *r->ax0);
+    r->ax1 = malloc((size_t)(r->n1 > 0 ? r->n1 : 1) * sizeof *r->ax1);
+    r->ss = calloc((size_t)(r->n1 > 0 ? r->n1 : 1) * (size_t)r->na, sizeof *r->ss);
+    r->cv = fam->curve_alloc(c, err, errlen);
+    r->cn = r->cv ? fam->curve_alloc(nom, err, errlen) : NULL;
+    if (!r->cv || !r->cn)
+        return SUNMC_ENOMEM;
+    if (!r->ax0 || !r->ax1 || !r->ss)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the curve grid");
+    fam->curve_axis(c, 0, r->ax0, r->n0);
+    fam->curve_axis(c, 1, r->ax1, r->n1);
+    int status = fam->curve_prepare(c, unit, sign, r->cv, &r->fit_ok);
+    if (status == SUNMC_OK)
+        status = fam->curve_prepare(nom, unit, 1.0, r->cn, &r->nom_ok);
+    return status;
+}
+
+static void curve_header(const curve_run *r, FILE *fo)
+{
+    const sensor_family *fam = r->fam;
+    const char *u = fam->rms_unit;
+    fprintf(fo, "%s\t%s", fam->curve_axis_names[0], fam->curve_axis_names[1]);
+    for (int a = 0; a < r->na; a++)
+        fprintf(fo, "\terror_before_%s_%s\terror_after_%s_%s\terror_source_%s_%s",
+                fam->angle_names[a], u, fam->angle_names[a], u, fam->angle_names[a], u);
+    fputc('\n', fo);
+}
+
+/* Evaluate every grid point (before, after, the source alone = before
+ * minus the nominal unit's before), into the statistics and, when fo is
+ * open, one row of curve.tsv each; a blank line between series. */
+static void curve_walk(curve_run *r, FILE *fo)
+{
+    const sensor_family *fam = r->fam;
+    int na = r->na;
+    for (long j = 0; j < r->n1; j++) {
+        if (fo && j > 0)
+            fputc('\n', fo);
+        for (long i = 0; i < r->n0; i++) {
+            double bef[UNIT_MAX_ANGLES], aft[UNIT_MAX_ANGLES], nb[UNIT_MAX_ANGLES],
+                na_[UNIT_MAX_ANGLES];
+            int s1 = fam->curve_eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft);
+            int s2 = fam->curve_eval(r->nom, r->cn, r->ax0[i], r->ax1[j], nb, na_);
+            if (s1 != SUNMC_OK) {
+                r->unseen++;
+                for (int a = 0; a < na; a++)
+                    bef[a] = aft[a] = NAN;
+            }
+            if (fo)
+                fprintf(fo, "%.10g\t%.10g", r->ax0[i], r->ax1[j]);
+            for (int a = 0; a < na; a++) {
+                double src = (s1 == SUNMC_OK && s2 == SUNMC_OK) ? bef[a] - nb[a] : NAN;
+                series_stats *s = &r->ss[j * na + a];
+                stats_add(s, 0, bef[a]);
+                stats_add(s, 1, aft[a]);
+                stats_add(s, 2, src);
+                if (fo)
+                    fprintf(fo, "\t%.8g\t%.8g\t%.8g", bef[a], aft[a], src);
+            }
+            if (fo)
+                fputc('\n', fo);
+        }
+    }
+}
+
+/* The table on stdout: RMS and max |error| per series and angle. */
+static void curve_print(const curve_run *r, const char *only, long unit)
+{
+    const sensor_family *fam = r->fam;
+    const char *u = fam->rms_unit;
+    int prec = strcmp(u, "deg") == 0 ? 4 : 2, na = r->na;
+    printf("\n%s (%s): ", r->c->product, fam->name);
+    if (only)
+        printf("%s alone, every other tolerance 0 (unit %ld's noise in the campaign)", only, unit);
+    else
+        printf("unit %ld, seed %ld", unit, r->c->seed);
+    printf("%s\n", r->fit_ok ? "" : "  -- its fit FAILED: no after-compensation curve");
+    printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve_axis_names[1], "angle",
+           "RMS", "", "", "max |err|", "", "", "points");
+    printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s |\n", "", "", "before", "after", "source",
+           "before", "after", "source");
+    for (long j = 0; j < r->n1; j++)
+        for (int a = 0; a < na; a++) {
+            const series_stats *s = &r->ss[j * na + a];
+            double rms[3];
+            for (int k = 0; k < 3; k++)
+                rms[k] = s->n[k] ? sqrt(s->sum2[k] / (double)s->n[k]) : NAN;
+            printf("%-10.4g %-6s | %9.*f %9.*f %9.*f | %9.*f %9.*f %9.*f | %ld\n", r->ax1[j],
+                   fam->angle_names[a], prec, rms[0], prec, rms[1], prec, rms[2], prec,
+                   s->maxabs[0], prec, s->n[1] ? s->maxabs[1] : NAN, prec, s->maxabs[2],
+                   s->n[0]);
+        }
+    printf("errors in %s; %ld grid points not seen or gross (left out)\n", u, r->unseen);
+}
+
+/* Walk the grid, writing curve.tsv and config.ini to o->out (all or
+ * nothing; a failed write is returned in *wstatus, the table still
+ * prints). */
+static int curve_output(curve_run *r, const cli_options *o, const config_state *st, long unit,
+                        int *wstatus, char *err, size_t errlen)
+{
+    out_set os;
+    FILE *fo = NULL, *fc = NULL;
+    int status = SUNMC_OK;
+    *wstatus = SUNMC_OK;
+    if (o->out) {
+        status = out_begin(&os, o->out, err, errlen);
+        if (status == SUNMC_OK)
+            status = out_open(&os, "curve.tsv", &fo, err, errlen);
+        if (status == SUNMC_OK)
+            status = out_open(&os, "config.ini", &fc, err, errlen);
+        if (status != SUNMC_OK) {
+            out_abort(&os);
+            return status;
+        }
+        curve_header(r, fo);
+    }
+    curve_walk(r, fo);
+    if (fc) {
+        if (o->only)
+            fprintf(fc, "# curve --only %s (unit %ld), every other tolerance 0\n", o->only, unit);
+        else
+            fprintf(fc, "# curve --unit %ld\n", unit);
+        config_write(fc, st);
+    }
+    if (fo)
+        *wstatus = out_commit(&os, err, errlen);
+    return SUNMC_OK;
+}
+
 int cmd_curve(int argc, char **argv)
 {
     if (cli_wants_help(argc, argv, curve_help))
@@ -110,143 +279,30 @@ int cmd_curve(int argc, char **argv)
     }
     char err[SUNMC_ERRLEN];
     double sign = 1.0;
-    int status = SUNMC_OK;
+    int status = SUNMC_OK, wstatus = SUNMC_OK;
     if (o.only)
         status = apply_only(&st, o.only, &sign, err, sizeof err);
     if (status == SUNMC_OK)
         status = set_nominal(&nom, err, sizeof err);
     long unit = o.unit >= 0 ? o.unit : 0;
-    const sunmc_config *c = &st.cfg;
-    const sensor_family *fam = c->family;
-    if (status == SUNMC_OK && !fam->curve_eval)
+    if (status == SUNMC_OK && !st.cfg.family->curve_eval)
         status = sunmc_fail(err, sizeof err, SUNMC_EINPUT,
-                            "the %s family has no error curves in this version", fam->name);
-    if (status != SUNMC_OK) {
-        fprintf(stderr, "sunmc curve: %s\n", err);
-        config_state_free(&st);
-        config_state_free(&nom);
-        return cli_exit_code(status);
-    }
-
-    long n0 = fam->curve_axis(c, 0, NULL, 0), n1 = fam->curve_axis(c, 1, NULL, 0);
-    int na = fam->n_angles(c);
-    double *ax0 = malloc((size_t)(n0 > 0 ? n0 : 1) * sizeof *ax0);
-    double *ax1 = malloc((size_t)(n1 > 0 ? n1 : 1) * sizeof *ax1);
-    series_stats *ss = calloc((size_t)(n1 > 0 ? n1 : 1) * (size_t)na, sizeof *ss);
-    void *cv = fam->curve_alloc(c, err, sizeof err);
-    void *cn = cv ? fam->curve_alloc(&nom.cfg, err, sizeof err) : NULL;
-    if (!cv || !cn)
-        status = SUNMC_ENOMEM;
-    if (status == SUNMC_OK && (!ax0 || !ax1 || !ss))
-        status = sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory for the curve grid");
-    int fit_ok = 0, nom_ok = 0;
-    if (status == SUNMC_OK) {
-        fam->curve_axis(c, 0, ax0, n0);
-        fam->curve_axis(c, 1, ax1, n1);
-        status = fam->curve_prepare(c, unit, sign, cv, &fit_ok);
-    }
+                            "the %s family has no error curves in this version",
+                            st.cfg.family->name);
+    curve_run r;
+    memset(&r, 0, sizeof r);
     if (status == SUNMC_OK)
-        status = fam->curve_prepare(&nom.cfg, unit, 1.0, cn, &nom_ok);
-
-    out_set os;
-    FILE *fo = NULL, *fc = NULL;
-    if (status == SUNMC_OK && o.out) {
-        status = out_begin(&os, o.out, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, "curve.tsv", &fo, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, "config.ini", &fc, err, sizeof err);
-        if (status != SUNMC_OK)
-            out_abort(&os);
-    }
-    if (status == SUNMC_OK && fo) {
-        const char *u = fam->rms_unit;
-        fprintf(fo, "%s\t%s", fam->curve_axis_names[0], fam->curve_axis_names[1]);
-        for (int a = 0; a < na; a++)
-            fprintf(fo, "\terror_before_%s_%s\terror_after_%s_%s\terror_source_%s_%s",
-                    fam->angle_names[a], u, fam->angle_names[a], u, fam->angle_names[a], u);
-        fputc('\n', fo);
-    }
-    long unseen = 0;
-    for (long j = 0; status == SUNMC_OK && j < n1; j++) {
-        if (fo && j > 0)
-            fputc('\n', fo);
-        for (long i = 0; i < n0; i++) {
-            double bef[UNIT_MAX_ANGLES], aft[UNIT_MAX_ANGLES], nb[UNIT_MAX_ANGLES],
-                na_[UNIT_MAX_ANGLES];
-            int s1 = fam->curve_eval(c, cv, ax0[i], ax1[j], bef, aft);
-            int s2 = fam->curve_eval(&nom.cfg, cn, ax0[i], ax1[j], nb, na_);
-            if (s1 != SUNMC_OK) {
-                unseen++;
-                for (int a = 0; a < na; a++)
-                    bef[a] = aft[a] = NAN;
-            }
-            if (fo)
-                fprintf(fo, "%.10g\t%.10g", ax0[i], ax1[j]);
-            for (int a = 0; a < na; a++) {
-                double src = (s1 == SUNMC_OK && s2 == SUNMC_OK) ? bef[a] - nb[a] : NAN;
-                series_stats *s = &ss[j * na + a];
-                stats_add(s, 0, bef[a]);
-                stats_add(s, 1, aft[a]);
-                stats_add(s, 2, src);
-                if (fo)
-                    fprintf(fo, "\t%.8g\t%.8g\t%.8g", bef[a], aft[a], src);
-            }
-            if (fo)
-                fputc('\n', fo);
-        }
-    }
-    if (status == SUNMC_OK && fc) {
-        if (o.only)
-            fprintf(fc, "# curve --only %s (unit %ld), every other tolerance 0\n", o.only, unit);
-        else
-            fprintf(fc, "# curve --unit %ld\n", unit);
-        config_write(fc, &st);
-    }
-    int wstatus = SUNMC_OK; /* a failed write still prints the table */
-    if (status == SUNMC_OK && fo)
-        wstatus = out_commit(&os, err, sizeof err);
-    else if (fo)
-        out_abort(&os);
-
-    if (status == SUNMC_OK) {
-        const char *u = fam->rms_unit;
-        int prec = strcmp(u, "deg") == 0 ? 4 : 2;
-        printf("\n%s (%s): ", c->product, fam->name);
-        if (o.only)
-            printf("%s alone, every other tolerance 0 (unit %ld's noise in the campaign)", o.only,
-                   unit);
-        else
-            printf("unit %ld, seed %ld", unit, c->seed);
-        printf("%s\n", fit_ok ? "" : "  -- its fit FAILED: no after-compensation curve");
-        printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve_axis_names[1],
-               "angle", "RMS", "", "", "max |err|", "", "", "points");
-        printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s |\n", "", "", "before", "after", "source",
-               "before", "after", "source");
-        for (long j = 0; j < n1; j++)
-            for (int a = 0; a < na; a++) {
-                const series_stats *s = &ss[j * na + a];
-                double r[3];
-                for (int k = 0; k < 3; k++)
-                    r[k] = s->n[k] ? sqrt(s->sum2[k] / (double)s->n[k]) : NAN;
-                printf("%-10.4g %-6s | %9.*f %9.*f %9.*f | %9.*f %9.*f %9.*f | %ld\n", ax1[j],
-                       fam->angle_names[a], prec, r[0], prec, r[1], prec, r[2], prec,
-                       s->maxabs[0], prec, s->n[1] ? s->maxabs[1] : NAN, prec, s->maxabs[2],
-                       s->n[0]);
-            }
-        printf("errors in %s; %ld grid points not seen or gross (left out)\n", u, unseen);
-    }
+        status = curve_setup(&r, &st.cfg, &nom.cfg, unit, sign, err, sizeof err);
+    if (status == SUNMC_OK)
+        status = curve_output(&r, &o, &st, unit, &wstatus, err, sizeof err);
+    if (status == SUNMC_OK)
+        curve_print(&r, o.only, unit);
     if (status != SUNMC_OK || wstatus != SUNMC_OK)
         fprintf(stderr, "sunmc curve: %s\n", err);
     if (status == SUNMC_OK)
         status = wstatus;
-    if (cv)
-        fam->curve_free(cv);
-    if (cn)
-        fam->curve_free(cn);
-    free(ax0);
-    free(ax1);
-    free(ss);
+    if (r.fam)
+        curve_free(&r);
     config_state_free(&st);
     config_state_free(&nom);
     return cli_exit_code(status);

@@ -112,6 +112,80 @@ static void write_sweep_tsv(FILE *fs, const sunmc_config *c, const sensor_family
     }
 }
 
+/* Parse the --vary axes against the base config; a message and non-zero
+ * exit status for a bad one. */
+static int parse_axes(const cli_options *o, const config_state *base, sweep_axis *axes)
+{
+    char err[SUNMC_ERRLEN];
+    for (int i = 0; i < o->n_vary; i++) {
+        int s = sweep_axis_parse(o->vary[i], base->cfg.family, &axes[i], err, sizeof err);
+        if (s == SUNMC_OK && i == 1 && strcmp(axes[0].dotted, axes[1].dotted) == 0)
+            s = sunmc_fail(err, sizeof err, SUNMC_EINPUT, "--vary %s: the same key twice",
+                           o->vary[i]);
+        if (s != SUNMC_OK) {
+            fprintf(stderr, "sunmc sweep: %s\n", err);
+            return cli_exit_code(s);
+        }
+    }
+    return 0;
+}
+
+/* Run every point's Monte Carlo into its rows (n_rows per point); the
+ * command's exit status. */
+static int run_points(const cli_options *o, const sweep_axis *axes, int n_axes, long n_points,
+                      summary_row *rows, int n_rows)
+{
+    for (long p = 0; p < n_points; p++) {
+        config_state st;
+        int rc = point_config(o, axes, n_axes, p, &st);
+        if (rc)
+            return rc;
+        const sunmc_config *c = &st.cfg;
+        long first = o->end >= 0 ? o->first : 0;
+        long end = o->end >= 0 ? o->end : c->units;
+        int threads = cli_threads(o, c);
+        if (!o->quiet) {
+            const char *v[SWEEP_MAX_AXES];
+            sweep_point_text(axes, n_axes, p, v);
+            fprintf(stderr, "sunmc sweep: point %ld/%ld:", p + 1, n_points);
+            for (int i = 0; i < n_axes; i++)
+                fprintf(stderr, " %s=%s", axes[i].dotted, v[i]);
+            fputc('\n', stderr);
+        }
+        rc = cli_monte_carlo(c, first, end, threads, o->quiet, &rows[p * n_rows]);
+        config_state_free(&st);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
+/* sweep.tsv and config.ini into o->out, all or nothing. */
+static int write_outputs(const cli_options *o, const config_state *base, const sweep_axis *axes,
+                         int n_axes, long n_points, const summary_row *rows, int n_rows,
+                         char *err, size_t errlen)
+{
+    const sunmc_config *c = &base->cfg;
+    out_set os;
+    FILE *fs, *fc;
+    int status = out_begin(&os, o->out, err, errlen);
+    if (status == SUNMC_OK)
+        status = out_open(&os, "sweep.tsv", &fs, err, errlen);
+    if (status == SUNMC_OK)
+        status = out_open(&os, "config.ini", &fc, err, errlen);
+    if (status != SUNMC_OK) {
+        out_abort(&os);
+        return status;
+    }
+    write_sweep_tsv(fs, c, c->family, axes, n_axes, n_points, rows, n_rows);
+    fprintf(fc, "# base config of a sweep over");
+    for (int i = 0; i < n_axes; i++)
+        fprintf(fc, " %s", o->vary[i]);
+    fputc('\n', fc);
+    config_write(fc, base);
+    return out_commit(&os, err, errlen);
+}
+
 int cmd_sweep(int argc, char **argv)
 {
     if (cli_wants_help(argc, argv, sweep_help))
@@ -128,19 +202,10 @@ int cmd_sweep(int argc, char **argv)
     config_state base;
     if ((rc = cli_config(&o, &base)))
         return rc;
-
-    char err[SUNMC_ERRLEN];
     sweep_axis axes[SWEEP_MAX_AXES];
-    for (int i = 0; i < o.n_vary; i++) {
-        int s = sweep_axis_parse(o.vary[i], base.cfg.family, &axes[i], err, sizeof err);
-        if (s == SUNMC_OK && i == 1 && strcmp(axes[0].dotted, axes[1].dotted) == 0)
-            s = sunmc_fail(err, sizeof err, SUNMC_EINPUT, "--vary %s: the same key twice",
-                           o.vary[i]);
-        if (s != SUNMC_OK) {
-            fprintf(stderr, "sunmc sweep: %s\n", err);
-            config_state_free(&base);
-            return cli_exit_code(s);
-        }
+    if ((rc = parse_axes(&o, &base, axes))) {
+        config_state_free(&base);
+        return rc;
     }
     int n_axes = o.n_vary;
     long n_points = sweep_n_points(axes, n_axes);
@@ -165,58 +230,17 @@ int cmd_sweep(int argc, char **argv)
     }
     /* Per-point configs are kept only for the rows' writer (bands and
      * product come from the config; they cannot be varied). */
-    int status = SUNMC_OK;
-    for (long p = 0; p < n_points && status == SUNMC_OK; p++) {
-        config_state st;
-        if ((rc = point_config(&o, axes, n_axes, p, &st))) {
-            free(rows);
-            config_state_free(&base);
-            return rc;
-        }
-        const sunmc_config *c = &st.cfg;
-        long first = o.end >= 0 ? o.first : 0;
-        long end = o.end >= 0 ? o.end : c->units;
-        int threads = cli_threads(&o, c);
-        if (!o.quiet) {
-            const char *v[SWEEP_MAX_AXES];
-            sweep_point_text(axes, n_axes, p, v);
-            fprintf(stderr, "sunmc sweep: point %ld/%ld:", p + 1, n_points);
-            for (int i = 0; i < n_axes; i++)
-                fprintf(stderr, " %s=%s", axes[i].dotted, v[i]);
-            fputc('\n', stderr);
-        }
-        rc = cli_monte_carlo(c, first, end, threads, o.quiet, &rows[p * n_rows]);
-        config_state_free(&st);
-        if (rc) {
-            free(rows);
-            config_state_free(&base);
-            return rc;
-        }
+    if ((rc = run_points(&o, axes, n_axes, n_points, rows, n_rows))) {
+        free(rows);
+        config_state_free(&base);
+        return rc;
     }
-
-    const sunmc_config *c = &base.cfg;
-    print_table(c, fam, axes, n_axes, n_points, rows, n_rows); /* before writing */
+    print_table(&base.cfg, fam, axes, n_axes, n_points, rows, n_rows); /* before writing */
     fflush(stdout);
-    if (o.out) {
-        out_set os;
-        FILE *fs, *fc;
-        status = out_begin(&os, o.out, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, "sweep.tsv", &fs, err, sizeof err);
-        if (status == SUNMC_OK)
-            status = out_open(&os, "config.ini", &fc, err, sizeof err);
-        if (status == SUNMC_OK) {
-            write_sweep_tsv(fs, c, fam, axes, n_axes, n_points, rows, n_rows);
-            fprintf(fc, "# base config of a sweep over");
-            for (int i = 0; i < n_axes; i++)
-                fprintf(fc, " %s", o.vary[i]);
-            fputc('\n', fc);
-            config_write(fc, &base);
-            status = out_commit(&os, err, sizeof err);
-        } else {
-            out_abort(&os);
-        }
-    }
+    char err[SUNMC_ERRLEN];
+    int status = o.out ? write_outputs(&o, &base, axes, n_axes, n_points, rows, n_rows, err,
+                                       sizeof err)
+                       : SUNMC_OK;
     if (status != SUNMC_OK)
         fprintf(stderr, "sunmc sweep: %s\n", err);
     free(rows);

@@ -242,6 +242,43 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
     calreport_predict(rep, 0, dof_factor);
 }
 
+/* Residual variance, parameters with standard errors and correlations,
+ * and the scaled covariance res->cov. */
+static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, calreport *rep)
+{
+    /* Residual variance with the degrees of freedom the data leave: the
+     * regularised (aliased) directions are fixed by their priors. */
+    double chi2 = 0;
+    for (size_t i = 0; i < cw->n; i++)
+        if (cw->weight[i] > 0) {
+            double r = ess_model_predict(&res->m, cw->alpha_rad[i], cw->beta_rad[i], NULL) -
+                       cw->raw_rad[i];
+            chi2 += cw->weight[i] * r * r;
+        }
+    rep->dof = (int)rep->n_used - ESS_NP + cw->alias.n_weak;
+    res->s2 = chi2 / rep->dof;
+    rep->sigma_arcsec = sqrt(res->s2) * ARCSEC_PER_RAD;
+    rep->np = ESS_NP;
+    for (int j = 0; j < ESS_NP; j++) {
+        snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[j]);
+        rep->value[j] = res->m.p[j] * par_scale[j];
+    }
+    int cst = fit_covariance(cw->fw);
+    if (cst == SUNMC_OK)
+        cst = calreport_covariance(rep, cw->fw->covar, res->s2, par_scale);
+    if (cst == SUNMC_OK) {
+        for (int i = 0; i < ESS_NP; i++)
+            for (int j = 0; j < ESS_NP; j++)
+                res->cov[i][j] = res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
+    } else {
+        for (int i = 0; i < ESS_NP; i++)
+            rep->se[i] = NAN;
+        calreport_warn(rep, "widen the campaign or fix parameters the data cannot determine",
+                       "the parameter covariance could not be computed (singular Jacobian): "
+                       "standard errors and the propagated accuracy are unavailable");
+    }
+}
+
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
 {
@@ -279,38 +316,7 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
 
-    /* Residual variance with the degrees of freedom the data leave: the
-     * regularised (aliased) directions are fixed by their priors. */
-    double chi2 = 0;
-    for (size_t i = 0; i < cw->n; i++)
-        if (cw->weight[i] > 0) {
-            double r = ess_model_predict(&res->m, cw->alpha_rad[i], cw->beta_rad[i], NULL) -
-                       cw->raw_rad[i];
-            chi2 += cw->weight[i] * r * r;
-        }
-    rep->dof = (int)rep->n_used - ESS_NP + cw->alias.n_weak;
-    res->s2 = chi2 / rep->dof;
-    rep->sigma_arcsec = sqrt(res->s2) * ARCSEC_PER_RAD;
-
-    rep->np = ESS_NP;
-    for (int j = 0; j < ESS_NP; j++) {
-        snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[j]);
-        rep->value[j] = res->m.p[j] * par_scale[j];
-    }
-    int cst = fit_covariance(cw->fw);
-    if (cst == SUNMC_OK)
-        cst = calreport_covariance(rep, cw->fw->covar, res->s2, par_scale);
-    if (cst == SUNMC_OK) {
-        for (int i = 0; i < ESS_NP; i++)
-            for (int j = 0; j < ESS_NP; j++)
-                res->cov[i][j] = res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
-    } else {
-        for (int i = 0; i < ESS_NP; i++)
-            rep->se[i] = NAN;
-        calreport_warn(rep, "widen the campaign or fix parameters the data cannot determine",
-                       "the parameter covariance could not be computed (singular Jacobian): "
-                       "standard errors and the propagated accuracy are unavailable");
-    }
+    parameters(cw, res, rep);
     calreport_check_correlations(rep, CALREPORT_CORR_WARN);
 
     int n_uncomp;
