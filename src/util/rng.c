@@ -47,10 +47,54 @@ double rng_uniform(rng_stream *r)
     return uniform_of(hi, next_word(r));
 }
 
+#if defined(VM_LIBMVEC)
+#include <immintrin.h>
+#define PHILOX_AVX2 1
+
+/* The same blocks eight at a time with AVX2 (an x86-64-v3 CPU): GCC's
+ * vectorisation of the loop below widens the 32-bit lanes for each
+ * 32 x 32 -> 64-bit product with shuffles; here the products of the even
+ * and of the odd lanes are two vpmuludq and the high and low words are
+ * blended back.  Integer arithmetic: the same words as the loop, bit for
+ * bit (test_rng checks Random123's known answers). */
+__attribute__((target("avx2"))) VM_NOSAN static void
+philox_blocks_avx2(const uint32_t key[2], const uint32_t ctr[4], size_t nb,
+                   uint32_t w[4][NORMAL_CHUNK])
+{
+    const __m256i m0 = _mm256_set1_epi64x(0xD2511F53), m1 = _mm256_set1_epi64x(0xCD9E8D57);
+    const __m256i w0 = _mm256_set1_epi32((int)0x9E3779B9u), w1 = _mm256_set1_epi32((int)0xBB67AE85u);
+    for (size_t b0 = 0; b0 < vm_pad(nb); b0 += 8) {
+        __m256i x0 = _mm256_set1_epi32((int)ctr[0]), x1 = _mm256_set1_epi32((int)ctr[1]);
+        __m256i x2 = _mm256_set1_epi32((int)ctr[2]);
+        __m256i x3 = _mm256_add_epi32(_mm256_set1_epi32((int)(ctr[3] + (uint32_t)b0)),
+                                      _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        __m256i k0 = _mm256_set1_epi32((int)key[0]), k1 = _mm256_set1_epi32((int)key[1]);
+        for (int round = 0; round < 10; round++) {
+            __m256i e0 = _mm256_mul_epu32(x0, m0), o0 = _mm256_mul_epu32(_mm256_srli_epi64(x0, 32), m0);
+            __m256i e1 = _mm256_mul_epu32(x2, m1), o1 = _mm256_mul_epu32(_mm256_srli_epi64(x2, 32), m1);
+            __m256i lo0 = _mm256_blend_epi32(e0, _mm256_slli_epi64(o0, 32), 0xAA);
+            __m256i hi0 = _mm256_blend_epi32(_mm256_srli_epi64(e0, 32), o0, 0xAA);
+            __m256i lo1 = _mm256_blend_epi32(e1, _mm256_slli_epi64(o1, 32), 0xAA);
+            __m256i hi1 = _mm256_blend_epi32(_mm256_srli_epi64(e1, 32), o1, 0xAA);
+            x0 = _mm256_xor_si256(_mm256_xor_si256(hi1, x1), k0);
+            x2 = _mm256_xor_si256(_mm256_xor_si256(hi0, x3), k1);
+            x1 = lo1;
+            x3 = lo0;
+            k0 = _mm256_add_epi32(k0, w0);
+            k1 = _mm256_add_epi32(k1, w1);
+        }
+        _mm256_storeu_si256((__m256i *)(w[0] + b0), x0);
+        _mm256_storeu_si256((__m256i *)(w[1] + b0), x1);
+        _mm256_storeu_si256((__m256i *)(w[2] + b0), x2);
+        _mm256_storeu_si256((__m256i *)(w[3] + b0), x3);
+    }
+}
+#endif
+
 /* Philox4x32-10 (Random123's philox4x32, written out so that GCC
  * vectorises it over counters): word j of block counter (c0, c1, c2,
  * c3 + b) for b < vm_pad(nb) <= NORMAL_CHUNK into w[j][b]. */
-VM_KERNEL static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4], size_t nb,
+VM_KERNEL static void philox_blocks_generic(const uint32_t key[2], const uint32_t ctr[4], size_t nb,
                                     uint32_t w[4][NORMAL_CHUNK])
 {
     uint32_t c0 = ctr[0], c1 = ctr[1], c2 = ctr[2], c3 = ctr[3], key0 = key[0], key1 = key[1];
@@ -72,6 +116,18 @@ VM_KERNEL static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4]
         w2[b] = x2;
         w3[b] = x3;
     }
+}
+
+static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4], size_t nb,
+                          uint32_t w[4][NORMAL_CHUNK])
+{
+#ifdef PHILOX_AVX2
+    if (__builtin_cpu_supports("avx2")) {
+        philox_blocks_avx2(key, ctr, nb, w);
+        return;
+    }
+#endif
+    philox_blocks_generic(key, ctr, nb, w);
 }
 
 /* Box-Muller on k <= NORMAL_CHUNK normals from their words: normal i
