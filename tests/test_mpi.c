@@ -83,12 +83,36 @@ static void until_stops_every_rank(void **state)
     ranks_equal_threads(2, "--units 600 --until rms_after_mean:0.00025", "until");
 }
 
+/* A resume under mpirun: a run whose files hit the file-size limit keeps
+ * the blocks its checkpoint could hold; 2 ranks resume it from there. */
+static void ranks_resume_a_checkpoint(void **state)
+{
+    if (!mpi_present())
+        return;
+    char out[16384], cmd[4096];
+    snprintf(cmd, sizeof cmd, "D=%s; %s " RUN " --units 300 --threads 2 --out $D/res_t2", dir,
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "D=%s; (trap '' XFSZ; ulimit -f 40; %s " RUN " --units 300 "
+             "--out $D/res_mpi) 2>&1; test -d $D/.res_mpi.resume", dir, test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    if (!strstr(out, "--resume writes them"))
+        fail_msg("no checkpoint note in: %.3000s", out);
+    snprintf(cmd, sizeof cmd, "D=%s; " MPIRUN " 2 %s " RUN " --units 300 --threads 1 "
+             "--out $D/res_mpi --resume", dir, test_sunmc());
+    int st = test_run(cmd, out, sizeof out);
+    if (st != 0)
+        fail_msg("mpirun --resume: exit %d\n%.3000s", st, out);
+    same_files("res_t2", "res_mpi");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(two_ranks_equal_two_threads),
         cmocka_unit_test(three_ranks_short_last_round),
         cmocka_unit_test(until_stops_every_rank),
+        cmocka_unit_test(ranks_resume_a_checkpoint),
     };
     return cmocka_run_group_tests_name("mpi", tests, setup, NULL);
 }

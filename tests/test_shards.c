@@ -124,6 +124,7 @@ static void merges_that_are_not_one_run_are_refused(void **state)
     refused("s0 seed2 s2", "seed2 are of different runs: seed 1 against 2");
     run_ok(SMALL " --shard 1/3 --set noise.row_current_pct=0.5 --out $D/%s", "cfg2");
     refused("s0 cfg2 s2", "cfg2 are of different runs: config");
+    refused("s0 cfg2 s2", "(first difference: [noise] row_current_pct = ");
     /* threads and block size are not part of a run's identity */
     run_ok(SMALL " --shard 1/3 --threads 1 --set run.block_units=7 --out $D/%s", "blk7");
     char out[16384];

@@ -41,6 +41,40 @@ static int check_tiling(const merge_shard *s, int n, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
+/* A config.ini line without its origin comment and end of line. */
+static void strip_origin(char *line)
+{
+    char *c = strstr(line, "  #");
+    if (c)
+        *c = '\0';
+    line[strcspn(line, "\n")] = '\0';
+}
+
+/* The first key whose value differs between a/config.ini and b/config.ini,
+ * as " (first difference: [section] key = va against vb)"; "" if none. */
+static void first_config_difference(const char *a, const char *b, char *buf, size_t len)
+{
+    char pa[PATH_MAX], pb[PATH_MAX], la[1024], lb[1024], section[128] = "";
+    snprintf(pa, sizeof pa, "%s/config.ini", a);
+    snprintf(pb, sizeof pb, "%s/config.ini", b);
+    FILE *fa = fopen(pa, "r"), *fb = fopen(pb, "r");
+    buf[0] = '\0';
+    while (fa && fb && fgets(la, sizeof la, fa) && fgets(lb, sizeof lb, fb)) {
+        strip_origin(la);
+        strip_origin(lb);
+        if (la[0] == '[')
+            snprintf(section, sizeof section, "%.127s", la);
+        if (la[0] != '#' && strcmp(la, lb) != 0) {
+            snprintf(buf, len, " (first difference: %.100s %.160s against %.160s)", section, la, lb);
+            break;
+        }
+    }
+    if (fa)
+        fclose(fa);
+    if (fb)
+        fclose(fb);
+}
+
 int merge_plan(const char *const *dirs, int n, merge_shard *shards, char *err, size_t errlen)
 {
     char path[PATH_MAX];
@@ -53,8 +87,14 @@ int merge_plan(const char *const *dirs, int n, merge_shard *shards, char *err, s
         if (st != SUNMC_OK)
             return st;
         if (i > 0 && (st = manifest_compatible(&shards[0].m, shards[0].dir, &shards[i].m, dirs[i],
-                                               err, errlen)) != SUNMC_OK)
+                                               err, errlen)) != SUNMC_OK) {
+            char diff[512];
+            size_t used = strlen(err);
+            first_config_difference(shards[0].dir, dirs[i], diff, sizeof diff);
+            if (shards[0].m.config_hash != shards[i].m.config_hash && used < errlen)
+                snprintf(err + used, errlen - used, "%s", diff);
             return st;
+        }
     }
     qsort(shards, (size_t)n, sizeof *shards, by_first);
     return check_tiling(shards, n, err, errlen);
