@@ -389,6 +389,27 @@ static void lab_commands_run_the_toy(void **state)
     assert_int_equal(command_to(log, cmd_calibrate, bad_argv), EXIT_BAD_INPUT);
 }
 
+/* A family without lab hooks: simulate and calibrate refuse its config
+ * (exit 2, naming the family), nothing written. */
+static void lab_commands_refuse_a_family_without_lab(void **state)
+{
+    static sensor_family bare;
+    bare = toy_family;
+    bare.name = "bare";
+    bare.lab = NULL;
+    assert_int_equal(sensor_family_register(&bare), 0);
+    char cfg[400], out[400], log[400];
+    snprintf(cfg, sizeof cfg, "%s/bare.ini", dir);
+    snprintf(out, sizeof out, "%s/bare_out", dir);
+    snprintf(log, sizeof log, "%s/bare.stdout", dir);
+    assert_int_equal(test_write_file(cfg, "[sensor]\nfamily = bare\n"), 0);
+    char *sim_argv[] = {"sunmc", "simulate", cfg, "--unit", "0", "--out", out, NULL};
+    assert_int_equal(command_to(log, cmd_simulate, sim_argv), EXIT_BAD_INPUT);
+    char *cal_argv[] = {"sunmc", "calibrate", "--config", cfg, log, "--out", out, NULL};
+    assert_int_equal(command_to(log, cmd_calibrate, cal_argv), EXIT_BAD_INPUT);
+    assert_int_equal(access(out, F_OK), -1);
+}
+
 /* The built-in lists: stream ids unique and today's, columns counted, and
  * each line has its two config keys. */
 static void deviation_lists(void **state)
@@ -429,6 +450,7 @@ int main(void)
         cmocka_unit_test(stream_in_blocks),     cmocka_unit_test(statistics_in_blocks),
         cmocka_unit_test(budget_in_core),       cmocka_unit_test(commands_run_the_toy),
         cmocka_unit_test(lab_commands_run_the_toy),
+        cmocka_unit_test(lab_commands_refuse_a_family_without_lab),
         cmocka_unit_test(deviation_lists),
     };
     return cmocka_run_group_tests_name("toy family", tests, setup, teardown);
