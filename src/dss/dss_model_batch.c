@@ -9,6 +9,7 @@
 #include "status.h"
 #include "vmath.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -75,19 +76,27 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
 VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm,
                                      double n, double *theta, long *failed)
 {
-    _Alignas(VM_ALIGN) double th[DSS_CHUNK];
-    _Alignas(VM_ALIGN) long active[DSS_CHUNK];
+    /* A lane without a finite distance (a spot the campaign did not see is
+     * NaN) fails at once, as it would after DSS_FIELD_MAX_ITER steps, and
+     * iterates on 0 meanwhile: it neither holds its chunk for the whole
+     * budget nor sends the vector sine and cosine to their slow path. */
+    _Alignas(VM_ALIGN) double th[DSS_CHUNK], r[DSS_CHUNK];
+    _Alignas(VM_ALIGN) long active[DSS_CHUNK], bad[DSS_CHUNK];
     size_t kp = vm_pad(k);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
-        th[i] = dss_lane_field_start(r_mm[i], H_mm, t_mm, n);
-        active[i] = 1;
+        bad[i] = (long)!(fabs(r_mm[i]) <= DBL_MAX);
+        r[i] = vm_keep(!bad[i], r_mm[i]);
+        th[i] = dss_lane_field_start(r[i], H_mm, t_mm, n);
+        active[i] = !bad[i];
     }
-    long left = (long)kp;
+    long left = 0;
+    for (size_t i = 0; i < kp; i++)
+        left += active[i];
     for (int it = 0; it < DSS_FIELD_MAX_ITER && left > 0; it++) {
         left = 0;
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             double step;
-            double next = dss_lane_field_step(r_mm[i], H_mm, t_mm, n, th[i], &step);
+            double next = dss_lane_field_step(r[i], H_mm, t_mm, n, th[i], &step);
             th[i] = vm_select(active[i] != 0, next, th[i]);
             active[i] = active[i] & (long)!(fabs(step) < DSS_FIELD_TOL_RAD);
         }
@@ -95,8 +104,8 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
             left += active[i];
     }
     for (size_t i = 0; i < kp; i++) {
-        theta[i] = th[i];
-        failed[i] = active[i];
+        theta[i] = bad[i] ? NAN : th[i];
+        failed[i] = active[i] | bad[i];
     }
 }
 
