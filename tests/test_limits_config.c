@@ -119,17 +119,32 @@ static const companion companions[] = {
     {"design.theta0_deg", 0, {{"design.coarse_resolution_deg=0.05", ROWS12}, 2}},
     {"design.coarse_resolution_deg", 0, {{ROWS12}, 1}},
     {"design.coarse_resolution_deg", 1, {{"design.theta0_deg=10"}, 1}},
-    {"design.fov_deg", 0, {{NARROW_ALPHA}, 4}},
+    {"design.fov_deg", 0, {{NARROW_ALPHA, "report.bands_deg=0:1"}, 5}},
     {"design.fov_deg", 1, {{ROWS8}, 1}},
     {"campaign.alpha_step_deg", 0,
      {{"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"}, 2}},
     {"validation.alpha_step_deg", 0,
      {{"validation.alpha_min_deg=-50", "validation.alpha_max_deg=50"}, 2}},
-    {"design.dss_fov_deg", 0, {{NARROW_B}, 5}},
+    {"design.dss_fov_deg", 0, {{NARROW_B, "report.bands_deg=0:1"}, 6}},
     {"design.h_mm", 0, {{"design.glass_thickness_mm=0.1"}, 1}},
     {"campaign.alpha_step_deg", 1, {{"campaign.beta_deg=-20,-10,0,10,20"}, 1}},
     {"campaign.b_step_deg", 1, {{"calibration.fit_glass_index=off", "campaign.mount=aligned"}, 2}},
     {"design.glass_thickness_mm", 1, {{"design.h_mm=6"}, 1}},
+    /* a slit of no width cannot have a width tolerance: the draws would
+     * make it negative */
+    {"design.slit_width_um", 0, {{"tolerance.slit_width_um=0"}, 1}},
+    {"design.glass_thickness_mm", 0, {{"tolerance.glass_thickness_um=0"}, 1}},
+    {"design.glass_index", 0, {{"tolerance.glass_index=0"}, 1}},
+    /* the issue's reproducer: a 90 deg validation step leaves band 30:60
+     * empty (refused, test_bands_hold_points); one band over the grid */
+    {"validation.alpha_step_deg", 1, {{"report.bands_deg=0:62"}, 1}},
+    {"validation.b_step_deg", 1, {{"report.bands_deg=0:70"}, 1}},
+    /* 0.01 deg steps over +-60 deg would need 47 GB a thread: over +-5 deg */
+    {"campaign.b_step_deg", 0, {{"campaign.b_min_deg=-5", "campaign.b_max_deg=5"}, 2}},
+    /* the largest tolerances need a design that stays physical under them */
+    {"tolerance.slit_width_um", 1, {{"design.slit_width_um=100"}, 1}},
+    {"tolerance.dh_px", 1, {{"design.h_mm=50", "design.pixel_um=10"}, 2}},
+    {"tolerance.glass_thickness_um", 1, {{"design.glass_thickness_mm=1"}, 1}},
 };
 
 static const set_list *companion_of(const char *key, int side)
@@ -435,7 +450,7 @@ static void test_coarse_cell_vs_period(void **state)
     set_list big_cell = {{"design.coarse_resolution_deg=1.000001", "design.theta0_deg=2"}, 2};
     expect_ok("ess", &at);
     expect_refused("ess", &small_period, "coarse_resolution_deg");
-    expect_refused("ess", &big_cell, "must be at most half of theta0_deg");
+    expect_refused("ess", &big_cell, "must be at most half of design.theta0_deg");
 }
 
 /* One grid: min below max, ends inside the field of view (1e-9 deg of
@@ -458,6 +473,14 @@ static void check_grid(const char *fam, const char *prefix, const char *min_key,
     expect_refused(fam, &eq, want);
     snprintf(a, sizeof a, "%s=%s", min_key, campaign ? "9.96" : "9.999999");
     set_list below = {{a, b, c}, 3};
+    /* a validation grid that narrow holds one point, at its start, and one
+     * band around it (every band must hold a validation point) */
+    char off[128];
+    snprintf(off, sizeof off, "%s_offset_deg=0", prefix);
+    if (!campaign) {
+        below.v[below.n++] = off;
+        below.v[below.n++] = "report.bands_deg=0:60";
+    }
     expect_ok(fam, &below);
     /* ends at the field of view pass, just beyond are refused */
     snprintf(d, sizeof d, "%s=%.17g", fov_key, fov);
@@ -572,7 +595,8 @@ static void test_campaign_size(void **state)
 static void test_glass_under_pinhole(void **state)
 {
     set_list at = {{"design.h_mm=1", "design.glass_thickness_mm=1"}, 2};
-    set_list below = {{"design.h_mm=1", "design.glass_thickness_mm=0.999999"}, 2};
+    set_list below = {{"design.h_mm=1", "design.glass_thickness_mm=0.999999",
+                       "tolerance.dh_px=0", "tolerance.glass_thickness_um=0"}, 4};
     expect_refused("dss", &at, "design.glass_thickness_mm = 1 must be below design.h_mm = 1");
     expect_ok("dss", &below);
 }
@@ -581,7 +605,12 @@ static void test_glass_under_pinhole(void **state)
 static void test_band_order(void **state)
 {
     set_list eq = {{"report.bands_deg=0:30, 30:30"}, 1};
-    set_list ok = {{"report.bands_deg=0:30, 30:30.000001"}, 1};
+    /* a hair apart passes the order check, but the band must hold a
+     * validation point: 30:30.000001 holds none of the 0.13-deg grid, 30:30.1
+     * holds |alpha| = 30.03 */
+    set_list hair = {{"report.bands_deg=0:30, 30:30.000001"}, 1};
+    set_list ok = {{"report.bands_deg=0:30, 30:30.1"}, 1};
+    expect_refused("ess", &hair, "band 30:30.000001 holds no point of the validation grid");
     set_list rev = {{"report.bands_deg=40:30"}, 1};
     expect_refused("ess", &eq, "band 30:30 must have LO < HI");
     expect_ok("ess", &ok);

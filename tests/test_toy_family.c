@@ -108,8 +108,21 @@ static void config_errors(void **state)
     char err[SUNMC_ERRLEN] = "";
     const char *sets[] = {"design.span_deg=10", "campaign.step_deg=20"};
     assert_int_equal(config_build(&st, ini, sets, 2, err, sizeof err), SUNMC_EINPUT);
-    if (strstr(err, ini) != err || !strstr(err, "campaign.step_deg = 20 is more than"))
+    /* both values came from --set: the message says so, not the file */
+    if (strstr(err, "--set campaign.step_deg, --set design.span_deg: ") != err ||
+        !strstr(err, "campaign.step_deg = 20 is more than"))
         fail_msg("validate hook: '%s'", err);
+    /* one from the file, one from --set: both origins, in the message's order */
+    char narrow[320];
+    snprintf(narrow, sizeof narrow, "%s.narrow", ini);
+    assert_int_equal(test_write_file(narrow, "[sensor]\nfamily = toy\n[design]\nspan_deg = 10\n"),
+                     0);
+    const char *one[] = {"campaign.step_deg=20"};
+    assert_int_equal(config_build(&st, narrow, one, 1, err, sizeof err), SUNMC_EINPUT);
+    char want[400];
+    snprintf(want, sizeof want, "--set campaign.step_deg, %s:4: ", narrow);
+    if (strstr(err, want) != err)
+        fail_msg("validate hook, mixed origins: '%s', want '%s'", err, want);
 }
 
 static void reference_lists_the_toy(void **state)

@@ -162,6 +162,16 @@ extern const size_t config_section_count;
 int config_check_grid(double lo, double hi, double step, double fov, const char *what, char *err,
                       size_t errlen);
 
+/* A physical quantity q = design + scale * d, d any draw of tolerance t
+ * (tolerance_range), must stay above floor (strict: q > floor, else q >=
+ * floor).  SUNMC_EINPUT otherwise, with a message naming both keys
+ * (design_key, tol_key), the quantity (e.g. "the slit-to-dial height H +
+ * dH", in unit) and the extreme value the draws reach. */
+int config_check_physical(const char *quantity, const char *unit, double design,
+                          const char *design_key, const tolerance *t, double truncation_sigmas,
+                          const char *tol_key, double scale, double floor, int strict, char *err,
+                          size_t errlen);
+
 /* Where each key's value came from, for `sunmc config` and messages. */
 typedef struct {
     char origin[CONFIG_ORIGIN_MAX];
@@ -185,6 +195,17 @@ typedef struct {
 int config_build(config_state *st, const char *path, const char *const *sets, int n_sets,
                  char *err, size_t errlen);
 void config_state_free(config_state *st);
+
+/* config_build without its final config_check, for a command that changes
+ * values before the cross-key checks (curve --only); config_check must
+ * follow. */
+int config_build_unchecked(config_state *st, const char *path, const char *const *sets,
+                           int n_sets, char *err, size_t errlen);
+
+/* config_validate, its message led by the origins of the keys it names
+ * ("--set tolerance.dH_um, a.ini:11: ..."; path, or "config", when it names
+ * none that was set). */
+int config_check(config_state *st, const char *path, char *err, size_t errlen);
 
 /* Set one key from text.  `where` names the origin for messages
  * ("file.ini:12", "--set").  Checks type, range and family. */

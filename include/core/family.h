@@ -105,6 +105,9 @@ typedef struct sensor_family {
     /* Per-thread workspace, reused for every unit the thread runs. */
     void *(*workspace_alloc)(const sunmc_config *c, char *err, size_t errlen);
     void (*workspace_free)(void *ws);
+    /* About how many bytes workspace_alloc takes for config c (the memory
+     * check before a run, and its message); NULL: unknown. */
+    double (*workspace_bytes)(const sunmc_config *c);
 
     /* Run unit `unit` end to end.  A failed fit is recorded in r and is not
      * an error; only a failure of the machinery returns non-zero. */
@@ -208,6 +211,16 @@ void unit_profile_enable(int on);
 double unit_clock(void);
 /* Add the time since *t to phase `phase` of r; *t becomes now. */
 void unit_phase_end(unit_result *r, int phase, double *t);
+
+/* Every report band must lie in the field of view (lo < fov_deg) and hold
+ * at least one point of the validation grid: acc holds the count per band
+ * of the grid's |angle| values (band_acc_add with any error), max_abs_deg
+ * the largest of them.  SUNMC_EINPUT otherwise, naming report.bands_deg, the
+ * band, fov_key and the grid's keys (grid_keys), since a band without a
+ * point would give a row of NaN and a yield of 0 for every unit. */
+int band_check_coverage(const band_list *bands, const band_acc *acc, double max_abs_deg,
+                        double fov_deg, const char *fov_key, const char *angle,
+                        const char *grid_keys, char *err, size_t errlen);
 
 /* Count of alpha grid points from lo to hi in steps (with offset from lo). */
 long grid_count(double lo, double hi, double step, double offset);

@@ -10,6 +10,20 @@
  * N(0, value^2) redrawn until within +-truncation_sigmas*value. */
 double tolerance_draw(const tolerance *t, double truncation_sigmas, rng_stream *r);
 
+/* How far a normal (untruncated) tolerance is taken to reach when a config
+ * is checked for physically impossible draws: 6 sigma (a draw beyond it has
+ * probability 2e-9, one in 500 million units). */
+#define TOLERANCE_NORMAL_REACH_SIGMAS 6.0
+
+/* The range of tolerance t's draws, in the unit of its key: fixed
+ * [value, value]; uniform [-value, value]; truncnormal +-truncation_sigmas *
+ * value; normal +-TOLERANCE_NORMAL_REACH_SIGMAS * value. */
+void tolerance_range(const tolerance *t, double truncation_sigmas, double *lo, double *hi);
+
+/* "uniform, +-2", "truncnormal, +-3 sigma = +-6", "normal, +-6 sigma = +-12"
+ * or "fixed, +2": how tolerance t's range above comes about, for messages. */
+void tolerance_range_text(const tolerance *t, double truncation_sigmas, char *buf, size_t len);
+
 /* A tolerance with every deviation switched off (fixed 0). */
 tolerance tolerance_nominal(void);
 

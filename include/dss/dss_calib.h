@@ -133,6 +133,8 @@ typedef struct {
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index);
 void dss_calib_free(dss_calib_workspace *cw);
+/* About how many bytes dss_calib_alloc takes for n readings of model kind. */
+double dss_calib_bytes(size_t n, int kind, int poly_order);
 
 /* Fit cw's model to cw's data.  out receives the calibration (the design's
  * nominal model if the fit failed), res the fit's outcome (for the

@@ -106,6 +106,10 @@ typedef struct {
 void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
                           const double *b1_rad, const double *b2_rad, dss_validation_point *out);
 
+/* The field angle (deg) of sun angles alpha, beta (rad): the angle from the
+ * boresight, atan(hypot(tan alpha, tan beta)); the report's bands bin on it. */
+double dss_field_angle_deg(double alpha, double beta);
+
 int dss_par_names(const sunmc_config *c, const char **names, int max);
 int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double corr, int i, int j,
                    double rcond, double *out, int max);

@@ -56,6 +56,8 @@ typedef struct {
 /* Allocate for n data points (filled by the caller: only [0, n) of each
  * array; the pads stay 0). NULL on failure. */
 ess_calib_workspace *ess_calib_alloc(size_t n);
+/* About how many bytes ess_calib_alloc(n) takes. */
+double ess_calib_bytes(size_t n);
 void ess_calib_free(ess_calib_workspace *cw);
 
 /* Fit the model to cw's data.  theta0_rad: fine-code period; roll_rad: the

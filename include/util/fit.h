@@ -67,6 +67,10 @@ typedef struct {
 
 /* Allocate for n residuals and p parameters.  NULL on failure. */
 fit_workspace *fit_workspace_alloc(size_t n, size_t p);
+
+/* About how many bytes fit_workspace_alloc(n, p) takes (memory checks and
+ * their messages). */
+double fit_workspace_bytes(size_t n, size_t p);
 void fit_workspace_free(fit_workspace *fw);
 
 /* Minimise |f(x)|^2 from the start x[p]; x receives the solution.  Returns

@@ -270,20 +270,30 @@ int cmd_curve(int argc, char **argv)
         fprintf(stderr, "sunmc curve: needs --unit U or --only KEY=VALUE (see sunmc curve --help)\n");
         return EXIT_BAD_INPUT;
     }
+    /* The cross-key checks come after --only: a tolerance it switches off
+     * cannot make the unit impossible. */
     config_state st, nom;
-    if ((rc = cli_config(&o, &st)))
-        return rc;
-    if ((rc = cli_config(&o, &nom))) {
-        config_state_free(&st);
-        return rc;
-    }
     char err[SUNMC_ERRLEN];
+    int status = config_build_unchecked(&st, o.config, o.sets, o.n_sets, err, sizeof err);
+    if (status != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", err);
+        return cli_exit_code(status);
+    }
+    if ((status = config_build_unchecked(&nom, o.config, o.sets, o.n_sets, err, sizeof err))) {
+        config_state_free(&st);
+        fprintf(stderr, "sunmc: %s\n", err);
+        return cli_exit_code(status);
+    }
     double sign = 1.0;
-    int status = SUNMC_OK, wstatus = SUNMC_OK;
+    int wstatus = SUNMC_OK;
     if (o.only)
         status = apply_only(&st, o.only, &sign, err, sizeof err);
     if (status == SUNMC_OK)
         status = set_nominal(&nom, err, sizeof err);
+    if (status == SUNMC_OK)
+        status = config_check(&st, o.config, err, sizeof err);
+    if (status == SUNMC_OK)
+        status = config_check(&nom, o.config, err, sizeof err);
     long unit = o.unit >= 0 ? o.unit : 0;
     if (status == SUNMC_OK && !st.cfg.family->curve_eval)
         status = sunmc_fail(err, sizeof err, SUNMC_EINPUT,

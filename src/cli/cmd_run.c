@@ -1,5 +1,6 @@
 /* cmd_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
 #include "cli.h"
+#include "memory.h"
 #include "montecarlo.h"
 #include "output.h"
 #include "par.h"
@@ -66,6 +67,11 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
 {
     run_sink r;
     char err[SUNMC_ERRLEN];
+    int st = memory_check_run(c, first, end, threads, 0, 0, err, sizeof err);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc: %s\n", err);
+        return cli_exit_code(st);
+    }
     if (run_sink_init(&r, c, c->family, NULL, NULL, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
@@ -206,6 +212,13 @@ static int job_setup(run_job *j, int argc, char **argv)
         return rc;
     if (j->o.shard_n > 0 && (rc = shard_range(&j->o, c, &j->first, &j->end)))
         return rc;
+    /* Before any work: what the run would need must fit in memory. */
+    char err[SUNMC_ERRLEN];
+    int st = memory_check_run(c, j->first, j->end, j->threads, 0, 0, err, sizeof err);
+    if (st != SUNMC_OK) {
+        fprintf(stderr, "sunmc run: %s\n", err);
+        return cli_exit_code(st);
+    }
     return 0;
 }
 

@@ -1,6 +1,7 @@
 /* budget.c - sources, the all / floor / alone runs, shares with intervals,
  * ranks (the inverse limits are in budget_limit.c). */
 #include "budget.h"
+#include "memory.h"
 #include "montecarlo.h"
 #include "report.h"
 #include "status.h"
@@ -98,6 +99,9 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
 {
     const sensor_family *fam = c->family;
     int nr = report_n_rows(c, fam);
+    int mst = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
+    if (mst != SUNMC_OK)
+        return mst;
     unit_result *res = calloc((size_t)units, sizeof *res);
     summary_row *rows = calloc((size_t)nr, sizeof *rows);
     int st = (res && rows) ? SUNMC_OK : SUNMC_ENOMEM;

@@ -2,6 +2,7 @@
  * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
 #include "ini.h"
+#include "memory.h"
 #include "registry.h"
 #include "status.h"
 
@@ -388,8 +389,75 @@ static int apply_values(config_state *st, const ini_entries *ents, const char *p
     return SUNMC_OK;
 }
 
+/* 1 when "section.name" of k appears in msg as a whole key name. */
+static long key_position(const config_key *k, const char *msg)
+{
+    char dotted[2 * CONFIG_STR_MAX + 2];
+    snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
+    size_t len = strlen(dotted);
+    for (const char *p = strstr(msg, dotted); p; p = strstr(p + 1, dotted)) {
+        char before = p > msg ? p[-1] : ' ', after = p[len];
+        if (!isalnum((unsigned char)before) && before != '_' && before != '.' &&
+            !isalnum((unsigned char)after) && after != '_')
+            return p - msg;
+    }
+    return -1;
+}
+
+/* The origins of the keys a cross-key message names, in the order it names
+ * them ("--set tolerance.dH_um, ess.ini:11"); defaults are left out, and
+ * when no named key has another origin, the file (or "config"). */
+static void message_origins(const config_state *st, const char *msg, const char *path, char *buf,
+                            size_t len)
+{
+    enum { MAX_NAMED = 8 };
+    long pos[MAX_NAMED];
+    const char *org[MAX_NAMED];
+    int n = 0;
+    for (size_t i = 0; i < st->n_keys && n < MAX_NAMED; i++) {
+        long p = key_position(st->keys[i], msg);
+        const char *o = st->origins[i].origin;
+        if (p < 0 || strcmp(o, "default") == 0)
+            continue;
+        int j = n++;
+        for (; j > 0 && pos[j - 1] > p; j--) {
+            pos[j] = pos[j - 1];
+            org[j] = org[j - 1];
+        }
+        pos[j] = p;
+        org[j] = o;
+    }
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < n && used < len; i++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", i ? ", " : "", org[i]);
+    if (n == 0)
+        snprintf(buf, len, "%s", path ? path : "config");
+}
+
+int config_check(config_state *st, const char *path, char *err, size_t errlen)
+{
+    char verr[SUNMC_ERRLEN];
+    int status = config_validate(&st->cfg, verr, sizeof verr);
+    if (status != SUNMC_OK) {
+        char where[2 * CONFIG_ORIGIN_MAX];
+        message_origins(st, verr, path, where, sizeof where);
+        sunmc_fail(err, errlen, status, "%s: %s", where, verr);
+    }
+    return status;
+}
+
 int config_build(config_state *st, const char *path, const char *const *sets, int n_sets,
                  char *err, size_t errlen)
+{
+    int status = config_build_unchecked(st, path, sets, n_sets, err, errlen);
+    if (status == SUNMC_OK && (status = config_check(st, path, err, errlen)) != SUNMC_OK)
+        config_state_free(st);
+    return status;
+}
+
+int config_build_unchecked(config_state *st, const char *path, const char *const *sets,
+                           int n_sets, char *err, size_t errlen)
 {
     memset(st, 0, sizeof *st);
     ini_entries ents = {0};
@@ -405,12 +473,7 @@ int config_build(config_state *st, const char *path, const char *const *sets, in
         goto done;
     if (fam_where[0])
         set_origin(st, config_find("sensor", "family"), fam_where);
-    if ((status = apply_values(st, &ents, path, sets, n_sets, err, errlen)) != SUNMC_OK)
-        goto done;
-    char verr[SUNMC_ERRLEN];
-    status = config_validate(&st->cfg, verr, sizeof verr);
-    if (status != SUNMC_OK)
-        sunmc_fail(err, errlen, status, "%s: %s", path ? path : "config", verr);
+    status = apply_values(st, &ents, path, sets, n_sets, err, errlen);
 done:
     free(ents.v);
     if (status != SUNMC_OK)
@@ -431,7 +494,8 @@ int config_validate(const sunmc_config *c, char *err, size_t errlen)
 {
     if (!c->family)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensor.family is not set");
-    return c->family->validate ? c->family->validate(c, err, errlen) : SUNMC_OK;
+    int s = c->family->validate ? c->family->validate(c, err, errlen) : SUNMC_OK;
+    return s == SUNMC_OK ? memory_check_workspace(c, err, errlen) : s;
 }
 
 int config_get_number(const sunmc_config *c, const char *dotted, double *out, char *err,

@@ -9,6 +9,7 @@
  */
 #include "config.h"
 #include "status.h"
+#include "tolerance.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -119,4 +120,25 @@ int config_check_grid(double lo, double hi, double step, double fov, const char 
     if ((hi - lo) / step > 100000)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: more than 100000 steps", what);
     return SUNMC_OK;
+}
+
+int config_check_physical(const char *quantity, const char *unit, double design,
+                          const char *design_key, const tolerance *t, double truncation_sigmas,
+                          const char *tol_key, double scale, double floor, int strict, char *err,
+                          size_t errlen)
+{
+    double lo, hi;
+    tolerance_range(t, truncation_sigmas, &lo, &hi);
+    double q = design + scale * lo;
+    if (strict ? q > floor : q >= floor)
+        return SUNMC_OK;
+    char range[96];
+    tolerance_range_text(t, truncation_sigmas, range, sizeof range);
+    const char *sp = unit[0] ? " " : "";
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "%s = %g (%s) can make %s %s %g%s%s: with %s = %g the draws reach %g%s%s; "
+                      "lower the tolerance or change the design value%s",
+                      tol_key, t->value, range, quantity, strict ? "<=" : "<", floor, sp, unit,
+                      design_key, design, q, sp, unit,
+                      t->dist == DIST_NORMAL ? ", or bound the draws (truncnormal)" : "");
 }

@@ -1,5 +1,6 @@
 /* family.c - grids and per-band RMS accumulation for the families. */
 #include "family.h"
+#include "status.h"
 
 #include <math.h>
 #include <string.h>
@@ -48,6 +49,26 @@ void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double er
             b->sum2[i] += err * err;
             b->n[i]++;
         }
+}
+
+int band_check_coverage(const band_list *bands, const band_acc *acc, double max_abs_deg,
+                        double fov_deg, const char *fov_key, const char *angle,
+                        const char *grid_keys, char *err, size_t errlen)
+{
+    for (int i = 0; i < bands->n; i++) {
+        if (bands->lo[i] >= fov_deg)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "report.bands_deg: band %.10g:%.10g lies outside the field of view "
+                              "+-%g deg (%s): no reading can fall in it",
+                              bands->lo[i], bands->hi[i], fov_deg, fov_key);
+        if (acc->n[i] == 0)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "report.bands_deg: band %.10g:%.10g holds no point of the validation "
+                              "grid (%s; |%s| reaches %g deg): its statistics would be empty; "
+                              "change the band or the grid",
+                              bands->lo[i], bands->hi[i], grid_keys, angle, max_abs_deg);
+    }
+    return SUNMC_OK;
 }
 
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out)

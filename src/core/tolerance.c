@@ -2,6 +2,7 @@
 #include "tolerance.h"
 
 #include <math.h>
+#include <stdio.h>
 
 /* Rejection of a truncated normal needs at most a few draws for cuts >= 0.5
  * sigma; the cap only guards against a pathological config. */
@@ -25,6 +26,41 @@ double tolerance_draw(const tolerance *t, double truncation_sigmas, rng_stream *
         return 0.0;
     }
     return 0.0;
+}
+
+void tolerance_range(const tolerance *t, double truncation_sigmas, double *lo, double *hi)
+{
+    double reach = t->value;
+    if (t->dist == DIST_FIXED) {
+        *lo = *hi = t->value;
+        return;
+    }
+    if (t->dist == DIST_TRUNCNORMAL)
+        reach = truncation_sigmas * t->value;
+    else if (t->dist == DIST_NORMAL)
+        reach = TOLERANCE_NORMAL_REACH_SIGMAS * t->value;
+    *lo = -fabs(reach);
+    *hi = fabs(reach);
+}
+
+void tolerance_range_text(const tolerance *t, double truncation_sigmas, char *buf, size_t len)
+{
+    double lo, hi;
+    tolerance_range(t, truncation_sigmas, &lo, &hi);
+    switch (t->dist) {
+    case DIST_FIXED:
+        snprintf(buf, len, "fixed, %+g", t->value);
+        break;
+    case DIST_UNIFORM:
+        snprintf(buf, len, "uniform, +-%g", hi);
+        break;
+    case DIST_NORMAL:
+        snprintf(buf, len, "normal, unbounded; +-%g sigma = +-%g", TOLERANCE_NORMAL_REACH_SIGMAS,
+                 hi);
+        break;
+    default:
+        snprintf(buf, len, "truncnormal, +-%g sigma = +-%g", truncation_sigmas, hi);
+    }
 }
 
 tolerance tolerance_nominal(void)

@@ -68,6 +68,17 @@ void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b
         dss_table_truth_batch(k, b1, b2, alpha, beta);
 }
 
+double dss_calib_bytes(size_t n, int kind, int poly_order)
+{
+    double cols = 5.0 * (double)sizeof(double) * (double)n; /* b1, b2, x, y, weight */
+    if (kind == DSS_MODEL_POLYNOMIAL) {
+        size_t nt = (size_t)dss_poly_n_terms(poly_order);
+        return cols + (double)sizeof(double) * (double)(nt + 1) * (double)n +
+               fit_workspace_bytes(n, nt);
+    }
+    return cols + fit_workspace_bytes(2 * n, DSS_NP);
+}
+
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index)
 {

@@ -8,8 +8,14 @@
 #include "dss_config.h"
 #include "dss_model.h"
 #include "dss_poly.h"
+#include "dss_rotation.h"
+#include "dss_unit.h"
 #include "family.h"
 #include "status.h"
+#include "tolerance.h"
+#include "units.h"
+
+#include <math.h>
 
 #include <stddef.h>
 
@@ -107,8 +113,76 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
         return SUNMC_OK;
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
                       "campaign: %ld x %ld b grid = %ld readings, too few for the %s model's %d "
-                      "parameters (calibration.model, poly_order, fit_glass_index)",
+                      "parameters (campaign.b_min_deg, campaign.b_max_deg, campaign.b_step_deg, "
+                      "calibration.model, calibration.poly_order, calibration.fit_glass_index)",
                       nb, nb, n, phys ? "physical" : "polynomial", np);
+}
+
+/* Draws that would build an impossible sensor: the pinhole at or below the
+ * detector, a negative glass thickness, glass touching the pinhole, an
+ * index below 1. */
+static int physical_check(const sunmc_config *c, char *err, size_t errlen)
+{
+    const dss_config *d = dss_cfg(c);
+    const dss_design *g = &d->design;
+    double ts = c->truncation_sigmas, pixel_mm = g->pixel_um * MM_PER_UM;
+    int s = config_check_physical("the pinhole height h + dh", "mm", g->h_mm, "design.h_mm",
+                                  &d->tol.dh_px, ts, "tolerance.dh_px", pixel_mm, 0, 1, err,
+                                  errlen);
+    if (s == SUNMC_OK)
+        s = config_check_physical("the cover-glass thickness", "mm", g->glass_thickness_mm,
+                                  "design.glass_thickness_mm", &d->tol.glass_thickness_um, ts,
+                                  "tolerance.glass_thickness_um", MM_PER_UM, 0, 0, err, errlen);
+    if (s == SUNMC_OK)
+        s = config_check_physical("the cover-glass index", "", g->glass_index,
+                                  "design.glass_index", &d->tol.glass_index, ts,
+                                  "tolerance.glass_index", 1, 1, 0, err, errlen);
+    if (s != SUNMC_OK)
+        return s;
+    /* The gap between the glass and the pinhole: lowest pinhole, thickest glass. */
+    double hlo, hhi, tlo, thi;
+    tolerance_range(&d->tol.dh_px, ts, &hlo, &hhi);
+    tolerance_range(&d->tol.glass_thickness_um, ts, &tlo, &thi);
+    double gap = (g->h_mm + hlo * pixel_mm) - (g->glass_thickness_mm + thi * MM_PER_UM);
+    if (gap > 0)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "tolerance.dh_px = %g and tolerance.glass_thickness_um = %g can put the "
+                      "cover glass at or above the pinhole: design.h_mm = %g and "
+                      "design.glass_thickness_mm = %g leave a gap of %g mm at their extreme "
+                      "draws; lower the tolerances or widen the gap",
+                      d->tol.dh_px.value, d->tol.glass_thickness_um.value, g->h_mm,
+                      g->glass_thickness_mm, gap);
+}
+
+/* Every report band must hold validation points (field angle of the
+ * table's truth on the grid). */
+static int band_check(const sunmc_config *c, char *err, size_t errlen)
+{
+    const dss_config *d = dss_cfg(c);
+    band_acc acc;
+    band_acc_reset(&acc);
+    double max_abs = 0;
+    long nb = grid_count(d->val_b_min_deg, d->val_b_max_deg, d->val_b_step_deg,
+                         d->val_b_offset_deg);
+    for (long j1 = 0; j1 < nb; j1++)
+        for (long j2 = 0; j2 < nb; j2++) {
+            double b1 = d->val_b_min_deg + d->val_b_offset_deg + (double)j1 * d->val_b_step_deg;
+            double b2 = d->val_b_min_deg + d->val_b_offset_deg + (double)j2 * d->val_b_step_deg;
+            double a0, b0;
+            dss_table_truth(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, &a0, &b0);
+            double f = dss_field_angle_deg(a0, b0);
+            band_acc_add(&acc, &c->bands_deg, f, 0);
+            max_abs = fmax(max_abs, f);
+        }
+    /* The field angle reaches beyond the per-axis half field of view in
+     * the corners: atan(sqrt(2) tan fov). */
+    double fov_field = atan(M_SQRT2 * tan(d->design.fov_deg * RAD_PER_DEG)) * DEG_PER_RAD;
+    return band_check_coverage(&c->bands_deg, &acc, max_abs, fov_field,
+                               "design.dss_fov_deg per axis, its corners", "field angle",
+                               "validation.b_min_deg, validation.b_max_deg, "
+                               "validation.b_step_deg, validation.b_offset_deg",
+                               err, errlen);
 }
 
 int dss_config_validate(const sunmc_config *c, char *err, size_t errlen)
@@ -119,12 +193,16 @@ int dss_config_validate(const sunmc_config *c, char *err, size_t errlen)
                           "design.glass_thickness_mm = %g must be below design.h_mm = %g (the "
                           "cover glass lies under the pinhole)",
                           d->design.glass_thickness_mm, d->design.h_mm);
-    int s = config_check_grid(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg,
+    int s = physical_check(c, err, errlen);
+    if (s == SUNMC_OK)
+        s = config_check_grid(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg,
                               d->design.fov_deg, "campaign.b", err, errlen);
     if (s == SUNMC_OK)
         s = campaign_size_check(d, err, errlen);
-    if (s != SUNMC_OK)
-        return s;
-    return config_check_grid(d->val_b_min_deg, d->val_b_max_deg, d->val_b_step_deg,
-                             d->design.fov_deg, "validation.b", err, errlen);
+    if (s == SUNMC_OK)
+        s = config_check_grid(d->val_b_min_deg, d->val_b_max_deg, d->val_b_step_deg,
+                              d->design.fov_deg, "validation.b", err, errlen);
+    if (s == SUNMC_OK)
+        s = band_check(c, err, errlen);
+    return s;
 }

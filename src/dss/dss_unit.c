@@ -141,6 +141,15 @@ static void dss_ws_free(void *p)
     free(w);
 }
 
+/* The fit's workspace and the validation arrays (8 doubles and a flag a
+ * point). */
+static double dss_ws_bytes(const sunmc_config *c)
+{
+    const dss_config *dc = dss_cfg(c);
+    return dss_calib_bytes(dss_campaign_size(c), dc->cal_model, dc->poly_order) +
+           (double)dss_validation_size(c) * (8.0 * sizeof(double) + sizeof(int));
+}
+
 static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     const dss_config *dc = dss_cfg(c);
@@ -157,6 +166,12 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     return w;
+}
+
+/* Field angle (deg) of the sun direction with angles (alpha, beta). */
+double dss_field_angle_deg(double alpha, double beta)
+{
+    return atan(hypot(tan(alpha), tan(beta))) * DEG_PER_RAD;
 }
 
 static long val_axis_count(const sunmc_config *c)
@@ -398,6 +413,7 @@ const sensor_family dss_family = {
     .dev_columns = dss_dev_columns,
     .par_columns = dss_par_names,
     .workspace_alloc = dss_ws_alloc,
+    .workspace_bytes = dss_ws_bytes,
     .workspace_free = dss_ws_free,
     .unit_run = dss_unit_run,
     .table_grid = dss_table_grid,

@@ -81,6 +81,16 @@ void ess_alias_check(const double *alpha_rad, size_t n, double omega, double thr
     }
 }
 
+/* Arrays of n doubles a workspace holds: 7 columns and the 9 of the table. */
+#define ESS_CALIB_ARRAYS 16
+
+double ess_calib_bytes(size_t n)
+{
+    return (double)sizeof(ess_calib_workspace) +
+           (double)sizeof(double) * ESS_CALIB_ARRAYS * (double)n +
+           fit_workspace_bytes(n + ESS_CALIB_PRIOR_ROWS, ESS_NP);
+}
+
 ess_calib_workspace *ess_calib_alloc(size_t n)
 {
     ess_calib_workspace *cw = calloc(1, sizeof *cw);

@@ -9,6 +9,7 @@
 #include "ess_model.h"
 #include "family.h"
 #include "status.h"
+#include "units.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -106,6 +107,49 @@ const config_default ess_defaults[] = {
     {NULL} /* end */
 };
 
+/* Draws that would build an impossible sensor: a slit at or below the dial,
+ * a negative slit width, a dead or inverted photocell. */
+static int physical_check(const sunmc_config *c, char *err, size_t errlen)
+{
+    const ess_config *e = ess_cfg(c);
+    const ess_design *d = &e->design;
+    double ts = c->truncation_sigmas;
+    int s = config_check_physical("the slit-to-dial height H + dH", "mm", d->H_mm, "design.H_mm",
+                                  &e->tol.dH_um, ts, "tolerance.dH_um", MM_PER_UM, 0, 1, err,
+                                  errlen);
+    if (s == SUNMC_OK)
+        s = config_check_physical("the slit width", "um", d->slit_width_um,
+                                  "design.slit_width_um", &e->tol.slit_width_um, ts,
+                                  "tolerance.slit_width_um", 1, 0, 0, err, errlen);
+    if (s == SUNMC_OK)
+        s = config_check_physical("the fine-row photocell gain 1 + gain_pct/100", "%", 100,
+                                  "the nominal gain (100%)", &e->tol.gain_pct, ts,
+                                  "tolerance.gain_pct", 1, 0, 1, err, errlen);
+    return s;
+}
+
+/* Every report band must hold validation points (|alpha| of the grid). */
+static int band_check(const sunmc_config *c, char *err, size_t errlen)
+{
+    const ess_config *e = ess_cfg(c);
+    band_acc acc;
+    band_acc_reset(&acc);
+    double max_abs = 0;
+    long n = grid_count(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
+                        e->val_alpha_offset_deg);
+    for (long i = 0; i < n; i++) {
+        double a = fabs(e->val_alpha_min_deg + e->val_alpha_offset_deg +
+                        (double)i * e->val_alpha_step_deg);
+        band_acc_add(&acc, &c->bands_deg, a, 0);
+        max_abs = fmax(max_abs, a);
+    }
+    return band_check_coverage(&c->bands_deg, &acc, max_abs, e->design.fov_deg, "design.fov_deg",
+                               "alpha",
+                               "validation.alpha_min_deg, validation.alpha_max_deg, "
+                               "validation.alpha_step_deg, validation.alpha_offset_deg",
+                               err, errlen);
+}
+
 int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
 {
     const ess_config *e = ess_cfg(c);
@@ -119,13 +163,16 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     if (cover < 2 * d->fov_deg + 2 * d->coarse_resolution_deg)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design: %d coarse rows of %g deg cover %g deg, less than the "
-                          "field of view +-%g deg",
+                          "field of view +-%g deg (design.coarse_rows_x_mm, "
+                          "design.coarse_resolution_deg, design.fov_deg)",
                           d->coarse_rows_x_mm.n, d->coarse_resolution_deg, cover, d->fov_deg);
     if (d->coarse_resolution_deg > d->theta0_deg / 2)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design.coarse_resolution_deg = %g must be at most half of "
-                          "theta0_deg = %g to pick the fine period",
+                          "design.theta0_deg = %g to pick the fine period",
                           d->coarse_resolution_deg, d->theta0_deg);
+    if ((s = physical_check(c, err, errlen)) != SUNMC_OK)
+        return s;
     if ((s = config_check_grid(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg,
                                d->fov_deg, "campaign.alpha", err, errlen)) != SUNMC_OK)
         return s;
@@ -135,8 +182,11 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     if (points <= ESS_NP)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "campaign: %ld alpha x %d beta_deg = %ld points, fewer than the %d the "
-                          "fit of %d parameters needs",
+                          "fit of %d parameters needs (campaign.alpha_min_deg, "
+                          "campaign.alpha_max_deg, campaign.alpha_step_deg, campaign.beta_deg)",
                           na, e->cal_beta_deg.n, points, ESS_NP + 1, ESS_NP);
-    return config_check_grid(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
-                             d->fov_deg, "validation.alpha", err, errlen);
+    if ((s = config_check_grid(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
+                               d->fov_deg, "validation.alpha", err, errlen)) != SUNMC_OK)
+        return s;
+    return band_check(c, err, errlen);
 }

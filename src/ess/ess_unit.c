@@ -202,6 +202,14 @@ static void ess_ws_free(void *p)
     free(w);
 }
 
+/* The fit's workspace and the validation arrays (5 doubles and a status a
+ * point). */
+static double ess_ws_bytes(const sunmc_config *c)
+{
+    return ess_calib_bytes(ess_campaign_size(c)) +
+           (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int));
+}
+
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
@@ -331,6 +339,7 @@ const sensor_family ess_family = {
     .dev_columns = ess_dev_columns,
     .par_columns = ess_par_columns,
     .workspace_alloc = ess_ws_alloc,
+    .workspace_bytes = ess_ws_bytes,
     .workspace_free = ess_ws_free,
     .unit_run = ess_unit_run,
     /* curve hooks: ess_curve.c */

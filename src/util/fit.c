@@ -32,6 +32,13 @@
 /* Most parameters a fit may have. */
 #define FIT_MAX_P 64
 
+double fit_workspace_bytes(size_t n, size_t p)
+{
+    /* f, J, their trial copies; the p x p matrices and vectors are small. */
+    return (double)sizeof(double) * (2.0 * (double)vm_pad(n) * (double)(p + 1) +
+                                     4.0 * (double)p * (double)p + 16.0 * (double)p);
+}
+
 fit_workspace *fit_workspace_alloc(size_t n, size_t p)
 {
     if (n < p || p == 0 || p > FIT_MAX_P)
