@@ -244,20 +244,25 @@ static const char ess_params_fmt[] =
     "[fixed]\nroll_measured_arcsec = 0\n[parameters]\na = 1\nb = 0\nc = 0\nks_deg = 0\n"
     "kc_deg = 0\nfit_install_y_arcsec = 0\nfit_install_z_arcsec = 0\nfit_sun_y_arcsec = 0\n";
 
-/* theta0_deg must be > 0: 0 and -2 refused at its line, 1e-9 accepted. */
+/* theta0_deg within design.theta0_deg's range 0.1..10 deg: 0, -2 and a
+ * hair outside refused at its line, both ends accepted. */
 static void test_ess_params_theta0(void **state)
 {
-    char params[2048], out[4096];
-    const char *bad[] = {"0", "-2"};
-    for (int i = 0; i < 2; i++) {
+    char params[2048], out[4096], want[160];
+    const char *bad[] = {"0", "-2", "0.0999", "10.001"};
+    for (int i = 0; i < 4; i++) {
         snprintf(params, sizeof params, ess_params_fmt, bad[i]);
-        expect_refused(compensate(params, "output_deg\n10\n", out, sizeof out), out,
-                       "p.ini:5: key design.theta0_deg must be > 0");
+        snprintf(want, sizeof want, "p.ini:5: design.theta0_deg = %s is out of range: allowed "
+                 "0.1 to 10 deg", bad[i]);
+        expect_refused(compensate(params, "output_deg\n10\n", out, sizeof out), out, want);
     }
-    snprintf(params, sizeof params, ess_params_fmt, "1e-9");
-    int rc = compensate(params, "output_deg\n10\n", out, sizeof out);
-    expect_accepted(rc, out);
-    assert_non_null(strstr(out, "output_deg,compensated_deg\n10,10\n"));
+    const char *good[] = {"0.1", "10"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(params, sizeof params, ess_params_fmt, good[i]);
+        int rc = compensate(params, "output_deg\n10\n", out, sizeof out);
+        expect_accepted(rc, out);
+        assert_non_null(strstr(out, "output_deg,compensated_deg\n10,10\n"));
+    }
 }
 
 /* A polynomial params.ini of order k with all its terms 0. */
@@ -319,17 +324,24 @@ static void test_dss_params_physical(void **state)
         {"0.0055", "3", "0.4", "aligned", "0", "0", NULL},
         {"0.0055", "3", "0.4", "tilted", "0", "0",
          "p.ini:9: key design.mount must be aligned or as_mounted"},
-        {"0", "3", "0.4", "as_mounted", "0", "0", "p.ini:5: key design.pixel_mm must be > 0"},
-        {"1e-9", "3", "0.4", "as_mounted", "0", "0", NULL},
-        {"-0.0055", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm must be > 0"},
-        {"0.0055", "0", "0", "as_mounted", "0", "0", "p.ini:6: key design.h_mm must be > 0"},
+        {"0", "3", "0.4", "as_mounted", "0", "0",
+         "p.ini:5: design.pixel_mm = 0 is out of range: allowed 0.0005 to 0.1 mm"},
+        {"0.0005", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"0.000499", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm = 0.000499 is out of range"},
+        {"-0.0055", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm = -0.0055 is out of range"},
+        {"0.0055", "0", "0", "as_mounted", "0", "0", "p.ini:6: design.h_mm = 0 is out of range"},
+        {"0.0055", "50.001", "0", "as_mounted", "0", "0", "design.h_mm = 50.001 is out of range"},
+        {"0.0055", "3", "0.4", "as_mounted", "1000.5", "0",
+         "p.ini:13: parameters.fit_dh_px = 1000.5 is out of range: allowed -1000 to 1000 px"},
         {"0.0055", "3", "0", "as_mounted", "-545.45454545", "0", NULL}, /* h + dh = 2.5e-9 mm */
         {"0.0055", "3", "0", "as_mounted", "-545.4545454546", "0",
          "p.ini:13: key parameters.fit_dh_px must be > -design.h_mm / design.pixel_mm"},
-        {"0.0055", "3", "0.4", "as_mounted", "0", "2600",
+        {"0.0055", "3", "2.9", "as_mounted", "0", "100.001",
          "p.ini:14: key parameters.fit_glass_thickness_um must be such that the glass lies "
          "under the pinhole"},
-        {"0.0055", "3", "0.4", "as_mounted", "0", "2599", NULL},
+        {"0.0055", "3", "2.9", "as_mounted", "0", "99.999", NULL},
+        {"0.0055", "3", "0.4", "as_mounted", "0", "1000.001",
+         "parameters.fit_glass_thickness_um = 1000.001 is out of range"},
         {"0.0055", "3", "0.4", "as_mounted", "0", "-400.001", NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -354,7 +366,8 @@ static void test_dss_params_physical(void **state)
     assert_near(strtod(comma + 3, NULL), 20.0, 1e-9);
 }
 
-/* The polynomial's normalisation: scale_rad, h_nom_mm, pixel_mm > 0. */
+/* The polynomial's normalisation: scale_rad, h_nom_mm, pixel_mm within
+ * their ranges (0 is outside each). */
 static void test_dss_params_polynomial_design(void **state)
 {
     char params[8192], out[4096];
@@ -368,7 +381,7 @@ static void test_dss_params_polynomial_design(void **state)
         memcpy(at, zero[i], strlen(zero[i]));
         memmove(at + strlen(zero[i]), at + strlen(keys[i]), strlen(at + strlen(keys[i])) + 1);
         char want[128];
-        snprintf(want, sizeof want, "key %s must be > 0", names[i]);
+        snprintf(want, sizeof want, "%s = 0 is out of range", names[i]);
         expect_refused(compensate(params, "x_px,y_px\n1,1\n", out, sizeof out), out, want);
     }
 }

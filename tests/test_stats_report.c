@@ -361,7 +361,8 @@ static void summary_tsv_columns(void **state)
                           "model",
                           "campaign_points",
                           "campaign_hours",
-                          "extrapolation_deg"};
+                          "extrapolation_deg",
+                          "no_reading_units"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);

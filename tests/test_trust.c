@@ -5,6 +5,9 @@
 
 #include "family.h"
 #include "memory.h"
+#include "registry.h"
+#include "report.h"
+#include "sweep.h"
 #include "tolerance.h"
 
 #include <sys/time.h>
@@ -228,6 +231,231 @@ static void test_cli_limits_up_front(void **state)
     }
 }
 
+/* ---- the Monte Carlo report: never silent ---- */
+
+static int sunmc(const char *args, char *out, size_t len)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s %s", test_sunmc(), args);
+    return test_run(cmd, out, len);
+}
+
+/* The reproducer: yield 0.9995 printed "100.0%". */
+static void test_yield_digits(void **state)
+{
+    /* 1999/2000: printf's "%.1f" of 99.95 (stored a hair above) is "100.0" */
+    char t[32];
+    snprintf(t, sizeof t, "%.*f", report_percent_decimals(1999.0 / 2000, 1), 100 * 1999.0 / 2000);
+    assert_string_equal(t, "99.95");
+    snprintf(t, sizeof t, "%.*f", report_percent_decimals(19999.0 / 20000, 1),
+             100 * 19999.0 / 20000);
+    assert_string_equal(t, "99.995");
+    assert_int_equal(report_percent_decimals(0.99951, 1), 2);  /* 99.95, not 100.0 */
+    assert_int_equal(report_percent_decimals(0.9994, 1), 1);   /* 99.9 */
+    assert_int_equal(report_percent_decimals(1.0, 1), 1);      /* 100.0 */
+    assert_int_equal(report_percent_decimals(0.0, 1), 1);      /* 0.0 */
+    assert_int_equal(report_percent_decimals(0.0004, 1), 2);   /* 0.04 */
+    assert_int_equal(report_percent_decimals(1e-9, 1), 6);     /* at most 6 */
+    assert_int_equal(report_percent_decimals(0.5, 0), 0);
+}
+
+/* The issue's reproducer: tolerance.dH_um=500 left units without a usable
+ * reading out of a band's statistics, silently. */
+static void test_band_without_readings_marked(void **state)
+{
+    char out[16384], args[512];
+    const char *o = test_tmp("dh500");
+    snprintf(args, sizeof args,
+             "run configs/ess_type_a.ini --units 20 --quiet --set tolerance.dH_um=500 --out %s", o);
+    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "alpha  30:60*"));
+    assert_non_null(strstr(out, "* alpha 30:60: statistics over 5 of 20 units: 14 units with a "
+                                "fit have no usable reading in this band"));
+    /* summary.tsv counts them in its last column */
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "awk -F'\t' 'NR==1 {print $NF} $4==\"30:60\" {print $NF}' %s/summary.tsv", o);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_string_equal(out, "no_reading_units\n14\n");
+}
+
+/* The issue's reproducers: a 1 deg campaign step (improvement 0.72x, every
+ * unit aliased) and a campaign over alpha 0..8 only (0.2x) said so only in
+ * a quiet count. */
+static void test_worse_and_alias_warned(void **state)
+{
+    char out[16384];
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 20 --quiet "
+                           "--set campaign.alpha_step_deg=1", out, sizeof out), 0);
+    assert_non_null(strstr(out, "WARNING: calibration makes the units worse"));
+    assert_non_null(strstr(out, "WARNING: 20 of 20 units (100%) could not resolve the fine-code"));
+    assert_non_null(strstr(out, "Change the campaign step"));
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 20 --quiet "
+                           "--set campaign.alpha_min_deg=0 --set campaign.alpha_max_deg=8",
+                           out, sizeof out), 0);
+    assert_non_null(strstr(out, "WARNING: calibration makes the units worse"));
+    assert_null(strstr(out, "could not resolve"));
+    /* the shipped config warns about nothing */
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 20 --quiet", out, sizeof out), 0);
+    assert_null(strstr(out, "WARNING"));
+    assert_null(strstr(out, "* |"));
+}
+
+/* The issue's reproducer: the DSS budget with tiny unit counts printed nan%
+ * and shares from -100 % to 132 % without a word. */
+static void test_budget_noise_warned(void **state)
+{
+    char out[16384];
+    assert_int_equal(sunmc("budget configs/dss.ini --units 3 --quiet --set report.budget_units=10 "
+                           "--set report.budget_steps=1", out, sizeof out), 0);
+    assert_null(strstr(out, "nan"));
+    assert_non_null(strstr(out, "WARNING: shares from"));
+    assert_non_null(strstr(out, "with 3 units per run the differences between the Monte Carlos "
+                                "are mostly noise"));
+}
+
+/* ---- compensate: params.ini within physical ranges ---- */
+
+/* A calibration of family fam (simulate + calibrate) into dir; returns the
+ * params.ini path. */
+static const char *calibrated(const char *fam, const char *config)
+{
+    static char params[2][512];
+    char args[2048], out[8192];
+    const char *sim = test_tmp(fam);
+    snprintf(args, sizeof args, "simulate %s --unit 1 --quiet --out %s/sim", config, sim);
+    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    snprintf(args, sizeof args, "calibrate --sensor %s --config %s %s/sim/campaign.csv --out %s/cal",
+             fam, config, sim, sim);
+    if (sunmc(args, out, sizeof out) != 0)
+        fail_msg("%s: %s", args, out);
+    char *p = params[strcmp(fam, "ess") == 0 ? 0 : 1];
+    snprintf(p, 512, "%s/cal/params.ini", sim);
+    return p;
+}
+
+/* Replace the line of params.ini that starts with `key ` by "key = value"
+ * into a copy; compensate the family's validation.csv with it. */
+static int compensate_with(const char *params, const char *key, const char *value, char *out,
+                           size_t len)
+{
+    char cmd[4096], copy[600];
+    snprintf(copy, sizeof copy, "%s.bad", params);
+    snprintf(cmd, sizeof cmd, "(sed 's/^%s .*/%s = %s/' %s > %s && %s compensate %s "
+             "$(dirname %s)/../sim/validation.csv > /dev/null)",
+             key, key, value, params, copy, test_sunmc(), copy, params);
+    return test_run(cmd, out, len);
+}
+
+/* The issue's reproducers: compensate accepted pixel 0, height 1e308 or 0,
+ * index 0, a = 0 and wrote constant or NaN columns with exit 0. */
+static void test_compensate_ranges(void **state)
+{
+    char out[4096];
+    const char *ess = calibrated("ess", "configs/ess_type_a.ini");
+    const char *dss = calibrated("dss", "configs/dss.ini");
+    const struct {
+        const char *params, *key, *value, *needle; /* needle NULL: accepted */
+    } cases[] = {
+        {ess, "a", "0", "parameters.a = 0 is out of range: allowed 0.1 to 10"},
+        {ess, "a", "1e308", "parameters.a = 1e308 is out of range"},
+        {ess, "a", "1.001", NULL},
+        {ess, "b", "2.5", "parameters.b = 2.5 is out of range"},
+        {ess, "theta0_deg", "0", "design.theta0_deg = 0 is out of range: allowed 0.1 to 10 deg"},
+        {ess, "ks_deg", "0.08", "the fine-code amplitude"},
+        {ess, "ks_deg", "0.01", NULL},
+        {ess, "fit_install_y_arcsec", "40000", "fit_install_y_arcsec = 40000 is out of range"},
+        {dss, "pixel_mm", "0", "design.pixel_mm = 0 is out of range"},
+        {dss, "H_mm", "0", "parameters.H_mm = 0 is out of range"},
+        {dss, "H_mm", "1e308", "parameters.H_mm = 1e308 is out of range"},
+        {dss, "H_mm", "3.01", NULL},
+        {dss, "n", "0", "parameters.n = 0 is out of range: allowed 1 to 3.5"},
+        {dss, "t_mm", "-5", "parameters.t_mm = -5 is out of range"},
+        {dss, "c1_arcsec", "1e6", "parameters.c1_arcsec = 1e6 is out of range"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int st = compensate_with(cases[i].params, cases[i].key, cases[i].value, out, sizeof out);
+        if (!cases[i].needle) {
+            if (st != 0)
+                fail_msg("%s = %s refused: %s", cases[i].key, cases[i].value, out);
+            continue;
+        }
+        if (st != 2 || !strstr(out, cases[i].needle) || !strstr(out, ".ini.bad:"))
+            fail_msg("%s = %s: exit %d, '%s'", cases[i].key, cases[i].value, st, out);
+    }
+}
+
+/* ---- smaller items ---- */
+
+/* The reproducer: `sunmc config /dev/zero` never returned. */
+static void test_ini_nul_bytes(void **state)
+{
+    char out[4096];
+    double t0 = now_s();
+    assert_int_equal(sunmc("config /dev/zero", out, sizeof out), 2);
+    assert_true(now_s() - t0 < 2.0);
+    assert_non_null(strstr(out, "/dev/zero:1: a NUL byte"));
+    const char *p = test_tmp("nul.ini");
+    FILE *f = fopen(p, "wb");
+    assert_non_null(f);
+    fwrite("[sensor]\nfamily = ess\n\0[run]\nunits = 3\n", 1, 39, f);
+    fclose(f);
+    char args[600];
+    snprintf(args, sizeof args, "config %s", p);
+    assert_int_equal(sunmc(args, out, sizeof out), 2);
+    assert_non_null(strstr(out, "nul.ini:3: a NUL byte"));
+    /* a byte-order mark is skipped */
+    assert_int_equal(test_write_file(p, "\xEF\xBB\xBF[sensor]\nfamily = dss\n"), 0);
+    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "family = dss"));
+}
+
+/* The issue's reproducers: "1,,2" became "1, 2"; UTF-8 in sensor.product
+ * was called a control character; a 200-digit --seed ran with seed 0. */
+static void test_values(void **state)
+{
+    refused("ess", SETS("campaign.beta_deg=1,,2"),
+            "campaign.beta_deg: item 2 of the list is empty");
+    refused("ess", SETS("campaign.beta_deg=1,2,"), "item 3 of the list is empty");
+    refused("ess", SETS("campaign.beta_deg=,1"), "item 1 of the list is empty");
+    refused("ess", SETS("report.bands_deg=0:30,,30:60"), "report.bands_deg: item 2");
+    ok("ess", SETS("campaign.beta_deg= 1 , 2 "));
+    ok("ess", SETS("sensor.product=Sonnensensor Typ \xC3\x84 \xC2\xB5 \xE2\x80\x93 \xF0\x9F\x8C\x9E"));
+    refused("ess", SETS("sensor.product=a\xFF"), "sensor.product is not valid UTF-8 (byte 2)");
+    refused("ess", SETS("sensor.product=a\xC3"), "not valid UTF-8");
+    refused("ess", SETS("sensor.product=\xC0\xAF"), "not valid UTF-8"); /* overlong '/' */
+    refused("ess", SETS("sensor.product=\xED\xA0\x80"), "not valid UTF-8"); /* surrogate */
+    refused("ess", SETS("sensor.product=a\tb"), "tab or control character");
+    refused("ess", SETS("run.seed=99999999999999999999"),
+            "run.seed = '99999999999999999999...' (20 digits) is out of range: allowed 0 to "
+            "2147483647");
+    char out[4096], args[600];
+    snprintf(args, sizeof args, "run configs/ess_type_a.ini --units 2 --seed %0200d", 1);
+    assert_int_equal(sunmc(args, out, sizeof out), 2);
+    assert_non_null(strstr(out, "--seed is too long for a whole number"));
+}
+
+/* The reproducer: sweep values were applied rounded to 10 digits. */
+static void test_sweep_full_precision(void **state)
+{
+    sweep_axis ax;
+    char err[SUNMC_ERRLEN];
+    const sensor_family *ess = sensor_family_find("ess");
+    assert_int_equal(sweep_axis_parse("design.H_mm=4.12345678901234,5", ess, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_string_equal(ax.text[0], "4.12345678901234");
+    assert_true(ax.v[0] == 4.12345678901234);
+    assert_int_equal(sweep_axis_parse("design.H_mm=0.1000000000000001", ess, &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_true(strtod(ax.text[0], NULL) == 0.1000000000000001);
+    /* a range's values are the decimals it names, not the sums' rounding */
+    assert_int_equal(sweep_axis_parse("design.H_mm=3:4:0.1", ess, &ax, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ax.n, 11);
+    assert_string_equal(ax.text[3], "3.3");
+    assert_true(ax.v[3] == 3.3);
+    assert_string_equal(ax.text[10], "4");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -239,6 +467,14 @@ int main(void)
         cmocka_unit_test(test_bands_hold_points),
         cmocka_unit_test(test_memory_limits),
         cmocka_unit_test(test_cli_limits_up_front),
+        cmocka_unit_test(test_yield_digits),
+        cmocka_unit_test(test_band_without_readings_marked),
+        cmocka_unit_test(test_worse_and_alias_warned),
+        cmocka_unit_test(test_budget_noise_warned),
+        cmocka_unit_test(test_compensate_ranges),
+        cmocka_unit_test(test_ini_nul_bytes),
+        cmocka_unit_test(test_values),
+        cmocka_unit_test(test_sweep_full_precision),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

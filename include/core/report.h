@@ -18,6 +18,9 @@ typedef struct {
     int band;               /* index into c->bands_deg */
     long units;             /* units in the run */
     long stat_units;        /* units in the means, max/min and p95: fit ok, band not empty */
+    long no_reading_units;  /* units with a fit but no usable reading in the band (all gross
+                               errors, or the sun never seen there): not in the statistics,
+                               failing in the yield */
     long fit_failures;      /* units whose fit failed (excluded from the statistics) */
     long gross_errors;      /* validation readings with a gross error, all units */
     long alias_units;       /* units whose campaign could not resolve the fine-code term */
@@ -40,6 +43,11 @@ typedef struct {
     stats_interval rms_before_mean_ci, rms_after_mean_ci, rms_after_sys_mean_ci;
     stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci;
 } summary_row;
+
+/* Decimals that show a fraction frac in percent (at least min_decimals, at
+ * most 6) so that a failure is never rounded away: 0.9995 is "99.95", not
+ * "100.0"; a yield above 0 never shows as "0.0". */
+int report_percent_decimals(double frac, int min_decimals);
 
 /* Number of rows = angles x bands. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);

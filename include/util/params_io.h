@@ -74,6 +74,20 @@ int params_get_double(const params_file *p, const char *section, const char *key
 
 /* A range check on a value read from section.key: SUNMC_OK when ok, else
  * "FILE:LINE: key section.key must be WHAT" at the key's line. */
+/* A range check of one number read from p: lo <= v <= hi, else
+ * "FILE:LINE: section.key = V is out of range: allowed LO to HI UNIT (why)"
+ * (why says where the range comes from; may be NULL). */
+typedef struct {
+    const char *section, *key;
+    double lo, hi;
+    const char *unit, *why;
+} params_range;
+
+/* Read and check each of ranges[n] (params_get_double, then the range);
+ * the first failure is the status. */
+int params_check_ranges(const params_file *p, const params_range *ranges, int n, char *err,
+                        size_t errlen);
+
 int params_require(const params_file *p, const char *section, const char *key, int ok,
                    const char *what, char *err, size_t errlen);
 

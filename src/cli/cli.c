@@ -75,7 +75,12 @@ static int set_run_key(cli_options *o, const char *command, const char *name, co
     }
     if (o->n_sets >= CLI_MAX_SETS)
         return bad(command, "too many options", v);
-    snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%s", name, v);
+    if (snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%s", name, v) >=
+        (int)sizeof o->set_buf[0]) {
+        char msg[64];
+        snprintf(msg, sizeof msg, "--%s is too long for a whole number", name);
+        return bad(command, msg, v);
+    }
     o->sets[o->n_sets] = o->set_buf[o->n_sets];
     o->n_sets++;
     return 0;

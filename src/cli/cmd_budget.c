@@ -109,9 +109,14 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
     write_tail(f, c, fam, b);
 }
 
-/* "12.34% [11.90, 12.80]~" (~: the interval includes 0). */
+/* "12.34% [11.90, 12.80]~" (~: the interval includes 0); "-" for a share
+ * that cannot be formed (too few units with a fit), never "nan%". */
 static void fmt_share(char *buf, size_t len, const budget_share *s)
 {
+    if (isnan(s->v)) {
+        snprintf(buf, len, "%-26s", "-");
+        return;
+    }
     snprintf(buf, len, "%6.2f%% [%6.2f, %6.2f]%s", 100 * s->v, 100 * s->ci.lo, 100 * s->ci.hi,
              s->significant ? " " : "~");
 }
@@ -159,10 +164,11 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            " %s in band %s deg\n",
            c->product, fam->name, b->units, b->paired_units, c->seed, fam->angle_names[b->angle],
            band);
-    printf("all sources: mean RMS before %.*f, after %.*f %s, yield %.1f%% [%.1f, %.1f];  every "
+    int dy = report_percent_decimals(b->all.yield, 1);
+    printf("all sources: mean RMS before %.*f, after %.*f %s, yield %.*f%% [%.*f, %.*f];  every "
            "tolerance 0 (design + noise): before %.*f, after %.*f\n",
-           prec, b->all.before_mean, prec, b->all.after_mean, u, 100 * b->all.yield,
-           100 * b->all.yield_ci.lo, 100 * b->all.yield_ci.hi, prec, b->no_tolerance.before_mean,
+           prec, b->all.before_mean, prec, b->all.after_mean, u, dy, 100 * b->all.yield, dy,
+           100 * b->all.yield_ci.lo, dy, 100 * b->all.yield_ci.hi, prec, b->no_tolerance.before_mean,
            prec, b->no_tolerance.after_mean);
     char h[64];
     snprintf(h, sizeof h, "share of the mean square [%g%% CI]", 100 * c->confidence);

@@ -74,11 +74,12 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             report_band_label(c, s->band, band, sizeof band);
             for (int i = 0; i < n_axes; i++)
                 printf("%-*s ", axis_width(&axes[i]), v[i]);
-            printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.1f%% %6ld %6ld %7ld %6.2f%s\n",
+            printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.*f%% %6ld %6ld %7ld %6.2f%s\n",
                    fam->angle_names[s->angle], band, prec, s->rms_before_mean, prec,
                    s->rms_after_mean, prec, s->rms_after_p95, s->improvement_mean,
-                   100.0 * s->yield, s->alias_units, s->fit_failures, s->campaign_points,
-                   s->campaign_hours, s->extrapolation_deg > 0 ? " *" : "");
+                   report_percent_decimals(s->yield, 1), 100.0 * s->yield, s->alias_units,
+                   s->fit_failures, s->campaign_points, s->campaign_hours,
+                   s->extrapolation_deg > 0 ? " *" : "");
             extrapolated |= s->extrapolation_deg > 0;
         }
     }

@@ -27,13 +27,17 @@ static int parse_double(const char *s, double *out)
     return 0;
 }
 
+/* Parse a whole-string long; 0 on success, -1 when not a whole number, -2
+ * when one too large for a long (a 200-digit seed). */
 static int parse_long(const char *s, long *out)
 {
     char *end;
     errno = 0;
     long v = strtol(s, &end, 10);
-    if (end == s || errno == ERANGE)
+    if (end == s)
         return -1;
+    if (errno == ERANGE)
+        return -2;
     while (isspace((unsigned char)*end))
         end++;
     if (*end != '\0')
@@ -130,7 +134,15 @@ static int set_number(const config_key *k, void *dst, const char *v, const char 
         *(double *)dst = d;
         return SUNMC_OK;
     }
-    if (parse_long(v, &l) != 0)
+    int pl = parse_long(v, &l);
+    if (pl == -2) {
+        char r[128];
+        config_range_text(k, r, sizeof r);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s = '%.24s...' (%zu digits) is out of range: allowed %s", where,
+                          k->section, k->name, v, strlen(v), r);
+    }
+    if (pl != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not a whole number",
                           where, k->section, k->name, v);
     if ((st = check_range(k, (double)l, where, v, err, errlen)) != SUNMC_OK)
@@ -164,19 +176,67 @@ static int set_choice(const config_key *k, void *dst, const char *v, const char 
     return SUNMC_OK;
 }
 
+/* Bytes of the UTF-8 sequence starting at p (2 to 4), 0 when it is not
+ * one: no overlong forms, surrogates or code points past U+10FFFF. */
+static int utf8_sequence(const unsigned char *p)
+{
+    int n = p[0] >= 0xC2 && p[0] <= 0xDF ? 2 : p[0] >= 0xE0 && p[0] <= 0xEF ? 3
+            : p[0] >= 0xF0 && p[0] <= 0xF4 ? 4 : 0;
+    for (int i = 1; i < n; i++)
+        if ((p[i] & 0xC0) != 0x80)
+            return 0;
+    if ((p[0] == 0xE0 && p[1] < 0xA0) || (p[0] == 0xED && p[1] > 0x9F) ||
+        (p[0] == 0xF0 && p[1] < 0x90) || (p[0] == 0xF4 && p[1] > 0x8F))
+        return 0;
+    return n;
+}
+
+/* Printable text: ASCII without control characters and tabs, or UTF-8
+ * ("Sonnensensor Typ Ä"); a product label goes to reports and TSV files. */
 static int set_string(const config_key *k, void *dst, const char *v, const char *where, char *err,
                       size_t errlen)
 {
     if (strlen(v) >= CONFIG_STR_MAX || strlen(v) == 0)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s must be text of 1 to %d characters",
-                          where, k->section, k->name, CONFIG_STR_MAX - 1);
-    for (const char *p = v; *p; p++)
-        if (*p == '\t' || !isprint((unsigned char)*p))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s must be text of 1 to %d bytes", where, k->section, k->name,
+                          CONFIG_STR_MAX - 1);
+    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
+        if (*p >= 0x80) {
+            int n = utf8_sequence(p);
+            if (!n)
+                return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                                  "%s: %s.%s is not valid UTF-8 (byte %ld)", where, k->section,
+                                  k->name, (long)(p - (const unsigned char *)v) + 1);
+            p += n - 1;
+        } else if (*p == '\t' || !isprint(*p)) {
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
                               "%s: %s.%s holds a tab or control character", where, k->section,
                               k->name);
+        }
+    }
     snprintf((char *)dst, CONFIG_STR_MAX, "%s", v);
     return SUNMC_OK;
+}
+
+/* The comma-separated items of v in turn (v on the first call, NULL after;
+ * *save keeps the place): unlike strtok, "1,,2" has an empty second item. */
+static char *strsep_items(char **save, char *v)
+{
+    if (v)
+        *save = v;
+    return strsep(save, ",");
+}
+
+/* An empty item ("1,,2", a comma at either end) is an error, not skipped:
+ * it is a typo for a missing value. */
+static int nonempty_item(const config_key *k, const char *t, int item, const char *where,
+                         char *err, size_t errlen)
+{
+    if (*t)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "%s: %s.%s: item %d of the list is empty (two commas in a row, or a comma "
+                      "at an end)", where, k->section, k->name, item);
 }
 
 /* A comma-separated list of numbers, each within the key's range. */
@@ -187,8 +247,11 @@ static int set_list(const config_key *k, void *dst, char *v, const char *where, 
     char *save = NULL;
     double d;
     int st;
-    for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int item = 0;
+    for (char *tok = *v ? strsep_items(&save, v) : NULL; tok; tok = strsep_items(&save, NULL)) {
         char *t = ini_trim(tok);
+        if ((st = nonempty_item(k, t, ++item, where, err, errlen)) != SUNMC_OK)
+            return st;
         if (tmp.n >= CONFIG_LIST_MAX)
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values",
                               where, k->section, k->name, CONFIG_LIST_MAX);
@@ -242,8 +305,12 @@ static int set_bands(const config_key *k, void *dst, char *v, const char *where,
 {
     band_list tmp = {0};
     char *save = NULL;
-    for (char *tok = strtok_r(v, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        int st = add_band(k, &tmp, ini_trim(tok), where, err, errlen);
+    int item = 0;
+    for (char *tok = *v ? strsep_items(&save, v) : NULL; tok; tok = strsep_items(&save, NULL)) {
+        char *t = ini_trim(tok);
+        int st = nonempty_item(k, t, ++item, where, err, errlen);
+        if (st == SUNMC_OK)
+            st = add_band(k, &tmp, t, where, err, errlen);
         if (st != SUNMC_OK)
             return st;
     }

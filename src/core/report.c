@@ -12,6 +12,19 @@
 
 #define REPORT_PERCENTILE 0.95
 
+int report_percent_decimals(double frac, int min_decimals)
+{
+    int d = min_decimals;
+    for (; d < 6; d++) {
+        char t[32];
+        snprintf(t, sizeof t, "%.*f", d, 100.0 * frac);
+        double shown = strtod(t, NULL);
+        if (!((frac < 1 && shown >= 100) || (frac > 0 && shown <= 0)))
+            break;
+    }
+    return d;
+}
+
 int report_n_rows(const sunmc_config *c, const sensor_family *fam)
 {
     return fam->n_angles(c) * c->bands_deg.n;
@@ -28,6 +41,7 @@ void report_band_label(const sunmc_config *c, int i, char *buf, size_t len)
 typedef struct {
     stats_moments before, after, sys, ratio;
     long pass;           /* units meeting the spec */
+    long no_reading;     /* units with a fit but no usable reading in the band */
     double imp_max, imp_min;
     double *after_v;     /* after values, arrival order until sorted */
     size_t cap;
@@ -82,8 +96,12 @@ long report_acc_units(const report_acc *a)
 static int cell_add(band_cell *s, const unit_result *ur, int a, int b, double spec)
 {
     double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
-    if (ur->fit_status != UNIT_FIT_OK || !isfinite(bef) || !isfinite(aft))
+    if (ur->fit_status != UNIT_FIT_OK)
         return SUNMC_OK;
+    if (!isfinite(bef) || !isfinite(aft)) {
+        s->no_reading++;
+        return SUNMC_OK;
+    }
     if ((size_t)s->after.n == s->cap) {
         size_t cap = s->cap ? s->cap + s->cap / 2 : 256;
         double *v = realloc(s->after_v, cap * sizeof *v);
@@ -176,6 +194,7 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
             r->campaign_hours = acc->campaign.known ? acc->campaign.hours : NAN;
             r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
             r->stat_units = s->after.n;
+            r->no_reading_units = s->no_reading;
             cell_statistics(s, acc->n, acc->c->confidence, 1, r);
         }
 }
@@ -328,6 +347,8 @@ static void label_columns(const sunmc_config *c, const sensor_family *fam,
     for (int i = 0; i < n; i++) {
         snprintf(cols[0].cell[i], TABLE_CELL, "%s", fam->angle_names[rows[i].angle]);
         report_band_label(c, rows[i].band, cols[1].cell[i], TABLE_CELL);
+        if (rows[i].no_reading_units > 0)
+            strcat(cols[1].cell[i], "*");
     }
 }
 
@@ -390,7 +411,8 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
                                       r->rms_after_sys_mean_ci};
         for (int k = 0; k < 3; k++)
             fmt_estimate(cols[2 + k].cell[i], TABLE_CELL, v[k], ci[k], d[k], 1.0, "");
-        fmt_estimate(cols[5].cell[i], TABLE_CELL, r->yield, r->yield_ci, 1, 100.0, "%");
+        fmt_estimate(cols[5].cell[i], TABLE_CELL, r->yield, r->yield_ci,
+                     report_percent_decimals(r->yield, 1), 100.0, "%");
     }
     table_print(f, cols, 6, n);
 }
@@ -410,6 +432,55 @@ void report_print_campaign(FILE *f, const sunmc_config *c)
         fprintf(f, "WARNING: %s: the calibration is extrapolated there; let the campaign "
                    "cover the validation angles\n",
                 text);
+}
+
+/* Rows whose statistics leave out units that have a fit (marked "*"). */
+static void warn_no_reading(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                            const summary_row *rows, int n)
+{
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        if (r->no_reading_units == 0)
+            continue;
+        char band[32];
+        report_band_label(c, r->band, band, sizeof band);
+        fprintf(f,
+                "* %s %s: statistics over %ld of %ld units: %ld units with a fit have no usable "
+                "reading in this band (every reading a gross error, or the sun not seen there)"
+                " and count as failing in its yield\n",
+                fam->angle_names[r->angle], band, r->stat_units, r->units, r->no_reading_units);
+    }
+}
+
+/* Loud warnings about a result that is doubtful as a whole: calibration
+ * that makes units worse, a campaign most units cannot resolve. */
+static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                           const summary_row *rows, int n)
+{
+    warn_no_reading(f, c, fam, rows, n);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        if (!(r->rms_after_mean > r->rms_before_mean))
+            continue;
+        char band[32];
+        report_band_label(c, r->band, band, sizeof band);
+        fprintf(f,
+                "WARNING: calibration makes the units worse: in %s %s the mean RMS after "
+                "(%.4g %s) exceeds the mean RMS before (%.4g %s), mean improvement %.2fx.  The "
+                "campaign does not determine the model where the units are validated: make the "
+                "campaign cover the validation range and the field of view, with a step that "
+                "resolves every term of the model.\n",
+                fam->angle_names[r->angle], band, r->rms_after_mean, fam->rms_unit,
+                r->rms_before_mean, fam->rms_unit, r->improvement_mean);
+        break;
+    }
+    if (fam->alias_term && rows[0].units > 0 && 2 * rows[0].alias_units > rows[0].units)
+        fprintf(f,
+                "WARNING: %ld of %ld units (%.0f%%) could not resolve %s from their campaign: "
+                "it is held at 0 (calibration.alias_threshold) and its error stays in the RMS "
+                "after.  Change the campaign step so that it samples the term at more phases.\n",
+                rows[0].alias_units, rows[0].units,
+                100.0 * (double)rows[0].alias_units / (double)rows[0].units, fam->alias_term);
 }
 
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
@@ -446,6 +517,7 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     if (fam->alias_term)
         fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
+    print_warnings(f, c, fam, rows, n);
 }
 
 /* ---- summary.tsv and units.tsv ---- */
@@ -463,7 +535,7 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
                "improvement_mean\timprovement_mean_ci_lo\timprovement_mean_ci_hi\t"
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
                "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
-               "campaign_points\tcampaign_hours\textrapolation_deg\n");
+               "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\n");
 }
 
 /* "S\tS_ci_lo\tS_ci_hi\t" */
@@ -495,9 +567,10 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
         fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
         write_estimate(f, r->yield, r->yield_ci);
-        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\n", c->spec_arcsec,
+        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\t%ld\n", c->spec_arcsec,
                 r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
-                model, r->campaign_points, r->campaign_hours, r->extrapolation_deg);
+                model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
+                r->no_reading_units);
     }
 }
 

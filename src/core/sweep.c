@@ -71,6 +71,17 @@ static int parse_key(const char *spec, const sensor_family *family, sweep_axis *
     return SUNMC_OK;
 }
 
+/* v as the shortest decimal text that reads back as v exactly (a value is
+ * applied and written as given: 4.12345678901234, not 4.123456789). */
+static void shortest_text(double v, char *buf, size_t len)
+{
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, len, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v)
+            return;
+    }
+}
+
 /* START:STOP:STEP of a number key. */
 static int parse_range(const char *spec, const char *vals, const char *c1, sweep_axis *ax,
                        char *err, size_t errlen)
@@ -90,8 +101,13 @@ static int parse_range(const char *spec, const char *vals, const char *c1, sweep
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--vary %s: more than %d values", spec,
                           SWEEP_MAX_VALUES);
     ax->n = (int)count;
-    for (int i = 0; i < ax->n; i++)
-        ax->v[i] = start + (double)i * step;
+    for (int i = 0; i < ax->n; i++) {
+        /* 3:8:0.1 gives 3.3, not 3.3000000000000003: the sum's rounding
+         * error cut at 15 significant digits */
+        char t[32];
+        snprintf(t, sizeof t, "%.15g", start + (double)i * step);
+        ax->v[i] = strtod(t, NULL);
+    }
     return SUNMC_OK;
 }
 
@@ -157,7 +173,7 @@ int sweep_axis_parse(const char *spec, const sensor_family *family, sweep_axis *
         s = parse_list(spec, vals, ',', ax, err, errlen);
     if (s == SUNMC_OK && ax->numeric)
         for (int i = 0; i < ax->n; i++)
-            snprintf(ax->text[i], sizeof ax->text[i], "%.10g", ax->v[i]);
+            shortest_text(ax->v[i], ax->text[i], sizeof ax->text[i]);
     return s;
 }
 

@@ -443,6 +443,36 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     return st;
 }
 
+/* The values a DSS calibration can physically have: the design within
+ * the config's keys' ranges (design.pixel_um, h_mm, glass_thickness_mm,
+ * glass_index), each fitted deviation within its tolerance key's range.
+ * Anything else is a damaged or foreign file: compensating with it gives
+ * constant or NaN angles. */
+static const params_range dss_phys_ranges[] = {
+    {"design", "pixel_mm", 0.0005, 0.1, "mm", "design.pixel_um's range"},
+    {"design", "h_mm", 0.2, 50, "mm", "design.h_mm's range"},
+    {"design", "glass_thickness_mm", 0, 5, "mm", "design.glass_thickness_mm's range"},
+    {"design", "glass_index", 1, 3, "", "design.glass_index's range"},
+    {"parameters", "fit_dx_px", -1000, 1000, "px", "tolerance.dx_px's range"},
+    {"parameters", "fit_dy_px", -1000, 1000, "px", "tolerance.dy_px's range"},
+    {"parameters", "fit_dh_px", -1000, 1000, "px", "tolerance.dh_px's range"},
+    {"parameters", "fit_glass_thickness_um", -1000, 1000, "um",
+     "tolerance.glass_thickness_um's range"},
+    {"parameters", "fit_c1_arcsec", -36000, 36000, "arcsec", "tolerance.c1_arcsec's range"},
+    {"parameters", "fit_c2_arcsec", -36000, 36000, "arcsec", "tolerance.c2_arcsec's range"},
+    {"parameters", "fit_c3_arcsec", -36000, 36000, "arcsec", "tolerance.c3_arcsec's range"},
+    {"parameters", "fit_glass_index", -0.5, 0.5, "", "tolerance.glass_index's range"},
+    {"parameters", "fit_sun_b1_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
+    {"parameters", "fit_sun_b2_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
+};
+static const params_range dss_poly_ranges[] = {
+    {"design", "h_nom_mm", 0.2, 50, "mm", "design.h_mm's range"},
+    {"design", "pixel_mm", 0.0005, 0.1, "mm", "design.pixel_um's range"},
+    {"design", "glass_t_mm", 0, 5, "mm", "design.glass_thickness_mm's range"},
+    {"design", "glass_n", 1, 3, "", "design.glass_index's range"},
+    {"design", "scale_rad", 1e-6, 10, "rad", "the polynomial's angle scale"},
+};
+#define N_RANGES(r) ((int)(sizeof(r) / sizeof(r)[0]))
 /* The physical model of a params.ini: [design] nominal values and mount,
  * [parameters] the named deviations. */
 static int load_physical(const params_file *p, dss_model *m, char *err, size_t errlen)
@@ -452,6 +482,8 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
     double dv[4];
     const char *mount = NULL;
     int st = params_check_keys(p, "parameters", dss_param_names, DSS_NP, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_ranges(p, dss_phys_ranges, N_RANGES(dss_phys_ranges), err, errlen);
     for (int k = 0; k < 4 && st == SUNMC_OK; k++)
         st = params_get_double(p, "design", design_keys[k], &dv[k], err, errlen);
     if (st == SUNMC_OK)
@@ -516,6 +548,8 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
             st = params_require(p, "design", "order",
                                 order >= 1 && order <= DSS_POLY_MAX_ORDER && order == floor(order),
                                 whole, err, errlen);
+        if (st == SUNMC_OK)
+            st = params_check_ranges(p, dss_poly_ranges, N_RANGES(dss_poly_ranges), err, errlen);
         if (st == SUNMC_OK)
             st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
         dss_onboard *o = &q->onboard;

@@ -397,6 +397,43 @@ int ess_params_fill(params_file *p, const ess_calfit_result *res, const calrepor
     return st;
 }
 
+/* The values an ESS calibration can physically have, from the config's
+ * ranges: a fine-code period of design.theta0_deg's range, eq. 12's scale a
+ * (H + dH over H: a slit between the dial and ten times its height) and
+ * offsets b, c (an offset up to twice the height: design.H_mm down to 0.5
+ * mm, tolerance.dd_um up to 1 mm), installation and sun angles within the
+ * tolerances' +-36000 arcsec.  Anything else is a damaged or foreign file:
+ * compensating with it gives constant or NaN angles. */
+static const params_range ess_ranges[] = {
+    {"design", "theta0_deg", 0.1, 10, "deg", "design.theta0_deg's range"},
+    {"fixed", "roll_measured_arcsec", -36000, 36000, "arcsec",
+     "calibration.roll_measured_arcsec's range"},
+    {"parameters", "a", 0.1, 10, "", "eq. 12's scale: (H + dH) / H"},
+    {"parameters", "b", -2, 2, "", "eq. 12's offset: up to twice the slit height"},
+    {"parameters", "c", -2, 2, "", "eq. 12's offset: up to twice the slit height"},
+    {"parameters", "fit_install_y_arcsec", -36000, 36000, "arcsec",
+     "tolerance.install_y_arcsec's range"},
+    {"parameters", "fit_install_z_arcsec", -36000, 36000, "arcsec",
+     "tolerance.install_z_arcsec's range"},
+    {"parameters", "fit_sun_y_arcsec", -36000, 36000, "arcsec", "tolerance.sun_y_arcsec's range"},
+};
+
+/* The fine-code term must leave the output monotonic (omega k < 1), else the
+ * compensation has no unique inverse. */
+static int ess_params_invertible(const params_file *p, const ess_model *m, char *err,
+                                 size_t errlen)
+{
+    double k = hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]);
+    if (m->omega * k < 1.0)
+        return SUNMC_OK;
+    const params_entry *e = params_find(p, "parameters", "ks_deg");
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "%s:%d: parameters.ks_deg, kc_deg: the fine-code amplitude %.6g deg must "
+                      "be below 1/omega = %.6g deg, else the output is not monotonic and cannot "
+                      "be compensated",
+                      p->path, e ? e->line : 0, k * DEG_PER_RAD, DEG_PER_RAD / m->omega);
+}
+
 int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen)
 {
     const char *sensor, *model;
@@ -421,12 +458,14 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
         st = params_get_double(p, "parameters", ess_param_names[j], &v[j], err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if ((st = params_require(p, "design", "theta0_deg", theta0_deg > 0, "> 0", err, errlen)) !=
-        SUNMC_OK)
+    if ((st = params_check_ranges(p, ess_ranges, (int)(sizeof ess_ranges / sizeof ess_ranges[0]),
+                                  err, errlen)) != SUNMC_OK)
         return st;
     ess_model_init(m, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
     for (int j = 0; j < ESS_NP; j++)
         m->p[j] = v[j] / par_scale[j];
+    if ((st = ess_params_invertible(p, m, err, errlen)) != SUNMC_OK)
+        return st;
     ess_model_prepare(m);
     return SUNMC_OK;
 }

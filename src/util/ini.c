@@ -3,6 +3,9 @@
 #include "status.h"
 
 #include <ctype.h>
+
+/* A UTF-8 byte-order mark, as spreadsheet and Windows editors write it. */
+#define UTF8_BOM "\xEF\xBB\xBF"
 #include <stdlib.h>
 #include <string.h>
 
@@ -117,15 +120,45 @@ static int key_line(ini_reader *r, char *s, ini_entry *e, char *err, size_t errl
     return remember_key(r, e, err, errlen);
 }
 
+/* The next line of f, its end included as fgets keeps it, into
+ * buf[INI_LINE_MAX + 1]: INI_READ_LINE, INI_READ_END at the end of the file,
+ * INI_READ_LONG for a line longer than INI_LINE_MAX (reading stops there, so
+ * an endless line such as /dev/zero's ends too), INI_READ_NUL for a NUL
+ * byte (a binary file: fgets would cut the line there and read on). */
+enum { INI_READ_END, INI_READ_LINE, INI_READ_LONG, INI_READ_NUL };
+
+static int read_line(FILE *f, char *buf)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc(f)) != EOF) {
+        if (c == '\0')
+            return INI_READ_NUL;
+        if (n >= INI_LINE_MAX)
+            return INI_READ_LONG;
+        buf[n++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    buf[n] = '\0';
+    return n ? INI_READ_LINE : INI_READ_END;
+}
+
 int ini_next(ini_reader *r, int *item, ini_entry *e, char *err, size_t errlen)
 {
-    char buf[INI_LINE_MAX + 2];
+    char buf[INI_LINE_MAX + 1];
+    int got;
     *item = INI_END;
-    while (fgets(buf, sizeof buf, r->f)) {
+    while ((got = read_line(r->f, buf)) != INI_READ_END) {
         r->line++;
-        if (strlen(buf) > INI_LINE_MAX)
+        if (got == INI_READ_NUL)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: a NUL byte: this is not a text file", r->path, r->line);
+        if (got == INI_READ_LONG)
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: line longer than %d characters",
                               r->path, r->line, INI_LINE_MAX);
+        if (r->line == 1 && strncmp(buf, UTF8_BOM, strlen(UTF8_BOM)) == 0)
+            memmove(buf, buf + strlen(UTF8_BOM), strlen(buf) - strlen(UTF8_BOM) + 1);
         memset(e, 0, sizeof *e);
         e->line = r->line;
         char *s = ini_trim(buf);

@@ -173,6 +173,27 @@ int params_get_double(const params_file *p, const char *section, const char *key
     return SUNMC_OK;
 }
 
+int params_check_ranges(const params_file *p, const params_range *ranges, int n, char *err,
+                        size_t errlen)
+{
+    for (int i = 0; i < n; i++) {
+        const params_range *r = &ranges[i];
+        double v;
+        int st = params_get_double(p, r->section, r->key, &v, err, errlen);
+        if (st != SUNMC_OK)
+            return st;
+        if (v >= r->lo && v <= r->hi)
+            continue;
+        const params_entry *e = params_find(p, r->section, r->key);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: %s.%s = %s is out of range: allowed %g to %g%s%s%s%s%s",
+                          p->path, e->line, r->section, r->key, e->value, r->lo, r->hi,
+                          r->unit[0] ? " " : "", r->unit, r->why ? " (" : "", r->why ? r->why : "",
+                          r->why ? ")" : "");
+    }
+    return SUNMC_OK;
+}
+
 int params_require(const params_file *p, const char *section, const char *key, int ok,
                    const char *what, char *err, size_t errlen)
 {
