@@ -273,6 +273,16 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
         return rc;
     b->units = units;
     budget_squares q = {units, 2 + b->n, NULL};
+    /* Before any work: each run's units held whole, and the squares of
+     * every run kept for the paired shares. */
+    double squares = (double)(2 * q.runs) * (double)units * sizeof *q.sq;
+    rc = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
+    if (rc == SUNMC_OK && squares + memory_run_bytes(c, units, threads, 1) >
+                              memory_available_bytes() && memory_available_bytes() > 0)
+        rc = memory_check_run(c, 0, units, threads, 1,
+                              memory_available_bytes() - squares, err, errlen);
+    if (rc)
+        return rc;
     q.sq = malloc((size_t)(2 * q.runs) * (size_t)(units > 0 ? units : 1) * sizeof *q.sq);
     if (!q.sq)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units x %d runs",
