@@ -7,6 +7,7 @@
 #   make plots RUN=DIR   draw every figure a run directory holds
 #   make figures    regenerate the papers' figures into build/figures/
 #   make install PREFIX=/usr/local DESTDIR=
+#   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
 # User CFLAGS/LDFLAGS are added to ours.
 
 PREFIX  ?= /usr/local
@@ -103,7 +104,7 @@ $(ALL_DEP): ;
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
 .PHONY: all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
-        reference golden mutate mutate-build mutate-tests
+        reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps
 
 all: $(BUILD)/sunmc
 
@@ -231,6 +232,53 @@ plots: $(BUILD)/sunmc
 
 figures: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
+
+# Fuzzing (tests/fuzz/: libFuzzer harnesses for the INI config, --set lists,
+# the CSV reader and params.ini + compensate, each with a seed corpus).  The
+# library is rebuilt with clang and -fsanitize=fuzzer-no-link,address,undefined
+# into $(FUZZ)/; each harness runs FUZZ_SECONDS seconds from its seeds plus
+# what earlier runs found ($(FUZZ)/corpus/NAME); crashes are written to
+# $(FUZZ)/crash-NAME-*.  clang is installed on demand (FUZZ=1
+# scripts/install-deps.sh), never for `make test`.
+FUZZ_SECONDS ?= 60
+FUZZ_CC ?= clang
+FUZZ := $(BUILD)/fuzz
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DSUNMC_VERSION='"$(VERSION)"' -g -O1 -fopenmp \
+               $(PKG_CFLAGS) $(FUZZ_SAN)
+FUZZ_OBJ := $(LIB_SRC:src/%.c=$(FUZZ)/obj/%.o)
+FUZZ_HARNESS := $(wildcard tests/fuzz/fuzz_*.c)
+FUZZ_BIN := $(FUZZ_HARNESS:tests/fuzz/%.c=$(FUZZ)/%)
+
+fuzz-deps:
+	@command -v $(FUZZ_CC) >/dev/null 2>&1 || { echo "sunmc: installing clang for make fuzz"; \
+	  FUZZ=1 bash scripts/install-deps.sh; }
+
+$(FUZZ)/obj/%.o: src/%.c $(ALL_HDR)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(call layer_inc,$<) -c $< -o $@
+
+$(FUZZ)/libsunmc.a: $(FUZZ_OBJ)
+	ar rcs $@ $^
+
+$(FUZZ)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h $(FUZZ)/libsunmc.a
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(TEST_INC) -o $@ $< $(FUZZ)/libsunmc.a \
+	    $(PKG_LIBS) -lm
+
+fuzz-build: fuzz-deps
+	$(MAKE) --no-print-directory $(FUZZ_BIN)
+
+fuzz: fuzz-build
+	@for h in $(FUZZ_BIN); do \
+	  n=$${h##*/fuzz_}; mkdir -p $(FUZZ)/corpus/$$n; \
+	  echo "== fuzz $$n: $(FUZZ_SECONDS) s"; \
+	  ASAN_OPTIONS=detect_leaks=1 $$h -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	      -timeout=10 -rss_limit_mb=2048 -artifact_prefix=$(FUZZ)/crash-$$n- \
+	      $(FUZZ)/corpus/$$n tests/fuzz/corpus/$$n > $(FUZZ)/$$n.log 2>&1; st=$$?; \
+	  grep -E '^#[0-9]+ +DONE|^stat::(number_of_executed_units|new_units_added)|ERROR|SUMMARY' \
+	      $(FUZZ)/$$n.log; \
+	  test $$st -eq 0 || { echo "fuzz $$n: FAILED (see $(FUZZ)/$$n.log)"; exit 1; }; \
+	done; echo "fuzz: every harness ran clean"
 
 bench: $(BUILD)/sunmc
 	bash scripts/bench.sh $(BUILD)/sunmc

@@ -10,6 +10,11 @@ PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev g
 if [ "${MPI:-0}" = 1 ]; then
   PACKAGES="$PACKAGES mpich libmpich-dev"
 fi
+# FUZZ=1 (make fuzz): clang with libFuzzer and its OpenMP runtime as well;
+# never for make test, so CI does not pay for them.
+if [ "${FUZZ:-0}" = 1 ]; then
+  PACKAGES="$PACKAGES clang libclang-rt-dev libomp-dev"
+fi
 
 if ! command -v apt-get >/dev/null 2>&1; then
   echo "install-deps: no apt-get on this machine; please install: $PACKAGES" >&2
