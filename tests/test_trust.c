@@ -366,12 +366,13 @@ static void test_compensate_ranges(void **state)
         {ess, "ks_deg", "0.01", NULL},
         {ess, "fit_install_y_arcsec", "40000", "fit_install_y_arcsec = 40000 is out of range"},
         {dss, "pixel_mm", "0", "design.pixel_mm = 0 is out of range"},
-        {dss, "H_mm", "0", "parameters.H_mm = 0 is out of range"},
-        {dss, "H_mm", "1e308", "parameters.H_mm = 1e308 is out of range"},
-        {dss, "H_mm", "3.01", NULL},
-        {dss, "n", "0", "parameters.n = 0 is out of range: allowed 1 to 3.5"},
-        {dss, "t_mm", "-5", "parameters.t_mm = -5 is out of range"},
-        {dss, "c1_arcsec", "1e6", "parameters.c1_arcsec = 1e6 is out of range"},
+        {dss, "h_mm", "0", "design.h_mm = 0 is out of range"},
+        {dss, "h_mm", "1e308", "design.h_mm = 1e308 is out of range"},
+        {dss, "h_mm", "3.01", NULL},
+        {dss, "glass_index", "0", "design.glass_index = 0 is out of range: allowed 1 to 3"},
+        {dss, "glass_thickness_mm", "-5", "design.glass_thickness_mm = -5 is out of range"},
+        {dss, "fit_c1_arcsec", "1e6", "parameters.fit_c1_arcsec = 1e6 is out of range"},
+        {dss, "fit_glass_index", "-0.6", "parameters.fit_glass_index = -0.6 is out of range"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         int st = compensate_with(cases[i].params, cases[i].key, cases[i].value, out, sizeof out);
