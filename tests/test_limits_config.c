@@ -141,6 +141,8 @@ static const companion companions[] = {
     {"validation.b_step_deg", 1, {{"report.bands_deg=0:70"}, 1}},
     /* 0.01 deg steps over +-60 deg would need 47 GB a thread: over +-5 deg */
     {"campaign.b_step_deg", 0, {{"campaign.b_min_deg=-5", "campaign.b_max_deg=5"}, 2}},
+    {"validation.b_step_deg", 0,
+     {{"validation.b_min_deg=-5", "validation.b_max_deg=5", "report.bands_deg=0:10"}, 3}},
     /* the largest tolerances need a design that stays physical under them */
     {"tolerance.slit_width_um", 1, {{"design.slit_width_um=100"}, 1}},
     {"tolerance.dh_px", 1, {{"design.h_mm=50", "design.pixel_um=10"}, 2}},

@@ -189,7 +189,8 @@ static void test_memory_limits(void **state)
     memory_text(999, t, sizeof t);
     assert_string_equal(t, "999 bytes");
     /* a campaign grid too large for a thread's workspace is a config error */
-    refused("dss", SETS("campaign.b_step_deg=0.01"), "GB per thread|coarser campaign step");
+    refused("dss", SETS("campaign.b_step_deg=0.01"), "GB per thread|coarser step");
+    refused("dss", SETS("validation.b_step_deg=0.01"), "GB per thread|coarser step");
     ok("dss", SETS("campaign.b_step_deg=0.1"));
 }
 

@@ -15,8 +15,8 @@
 
 #include <stddef.h>
 
-/* Most memory one thread's workspace may take: a campaign grid past it is a
- * config error (a finer grid than any turntable campaign needs). */
+/* Most memory one thread's workspace may take: campaign and validation
+ * grids past it are a config error (finer than any turntable needs). */
 #define MEMORY_WORKSPACE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
 /* "1.2 GB", "340 MB", "12 kB" (powers of 1000). */

@@ -62,8 +62,9 @@ int memory_check_workspace(const sunmc_config *c, char *err, size_t errlen)
     memory_text(ws, need, sizeof need);
     memory_text(MEMORY_WORKSPACE_MAX_BYTES, max, sizeof max);
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                      "campaign: the grid's readings and the fit's Jacobian would need %s per "
-                      "thread (at most %s): take a coarser campaign step or a smaller range",
+                      "campaign and validation grids: their readings and the fit's Jacobian "
+                      "would need %s per thread (at most %s): take a coarser step or a smaller "
+                      "range",
                       need, max);
 }
 
