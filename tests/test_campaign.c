@@ -89,10 +89,13 @@ static void ess_default_campaign(void **state)
 static void dss_campaign(void **state)
 {
     config_state st;
+    /* every report band must hold validation points: one band over the
+     * +-10 deg grid (field angles up to 14 deg) */
     const char *sets[] = {"campaign.b_min_deg=-10", "campaign.b_max_deg=10",
                           "campaign.b_step_deg=5", "validation.b_min_deg=-10",
-                          "validation.b_max_deg=10", "validation.b_offset_deg=0"};
-    build(&st, "configs/dss.ini", sets, 6);
+                          "validation.b_max_deg=10", "validation.b_offset_deg=0",
+                          "report.bands_deg=0:15"};
+    build(&st, "configs/dss.ini", sets, 7);
     campaign_info ci;
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
