@@ -1,5 +1,5 @@
 /* dss_calfit.h - calibrating a real DSS from rotary-table data (`sunmc
- * calibrate --sensor dss`): the fit is dss_calibrate (dss_calib.h), the
+ * calibrate` of a DSS): the fit is dss_calibrate (dss_calib.h), the
  * Monte Carlo's code path; this adds the report (standard errors and
  * correlations of the physical model, residual per angle and band,
  * cross-validation by grid quadrant) and params.ini for `compensate`.

@@ -1,5 +1,5 @@
 /* ess_calfit.h - calibrating a real ESS from turntable data (`sunmc
- * calibrate --sensor ess`): the fit itself is ess_calibrate (ess_calib.h),
+ * calibrate` of an ESS): the fit itself is ess_calibrate (ess_calib.h),
  * the very code path of the Monte Carlo; this adds what a lab needs around
  * it: gross-error checks, standard errors and correlations, the residual
  * per band in the angle domain, the parameter covariance propagated to the

@@ -25,7 +25,7 @@ static void usage(FILE *f)
             "  sensitivity CONFIG Sobol indices (first order, total) of the unit RMS per random input\n"
             "  curve CONFIG       one unit's (--unit U) or one source's (--only KEY=V) error curves\n"
             "  simulate CONFIG    --unit U: one unit's campaign as a lab records it (CSV)\n"
-            "  calibrate          --sensor ess|dss --config CONFIG DATA.csv: fit a real sensor\n"
+            "  calibrate          --config CONFIG DATA.csv: fit a real sensor (family from CONFIG)\n"
             "  compensate         PARAMS.ini RAW.csv: apply a calibration\n"
             "  merge OUT DIR...   the shards (run --shard K/N --out DIR) of one run into OUT\n"
             "\n"

@@ -1,4 +1,4 @@
-/* dss_calfit.c - `sunmc calibrate --sensor dss`: dss_calibrate plus the
+/* dss_calfit.c - `sunmc calibrate` of a DSS: dss_calibrate plus the
  * report and params.ini. */
 #include "dss_calfit.h"
 #include "dss_rotation.h"

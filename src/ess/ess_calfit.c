@@ -1,4 +1,4 @@
-/* ess_calfit.c - `sunmc calibrate --sensor ess`: the Monte Carlo's fit
+/* ess_calfit.c - `sunmc calibrate` of an ESS: the Monte Carlo's fit
  * (ess_calibrate) plus uncertainty, residuals, cross-validation and
  * params.ini. */
 #include "ess_calfit.h"

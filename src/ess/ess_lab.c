@@ -140,7 +140,7 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
              "%ld validation readings\n"
              "wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n"
              "calibrate with the unit's measured roll:\n"
-             "  sunmc calibrate --sensor ess --config %s --set "
+             "  sunmc calibrate --config %s --set "
              "calibration.roll_measured_arcsec=%.17g %s/campaign.csv --out DIR\n",
              ref->unit, c->product, c->seed, s->cw->n, s->gross, s->n_val, ref->out_dir,
              ref->out_dir, ref->out_dir, ref->config, s->dev.roll_measured_arcsec, ref->out_dir);
