@@ -657,8 +657,12 @@ static void ess_gross_rows(void **state)
     tsv *u = tsv_load(path);
     assert_int_equal(atol(tsv_str(u, 0, "gross_cal")), n_gross);
     tsv_free(u);
+    /* the unit's 1 deg tilt is 100 times the config's tolerance: its fit
+     * leaves 150", 12 times the config's noise, which calibrate refuses at
+     * the default ratio of 10 */
     snprintf(cmd, sizeof cmd,
-             "%s calibrate --sensor ess --config configs/ess_type_a.ini %s/campaign.csv",
+             "%s calibrate --sensor ess --config configs/ess_type_a.ini %s/campaign.csv "
+             "--set calibration.max_residual_ratio=20",
              test_sunmc(), sim);
     run_ok(cmd, out, sizeof out);
     long used, dof;

@@ -235,9 +235,29 @@ static void test_cli_bad_data(void **state)
         assert_int_equal(test_write_file(path, gross), 0);
         snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s "
                                   "--out %s", test_sunmc(), path, outdir);
+        /* the gross row is seen before the fit: 1 of 9 is more than the 10 %
+         * of rows the design may fail to explain */
+        assert_int_equal(test_run(cmd, out, sizeof out), 2);
+        assert_non_null(strstr(out, "gross.csv:4: at alpha_deg = -20, beta_deg = 0: output_deg "
+                                    "= 920.001 where the design reads -20"));
+        assert_non_null(strstr(out, "1 of 9 rows are inconsistent with their table angles"));
+        assert_false(file_exists(outdir));
+    }
+    /* Enough rows, one weighted 0: too few usable ones for the fit. */
+    {
+        char w0[4096] = "alpha_deg,beta_deg,output_deg,weight\n";
+        for (int i = 0; i < 9; i++) {
+            char row[64];
+            snprintf(row, sizeof row, "%d,0,%d.001,%d\n", -40 + 10 * i, -40 + 10 * i, i != 2);
+            strcat(w0, row);
+        }
+        char path[600], cmd[4096], out[8192];
+        snprintf(path, sizeof path, "%s/w0.csv", dir);
+        assert_int_equal(test_write_file(path, w0), 0);
+        snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess --config configs/ess_type_a.ini %s",
+                 test_sunmc(), path);
         assert_int_equal(test_run(cmd, out, sizeof out), 2);
         assert_non_null(strstr(out, "only 8 usable data rows"));
-        assert_false(file_exists(outdir));
     }
     /* Usage errors. */
     char cmd[4096], out[8192];

@@ -392,7 +392,11 @@ static void wrong_mount_is_worse(void **state)
 {
     indep_dss m = unit_of(0), d = design_of(0);
     double rs, ri;
-    compare(&m, &d, 0.02, "--set campaign.mount=aligned", "wrong", &rs, &ri);
+    /* the wrong model leaves a residual far above the noise, which
+     * calibrate refuses by default: allowed here to measure how much worse */
+    compare(&m, &d, 0.02,
+            "--set campaign.mount=aligned --set calibration.max_residual_ratio=1000000", "wrong",
+            &rs, &ri);
     assert_true(rs > 3 * ri);
 }
 

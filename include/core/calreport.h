@@ -57,6 +57,7 @@ typedef struct {
     /* fit */
     fit_result fit;
     int fit_ok;
+    char refused[CALREPORT_TEXT_MAX]; /* why a converged fit is refused (lab_check_fit), else "" */
     double sigma_arcsec;              /* residual standard deviation, sqrt(chi2 / dof) */
 
     /* parameters, in the units of their names */
@@ -65,6 +66,7 @@ typedef struct {
     double value[CALREPORT_MAX_PAR];
     double se[CALREPORT_MAX_PAR];     /* standard error (scaled covariance) */
     double corr[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR];
+    int cov_ok;                       /* se and corr formed (calreport_covariance) */
     double cond_jacobian;             /* 1 / rcond of J at the solution (fit.h) */
     double cond_correlation;          /* largest / smallest eigenvalue of corr */
 

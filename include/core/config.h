@@ -86,6 +86,8 @@ typedef struct {
     long search_max_units;              /* most units a candidate is run on */
     int search_shortlist;               /* passing candidates settled before stopping */
     int max_iterations;                 /* [calibration] most fit iterations */
+    double max_dropped_fraction;        /* [calibration] calibrate: gross-error rows refused above */
+    double max_residual_ratio;          /* [calibration] calibrate: residual / noise refused above */
 
     /* [run] */
     long units;

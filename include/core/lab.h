@@ -75,6 +75,22 @@ typedef struct family_lab {
      * (rep->fit_ok = 0). */
     int (*cal_run)(const sunmc_config *c, const lab_columns *d, void **cal, calreport *rep,
                    char *err, size_t errlen);
+    /* Sanity of the data before the fit (lab_check_data): the first
+     * cal_n_inputs columns are table angles (deg), the next ones up to
+     * "weight" the sensor's outputs. */
+    int cal_n_inputs;
+    /* Fewest distinct values each table angle must take (cal_n_inputs). */
+    const int *cal_min_distinct;
+    /* The configured campaign range of table angle k (deg). */
+    void (*cal_campaign_range)(const sunmc_config *c, int k, double *lo_deg, double *hi_deg);
+    /* What the nominal design reads at table angles in_deg: out[j] per
+     * output column (in its unit) and allowed[j], how far a unit within the
+     * config's tolerances may read from it.  Non-OK where it sees no sun. */
+    int (*cal_predict)(const sunmc_config *c, const double *in_deg, double *out,
+                       double *allowed);
+    /* The residual standard deviation the config's reading noise gives
+     * (arcsec): a fit far above it did not find the sensor in the data. */
+    double (*cal_noise_arcsec)(const sunmc_config *c);
     /* params.ini: the title comment, and the family's sections. */
     const char *params_title;
     int (*params_fill)(const void *cal, const sunmc_config *c, const calreport *rep,
@@ -106,6 +122,27 @@ typedef struct family_lab {
 int lab_columns_read(const char *path, const char *const *names, size_t min_rows,
                      const char *why, lab_columns *d, char *err, size_t errlen);
 void lab_columns_free(lab_columns *d);
+
+/* Lab data a calibration must not be run on (exit 2, "FILE:LINE: ..."),
+ * before the fit: table angles that look like radians (all within +-2 pi,
+ * spanning as radians what the configured campaign spans in degrees), too
+ * few distinct values of a table angle, and outputs the design cannot
+ * read at their table angles in more than LAB_MAX_INCONSISTENT of the rows
+ * (with the likely cause: an output's sign flipped, two table angles or two
+ * outputs swapped).  Also scales the weights so that the largest is 1: only
+ * their ratios matter. */
+#define LAB_MAX_INCONSISTENT 0.1
+int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,
+                   size_t errlen);
+
+/* Refuse a fit that converged on data it did not explain (rep->fit_ok = 0,
+ * rep->refused says why): more than calibration.max_dropped_fraction of the
+ * rows dropped as gross errors, a rank-deficient Jacobian (condition number
+ * above LAB_MAX_CONDITION, or none), a residual above
+ * calibration.max_residual_ratio times the reading noise. */
+#define LAB_MAX_CONDITION 1e12
+void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                   calreport *rep);
 
 /* params.ini's [calibration] section: version, sensor, model, data file
  * and its FNV-1a 64, rows, config, residual sigma, cross-validation RMS. */

@@ -55,6 +55,8 @@ static int calibrate(const cli_options *o, const sunmc_config *c, const family_l
     lab_columns d;
     size_t min_rows = lab->cal_min_rows(c, why, sizeof why);
     int st = lab_columns_read(data, lab->cal_columns, min_rows, why, &d, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = lab_check_data(lab, c, &d, err, sizeof err);
     calreport *rep = st == SUNMC_OK ? malloc(sizeof *rep) : NULL;
     if (st != SUNMC_OK || !rep) {
         fprintf(stderr, "sunmc calibrate: %s\n", st != SUNMC_OK ? err : "out of memory");
@@ -66,10 +68,12 @@ static int calibrate(const cli_options *o, const sunmc_config *c, const family_l
     if (st != SUNMC_OK) {
         fprintf(stderr, "sunmc calibrate: %s: %s\n", data, err);
     } else {
+        lab_check_fit(lab, c, &d, rep);
         calreport_print(stdout, rep);
         if (!rep->fit_ok) {
-            fprintf(stderr, "sunmc calibrate: the fit failed (%s): nothing written\n",
-                    fit_reason(&rep->fit));
+            fprintf(stderr, "sunmc calibrate: the fit %s (%s): nothing written\n",
+                    rep->refused[0] ? "is refused" : "failed",
+                    rep->refused[0] ? rep->refused : fit_reason(&rep->fit));
             st = SUNMC_EFIT;
         }
     }

@@ -32,6 +32,7 @@ void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
 int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const double *scale)
 {
     int p = r->np;
+    r->cov_ok = 0;
     for (int i = 0; i < p; i++) {
         double v = gsl_matrix_get(cov, (size_t)i, (size_t)i);
         if (!(v > 0) || !isfinite(v))
@@ -63,6 +64,7 @@ int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const d
     gsl_matrix_free(c);
     gsl_vector_free(ev);
     gsl_eigen_symm_free(ws);
+    r->cov_ok = st == GSL_SUCCESS;
     return st == GSL_SUCCESS ? SUNMC_OK : SUNMC_EFIT;
 }
 
@@ -107,8 +109,11 @@ int calreport_print(FILE *f, const calreport *r)
                 "campaign: %ld points on %ld lines, %ld readings: %.2f turntable hours (the "
                 "rows' table angles in file order, the config's campaign.* cost keys)\n",
                 r->campaign.points, r->campaign.lines, r->campaign.readings, r->campaign.hours);
-    fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
-            r->fit.iterations, fit_reason(&r->fit));
+    if (r->refused[0])
+        fprintf(f, "fit: REFUSED after %zu iterations: %s\n", r->fit.iterations, r->refused);
+    else
+        fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
+                r->fit.iterations, fit_reason(&r->fit));
     fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);
 
     fprintf(f, "\nparameters (standard errors from the covariance at the solution, "
@@ -116,15 +121,20 @@ int calreport_print(FILE *f, const calreport *r)
     for (int i = 0; i < r->np; i++)
         fprintf(f, "  %-24s %+.9e  +- %.3e\n", r->name[i], r->value[i], r->se[i]);
 
-    fprintf(f, "\ncorrelation matrix:\n%-24s", "");
-    for (int j = 0; j < r->np; j++)
-        fprintf(f, " %7d", j + 1);
-    fputc('\n', f);
-    for (int i = 0; i < r->np; i++) {
-        fprintf(f, "  %2d %-20s", i + 1, r->name[i]);
+    if (!r->cov_ok) {
+        fprintf(f, "\ncorrelation matrix: not available (the parameter covariance could not be "
+                   "formed: the Jacobian is rank-deficient or the residual is not finite)\n");
+    } else {
+        fprintf(f, "\ncorrelation matrix:\n%-24s", "");
         for (int j = 0; j < r->np; j++)
-            fprintf(f, " %+7.3f", r->corr[i][j]);
+            fprintf(f, " %7d", j + 1);
         fputc('\n', f);
+        for (int i = 0; i < r->np; i++) {
+            fprintf(f, "  %2d %-20s", i + 1, r->name[i]);
+            for (int j = 0; j < r->np; j++)
+                fprintf(f, " %+7.3f", r->corr[i][j]);
+            fputc('\n', f);
+        }
     }
     fprintf(f, "condition number: %.3g of the Jacobian (parameters in internal units), "
                "%.3g of the correlation matrix\n",

@@ -78,6 +78,14 @@ const config_key config_keys[] = {
     /* [calibration] */
     {"calibration", "max_iterations", KEY_INT, "", "100", 5, 10000, NULL, OFF(max_iterations),
      "most Levenberg-Marquardt iterations per fit"},
+    {"calibration", "max_dropped_fraction", KEY_DOUBLE, "", "0.05", 0, 1, NULL,
+     OFF(max_dropped_fraction),
+     "`calibrate`: a fit that had to drop more than this fraction of the rows as gross errors "
+     "is refused (the data are not this sensor's, or not in its units)"},
+    {"calibration", "max_residual_ratio", KEY_DOUBLE, "", "10", 1, 1e6, NULL,
+     OFF(max_residual_ratio),
+     "`calibrate`: a fit whose residual exceeds this many times the reading noise of the "
+     "config (at least 1 arcsec) is refused"},
 
     /* [run] */
     {"run", "units", KEY_LONG, "", "1000", 1, 100000000, NULL, OFF(units),

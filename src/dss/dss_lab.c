@@ -5,7 +5,9 @@
 #include "dss_lab.h"
 #include "dss_unit.h"
 #include "family.h"
+#include "dss_sensor.h"
 #include "status.h"
+#include "tolerance.h"
 #include "units.h"
 
 #include <math.h>
@@ -156,6 +158,68 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 static const char *const cal_columns[] = {"b1_deg", "b2_deg", "x_px", "y_px", "weight", NULL};
 
+/* ---- calibrate: what the data must look like (lab_check_data) ---- */
+
+/* Any grid the fit can take: a degenerate one shows in the Jacobian's rank. */
+static const int cal_min_distinct[] = {1, 1};
+
+static void cal_campaign_range(const sunmc_config *c, int k, double *lo, double *hi)
+{
+    *lo = dss_cfg(c)->cal_b_min_deg;
+    *hi = dss_cfg(c)->cal_b_max_deg;
+}
+
+/* Largest |draw| of a tolerance. */
+static double reach(const sunmc_config *c, const tolerance *t)
+{
+    double lo, hi;
+    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
+    return fmax(fabs(lo), fabs(hi));
+}
+
+/* Noise, S-curve and the centroid's margins of a nominal spot (px). */
+#define DSS_PREDICT_BASE_PX 2.0
+
+/* The nominal sensor's spot at the table angles (ray-traced through its
+ * glass); a unit within the tolerances moves it by its principal-point,
+ * height, glass and rotation errors. */
+static int cal_predict(const sunmc_config *c, const double *in, double *out, double *allowed)
+{
+    const dss_config *d = dss_cfg(c);
+    dss_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    dss_sensor s;
+    dss_sensor_init(&s, &d->design, &dev, 0);
+    static const double no_noise[2] = {0, 0};
+    int st = dss_sensor_read(&s, in[0] * RAD_PER_DEG, in[1] * RAD_PER_DEG, no_noise, &out[0],
+                             &out[1]);
+    if (st != SUNMC_OK)
+        return st;
+    double pixel_mm = d->design.pixel_um * MM_PER_UM;
+    double r_px = hypot(out[0], out[1]);
+    double tilt = (reach(c, &d->tol.c1_arcsec) + reach(c, &d->tol.c2_arcsec)) * RAD_PER_ARCSEC *
+                      (d->design.h_mm / pixel_mm + r_px * r_px * pixel_mm / d->design.h_mm) +
+                  reach(c, &d->tol.c3_arcsec) * RAD_PER_ARCSEC * r_px;
+    double height = reach(c, &d->tol.dh_px) * r_px * pixel_mm / d->design.h_mm;
+    double glass = (reach(c, &d->tol.glass_thickness_um) * MM_PER_UM / pixel_mm +
+                    reach(c, &d->tol.glass_index) * d->design.glass_thickness_mm / pixel_mm) *
+                   (1 + r_px * pixel_mm / d->design.h_mm);
+    for (int j = 0; j < 2; j++)
+        allowed[j] = DSS_PREDICT_BASE_PX + reach(c, j ? &d->tol.dy_px : &d->tol.dx_px) + tilt +
+                     height + glass;
+    return SUNMC_OK;
+}
+
+/* The centroid noise seen from the pinhole, with the table's encoder,
+ * averaged over the repeats. */
+static double cal_noise_arcsec(const sunmc_config *c)
+{
+    const dss_config *d = dss_cfg(c);
+    double centroid = d->noise.centroid_px * d->design.pixel_um * MM_PER_UM / d->design.h_mm *
+                      ARCSEC_PER_RAD;
+    return hypot(centroid, c->encoder_arcsec) / sqrt((double)c->cal_repeats);
+}
+
 typedef struct {
     dss_calib_workspace *cw;
     const int *line;
@@ -247,6 +311,11 @@ const family_lab dss_lab = {
     .cal_columns = cal_columns,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
+    .cal_n_inputs = 2,
+    .cal_min_distinct = cal_min_distinct,
+    .cal_campaign_range = cal_campaign_range,
+    .cal_predict = cal_predict,
+    .cal_noise_arcsec = cal_noise_arcsec,
     .params_title = "sunmc calibration of a pinhole digital sun sensor (DSS paper):\n"
                     "read by `sunmc compensate`; units are in the key names",
     .params_fill = params_fill,

@@ -6,6 +6,7 @@
 #include "ess_unit.h"
 #include "family.h"
 #include "status.h"
+#include "tolerance.h"
 #include "units.h"
 
 #include <math.h>
@@ -150,6 +151,76 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 static const char *const cal_columns[] = {"alpha_deg", "beta_deg", "output_deg", "weight", NULL};
 
+/* ---- calibrate: what the data must look like (lab_check_data) ---- */
+
+/* The fit's eight parameters need as many distinct alphas and more; one
+ * beta is enough to fit. */
+static const int cal_min_distinct[] = {ESS_NP + 1, 1};
+
+static void cal_campaign_range(const sunmc_config *c, int k, double *lo, double *hi)
+{
+    const ess_config *e = ess_cfg(c);
+    if (k == 0) {
+        *lo = e->cal_alpha_min_deg;
+        *hi = e->cal_alpha_max_deg;
+        return;
+    }
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (int i = 0; i < e->cal_beta_deg.n; i++) {
+        *lo = fmin(*lo, e->cal_beta_deg.v[i]);
+        *hi = fmax(*hi, e->cal_beta_deg.v[i]);
+    }
+}
+
+/* Largest |draw| of a tolerance. */
+static double reach(const sunmc_config *c, const tolerance *t)
+{
+    double lo, hi;
+    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
+    return fmax(fabs(lo), fabs(hi));
+}
+
+/* What the fine-code error, the noise and gross margins leave of a
+ * nominal reading (deg), and the x of the farthest row from the slit's
+ * centre (mm) for the tilt's share. */
+#define ESS_PREDICT_BASE_DEG 0.5
+#define ESS_PREDICT_ROW_X_MM 5.0
+
+/* The nominal sensor reads the incidence, which is the inner-frame angle;
+ * a unit within the tolerances differs by its height, offset and tilt
+ * errors and by its installation and the sun simulator's tilt. */
+static int cal_predict(const sunmc_config *c, const double *in, double *out, double *allowed)
+{
+    const ess_config *e = ess_cfg(c);
+    if (!(fabs(in[0]) < 89 && fabs(in[1]) < 89))
+        return SUNMC_EDOM;
+    double ta = tan(in[0] * RAD_PER_DEG), tb = tan(in[1] * RAD_PER_DEG);
+    double H = e->design.H_mm;
+    double slit = reach(c, &e->tol.dH_um) * MM_PER_UM / H * fabs(ta) +
+                  reach(c, &e->tol.dd_um) * MM_PER_UM / H +
+                  tan(reach(c, &e->tol.dphi_deg) * RAD_PER_DEG) *
+                      (ESS_PREDICT_ROW_X_MM / H + fabs(tb));
+    double mount = (reach(c, &e->tol.install_x_arcsec) * fabs(tb) +
+                    reach(c, &e->tol.install_y_arcsec) + reach(c, &e->tol.install_z_arcsec) +
+                    reach(c, &e->tol.sun_x_arcsec) + reach(c, &e->tol.sun_y_arcsec)) *
+                   RAD_PER_ARCSEC * (1 + fabs(tb));
+    out[0] = in[0];
+    allowed[0] = ESS_PREDICT_BASE_DEG + (slit + mount) * (1 + ta * ta) * DEG_PER_RAD;
+    return SUNMC_OK;
+}
+
+/* The four-quadrant phase of rows read with relative noise sigma: sigma /
+ * sqrt 2 of the fundamental, i.e. theta0 / (2 pi) sigma / sqrt 2 in angle;
+ * the encoder's noise added; averaged over the repeats. */
+static double cal_noise_arcsec(const sunmc_config *c)
+{
+    const ess_config *e = ess_cfg(c);
+    double phase = e->design.theta0_deg * ARCSEC_PER_DEG / (2 * M_PI) *
+                   e->noise.row_current_pct * FRACTION_PER_PCT / M_SQRT2;
+    return hypot(phase, c->encoder_arcsec) / sqrt((double)c->cal_repeats);
+}
+
 typedef struct {
     ess_calib_workspace *cw;
     const int *line;
@@ -249,6 +320,11 @@ const family_lab ess_lab = {
     .cal_columns = cal_columns,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
+    .cal_n_inputs = 2,
+    .cal_min_distinct = cal_min_distinct,
+    .cal_campaign_range = cal_campaign_range,
+    .cal_predict = cal_predict,
+    .cal_noise_arcsec = cal_noise_arcsec,
     .params_title = "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"
                     "read by `sunmc compensate`; units are in the key names, standard "
                     "errors in the comments",

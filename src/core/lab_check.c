@@ -1,0 +1,257 @@
+/* lab_check.c - lab data a calibration must not be run on, and fits that
+ * converged on data they did not explain (lab.h: lab_check_data,
+ * lab_check_fit).  Both families get them through their lab hooks. */
+#include "lab.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Largest |value| a table angle in radians can have. */
+#define LAB_RADIANS_MAX (2.0 * M_PI)
+/* A configured range this wide (deg) is told apart from its radians. */
+#define LAB_RADIANS_MIN_SPAN_DEG 10.0
+/* The residual floor of the noise test (arcsec): a noise-free config. */
+#define LAB_NOISE_FLOOR_ARCSEC 1.0
+
+static const char *col_name(const family_lab *lab, int k) { return lab->cal_columns[k]; }
+
+static int weight_col(const lab_columns *d) { return d->n_cols - 1; }
+
+/* Weights scaled so that the largest is 1: only their ratios matter
+ * (uniform 1e300 is uniform 1, exactly, as is uniform 1 itself). */
+static void normalise_weights(lab_columns *d)
+{
+    double *w = d->v[weight_col(d)], max = 0;
+    for (size_t i = 0; i < d->n; i++)
+        max = fmax(max, w[i]);
+    if (max > 0 && isfinite(max))
+        for (size_t i = 0; i < d->n; i++)
+            w[i] /= max;
+}
+
+/* Range of column k over the rows with weight > 0. */
+static void column_range(const lab_columns *d, int k, double *lo, double *hi)
+{
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (size_t i = 0; i < d->n; i++)
+        if (d->v[weight_col(d)][i] > 0) {
+            *lo = fmin(*lo, d->v[k][i]);
+            *hi = fmax(*hi, d->v[k][i]);
+        }
+}
+
+static int check_radians(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                         char *err, size_t errlen)
+{
+    for (int k = 0; k < lab->cal_n_inputs && lab->cal_campaign_range; k++) {
+        double clo, chi, lo, hi;
+        lab->cal_campaign_range(c, k, &clo, &chi);
+        column_range(d, k, &lo, &hi);
+        double span_cfg = chi - clo, span = hi - lo, span_as_deg = span * DEG_PER_RAD;
+        if (!(span_cfg >= LAB_RADIANS_MIN_SPAN_DEG) ||
+            !(fmax(fabs(lo), fabs(hi)) <= LAB_RADIANS_MAX))
+            continue;
+        if (span <= 0.2 * span_cfg && span_as_deg >= 0.5 * span_cfg &&
+            span_as_deg <= 1.5 * span_cfg)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: column '%s' spans %.6g..%.6g, which read as radians is "
+                              "%.4g..%.4g deg, the configured campaign's %.4g..%.4g deg: the "
+                              "angles look like radians; convert every angle column to degrees",
+                              d->path, d->line[0], col_name(lab, k), lo, hi, lo * DEG_PER_RAD,
+                              hi * DEG_PER_RAD, clo, chi);
+    }
+    return SUNMC_OK;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Each table angle must take enough distinct values; data too short for
+ * the model at all are left to the family's own message (cal_run). */
+static int check_distinct(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                          char *err, size_t errlen)
+{
+    char why[CALREPORT_TEXT_MAX];
+    size_t usable = 0;
+    for (size_t i = 0; i < d->n; i++)
+        usable += d->v[weight_col(d)][i] > 0;
+    if (lab->cal_min_rows && usable < lab->cal_min_rows(c, why, sizeof why))
+        return SUNMC_OK;
+    double *v = malloc((d->n + 1) * sizeof *v);
+    if (!v)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", d->path);
+    int st = SUNMC_OK;
+    for (int k = 0; k < lab->cal_n_inputs && lab->cal_min_distinct && st == SUNMC_OK; k++) {
+        size_t m = 0;
+        for (size_t i = 0; i < d->n; i++)
+            if (d->v[weight_col(d)][i] > 0)
+                v[m++] = d->v[k][i];
+        qsort(v, m, sizeof *v, cmp_double);
+        int distinct = m > 0;
+        for (size_t i = 1; i < m; i++)
+            distinct += v[i] - v[i - 1] > 1e-9 * fmax(1.0, fabs(v[i]));
+        if (distinct < lab->cal_min_distinct[k])
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s:%d: column '%s' takes %d distinct value%s%s%.6g), the fit needs "
+                            "at least %d: the data cannot determine the model (is it the right "
+                            "column?)",
+                            d->path, d->line[d->n - 1], col_name(lab, k), distinct,
+                            distinct == 1 ? "" : "s", distinct == 1 ? " (every row at " : " (from ",
+                            m ? v[0] : NAN, lab->cal_min_distinct[k]);
+    }
+    free(v);
+    return st;
+}
+
+/* The ways lab data are commonly garbled, tried against the design. */
+enum { LAB_AS_IS, LAB_SIGN_FLIPPED, LAB_INPUTS_SWAPPED, LAB_OUTPUTS_SWAPPED, LAB_N_HYP };
+
+static const char *const hypothesis_text[LAB_N_HYP] = {
+    "", "with every output's sign flipped", "with the two table-angle columns swapped",
+    "with the two output columns swapped"};
+
+/* Row i as hypothesis h reads it: table angles in[], outputs out[]; 0 when
+ * h does not apply to this family's columns. */
+static int garbled_row(const family_lab *lab, const lab_columns *d, size_t i, int h, double *in,
+                       double *out)
+{
+    int ni = lab->cal_n_inputs, no = d->n_cols - 1 - ni;
+    for (int k = 0; k < ni; k++)
+        in[k] = d->v[k][i];
+    for (int j = 0; j < no; j++)
+        out[j] = d->v[ni + j][i];
+    double *swap = h == LAB_INPUTS_SWAPPED && ni == 2 ? in : h == LAB_OUTPUTS_SWAPPED && no == 2
+                                                                 ? out
+                                                                 : NULL;
+    if (swap) {
+        double t = swap[0];
+        swap[0] = swap[1];
+        swap[1] = t;
+    } else if (h == LAB_SIGN_FLIPPED) {
+        for (int j = 0; j < no; j++)
+            out[j] = -out[j];
+    } else if (h != LAB_AS_IS) {
+        return 0;
+    }
+    return 1;
+}
+
+/* Rows (with weight > 0) whose outputs the design cannot read at their
+ * table angles under hypothesis h (-1: h does not apply); *first is the
+ * first of them, *used the rows looked at. */
+static long count_inconsistent(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                               int h, long *used, size_t *first)
+{
+    double in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS], pred[LAB_MAX_COLUMNS],
+        allowed[LAB_MAX_COLUMNS];
+    int no = d->n_cols - 1 - lab->cal_n_inputs;
+    long bad = 0;
+    *used = 0;
+    *first = 0;
+    for (size_t i = 0; i < d->n; i++) {
+        if (!(d->v[weight_col(d)][i] > 0))
+            continue;
+        if (!garbled_row(lab, d, i, h, in, out))
+            return -1;
+        (*used)++;
+        int ok = lab->cal_predict(c, in, pred, allowed) == SUNMC_OK;
+        for (int j = 0; ok && j < no; j++)
+            ok = fabs(out[j] - pred[j]) <= allowed[j];
+        if (!ok && bad++ == 0)
+            *first = i;
+    }
+    return bad;
+}
+
+static int too_many(long bad, long used)
+{
+    return used > 0 && (double)bad > LAB_MAX_INCONSISTENT * (double)used;
+}
+
+static int check_consistent(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                            char *err, size_t errlen)
+{
+    if (!lab->cal_predict)
+        return SUNMC_OK;
+    long used;
+    size_t first;
+    long bad = count_inconsistent(lab, c, d, LAB_AS_IS, &used, &first);
+    if (!too_many(bad, used))
+        return SUNMC_OK;
+    char hint[CALREPORT_TEXT_MAX] = "; is it this sensor's data, in degrees and pixels?";
+    for (int h = 1; h < LAB_N_HYP; h++) {
+        long u2;
+        size_t f2;
+        long b2 = count_inconsistent(lab, c, d, h, &u2, &f2);
+        if (b2 >= 0 && !too_many(b2, u2)) {
+            snprintf(hint, sizeof hint, "; %s, %ld of them would fit: check the columns",
+                     hypothesis_text[h], u2 - b2);
+            break;
+        }
+    }
+    double in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS], pred[LAB_MAX_COLUMNS],
+        allowed[LAB_MAX_COLUMNS];
+    garbled_row(lab, d, first, LAB_AS_IS, in, out);
+    int ni = lab->cal_n_inputs;
+    char what[CALREPORT_TEXT_MAX] = "the design sees no sun there";
+    if (lab->cal_predict(c, in, pred, allowed) == SUNMC_OK)
+        snprintf(what, sizeof what, "%s = %.6g where the design reads %.6g +- %.3g",
+                 col_name(lab, ni), out[0], pred[0], allowed[0]);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "%s:%d: at %s = %.6g, %s = %.6g: %s (within the config's tolerances); %ld "
+                      "of %ld rows are inconsistent with their table angles%s",
+                      d->path, d->line[first], col_name(lab, 0), in[0],
+                      col_name(lab, ni > 1 ? 1 : 0), in[ni > 1 ? 1 : 0], what, bad, used, hint);
+}
+
+int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,
+                   size_t errlen)
+{
+    normalise_weights(d);
+    int st = check_radians(lab, c, d, err, errlen);
+    if (st == SUNMC_OK)
+        st = check_consistent(lab, c, d, err, errlen);
+    if (st == SUNMC_OK)
+        st = check_distinct(lab, c, d, err, errlen);
+    return st;
+}
+
+void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                   calreport *rep)
+{
+    if (!rep->fit_ok)
+        return;
+    size_t zero = 0;
+    for (size_t i = 0; i < d->n; i++)
+        zero += !(d->v[weight_col(d)][i] > 0);
+    size_t offered = d->n - zero;
+    size_t dropped = offered > rep->n_used ? offered - rep->n_used : 0;
+    double noise = lab->cal_noise_arcsec ? lab->cal_noise_arcsec(c) : 0;
+    double limit = c->max_residual_ratio * fmax(noise, LAB_NOISE_FLOOR_ARCSEC);
+    if (offered && (double)dropped > c->max_dropped_fraction * (double)offered)
+        snprintf(rep->refused, sizeof rep->refused,
+                 "%zu of %zu rows were dropped as gross errors, more than "
+                 "calibration.max_dropped_fraction = %g: the data are not this sensor's readings "
+                 "(a flipped sign, swapped columns, another unit)",
+                 dropped, offered, c->max_dropped_fraction);
+    else if (!(rep->cond_jacobian <= LAB_MAX_CONDITION))
+        snprintf(rep->refused, sizeof rep->refused,
+                 "the Jacobian is rank-deficient (condition number %.3g, at most %g): the data "
+                 "do not determine the model's parameters (too few distinct angles?)",
+                 rep->cond_jacobian, LAB_MAX_CONDITION);
+    else if (!(rep->sigma_arcsec <= limit))
+        snprintf(rep->refused, sizeof rep->refused,
+                 "the residual %.4g arcsec is more than calibration.max_residual_ratio = %g "
+                 "times the reading noise of the config (%.3g arcsec, at least %g): the model "
+                 "does not describe these data",
+                 rep->sigma_arcsec, c->max_residual_ratio, noise, LAB_NOISE_FLOOR_ARCSEC);
+    if (rep->refused[0])
+        rep->fit_ok = 0;
+}
