@@ -213,6 +213,20 @@ static void test_polynomial_exact(void **state)
     dss_calib_free(cw);
 }
 
+/* The basis in closed form: by total degree, u^(d-j) v^j for j = 0..d. */
+static void test_polynomial_basis(void **state)
+{
+    (void)state;
+    const double u = 0.3, v = -0.7;
+    const double want[10] = {1,         u,         v,         u * u,         u * v,
+                             v * v,     u * u * u, u * u * v, u * v * v, v * v * v};
+    double t[10];
+    assert_int_equal(dss_poly_n_terms(3), 10);
+    dss_poly_basis(3, u, v, t);
+    for (int k = 0; k < 10; k++)
+        assert_near(t[k], want[k], 1e-15);
+}
+
 /* The family end to end on a few units: physical calibration reaches a
  * small fraction of an arcsecond noise-free and beats the polynomial by a
  * large factor; results do not depend on the order units run in. */
@@ -488,7 +502,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_model_matches_sensor), cmocka_unit_test(test_model_jacobian),
         cmocka_unit_test(test_physical_fit_recovers), cmocka_unit_test(test_fixed_index_bias),
-        cmocka_unit_test(test_polynomial_exact),     cmocka_unit_test(test_family_units),
+        cmocka_unit_test(test_polynomial_exact),     cmocka_unit_test(test_polynomial_basis),
+        cmocka_unit_test(test_family_units),
         cmocka_unit_test(test_errors),               cmocka_unit_test(test_cli),
         cmocka_unit_test(test_identifiability),
         cmocka_unit_test(test_polynomial_standard_errors),
