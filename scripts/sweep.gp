@@ -6,7 +6,9 @@
 # varied over alternatives (e.g. campaign.beta_deg=-20,0,20|-30,0,30) is
 # drawn at evenly spaced x with its `label` as tick.  Points whose campaign
 # aliased (column `aliased`) are drawn as crosses and not joined to their
-# neighbours: the curve is broken there.
+# neighbours: the curve is broken there.  A sweep of campaign.alpha_step_deg
+# of ESS type A or B also shows the ESS paper's Table 2 (squares: after,
+# diamonds: before calibration).
 #   gnuplot -e "run='runs/step'" scripts/sweep.gp    [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/sweep.tsv'
@@ -58,13 +60,26 @@ set grid
 set key outside right top
 set yrange [0:*]
 if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 }
+# The ESS paper's Table 2 (one unit of each type, |alpha| <= 62 deg): drawn
+# over a sweep of campaign.alpha_step_deg of product "ESS type A" or "B",
+# against the widest band (macro @T2).
+$T2 << EOD
+A	1	0.0399	0.0141
+A	0.25	0.0296	0.0102
+B	1	0.020	0.007
+B	0.25	0.0191	0.0056
+EOD
+prod = field(col('product'), 2)
+ptype = prod eq 'ESS type A' ? 'A' : prod eq 'ESS type B' ? 'B' : ''
+T2 = (nlead == 3 && word(hdr, 1) eq 'campaign.alpha_step_deg' && ptype ne '') ? \
+     sprintf("$T2 using (strcol(1) eq '%s' ? $2 : NaN):4 with points pt 4 ps 2.5 lw 2 lc rgb 'black' title 'ESS paper Table 2, after (one type %s unit)', $T2 using (strcol(1) eq '%s' ? $2 : NaN):3 with points pt 12 ps 2.5 lw 2 lc rgb 'black' title 'ESS paper Table 2, before',", ptype, ptype, ptype) : ""
 # The aliased points' crosses, only when there are some (macros @AL1, @AL2).
 AL1 = n_alias > 0 ? "for [i=1:words(bands)] sela(word(bands, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
 AL2 = n_alias > 0 ? "for [i=1:words(vals)] sela2(word(vals, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
 if (nlead == 3) {
   plot for [i=1:words(bands)] sel(word(bands, i)) using @UA with yerrorlines lw 2 pt 7 lc i title 'after, |x| '.word(bands, i).' deg', \
        for [i=1:words(bands)] selb(word(bands, i)) using @UB with yerrorlines dt 2 pt 6 lc i title 'before, |x| '.word(bands, i).' deg', \
-       @AL1 \
+       @AL1 @T2 \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s', spec, unit)
 } else {
   vals = uniq(2)
