@@ -85,6 +85,7 @@ typedef struct {
     long search_screen_units;           /* units of the screen */
     long search_max_units;              /* most units a candidate is run on */
     int search_shortlist;               /* passing candidates settled before stopping */
+    double search_max_extrapolation_deg; /* candidates validated further beyond their span: skipped */
     int max_iterations;                 /* [calibration] most fit iterations */
     double max_dropped_fraction;        /* [calibration] calibrate: gross-error rows refused above */
     double max_residual_ratio;          /* [calibration] calibrate: residual / noise refused above */

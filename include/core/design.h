@@ -6,7 +6,9 @@
  * line set (1 line at 0; n = 2..search_max_lines lines evenly spaced over
  * +-B, B = search_beta_step_deg, 2 x that, ... up to search_beta_max_deg;
  * none when the family has no line key) x every count of
- * campaign.search_repeats, plus the input config's own campaign.
+ * campaign.search_repeats, plus the input config's own campaign; a
+ * candidate whose validation angles lie more than
+ * campaign.search_max_extrapolation_deg beyond its span is not tried.
  * Every candidate runs the same units with the same seed (common random
  * numbers: the tolerance draws of unit u are the same in every candidate,
  * so their differences are the campaign's, not the draws').
@@ -68,6 +70,7 @@ typedef struct {
     int *order;                 /* n indices: hours, then yield descending */
     int best;                   /* index of the chosen candidate, -1 when none passed */
     long units_run;             /* units over all candidates */
+    int n_extrapolating;        /* candidates not tried: they extrapolate too far */
     int angle, band;            /* the yield's report row */
 } design_result;
 

@@ -107,7 +107,9 @@ static void print_shortlist(const design_result *d, double secs)
     printf("* = chosen (best.ini), in = the input config's campaign.  %d candidates:", d->n);
     for (int v = 0; v < DESIGN_VERDICTS; v++)
         printf("%s %d %s", v ? "," : "", count[v], design_verdict_names[v]);
-    printf(".\n%ld units in %.1f s.\n", d->units_run, secs);
+    printf(".\n%d more not tried: they validate beyond campaign.search_max_extrapolation_deg = "
+           "%g deg outside their span.\n%ld units in %.1f s.\n",
+           d->n_extrapolating, c->search_max_extrapolation_deg, d->units_run, secs);
     if (d->best < 0)
         printf("WARNING: no candidate met the target; widen the space (--space) or relax "
                "the spec\n");

@@ -74,6 +74,11 @@ const config_key config_keys[] = {
      "bound has not settled against report.yield_target"},
     {"campaign", "search_shortlist", KEY_INT, "", "5", 1, 100, NULL, OFF(search_shortlist),
      "`design`: stop after this many candidates, cheapest first, settled as meeting the target"},
+    {"campaign", "search_max_extrapolation_deg", KEY_DOUBLE, "deg", "0.5", 0, 90, NULL,
+     OFF(search_max_extrapolation_deg),
+     "`design`: candidates whose validation angles lie further than this beyond the "
+     "campaign's span (campaign.h) are not tried: a calibration is not trusted where it "
+     "extrapolates"},
 
     /* [calibration] */
     {"calibration", "max_iterations", KEY_INT, "", "100", 5, 10000, NULL, OFF(max_iterations),

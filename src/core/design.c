@@ -75,6 +75,10 @@ static int add_candidate(design_result *d, const sunmc_config *base, const char 
     campaign_info ci;
     if (campaign_describe(&k->cfg, &ci, err, sizeof err) != SUNMC_OK)
         return SUNMC_ENOMEM;
+    if (d->n > 0 && ci.known && ci.extrapolation_deg > base->search_max_extrapolation_deg) {
+        d->n_extrapolating++;
+        return SUNMC_OK;
+    }
     k->points = ci.points;
     k->hours = ci.known ? ci.hours : NAN;
     k->extrapolation_deg = ci.known ? ci.extrapolation_deg : NAN;
