@@ -18,8 +18,8 @@ static void space_counts(void **state)
     config_state st;
     const char *sets[] = {"campaign.search_steps_deg=0.3,1", "campaign.search_max_lines=3",
                           "campaign.search_beta_step_deg=15", "campaign.search_beta_max_deg=30",
-                          "campaign.search_repeats=1"};
-    build(&st, sets, 5);
+                          "campaign.search_repeats=1", "campaign.search_max_extrapolation_deg=90"};
+    build(&st, sets, 6);
     design_result d;
     char err[SUNMC_ERRLEN];
     assert_int_equal(design_space(&st.cfg, &d, err, sizeof err), SUNMC_OK);
@@ -30,6 +30,14 @@ static void space_counts(void **state)
     for (int i = 0; i < d.n; i++)
         found += strcmp(d.cand[i].step, "0.3") == 0 && strcmp(d.cand[i].lines, "-15, 0, 15") == 0;
     assert_int_equal(found, 1);
+    design_free(&d);
+    config_state_free(&st);
+    /* At most 0.5 deg beyond the span: the lines must reach the validation's
+     * +-25 deg, so only the +-30 sets of 2 and 3 lines stay (and the input). */
+    build(&st, sets, 5);
+    assert_int_equal(design_space(&st.cfg, &d, err, sizeof err), SUNMC_OK);
+    assert_int_equal(d.n, 1 + 2 * 2);
+    assert_int_equal(d.n_extrapolating, 2 * (1 + 2));
     design_free(&d);
     config_state_free(&st);
 }
