@@ -493,8 +493,12 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     static table_col cols[TABLE_COLS]; /* large; the report prints from one thread */
     char model[256];
     fam->model_label(c, model, sizeof model);
-    fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec\ncalibration model: %s\n",
-            c->product, fam->name, rows[0].units, c->seed, c->spec_arcsec, model);
+    char spec[64] = "";
+    if (strcmp(u, "arcsec") != 0) /* the spec in the table's unit too */
+        snprintf(spec, sizeof spec, " = %.*f %s", prec + 1,
+                 c->spec_arcsec / fam->arcsec_per_rms_unit, u);
+    fprintf(f, "\n%s (%s): %ld units, seed %ld, spec %g arcsec%s\ncalibration model: %s\n",
+            c->product, fam->name, rows[0].units, c->seed, c->spec_arcsec, spec, model);
     report_print_campaign(f, c);
     print_table1(f, c, fam, rows, n, prec, cols);
     fputc('\n', f);
