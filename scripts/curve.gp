@@ -1,10 +1,12 @@
 # curve.gp - error curves from `sunmc curve --out RUN` (ESS): error vs the
 # fast table angle (alpha), one colour per series (beta).
-#   what='both'   (default) before (thin, dashed) and after (thick) compensation
+#   what='both'   (default) before (top panel) and after (bottom panel)
+#                 compensation on one y scale, each line's RMS in the legend
 #   what='before' | 'after' | 'source' one kind only; 'source' is the error the
 #                 unit's deviations add to the nominal design (paper's "error
 #                 caused by ...")
 #   run2='DIR'    overlay a second curve run (e.g. the -2 um mirror of +2 um)
+#   xmin=..., xmax=...  zoom on part of the alpha range (e.g. 0 and 10)
 #   label='...', label2='...'  legend prefixes of run and run2; title='...'
 #   gnuplot -e "run='runs/u17'" scripts/curve.gp   [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
@@ -12,7 +14,8 @@ file = run.'/curve.tsv'
 if (!exists("svg")) svg = 0
 if (!exists("what")) what = 'both'
 if (!exists("out")) out = run.'/curve'.(what eq 'both' ? '' : '_'.what).(svg ? '.svg' : '.png')
-if (svg) { set terminal svg size 1000,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 1000,600 font 'Sans,11' }
+hgt = what eq 'both' ? 900 : 600
+if (svg) { set terminal svg size 1000,hgt dynamic font 'Sans,12' } else { set terminal pngcairo size 1000,hgt font 'Sans,11' }
 set output out
 set termoption noenhanced
 set datafile separator "\t"
@@ -37,10 +40,38 @@ set grid
 set key outside right top
 set xzeroaxis
 set autoscale xfix
+if (exists("xmin") && exists("xmax")) { set xrange [xmin:xmax] }
 blk(i) = i - 1
 if (what eq 'both') {
-  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 lc i title sprintf('%sbefore, %s = %s', label, word(hdr, 2), word(series, i)), \
-       for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:ca with lines lw 2 lc i title sprintf('%safter, %s = %s', label, word(hdr, 2), word(series, i))
+  # two stacked panels on one y scale: before on top, after below, the RMS
+  # of each beta line in its legend (the after curve is no longer buried)
+  stats file skip 1 using cb nooutput
+  ym = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)
+  stats file skip 1 using ca nooutput
+  ym = abs(STATS_min) > ym ? abs(STATS_min) : abs(STATS_max) > ym ? abs(STATS_max) : ym
+  set yrange [-1.05 * ym:1.05 * ym]
+  array rb[n]
+  array ra[n]
+  do for [i=1:n] {
+    stats file skip 1 every :::blk(i)::blk(i) using (column(cb)**2) nooutput
+    rb[i] = sqrt(STATS_mean)
+    stats file skip 1 every :::blk(i)::blk(i) using (column(ca)**2) nooutput
+    ra[i] = sqrt(STATS_mean)
+  }
+  stats file skip 1 using (column(cb)**2) nooutput
+  rball = sqrt(STATS_mean)
+  stats file skip 1 using (column(ca)**2) nooutput
+  raall = sqrt(STATS_mean)
+  set multiplot layout 2, 1 title title
+  set lmargin at screen 0.08
+  set rmargin at screen 0.70
+  set title sprintf('before compensation: RMS %.3g %s over all lines', rball, eunit)
+  unset xlabel
+  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 lc i title sprintf('%s%s = %s: RMS %.3g', label, word(hdr, 2), word(series, i), rb[i])
+  set title sprintf('after compensation: RMS %.3g %s over all lines (%.1f times smaller)', raall, eunit, rball / raall)
+  set xlabel word(hdr, 1).' (table angle)'
+  plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:ca with lines lw 1.5 lc i title sprintf('%s%s = %s: RMS %.3g', label, word(hdr, 2), word(series, i), ra[i])
+  unset multiplot
 } else {
   c = what eq 'before' ? cb : what eq 'after' ? ca : cs
   if (exists("run2")) {

@@ -28,6 +28,8 @@ data=$out/data
 rm -rf "$out"
 mkdir -p "$data"
 q=--quiet
+n=0
+say() { n=$((n + 1)); echo "figures: [$n] $1" >&2; }
 A=configs/ess_type_a.ini
 B=configs/ess_type_b.ini
 ideal="--set design.harmonics=given --set design.a3_ratio=0 --set design.a5_ratio=0"
@@ -35,6 +37,7 @@ fine="--set validation.alpha_offset_deg=0 --set validation.beta_deg=0"
 
 pair() { # NAME KEY VALUE STEP_DEG TITLE
   local name=$1 key=$2 v=$3 step=$4 title=$5
+  say "$name.png ($key = +-$v)"
   "$SUNMC" curve $A --only "$key=$v" $ideal $fine --set validation.alpha_step_deg=$step \
     --out $data/${name}_plus $q >/dev/null
   "$SUNMC" curve $A --only "$key=-$v" $ideal $fine --set validation.alpha_step_deg=$step \
@@ -43,35 +46,48 @@ pair() { # NAME KEY VALUE STEP_DEG TITLE
     label='$key = +$v, '; label2='$key = -$v, '; title='$title'; out='$out/$name.png'" \
     scripts/curve.gp
 }
-pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm)"
-pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A)"
-pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A)"
+pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm). Peak 0.0139 deg at 45 deg = dH/2H, not the paper's > 0.015 deg"
+pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A). A pure offset gives -(dd/H) cos^2(alpha): largest at 0 deg, where the paper says it grows"
+pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A). A band, not a curve: the tilt couples with the row read (and beta), which changes with a 1-deg period (Fig. 7)"
 pair ess_fig7_dphi_0p5 dphi_deg 0.01 0.5 "ESS paper Fig. 7: dphi = +-0.01 deg sampled every 0.5 deg: a 1-deg period"
+say "ess_fig7_dphi_0p5_zoom.png (0 to 10 deg)"
+gnuplot -e "run='$data/ess_fig7_dphi_0p5_plus'; run2='$data/ess_fig7_dphi_0p5_minus'; what='source'; xmin=0; xmax=10; \
+  label='dphi_deg = +0.01, '; label2='dphi_deg = -0.01, '; out='$out/ess_fig7_dphi_0p5_zoom.png'; \
+  title='ESS paper Fig. 7 zoomed on 0 to 10 deg: the error alternates every 0.5 deg sample, a 1-deg period'" scripts/curve.gp
 
 # Fig. 11: one type-B unit (the unit of the largest error before of the
 # first 40), before and after its own calibration.
+# sunmc's type-B unit is about 2.4 times smaller than the paper's (0.027 ->
+# 0.0065 deg where the paper's goes 0.0635 -> 0.0157): its error before is
+# mostly the fine-code ripple of the derived harmonics, which the
+# tolerances barely move (x3 tolerances: 0.031 deg).
 U=32
+say "ess_fig11a_typeB.png (unit $U, six beta)"
 "$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
   --set "validation.beta_deg=-25,-15,-5,5,15,25" --out $data/ess_fig11a $q >/dev/null
-gnuplot -e "run='$data/ess_fig11a'; title='ESS paper Fig. 11(a): type-B unit $U before (thin) and after (thick) compensation, every beta'; \
+gnuplot -e "run='$data/ess_fig11a'; title='ESS paper Fig. 11(a): type-B unit $U before and after compensation, every beta. Our unit is 2.4x smaller than the paper (0.0635 -> 0.0157 deg): its before is mostly fine-code ripple'; \
   out='$out/ess_fig11a_typeB.png'" scripts/curve.gp
+say "ess_fig11b_typeB.png (unit $U, two beta)"
 "$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
   --set "validation.beta_deg=-25,25" --out $data/ess_fig11b $q >/dev/null
-gnuplot -e "run='$data/ess_fig11b'; title='ESS paper Fig. 11(b): type-B unit $U, two representative beta'; \
+gnuplot -e "run='$data/ess_fig11b'; title='ESS paper Fig. 11(b): type-B unit $U, two representative beta (2.4x smaller than the paper unit, see README)'; \
   out='$out/ess_fig11b_typeB.png'" scripts/curve.gp
 
 # Table 2: the campaign's alpha step (common random numbers).
 for t in A B; do
   cfg=configs/ess_type_$(echo $t | tr AB ab).ini
+  say "ess_table2_step_$t.png (campaign step sweep, $UNITS units)"
   "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2 --units $UNITS \
     --out $data/ess_table2_$t $q >/dev/null
   gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'" scripts/sweep.gp
 done
 
 # Budget, yield and improvement histogram of type A.
+say "ess_budget_A.png (error budget)"
 "$SUNMC" budget $A --units $UNITS --set report.budget_units=50 --set report.budget_steps=3 \
   --out $data/ess_budget_A $q >/dev/null
 gnuplot -e "run='$data/ess_budget_A'; out='$out/ess_budget_A.png'" scripts/budget.gp
+say "ess_yield_A.png, ess_hist_A.png ($((UNITS * 2)) units)"
 "$SUNMC" run $A --units $((UNITS * 2)) --out $data/ess_run_A $q >/dev/null
 gnuplot -e "run='$data/ess_run_A'; out='$out/ess_yield_A.png'" scripts/yield.gp
 gnuplot -e "run='$data/ess_run_A'; out='$out/ess_hist_A.png'" scripts/hist.gp
@@ -80,22 +96,34 @@ gnuplot -e "run='$data/ess_run_A'; out='$out/ess_hist_A.png'" scripts/hist.gp
 # error each source alone adds to the nominal design (error_source).
 D=configs/dss.ini
 grid="--set validation.b_step_deg=2 --set validation.b_offset_deg=0"
+say "dss_fig2_dh.png (dh = 0.2 px)"
 if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh $q >/dev/null 2>&1; then
-  gnuplot -e "run='$data/dss_fig2_dh'; out='$out/dss_fig2_dh.png'; title='DSS paper Fig. 2: error caused by dh = 0.2 pixel alone (alpha error depends on alpha only)'" scripts/map.gp
-  for s in dx_px=0.1:fig3_dx dy_px=0.1:fig3_dy c1_arcsec=10:fig4_c1 c2_arcsec=10:fig4_c2 c3_arcsec=10:fig4_c3; do
-    kv=${s%%:*}; name=dss_${s##*:}
+  gnuplot -e "run='$data/dss_fig2_dh'; cut=1; out='$out/dss_fig2_dh.png'; \
+    title=\"DSS paper Fig. 2: error caused by dh = 0.2 pixel alone (alpha error depends on alpha only)\\nit rises to about 42 arcsec near 47 deg and falls beyond: the line cuts show the shape\"" scripts/map.gp
+  for s in dx_px=0.1:fig3_dx:3 dy_px=0.1:fig3_dy:3 c1_arcsec=10:fig4_c1:4 c2_arcsec=10:fig4_c2:4 c3_arcsec=10:fig4_c3:4; do
+    kv=${s%%:*}; rest=${s#*:}; name=dss_${rest%%:*}; fig=${rest##*:}
+    say "$name.png ($kv)"
+    note=
+    case $kv in
+      dx_px*) note="\\nsunmc (paper eqs. 9-10): dx moves alpha only, largest at the centre; the paper's Fig. 3 shows it in both" ;;
+      dy_px*) note="\\nsunmc (paper eqs. 9-10): dy moves beta only, largest at the centre, where the paper says it is smallest there" ;;
+    esac
     "$SUNMC" curve $D --only $kv $grid --out $data/$name $q >/dev/null
-    gnuplot -e "run='$data/$name'; out='$out/$name.png'; title='DSS paper Figs. 3-4: error caused by $kv alone'" scripts/map.gp
+    gnuplot -e "run='$data/$name'; out='$out/$name.png'; title=\"DSS paper Fig. $fig: error caused by $kv alone$note\"" scripts/map.gp
   done
   # Fig. 5, refraction: the on-board formula ignores the cover glass, so the
   # nominal unit's error before calibration is the refraction error itself
   # (S-curve off so that nothing else is in it).
+  say "dss_fig5_refraction.png (cover glass)"
   "$SUNMC" curve $D --only glass_index=0 $grid --set noise.s_curve=off --set design.onboard_refraction=ignored --out $data/dss_fig5_refraction $q >/dev/null
-  gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: refraction error of the nominal design (0.4 mm glass, n = 1.52; on-board formula ignores it)'" scripts/map.gp
+  gnuplot -e "run='$data/dss_fig5_refraction'; what='before'; cut=1; out='$out/dss_fig5_refraction.png'; title='DSS paper Fig. 5: refraction error of the nominal design (0.4 mm glass, n = 1.52; on-board formula ignores it)'" scripts/map.gp
   # One Monte Carlo unit before and after its own calibration.
+  say "dss_unit3_after.png (one unit after calibration)"
   "$SUNMC" curve $D --unit 3 $grid --out $data/dss_unit3 $q >/dev/null
-  gnuplot -e "run='$data/dss_unit3'; what='after'; out='$out/dss_unit3_after.png'; title='DSS unit 3 after its calibration'" scripts/map.gp
+  gnuplot -e "run='$data/dss_unit3'; what='after'; out='$out/dss_unit3_after.png'; \
+    title=\"DSS unit 3 after its calibration (residual about 1 arcsec)\\nthe moire is the pixel S-curve (period one pixel, not modelled by the calibration) sampled on the 2-deg grid: a real residual, aliased by the grid\"" scripts/map.gp
 else
   echo "figures.sh: the dss family draws no curves yet: DSS Figs. 2-5 skipped" >&2
 fi
+say "done: $(ls "$out"/*.png | wc -l) figures in $out"
 ls "$out"/*.png

@@ -1,6 +1,7 @@
 # hist.gp - histogram of the units' times of accuracy improvement (RMS before
 # / RMS after calibration) in the widest band of the last measured angle, from
-# `sunmc run --out RUN` (units.tsv), mean marked.
+# `sunmc run --out RUN` (units.tsv), mean marked above the bars; bins
+# from the data (Freedman-Diaconis) unless binwidth is given.
 #   gnuplot -e "run='runs/a'" scripts/hist.gp   [-e "out='x.png'"] [-e "svg=1"] [-e "binwidth=0.1"]
 if (!exists("run")) run = '.'
 file = run.'/units.tsv'
@@ -15,19 +16,38 @@ hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
 # after-calibration columns, not their noise-free (rms_after_sys_) part
 isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_')
-cafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && (i == words(hdr))) ? i : 0)
+# the last after-column (the widest band of the last angle)
+cafter = 0
+do for [i=1:words(hdr)] { if (isafter(word(hdr, i))) { cafter = i } }
 aname = word(hdr, cafter)
 bname = 'rms_before_'.aname[11:]
 cbefore = col(bname)
-if (!exists("binwidth")) binwidth = 0.1
-bin(x) = binwidth * (floor(x / binwidth) + 0.5)
 stats file skip 1 using (column(cbefore) / column(cafter)) nooutput
+# bins from the data (Freedman-Diaconis: 2 IQR / n^(1/3)), at least 5 and at
+# most 60 across the range, unless binwidth is given
+if (!exists("binwidth")) {
+  iqr = STATS_up_quartile - STATS_lo_quartile
+  range = STATS_max - STATS_min
+  binwidth = iqr > 0 ? 2 * iqr / STATS_records**(1.0 / 3) : range / sqrt(STATS_records)
+  binwidth = binwidth > 0 ? binwidth : 1
+  binwidth = range / binwidth > 60 ? range / 60 : range / binwidth < 5 && range > 0 ? range / 5 : binwidth
+}
+bin(x) = binwidth * (floor(x / binwidth) + 0.5)
 set title sprintf('times of accuracy improvement, %s / %s (%d units)', bname, aname, STATS_records)
 set xlabel 'RMS before / RMS after calibration [times]'
 set ylabel 'units'
 set style fill solid 0.6 border -1
 set boxwidth binwidth
 set grid ytics
-set arrow from STATS_mean, graph 0 to STATS_mean, graph 1 nohead lw 2 lc rgb 'red' dt 3
-set label sprintf('mean %.2f', STATS_mean) at STATS_mean, graph 0.95 left offset 0.5,0 tc rgb 'red'
+set arrow from STATS_mean, graph 0 to STATS_mean, graph 1 nohead lw 2 lc rgb 'red' dt 3 front
+# headroom above the tallest bar for the mean's label
+set offsets 0, 0, graph 0.12, 0
+set yrange [0:*]
+mtext = sprintf('mean %.2f (median %.2f), bin %.3g', STATS_mean, STATS_median, binwidth)
+if (STATS_mean > (STATS_min + STATS_max) / 2) {
+  set label mtext at STATS_mean, graph 0.96 right offset -0.5,0 tc rgb 'red' front boxed
+} else {
+  set label mtext at STATS_mean, graph 0.96 left offset 0.5,0 tc rgb 'red' front boxed
+}
+set style textbox opaque noborder
 plot file skip 1 using (bin(column(cbefore) / column(cafter))):(1.0) smooth frequency with boxes lc rgb '#1f77b4' notitle

@@ -9,7 +9,7 @@ if (!exists("run")) run = '.'
 file = run.'/units.tsv'
 if (!exists("svg")) svg = 0
 if (!exists("out")) out = run.(svg ? '/yield.svg' : '/yield.png')
-if (svg) { set terminal svg size 900,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 900,600 font 'Sans,11' }
+if (svg) { set terminal svg size 900,700 dynamic font 'Sans,12' } else { set terminal pngcairo size 900,700 font 'Sans,11' }
 set output out
 set termoption noenhanced
 set datafile separator "\t"
@@ -35,13 +35,23 @@ set ylabel 'fraction of units with RMS <= x'
 set yrange [0:1.02]
 set offsets 0, graph 0.12, 0, 0  # room right of the spec line for its label and bars
 set grid
-set key at graph 0.8, graph 0.6 right box opaque
+set key outside below center box
+set bmargin 9
 set arrow from spec, graph 0 to spec, graph 1 nohead lw 2 lc rgb 'red' dt 3
-set label sprintf('spec %g %s', spec, unit) at spec, graph 0.05 left offset 0.5,0 tc rgb 'red'
+set label sprintf('spec %g %s%s', spec, unit, unit eq 'deg' ? sprintf(' (%g arcsec)', spec_as) : '') at spec, graph 0.05 right offset -0.5,0 tc rgb 'red'
 # summary.tsv rows of the last angle, in band order (the curves' order)
 lastangle = system(sprintf("awk -F'\\t' 'NR>1 {a=$%d} END {print a}' '%s'", scol('angle'), sfile))
 srow(i) = sprintf("< awk -F'\\t' 'NR>1 && $%d==\"%s\"' '%s' | sed -n %dp", scol('angle'), lastangle, sfile, i)
 cy = scol('yield'); cylo = scol('yield_ci_lo'); cyhi = scol('yield_ci_hi')
+# the yield target (report.yield_target in the run's config.ini)
+target = real(system(sprintf("awk -F'=' '$1 ~ /^yield_target *$/ {split($2, v, \"#\"); print v[1]+0}' '%s/config.ini'", run)))
+if (target > 0) {
+  set arrow from graph 0, first target to graph 1, first target nohead lw 1.5 lc rgb '#555555' dt 2
+  set label sprintf('yield target %g%%', 100 * target) at graph 0.02, first target offset 0, 0.7 left tc rgb '#555555'
+}
+# legend in words: the measured angle, the band and the yield with its interval
+legend = system(sprintf("awk -F'\\t' 'NR>1 && $%d==\"%s\" {printf \"\\\"%%s error, band %%s-%%s deg: yield %%.1f%%%% [%%.1f, %%.1f]\\\" \", $%d, $%d, $%d, 100*$%d, 100*$%d, 100*$%d}' '%s'", \
+  scol('angle'), lastangle, scol('angle'), scol('band_lo_deg'), scol('band_hi_deg'), scol('yield'), scol('yield_ci_lo'), scol('yield_ci_hi'), sfile))
 set key title sprintf('yield at the spec: bars are %g%% intervals', 100 * real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('confidence'), sfile))))
-plot for [c=c0:c0+nb-1] file skip 1 using (column(c)):(1.0) smooth cnormal with steps lw 2 lc (c-c0+1) title word(hdr, c), \
+plot for [c=c0:c0+nb-1] file skip 1 using (column(c)):(1.0) smooth cnormal with steps lw 2 lc (c-c0+1) title word(legend, c-c0+1), \
      for [i=1:nb] srow(i) using (spec):(column(cy)):(column(cylo)):(column(cyhi)) with yerrorbars lc (i) pt 7 ps 0.8 lw 2 notitle
