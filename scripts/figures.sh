@@ -43,17 +43,17 @@ pair() { # NAME KEY VALUE STEP_DEG TITLE
   "$SUNMC" curve $A --only "$key=-$v" $ideal $fine --set validation.alpha_step_deg=$step \
     --out $data/${name}_minus $q >/dev/null
   gnuplot -e "run='$data/${name}_plus'; run2='$data/${name}_minus'; what='source'; \
-    label='$key = +$v, '; label2='$key = -$v, '; title='$title'; out='$out/$name.png'" \
+    label='$key = +$v, '; label2='$key = -$v, '; title=\"$title\"; out='$out/$name.png'" \
     scripts/curve.gp
 }
-pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm). Peak 0.0139 deg at 45 deg = dH/2H, not the paper's > 0.015 deg"
-pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A). A pure offset gives -(dd/H) cos^2(alpha): largest at 0 deg, where the paper says it grows"
-pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A). A band, not a curve: the tilt couples with the row read (and beta), which changes with a 1-deg period (Fig. 7)"
+pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm)\\nsunmc: peak 0.0139 deg at 45 deg = dH/2H, not the paper's > 0.015 deg"
+pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A)\\nsunmc: -(dd/H) cos^2(alpha), largest at 0 deg, where the paper says it grows"
+pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A)\\na band, not a curve: the tilt couples with the row read (and beta): 1-deg period, Fig. 7"
 pair ess_fig7_dphi_0p5 dphi_deg 0.01 0.5 "ESS paper Fig. 7: dphi = +-0.01 deg sampled every 0.5 deg: a 1-deg period"
 say "ess_fig7_dphi_0p5_zoom.png (0 to 10 deg)"
 gnuplot -e "run='$data/ess_fig7_dphi_0p5_plus'; run2='$data/ess_fig7_dphi_0p5_minus'; what='source'; xmin=0; xmax=10; \
   label='dphi_deg = +0.01, '; label2='dphi_deg = -0.01, '; out='$out/ess_fig7_dphi_0p5_zoom.png'; \
-  title='ESS paper Fig. 7 zoomed on 0 to 10 deg: the error alternates every 0.5 deg sample, a 1-deg period'" scripts/curve.gp
+  title='ESS paper Fig. 7 zoomed on 0 to 10 deg: the error alternates sample to sample, a 1-deg period'" scripts/curve.gp
 
 # Fig. 11: one type-B unit (the unit of the largest error before of the
 # first 40), before and after its own calibration.
@@ -65,7 +65,7 @@ U=32
 say "ess_fig11a_typeB.png (unit $U, six beta)"
 "$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
   --set "validation.beta_deg=-25,-15,-5,5,15,25" --out $data/ess_fig11a $q >/dev/null
-gnuplot -e "run='$data/ess_fig11a'; title='ESS paper Fig. 11(a): type-B unit $U before and after compensation, every beta. Our unit is 2.4x smaller than the paper (0.0635 -> 0.0157 deg): its before is mostly fine-code ripple'; \
+gnuplot -e "run='$data/ess_fig11a'; title=\"ESS paper Fig. 11(a): type-B unit $U before and after compensation, every beta\\nsunmc's unit is 2.4x smaller than the paper's (0.0635 -> 0.0157 deg): its error before is mostly fine-code ripple\"; \
   out='$out/ess_fig11a_typeB.png'" scripts/curve.gp
 say "ess_fig11b_typeB.png (unit $U, two beta)"
 "$SUNMC" curve $B --unit $U --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
@@ -79,7 +79,8 @@ for t in A B; do
   say "ess_table2_step_$t.png (campaign step sweep, $UNITS units)"
   "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2 --units $UNITS \
     --out $data/ess_table2_$t $q >/dev/null
-  gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'" scripts/sweep.gp
+  gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'; \
+    note=\"Paper Table 2. sunmc: crosses = steps that alias the fine-code ripple;\\nthe fit takes it for an offset, unit gets worse (paper: 1, 0.25 deg work)\"" scripts/sweep.gp
 done
 
 # Budget, yield and improvement histogram of type A.
@@ -125,5 +126,5 @@ if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh
 else
   echo "figures.sh: the dss family draws no curves yet: DSS Figs. 2-5 skipped" >&2
 fi
-say "done: $(ls "$out"/*.png | wc -l) figures in $out"
+echo "figures: done: $(ls "$out"/*.png | wc -l) figures in $out" >&2
 ls "$out"/*.png

@@ -53,7 +53,7 @@ ua(c, l, h) = xnum ? sprintf("2:%d:%d:%d", c+1, l+1, h+1) : sprintf("1:%d:%d:%d:
 UA = ua(caft, cal, cah); UB = ua(cbef, cbl, cbh)
 n_alias = int(system(sprintf("awk -F'\\t' 'NR>1 && $%d==1' '%s' | wc -l", cali, file)))
 
-set title sprintf("%s: sweep of %s (error bars: %g%% confidence)", field(col('product'), 2), word(hdr, 1), 100 * level)
+set title sprintf("%s: sweep of %s (error bars: %g%% confidence)", field(col('product'), 2), word(hdr, 1), 100 * level).(exists("note") ? "\n".note : "")
 set xlabel word(hdr, 1).' (unit in the key name)'
 set ylabel sprintf('mean RMS error of %s [%s]', angle, unit)
 set grid
