@@ -106,8 +106,8 @@ if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh
     say "$name.png ($kv)"
     note=
     case $kv in
-      dx_px*) note="\\nsunmc (paper eqs. 9-10): dx moves alpha only, largest at the centre; the paper's Fig. 3 shows it in both" ;;
-      dy_px*) note="\\nsunmc (paper eqs. 9-10): dy moves beta only, largest at the centre, where the paper says it is smallest there" ;;
+      dx_px*) note="\\nsunmc (paper eqs. 9-10): dx moves alpha (beta under 0.5 arcsec), largest at the centre; the paper's Fig. 3 shows it in both" ;;
+      dy_px*) note="\\nsunmc (paper eqs. 9-10): dy moves beta (alpha under 0.5 arcsec), largest at the centre, where the paper says it is smallest there" ;;
     esac
     "$SUNMC" curve $D --only $kv $grid --out $data/$name $q >/dev/null
     gnuplot -e "run='$data/$name'; out='$out/$name.png'; title=\"DSS paper Fig. $fig: error caused by $kv alone$note\"" scripts/map.gp

@@ -50,7 +50,7 @@ do for [i=1:words(hdr)] {
   if (ok(i)) {
     stats file skip 1 using i nooutput
     zero = abs(STATS_min) < 1e-9 * m && abs(STATS_max) < 1e-9 * m
-    set title word(hdr, i).(zero ? ': identically zero' : sprintf(': %.3g to %.3g', STATS_min, STATS_max))
+    set title word(hdr, i).(zero ? ': identically zero' : sprintf(': %.4g to %.4g', STATS_min, STATS_max))
     set size ratio -1
     splot file skip 1 using 1:2:i with pm3d notitle
   }

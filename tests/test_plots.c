@@ -87,6 +87,26 @@ static void plots_sh(void **state)
     assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("missing"), out, sizeof out), 2);
 }
 
+/* The texts a reader relies on: the histogram divides the widest band's
+ * before by its after column (not the rms_after_sys_ columns that follow),
+ * the yield legend names band and yield in words, the map says its range. */
+static void plot_texts(void **state)
+{
+    char out[8192];
+    const char *checks[] = {
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/h.svg'\" scripts/hist.gp && "
+        "grep -q 'rms_before_alpha_0_62_deg / rms_after_alpha_0_62_deg' %1$s/h.svg",
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y.svg'\" scripts/yield.gp && "
+        "grep -q 'alpha error, band 0-62 deg: yield' %1$s/y.svg && grep -q 'yield target 95' %1$s/y.svg",
+    };
+    for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
+        char cmd[1024];
+        snprintf(cmd, sizeof cmd, checks[i], test_tmp("run"));
+        if (test_run(cmd, out, sizeof out) != 0)
+            fail_msg("%s: %s", cmd, out);
+    }
+}
+
 /* curve --only dH_um=V with an ideal fine code and no noise: the source
  * column is atan((1 + V/H) tan a) - a, and -V mirrors it. */
 static void curve_closed_form(void **state)
@@ -156,6 +176,7 @@ int main(void)
         cmocka_unit_test(sensitivity_gp),         cmocka_unit_test(curve_gp),
         cmocka_unit_test(map_gp),            cmocka_unit_test(plots_sh),
         cmocka_unit_test(curve_closed_form), cmocka_unit_test(curve_errors),
+        cmocka_unit_test(plot_texts),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
