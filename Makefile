@@ -10,6 +10,10 @@
 #   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
 # User CFLAGS/LDFLAGS are added to ours.
 
+# `make` alone builds build/sunmc (rules below, such as the dependency files',
+# would otherwise become the default goal).
+.DEFAULT_GOAL := all
+
 PREFIX  ?= /usr/local
 BUILD   ?= build
 VERSION := 0.1.0
