@@ -12,8 +12,9 @@
 #include <unistd.h>
 
 static const char design_help[] =
-    "usage: sunmc design CONFIG [--space KEY=VALUE]... [--seed S] [--threads T]\n"
+    "usage: sunmc design CONFIG [--space KEY=VALUE]... [--units N] [--seed S] [--threads T]\n"
     "                    [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
+    "--units N: at most N units a candidate (campaign.search_max_units; the screen too).\n"
     "Searches calibration campaigns -- fast-axis step (ESS alpha), symmetric slow-axis line\n"
     "sets (ESS beta: 1 line at 0, or 2..7 evenly spaced over +-B), readings per point -- for\n"
     "the cheapest in turntable hours whose yield (widest band, report.spec_arcsec) has its\n"
@@ -172,12 +173,23 @@ int cmd_design(int argc, char **argv)
     if (cli_wants_help(argc, argv, design_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "design", "CONFIG seed threads set space out quiet", &o);
+    int rc = cli_parse(argc, argv, 2, "design", "CONFIG units seed threads set space out quiet",
+                       &o);
     if (rc)
         return rc;
+    if (o.end >= 0) {
+        fprintf(stderr, "sunmc design: --units takes N, the most units a candidate runs\n");
+        return EXIT_BAD_INPUT;
+    }
     config_state st;
     if ((rc = cli_config(&o, &st)))
         return rc;
+    for (int i = 0; i < o.n_sets; i++) /* --units N: the most units a candidate runs */
+        if (o.sets[i] == o.set_buf[i] && strncmp(o.sets[i], "run.units=", 10) == 0) {
+            st.cfg.search_max_units = st.cfg.units;
+            if (st.cfg.search_screen_units > st.cfg.units)
+                st.cfg.search_screen_units = st.cfg.units;
+        }
     char err[SUNMC_ERRLEN];
     design_result d;
     double t0 = now_s();
