@@ -23,19 +23,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char dir[] = "/tmp/sunmc_test_cal_XXXXXX";
+static char dir[512]; /* this suite's directory in the private temporary one */
 
 static int setup(void **state)
 {
     gsl_set_error_handler_off();
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_private_dir(dir, sizeof dir, "cal");
 }
 
 static void build_config(config_state *st, const char *const *sets, int n)
@@ -499,5 +492,5 @@ int main(void)
         cmocka_unit_test(test_refuses_n_le_p),
         cmocka_unit_test(test_single_beta_line_has_no_cross_validation),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -2,6 +2,7 @@
  * calibrate -> compensate reproduces `run`'s unit (ESS and DSS), bad data
  * and bad usage exit 2 with nothing written. */
 #include "test_util.h"
+#include "test_tsv.h"
 
 #include "calreport.h"
 #include "config.h"
@@ -19,19 +20,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char dir[] = "/tmp/sunmc_test_calcli_XXXXXX";
+static char dir[512]; /* this suite's directory in the private temporary one */
 
 static int setup(void **state)
 {
     gsl_set_error_handler_off();
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_private_dir(dir, sizeof dir, "calcli");
 }
 
 /* ---- the command line ---- */
@@ -39,25 +33,11 @@ static int teardown(void **state)
 /* Value of column `col` in row `row` (0-based data row) of a TSV file. */
 static double tsv_value(const char *path, int row, const char *col)
 {
-    FILE *f = fopen(path, "r");
-    assert_non_null(f);
-    static char line[1 << 16];
-    int idx = -1, r = -1;
-    double v = NAN;
-    while (fgets(line, sizeof line, f)) {
-        line[strcspn(line, "\n")] = '\0';
-        int k = 0;
-        for (char *s = strtok(line, "\t"); s; s = strtok(NULL, "\t"), k++) {
-            if (r < 0 && strcmp(s, col) == 0)
-                idx = k;
-            else if (r == row && k == idx)
-                v = strtod(s, NULL);
-        }
-        r++;
-    }
-    fclose(f);
-    if (idx < 0)
-        fail_msg("%s has no column %s", path, col);
+    tsv *t = tsv_load(path);
+    if (row >= t->nr)
+        fail_msg("%s has no data row %d", path, row);
+    double v = tsv_num(t, row, col);
+    tsv_free(t);
     return v;
 }
 
@@ -435,5 +415,5 @@ int main(void)
         cmocka_unit_test(test_cli_compensate_bad_input),
         cmocka_unit_test(test_cli_dss_reproduces_run),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, NULL);
 }

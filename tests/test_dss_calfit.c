@@ -18,19 +18,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char dir[] = "/tmp/sunmc_test_dsscal_XXXXXX";
+static char dir[512]; /* this suite's directory in the private temporary one */
 
 static int setup(void **state)
 {
     gsl_set_error_handler_off();
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return test_private_dir(dir, sizeof dir, "dsscal");
 }
 
 /* ---- DSS: propagated sigma, simulate -> calibrate -> compensate, and an
@@ -91,5 +84,5 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dss_sigma_matches_finite_differences),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, NULL);
 }
