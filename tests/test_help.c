@@ -94,6 +94,12 @@ static void test_suggest_names_nearest_key(void **state)
     assert_string_equal(hint, "");
     config_suggest("design", "H", hint, sizeof hint);              /* too short to guess */
     assert_string_equal(hint, "");
+    config_suggest("run", "se", hint, sizeof hint);                /* seed: 2 edits of 2 letters */
+    assert_string_equal(hint, "");
+    config_suggest("tolerance", "DH_UM", hint, sizeof hint);       /* case is not an edit */
+    assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
+    config_suggest("validation", "beta_dg", hint, sizeof hint);    /* own section first */
+    assert_string_equal(hint, " (did you mean validation.beta_deg?)");
 }
 
 static void test_mistyped_key_suggested_in_file_and_set(void **state)
@@ -111,6 +117,14 @@ static void test_mistyped_key_suggested_in_file_and_set(void **state)
                                 "tolerance.dH_um?)"));
 }
 
+/* The ESS table is in degrees: the spec is printed in degrees too
+ * (54 arcsec / 3600 = 0.015 deg); the DSS table is in arcsec already. */
+static void test_spec_in_table_unit(void **state)
+{
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 1 --quiet"), 0);
+    assert_non_null(strstr(out, ", spec 54 arcsec = 0.01500 deg\n"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -121,6 +135,7 @@ int main(void)
         cmocka_unit_test(test_every_command_help_balanced),
         cmocka_unit_test(test_suggest_names_nearest_key),
         cmocka_unit_test(test_mistyped_key_suggested_in_file_and_set),
+        cmocka_unit_test(test_spec_in_table_unit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
