@@ -197,6 +197,47 @@ static void test_compensate_gradient_matches_finite_differences(void **state)
     }
 }
 
+/* Compensation where the fitted fine-code ripple is nearly as steep as
+ * the angle itself (w k = 0.995: a unit with a3/a1 = -0.25 fits this):
+ * the slope of raw(alpha_d) falls to 0.005 and Halley's step carries the
+ * rounding of raw / 0.005, above its 1e-15 rad test.  Every reading must
+ * still be inverted (it was nan in `sunmc curve`), to what the arithmetic
+ * allows; at w k >= 1 the term has no inverse and every reading is
+ * refused (both sides of the limit). */
+static void test_compensate_near_flat_ripple(void **state)
+{
+    ess_model m;
+    ess_model_init(&m, 2 * RAD_PER_DEG, 0);
+    const double wk[] = {0.995, 0.9999};
+    for (int q = 0; q < 2; q++) {
+        double k = wk[q] / m.omega, t = 0.3;
+        m.p[ESS_P_KS] = k * cos(t);
+        m.p[ESS_P_KC] = k * sin(t);
+        ess_model_prepare(&m);
+        long failed = 0;
+        for (double a = -62.0; a <= 62.0; a += 0.0137) {
+            double ad = a * RAD_PER_DEG, x;
+            double raw = ad - m.p[ESS_P_KS] * sin(m.omega * ad) - m.p[ESS_P_KC] * cos(m.omega * ad);
+            if (ess_model_compensate(&m, raw, &x) != SUNMC_OK) {
+                failed++;
+                continue;
+            }
+            /* eq. 13 with a = 1, b = c = 0 is the identity */
+            assert_near(x, ad, 1e-15 / (1.0 - wk[q]) * 64);
+        }
+        assert_int_equal(failed, 0);
+    }
+    m.p[ESS_P_KS] = 1.0 / m.omega;
+    m.p[ESS_P_KC] = 0;
+    ess_model_prepare(&m);
+    double x;
+    assert_int_equal(ess_model_compensate(&m, 0.1, &x), SUNMC_EDOM);
+    /* a reading that is not a number is refused, not looped on */
+    m.p[ESS_P_KS] = 0.995 / m.omega;
+    ess_model_prepare(&m);
+    assert_int_equal(ess_model_compensate(&m, NAN, &x), SUNMC_EDOM);
+}
+
 static void test_covariance_closed_form(void **state)
 {
     /* cov = [[4, 2], [2, 9]], s2 = 0.25, scale (1, 10): se = (1, 15),
@@ -484,6 +525,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compensate_gradient_matches_finite_differences),
+        cmocka_unit_test(test_compensate_near_flat_ripple),
         cmocka_unit_test(test_covariance_closed_form),
         cmocka_unit_test(test_independent_model_recovered),
         cmocka_unit_test(test_as_good_as_independent_least_squares),

@@ -102,6 +102,7 @@ typedef struct {
     void *cv, *cn;
     int fit_ok, nom_ok;
     long unseen;
+    long uncompensated;   /* points seen whose after error is not a number */
 } curve_run;
 
 static void curve_free(curve_run *r)
@@ -156,6 +157,14 @@ static void curve_header(const curve_run *r, FILE *fo)
     fputc('\n', fo);
 }
 
+static int all_finite(const double *v, int n)
+{
+    for (int a = 0; a < n; a++)
+        if (!isfinite(v[a]))
+            return 0;
+    return 1;
+}
+
 /* Evaluate every grid point (before, after, the source alone = before
  * minus the nominal unit's before), into the statistics and, when fo is
  * open, one row of curve.tsv each; a blank line between series. */
@@ -178,6 +187,7 @@ static void curve_walk(curve_run *r, FILE *fo)
             }
             if (fo)
                 fprintf(fo, "%.10g\t%.10g", r->ax0[i], r->ax1[j]);
+            r->uncompensated += s1 == SUNMC_OK && !all_finite(aft, na);
             for (int a = 0; a < na; a++) {
                 double src = (s1 == SUNMC_OK && s2 == SUNMC_OK) ? bef[a] - nb[a] : NAN;
                 series_stats *s = &r->ss[j * na + a];
@@ -191,6 +201,15 @@ static void curve_walk(curve_run *r, FILE *fo)
                 fputc('\n', fo);
         }
     }
+}
+
+/* One number of the table, or "-" where there is none (no point). */
+static void print_cell(double v, int prec)
+{
+    if (isfinite(v))
+        printf(" %9.*f", prec, v);
+    else
+        printf(" %9s", "-");
 }
 
 /* The table on stdout: RMS and max |error| per series and angle. */
@@ -212,15 +231,35 @@ static void curve_print(const curve_run *r, const char *only, long unit)
     for (long j = 0; j < r->n1; j++)
         for (int a = 0; a < na; a++) {
             const series_stats *s = &r->ss[j * na + a];
-            double rms[3];
+            printf("%-10.4g %-6s |", r->ax1[j], fam->angle_names[a]);
             for (int k = 0; k < 3; k++)
-                rms[k] = s->n[k] ? sqrt(s->sum2[k] / (double)s->n[k]) : NAN;
-            printf("%-10.4g %-6s | %9.*f %9.*f %9.*f | %9.*f %9.*f %9.*f | %ld\n", r->ax1[j],
-                   fam->angle_names[a], prec, rms[0], prec, rms[1], prec, rms[2], prec,
-                   s->maxabs[0], prec, s->n[1] ? s->maxabs[1] : NAN, prec, s->maxabs[2],
-                   s->n[0]);
+                print_cell(s->n[k] ? sqrt(s->sum2[k] / (double)s->n[k]) : NAN, prec);
+            printf(" |");
+            for (int k = 0; k < 3; k++)
+                print_cell(s->n[k] ? s->maxabs[k] : NAN, prec);
+            printf(" | %ld\n", s->n[0]);
         }
     printf("errors in %s; %ld grid points not seen or gross (left out)\n", u, r->unseen);
+}
+
+/* On stderr, whatever --quiet says: the grid points whose after error is
+ * nan in curve.tsv and left out of the table's after columns. */
+static void curve_warn(const curve_run *r)
+{
+    long seen = r->n0 * r->n1 - r->unseen;
+    if (r->uncompensated == 0)
+        return;
+    if (!r->fit_ok)
+        fprintf(stderr,
+                "sunmc curve: WARNING: the unit's calibration fit FAILED: error_after is nan at "
+                "all %ld grid points seen\n",
+                r->uncompensated);
+    else
+        fprintf(stderr,
+                "sunmc curve: WARNING: %ld of %ld grid points seen could not be compensated by the "
+                "unit's fitted model (no inverse there): error_after is nan at them and the "
+                "after columns leave them out\n",
+                r->uncompensated, seen);
 }
 
 /* Walk the grid, writing curve.tsv and config.ini to o->out (all or
@@ -305,8 +344,10 @@ int cmd_curve(int argc, char **argv)
         status = curve_setup(&r, &st.cfg, &nom.cfg, unit, sign, err, sizeof err);
     if (status == SUNMC_OK)
         status = curve_output(&r, &o, &st, unit, &wstatus, err, sizeof err);
-    if (status == SUNMC_OK)
+    if (status == SUNMC_OK) {
         curve_print(&r, o.only, unit);
+        curve_warn(&r);
+    }
     if (status != SUNMC_OK || wstatus != SUNMC_OK)
         fprintf(stderr, "sunmc curve: %s\n", err);
     if (status == SUNMC_OK)

@@ -220,9 +220,44 @@ VM_KERNEL void ess_model_predict_batch(const ess_model *m, const ess_table *t, d
     }
 }
 
+/* The fine-code inverse by bisection, for a lane Halley's iteration left
+ * unconverged.  g(x) = x - ks sin(w x) - kc cos(w x) - raw rises strictly
+ * (g' >= 1 - w k > 0, checked by the caller), and its root lies within
+ * k of raw.  Near w k = 1 the slope falls to 1 - w k: the rounding of g
+ * (a few ulp of |x|) then moves Halley's step by ulp / (1 - w k), above
+ * COMP_TOL_RAD for w k > 0.9 or so, and a lane never meets the step test
+ * though its x is as good as the arithmetic allows.  Bisection ends at
+ * adjacent doubles whatever the slope. */
+static double finecode_g(double ks, double kc, double w, double raw, double x)
+{
+    return x - ks * sin(w * x) - kc * cos(w * x) - raw;
+}
+
+static double finecode_bisect(double ks, double kc, double w, double raw)
+{
+    double k = hypot(ks, kc);
+    double lo = raw - 2.0 * k, hi = raw + 2.0 * k;
+    for (;;) {
+        double mid = lo + 0.5 * (hi - lo);
+        if (mid <= lo || mid >= hi)
+            return fabs(finecode_g(ks, kc, w, raw, lo)) <= fabs(finecode_g(ks, kc, w, raw, hi))
+                       ? lo
+                       : hi;
+        double g = finecode_g(ks, kc, w, raw, mid);
+        if (g == 0.0)
+            return mid;
+        if (g > 0.0)
+            hi = mid;
+        else
+            lo = mid;
+    }
+}
+
 /* Newton on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane
  * iterates until its own step is below COMP_TOL_RAD, exactly as one
- * reading alone would; then eq. 13.  status[i]: SUNMC_OK or SUNMC_EDOM. */
+ * reading alone would; a lane still moving after COMP_MAX_ITER steps is
+ * solved by bisection (finecode_bisect); then eq. 13.  status[i]: SUNMC_OK
+ * or SUNMC_EDOM (a raw that is not a number, or eq. 13 undefined). */
 VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
                                        double *alpha, int *status)
 {
@@ -251,6 +286,11 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
         for (size_t i = 0; i < kp; i++)
             left += active[i];
     }
+    for (size_t i = 0; i < k; i++)
+        if (active[i] && isfinite(r[i])) {
+            x[i] = finecode_bisect(ks, kc, w, r[i]);
+            active[i] = 0;
+        }
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double td = tan(x[i]);
         double den = p[ESS_P_C] * td - p[ESS_P_A];
