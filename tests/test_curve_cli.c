@@ -1,6 +1,7 @@
 /* test_curve_cli.c - `sunmc curve` never writes a silent nan: every grid
  * point it sees gets an after-compensation error, or stderr says how many
- * did not (whatever --quiet says) and the table shows "-", not nan. */
+ * did not (whatever --quiet says) and the table shows "-", not nan; and
+ * `make figures`' Fig. 11 unit is of the paper's size. */
 #include "test_util.h"
 
 #define B_UNIT "configs/ess_type_b.ini --unit 32 --set design.harmonics=given " \
@@ -56,11 +57,72 @@ static void test_uninvertible_fit_is_flagged(void **state)
     assert_non_null(strstr(out, "        -"));
 }
 
+/* The line of scripts/figures.sh that starts with key (e.g. "paper=\""),
+ * the rest of it in buf without the closing quote. */
+static void figures_line(const char *key, char *buf, size_t len)
+{
+    FILE *f = fopen("scripts/figures.sh", "r");
+    assert_non_null(f);
+    char line[1024];
+    buf[0] = '\0';
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, key, strlen(key)) == 0) {
+            snprintf(buf, len, "%s", line + strlen(key));
+            buf[strcspn(buf, "\"\n")] = '\0';
+            break;
+        }
+    fclose(f);
+    if (!buf[0])
+        fail_msg("scripts/figures.sh has no line %s", key);
+}
+
+/* `make figures`' Fig. 11 draws a unit of the paper's size: the paper's
+ * type-B unit goes 0.0635 -> 0.0157 deg RMS; the shipped derived
+ * harmonics give 0.027 -> 0.0065, so figures.sh sets a given a3/a1.  Its
+ * unit and overrides, every beta of Fig. 11a, must land within 20 % of
+ * the paper's before and 50 % of its after, with every point compensated. */
+static void test_fig11_unit_of_paper_size(void **state)
+{
+    char paper[512], unit[32], args[2048], out[16384], path[600];
+    figures_line("paper=\"", paper, sizeof paper);
+    figures_line("U=", unit, sizeof unit);
+    const char *d = test_tmp("fig11");
+    snprintf(args, sizeof args,
+             "curve configs/ess_type_b.ini --unit %s %s --set validation.alpha_step_deg=0.05 "
+             "--set validation.alpha_offset_deg=0 --set validation.beta_deg=-25,-15,-5,5,15,25 "
+             "--out $D --quiet",
+             unit, paper);
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_null(strstr(out, "WARNING"));
+    snprintf(path, sizeof path, "%s/curve.tsv", d);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[512];
+    double s2[2] = {0, 0};
+    long n = 0;
+    assert_non_null(fgets(line, sizeof line, f)); /* header */
+    while (fgets(line, sizeof line, f)) {
+        double a, b, e[2];
+        if (sscanf(line, "%lf %lf %lf %lf", &a, &b, &e[0], &e[1]) != 4)
+            continue; /* the blank line between series */
+        assert_true(isfinite(e[0]) && isfinite(e[1]));
+        s2[0] += e[0] * e[0];
+        s2[1] += e[1] * e[1];
+        n++;
+    }
+    fclose(f);
+    assert_int_equal(n, 6 * 2481);
+    double before = sqrt(s2[0] / (double)n), after = sqrt(s2[1] / (double)n);
+    assert_near(before, 0.0635, 0.2 * 0.0635);
+    assert_near(after, 0.0157, 0.5 * 0.0157);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_large_ripple_is_compensated),
         cmocka_unit_test(test_uninvertible_fit_is_flagged),
+        cmocka_unit_test(test_fig11_unit_of_paper_size),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
