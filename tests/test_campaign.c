@@ -43,8 +43,10 @@ static void cost_by_hand(void **state)
     config_state_free(&st);
 }
 
-/* The shipped type A campaign: 621 alpha x 3 beta lines, -62..62 each,
- * back to -62 between lines; validation beta +-25 lies 5 deg beyond. */
+/* The shipped type A campaign: 124 / 0.8 + 1 = 156 alpha x 3 beta lines,
+ * -62..62 each, back to -62 between lines (the beta moves of 30 are shorter
+ * than that return, so they cost nothing more); lines at +-30 cover the
+ * validation's beta +-25: no extrapolation. */
 static void ess_default_campaign(void **state)
 {
     config_state st;
@@ -53,29 +55,33 @@ static void ess_default_campaign(void **state)
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
     assert_true(ci.known);
-    assert_int_equal(ci.points, 621 * 3);
+    assert_int_equal(ci.points, 156 * 3);
     assert_int_equal(ci.lines, 3);
     const sunmc_config *c = &st.cfg;
-    double travel = 3 * 124.0 + 2 * 124.0; /* scans + returns (beta moves 20 < 124) */
+    double travel = 3 * 124.0 + 2 * 124.0; /* scans + returns (beta moves 30 < 124) */
     double want = (travel / c->slew_deg_per_s + 3 * c->line_settle_s +
-                   (621 * 3 - 3) * c->point_settle_s + 621 * 3 * c->cal_repeats * c->dwell_s) /
+                   (156 * 3 - 3) * c->point_settle_s + 156 * 3 * c->cal_repeats * c->dwell_s) /
                   3600;
     assert_near(ci.hours, want, 1e-12);
+    /* with the key table's 1 s, 1 s, 30 s and 5 deg/s: 1147 s */
+    assert_near(ci.hours, (620.0 / 5 + 3 * 30 + 465 + 468) / 3600, 1e-12);
+    assert_near(ci.outside_deg[0], 0, 0);
+    assert_near(ci.outside_deg[1], 0, 0);
+    assert_near(ci.extrapolation_deg, 0, 0);
+    char text[512];
+    campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
+    assert_string_equal(text, "");
+    config_state_free(&st);
+    /* Lines at +-20: validation beta +-25 lies 5 deg beyond, on axis 1. */
+    const char *close[] = {"campaign.beta_deg=-20,0,20"};
+    build(&st, "configs/ess_type_a.ini", close, 1);
+    assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
     assert_near(ci.outside_deg[0], 0, 0);
     assert_near(ci.outside_deg[1], 5, 1e-12);
     assert_near(ci.extrapolation_deg, 5, 1e-12);
-    char text[512];
-    campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
+    campaign_extrapolation_text(&ci, st.cfg.family->table_axis_names, text, sizeof text);
     assert_non_null(strstr(text, "validation beta reaches -25..25 deg"));
     assert_non_null(strstr(text, "-20..20"));
-    config_state_free(&st);
-    /* Lines at +-30 cover the validation: no extrapolation, no text. */
-    const char *wide[] = {"campaign.beta_deg=-30,0,30"};
-    build(&st, "configs/ess_type_a.ini", wide, 1);
-    assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
-    assert_near(ci.extrapolation_deg, 0, 0);
-    campaign_extrapolation_text(&ci, st.cfg.family->table_axis_names, text, sizeof text);
-    assert_string_equal(text, "");
     config_state_free(&st);
     /* Validation alpha beyond the campaign's alpha range: on axis 0. */
     const char *narrow[] = {"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"};
@@ -107,29 +113,44 @@ static void dss_campaign(void **state)
     config_state_free(&st);
 }
 
-/* run: Table 1 states points and hours and warns; summary.tsv has them. */
+/* Runs 2 units of type A with extra --set options into DIR: Table 1 in
+ * out, and summary.tsv's campaign columns must read want. */
+static void run_campaign(const char *sets, const char *dir, const char *want, char *out,
+                         size_t len)
+{
+    char cmd[2048], cols[256];
+    snprintf(cmd, sizeof cmd,
+             "%s run configs/ess_type_a.ini --units 2 --set validation.alpha_step_deg=1.3 %s "
+             "--quiet --out %s",
+             test_sunmc(), sets, test_tmp(dir));
+    assert_int_equal(test_run(cmd, out, len), 0);
+    snprintf(cmd, sizeof cmd, "head -2 %s/summary.tsv | cut -f38-40", test_tmp(dir));
+    assert_int_equal(test_run(cmd, cols, sizeof cols), 0);
+    assert_string_equal(cols, want);
+}
+
+/* run: Table 1 states points and hours and warns; summary.tsv has them.
+ * The shipped campaign (468 points, 1147 s = 0.318611 h, see above) covers
+ * its validation; lines at +-20 do not, by 5 deg.  Two lines at +-25: 312
+ * points, 2 scans + 1 return of 124 deg at 5 deg/s, 2 line settles of 30 s,
+ * 310 point settles and 312 readings of 1 s: 756.4 s = 0.210111 h. */
 static void run_reports_campaign(void **state)
 {
-    char out[16384], cmd[2048];
-    snprintf(cmd, sizeof cmd,
-             "%s run configs/ess_type_a.ini --units 2 --set validation.alpha_step_deg=1.3 "
-             "--quiet --out %s",
-             test_sunmc(), test_tmp("run"));
-    assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    assert_non_null(strstr(out, "campaign: 1863 points on 3 lines, 1 reading each: 1.09 "
+    char out[16384];
+    const char *head = "campaign_points\tcampaign_hours\textrapolation_deg\n";
+    char want[128];
+    snprintf(want, sizeof want, "%s468\t0.318611\t0\n", head);
+    run_campaign("", "run", want, out, sizeof out);
+    assert_non_null(strstr(out, "campaign: 468 points on 3 lines, 1 reading each: 0.32 "
                                 "turntable hours"));
-    assert_non_null(strstr(out, "WARNING: validation beta reaches -25..25 deg"));
-    snprintf(cmd, sizeof cmd, "head -2 %s | cut -f38-40", test_tmp("run/summary.tsv"));
-    assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    assert_string_equal(out, "campaign_points\tcampaign_hours\textrapolation_deg\n"
-                             "1863\t1.09361\t5\n");
-    snprintf(cmd, sizeof cmd,
-             "%s run configs/ess_type_a.ini --units 2 --set validation.alpha_step_deg=1.3 "
-             "--set campaign.beta_deg=-25,25 --quiet",
-             test_sunmc());
-    assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_null(strstr(out, "WARNING"));
-    assert_non_null(strstr(out, "1242 points on 2 lines"));
+    snprintf(want, sizeof want, "%s468\t0.318611\t5\n", head);
+    run_campaign("--set campaign.beta_deg=-20,0,20", "run20", want, out, sizeof out);
+    assert_non_null(strstr(out, "WARNING: validation beta reaches -25..25 deg"));
+    snprintf(want, sizeof want, "%s312\t0.210111\t0\n", head);
+    run_campaign("--set campaign.beta_deg=-25,25", "run25", want, out, sizeof out);
+    assert_null(strstr(out, "WARNING"));
+    assert_non_null(strstr(out, "312 points on 2 lines"));
 }
 
 /* calibrate: the campaign of the data, in file order. */

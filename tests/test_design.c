@@ -25,7 +25,8 @@ static void space_counts(void **state)
     assert_int_equal(design_space(&st.cfg, &d, err, sizeof err), SUNMC_OK);
     assert_int_equal(d.n, 1 + 2 * (1 + 2 * 2));
     assert_true(d.cand[0].is_input);
-    assert_string_equal(d.cand[0].lines, "-20, 0, 20");
+    assert_string_equal(d.cand[0].step, "0.8");
+    assert_string_equal(d.cand[0].lines, "-30, 0, 30");
     int found = 0;
     for (int i = 0; i < d.n; i++)
         found += strcmp(d.cand[i].step, "0.3") == 0 && strcmp(d.cand[i].lines, "-15, 0, 15") == 0;
@@ -43,8 +44,10 @@ static void space_counts(void **state)
 }
 
 
+/* The input campaign at 0.2 deg costs more than any searched candidate, so
+ * the choice is among the steps searched: 0.5 aliases, 0.3 is chosen. */
 #define SPACE                                                                                     \
-    "--space steps_deg=0.5,0.3 --space max_lines=3 --space beta_step_deg=30 "                     \
+    "--set campaign.alpha_step_deg=0.2 --space steps_deg=0.5,0.3 --space max_lines=3 --space beta_step_deg=30 "                     \
     "--space beta_max_deg=30 --space repeats=1 --space screen_units=12 --space max_units=24 "     \
     "--space shortlist=1 --set run.block_units=12 --set validation.alpha_step_deg=1.3 "          \
     "--set report.yield_target=0.5 --quiet"
