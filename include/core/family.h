@@ -89,6 +89,10 @@ typedef struct sensor_family {
     /* Measured angles reported (ESS: alpha; DSS: alpha, beta, total). */
     int (*n_angles)(const sunmc_config *c);
     const char *const *angle_names;
+    /* What report.bands_deg bands, for table headers: "|alpha|" (ESS: the
+     * incidence), "field angle" (DSS: the angle from the boresight).  NULL:
+     * "|angle|". */
+    const char *band_name;
 
     /* The random inputs: the deviation list (each tolerance's stream) and
      * the noise streams (NULL-name terminated).  NULL when the family does

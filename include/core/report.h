@@ -112,5 +112,8 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family 
 
 /* Band label "0:30" of band i. */
 void report_band_label(const sunmc_config *c, int i, char *buf, size_t len);
+/* The band column's header: "|alpha| deg", "field angle deg" (the
+ * family's band_name). */
+void report_band_head(const sensor_family *fam, char *buf, size_t len);
 
 #endif

@@ -53,17 +53,42 @@ static int axis_width(const sweep_axis *ax)
     return (int)w;
 }
 
+/* The numeric columns of the table. */
+enum { COL_BEFORE, COL_AFTER, COL_P95, COL_IMPROVE, COL_POINTS, SWEEP_NUM_COLS };
+
+/* Printed width of each numeric column over every row: its header or its
+ * widest value (an improvement past 1,000 widens its column, not the row). */
+static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NUM_COLS])
+{
+    static const int head[SWEEP_NUM_COLS] = {10, 10, 10, 7, 7};
+    for (int k = 0; k < SWEEP_NUM_COLS; k++)
+        w[k] = head[k];
+    for (long i = 0; i < n; i++) {
+        const summary_row *s = &rows[i];
+        const double v[] = {s->rms_before_mean, s->rms_after_mean, s->rms_after_p95,
+                            s->improvement_mean};
+        for (int k = 0; k < COL_POINTS; k++) {
+            int len = snprintf(NULL, 0, "%.*f", k == COL_IMPROVE ? 2 : prec, v[k]);
+            w[k] = len > w[k] ? len : w[k];
+        }
+        int len = snprintf(NULL, 0, "%ld", s->campaign_points);
+        w[COL_POINTS] = len > w[COL_POINTS] ? len : w[COL_POINTS];
+    }
+}
+
 static void print_table(const sunmc_config *c, const sensor_family *fam, const sweep_axis *axes,
                         int n_axes, long n_points, const summary_row *rows, int n_rows)
 {
     const char *u = fam->rms_unit;
-    int prec = strcmp(u, "deg") == 0 ? 4 : 2;
+    int prec = strcmp(u, "deg") == 0 ? 4 : 2, w[SWEEP_NUM_COLS];
+    num_widths(rows, n_points * n_rows, prec, w);
     printf("\n%s (%s): sweep of %ld points, %ld units each, seed %ld, spec %g arcsec\n",
            c->product, fam->name, n_points, rows[0].units, c->seed, c->spec_arcsec);
     for (int i = 0; i < n_axes; i++)
         printf("%-*s ", axis_width(&axes[i]), axes[i].dotted);
-    printf("%-6s %-9s %10s %10s %10s %7s %7s %6s %6s %7s %6s\n", "angle", "band", "before",
-           "after", "p95 after", "improve", "yield", "alias", "failed", "points", "hours");
+    printf("%-6s %-9s %*s %*s %*s %*s %7s %6s %6s %*s %6s\n", "angle", "band", w[COL_BEFORE],
+           "before", w[COL_AFTER], "after", w[COL_P95], "p95 after", w[COL_IMPROVE], "improve",
+           "yield", "alias", "failed", w[COL_POINTS], "points", "hours");
     int extrapolated = 0;
     for (long p = 0; p < n_points; p++) {
         const char *v[SWEEP_MAX_AXES];
@@ -74,11 +99,12 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             report_band_label(c, s->band, band, sizeof band);
             for (int i = 0; i < n_axes; i++)
                 printf("%-*s ", axis_width(&axes[i]), v[i]);
-            printf("%-6s %-9s %10.*f %10.*f %10.*f %7.2f %6.*f%% %6ld %6ld %7ld %6.2f%s\n",
-                   fam->angle_names[s->angle], band, prec, s->rms_before_mean, prec,
-                   s->rms_after_mean, prec, s->rms_after_p95, s->improvement_mean,
-                   report_percent_decimals(s->yield, 1), 100.0 * s->yield, s->alias_units,
-                   s->fit_failures, s->campaign_points, s->campaign_hours,
+            printf("%-6s %-9s %*.*f %*.*f %*.*f %*.2f %6.*f%% %6ld %6ld %*ld %6.2f%s\n",
+                   fam->angle_names[s->angle], band, w[COL_BEFORE], prec, s->rms_before_mean,
+                   w[COL_AFTER], prec, s->rms_after_mean, w[COL_P95], prec, s->rms_after_p95,
+                   w[COL_IMPROVE], s->improvement_mean, report_percent_decimals(s->yield, 1),
+                   100.0 * s->yield, s->alias_units, s->fit_failures, w[COL_POINTS],
+                   s->campaign_points, s->campaign_hours,
                    s->extrapolation_deg > 0 ? " *" : "");
             extrapolated |= s->extrapolation_deg > 0;
         }

@@ -1,5 +1,7 @@
 /* calreport.c - standard errors, correlations and the printed fit report. */
 #include "calreport.h"
+#include "registry.h"
+#include "report.h"
 #include "status.h"
 
 #include <gsl/gsl_eigen.h>
@@ -142,13 +144,16 @@ int calreport_print(FILE *f, const calreport *r)
 
     fprintf(f, "\nper band (arcsec; predicted = sqrt(noise^2 + calibration^2), calibration = "
                "parameter covariance\npropagated to the compensated angle):\n");
-    fprintf(f, "  angle  band |x| deg   points  residual  cal.sigma(rms)  cal.sigma(max)  "
-               "predicted\n");
+    char head[64];
+    report_band_head(sensor_family_find(r->sensor), head, sizeof head);
+    int wb = (int)strlen(head) > 12 ? (int)strlen(head) : 12;
+    fprintf(f, "  angle  %-*s %7s  residual  cal.sigma(rms)  cal.sigma(max)  predicted\n", wb, head,
+            "points");
     for (int a = 0; a < r->n_angles; a++)
         for (int b = 0; b < r->bands.n; b++) {
             char band[32];
             snprintf(band, sizeof band, "%g:%g", r->bands.lo[b], r->bands.hi[b]);
-            fprintf(f, "  %-6s %-12s %7ld", r->angle_name[a], band, r->band_n[a][b]);
+            fprintf(f, "  %-6s %-*s %7ld", r->angle_name[a], wb, band, r->band_n[a][b]);
             print_value(f, r->resid_rms[a][b]);
             fprintf(f, "     ");
             print_value(f, r->cal_sigma_rms[a][b]);

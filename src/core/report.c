@@ -337,12 +337,19 @@ static void set_head(table_col *col, const char *h0, const char *h1, int bar)
     col->left = 0;
 }
 
+void report_band_head(const sensor_family *fam, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s deg", fam && fam->band_name ? fam->band_name : "|angle|");
+}
+
 /* Angle and band label columns. */
 static void label_columns(const sunmc_config *c, const sensor_family *fam,
                           const summary_row *rows, int n, table_col *cols)
 {
+    char h[TABLE_CELL];
+    report_band_head(fam, h, sizeof h);
     set_head(&cols[0], "angle", "", 0);
-    set_head(&cols[1], "band", "|x| deg", 0);
+    set_head(&cols[1], "band", h, 0);
     cols[0].left = cols[1].left = 1;
     for (int i = 0; i < n; i++) {
         snprintf(cols[0].cell[i], TABLE_CELL, "%s", fam->angle_names[rows[i].angle]);

@@ -407,6 +407,7 @@ const sensor_family dss_family = {
     .model_label = dss_model_label,
     .n_angles = dss_n_angles,
     .angle_names = dss_angle_names,
+    .band_name = "field angle",
     .deviations = dss_deviation_list,
     .n_deviations = DSS_N_TOL,
     .noise = dss_random_noise,

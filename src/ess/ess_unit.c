@@ -333,6 +333,7 @@ const sensor_family ess_family = {
     .model_label = ess_model_label,
     .n_angles = ess_n_angles,
     .angle_names = ess_angle_names,
+    .band_name = "|alpha|",
     .deviations = ess_deviation_list,
     .n_deviations = ESS_N_TOL,
     .noise = ess_random_noise,
