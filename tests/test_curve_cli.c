@@ -22,7 +22,7 @@ static int count_nan(const char *path)
 /* a3/a1 = -0.25: the fitted fine-code term has w k = 0.995 and Halley's
  * iteration stalled on rounding at 64 of these points (nan, nothing said);
  * every point is now compensated and the unit improves as the paper's
- * Fig. 11 unit does (0.057 -> 0.017 deg). */
+ * Fig. 11 unit does (0.057 -> 0.018 deg). */
 static void test_large_ripple_is_compensated(void **state)
 {
     char out[16384], args[1024];
@@ -78,7 +78,7 @@ static void figures_line(const char *key, char *buf, size_t len)
 
 /* `make figures`' Fig. 11 draws a unit of the paper's size: the paper's
  * type-B unit goes 0.0635 -> 0.0157 deg RMS; the shipped derived
- * harmonics give 0.027 -> 0.0065, so figures.sh sets a given a3/a1.  Its
+ * harmonics give 0.027 -> 0.0075, so figures.sh sets a given a3/a1.  Its
  * unit and overrides, every beta of Fig. 11a, must land within 20 % of
  * the paper's before and 50 % of its after, with every point compensated. */
 static void test_fig11_unit_of_paper_size(void **state)
