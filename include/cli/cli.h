@@ -3,6 +3,7 @@
 #ifndef SUNMC_CLI_H
 #define SUNMC_CLI_H
 
+#include "progress.h"
 #include "output.h"
 #include "registry.h"
 #include "report.h"
@@ -75,10 +76,10 @@ void cli_progress_start(cli_progress *p, int quiet);
 void cli_progress_update(long done, long total, void *ctx);
 double cli_progress_end(cli_progress *p, long units, int threads);
 
-/* Run units [first, end) of c with progress and timing on stderr, in
+/* Run units [first, end) of c, its progress into meter m (progress.h), in
  * blocks (nothing held per unit but the statistics); fills rows
  * (report_n_rows of them).  Prints errors and returns an exit code. */
-int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
+int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, cli_meter *m,
                     summary_row *rows);
 
 /* The files of a run or a merge in --out DIR: units.tsv and units.bin are

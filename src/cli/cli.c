@@ -297,9 +297,9 @@ void cli_progress_update(long done, long total, void *ctx)
     if (t - p->last < PROGRESS_INTERVAL_S && done < total)
         return;
     p->last = t;
-    double rate = done / fmax(t - p->t0, 1e-9);
-    fprintf(stderr, "\r  %ld/%ld units  %.0f units/s  ETA %.1f s   ", done, total, rate,
-            (double)(total - done) / fmax(rate, 1e-9));
+    char line[METER_STAGE_MAX + 128];
+    cli_meter_line(line, sizeof line, "run", "units", done, total, t - p->t0, "");
+    fprintf(stderr, "\r%s, %.0f units/s   ", line, done / fmax(t - p->t0, 1e-9));
     fflush(stderr);
 }
 
@@ -308,7 +308,7 @@ double cli_progress_end(cli_progress *p, long units, int threads)
     double dt = now_s() - p->t0;
     if (!p->quiet) {
         if (p->tty)
-            fprintf(stderr, "\r%60s\r", "");
+            fprintf(stderr, "\r%100s\r", "");
         fprintf(stderr, "sunmc: %ld units in %.2f s (%.0f units/s, %d threads", units, dt,
                 units / fmax(dt, 1e-9), threads);
         if (par_size() > 1)

@@ -33,10 +33,33 @@ static const char budget_help[] =
 static const char *const limit_names[] = {"ok", "at_key_max", "unmet"};
 static const char *const kind_names[] = {"tolerance", "noise"};
 
+/* The budget's progress: its Monte Carlos of `units` units (all, floor,
+ * each source alone, no tolerance), then per source an inverse limit of
+ * about report.budget_steps + 2 Monte Carlos of report.budget_units (the
+ * bisection's count varies: an estimate).  The core calls back at the
+ * start of each; the first call gives the count of the first phase. */
+typedef struct {
+    cli_meter m;
+    int quiet, n_runs, last_i, limits;
+    long units, per_limit;
+} budget_meter;
+
 static void progress(const char *what, int i, int n, void *ctx)
 {
-    if (!*(const int *)ctx)
-        fprintf(stderr, "sunmc budget: %d/%d %s\n", i, n, what);
+    budget_meter *bm = ctx;
+    if (bm->n_runs == 0) {
+        bm->n_runs = n;
+        cli_meter_start(&bm->m, "budget", "units", n * bm->units + (n - 3) * bm->per_limit,
+                        bm->quiet);
+    }
+    if (!bm->limits && bm->last_i == bm->n_runs && i == 1)
+        bm->limits = 1;
+    bm->last_i = i;
+    long base = bm->limits ? bm->n_runs * bm->units + (i - 1) * bm->per_limit
+                           : (i - 1) * bm->units;
+    char stage[METER_STAGE_MAX];
+    snprintf(stage, sizeof stage, "%s (%d/%d)", what, i, n);
+    cli_meter_stage(&bm->m, stage, base);
 }
 
 static void dist_name(const sunmc_config *c, const budget_source *s, char *buf, size_t len)
@@ -221,8 +244,13 @@ int cmd_budget(int argc, char **argv)
     int status = b ? SUNMC_OK : SUNMC_ENOMEM;
     if (!b)
         snprintf(err, sizeof err, "out of memory");
-    if (status == SUNMC_OK)
-        status = budget_run(c, units, threads, 1, progress, &o.quiet, b, err, sizeof err);
+    if (status == SUNMC_OK) {
+        budget_meter bm = {.quiet = o.quiet, .units = units,
+                           .per_limit = (long)(c->budget_steps + 2) * c->budget_units};
+        status = budget_run(c, units, threads, 1, progress, &bm, b, err, sizeof err);
+        if (bm.n_runs)
+            cli_meter_end(&bm.m);
+    }
     if (status == SUNMC_OK) {
         print_table(c, fam, b); /* before writing: a failed write must not cost it */
         fflush(stdout);

@@ -38,10 +38,25 @@ static double now_s(void)
     return (double)tv.tv_sec + 1e-6 * (double)tv.tv_usec;
 }
 
+/* The design's two passes over its n candidates (screen each, settle
+ * the shortlist; a candidate's units vary): the meter counts candidate
+ * steps, 2 n in all, a settled step skipping those that are not settled. */
+typedef struct {
+    cli_meter m;
+    int quiet, started;
+} design_meter;
+
 static void progress(const char *stage, int i, int n, void *ctx)
 {
-    if (*(const int *)ctx)
-        fprintf(stderr, "\r  %s %d/%d   ", stage, i, n);
+    design_meter *dm = ctx;
+    if (!dm->started) {
+        dm->started = 1;
+        cli_meter_start(&dm->m, "design", "candidate steps", 2L * n, dm->quiet);
+    }
+    int settle = strcmp(stage, "settle") == 0;
+    char text[METER_STAGE_MAX];
+    snprintf(text, sizeof text, "%s candidate %d/%d", stage, i, n);
+    cli_meter_stage(&dm->m, text, (settle ? n : 0) + i - 1);
 }
 
 /* "step 0.3, lines -30, 0, 30, 1 reading" */
@@ -194,11 +209,11 @@ int cmd_design(int argc, char **argv)
     design_result d;
     double t0 = now_s();
     int s = design_space(&st.cfg, &d, err, sizeof err);
-    int tty = !o.quiet && isatty(STDERR_FILENO);
+    design_meter dm = {.quiet = o.quiet};
     if (s == SUNMC_OK)
-        s = design_run(&d, cli_threads(&o, &st.cfg), progress, &tty, err, sizeof err);
-    if (tty)
-        fprintf(stderr, "\r%40s\r", "");
+        s = design_run(&d, cli_threads(&o, &st.cfg), progress, &dm, err, sizeof err);
+    if (dm.started)
+        cli_meter_end(&dm.m);
     if (s == SUNMC_OK) {
         print_shortlist(&d, now_s() - t0);
         fflush(stdout);

@@ -62,7 +62,7 @@ static int stream_units(run_sink *r, long first, long end, int threads, int quie
     return cli_exit_code(st);
 }
 
-int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, int quiet,
+int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, cli_meter *m,
                     summary_row *rows)
 {
     run_sink r;
@@ -77,7 +77,10 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, in
         return 1;
     }
     long done = 0;
-    int rc = stream_units(&r, first, end, threads, quiet, &done);
+    st = run_stream(&r, first, end, threads, cli_meter_units, m, &done, err, sizeof err);
+    if (st != SUNMC_OK)
+        fprintf(stderr, "sunmc: %s\n", err);
+    int rc = cli_exit_code(st);
     if (rc == 0)
         report_acc_rows(r.acc, rows);
     run_sink_free(&r);

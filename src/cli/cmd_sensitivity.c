@@ -29,10 +29,24 @@ static const char sensitivity_help[] =
 
 static const char *const kind_names[] = {"tolerance", "noise"};
 
+/* Each of the core's stages (sample A, sample B, A with each input from
+ * B) runs `units` units; the first call gives their count. */
+typedef struct {
+    cli_meter m;
+    int quiet, started;
+    long units;
+} sens_meter;
+
 static void progress(const char *what, int i, int n, void *ctx)
 {
-    if (!*(const int *)ctx)
-        fprintf(stderr, "sunmc sensitivity: %d/%d %s\n", i, n, what);
+    sens_meter *sm = ctx;
+    if (!sm->started) {
+        sm->started = 1;
+        cli_meter_start(&sm->m, "sensitivity", "units", n * sm->units, sm->quiet);
+    }
+    char stage[METER_STAGE_MAX];
+    snprintf(stage, sizeof stage, "%s (%d/%d)", what, i, n);
+    cli_meter_stage(&sm->m, stage, (i - 1) * sm->units);
 }
 
 /* Sources in order of ST after calibration (largest first), stable. */
@@ -165,8 +179,12 @@ int cmd_sensitivity(int argc, char **argv)
     int status = s ? SUNMC_OK : SUNMC_ENOMEM;
     if (!s)
         snprintf(err, sizeof err, "out of memory");
-    if (status == SUNMC_OK)
-        status = sens_run(c, units, threads, progress, &o.quiet, s, err, sizeof err);
+    if (status == SUNMC_OK) {
+        sens_meter sm = {.quiet = o.quiet, .units = units};
+        status = sens_run(c, units, threads, progress, &sm, s, err, sizeof err);
+        if (sm.started)
+            cli_meter_end(&sm.m);
+    }
     if (status == SUNMC_OK) {
         order_by_st(s, order);
         print_table(c, c->family, s, order); /* before writing: a failed write must not cost it */

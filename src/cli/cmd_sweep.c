@@ -160,31 +160,32 @@ static int parse_axes(const cli_options *o, const config_state *base, sweep_axis
 /* Run every point's Monte Carlo into its rows (n_rows per point); the
  * command's exit status. */
 static int run_points(const cli_options *o, const sweep_axis *axes, int n_axes, long n_points,
-                      summary_row *rows, int n_rows)
+                      long units, summary_row *rows, int n_rows)
 {
-    for (long p = 0; p < n_points; p++) {
+    cli_meter m;
+    cli_meter_start(&m, "sweep", "units", n_points * units, o->quiet);
+    int rc = 0;
+    long base = 0; /* units of the points done (an axis may vary run.units) */
+    for (long p = 0; p < n_points && rc == 0; p++) {
         config_state st;
-        int rc = point_config(o, axes, n_axes, p, &st);
-        if (rc)
-            return rc;
+        if ((rc = point_config(o, axes, n_axes, p, &st)))
+            break;
         const sunmc_config *c = &st.cfg;
         long first = o->end >= 0 ? o->first : 0;
         long end = o->end >= 0 ? o->end : c->units;
-        int threads = cli_threads(o, c);
-        if (!o->quiet) {
-            const char *v[SWEEP_MAX_AXES];
-            sweep_point_text(axes, n_axes, p, v);
-            fprintf(stderr, "sunmc sweep: point %ld/%ld:", p + 1, n_points);
-            for (int i = 0; i < n_axes; i++)
-                fprintf(stderr, " %s=%s", axes[i].dotted, v[i]);
-            fputc('\n', stderr);
-        }
-        rc = cli_monte_carlo(c, first, end, threads, o->quiet, &rows[p * n_rows]);
+        const char *v[SWEEP_MAX_AXES];
+        char stage[METER_STAGE_MAX];
+        sweep_point_text(axes, n_axes, p, v);
+        int k = snprintf(stage, sizeof stage, "point %ld/%ld", p + 1, n_points);
+        for (int i = 0; i < n_axes && k > 0 && (size_t)k < sizeof stage; i++)
+            k += snprintf(stage + k, sizeof stage - (size_t)k, " %s=%s", axes[i].dotted, v[i]);
+        cli_meter_stage(&m, stage, base);
+        base += end - first;
+        rc = cli_monte_carlo(c, first, end, cli_threads(o, c), &m, &rows[p * n_rows]);
         config_state_free(&st);
-        if (rc)
-            return rc;
     }
-    return 0;
+    cli_meter_end(&m);
+    return rc;
 }
 
 /* sweep.tsv and config.ini into o->out, all or nothing. */
@@ -257,7 +258,8 @@ int cmd_sweep(int argc, char **argv)
     }
     /* Per-point configs are kept only for the rows' writer (bands and
      * product come from the config; they cannot be varied). */
-    if ((rc = run_points(&o, axes, n_axes, n_points, rows, n_rows))) {
+    long units = o.end >= 0 ? o.end - o.first : base.cfg.units;
+    if ((rc = run_points(&o, axes, n_axes, n_points, units, rows, n_rows))) {
         free(rows);
         config_state_free(&base);
         return rc;
