@@ -82,7 +82,7 @@ gnuplot -e "run='$data/ess_fig11b'; title=\"ESS paper Fig. 11(b): type-B unit $U
 for t in A B; do
   cfg=configs/ess_type_$(echo $t | tr AB ab).ini
   say "ess_table2_step_$t.png (campaign step sweep, $UNITS units)"
-  "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.5,0.3,0.25,0.2 --units $UNITS \
+  "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.8,0.5,0.3,0.25,0.2 --units $UNITS \
     --out $data/ess_table2_$t $q >/dev/null
   gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'; \
     note=\"Paper Table 2. sunmc: crosses = steps that alias the fine-code ripple;\\nthe fit takes it for an offset, unit gets worse (paper: 1, 0.25 deg work)\"" scripts/sweep.gp

@@ -57,7 +57,7 @@ set title sprintf("%s: sweep of %s (error bars: %g%% confidence)", field(col('pr
 set xlabel word(hdr, 1).' (unit in the key name)'
 set ylabel sprintf('mean RMS error of %s [%s]', angle, unit)
 set grid
-set key outside right top
+set key outside below horizontal maxcols 3 width -4   # below: the plot and its title keep the full width
 set yrange [0:*]
 if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 }
 # The ESS paper's Table 2 (one unit of each type, |alpha| <= 62 deg): drawn
