@@ -24,7 +24,7 @@
 #define CALREPORT_MAX_WARN 24
 #define CALREPORT_MAX_FOLDS 64
 #define CALREPORT_MAX_ANGLES 2
-#define CALREPORT_TEXT_MAX 400
+#define CALREPORT_TEXT_MAX 800
 #define CALREPORT_NAME_MAX 40
 
 /* |correlation| above which a parameter pair is named as near-unidentifiable. */
@@ -107,6 +107,31 @@ int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const d
 
 /* Add one warning for each pair with |corr| > threshold, naming both. */
 void calreport_check_correlations(calreport *r, double threshold);
+
+/* A known reason why some of a family's parameters correlate on a
+ * campaign: the group's names (NULL-terminated), why the campaign cannot
+ * tell them apart and what would (both for a person, in full). */
+#define CALREPORT_CAUSE_PARAMS 4
+typedef struct {
+    const char *params[CALREPORT_CAUSE_PARAMS + 1];
+    const char *why;
+    const char *action;
+} calreport_corr_cause;
+
+/* calreport_check_correlations with causes: the flagged pairs inside one
+ * cause's group make one warning, every pair with its correlation, and the
+ * cause's reason and action; a flagged pair no cause covers gets the
+ * generic warning of its own. */
+void calreport_check_correlations_explained(calreport *r, double threshold,
+                                            const calreport_corr_cause *causes, int n_causes);
+
+/* Held-out error above this multiple of the in-sample one is flagged. */
+#define CALREPORT_CV_RATIO_WARN 3.0
+
+/* Warn when the pooled held-out error exceeds ratio times the pooled
+ * in-sample one, naming the worst fold: the fit does not carry over to
+ * data it did not see. */
+void calreport_check_crossval(calreport *r, double ratio);
 
 /* predicted_rms of angle a in every band: the in-sample residual RMS times
  * dof_factor (sqrt(n / dof): the noise it underestimates) added in

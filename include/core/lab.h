@@ -50,6 +50,15 @@ typedef struct {
     const char *out_dir;
 } lab_unit_ref;
 
+/* A measurement calibrate needs from the lab beside its data file: a
+ * config key (section, name) whose default only stands in for it, why it
+ * matters and how to give it. */
+typedef struct lab_measured_key {
+    const char *section, *name;
+    const char *why;
+    const char *action;
+} lab_measured_key;
+
 typedef struct family_lab {
     /* ---- simulate: one unit's campaign as a lab records it, its truth and
      * the readings `run` validates it on. ---- */
@@ -91,6 +100,9 @@ typedef struct family_lab {
     /* The residual standard deviation the config's reading noise gives
      * (arcsec): a fit far above it did not find the sensor in the data. */
     double (*cal_noise_arcsec)(const sunmc_config *c);
+    /* Config keys calibrate takes as measurements of the real unit, each
+     * warned about when left at its default (NULL-key terminated, or NULL). */
+    const struct lab_measured_key *cal_measured;
     /* params.ini: the title comment, and the family's sections. */
     const char *params_title;
     int (*params_fill)(const void *cal, const sunmc_config *c, const calreport *rep,
@@ -143,6 +155,10 @@ int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d,
 #define LAB_MAX_CONDITION 1e12
 void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
                    calreport *rep);
+
+/* A warning in rep for each of lab's measured keys whose value in st is
+ * the default (no config file or --set gave it). */
+void lab_check_measured(const family_lab *lab, const config_state *st, calreport *rep);
 
 /* params.ini's [calibration] section: version, sensor, model, data file
  * and its FNV-1a 64, rows, config, residual sigma, cross-validation RMS. */

@@ -48,8 +48,9 @@ static const char compensate_help[] =
     "Conventions of x_px, y_px, b1, b2: see `sunmc calibrate --help`.\n";
 
 /* Read the data, fit, print the report; with --out write the files. */
-static int calibrate(const cli_options *o, const sunmc_config *c, const family_lab *lab)
+static int calibrate(const cli_options *o, const config_state *cs, const family_lab *lab)
 {
+    const sunmc_config *c = &cs->cfg;
     const char *data = o->positional[0];
     char err[SUNMC_ERRLEN], why[128];
     lab_columns d;
@@ -69,6 +70,7 @@ static int calibrate(const cli_options *o, const sunmc_config *c, const family_l
         fprintf(stderr, "sunmc calibrate: %s: %s\n", data, err);
     } else {
         lab_check_fit(lab, c, &d, rep);
+        lab_check_measured(lab, cs, rep);
         calreport_print(stdout, rep);
         if (!rep->fit_ok) {
             fprintf(stderr, "sunmc calibrate: the fit %s (%s): nothing written\n",
@@ -144,7 +146,7 @@ int cmd_calibrate(int argc, char **argv)
         config_state_free(&st);
         return EXIT_BAD_INPUT;
     }
-    rc = calibrate(&o, &st.cfg, fam->lab);
+    rc = calibrate(&o, &st, fam->lab);
     config_state_free(&st);
     return rc;
 }

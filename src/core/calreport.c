@@ -78,12 +78,10 @@ void calreport_predict(calreport *r, int a, double dof_factor)
     }
 }
 
-void calreport_check_correlations(calreport *r, double threshold)
+/* The generic warning of one pair. */
+static void pair_warning(calreport *r, double threshold, int i, int j)
 {
-    for (int i = 0; i < r->np; i++)
-        for (int j = i + 1; j < r->np; j++)
-            if (fabs(r->corr[i][j]) > threshold)
-                calreport_warn(r,
+    calreport_warn(r,
                                "widen the campaign (a wider angle range, scan lines far apart) so "
                                "the two change the output differently, or fix one of them from "
                                "another measurement; their combination is still determined, "
@@ -92,6 +90,92 @@ void calreport_check_correlations(calreport *r, double threshold)
                                "%+.4f (|r| > %g): the data barely tell them apart, so their "
                                "standard errors are inflated",
                                r->name[i], r->name[j], r->corr[i][j], threshold);
+}
+
+void calreport_check_correlations(calreport *r, double threshold)
+{
+    calreport_check_correlations_explained(r, threshold, NULL, 0);
+}
+
+/* Index of parameter name in r, or -1. */
+static int param_index(const calreport *r, const char *name)
+{
+    for (int i = 0; i < r->np; i++)
+        if (strcmp(r->name[i], name) == 0)
+            return i;
+    return -1;
+}
+
+/* 1 when parameters i and j are both in cause's group. */
+static int cause_holds(const calreport *r, const calreport_corr_cause *cause, int i, int j)
+{
+    int has_i = 0, has_j = 0;
+    for (int k = 0; k < CALREPORT_CAUSE_PARAMS && cause->params[k]; k++) {
+        int x = param_index(r, cause->params[k]);
+        has_i |= x == i;
+        has_j |= x == j;
+    }
+    return has_i && has_j;
+}
+
+/* One warning for the flagged pairs of cause (listed in pairs), or none. */
+static void cause_warning(calreport *r, double threshold, const calreport_corr_cause *cause,
+                          unsigned char covered[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR])
+{
+    char pairs[CALREPORT_TEXT_MAX / 2] = "";
+    size_t used = 0;
+    int n = 0;
+    for (int i = 0; i < r->np; i++)
+        for (int j = i + 1; j < r->np; j++)
+            if (fabs(r->corr[i][j]) > threshold && !covered[i][j] &&
+                cause_holds(r, cause, i, j)) {
+                covered[i][j] = 1;
+                int w = snprintf(pairs + used, sizeof pairs - used, "%s%s and %s %+.4f",
+                                 n ? ", " : "", r->name[i], r->name[j], r->corr[i][j]);
+                used = w > 0 && used + (size_t)w < sizeof pairs ? used + (size_t)w : used;
+                n++;
+            }
+    if (n)
+        calreport_warn(r, cause->action,
+                       "parameters nearly unidentifiable on this campaign (|r| > %g): %s; why: %s",
+                       threshold, pairs, cause->why);
+}
+
+void calreport_check_correlations_explained(calreport *r, double threshold,
+                                            const calreport_corr_cause *causes, int n_causes)
+{
+    unsigned char covered[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR];
+    memset(covered, 0, sizeof covered);
+    for (int k = 0; k < n_causes; k++)
+        cause_warning(r, threshold, &causes[k], covered);
+    for (int i = 0; i < r->np; i++)
+        for (int j = i + 1; j < r->np; j++)
+            if (fabs(r->corr[i][j]) > threshold && !covered[i][j])
+                pair_warning(r, threshold, i, j);
+}
+
+void calreport_check_crossval(calreport *r, double ratio)
+{
+    if (!(r->cv_rms_out_arcsec > ratio * r->cv_rms_in_arcsec))
+        return;
+    int worst = -1;
+    for (int k = 0; k < r->n_folds; k++)
+        if (r->fold[k].ok && r->fold[k].rms_out_arcsec > 0 &&
+            (worst < 0 || r->fold[k].rms_out_arcsec / r->fold[k].rms_in_arcsec >
+                              r->fold[worst].rms_out_arcsec / r->fold[worst].rms_in_arcsec))
+            worst = k;
+    calreport_warn(r,
+                   "do not trust the in-sample residual: calibrate over the angles the sensor "
+                   "will be used at (both signs of each table angle, lines spanning the field), "
+                   "or fit a model with fewer free parameters; take the held-out error as the "
+                   "accuracy",
+                   "the held-out error %.2f arcsec is %.1f times the in-sample %.2f (above %gx): "
+                   "the fit does not carry over to data it did not see (worst: %s held out, "
+                   "%.2f against %.2f in-sample)",
+                   r->cv_rms_out_arcsec, r->cv_rms_out_arcsec / r->cv_rms_in_arcsec,
+                   r->cv_rms_in_arcsec, ratio, worst >= 0 ? r->fold[worst].label : "-",
+                   worst >= 0 ? r->fold[worst].rms_out_arcsec : NAN,
+                   worst >= 0 ? r->fold[worst].rms_in_arcsec : NAN);
 }
 
 static void print_value(FILE *f, double v)

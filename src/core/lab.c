@@ -168,6 +168,7 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
         rep->cv_rms_in_arcsec = sqrt(pool[0] / (double)pool_n[0]) * ARCSEC_PER_RAD;
     if (pool_n[1])
         rep->cv_rms_out_arcsec = sqrt(pool[1] / (double)pool_n[1]) * ARCSEC_PER_RAD;
+    calreport_check_crossval(rep, CALREPORT_CV_RATIO_WARN);
 }
 
 /* ---- a calibration's files ---- */

@@ -255,3 +255,17 @@ void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_colum
     if (rep->refused[0])
         rep->fit_ok = 0;
 }
+
+void lab_check_measured(const family_lab *lab, const config_state *st, calreport *rep)
+{
+    for (const lab_measured_key *m = lab->cal_measured; m && m->name; m++) {
+        const config_key *k = config_find_in(st->cfg.family, m->section, m->name);
+        const char *origin = k ? config_origin_of(st, k) : NULL;
+        if (!origin || strcmp(origin, "default") != 0)
+            continue;
+        char value[CONFIG_STR_MAX];
+        config_format_value(k, &st->cfg, value, sizeof value);
+        calreport_warn(rep, m->action, "%s.%s is left at its default (%s %s): %s", m->section,
+                       m->name, value, k->unit, m->why);
+    }
+}

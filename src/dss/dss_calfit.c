@@ -163,6 +163,49 @@ static void cross_validate(const sunmc_config *c, dss_calib_workspace *cw, calre
 /* Physical model: parameters, standard errors and correlations; the scaled
  * covariance into cov_s (n_free x n_free) when the fit converged.  Returns
  * 1 when cov_s holds it. */
+/* Why groups of the physical model's parameters correlate on a campaign
+ * (dss_calib.h's identifiability table), with the campaign's own reach:
+ * height, glass thickness and index all set the spot's scale and differ
+ * only in how the glass bends wide rays; a principal-point shift, the
+ * mount's tilt and the sun simulator's tilt all move the spots one way
+ * and differ only as sec^2 of the field angle and through the table's
+ * axes, which do not commute, at wide table angles. */
+static void dss_check_correlations(calreport *rep)
+{
+    double b2 = 0, b1 = 0;
+    if (rep->campaign.known) {
+        b2 = fmax(fabs(rep->campaign.cal_lo[0]), fabs(rep->campaign.cal_hi[0]));
+        b1 = fmax(fabs(rep->campaign.cal_lo[1]), fabs(rep->campaign.cal_hi[1]));
+    }
+    double corner = atan(hypot(tan(b1 * RAD_PER_DEG), tan(b2 * RAD_PER_DEG))) * DEG_PER_RAD;
+    char why_scale[CALREPORT_TEXT_MAX / 2], why_tilt[CALREPORT_TEXT_MAX / 2];
+    snprintf(why_scale, sizeof why_scale,
+             "the pinhole height and the cover glass's thickness and index all set how far from "
+             "the centre a spot lands; they differ only in how the glass bends wide rays, and "
+             "this campaign reaches %.0f deg of field angle at its corners",
+             corner);
+    snprintf(why_tilt, sizeof why_tilt,
+             "a principal-point shift, the mount's tilt and the sun simulator's tilt all move "
+             "the spots one way; they differ only as sec^2 of the field angle and through the "
+             "table's axes, which do not commute, at wide angles (this campaign: b1 to %.0f, b2 "
+             "to %.0f deg)",
+             b1, b2);
+    static const char act_scale[] =
+        "the spot's scale, which compensation needs, stays determined (cal.sigma shows it); to "
+        "separate them hold the index at the glass maker's value (calibration.fit_glass_index "
+        "= off) or calibrate to wider field angles";
+    static const char act_tilt[] =
+        "calibrate in an aligned lab (campaign.mount = aligned: no simulator tilt to fit) or "
+        "over wider table angles";
+    const calreport_corr_cause causes[] = {
+        {{"fit_dh_px", "fit_glass_thickness_um", "fit_glass_index", NULL}, why_scale, act_scale},
+        {{"fit_dy_px", "fit_c1_arcsec", "fit_sun_b1_arcsec", NULL}, why_tilt, act_tilt},
+        {{"fit_dx_px", "fit_c2_arcsec", "fit_sun_b2_arcsec", NULL}, why_tilt, act_tilt},
+    };
+    calreport_check_correlations_explained(rep, CALREPORT_CORR_WARN, causes,
+                                           (int)(sizeof causes / sizeof *causes));
+}
+
 static int physical_covariance(const dss_calib_workspace *cw, const dss_calibration *cal,
                                calreport *rep, double *cov_s)
 {
@@ -192,7 +235,7 @@ static int physical_covariance(const dss_calib_workspace *cw, const dss_calibrat
         calreport_warn(rep, "widen the campaign or fix the parameters it cannot determine",
                        "the parameter covariance could not be computed");
     }
-    calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+    dss_check_correlations(rep);
     return have_cov;
 }
 

@@ -279,6 +279,34 @@ static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, ca
     }
 }
 
+/* Why eq. 12's b and c correlate with the sun simulator's tilt toward Y
+ * on a campaign, with its own widest beta line.  At beta = 0 the tilt is
+ * a rotation about X, alpha -> alpha + tilt, which eq. 12 makes with
+ * b = -c = tan(tilt) (tan(alpha + d) = (T + tan d) / (1 - T tan d)); the
+ * outer frame turns the tilt away from X by beta, so only the beta lines
+ * tell them apart, by about 1 - cos(beta). */
+static void ess_check_correlations(calreport *rep)
+{
+    double bmax = 0;
+    if (rep->campaign.known)
+        bmax = fmax(fabs(rep->campaign.cal_lo[1]), fabs(rep->campaign.cal_hi[1]));
+    char why[CALREPORT_TEXT_MAX / 2], action[CALREPORT_TEXT_MAX];
+    snprintf(why, sizeof why,
+             "at beta = 0 the sun simulator's tilt toward Y turns alpha as eq. 12's b = -c does "
+             "(tan(alpha + d)); only the beta lines separate them, by 1 - cos(beta) = %.2f at "
+             "this campaign's widest |beta| = %g deg",
+             1 - cos(bmax * RAD_PER_DEG), bmax);
+    snprintf(action, sizeof action,
+             "b and c are what compensation uses, so their spread is in cal.sigma: put beta "
+             "lines farther out (1 - cos(beta) = 0.29 at 45 deg, 0.50 at 60 deg) or measure the "
+             "sun simulator's tilt; the sum that the beta = 0 line sees stays determined");
+    const calreport_corr_cause causes[] = {
+        {{"b", "c", "fit_sun_y_arcsec", NULL}, why, action},
+    };
+    calreport_check_correlations_explained(rep, CALREPORT_CORR_WARN, causes,
+                                           (int)(sizeof causes / sizeof *causes));
+}
+
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
 {
@@ -317,7 +345,7 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
 
     parameters(cw, res, rep);
-    calreport_check_correlations(rep, CALREPORT_CORR_WARN);
+    ess_check_correlations(rep);
 
     int n_uncomp;
     band_stats(c, cw, res, rep, &n_uncomp);

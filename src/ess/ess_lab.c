@@ -312,6 +312,19 @@ static int compensate(const void *model, const double *raw, double *comp_rad)
     return ess_model_compensate(model, raw[0] * RAD_PER_DEG, &comp_rad[0]);
 }
 
+/* The roll is fixed, not fitted (ess_calib.h): a rotation about X is
+ * eq. 12's a = d, b = -c, so no turntable data separate them. */
+static const lab_measured_key cal_measured[] = {
+    {"calibration", "roll_measured_arcsec",
+     "the fit fixes the installation roll at this measured value (a roll about X is eq. 12's "
+     "a = d, b = -c: no turntable data separate them), so the unit's real roll goes into b and "
+     "c, and every compensated angle is off by the difference between the real roll and this value",
+     "measure the roll of the mounted unit (e.g. against its alignment cube) and give it: "
+     "--set calibration.roll_measured_arcsec=VALUE (`sunmc simulate` prints a simulated unit's "
+     "value); set it explicitly, even to 0, to say it was measured"},
+    {NULL, NULL, NULL, NULL},
+};
+
 const family_lab ess_lab = {
     .sim_run = sim_run,
     .sim_write = sim_write,
@@ -325,6 +338,7 @@ const family_lab ess_lab = {
     .cal_campaign_range = cal_campaign_range,
     .cal_predict = cal_predict,
     .cal_noise_arcsec = cal_noise_arcsec,
+    .cal_measured = cal_measured,
     .params_title = "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"
                     "read by `sunmc compensate`; units are in the key names, standard "
                     "errors in the comments",

@@ -1,0 +1,147 @@
+/* test_calreport_advice.c - calibrate's warnings say what is specific to
+ * the data: correlated parameters grouped by their known cause with the
+ * campaign's own numbers (each pair with its correlation, once), the
+ * ESS installation roll left at its default, a held-out error more than
+ * 3 times the in-sample one (both sides of the limit). */
+#include "test_util.h"
+#include "calreport.h"
+
+static void set_params(calreport *r, int np, const char *const *names)
+{
+    calreport_init(r, "toy", "toy");
+    r->np = np;
+    for (int i = 0; i < np; i++) {
+        snprintf(r->name[i], sizeof r->name[i], "%s", names[i]);
+        r->corr[i][i] = 1;
+    }
+}
+
+static void set_corr(calreport *r, int i, int j, double v)
+{
+    r->corr[i][j] = r->corr[j][i] = v;
+}
+
+/* Pairs inside a cause's group make one warning naming each pair with its
+ * correlation and the cause; a pair outside every group gets the generic
+ * one; a pair at the threshold is not flagged. */
+static void test_correlations_grouped_by_cause(void **state)
+{
+    static const char *const names[] = {"p", "q", "r", "s", "t"};
+    calreport *r = calloc(1, sizeof *r);
+    set_params(r, 5, names);
+    set_corr(r, 0, 1, 0.99);
+    set_corr(r, 0, 2, -0.985);
+    set_corr(r, 1, 2, 0.98); /* at the threshold: not flagged */
+    set_corr(r, 3, 4, 0.995);
+    const calreport_corr_cause causes[] = {
+        {{"p", "q", "r", NULL}, "WHY-PQR", "DO-PQR"},
+        {{"s", "x", NULL}, "WHY-S", "DO-S"},
+    };
+    calreport_check_correlations_explained(r, 0.98, causes, 2);
+    assert_int_equal(r->nw, 2);
+    assert_non_null(strstr(r->w[0].reason, "p and q +0.9900, p and r -0.9850; why: WHY-PQR"));
+    assert_null(strstr(r->w[0].reason, "q and r"));
+    assert_string_equal(r->w[0].action, "DO-PQR");
+    assert_non_null(strstr(r->w[1].reason, "parameters s and t are nearly unidentifiable: "
+                                           "correlation +0.9950"));
+    assert_null(strstr(r->w[1].reason, "WHY-S"));
+    free(r);
+}
+
+static void test_crossval_ratio_limit(void **state)
+{
+    calreport *r = calloc(1, sizeof *r);
+    calreport_init(r, "toy", "toy");
+    r->n_folds = 2;
+    snprintf(r->fold[0].label, sizeof r->fold[0].label, "A");
+    snprintf(r->fold[1].label, sizeof r->fold[1].label, "B");
+    r->fold[0].ok = r->fold[1].ok = 1;
+    r->fold[0].rms_in_arcsec = 10;
+    r->fold[0].rms_out_arcsec = 12;
+    r->fold[1].rms_in_arcsec = 9;
+    r->fold[1].rms_out_arcsec = 50;
+    r->cv_rms_in_arcsec = 10;
+    r->cv_rms_out_arcsec = 29.9;
+    calreport_check_crossval(r, CALREPORT_CV_RATIO_WARN);
+    assert_int_equal(r->nw, 0);
+    r->cv_rms_out_arcsec = 30.1;
+    calreport_check_crossval(r, CALREPORT_CV_RATIO_WARN);
+    assert_int_equal(r->nw, 1);
+    assert_non_null(strstr(r->w[0].reason, "the held-out error 30.10 arcsec is 3.0 times the "
+                                           "in-sample 10.00"));
+    assert_non_null(strstr(r->w[0].reason, "worst: B held out, 50.00 against 9.00"));
+    free(r);
+}
+
+/* The shipped ESS campaign (beta -30, 0, 30): one warning for b, c and the
+ * simulator's tilt, with 1 - cos 30 deg; the roll left at its default is
+ * warned about, and not once it is given (even as 0). */
+static void test_ess_default_campaign_advice(void **state)
+{
+    static char out[65536];
+    char args[2048];
+    const char *d = test_tmp("ess_sim");
+    snprintf(args, sizeof args,
+             "simulate configs/ess_type_a.ini --unit 1 --out $D --quiet > /dev/null && "
+             "%s calibrate --config configs/ess_type_a.ini $D/campaign.csv",
+             test_sunmc());
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "b and fit_sun_y_arcsec -0.99"));
+    assert_non_null(strstr(out, "c and fit_sun_y_arcsec +0.98"));
+    assert_non_null(strstr(out, "1 - cos(beta) = 0.13 at this campaign's widest |beta| = 30 deg"));
+    assert_null(strstr(out, "widen the campaign (a wider angle range"));
+    assert_non_null(strstr(out, "calibration.roll_measured_arcsec is left at its default (0 "
+                                "arcsec)"));
+    snprintf(args, sizeof args,
+             "calibrate --config configs/ess_type_a.ini --set calibration.roll_measured_arcsec=0 "
+             "$D/campaign.csv");
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_null(strstr(out, "roll_measured_arcsec is left"));
+}
+
+/* A campaign of alpha >= 0 only: holding a beta line out triples the
+ * error, and the report says so. */
+static void test_ess_half_campaign_crossval_flagged(void **state)
+{
+    static char out[65536];
+    char args[2048];
+    const char *d = test_tmp("ess_half");
+    snprintf(args, sizeof args,
+             "simulate configs/ess_type_a.ini --unit 3 --set campaign.alpha_min_deg=0 --out $D "
+             "--quiet > /dev/null && %s calibrate --config configs/ess_type_a.ini "
+             "--set campaign.alpha_min_deg=0 $D/campaign.csv",
+             test_sunmc());
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "the held-out error 105.71 arcsec is 4.2 times the in-sample "
+                                "25.09 (above 3x)"));
+}
+
+/* The DSS's default campaign: height, glass thickness and index, once,
+ * with the campaign's corner field angle. */
+static void test_dss_default_campaign_advice(void **state)
+{
+    static char out[65536];
+    char args[2048];
+    const char *d = test_tmp("dss_sim");
+    snprintf(args, sizeof args,
+             "simulate configs/dss.ini --unit 1 --out $D --quiet > /dev/null && "
+             "%s calibrate --config configs/dss.ini $D/campaign.csv",
+             test_sunmc());
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "fit_dh_px and fit_glass_thickness_um +0.98"));
+    assert_non_null(strstr(out, "fit_dh_px and fit_glass_index +0.99"));
+    assert_non_null(strstr(out, "this campaign reaches 68 deg of field angle at its corners"));
+    assert_null(strstr(out, "widen the campaign (a wider angle range"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_correlations_grouped_by_cause),
+        cmocka_unit_test(test_crossval_ratio_limit),
+        cmocka_unit_test(test_ess_default_campaign_advice),
+        cmocka_unit_test(test_ess_half_campaign_crossval_flagged),
+        cmocka_unit_test(test_dss_default_campaign_advice),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
