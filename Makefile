@@ -52,7 +52,7 @@ ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
 # builtins (GCC would fuse a sin and a cos of one angle into a scalar
 # sincos call).  None changes a result: IEEE rounding, NaN compares and
 # isfinite work here as everywhere else.
-KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_calib.c \
+KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_model_ext.c src/ess/ess_calib.c \
               src/ess/ess_sensor.c src/ess/ess_readings.c src/dss/dss_readings.c \
               src/dss/dss_model_batch.c src/dss/dss_score.c src/dss/dss_onboard.c
 KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-trapping-math -fno-builtin-sin -fno-builtin-cos

@@ -174,7 +174,7 @@ static void test_compensate_gradient_matches_finite_differences(void **state)
     const double alphas_deg[] = {-61, -30.3, -0.2, 0.37, 15, 44.4, 61.9};
     const double step[ESS_NP] = {1e-7, 1e-7, 1e-7, 1e-8, 1e-8, 1e-6, 1e-6, 1e-6};
     for (int ia = 0; ia < 7; ia++) {
-        double alpha = alphas_deg[ia] * RAD_PER_DEG, h[ESS_NP];
+        double alpha = alphas_deg[ia] * RAD_PER_DEG, h[ESS_NP_MAX];
         double raw = ess_model_structural(&m, tan(alpha));
         ess_compensate_gradient(&m, alpha, h);
         double check;

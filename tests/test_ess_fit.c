@@ -49,7 +49,7 @@ static void test_jacobian(void **state)
 {
     ess_model m;
     truth_model(&m, 15);
-    double g[ESS_NP];
+    double g[ESS_NP_MAX];
     const double h[ESS_NP] = {1e-6, 1e-7, 1e-7, 1e-7, 1e-7, 1e-6, 1e-6, 1e-6};
     for (double a = -60; a <= 60; a += 13.7)
         for (double b = -25; b <= 25; b += 12.5) {
@@ -204,7 +204,7 @@ static void test_batch_matches_scalar(void **state)
     }
     ess_model_batch(&m, &cw->table, raw, sw, f, J, ld);
     for (size_t i = 0; i < n; i++) {
-        double g[ESS_NP];
+        double g[ESS_NP_MAX];
         double p = ess_model_predict(&m, cw->alpha_rad[i], cw->beta_rad[i], g);
         if (sw[i] == 0.0) {
             assert_true(f[i] == 0.0);

@@ -1,6 +1,6 @@
 /* test_sweep.c - --vary parsing, grid order, applying points, and the sweep
  * command end to end (common random numbers, equality with `run`). */
-#include "test_util.h"
+#include "test_tsv.h"
 
 #include "ess_config.h"
 
@@ -252,13 +252,37 @@ static void sweep_list_labels(void **state)
              test_sunmc(), test_tmp("sweep_list"));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_non_null(strstr(out, "-30,-10,10,30"));
-    const char *tsv = test_tmp("sweep_list/sweep.tsv");
-    assert_int_equal(tsv_row(tsv, 0, row, sizeof row), 0);
+    const char *path = test_tmp("sweep_list/sweep.tsv");
+    assert_int_equal(tsv_row(path, 0, row, sizeof row), 0);
     assert_true(strncmp(row, "campaign.beta_deg\tlabel\taliased\t", 32) == 0);
-    assert_int_equal(tsv_row(tsv, 1, row, sizeof row), 0);
+    assert_int_equal(tsv_row(path, 1, row, sizeof row), 0);
     assert_true(strncmp(row, "-20,0,20\t-20,0,20\t0\t", 20) == 0);
-    assert_int_equal(tsv_row(tsv, 4, row, sizeof row), 0);
+    assert_int_equal(tsv_row(path, 4, row, sizeof row), 0);
     assert_true(strncmp(row, "-30,-10,10,30\t-30,-10,10,30\t0\t", 30) == 0);
+}
+
+/* A sweep over the ESS calibration model: both rows, the same units
+ * before calibration (common random numbers), the extended model's
+ * noise-free error after at most half the paper's. */
+static void sweep_calibration_model(void **state)
+{
+    char out[16384], cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s sweep configs/ess_type_a.ini --vary 'calibration.model=paper|extended' "
+             "--units 8 --out %s --set noise.row_current_pct=0 --set noise.encoder_arcsec=0 "
+             "--set validation.alpha_step_deg=0.37 --quiet",
+             test_sunmc(), test_tmp("sweep_model"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    tsv *t = tsv_load(test_tmp("sweep_model/sweep.tsv"));
+    assert_string_equal(t->names[0], "calibration.model");
+    assert_int_equal(t->nr, 6); /* 2 models x 3 bands */
+    assert_string_equal(tsv_str(t, 2, "label"), "paper");
+    assert_string_equal(tsv_str(t, 5, "label"), "extended");
+    assert_string_equal(tsv_str(t, 5, "band"), "0:62");
+    assert_string_equal(tsv_str(t, 5, "aliased"), "0");
+    assert_near(tsv_num(t, 2, "rms_before_mean"), tsv_num(t, 5, "rms_before_mean"), 0);
+    assert_true(tsv_num(t, 2, "rms_after_mean") > 2.0 * tsv_num(t, 5, "rms_after_mean"));
+    tsv_free(t);
 }
 
 /* A range whose STOP binary rounding puts just below a whole step count
@@ -295,6 +319,7 @@ int main(void)
         cmocka_unit_test(parse_errors),   cmocka_unit_test(grid_order),
         cmocka_unit_test(apply_point),    cmocka_unit_test(cli_errors_write_nothing),
         cmocka_unit_test(sweep_equals_runs), cmocka_unit_test(sweep_list_labels),
+        cmocka_unit_test(sweep_calibration_model),
         cmocka_unit_test(range_end_and_digits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -20,15 +20,19 @@
 
 #include <stdio.h>
 
-/* Model name written to params.ini. */
+/* Model names written to params.ini: the paper's, the extended one. */
 #define ESS_CALFIT_MODEL "ess_eq12_finecode"
+#define ESS_CALFIT_MODEL_EXT "ess_extended"
+
+/* The params.ini name of a model kind (enum ess_model_kind). */
+const char *ess_calfit_model_name(int kind);
 
 /* Step of the field grid on which the covariance is propagated. */
 #define ESS_FIELD_STEP_DEG 0.1
 
 typedef struct {
     ess_model m;                    /* fitted model (prepared) */
-    double cov[ESS_NP][ESS_NP];     /* scaled parameter covariance, internal units (rad) */
+    double cov[ESS_NP_MAX][ESS_NP_MAX]; /* scaled parameter covariance, internal units (rad) */
     double s2;                      /* residual variance, rad^2 */
     int n_gross;                    /* rows dropped by the half-period check */
 } ess_calfit_result;
@@ -44,15 +48,16 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen);
 
 /* Derivative of the compensated angle with respect to the parameters
- * p[ESS_NP] (internal units), at the reading that incidence alpha_rad
+ * p[m->np] (internal units), at the reading that incidence alpha_rad
  * produces under m (implicit differentiation of the structural model; only
- * a, b, c, ks, kc are non-zero: the installation does not enter
- * compensation). */
-void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP]);
+ * a, b, c and the fine-code terms are non-zero: the installation does not
+ * enter compensation). */
+void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP_MAX]);
 
 /* Standard deviation (rad) of the compensated angle at incidence alpha_rad
  * from the parameter covariance cov (internal units): sqrt(h^T cov h). */
-double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP][ESS_NP], double alpha_rad);
+double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP_MAX][ESS_NP_MAX],
+                        double alpha_rad);
 
 /* Angle-domain error (rad) of reading raw_rad at recorded table angles:
  * compensate(raw) - incidence under m's installation.  SUNMC_EDOM when the

@@ -11,6 +11,15 @@
  *     ess_alias_check() finds the unresolved directions from the sampled
  *     phases; ess_calibrate() regularises them to 0 with prior rows of
  *     weight sqrt(n) instead of returning a wild fit, and reports it.
+ *  4. The extended model fits more harmonics of the fine period (4x, 1x,
+ *     2x: ess_model_fine_terms).  A step can sample two of them alike (0.8
+ *     deg with theta0 = 2 deg: the 1st and the 4th; 0.2 and 0.8 deg: the
+ *     2nd and the 8th, which is why the 8th is not a free term).
+ *     ess_alias_check_set() checks every harmonic in the model's order, each
+ *     against what the harmonics before it already explain (its sampled
+ *     (sin, cos) with their strong directions projected out), so the
+ *     paper's 4x term is kept and an aliased later harmonic is regularised
+ *     to 0 with all its incidence terms.
  */
 #ifndef SUNMC_ESS_CALIB_H
 #define SUNMC_ESS_CALIB_H
@@ -20,8 +29,12 @@
 
 #include <stddef.h>
 
-/* Rows appended after the data rows: one prior per fine-code direction. */
+/* Rows appended after the data rows: one prior per fine-code direction
+ * (the paper's model; the extended one has two per fine-code term). */
 #define ESS_CALIB_PRIOR_ROWS 2
+/* Fine-code terms and harmonics of the largest model. */
+#define ESS_MAX_FINE_TERMS 6
+#define ESS_ALIAS_MAX_H 3
 
 typedef struct {
     int n_weak;            /* directions regularised: 0, 1 or 2 */
@@ -38,6 +51,24 @@ typedef struct {
 void ess_alias_check(const double *alpha_rad, size_t n, double omega, double threshold,
                      ess_alias *out);
 
+/* Every harmonic a model fits, in its order. */
+typedef struct {
+    int n_h;                         /* harmonics checked */
+    int harmonic[ESS_ALIAS_MAX_H];   /* of the fine period: 4 (the paper's), 1, 2 */
+    ess_alias h[ESS_ALIAS_MAX_H];    /* each one's directions (the first as ess_alias_check) */
+    int n_weak;                      /* weak directions over all harmonics */
+    int n_prior;                     /* prior rows in use: weak directions x their terms */
+} ess_alias_set;
+
+/* Check the harmonics of the fine-code terms of a model of kind `kind` on
+ * the campaign's alpha values: the first harmonic as ess_alias_check
+ * (omega = its angular frequency), each later one after projecting out
+ * the strong directions of those before it.  work: 2 ESS_ALIAS_MAX_H + 2
+ * arrays of vm_pad(n) doubles (only for a model of more than one
+ * harmonic; NULL for the paper's). */
+void ess_alias_check_set(const double *alpha_rad, size_t n, int kind, double theta0_rad,
+                         double threshold, double *const *work, ess_alias_set *out);
+
 typedef struct {
     size_t n;             /* data points; every array holds vm_pad(n) (vmath.h) */
     double *alpha_rad;    /* turntable inner-frame angle, n */
@@ -48,16 +79,24 @@ typedef struct {
     double *sw;           /* sqrt(weight), 0 for a dropped point */
     ess_table table;      /* turntable matrices */
     double *scratch[2];   /* per-point work arrays */
-    fit_workspace *fw;    /* n + ESS_CALIB_PRIOR_ROWS residuals, ESS_NP parameters */
+    int kind;             /* the model fitted (enum ess_model_kind) */
+    int n_prior_rows;     /* ess_calib_prior_rows(kind) */
+    fit_workspace *fw;    /* n + n_prior_rows residuals, ess_model_np(kind) parameters */
     ess_model model;      /* working model of the residual function */
-    ess_alias alias;
+    ess_alias_set alias;
+    double *alias_work[2 * ESS_ALIAS_MAX_H + 2]; /* extended: ess_alias_check_set's */
 } ess_calib_workspace;
 
+/* Prior rows of a model kind: two per fine-code term. */
+int ess_calib_prior_rows(int kind);
+
 /* Allocate for n data points (filled by the caller: only [0, n) of each
- * array; the pads stay 0). NULL on failure. */
+ * array; the pads stay 0) and the paper's model, or a model of kind
+ * `kind`. NULL on failure. */
 ess_calib_workspace *ess_calib_alloc(size_t n);
-/* About how many bytes ess_calib_alloc(n) takes. */
-double ess_calib_bytes(size_t n);
+ess_calib_workspace *ess_calib_alloc_kind(size_t n, int kind);
+/* About how many bytes ess_calib_alloc_kind(n, kind) takes. */
+double ess_calib_bytes(size_t n, int kind);
 void ess_calib_free(ess_calib_workspace *cw);
 
 /* Fit the model to cw's data.  theta0_rad: fine-code period; roll_rad: the

@@ -49,6 +49,7 @@ typedef struct {
     double roll_sigma_arcsec;     /* roll alignment measurement */
     double roll_measured_arcsec;  /* `calibrate`: known roll, default 0 */
     double alias_threshold;
+    int cal_model;                /* enum ess_model_kind: paper | extended */
 
     /* [validation] */
     double val_alpha_min_deg, val_alpha_max_deg, val_alpha_step_deg, val_alpha_offset_deg;

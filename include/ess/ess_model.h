@@ -18,6 +18,17 @@
  * measured value), sun_x (a beta offset: invisible to an alpha sensor).
  * The ESS paper writes R_rs after R(alpha, beta) in eq. 14; in that order
  * R_rs and V0 only enter as their product and cannot be calibrated.
+ *
+ * The extended model (calibration.model = extended, ess_model_ext.c)
+ * replaces the fine-code term by the terms the physical sensor produces
+ * (derivation in ess_model_ext.c; x = 2 pi alpha_d / theta0 is the
+ * fine-code phase, c = cos alpha_d):
+ *     raw = alpha_d - arg(1 + rho e^{4 i x}) / w1 - L(alpha_d),  w1 = 2 pi / theta0,
+ *     rho = w1 [(ks + i kc) + (ks4 + i kc4) c^4 + (ks8 + i kc8) c^8],
+ *     L   = k1s sin x + k1c cos x + (k2s + k2s2 c^2) sin 2x + (k2c + k2c2 c^2) cos 2x;
+ * to first order in rho the arg term is the paper's ks sin 4x + kc cos 4x;
+ * its second order is the 8th harmonic the third photocell harmonic makes
+ * (ESS paper eq. 7 exactly, rather than eq. 9's first harmonic).
  */
 #ifndef SUNMC_ESS_MODEL_H
 #define SUNMC_ESS_MODEL_H
@@ -35,13 +46,40 @@ enum ess_param {
     ESS_P_INST_Y,/* installation rotation about Y (rad) */
     ESS_P_INST_Z,/* installation rotation about Z (rad) */
     ESS_P_SUN_Y, /* sun-simulator tilt toward Y (rad) */
-    ESS_NP
+    ESS_NP,      /* the paper's model: 8 parameters */
+    /* the extended model's (rad): the 4x amplitude's incidence terms, the
+     * fine period's fundamental and second harmonic */
+    ESS_P_KS4 = ESS_NP, ESS_P_KC4, ESS_P_KS8, ESS_P_KC8, ESS_P_K1S, ESS_P_K1C, ESS_P_K2S,
+    ESS_P_K2C, ESS_P_K2S2, ESS_P_K2C2,
+    ESS_NP_EXT,  /* the extended model: 18 */
+    ESS_NP_MAX = ESS_NP_EXT
 };
 
-extern const char *const ess_param_names[ESS_NP];
+/* calibration.model (the key's enum order). */
+enum ess_model_kind { ESS_MODEL_PAPER = 0, ESS_MODEL_EXTENDED = 1 };
+
+/* Every parameter's name (params.ini, calibrate's report), paper's first. */
+extern const char *const ess_param_names[ESS_NP_MAX];
+
+/* Parameters of a model of kind `kind`: ESS_NP or ESS_NP_EXT. */
+int ess_model_np(int kind);
+
+/* One term of the fine-code phase error a model fits: the harmonic n of the
+ * fine period, times cos(alpha_d)^power, with the parameters of its sine
+ * and cosine parts.  The alias detector checks each harmonic. */
+typedef struct {
+    int harmonic, power;
+    int p_sin, p_cos;
+} ess_fine_term;
+
+/* The fine-code terms of a model kind; *n receives their count.  The
+ * paper's single term comes first. */
+const ess_fine_term *ess_model_fine_terms(int kind, int *n);
 
 typedef struct {
-    double p[ESS_NP];
+    int kind;            /* enum ess_model_kind */
+    int np;              /* ess_model_np(kind) */
+    double p[ESS_NP_MAX];
     double roll_rad;     /* fixed installation roll about X */
     double sun_x_rad;    /* fixed sun tilt toward X */
     double omega;        /* 2 pi / fine-error period, 1/rad */
@@ -50,8 +88,10 @@ typedef struct {
     double v[3], dv[3];
 } ess_model;
 
-/* Identity model (a = 1, all else 0) for fine-code period theta0_rad. */
+/* Identity model (a = 1, all else 0) for fine-code period theta0_rad: the
+ * paper's, or of kind `kind`. */
 void ess_model_init(ess_model *m, double theta0_rad, double roll_rad);
+void ess_model_init_kind(ess_model *m, int kind, double theta0_rad, double roll_rad);
 
 /* Recompute the rotation matrices after changing m->p; call before predict. */
 void ess_model_prepare(ess_model *m);
@@ -60,13 +100,13 @@ void ess_model_prepare(ess_model *m);
 double ess_model_structural(const ess_model *m, double T);
 
 /* Predicted raw output (rad) at turntable angles (rad); grad (may be NULL)
- * receives d raw / d p[ESS_NP]. */
+ * receives d raw / d p[m->np]. */
 double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
-                         double grad[ESS_NP]);
+                         double grad[ESS_NP_MAX]);
 
 /* The same from the turntable matrix M = rot_x(alpha) rot_y(beta), which a
  * fit computes once per point (ess_turntable_matrix). */
-double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP]);
+double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP_MAX]);
 void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M);
 
 /* Turntable matrices rot_x(alpha) rot_y(beta) of n points, structure of
@@ -90,10 +130,11 @@ void ess_model_batch(const ess_model *m, const ess_table *t, const double *raw_r
 void ess_model_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad);
 
 /* Compensation, the exact inverse of the model: solve
- * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton, then
+ * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton (the
+ * extended model: its fine-code terms), then
  * eq. 13: tan(alpha) = (b - d tan alpha_d) / (c tan alpha_d - a).
- * SUNMC_EDOM when the fine-code term is not invertible (w k >= 1) or the
- * iteration fails. */
+ * SUNMC_EDOM when the fine-code term is not invertible (w k >= 1; the
+ * extended model: ess_model_ext_invertible) or the iteration fails. */
 int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad);
 
 /* The same for n raws at once (vectorised; each gives the bits it gives
@@ -105,5 +146,32 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
 
 /* Paper-style k (rad, >= 0) and t (rad) from ks, kc. */
 void ess_model_kt(const ess_model *m, double *k_rad, double *t_rad);
+
+/* ---- the extended model's fine-code terms (ess_model_ext.c) ---- */
+
+/* F(alpha_d) = alpha_d - raw of the extended model at alpha_d (rad), its
+ * derivative dF/dalpha_d and dF/dp_j of the fine-code parameters (j = KS,
+ * KC and ESS_P_KS4..ESS_P_K2C2; the others 0) into dF_dp[ESS_NP_MAX]
+ * (NULL: not wanted). */
+double ess_model_ext_fine(const ess_model *m, double ad_rad, double *dF_dad,
+                          double dF_dp[ESS_NP_MAX]);
+
+/* 1 when the extended model's fine-code terms keep the output monotonic
+ * (an upper bound on dF/dalpha_d below 1 everywhere), so compensation has
+ * a unique inverse; *bound receives the bound.  With rho constant the
+ * bound is exact: 4 |rho| / (1 + |rho|) < 1, |rho| < 1/3 (the paper's
+ * first-order term needs w k < 1, |rho| < 1/4). */
+int ess_model_ext_invertible(const ess_model *m, double *bound);
+
+/* The extended model's ess_model_predict_m. */
+double ess_model_ext_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP_MAX]);
+
+/* The extended model's batch forms (same contracts as ess_model_batch,
+ * ess_model_predict_batch and ess_model_compensate_batch's chunks). */
+void ess_model_ext_batch(const ess_model *m, const ess_table *t, const double *raw_rad,
+                         const double *sw, double *f, double *J, size_t ld);
+void ess_model_ext_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad);
+void ess_model_ext_compensate_chunk(const ess_model *m, size_t k, const double *raw,
+                                    double *alpha, int *status);
 
 #endif

@@ -106,8 +106,10 @@ void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
 /* Draw the 4 fine-row current noises (units of a1) from stream r. */
 void ess_row_noise(const sunmc_config *c, rng_stream *r, double noise[ESS_FINE_ROWS]);
 
-/* Fitted parameters in the units of ess_family's par columns. */
+/* Fitted parameters in the units of ess_family's par columns: the paper's
+ * 8 (k, t for ks, kc), then the extended model's own in degrees. */
 #define ESS_N_PAR 8
-void ess_model_report(const ess_model *m, double out[ESS_N_PAR]);
+#define ESS_N_PAR_MAX (ESS_N_PAR + ESS_NP_MAX - ESS_NP)
+void ess_model_report(const ess_model *m, double out[ESS_N_PAR_MAX]);
 
 #endif

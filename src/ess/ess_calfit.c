@@ -19,34 +19,53 @@
 #define BETA_SAME_RAD 1e-9
 
 /* Parameter display units: internal value * scale = value in name's unit. */
-static const double par_scale[ESS_NP] = {1.0, 1.0, 1.0, DEG_PER_RAD, DEG_PER_RAD,
-                                         ARCSEC_PER_RAD, ARCSEC_PER_RAD, ARCSEC_PER_RAD};
+static const double par_scale[ESS_NP_MAX] = {
+    1.0,         1.0,         1.0,         DEG_PER_RAD, DEG_PER_RAD, ARCSEC_PER_RAD,
+    ARCSEC_PER_RAD, ARCSEC_PER_RAD, DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD,
+    DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD, DEG_PER_RAD};
 
-void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP])
+/* d raw / d alpha_d (G) and d raw / d p of the fine-code parameters at
+ * alpha_d = ad: the paper's term, or the extended model's. */
+static double fine_partials(const ess_model *m, double ad, double draw_dp[ESS_NP_MAX])
+{
+    const double *p = m->p;
+    if (m->kind == ESS_MODEL_EXTENDED) {
+        double dF;
+        ess_model_ext_fine(m, ad, &dF, draw_dp);
+        for (int j = 0; j < ESS_NP_MAX; j++)
+            draw_dp[j] = -draw_dp[j];
+        return 1.0 - dF;
+    }
+    double wa = m->omega * ad;
+    draw_dp[ESS_P_KS] = -sin(wa);
+    draw_dp[ESS_P_KC] = -cos(wa);
+    return 1.0 - m->omega * (p[ESS_P_KS] * cos(wa) - p[ESS_P_KC] * sin(wa));
+}
+
+void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_NP_MAX])
 {
     const double *p = m->p;
     double T = tan(alpha_rad);
     double N = p[ESS_P_A] * T + p[ESS_P_B], D = p[ESS_P_C] * T + 1.0;
     double q = N * N + D * D;
-    double wa = m->omega * atan2(N, D);
-    double G = 1.0 - m->omega * (p[ESS_P_KS] * cos(wa) - p[ESS_P_KC] * sin(wa));
+    double draw_dp[ESS_NP_MAX] = {0};
+    double G = fine_partials(m, atan2(N, D), draw_dp);
     double draw_dalpha = G * (p[ESS_P_A] * D - N * p[ESS_P_C]) / q * (1.0 + T * T);
-    double draw_dp[ESS_NP] = {0};
     draw_dp[ESS_P_A] = G * T * D / q;
     draw_dp[ESS_P_B] = G * D / q;
     draw_dp[ESS_P_C] = -G * N * T / q;
-    draw_dp[ESS_P_KS] = -sin(wa);
-    draw_dp[ESS_P_KC] = -cos(wa);
-    for (int j = 0; j < ESS_NP; j++)
+    draw_dp[ESS_P_INST_Y] = draw_dp[ESS_P_INST_Z] = draw_dp[ESS_P_SUN_Y] = 0.0;
+    for (int j = 0; j < m->np; j++)
         h[j] = -draw_dp[j] / draw_dalpha;
 }
 
-double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP][ESS_NP], double alpha_rad)
+double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP_MAX][ESS_NP_MAX],
+                        double alpha_rad)
 {
-    double h[ESS_NP], v = 0;
+    double h[ESS_NP_MAX], v = 0;
     ess_compensate_gradient(m, alpha_rad, h);
-    for (int i = 0; i < ESS_NP; i++)
-        for (int j = 0; j < ESS_NP; j++)
+    for (int i = 0; i < m->np; i++)
+        for (int j = 0; j < m->np; j++)
             v += h[i] * cov[i][j] * h[j];
     return sqrt(fmax(v, 0.0));
 }
@@ -99,8 +118,9 @@ static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const in
 static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep)
 {
     const ess_config *ec = ess_cfg(c);
+    const ess_alias *a = &cw->alias.h[0];
     for (int j = 0; j < 2; j++)
-        if (cw->alias.weak[j])
+        if (a->weak[j])
             calreport_warn(rep,
                            "record the campaign with an alpha step that is not a multiple of "
                            "theta0/8 (e.g. 0.2 deg for theta0 = 2 deg) so the readings fall on "
@@ -110,8 +130,22 @@ static void alias_warnings(const sunmc_config *c, const ess_calib_workspace *cw,
                            "kc) = (%+.3f, %+.3f) has %.3g of a full spread's variance (below "
                            "calibration.alias_threshold = %g), so it was regularised to 0 and "
                            "that part of the fine-code error stays uncorrected",
-                           ec->design.theta0_deg / 4, cw->alias.evec[j][0], cw->alias.evec[j][1],
-                           cw->alias.eig_norm[j], ec->alias_threshold);
+                           ec->design.theta0_deg / 4, a->evec[j][0], a->evec[j][1],
+                           a->eig_norm[j], ec->alias_threshold);
+    for (int h = 1; h < cw->alias.n_h; h++)
+        if (cw->alias.h[h].n_weak)
+            calreport_warn(rep,
+                           "record the campaign with an alpha step that samples every harmonic "
+                           "of the fine period apart (for theta0 = 2 deg e.g. 0.2, 0.7 or 0.9 "
+                           "deg: not 0.8, which samples the 1st harmonic as the 4th), or use "
+                           "calibration.model = paper",
+                           "harmonic %d of the %g-deg fine period aliased by the campaign step: "
+                           "%d of its 2 directions keep %.3g of a full spread's variance once "
+                           "the harmonics before it are fitted (below "
+                           "calibration.alias_threshold = %g); they were regularised to 0 with "
+                           "all their incidence terms",
+                           cw->alias.harmonic[h], ec->design.theta0_deg, cw->alias.h[h].n_weak,
+                           cw->alias.h[h].eig_norm[0], ec->alias_threshold);
 }
 
 /* Cross-validation by beta line (lab_cross_validate's hooks). */
@@ -188,7 +222,7 @@ static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calre
                  too_many ? CALREPORT_MAX_FOLDS : f.nb);
         return;
     }
-    lab_folds folds = {.n_folds = f.nb, .min_fit_rows = ESS_NP, .fold_of = beta_fold_of,
+    lab_folds folds = {.n_folds = f.nb, .min_fit_rows = ess_model_np(cw->kind), .fold_of = beta_fold_of,
                        .label = beta_fold_label, .refit = beta_fold_refit};
     lab_cross_validate(rep, cw->weight, cw->n, &folds, &f);
 }
@@ -255,11 +289,12 @@ static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, ca
                        cw->raw_rad[i];
             chi2 += cw->weight[i] * r * r;
         }
-    rep->dof = (int)rep->n_used - ESS_NP + cw->alias.n_weak;
+    int np = res->m.np;
+    rep->dof = (int)rep->n_used - np + cw->alias.n_prior;
     res->s2 = chi2 / rep->dof;
     rep->sigma_arcsec = sqrt(res->s2) * ARCSEC_PER_RAD;
-    rep->np = ESS_NP;
-    for (int j = 0; j < ESS_NP; j++) {
+    rep->np = np;
+    for (int j = 0; j < np; j++) {
         snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[j]);
         rep->value[j] = res->m.p[j] * par_scale[j];
     }
@@ -267,11 +302,11 @@ static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, ca
     if (cst == SUNMC_OK)
         cst = calreport_covariance(rep, cw->fw->covar, res->s2, par_scale);
     if (cst == SUNMC_OK) {
-        for (int i = 0; i < ESS_NP; i++)
-            for (int j = 0; j < ESS_NP; j++)
+        for (int i = 0; i < np; i++)
+            for (int j = 0; j < np; j++)
                 res->cov[i][j] = res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
     } else {
-        for (int i = 0; i < ESS_NP; i++)
+        for (int i = 0; i < np; i++)
             rep->se[i] = NAN;
         calreport_warn(rep, "widen the campaign or fix parameters the data cannot determine",
                        "the parameter covariance could not be computed (singular Jacobian): "
@@ -307,11 +342,16 @@ static void ess_check_correlations(calreport *rep)
                                            (int)(sizeof causes / sizeof *causes));
 }
 
+const char *ess_calfit_model_name(int kind)
+{
+    return kind == ESS_MODEL_EXTENDED ? ESS_CALFIT_MODEL_EXT : ESS_CALFIT_MODEL;
+}
+
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
 {
     const ess_config *ec = ess_cfg(c);
-    calreport_init(rep, "ess", ESS_CALFIT_MODEL);
+    calreport_init(rep, "ess", ess_calfit_model_name(cw->kind));
     memset(res, 0, sizeof *res);
     double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
     double roll = ec->roll_measured_arcsec * RAD_PER_ARCSEC;
@@ -324,11 +364,13 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     gross_check(c, cw, line, res, rep);
     for (size_t i = 0; i < cw->n; i++)
         rep->n_used += cw->weight[i] > 0;
-    if (rep->n_used <= ESS_NP)
+    int np = ess_model_np(cw->kind);
+    if (rep->n_used <= (size_t)np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "only %zu usable data rows (weight > 0, within half a fine period of "
-                          "the table alpha); the ess model has %d parameters: need at least %d",
-                          rep->n_used, ESS_NP, ESS_NP + 1);
+                          "the table alpha); the ess %smodel has %d parameters: need at least %d",
+                          rep->n_used, cw->kind == ESS_MODEL_EXTENDED ? "extended " : "", np,
+                          np + 1);
 
     int st =
         ess_calibrate(cw, theta0, roll, ec->alias_threshold, c->max_iterations, &res->m, &rep->fit);
@@ -352,7 +394,8 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     if (n_uncomp)
         calreport_warn(rep,
                        "the fitted fine-code amplitude makes the model non-invertible (omega k "
-                       ">= 1): check theta0_deg and the data",
+                       ">= 1; extended: its terms' slope bound >= 1): check theta0_deg and the "
+                       "data",
                        "%d readings could not be compensated with the fitted model", n_uncomp);
     cross_validate(c, cw, rep, theta0, roll);
     return SUNMC_OK;
@@ -389,14 +432,15 @@ int ess_calfit_write_field(FILE *f, const ess_calfit_result *res, double alpha_m
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
 
-static const char *const par_units[ESS_NP] = {"1", "1", "1", "deg", "deg", "arcsec", "arcsec",
-                                              "arcsec"};
+static const char *const par_units[ESS_NP_MAX] = {
+    "1", "1", "1", "deg", "deg", "arcsec", "arcsec", "arcsec", "deg",
+    "deg", "deg", "deg", "deg", "deg", "deg", "deg", "deg", "deg"};
 
 int ess_params_fill(params_file *p, const ess_calfit_result *res, const calreport *rep,
                     double theta0_deg)
 {
     int st = params_set_double(p, "design", "theta0_deg", theta0_deg, "fine-code period");
-    for (int j = 0; j < ESS_NP && st == SUNMC_OK; j++) {
+    for (int j = 0; j < res->m.np && st == SUNMC_OK; j++) {
         char comment[PARAMS_COMMENT_MAX];
         if (rep && isfinite(rep->se[j]))
             snprintf(comment, sizeof comment, "unit %s, standard error %.3g", par_units[j],
@@ -451,6 +495,15 @@ static const params_range ess_ranges[] = {
 static int ess_params_invertible(const params_file *p, const ess_model *m, char *err,
                                  size_t errlen)
 {
+    double bound;
+    if (m->kind == ESS_MODEL_EXTENDED && !ess_model_ext_invertible(m, &bound)) {
+        const params_entry *e = params_find(p, "parameters", "ks_deg");
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: parameters ks_deg .. k2c_cos2_deg: the fine-code terms' slope "
+                          "may reach %.3g (must stay below 1), else the output is not monotonic "
+                          "and cannot be compensated",
+                          p->path, e ? e->line : 0, bound);
+    }
     double k = hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]);
     if (m->omega * k < 1.0)
         return SUNMC_OK;
@@ -470,27 +523,31 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
         st = params_get_text(p, "calibration", "model", &model, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if (strcmp(sensor, "ess") != 0 || strcmp(model, ESS_CALFIT_MODEL) != 0) {
+    int kind = strcmp(model, ESS_CALFIT_MODEL_EXT) == 0 ? ESS_MODEL_EXTENDED : ESS_MODEL_PAPER;
+    if (strcmp(sensor, "ess") != 0 ||
+        (kind == ESS_MODEL_PAPER && strcmp(model, ESS_CALFIT_MODEL) != 0)) {
         const params_entry *e = params_find(p, "calibration", "model");
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "%s:%d: sensor %s model %s: expected sensor ess, model %s", p->path,
-                          e->line, sensor, model, ESS_CALFIT_MODEL);
+                          "%s:%d: sensor %s model %s: expected sensor ess, model %s or %s",
+                          p->path, e->line, sensor, model, ESS_CALFIT_MODEL,
+                          ESS_CALFIT_MODEL_EXT);
     }
-    st = params_check_keys(p, "parameters", ess_param_names, ESS_NP, err, errlen);
-    double theta0_deg, roll_arcsec, v[ESS_NP];
+    int np = ess_model_np(kind);
+    st = params_check_keys(p, "parameters", ess_param_names, np, err, errlen);
+    double theta0_deg, roll_arcsec, v[ESS_NP_MAX];
     if (st == SUNMC_OK)
         st = params_get_double(p, "design", "theta0_deg", &theta0_deg, err, errlen);
     if (st == SUNMC_OK)
         st = params_get_double(p, "fixed", "roll_measured_arcsec", &roll_arcsec, err, errlen);
-    for (int j = 0; j < ESS_NP && st == SUNMC_OK; j++)
+    for (int j = 0; j < np && st == SUNMC_OK; j++)
         st = params_get_double(p, "parameters", ess_param_names[j], &v[j], err, errlen);
     if (st != SUNMC_OK)
         return st;
     if ((st = params_check_ranges(p, ess_ranges, (int)(sizeof ess_ranges / sizeof ess_ranges[0]),
                                   err, errlen)) != SUNMC_OK)
         return st;
-    ess_model_init(m, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
-    for (int j = 0; j < ESS_NP; j++)
+    ess_model_init_kind(m, kind, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
+    for (int j = 0; j < np; j++)
         m->p[j] = v[j] / par_scale[j];
     if ((st = ess_params_invertible(p, m, err, errlen)) != SUNMC_OK)
         return st;

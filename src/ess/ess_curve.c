@@ -43,7 +43,7 @@ void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     }
     ess_curve_ws *w = calloc(1, sizeof *w);
     if (w)
-        w->cw = ess_calib_alloc(n);
+        w->cw = ess_calib_alloc_kind(n, ess_cfg(c)->cal_model);
     if (!w || !w->cw) {
         free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);

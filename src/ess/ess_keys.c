@@ -82,6 +82,10 @@ const config_key ess_keys[] = {
     {"calibration", "alias_threshold", KEY_DOUBLE, "", "0.2", 0, 1, NULL, OFF(alias_threshold),
      "smallest normalised eigenvalue of the fine-code (sin, cos) columns below which the "
      "campaign cannot resolve that direction; it is then regularised to 0"},
+    {"calibration", "model", KEY_ENUM, "", "paper", 0, 0, "paper|extended", OFF(cal_model),
+     "ESS calibration model: paper (eq. 12 + k sin(4 pi alpha + t), 8 parameters) or extended "
+     "(18: the fine period's 1st and 2nd harmonics, the 4th's incidence dependence and its "
+     "exact eq. 7 form; derived in src/ess/ess_model_ext.c)"},
 
     /* [validation] */
     {"validation", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(val_alpha_min_deg),
@@ -179,12 +183,13 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     /* The fit needs more campaign points than parameters. */
     long na = grid_count(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg, 0);
     long points = na * e->cal_beta_deg.n;
-    if (points <= ESS_NP)
+    int np = ess_model_np(e->cal_model);
+    if (points <= np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "campaign: %ld alpha x %d beta_deg = %ld points, fewer than the %d the "
                           "fit of %d parameters needs (campaign.alpha_min_deg, "
                           "campaign.alpha_max_deg, campaign.alpha_step_deg, campaign.beta_deg)",
-                          na, e->cal_beta_deg.n, points, ESS_NP + 1, ESS_NP);
+                          na, e->cal_beta_deg.n, points, np + 1, np);
     if ((s = config_check_grid(e->val_alpha_min_deg, e->val_alpha_max_deg, e->val_alpha_step_deg,
                                d->fov_deg, "validation.alpha", err, errlen)) != SUNMC_OK)
         return s;

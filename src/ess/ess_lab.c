@@ -229,9 +229,10 @@ typedef struct {
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
 {
-    snprintf(why, len, "the ess model has %d parameters: need at least %d rows", ESS_NP,
-             ESS_NP + 1);
-    return ESS_NP + 1;
+    int kind = ess_cfg(c)->cal_model, np = ess_model_np(kind);
+    snprintf(why, len, "the ess %smodel has %d parameters: need at least %d rows",
+             kind == ESS_MODEL_EXTENDED ? "extended " : "", np, np + 1);
+    return (size_t)np + 1;
 }
 
 static void cal_free(void *p)
@@ -247,7 +248,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
 {
     ess_cal *k = calloc(1, sizeof *k);
     if (k)
-        k->cw = ess_calib_alloc(d->n);
+        k->cw = ess_calib_alloc_kind(d->n, ess_cfg(c)->cal_model);
     if (!k || !k->cw) {
         cal_free(k);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");

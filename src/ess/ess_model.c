@@ -1,5 +1,5 @@
 /* ess_model.c - forward ESS calibration model, its gradient and inverse. */
-#include "ess_model.h"
+#include "ess_model_lane.h"
 #include "status.h"
 #include "vmath.h"
 
@@ -9,17 +9,44 @@
 #define COMP_MAX_ITER 50
 #define COMP_TOL_RAD 1e-15
 
-const char *const ess_param_names[ESS_NP] = {"a", "b", "c", "ks_deg", "kc_deg",
-                                             "fit_install_y_arcsec", "fit_install_z_arcsec",
-                                             "fit_sun_y_arcsec"};
+const char *const ess_param_names[ESS_NP_MAX] = {
+    "a", "b", "c", "ks_deg", "kc_deg", "fit_install_y_arcsec", "fit_install_z_arcsec",
+    "fit_sun_y_arcsec",
+    /* extended */
+    "ks_cos4_deg", "kc_cos4_deg", "ks_cos8_deg", "kc_cos8_deg", "k1s_deg", "k1c_deg", "k2s_deg",
+    "k2c_deg", "k2s_cos2_deg", "k2c_cos2_deg"};
 
-void ess_model_init(ess_model *m, double theta0_rad, double roll_rad)
+int ess_model_np(int kind)
+{
+    return kind == ESS_MODEL_EXTENDED ? ESS_NP_EXT : ESS_NP;
+}
+
+/* The paper's fine-code term first: the alias detector keeps it when a
+ * later term aliases it. */
+static const ess_fine_term fine_terms[] = {
+    {4, 0, ESS_P_KS, ESS_P_KC},   {4, 4, ESS_P_KS4, ESS_P_KC4}, {4, 8, ESS_P_KS8, ESS_P_KC8},
+    {1, 0, ESS_P_K1S, ESS_P_K1C}, {2, 0, ESS_P_K2S, ESS_P_K2C}, {2, 2, ESS_P_K2S2, ESS_P_K2C2}};
+
+const ess_fine_term *ess_model_fine_terms(int kind, int *n)
+{
+    *n = kind == ESS_MODEL_EXTENDED ? (int)(sizeof fine_terms / sizeof *fine_terms) : 1;
+    return fine_terms;
+}
+
+void ess_model_init_kind(ess_model *m, int kind, double theta0_rad, double roll_rad)
 {
     memset(m, 0, sizeof *m);
+    m->kind = kind;
+    m->np = ess_model_np(kind);
     m->p[ESS_P_A] = 1.0;
     m->roll_rad = roll_rad;
     m->omega = 2.0 * M_PI / (theta0_rad / 4.0);
     ess_model_prepare(m);
+}
+
+void ess_model_init(ess_model *m, double theta0_rad, double roll_rad)
+{
+    ess_model_init_kind(m, ESS_MODEL_PAPER, theta0_rad, roll_rad);
 }
 
 void ess_model_prepare(ess_model *m)
@@ -75,6 +102,11 @@ POINT_INLINE structural_eval structural(const ess_model *m, double T)
 
 VM_NOSAN double ess_model_structural(const ess_model *m, double T)
 {
+    if (m->kind == ESS_MODEL_EXTENDED) {
+        const double *p = m->p;
+        double ad = atan2(p[ESS_P_A] * T + p[ESS_P_B], p[ESS_P_C] * T + 1.0);
+        return ad - ess_model_ext_fine(m, ad, NULL, NULL);
+    }
     return structural(m, T).raw;
 }
 
@@ -87,17 +119,12 @@ void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M)
 }
 
 double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
-                         double grad[ESS_NP])
+                         double grad[ESS_NP_MAX])
 {
     mat3 M;
     ess_turntable_matrix(alpha_rad, beta_rad, M);
     return ess_model_predict_m(m, (const double(*)[3])M, grad);
 }
-
-/* A turntable matrix, element by element. */
-typedef struct {
-    double m00, m01, m02, m10, m11, m12, m20, m21, m22;
-} table_mat;
 
 /* The model at one point and d raw / d p, in enum ess_param order. */
 typedef struct {
@@ -105,21 +132,10 @@ typedef struct {
     double d_a, d_b, d_c, d_ks, d_kc, d_inst_y, d_inst_z, d_sun_y;
 } point_eval;
 
-/* Row r of a times (x, y, z). */
-POINT_INLINE double row3(const mat3 a, int r, double x, double y, double z)
+POINT_INLINE point_eval predict_point(const ess_model *m, ess_table_mat M)
 {
-    return a[r][0] * x + a[r][1] * y + a[r][2] * z;
-}
-
-POINT_INLINE point_eval predict_point(const ess_model *m, table_mat M)
-{
-    /* Only s_y and s_z are needed: T = s_y / s_z. */
-    const double *v = m->v, *dv = m->dv;
-    double w0 = M.m00 * v[0] + M.m01 * v[1] + M.m02 * v[2];
-    double w1 = M.m10 * v[0] + M.m11 * v[1] + M.m12 * v[2];
-    double w2 = M.m20 * v[0] + M.m21 * v[1] + M.m22 * v[2];
-    double sy = row3(m->R, 1, w0, w1, w2), sz = row3(m->R, 2, w0, w1, w2);
-    double T = sy / sz;
+    ess_lane_geom g = ess_lane_geometry(m, M);
+    double T = g.T;
     structural_eval sp = structural(m, T);
     point_eval e;
     e.raw = sp.raw;
@@ -130,20 +146,18 @@ POINT_INLINE point_eval predict_point(const ess_model *m, table_mat M)
     e.d_kc = -sp.cos_wa;
 
     /* d raw / d s through T = s_y / s_z */
-    double k = sp.G * sp.dad_dT;
-    double g1 = k / sz, g2 = -k * sy / (sz * sz);
-    e.d_inst_y = g1 * row3(m->dR_y, 1, w0, w1, w2) + g2 * row3(m->dR_y, 2, w0, w1, w2);
-    e.d_inst_z = g1 * row3(m->dR_z, 1, w0, w1, w2) + g2 * row3(m->dR_z, 2, w0, w1, w2);
-    double d0 = M.m00 * dv[0] + M.m01 * dv[1] + M.m02 * dv[2];
-    double d1 = M.m10 * dv[0] + M.m11 * dv[1] + M.m12 * dv[2];
-    double d2 = M.m20 * dv[0] + M.m21 * dv[1] + M.m22 * dv[2];
-    e.d_sun_y = g1 * row3(m->R, 1, d0, d1, d2) + g2 * row3(m->R, 2, d0, d1, d2);
+    ess_lane_mount d = ess_lane_mount_partials(m, M, g, sp.G * sp.dad_dT);
+    e.d_inst_y = d.inst_y;
+    e.d_inst_z = d.inst_z;
+    e.d_sun_y = d.sun_y;
     return e;
 }
 
-VM_NOSAN double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP])
+VM_NOSAN double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP_MAX])
 {
-    table_mat t = {M[0][0], M[0][1], M[0][2], M[1][0], M[1][1], M[1][2], M[2][0], M[2][1], M[2][2]};
+    if (m->kind == ESS_MODEL_EXTENDED)
+        return ess_model_ext_predict_m(m, M, grad);
+    ess_table_mat t = {M[0][0], M[0][1], M[0][2], M[1][0], M[1][1], M[1][2], M[2][0], M[2][1], M[2][2]};
     point_eval e = predict_point(m, t);
     if (grad) {
         double g[ESS_NP] = {e.d_a, e.d_b, e.d_c, e.d_ks, e.d_kc, e.d_inst_y, e.d_inst_z, e.d_sun_y};
@@ -175,24 +189,20 @@ VM_KERNEL void ess_table_fill(ess_table *t, const double *alpha_rad, const doubl
     }
 }
 
-/* The nine matrix arrays of t as restrict pointers, for the loops below. */
-#define TABLE_POINTERS(t)                                                                     \
-    const double *restrict m0 = (t)->m[0], *restrict m1 = (t)->m[1], *restrict m2 = (t)->m[2], \
-                           *restrict m3 = (t)->m[3], *restrict m4 = (t)->m[4],                 \
-                           *restrict m5 = (t)->m[5], *restrict m6 = (t)->m[6],                 \
-                           *restrict m7 = (t)->m[7], *restrict m8 = (t)->m[8]
-#define TABLE_POINT(i) {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]}
-
 VM_KERNEL void ess_model_batch(const ess_model *m, const ess_table *t, const double *raw_rad,
                                const double *sw, double *f, double *J, size_t ld)
 {
+    if (m->kind == ESS_MODEL_EXTENDED) {
+        ess_model_ext_batch(m, t, raw_rad, sw, f, J, ld);
+        return;
+    }
     size_t np = vm_pad(t->n);
-    TABLE_POINTERS(t);
+    ESS_TABLE_POINTERS(t);
     double *restrict j0 = J, *restrict j1 = J + ld, *restrict j2 = J + 2 * ld;
     double *restrict j3 = J + 3 * ld, *restrict j4 = J + 4 * ld, *restrict j5 = J + 5 * ld;
     double *restrict j6 = J + 6 * ld, *restrict j7 = J + 7 * ld, *restrict fo = f;
     VM_SIMD for (size_t i = 0; i < np; i++) {
-        table_mat Mi = TABLE_POINT(i);
+        ess_table_mat Mi = ESS_TABLE_POINT(i);
         point_eval e = predict_point(m, Mi);
         /* a dropped point (sw = 0) gives 0, whatever the model says there */
         double w = sw[i];
@@ -211,11 +221,15 @@ VM_KERNEL void ess_model_batch(const ess_model *m, const ess_table *t, const dou
 
 VM_KERNEL void ess_model_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad)
 {
+    if (m->kind == ESS_MODEL_EXTENDED) {
+        ess_model_ext_predict_batch(m, t, raw_rad);
+        return;
+    }
     size_t np = vm_pad(t->n);
-    TABLE_POINTERS(t);
+    ESS_TABLE_POINTERS(t);
     double *restrict out = raw_rad;
     VM_SIMD for (size_t i = 0; i < np; i++) {
-        table_mat Mi = TABLE_POINT(i);
+        ess_table_mat Mi = ESS_TABLE_POINT(i);
         out[i] = predict_point(m, Mi).raw;
     }
 }
@@ -306,7 +320,10 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
                                double *alpha_rad, int *status)
 {
-    if (m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
+    int ext = m->kind == ESS_MODEL_EXTENDED;
+    double bound;
+    if (ext ? !ess_model_ext_invertible(m, &bound)
+            : m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
         for (size_t i = 0; i < n; i++)
             status[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
@@ -314,7 +331,10 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
     int st = SUNMC_OK;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
+        if (ext)
+            ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
+        else
+            compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;

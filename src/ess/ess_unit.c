@@ -16,6 +16,9 @@
 static const char *const ess_par_names[ESS_N_PAR] = {
     "a", "b", "c", "k_deg", "t_rad", "fit_install_y_arcsec", "fit_install_z_arcsec",
     "fit_sun_y_arcsec"};
+/* The units.tsv columns of the extended model's own parameters: the names
+ * of ess_param_names from ESS_NP on, in degrees. */
+#define ESS_N_PAR_EXT (ESS_N_PAR + ESS_NP_EXT - ESS_NP)
 static const char *const ess_angle_names[] = {"alpha"};
 
 void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *u)
@@ -134,8 +137,10 @@ void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
                          v->truth_rad, v->status);
 }
 
-void ess_model_report(const ess_model *m, double out[ESS_N_PAR])
+void ess_model_report(const ess_model *m, double out[ESS_N_PAR_MAX])
 {
+    for (int j = ESS_NP; j < m->np; j++)
+        out[ESS_N_PAR + j - ESS_NP] = m->p[j] * DEG_PER_RAD;
     double k, t;
     ess_model_kt(m, &k, &t);
     out[0] = m->p[ESS_P_A];
@@ -168,8 +173,13 @@ static int ess_n_angles(const sunmc_config *c) { return 1; }
 
 static void ess_model_label(const sunmc_config *c, char *buf, size_t len)
 {
-    snprintf(buf, len, "ESS paper eq. 9/12/13 (a, b, c, k, t; d = 1) + turntable installation, "
-                       "roll fixed at its measurement");
+    if (ess_cfg(c)->cal_model == ESS_MODEL_EXTENDED)
+        snprintf(buf, len, "extended: ESS paper eq. 12/13 (a, b, c; d = 1), the fine period's 1st "
+                           "and 2nd harmonics, the 4th (eq. 7 exact) with cos^4, cos^8 incidence "
+                           "terms + turntable installation, roll fixed at its measurement");
+    else
+        snprintf(buf, len, "ESS paper eq. 9/12/13 (a, b, c, k, t; d = 1) + turntable "
+                           "installation, roll fixed at its measurement");
 }
 
 static int ess_dev_columns(const sunmc_config *c, const char **names, int max)
@@ -181,9 +191,10 @@ static int ess_dev_columns(const sunmc_config *c, const char **names, int max)
 
 static int ess_par_columns(const sunmc_config *c, const char **names, int max)
 {
-    for (int i = 0; i < ESS_N_PAR && i < max; i++)
-        names[i] = ess_par_names[i];
-    return ESS_N_PAR;
+    int n = ess_cfg(c)->cal_model == ESS_MODEL_EXTENDED ? ESS_N_PAR_EXT : ESS_N_PAR;
+    for (int i = 0; i < n && i < max; i++)
+        names[i] = i < ESS_N_PAR ? ess_par_names[i] : ess_param_names[ESS_NP + i - ESS_N_PAR];
+    return n;
 }
 
 /* A thread's workspace: the campaign's fit and the validation readings. */
@@ -206,20 +217,21 @@ static void ess_ws_free(void *p)
  * point). */
 static double ess_ws_bytes(const sunmc_config *c)
 {
-    return ess_calib_bytes(ess_campaign_size(c)) +
+    return ess_calib_bytes(ess_campaign_size(c), ess_cfg(c)->cal_model) +
            (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int));
 }
 
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
-    if (n <= ESS_NP) {
+    int kind = ess_cfg(c)->cal_model, np = ess_model_np(kind);
+    if (n <= (size_t)np) {
         sunmc_fail(err, errlen, SUNMC_EINPUT,
-                   "campaign has %zu points, fewer than the %d parameters to fit", n, ESS_NP + 1);
+                   "campaign has %zu points, fewer than the %d parameters to fit", n, np + 1);
         return NULL;
     }
     ess_ws *w = calloc(1, sizeof *w);
-    if (!w || !(w->cw = ess_calib_alloc(n)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
+    if (!w || !(w->cw = ess_calib_alloc_kind(n, kind)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
         ess_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
         return NULL;

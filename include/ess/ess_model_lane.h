@@ -1,0 +1,74 @@
+/* ess_model_lane.h - the ESS calibration model's geometry at one point, as
+ * inline functions of one vector lane, shared by the paper's model
+ * (ess_model.c) and the extended one (ess_model_ext.c): the turntable
+ * matrix element by element, the sun vector's s_y and s_z in the sensor
+ * frame, T = s_y / s_z, and d raw / d (installation, sun) from d raw / d T.
+ * Everything is passed and returned by value (a loop under "omp simd"
+ * turns local arrays into per-lane memory, which stops GCC vectorising). */
+#ifndef SUNMC_ESS_MODEL_LANE_H
+#define SUNMC_ESS_MODEL_LANE_H
+
+#include "ess_model.h"
+#include "vmath.h"
+
+/* A turntable matrix, element by element. */
+typedef struct {
+    double m00, m01, m02, m10, m11, m12, m20, m21, m22;
+} ess_table_mat;
+
+/* Row r of a times (x, y, z). */
+VM_INLINE double ess_lane_row3(const mat3 a, int r, double x, double y, double z)
+{
+    return a[r][0] * x + a[r][1] * y + a[r][2] * z;
+}
+
+/* The sun in the turntable frame (w) and in the sensor frame (s_y, s_z). */
+typedef struct {
+    double w0, w1, w2, sy, sz, T;
+} ess_lane_geom;
+
+VM_INLINE ess_lane_geom ess_lane_geometry(const ess_model *m, ess_table_mat M)
+{
+    /* Only s_y and s_z are needed: T = s_y / s_z. */
+    const double *v = m->v;
+    ess_lane_geom g;
+    g.w0 = M.m00 * v[0] + M.m01 * v[1] + M.m02 * v[2];
+    g.w1 = M.m10 * v[0] + M.m11 * v[1] + M.m12 * v[2];
+    g.w2 = M.m20 * v[0] + M.m21 * v[1] + M.m22 * v[2];
+    g.sy = ess_lane_row3(m->R, 1, g.w0, g.w1, g.w2);
+    g.sz = ess_lane_row3(m->R, 2, g.w0, g.w1, g.w2);
+    g.T = g.sy / g.sz;
+    return g;
+}
+
+/* d raw / d (inst_y, inst_z, sun_y) from k = d raw / d T. */
+typedef struct {
+    double inst_y, inst_z, sun_y;
+} ess_lane_mount;
+
+VM_INLINE ess_lane_mount ess_lane_mount_partials(const ess_model *m, ess_table_mat M,
+                                                 ess_lane_geom g, double k)
+{
+    const double *dv = m->dv;
+    double g1 = k / g.sz, g2 = -k * g.sy / (g.sz * g.sz);
+    ess_lane_mount e;
+    e.inst_y = g1 * ess_lane_row3(m->dR_y, 1, g.w0, g.w1, g.w2) +
+               g2 * ess_lane_row3(m->dR_y, 2, g.w0, g.w1, g.w2);
+    e.inst_z = g1 * ess_lane_row3(m->dR_z, 1, g.w0, g.w1, g.w2) +
+               g2 * ess_lane_row3(m->dR_z, 2, g.w0, g.w1, g.w2);
+    double d0 = M.m00 * dv[0] + M.m01 * dv[1] + M.m02 * dv[2];
+    double d1 = M.m10 * dv[0] + M.m11 * dv[1] + M.m12 * dv[2];
+    double d2 = M.m20 * dv[0] + M.m21 * dv[1] + M.m22 * dv[2];
+    e.sun_y = g1 * ess_lane_row3(m->R, 1, d0, d1, d2) + g2 * ess_lane_row3(m->R, 2, d0, d1, d2);
+    return e;
+}
+
+/* The nine matrix arrays of t as restrict pointers, for the loops. */
+#define ESS_TABLE_POINTERS(t)                                                                 \
+    const double *restrict m0 = (t)->m[0], *restrict m1 = (t)->m[1], *restrict m2 = (t)->m[2], \
+                           *restrict m3 = (t)->m[3], *restrict m4 = (t)->m[4],                 \
+                           *restrict m5 = (t)->m[5], *restrict m6 = (t)->m[6],                 \
+                           *restrict m7 = (t)->m[7], *restrict m8 = (t)->m[8]
+#define ESS_TABLE_POINT(i) {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]}
+
+#endif
