@@ -259,9 +259,33 @@ VM_KERNEL void ess_model_ext_predict_batch(const ess_model *m, const ess_table *
     }
 }
 
+/* The inverse by bisection for a lane Newton left unconverged (a slope
+ * near 0 makes rounding keep its step above COMP_TOL_RAD, as for the
+ * paper's model): g(x) = x - F(x) - raw rises strictly (the caller checked
+ * ess_model_ext_invertible), and |F| < asin(|rho|) / w1 + |L| < 2 / w1
+ * (|rho| < 1/3, w1 (k1 + 2 k2) < 1), so the root lies within raw +- 2 / w1. */
+static double ext_bisect(const ess_model *m, double raw)
+{
+    double half = 2.0 / (0.25 * m->omega);
+    double lo = raw - half, hi = raw + half;
+    for (;;) {
+        double mid = lo + 0.5 * (hi - lo);
+        if (mid <= lo || mid >= hi)
+            return mid;
+        double g = mid - ess_model_ext_fine(m, mid, NULL, NULL) - raw;
+        if (g == 0.0)
+            return mid;
+        if (g > 0.0)
+            hi = mid;
+        else
+            lo = mid;
+    }
+}
+
 /* Newton on alpha_d - F(alpha_d) = raw for k <= ESS_COMP_CHUNK raws
- * (padded lanes), each lane until its own step is below COMP_TOL_RAD, then
- * eq. 13, as the paper's model (ess_model.c). */
+ * (padded lanes), each lane until its own step is below COMP_TOL_RAD (a
+ * lane still moving after COMP_MAX_ITER: ext_bisect), then eq. 13, as the
+ * paper's model (ess_model.c). */
 VM_KERNEL void ess_model_ext_compensate_chunk(const ess_model *m, size_t k, const double *raw,
                                               double *alpha, int *status)
 {
@@ -285,6 +309,11 @@ VM_KERNEL void ess_model_ext_compensate_chunk(const ess_model *m, size_t k, cons
         for (size_t i = 0; i < kp; i++)
             left += active[i];
     }
+    for (size_t i = 0; i < k; i++)
+        if (active[i] && isfinite(r[i])) {
+            x[i] = ext_bisect(m, r[i]);
+            active[i] = 0;
+        }
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double td = tan(x[i]);
         double den = p[ESS_P_C] * td - p[ESS_P_A];
