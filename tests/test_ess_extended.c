@@ -208,18 +208,28 @@ static void compensate_inverts(void **state)
     assert_int_equal(ess_model_compensate(&c, 0.3, &out), SUNMC_EDOM);
 }
 
+/* The extended model fitted to the truth model's noise-free readings on a
+ * campaign of step_deg x betas (the workspace returned for its alias
+ * results). */
+static ess_calib_workspace *fit_truth(double step_deg, const double *betas, const ess_model *truth,
+                                      ess_model *fit)
+{
+    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, step_deg, betas, 3);
+    for (size_t i = 0; i < cw->n; i++)
+        cw->raw_rad[i] = ess_model_predict(truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
+    fit_result fr;
+    assert_int_equal(ess_calibrate(cw, THETA0_RAD, truth->roll_rad, 0.2, 100, fit, &fr),
+                     SUNMC_OK);
+    return cw;
+}
+
 /* Noise-free data of an extended model: the fit recovers every injected
  * term (the model is exact for its own data). */
 static void recovers_injected_terms(void **state)
 {
     ess_model truth, fit;
     truth_model(&truth);
-    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, 0.2, betas3, 3);
-    for (size_t i = 0; i < cw->n; i++)
-        cw->raw_rad[i] = ess_model_predict(&truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
-    fit_result fr;
-    assert_int_equal(ess_calibrate(cw, THETA0_RAD, truth.roll_rad, 0.2, 100, &fit, &fr),
-                     SUNMC_OK);
+    ess_calib_workspace *cw = fit_truth(0.2, betas3, &truth, &fit);
     assert_int_equal(cw->alias.n_weak, 0);
     assert_int_equal(fit.np, ESS_NP_EXT);
     for (int j = 0; j < ESS_NP_EXT; j++)
@@ -296,12 +306,7 @@ static void aliased_harmonic_regularised(void **state)
     ess_model truth, fit;
     truth_model(&truth);
     const double betas[] = {-30, 0, 30};
-    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, 0.8, betas, 3);
-    for (size_t i = 0; i < cw->n; i++)
-        cw->raw_rad[i] = ess_model_predict(&truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
-    fit_result fr;
-    assert_int_equal(ess_calibrate(cw, THETA0_RAD, truth.roll_rad, 0.2, 100, &fit, &fr),
-                     SUNMC_OK);
+    ess_calib_workspace *cw = fit_truth(0.8, betas, &truth, &fit);
     assert_int_equal(cw->alias.n_prior, 2);
     /* held near 0: 0.2" of the injected 10.8" (alpha_d differs from the
      * table alpha by eq. 12's scale and offsets, which the data see a

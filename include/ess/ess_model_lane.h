@@ -9,6 +9,7 @@
 #define SUNMC_ESS_MODEL_LANE_H
 
 #include "ess_model.h"
+#include "status.h"
 #include "vmath.h"
 
 /* A turntable matrix, element by element. */
@@ -61,6 +62,37 @@ VM_INLINE ess_lane_mount ess_lane_mount_partials(const ess_model *m, ess_table_m
     double d2 = M.m20 * dv[0] + M.m21 * dv[1] + M.m22 * dv[2];
     e.sun_y = g1 * ess_lane_row3(m->R, 1, d0, d1, d2) + g2 * ess_lane_row3(m->R, 2, d0, d1, d2);
     return e;
+}
+
+/* Compensation of k <= ESS_COMP_CHUNK raws (both models): the lanes'
+ * start (x = r = raw, padded lanes a copy of the first, every lane active)
+ * and, once x holds alpha_d, eq. 13: tan(alpha) = (b - tan alpha_d) /
+ * (c tan alpha_d - a) into alpha[i], status[i] = SUNMC_EDOM for a lane
+ * still active or with eq. 13 undefined. */
+VM_INLINE void ess_lane_comp_start(size_t k, const double *raw, double *x, double *r,
+                                   long *active)
+{
+    for (size_t i = 0; i < vm_pad(k); i++) {
+        x[i] = r[i] = raw[i < k ? i : 0];
+        active[i] = 1;
+    }
+}
+
+VM_INLINE void ess_lane_comp_eq13(const ess_model *m, size_t k, double *x, long *active,
+                                  double *alpha, int *status)
+{
+    const double *p = m->p;
+    size_t kp = vm_pad(k);
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double td = tan(x[i]);
+        double den = p[ESS_P_C] * td - p[ESS_P_A];
+        x[i] = atan((p[ESS_P_B] - td) / den);
+        active[i] = active[i] | (long)(den == 0.0);
+    }
+    for (size_t i = 0; i < k; i++) {
+        status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
+        alpha[i] = x[i];
+    }
 }
 
 /* The nine matrix arrays of t as restrict pointers, for the loops. */

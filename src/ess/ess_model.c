@@ -280,10 +280,7 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
     const double *p = m->p;
     double ks = p[ESS_P_KS], kc = p[ESS_P_KC], w = m->omega;
     size_t kp = vm_pad(k);
-    for (size_t i = 0; i < kp; i++) {
-        x[i] = r[i] = raw[i < k ? i : 0];
-        active[i] = 1;
-    }
+    ess_lane_comp_start(k, raw, x, r, active);
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
@@ -305,16 +302,7 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
             x[i] = finecode_bisect(ks, kc, w, r[i]);
             active[i] = 0;
         }
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        double td = tan(x[i]);
-        double den = p[ESS_P_C] * td - p[ESS_P_A];
-        x[i] = atan((p[ESS_P_B] - td) / den);
-        active[i] = active[i] | (long)(den == 0.0);
-    }
-    for (size_t i = 0; i < k; i++) {
-        status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
-        alpha[i] = x[i];
-    }
+    ess_lane_comp_eq13(m, k, x, active, alpha, status);
 }
 
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,

@@ -291,12 +291,8 @@ VM_KERNEL void ess_model_ext_compensate_chunk(const ess_model *m, size_t k, cons
 {
     _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK];
     _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
-    const double *p = m->p;
     size_t kp = vm_pad(k);
-    for (size_t i = 0; i < kp; i++) {
-        x[i] = r[i] = raw[i < k ? i : 0];
-        active[i] = 1;
-    }
+    ess_lane_comp_start(k, raw, x, r, active);
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
@@ -314,14 +310,5 @@ VM_KERNEL void ess_model_ext_compensate_chunk(const ess_model *m, size_t k, cons
             x[i] = ext_bisect(m, r[i]);
             active[i] = 0;
         }
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        double td = tan(x[i]);
-        double den = p[ESS_P_C] * td - p[ESS_P_A];
-        x[i] = atan((p[ESS_P_B] - td) / den);
-        active[i] = active[i] | (long)(den == 0.0);
-    }
-    for (size_t i = 0; i < k; i++) {
-        status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
-        alpha[i] = x[i];
-    }
+    ess_lane_comp_eq13(m, k, x, active, alpha, status);
 }
