@@ -73,6 +73,20 @@ static void test_crossval_ratio_limit(void **state)
     free(r);
 }
 
+/* `simulate` unit of cfg (with sets) into a private dir named name, then
+ * `calibrate` its campaign with the same sets; stdout+stderr in out. */
+static void sim_calibrate(const char *name, const char *cfg, int unit, const char *sets,
+                          char *out, size_t len)
+{
+    char args[2048];
+    const char *d = test_tmp(name);
+    snprintf(args, sizeof args,
+             "simulate %s --unit %d %s --out $D --quiet > /dev/null && %s calibrate --config %s "
+             "%s $D/campaign.csv",
+             cfg, unit, sets, test_sunmc(), cfg, sets);
+    assert_int_equal(test_sunmc_in(d, args, out, len), 0);
+}
+
 /* The shipped ESS campaign (beta -30, 0, 30): one warning for b, c and the
  * simulator's tilt, with 1 - cos 30 deg; the roll left at its default is
  * warned about, and not once it is given (even as 0). */
@@ -80,12 +94,7 @@ static void test_ess_default_campaign_advice(void **state)
 {
     static char out[65536];
     char args[2048];
-    const char *d = test_tmp("ess_sim");
-    snprintf(args, sizeof args,
-             "simulate configs/ess_type_a.ini --unit 1 --out $D --quiet > /dev/null && "
-             "%s calibrate --config configs/ess_type_a.ini $D/campaign.csv",
-             test_sunmc());
-    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    sim_calibrate("ess_sim", "configs/ess_type_a.ini", 1, "", out, sizeof out);
     assert_non_null(strstr(out, "b and fit_sun_y_arcsec -0.99"));
     assert_non_null(strstr(out, "c and fit_sun_y_arcsec +0.98"));
     assert_non_null(strstr(out, "1 - cos(beta) = 0.13 at this campaign's widest |beta| = 30 deg"));
@@ -95,7 +104,7 @@ static void test_ess_default_campaign_advice(void **state)
     snprintf(args, sizeof args,
              "calibrate --config configs/ess_type_a.ini --set calibration.roll_measured_arcsec=0 "
              "$D/campaign.csv");
-    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_int_equal(test_sunmc_in(test_tmp("ess_sim"), args, out, sizeof out), 0);
     assert_null(strstr(out, "roll_measured_arcsec is left"));
 }
 
@@ -104,14 +113,8 @@ static void test_ess_default_campaign_advice(void **state)
 static void test_ess_half_campaign_crossval_flagged(void **state)
 {
     static char out[65536];
-    char args[2048];
-    const char *d = test_tmp("ess_half");
-    snprintf(args, sizeof args,
-             "simulate configs/ess_type_a.ini --unit 3 --set campaign.alpha_min_deg=0 --out $D "
-             "--quiet > /dev/null && %s calibrate --config configs/ess_type_a.ini "
-             "--set campaign.alpha_min_deg=0 $D/campaign.csv",
-             test_sunmc());
-    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    sim_calibrate("ess_half", "configs/ess_type_a.ini", 3, "--set campaign.alpha_min_deg=0", out,
+                  sizeof out);
     assert_non_null(strstr(out, "the held-out error 105.71 arcsec is 4.2 times the in-sample "
                                 "25.09 (above 3x)"));
 }
@@ -121,13 +124,7 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
 static void test_dss_default_campaign_advice(void **state)
 {
     static char out[65536];
-    char args[2048];
-    const char *d = test_tmp("dss_sim");
-    snprintf(args, sizeof args,
-             "simulate configs/dss.ini --unit 1 --out $D --quiet > /dev/null && "
-             "%s calibrate --config configs/dss.ini $D/campaign.csv",
-             test_sunmc());
-    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    sim_calibrate("dss_sim", "configs/dss.ini", 1, "", out, sizeof out);
     assert_non_null(strstr(out, "fit_dh_px and fit_glass_thickness_um +0.98"));
     assert_non_null(strstr(out, "fit_dh_px and fit_glass_index +0.99"));
     assert_non_null(strstr(out, "this campaign reaches 68 deg of field angle at its corners"));
