@@ -131,6 +131,24 @@ static void test_dss_default_campaign_advice(void **state)
     assert_null(strstr(out, "widen the campaign (a wider angle range"));
 }
 
+/* One DSS reading far beyond the detector, at a tiny weight: the fit
+ * stands, the reading cannot be compensated, and the report counts it
+ * (it was left out of the band statistics without a word). */
+static void test_dss_uncompensated_counted(void **state)
+{
+    static char out[65536];
+    char args[2048];
+    const char *d = test_tmp("dss_far");
+    snprintf(args, sizeof args,
+             "simulate configs/dss.ini --unit 1 --out $D --quiet > /dev/null && "
+             "awk -F, 'BEGIN{OFS=\",\"} /^#/||/^b1/{print;next} $5>0 && !k {$3=1e7; $4=1e7; "
+             "$5=1e-12; k=1} {print}' $D/campaign.csv > $D/far.csv && "
+             "%s calibrate --config configs/dss.ini $D/far.csv",
+             test_sunmc());
+    assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "1 readings could not be compensated with the fitted model"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -139,6 +157,7 @@ int main(void)
         cmocka_unit_test(test_ess_default_campaign_advice),
         cmocka_unit_test(test_ess_half_campaign_crossval_flagged),
         cmocka_unit_test(test_dss_default_campaign_advice),
+        cmocka_unit_test(test_dss_uncompensated_counted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

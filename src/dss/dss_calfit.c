@@ -88,10 +88,11 @@ static double field_deg(double a, double b)
 }
 
 /* Angle errors per band over readings with use[i] > 0; sum of squares and
- * count over both angles into *sum, *n. */
+ * count over both angles into *sum, *n; readings the model cannot
+ * compensate are left out and counted in *n_uncomp (may be NULL). */
 static void angle_errors(const dss_calib_workspace *cw, const double *use,
                          const dss_calibration *cal, const band_list *bands, band_acc acc[2],
-                         double *sum, long *n)
+                         double *sum, long *n, long *n_uncomp)
 {
     if (acc) {
         band_acc_reset(&acc[0]);
@@ -104,8 +105,11 @@ static void angle_errors(const dss_calib_workspace *cw, const double *use,
             continue;
         double a0, b0, a, b;
         dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK) {
+            if (n_uncomp)
+                (*n_uncomp)++;
             continue;
+        }
         if (acc) {
             double fd = field_deg(a0, b0);
             band_acc_add(&acc[0], bands, fd, a - a0);
@@ -147,8 +151,8 @@ static int quadrant_refit(void *ctx, const double *held, double sum2[2], long n[
     fit_result fr;
     if (dss_calibrate(f->cw, f->c->max_iterations, &ck, &fr) != SUNMC_OK)
         return 0;
-    angle_errors(f->cw, f->cw->weight, &ck, NULL, NULL, &sum2[0], &n[0]);
-    angle_errors(f->cw, held, &ck, NULL, NULL, &sum2[1], &n[1]);
+    angle_errors(f->cw, f->cw->weight, &ck, NULL, NULL, &sum2[0], &n[0], NULL);
+    angle_errors(f->cw, held, &ck, NULL, NULL, &sum2[1], &n[1], NULL);
     return 1;
 }
 
@@ -327,7 +331,15 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
     band_acc acc[2], sig[2];
     double sum;
     long n;
-    angle_errors(cw, cw->weight, cal, bands, acc, &sum, &n);
+    long n_uncomp = 0;
+    angle_errors(cw, cw->weight, cal, bands, acc, &sum, &n, &n_uncomp);
+    if (n_uncomp)
+        calreport_warn(rep,
+                       "check those rows (residuals.tsv: nan angles) for spots beyond the field "
+                       "the fitted model covers",
+                       "%ld readings could not be compensated with the fitted model: they are "
+                       "nan in residuals.tsv and left out of the band statistics",
+                       n_uncomp);
     /* Angle-domain residual scaled to the degrees of freedom. */
     rep->sigma_arcsec = n ? sqrt(sum / n * (double)n_res / rep->dof) * ARCSEC_PER_RAD : NAN;
     band_acc_reset(&sig[0]);
