@@ -284,7 +284,7 @@ static void test_independent_model_recovered(void **state)
     /* Repeated noise: each parameter within 5 standard errors, and the
      * standard errors honest: mean (error / se)^2 near 1. */
     const int reps = 10;
-    double chi = 0;
+    double chi = 0, cv_in2 = 0, cv_out2 = 0;
     int nchi = 0;
     static calreport rep;
     ess_calfit_result res;
@@ -302,6 +302,8 @@ static void test_independent_model_recovered(void **state)
         }
         /* Residual sigma estimates the noise. */
         assert_near(rep.sigma_arcsec, 3.0, 0.3);
+        cv_in2 += rep.cv_rms_in_arcsec * rep.cv_rms_in_arcsec;
+        cv_out2 += rep.cv_rms_out_arcsec * rep.cv_rms_out_arcsec;
         if (r == 0) {
             /* Compensated error against the truth: the noise through the
              * compensation, and the report's prediction says so. */
@@ -309,19 +311,19 @@ static void test_independent_model_recovered(void **state)
             assert_true(v < 2 * 3.0);
             int all = rep.bands.n - 1; /* 0:62 */
             assert_near(rep.predicted_rms[0][all], v, 0.2 * v);
-            /* Cross-validation: one fold per beta line, held-out close to
-             * in-sample when the model is right. */
+            /* Cross-validation: one fold per beta line of the default
+             * campaign (-30, 0, 30). */
             assert_int_equal(rep.n_folds, 3);
-            assert_string_equal(rep.fold[0].label, "beta = -20 deg");
-            assert_true(rep.cv_rms_out_arcsec >= 0.98 * rep.cv_rms_in_arcsec);
-            assert_true(rep.cv_rms_out_arcsec < 1.2 * rep.cv_rms_in_arcsec);
+            assert_string_equal(rep.fold[0].label, "beta = -30 deg");
             /* b, c and the sun's tilt trade off: named as a warning,
-             * with the cause (beta lines at +-20 deg: 1 - cos = 0.06). */
+             * with the cause (beta lines at +-30 deg: 1 - cos = 1 - sqrt(3)/2
+             * = 0.134). */
             assert_true(fabs(rep.corr[ESS_P_B][ESS_P_SUN_Y]) > CALREPORT_CORR_WARN);
             int named = 0;
             for (int w = 0; w < rep.nw; w++)
                 named |= strstr(rep.w[w].reason, "b and fit_sun_y_arcsec") != NULL &&
-                         strstr(rep.w[w].reason, "1 - cos(beta) = 0.06") != NULL;
+                         strstr(rep.w[w].reason, "1 - cos(beta) = 0.13 at this campaign's "
+                                                 "widest |beta| = 30 deg") != NULL;
             assert_true(named);
         }
         ess_calib_free(cw);
@@ -329,6 +331,15 @@ static void test_independent_model_recovered(void **state)
     double ratio = chi / nchi;
     if (!(ratio > 0.4 && ratio < 1.8))
         fail_msg("mean (error / standard error)^2 = %g over %d, expected near 1", ratio, nchi);
+    /* Held-out lines close to in-sample when the model is right, over the
+     * noise draws (one draw's ratio spreads 1.03-1.50): at least 1 (the
+     * held-out points did not pull the fit), yet not far above, although
+     * an outer line held out is predicted 30 deg in beta beyond the two
+     * lines of 156 points it is fitted on (pooled 1.21; 1.09 on the
+     * former default campaign, 0.2 deg x (-20, 0, 20)). */
+    double cv_ratio = sqrt(cv_out2 / cv_in2);
+    if (!(cv_ratio >= 1 && cv_ratio < 1.3))
+        fail_msg("cross-validation held-out / in-sample RMS %g over %d draws", cv_ratio, reps);
     config_state_free(&st);
 }
 

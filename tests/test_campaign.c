@@ -43,14 +43,16 @@ static void cost_by_hand(void **state)
     config_state_free(&st);
 }
 
-/* The shipped type A campaign: 124 / 0.8 + 1 = 156 alpha x 3 beta lines,
- * -62..62 each, back to -62 between lines (the beta moves of 30 are shorter
- * than that return, so they cost nothing more); lines at +-30 cover the
- * validation's beta +-25: no extrapolation. */
-static void ess_default_campaign(void **state)
+/* The shipped type A campaign, and a config without campaign or
+ * validation keys (the key table's defaults, the same campaign): 124 / 0.8
+ * + 1 = 156 alpha x 3 beta lines, -62..62 each, back to -62 between lines
+ * (the beta moves of 30 are shorter than that return, so they cost nothing
+ * more); lines at +-30 cover the validation's beta +-25: no extrapolation. */
+static void ess_campaign_of(const char *path)
 {
     config_state st;
-    build(&st, "configs/ess_type_a.ini", NULL, 0);
+    const char *family[] = {"sensor.family=ess"};
+    build(&st, path, path ? NULL : family, path ? 0 : 1);
     campaign_info ci;
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
@@ -72,6 +74,15 @@ static void ess_default_campaign(void **state)
     campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
     assert_string_equal(text, "");
     config_state_free(&st);
+}
+
+static void ess_default_campaign(void **state)
+{
+    ess_campaign_of("configs/ess_type_a.ini");
+    ess_campaign_of(NULL);
+    config_state st;
+    campaign_info ci;
+    char err[SUNMC_ERRLEN], text[512];
     /* Lines at +-20: validation beta +-25 lies 5 deg beyond, on axis 1. */
     const char *close[] = {"campaign.beta_deg=-20,0,20"};
     build(&st, "configs/ess_type_a.ini", close, 1);
@@ -113,16 +124,85 @@ static void dss_campaign(void **state)
     config_state_free(&st);
 }
 
-/* Runs 2 units of type A with extra --set options into DIR: Table 1 in
- * out, and summary.tsv's campaign columns must read want. */
-static void run_campaign(const char *sets, const char *dir, const char *want, char *out,
-                         size_t len)
+/* DSS, a config without campaign or validation keys: the key table's
+ * -60..60 step 5 grid (that of configs/dss.ini), 120 / 5 + 1 = 25 b2
+ * positions on each of 25 b1 lines = 625 points; travel: 25 scans of
+ * 24 x 5 = 120 deg and 24 returns of 120 (b1 moves 5 at once) = 5880 deg
+ * at 5 deg/s = 1176 s, 25 line settles of 30 s, 600 point settles and 625
+ * readings of 1 s: 3151 s.  Validation -60 + 1.3 + 4.1 k, k = 0..28, is
+ * -58.7..56.1 on both axes: inside, no extrapolation. */
+static void dss_default_campaign(void **state)
+{
+    config_state st;
+    const char *family[] = {"sensor.family=dss"};
+    build(&st, NULL, family, 1);
+    campaign_info ci;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
+    assert_true(ci.known);
+    assert_int_equal(ci.points, 625);
+    assert_int_equal(ci.lines, 25);
+    assert_near(ci.slew_deg, 25 * 120.0 + 24 * 120.0, 1e-9);
+    assert_near(ci.hours, (5880.0 / 5 + 25 * 30 + 600 + 625) / 3600, 1e-12);
+    for (int a = 0; a < CAMPAIGN_AXES; a++) {
+        assert_near(ci.val_lo[a], -58.7, 1e-9);
+        assert_near(ci.val_hi[a], 56.1, 1e-9);
+        assert_near(ci.outside_deg[a], 0, 0);
+    }
+    assert_near(ci.extrapolation_deg, 0, 0);
+    config_state_free(&st);
+}
+
+/* The campaign and validation keys a shipped config sets are the key
+ * table's defaults: a config that leaves them out gets the campaign the
+ * shipped one was designed with (and the shipped outputs do not depend on
+ * the defaults: it sets at least min_set of them itself). */
+static void expect_shipped_defaults(const char *path, const char *family, int min_set)
+{
+    config_state def, shipped;
+    char set[64];
+    snprintf(set, sizeof set, "sensor.family=%s", family);
+    const char *sets[] = {set};
+    build(&def, NULL, sets, 1);
+    build(&shipped, path, NULL, 0);
+    static const config_key *keys[CONFIG_KEYS_MAX];
+    static const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(def.cfg.family, keys, owners, CONFIG_KEYS_MAX);
+    int in_file = 0;
+    for (size_t i = 0; i < n; i++) {
+        const config_key *k = keys[i];
+        if (strcmp(k->section, "campaign") != 0 && strcmp(k->section, "validation") != 0)
+            continue;
+        char d[1024], v[1024];
+        config_format_value(k, &def.cfg, d, sizeof d);
+        config_format_value(k, &shipped.cfg, v, sizeof v);
+        if (strcmp(d, v) != 0)
+            fail_msg("%s.%s: default %s, %s sets %s", k->section, k->name, d, path, v);
+        in_file += strcmp(config_origin_of(&shipped, k), "default") != 0;
+    }
+    assert_true(in_file >= min_set);
+    config_state_free(&def);
+    config_state_free(&shipped);
+}
+
+static void defaults_are_shipped_campaign(void **state)
+{
+    /* ESS: alpha min, max, step, beta of each; validation step, offset, beta */
+    expect_shipped_defaults("configs/ess_type_a.ini", "ess", 7);
+    expect_shipped_defaults("configs/ess_type_b.ini", "ess", 7);
+    /* DSS: b min, max, step of each; validation offset */
+    expect_shipped_defaults("configs/dss.ini", "dss", 7);
+}
+
+/* Runs 2 units of config (type A unless NULL) with extra --set options into
+ * DIR: Table 1 in out, and summary.tsv's campaign columns must read want. */
+static void run_campaign(const char *config, const char *sets, const char *dir,
+                         const char *want, char *out, size_t len)
 {
     char cmd[2048], cols[256];
     snprintf(cmd, sizeof cmd,
-             "%s run configs/ess_type_a.ini --units 2 --set validation.alpha_step_deg=1.3 %s "
-             "--quiet --out %s",
-             test_sunmc(), sets, test_tmp(dir));
+             "%s run %s --units 2 --set validation.alpha_step_deg=1.3 %s --quiet --out %s",
+             test_sunmc(), config ? config : "configs/ess_type_a.ini", sets, test_tmp(dir));
     assert_int_equal(test_run(cmd, out, len), 0);
     snprintf(cmd, sizeof cmd, "head -2 %s/summary.tsv | cut -f38-40", test_tmp(dir));
     assert_int_equal(test_run(cmd, cols, sizeof cols), 0);
@@ -140,15 +220,23 @@ static void run_reports_campaign(void **state)
     const char *head = "campaign_points\tcampaign_hours\textrapolation_deg\n";
     char want[128];
     snprintf(want, sizeof want, "%s468\t0.318611\t0\n", head);
-    run_campaign("", "run", want, out, sizeof out);
+    run_campaign(NULL, "", "run", want, out, sizeof out);
+    assert_non_null(strstr(out, "campaign: 468 points on 3 lines, 1 reading each: 0.32 "
+                                "turntable hours"));
+    assert_null(strstr(out, "WARNING"));
+    /* A config with no campaign or validation keys: the same campaign, the
+     * same cost, no extrapolation and no warning. */
+    const char *bare = test_tmp("bare.ini");
+    assert_int_equal(test_write_file(bare, "[sensor]\nfamily = ess\n"), 0);
+    run_campaign(bare, "", "runbare", want, out, sizeof out);
     assert_non_null(strstr(out, "campaign: 468 points on 3 lines, 1 reading each: 0.32 "
                                 "turntable hours"));
     assert_null(strstr(out, "WARNING"));
     snprintf(want, sizeof want, "%s468\t0.318611\t5\n", head);
-    run_campaign("--set campaign.beta_deg=-20,0,20", "run20", want, out, sizeof out);
+    run_campaign(NULL, "--set campaign.beta_deg=-20,0,20", "run20", want, out, sizeof out);
     assert_non_null(strstr(out, "WARNING: validation beta reaches -25..25 deg"));
     snprintf(want, sizeof want, "%s312\t0.210111\t0\n", head);
-    run_campaign("--set campaign.beta_deg=-25,25", "run25", want, out, sizeof out);
+    run_campaign(NULL, "--set campaign.beta_deg=-25,25", "run25", want, out, sizeof out);
     assert_null(strstr(out, "WARNING"));
     assert_non_null(strstr(out, "312 points on 2 lines"));
 }
@@ -171,7 +259,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(cost_by_hand),         cmocka_unit_test(ess_default_campaign),
-        cmocka_unit_test(dss_campaign),         cmocka_unit_test(run_reports_campaign),
+        cmocka_unit_test(dss_campaign),         cmocka_unit_test(dss_default_campaign),
+        cmocka_unit_test(defaults_are_shipped_campaign), cmocka_unit_test(run_reports_campaign),
         cmocka_unit_test(calibrate_reports_campaign),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

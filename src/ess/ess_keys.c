@@ -65,11 +65,14 @@ const config_key ess_keys[] = {
      "first turntable inner-frame angle (ESS paper: +-62 deg)"},
     {"campaign", "alpha_max_deg", KEY_DOUBLE, "deg", "62", -89, 89, NULL, OFF(cal_alpha_max_deg),
      "last turntable inner-frame angle"},
-    {"campaign", "alpha_step_deg", KEY_DOUBLE, "deg", "0.2", 0.001, 90, NULL,
+    {"campaign", "alpha_step_deg", KEY_DOUBLE, "deg", "0.8", 0.001, 90, NULL,
      OFF(cal_alpha_step_deg),
-     "inner-frame step (ESS paper Table 2: 1 and 0.25; both alias the 0.5-deg fine-code term)"},
-    {"campaign", "beta_deg", KEY_LIST, "deg", "-20, 0, 20", -89, 89, NULL, OFF(cal_beta_deg),
-     "outer-frame angles, one alpha scan each"},
+     "inner-frame step; 0.8 samples 5 phases of the 0.5-deg fine-code term (ESS paper Table 2: "
+     "1 and 0.25 alias it); 0.8 x beta -30, 0, 30 is the shipped configs' campaign, chosen by "
+     "`sunmc design`"},
+    {"campaign", "beta_deg", KEY_LIST, "deg", "-30, 0, 30", -89, 89, NULL, OFF(cal_beta_deg),
+     "outer-frame angles, one alpha scan each; +-30 covers the validation's beta +-25 (no "
+     "extrapolation)"},
 
     /* [calibration] */
     {"calibration", "roll_sigma_arcsec", KEY_DOUBLE, "arcsec", "5", 0, 3600, NULL,
