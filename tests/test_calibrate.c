@@ -435,6 +435,54 @@ static void test_as_good_as_independent_least_squares(void **state)
     config_state_free(&st);
 }
 
+static void test_weight_equals_repeated_rows(void **state)
+{
+    /* A weight w is 1 / relative variance: a row of weight 1 must pull the
+     * fit exactly as two copies of it do against rows of weight 1/2
+     * (the sums of squares are proportional, so the minimiser is the same).
+     * Derived independently of the code's sqrt(weight) scaling. */
+    config_state st;
+    build_config(&st, NULL, 0);
+    indep_truth m = truth_default(0.004);
+    ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, 4 * RAD_PER_ARCSEC,
+                                             2 * RAD_PER_ARCSEC, 777);
+    size_t n = cw->n, heavy = 0;
+    for (size_t i = 0; i < n; i++)
+        heavy += i % 3 == 0;
+    ess_calib_workspace *dup = ess_calib_alloc(n + heavy);
+    assert_non_null(dup);
+    size_t k = n;
+    for (size_t i = 0; i < n; i++) {
+        dup->alpha_rad[i] = cw->alpha_rad[i];
+        dup->beta_rad[i] = cw->beta_rad[i];
+        dup->raw_rad[i] = cw->raw_rad[i];
+        dup->weight[i] = 1.0;
+        cw->weight[i] = i % 3 == 0 ? 1.0 : 0.5;
+        if (i % 3 == 0) {
+            dup->alpha_rad[k] = cw->alpha_rad[i];
+            dup->beta_rad[k] = cw->beta_rad[i];
+            dup->raw_rad[k] = cw->raw_rad[i];
+            dup->weight[k++] = 1.0;
+        }
+    }
+    static calreport rep;
+    ess_calfit_result rw, rd;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &rw, &rep, err, sizeof err), SUNMC_OK);
+    assert_true(rep.fit_ok);
+    assert_int_equal(ess_calfit_run(&st.cfg, dup, NULL, &rd, &rep, err, sizeof err), SUNMC_OK);
+    assert_true(rep.fit_ok);
+    double worst = 0;
+    for (int j = 0; j < rw.m.np; j++) {
+        worst = fmax(worst, fabs(rw.m.p[j] - rd.m.p[j]));
+    }
+    if (!(worst < 1e-9))
+        fail_msg("weighted fit and repeated rows differ by %.3g (rad or ratio)", worst);
+    ess_calib_free(dup);
+    ess_calib_free(cw);
+    config_state_free(&st);
+}
+
 /* ---- warnings and refusals ---- */
 
 static void test_alias_warning(void **state)
@@ -542,6 +590,7 @@ int main(void)
         cmocka_unit_test(test_covariance_closed_form),
         cmocka_unit_test(test_independent_model_recovered),
         cmocka_unit_test(test_as_good_as_independent_least_squares),
+        cmocka_unit_test(test_weight_equals_repeated_rows),
         cmocka_unit_test(test_alias_warning),
         cmocka_unit_test(test_nonconvergence_warning),
         cmocka_unit_test(test_refuses_n_le_p),
