@@ -391,6 +391,103 @@ static void halves_types_a_and_b(void **state)
     }
 }
 
+/* Pooled held-out RMS of crossval.tsv's folds (arcsec). */
+static double crossval_pooled(const char *dir)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/crossval.tsv", dir);
+    tsv *t = tsv_load(path);
+    double sum = 0, n = 0;
+    for (int r = 0; r < t->nr; r++) {
+        double k = tsv_num(t, r, "points"), rms = tsv_num(t, r, "rms_out_arcsec");
+        sum += k * rms * rms;
+        n += k;
+    }
+    tsv_free(t);
+    return sqrt(sum / n);
+}
+
+/* models.tsv's row of a model: its held-out RMS, used and recommended. */
+static double models_row(const char *dir, const char *model, int *used, int *recommended)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/models.tsv", dir);
+    tsv *t = tsv_load(path);
+    assert_int_equal(t->nr, 2);
+    double v = NAN;
+    for (int r = 0; r < t->nr; r++)
+        if (strcmp(tsv_str(t, r, "model"), model) == 0) {
+            v = tsv_num(t, r, "rms_out_arcsec");
+            *used = (int)tsv_num(t, r, "used");
+            *recommended = (int)tsv_num(t, r, "recommended");
+            assert_true(tsv_num(t, r, "held_out_points") > 400);
+        }
+    tsv_free(t);
+    return v;
+}
+
+/* calibrate compares the two models on the same folds: each model's
+ * held-out RMS is the one its own cross-validation (lab_cross_validate,
+ * another code path) finds, whichever model is used; the paired
+ * difference is the difference of their mean squares; the extended model
+ * is recommended on a type-A unit; data of one beta line get a note. */
+static void calibrate_compares_models(void **state)
+{
+    char d[512], cmd[2048], out[32768];
+    assert_int_equal(test_private_dir(d, sizeof d, "cmp"), 0);
+    const char *step = "--set campaign.alpha_step_deg=0.9";
+    snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 3 %s --out %s/sim",
+             test_sunmc(), step, d);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    const char *roll = strstr(out, "calibration.roll_measured_arcsec=");
+    assert_non_null(roll);
+    char rollset[96];
+    snprintf(rollset, sizeof rollset, "%.*s", (int)strcspn(roll, " \n"), roll);
+    const char *models[2] = {"paper", "extended"};
+    double out_rms[2][2];
+    for (int u = 0; u < 2; u++) {
+        snprintf(cmd, sizeof cmd,
+                 "%s calibrate --config configs/ess_type_a.ini %s --set %s --set "
+                 "calibration.model=%s %s/sim/campaign.csv --out %s/cal_%s",
+                 test_sunmc(), step, rollset, models[u], d, d, models[u]);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+        assert_non_null(strstr(out, "\nmodel comparison (the same folds"));
+        char want[128];
+        snprintf(want, sizeof want, "  used: %s; recommended: extended\n", models[u]);
+        assert_non_null(strstr(out, want));
+        char dir[600];
+        snprintf(dir, sizeof dir, "%s/cal_%s", d, models[u]);
+        for (int m = 0; m < 2; m++) {
+            int used, rec;
+            out_rms[u][m] = models_row(dir, models[m], &used, &rec);
+            assert_int_equal(used, m == u);
+            assert_int_equal(rec, m == 1);
+        }
+        /* the used model's held-out RMS is its own cross-validation's */
+        assert_near(out_rms[u][u], crossval_pooled(dir), 2e-5 * out_rms[u][u]);
+        /* the printed paired difference: used minus other mean square */
+        snprintf(want, sizeof want, "held-out squared error, %s - %s: ", models[u],
+                 models[1 - u]);
+        const char *p = strstr(out, want);
+        assert_non_null(p);
+        double diff = strtod(p + strlen(want), NULL);
+        double ms = out_rms[u][u] * out_rms[u][u] - out_rms[u][1 - u] * out_rms[u][1 - u];
+        assert_near(diff, ms, 1e-3 * fabs(ms) + 0.01);
+    }
+    /* the comparison does not depend on the model used */
+    for (int m = 0; m < 2; m++)
+        assert_near(out_rms[0][m], out_rms[1][m], 2e-5 * out_rms[0][m]);
+    assert_true(out_rms[0][1] < out_rms[0][0]);
+    /* one beta line: no folds, no comparison, said so */
+    snprintf(cmd, sizeof cmd,
+             "awk -F, '/^#/ || /^alpha/ || $2 == 0' %s/sim/campaign.csv > %s/line0.csv && "
+             "%s calibrate --config configs/ess_type_a.ini %s --set %s %s/line0.csv",
+             d, d, test_sunmc(), step, rollset, d);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "no model comparison: it holds out beta lines, the data have "
+                                "fewer than two"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -405,6 +502,7 @@ int main(void)
         cmocka_unit_test(aliased_harmonic_regularised),
         cmocka_unit_test(bad_model_name),
         cmocka_unit_test(halves_types_a_and_b),
+        cmocka_unit_test(calibrate_compares_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

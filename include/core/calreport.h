@@ -44,6 +44,32 @@ typedef struct {
     double rms_out_arcsec;            /* its error on the held-out points */
 } calreport_fold;
 
+/* ---- model comparison (a family with several calibration models) ----
+ * Each model refitted on the same cross-validation folds and scored on the
+ * held-out points; the recommendation follows the paired difference of
+ * the held-out squared errors, point by point. */
+#define CALREPORT_MAX_MODELS 4
+
+typedef struct {
+    char name[CALREPORT_NAME_MAX];    /* as calibration.model names it */
+    int np;                           /* parameters */
+    int ok;                           /* every fold's refit converged */
+    int aliased;                      /* the campaign aliased some of its terms (held at 0) */
+    long n_out;                       /* held-out points scored */
+    double rms_in_arcsec, rms_out_arcsec; /* pooled over the folds */
+} calreport_model;
+
+typedef struct {
+    int n;                            /* models compared; 0: none (note says why) */
+    calreport_model m[CALREPORT_MAX_MODELS];
+    int used, best;                   /* the model fitted, the one recommended */
+    /* mean over the held-out points of e_used^2 - e_other^2 (arcsec^2), its
+     * standard error and the points, for two models */
+    double diff_arcsec2, diff_se_arcsec2;
+    long n_paired;
+    char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
+} calreport_models;
+
 typedef struct {
     const char *sensor;               /* "ess", "dss" */
     const char *model;                /* model name as in params.ini */
@@ -89,6 +115,8 @@ typedef struct {
     double cv_rms_in_arcsec;          /* pooled over folds */
     double cv_rms_out_arcsec;
     char cv_note[CALREPORT_TEXT_MAX]; /* why there is no cross-validation, else "" */
+
+    calreport_models models;          /* model comparison (models.n = 0: none) */
 } calreport;
 
 /* Zero r and set its family names. */
@@ -146,5 +174,9 @@ int calreport_write_bands(FILE *f, const calreport *r);
 
 /* Write the cross-validation folds as TSV with a header. */
 int calreport_write_folds(FILE *f, const calreport *r);
+
+/* The model comparison as TSV with a header: model, parameters, ok,
+ * aliased, held-out points, RMS in-sample and held-out, used, recommended. */
+int calreport_write_models(FILE *f, const calreport_models *m);
 
 #endif

@@ -47,6 +47,20 @@ typedef struct {
 int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
                    ess_calfit_result *res, calreport *rep, char *err, size_t errlen);
 
+/* The distinct beta lines (rad) of cw's rows with weight > 0, in file
+ * order, into betas: their count, or -1 when there are more than max. */
+int ess_beta_lines(const ess_calib_workspace *cw, double *betas, int max);
+/* The index of beta_rad among betas[nb] (within 1e-9 rad), or -1. */
+int ess_beta_line_of(const double *betas, int nb, double beta_rad);
+
+/* The model comparison of `calibrate` (ess_calmodels.c): the paper's and
+ * the extended model refitted with each beta line of cw's data held out
+ * (cw's weights after the gross-error check; cw itself is not touched),
+ * scored on it point by point, into rep->models with the recommendation.
+ * SUNMC_ENOMEM (message in err) when the work arrays cannot be had. */
+int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep,
+                       char *err, size_t errlen);
+
 /* Derivative of the compensated angle with respect to the parameters
  * p[m->np] (internal units), at the reading that incidence alpha_rad
  * produces under m (implicit differentiation of the structural model; only

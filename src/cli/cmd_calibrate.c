@@ -20,7 +20,10 @@ static const char calibrate_help[] =
     "Design values come from CONFIG (and --set).  DATA.csv: a header line, '#' comments,\n"
     "columns in any order, extra columns ignored:\n"
     "  ess: alpha_deg,beta_deg,output_deg[,weight]   (turntable inner/outer angle, raw output)\n"
-    "       the known installation roll is calibration.roll_measured_arcsec (default 0)\n"
+    "       the known installation roll is calibration.roll_measured_arcsec (default 0);\n"
+    "       calibration.model = paper (eq. 12 + k sin(4 pi alpha + t)) or extended (the fine\n"
+    "       period's 1st, 2nd and incidence-dependent 4th harmonics, eq. 7 exact); the report\n"
+    "       compares both by cross-validation and says which it recommends\n"
     "  dss: b1_deg,b2_deg,x_px,y_px[,weight]\n"
     "Conventions (README, \"Calibrating a real sensor\"; simulate writes them into its CSVs):\n"
     "  ess: alpha = inner frame about the sensor's X (across the code rows), beta = outer\n"
@@ -32,7 +35,8 @@ static const char calibrate_help[] =
     "       b1 turns the table top about the base's X, then b2 about the new Y; design.h_mm\n"
     "       includes the cover glass; only spots wholly on the detector are readings\n"
     "--out DIR writes params.ini (for `sunmc compensate`), residuals.tsv, bands.tsv,\n"
-    "crossval.tsv and field.tsv (propagated sigma across the field), all or nothing.\n"
+    "crossval.tsv, and for the ess field.tsv (propagated sigma across the field) and\n"
+    "models.tsv (the model comparison), all or nothing.\n"
     "Exit status 2 for bad data (FILE:LINE: message), 1 when the fit fails.\n";
 
 static const char compensate_help[] =

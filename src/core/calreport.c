@@ -186,6 +186,34 @@ static void print_value(FILE *f, double v)
         fprintf(f, "  %9.2f", v);
 }
 
+/* The model comparison block (nothing for a family with one model). */
+static void print_models(FILE *f, const calreport_models *m)
+{
+    if (m->n == 0 && !m->note[0])
+        return;
+    fprintf(f, "\nmodel comparison (the same folds, each model refitted on the rest, error on "
+               "the held-out part, arcsec):\n");
+    for (int k = 0; k < m->n; k++) {
+        const calreport_model *x = &m->m[k];
+        fprintf(f, "  %-10s %3d parameters: ", x->name, x->np);
+        if (x->ok)
+            fprintf(f, "in-sample %8.2f  held-out %8.2f%s\n", x->rms_in_arcsec,
+                    x->rms_out_arcsec,
+                    x->aliased ? "  (terms aliased by the campaign, held at 0)" : "");
+        else
+            fprintf(f, "a refit failed\n");
+    }
+    if (m->n == 2 && m->n_paired > 0)
+        fprintf(f, "  held-out squared error, %s - %s: %+.4g arcsec^2 +- %.2g (standard error "
+                   "over %ld points)\n",
+                m->m[m->used].name, m->m[1 - m->used].name, m->diff_arcsec2, m->diff_se_arcsec2,
+                m->n_paired);
+    if (m->n > 0)
+        fprintf(f, "  used: %s; recommended: %s\n", m->m[m->used].name, m->m[m->best].name);
+    if (m->note[0])
+        fprintf(f, "  %s\n", m->note);
+}
+
 int calreport_print(FILE *f, const calreport *r)
 {
     fprintf(f, "calibration: sensor family %s, model %s\n", r->sensor, r->model);
@@ -264,6 +292,8 @@ int calreport_print(FILE *f, const calreport *r)
         fprintf(f, "  pooled: in-sample %.2f, held-out %.2f (the honest accuracy estimate)\n",
                 r->cv_rms_in_arcsec, r->cv_rms_out_arcsec);
 
+    print_models(f, &r->models);
+
     fprintf(f, "\nwarnings: %d\n", r->nw);
     for (int i = 0; i < r->nw; i++)
         fprintf(f, "  %d. %s\n     what to do: %s\n", i + 1, r->w[i].reason, r->w[i].action);
@@ -294,6 +324,19 @@ int calreport_write_folds(FILE *f, const calreport *r)
                 *s = '_';
         fprintf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
                 fo->rms_in_arcsec, fo->rms_out_arcsec);
+    }
+    return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+int calreport_write_models(FILE *f, const calreport_models *m)
+{
+    fprintf(f, "model\tparameters\tok\taliased\theld_out_points\trms_in_arcsec\t"
+               "rms_out_arcsec\tused\trecommended\n");
+    for (int k = 0; k < m->n; k++) {
+        const calreport_model *x = &m->m[k];
+        fprintf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\n", x->name, x->np, x->ok,
+                x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec, k == m->used,
+                k == m->best);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }

@@ -157,13 +157,31 @@ typedef struct {
     double betas[CALREPORT_MAX_FOLDS];
 } beta_folds;
 
+int ess_beta_line_of(const double *betas, int nb, double beta_rad)
+{
+    for (int k = 0; k < nb; k++)
+        if (fabs(beta_rad - betas[k]) <= BETA_SAME_RAD)
+            return k;
+    return -1;
+}
+
+int ess_beta_lines(const ess_calib_workspace *cw, double *betas, int max)
+{
+    int nb = 0;
+    for (size_t i = 0; i < cw->n; i++) {
+        if (!(cw->weight[i] > 0) || ess_beta_line_of(betas, nb, cw->beta_rad[i]) >= 0)
+            continue;
+        if (nb == max)
+            return -1;
+        betas[nb++] = cw->beta_rad[i];
+    }
+    return nb;
+}
+
 static int beta_fold_of(const void *ctx, size_t i)
 {
     const beta_folds *f = ctx;
-    for (int k = 0; k < f->nb; k++)
-        if (fabs(f->cw->beta_rad[i] - f->betas[k]) <= BETA_SAME_RAD)
-            return k;
-    return -1;
+    return ess_beta_line_of(f->betas, f->nb, f->cw->beta_rad[i]);
 }
 
 static void beta_fold_label(const void *ctx, int k, char *buf, size_t len)
@@ -206,15 +224,8 @@ static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calre
                            double theta0, double roll)
 {
     beta_folds f = {.c = c, .cw = cw, .theta0 = theta0, .roll = roll};
-    int too_many = 0;
-    for (size_t i = 0; i < cw->n; i++) {
-        if (!(cw->weight[i] > 0) || beta_fold_of(&f, i) >= 0)
-            continue;
-        if (f.nb == CALREPORT_MAX_FOLDS)
-            too_many = 1;
-        else
-            f.betas[f.nb++] = cw->beta_rad[i];
-    }
+    f.nb = ess_beta_lines(cw, f.betas, CALREPORT_MAX_FOLDS);
+    int too_many = f.nb < 0;
     if (too_many || f.nb < 2) {
         snprintf(rep->cv_note, sizeof rep->cv_note,
                  too_many ? "more than %d beta lines" : "the campaign has %d beta line: hold-out "
@@ -398,7 +409,7 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        "data",
                        "%d readings could not be compensated with the fitted model", n_uncomp);
     cross_validate(c, cw, rep, theta0, roll);
-    return SUNMC_OK;
+    return ess_calfit_compare(c, cw, rep, err, errlen);
 }
 
 int ess_calfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int *line,

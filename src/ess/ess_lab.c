@@ -225,6 +225,7 @@ typedef struct {
     ess_calib_workspace *cw;
     const int *line;
     ess_calfit_result res;
+    calreport_models models; /* for models.tsv */
 } ess_cal;
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
@@ -265,6 +266,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
+    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -282,13 +284,15 @@ static int write_residuals(const void *p, FILE *f)
     return ess_calfit_write_residuals(f, k->cw, k->line, &k->res.m);
 }
 
-static const char *const extra_files[] = {"field.tsv", NULL};
+static const char *const extra_files[] = {"field.tsv", "models.tsv", NULL};
 
 /* field.tsv: the propagated sigma over the campaign's alpha range (the
- * config's, widened to the data's). */
+ * config's, widened to the data's); models.tsv: the model comparison. */
 static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
 {
     const ess_cal *k = p;
+    if (which == 1)
+        return calreport_write_models(f, &k->models);
     const ess_config *ec = ess_cfg(c);
     double amin = ec->cal_alpha_min_deg, amax = ec->cal_alpha_max_deg;
     for (size_t i = 0; i < k->cw->n; i++) {
