@@ -86,6 +86,7 @@ typedef struct {
     /* derived by ess_model_prepare() */
     mat3 R, dR_y, dR_z;
     double v[3], dv[3];
+    int invertible;      /* extended: ess_model_ext_invertible, for compensation */
 } ess_model;
 
 /* Identity model (a = 1, all else 0) for fine-code period theta0_rad: the

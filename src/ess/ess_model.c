@@ -67,6 +67,8 @@ void ess_model_prepare(ess_model *m)
     m->dv[0] = -sin(sy) * sin(sx);
     m->dv[1] = cos(sy);
     m->dv[2] = -sin(sy) * cos(sx);
+    double bound;
+    m->invertible = m->kind == ESS_MODEL_EXTENDED && ess_model_ext_invertible(m, &bound);
 }
 
 /* Inlined into the scalar and the vectorised forms alike: everything is
@@ -309,9 +311,7 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
                                double *alpha_rad, int *status)
 {
     int ext = m->kind == ESS_MODEL_EXTENDED;
-    double bound;
-    if (ext ? !ess_model_ext_invertible(m, &bound)
-            : m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
+    if (ext ? !m->invertible : m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
         for (size_t i = 0; i < n; i++)
             status[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
