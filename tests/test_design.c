@@ -98,12 +98,34 @@ static void design_refusals(void **state)
     assert_int_not_equal(system(cmd), 0);
 }
 
+/* The extended ESS model's alias check decides design's verdict too: 0.8
+ * deg samples the fine period's 1st harmonic as its 4th (aliased, never
+ * chosen), 0.7 deg resolves every fitted harmonic. */
+static void design_extended_model_aliases(void **state)
+{
+    char out[16384], cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "%s design configs/ess_type_a.ini --space steps_deg=0.7,0.8 --space max_lines=3 "
+             "--space beta_max_deg=30 --space beta_step_deg=30 --space screen_units=10 "
+             "--space max_units=20 --space repeats=1 --set calibration.model=extended "
+             "--set validation.alpha_step_deg=1.3 --set report.yield_target=0.5 --out %s --quiet",
+             test_sunmc(), test_tmp("dext"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    const char *tsv = test_tmp("dext/design.tsv");
+    /* step, alias_units = units, verdict, best */
+    snprintf(cmd, sizeof cmd, "awk -F'\\t' 'NR > 1 {print $3, $17 == $10, $19, $21}' %s | sort",
+             tsv);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_string_equal(out, "0.7 0 pass 0\n0.7 0 pass 1\n0.8 1 aliased 0\n0.8 1 aliased 0\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(space_counts),
         cmocka_unit_test(design_command),
         cmocka_unit_test(design_refusals),
+        cmocka_unit_test(design_extended_model_aliases),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
