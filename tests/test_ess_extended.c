@@ -433,7 +433,7 @@ static double models_row(const char *dir, const char *model, int *used, int *rec
  * is recommended on a type-A unit; data of one beta line get a note. */
 static void calibrate_compares_models(void **state)
 {
-    char d[512], cmd[2048], out[32768];
+    char d[512], cmd[4096], out[32768];
     assert_int_equal(test_private_dir(d, sizeof d, "cmp"), 0);
     const char *step = "--set campaign.alpha_step_deg=0.7";
     snprintf(cmd, sizeof cmd, "%s simulate configs/ess_type_a.ini --unit 3 %s --out %s/sim",
@@ -474,6 +474,28 @@ static void calibrate_compares_models(void **state)
         double ms = out_rms[u][u] * out_rms[u][u] - out_rms[u][1 - u] * out_rms[u][1 - u];
         assert_near(diff, ms, 1e-3 * fabs(ms) + 0.01);
     }
+    /* compensate applies either params.ini: the extended one reads all 18
+     * parameters back and is closer to the truth on the validation
+     * readings; an amplitude that makes it non-monotonic is refused */
+    double comp_rms[2];
+    for (int u = 0; u < 2; u++) {
+        snprintf(cmd, sizeof cmd,
+                 "%s compensate %s/cal_%s/params.ini %s/sim/validation.csv | awk -F, "
+                 "'/^[-0-9]/ {e = $5 - $4; s += e * e; n++} END {printf \"%%.9g\", "
+                 "sqrt(s / n) * 3600}'",
+                 test_sunmc(), d, models[u], d);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+        comp_rms[u] = strtod(out, NULL);
+        assert_true(comp_rms[u] > 5 && comp_rms[u] < 60);
+    }
+    assert_true(comp_rms[1] < comp_rms[0]);
+    snprintf(cmd, sizeof cmd,
+             "sed 's/^ks_cos4_deg *=.*/ks_cos4_deg = 0.2/' %s/cal_extended/params.ini > "
+             "%s/bad.ini && %s compensate %s/bad.ini %s/sim/validation.csv",
+             d, d, test_sunmc(), d, d);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "bad.ini:"));
+    assert_non_null(strstr(out, "must stay below 1"));
     /* the comparison does not depend on the model used */
     for (int m = 0; m < 2; m++)
         assert_near(out_rms[0][m], out_rms[1][m], 2e-5 * out_rms[0][m]);
