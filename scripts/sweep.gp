@@ -35,6 +35,8 @@ angles = uniq(ca)
 angle = word(angles, words(angles))
 bands = uniq(cb)
 wide = word(bands, words(bands))
+# What a band bins: the ESS its own angle's magnitude, the DSS the field angle.
+bandvar = field(col('family'), 2) eq 'dss' ? 'field angle' : '|'.angle.'|'
 cali = col('aliased'); clab = col('label')
 # Every selected row is prefixed with its point number (column 1, so every
 # sweep.tsv column moves up by one); an aliased row becomes a blank line in
@@ -77,8 +79,8 @@ T2 = (nlead == 3 && word(hdr, 1) eq 'campaign.alpha_step_deg' && ptype ne '') ? 
 AL1 = n_alias > 0 ? "for [i=1:words(bands)] sela(word(bands, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
 AL2 = n_alias > 0 ? "for [i=1:words(vals)] sela2(word(vals, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
 if (nlead == 3) {
-  plot for [i=1:words(bands)] sel(word(bands, i)) using @UA with yerrorlines lw 2 pt 7 lc i title 'after, |x| '.word(bands, i).' deg', \
-       for [i=1:words(bands)] selb(word(bands, i)) using @UB with yerrorlines dt 2 pt 6 lc i title 'before, |x| '.word(bands, i).' deg', \
+  plot for [i=1:words(bands)] sel(word(bands, i)) using @UA with yerrorlines lw 2 pt 7 lc i title 'after, '.bandvar.' '.word(bands, i).' deg', \
+       for [i=1:words(bands)] selb(word(bands, i)) using @UB with yerrorlines dt 2 pt 6 lc i title 'before, '.bandvar.' '.word(bands, i).' deg', \
        @AL1 @T2 \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s', spec, unit)
 } else {
@@ -86,5 +88,5 @@ if (nlead == 3) {
   plot for [i=1:words(vals)] sel2(word(vals, i)) using @UA with yerrorlines lw 2 pt 7 lc i title sprintf('after, %s = %s', word(hdr, 2), word(vals, i)), \
        for [i=1:words(vals)] selb2(word(vals, i)) using @UB with yerrorlines dt 2 pt 6 lc i title sprintf('before, %s = %s', word(hdr, 2), word(vals, i)), \
        @AL2 \
-       spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s (|x| %s deg)', spec, unit, wide)
+       spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s (%s %s deg)', spec, unit, bandvar, wide)
 }

@@ -89,7 +89,8 @@ static void plots_sh(void **state)
 
 /* The texts a reader relies on: the histogram divides the widest band's
  * before by its after column (not the rms_after_sys_ columns that follow),
- * the yield legend names band and yield in words, the map says its range. */
+ * the yield legend names band and yield in words, the sweep's the band
+ * variable. */
 static void plot_texts(void **state)
 {
     char out[8192];
@@ -98,10 +99,15 @@ static void plot_texts(void **state)
         "grep -q 'rms_before_alpha_0_62_deg / rms_after_alpha_0_62_deg' %1$s/h.svg",
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y.svg'\" scripts/yield.gp && "
         "grep -q 'alpha error, band 0-62 deg: yield' %1$s/y.svg && grep -q 'yield target 95' %1$s/y.svg",
+        /* the sweep's legend names what the ESS bands bin: |alpha| */
+        "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s.svg'\" scripts/sweep.gp && "
+        "grep -q 'after, |alpha| 0:62 deg' %2$s/s.svg && ! grep -q '|x|' %2$s/s.svg",
     };
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
         char cmd[1024];
-        snprintf(cmd, sizeof cmd, checks[i], test_tmp("run"));
+        char run[1024];
+        snprintf(run, sizeof run, "%s", test_tmp("run"));
+        snprintf(cmd, sizeof cmd, checks[i], run, test_tmp("sweep1"));
         if (test_run(cmd, out, sizeof out) != 0)
             fail_msg("%s: %s", cmd, out);
     }
