@@ -455,6 +455,9 @@ static void calibrate_compares_models(void **state)
         char want[128];
         snprintf(want, sizeof want, "  used: %s; recommended: extended\n", models[u]);
         assert_non_null(strstr(out, want));
+        /* the advice names the value to set, only when another model is used */
+        const char *advice = strstr(out, "calibrate with --set calibration.model=extended\n");
+        assert_true(u == 0 ? advice != NULL : advice == NULL);
         char dir[600];
         snprintf(dir, sizeof dir, "%s/cal_%s", d, models[u]);
         for (int m = 0; m < 2; m++) {

@@ -106,10 +106,13 @@ static void recommend(calreport_models *cm, const double *const e2[2], size_t n)
         return;
     }
     cm->best = mean > 0 ? o : u;
+    char advice[64] = "";
+    if (cm->best != u)
+        snprintf(advice, sizeof advice, ": calibrate with --set calibration.model=%s",
+                 kind_names[cm->best]);
     snprintf(cm->note, sizeof cm->note,
              "the %s model's held-out error is lower beyond the noise (%.1f standard errors)%s",
-             kind_names[cm->best], fabs(mean) / cm->diff_se_arcsec2,
-             cm->best == u ? "" : ": set calibration.model accordingly");
+             kind_names[cm->best], fabs(mean) / cm->diff_se_arcsec2, advice);
 }
 
 int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep,
