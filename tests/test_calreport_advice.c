@@ -117,6 +117,14 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
                   sizeof out);
     assert_non_null(strstr(out, "the held-out error 105.71 arcsec is 4.2 times the in-sample "
                                 "25.09 (above 3x)"));
+    /* the report to a file: its warnings on stderr too */
+    assert_int_equal(test_sunmc_in(test_tmp("ess_half"),
+                                   "calibrate --config configs/ess_type_a.ini --set "
+                                   "campaign.alpha_min_deg=0 $D/campaign.csv > $D/report.txt "
+                                   "2> $D/err.txt; cat $D/err.txt",
+                                   out, sizeof out),
+                     0);
+    assert_non_null(strstr(out, "sunmc calibrate: WARNING: the held-out error 105.71 arcsec"));
 }
 
 /* The DSS's default campaign: height, glass thickness and index, once,

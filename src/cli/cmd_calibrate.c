@@ -9,6 +9,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char calibrate_help[] =
     "usage: sunmc calibrate --config CONFIG DATA.csv [--sensor FAMILY] [--out DIR]\n"
@@ -51,6 +52,16 @@ static const char compensate_help[] =
     "       paper's eq. 3-4, alpha = -b2, beta = atan(tan b1 / cos b2)\n"
     "Conventions of x_px, y_px, b1, b2: see `sunmc calibrate --help`.\n";
 
+/* The report's warnings again on stderr when the report itself goes to a
+ * file or a pipe, so that none passes unseen (whatever --quiet says). */
+static void warn_stderr(const calreport *rep)
+{
+    if (isatty(STDOUT_FILENO))
+        return;
+    for (int i = 0; i < rep->nw; i++)
+        fprintf(stderr, "sunmc calibrate: WARNING: %s\n", rep->w[i].reason);
+}
+
 /* Read the data, fit, print the report; with --out write the files. */
 static int calibrate(const cli_options *o, const config_state *cs, const family_lab *lab)
 {
@@ -76,6 +87,7 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
         lab_check_fit(lab, c, &d, rep);
         lab_check_measured(lab, cs, rep);
         calreport_print(stdout, rep);
+        warn_stderr(rep);
         if (!rep->fit_ok) {
             fprintf(stderr, "sunmc calibrate: the fit %s (%s): nothing written\n",
                     rep->refused[0] ? "is refused" : "failed",
