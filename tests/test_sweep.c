@@ -261,6 +261,33 @@ static void sweep_list_labels(void **state)
     assert_true(strncmp(row, "-30,-10,10,30\t-30,-10,10,30\t0\t", 30) == 0);
 }
 
+/* A point where every unit's fit fails (per-row gains of 40 %) has no
+ * statistic: its table cells say "-" and a line under the table says why,
+ * never "nan"; the failed column counts the 3 units. */
+static void sweep_failed_point_no_nan(void **state)
+{
+    char out[16384], cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s sweep configs/ess_type_a.ini --vary tolerance.gain_pct=1,40 --units 3 "
+             "--set validation.alpha_step_deg=1.3 --quiet",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_null(strstr(out, "nan"));
+    const char *row = strstr(out, "\n40 ");
+    assert_non_null(row);
+    long failed = -1;
+    assert_int_equal(sscanf(row, " 40 alpha 0:30 - - - - 0.0%% 0 %ld", &failed), 1);
+    assert_int_equal(failed, 3);
+    assert_non_null(strstr(out, "WARNING: - = no statistic: no unit of that point has a fit"));
+    /* the good point prints numbers and, alone, no such warning */
+    snprintf(cmd, sizeof cmd,
+             "%s sweep configs/ess_type_a.ini --vary tolerance.gain_pct=1,2 --units 3 "
+             "--set validation.alpha_step_deg=1.3 --quiet",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_null(strstr(out, "no statistic"));
+}
+
 /* A sweep over the ESS calibration model: both rows, the same units
  * before calibration (common random numbers); on the shipped 0.8-deg step
  * the extended model's fundamental aliases with the 4th harmonic, which
@@ -323,7 +350,7 @@ int main(void)
         cmocka_unit_test(parse_errors),   cmocka_unit_test(grid_order),
         cmocka_unit_test(apply_point),    cmocka_unit_test(cli_errors_write_nothing),
         cmocka_unit_test(sweep_equals_runs), cmocka_unit_test(sweep_list_labels),
-        cmocka_unit_test(sweep_calibration_model),
+        cmocka_unit_test(sweep_calibration_model), cmocka_unit_test(sweep_failed_point_no_nan),
         cmocka_unit_test(range_end_and_digits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

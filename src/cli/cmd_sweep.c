@@ -7,6 +7,7 @@
 #include "status.h"
 #include "sweep.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,6 +57,13 @@ static int axis_width(const sweep_axis *ax)
 /* The numeric columns of the table. */
 enum { COL_BEFORE, COL_AFTER, COL_P95, COL_IMPROVE, COL_POINTS, SWEEP_NUM_COLS };
 
+/* A statistic as printed: "-" when there is none (no unit of the point
+ * has a fit: the failed column counts them), never "nan". */
+static int num_text(char *buf, size_t len, double v, int prec)
+{
+    return isfinite(v) ? snprintf(buf, len, "%.*f", prec, v) : snprintf(buf, len, "-");
+}
+
 /* Printed width of each numeric column over every row: its header or its
  * widest value (an improvement past 1,000 widens its column, not the row). */
 static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NUM_COLS])
@@ -68,7 +76,8 @@ static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NU
         const double v[] = {s->rms_before_mean, s->rms_after_mean, s->rms_after_p95,
                             s->improvement_mean};
         for (int k = 0; k < COL_POINTS; k++) {
-            int len = snprintf(NULL, 0, "%.*f", k == COL_IMPROVE ? 2 : prec, v[k]);
+            char text[64];
+            int len = num_text(text, sizeof text, v[k], k == COL_IMPROVE ? 2 : prec);
             w[k] = len > w[k] ? len : w[k];
         }
         int len = snprintf(NULL, 0, "%ld", s->campaign_points);
@@ -89,7 +98,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
     printf("%-6s %-9s %*s %*s %*s %*s %7s %6s %6s %*s %6s\n", "angle", "band", w[COL_BEFORE],
            "before", w[COL_AFTER], "after", w[COL_P95], "p95 after", w[COL_IMPROVE], "improve",
            "yield", "alias", "failed", w[COL_POINTS], "points", "hours");
-    int extrapolated = 0;
+    int extrapolated = 0, missing = 0;
     for (long p = 0; p < n_points; p++) {
         const char *v[SWEEP_MAX_AXES];
         sweep_point_text(axes, n_axes, p, v);
@@ -99,12 +108,18 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             report_band_label(c, s->band, band, sizeof band);
             for (int i = 0; i < n_axes; i++)
                 printf("%-*s ", axis_width(&axes[i]), v[i]);
-            printf("%-6s %-9s %*.*f %*.*f %*.*f %*.2f %6.*f%% %6ld %6ld %*ld %6.2f%s\n",
-                   fam->angle_names[s->angle], band, w[COL_BEFORE], prec, s->rms_before_mean,
-                   w[COL_AFTER], prec, s->rms_after_mean, w[COL_P95], prec, s->rms_after_p95,
-                   w[COL_IMPROVE], s->improvement_mean, report_percent_decimals(s->yield, 1),
-                   100.0 * s->yield, s->alias_units, s->fit_failures, w[COL_POINTS],
-                   s->campaign_points, s->campaign_hours,
+            char t[COL_POINTS][64];
+            const double x[COL_POINTS] = {s->rms_before_mean, s->rms_after_mean,
+                                          s->rms_after_p95, s->improvement_mean};
+            for (int k = 0; k < COL_POINTS; k++) {
+                num_text(t[k], sizeof t[k], x[k], k == COL_IMPROVE ? 2 : prec);
+                missing |= !isfinite(x[k]);
+            }
+            printf("%-6s %-9s %*s %*s %*s %*s %6.*f%% %6ld %6ld %*ld %6.2f%s\n",
+                   fam->angle_names[s->angle], band, w[COL_BEFORE], t[COL_BEFORE], w[COL_AFTER],
+                   t[COL_AFTER], w[COL_P95], t[COL_P95], w[COL_IMPROVE], t[COL_IMPROVE],
+                   report_percent_decimals(s->yield, 1), 100.0 * s->yield, s->alias_units,
+                   s->fit_failures, w[COL_POINTS], s->campaign_points, s->campaign_hours,
                    s->extrapolation_deg > 0 ? " *" : "");
             extrapolated |= s->extrapolation_deg > 0;
         }
@@ -113,6 +128,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
     if (fam->alias_term)
         printf("; alias = units whose campaign could not resolve %s", fam->alias_term);
     printf("; points and turntable hours of the campaign\n");
+    if (missing)
+        printf("WARNING: - = no statistic: no unit of that point has a fit and a reading in "
+               "the band (failed counts the units whose fit failed)\n");
     if (extrapolated)
         printf("WARNING: * = validation angles beyond the campaign's span: the calibration is "
                "extrapolated there (sweep.tsv: extrapolation_deg)\n");
