@@ -96,6 +96,32 @@ static void test_band_header_per_family(void **state)
     assert_brackets_balanced(out);
 }
 
+/* A run whose every fit fails (per-row gains of 40 %) has no statistic:
+ * Table 1 prints "-" (never nan), a WARNING says why with the count, and
+ * the yield, over all units, is 0 with its Wilson interval (3 units:
+ * upper bound z^2 / (n + z^2) = 3.84 / 6.84 = 56.1 %). */
+static void test_all_fits_failed_no_nan(void **state)
+{
+    char out[16384], cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s run configs/ess_type_a.ini --units 3 --set tolerance.gain_pct=40 "
+             "--set validation.alpha_step_deg=2.3",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_null(strstr(out, "nan"));
+    assert_non_null(strstr(out, " - [-, -] "));
+    assert_non_null(strstr(out, "0.0% [0.0, 56.1]"));
+    assert_non_null(strstr(out, "WARNING: no statistic ('-') where no unit has a fit and a "
+                                "reading: 3 of 3 units' fits failed"));
+    assert_brackets_balanced(out);
+    /* a healthy run has no such warning */
+    snprintf(cmd, sizeof cmd,
+             "%s run configs/ess_type_a.ini --units 3 --set validation.alpha_step_deg=2.3",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_null(strstr(out, "no statistic"));
+}
+
 /* calibrate's per-band table says what it bands too. */
 static void test_calibrate_band_header(void **state)
 {
@@ -116,6 +142,7 @@ int main(void)
         cmocka_unit_test(test_sweep_columns_fit_values),
         cmocka_unit_test(test_band_header_per_family),
         cmocka_unit_test(test_calibrate_band_header),
+        cmocka_unit_test(test_all_fits_failed_no_nan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -316,8 +316,18 @@ static int ci_decimals(const summary_row *rows, int n, size_t ci_offset, double 
     return d < prec ? prec : d > prec + 3 ? prec + 3 : d;
 }
 
+/* A number with d decimals, or "-" where there is none (no unit with a
+ * fit): a table never prints nan. */
+static void fmt_num(char *buf, size_t len, double v, int d)
+{
+    if (isfinite(v))
+        snprintf(buf, len, "%.*f", d, v);
+    else
+        snprintf(buf, len, "-");
+}
+
 /* "v [lo, hi]" with d decimals (a bound that cannot be had is "-"), values
- * times scale, `unit` after the estimate. */
+ * times scale, `unit` after the estimate; "- [-, -]" without an estimate. */
 static void fmt_estimate(char *buf, size_t len, double v, stats_interval ci, int d, double scale,
                          const char *unit)
 {
@@ -326,7 +336,10 @@ static void fmt_estimate(char *buf, size_t len, double v, stats_interval ci, int
         snprintf(lo, sizeof lo, "%.*f", d, ci.lo * scale);
     if (!isnan(ci.hi))
         snprintf(hi, sizeof hi, "%.*f", d, ci.hi * scale);
-    snprintf(buf, len, "%.*f%s [%s, %s]", d, v * scale, unit, lo, hi);
+    if (isfinite(v))
+        snprintf(buf, len, "%.*f%s [%s, %s]", d, v * scale, unit, lo, hi);
+    else
+        snprintf(buf, len, "- [%s, %s]", lo, hi);
 }
 
 static void set_head(table_col *col, const char *h0, const char *h1, int bar)
@@ -380,12 +393,12 @@ static void print_table1(FILE *f, const sunmc_config *c, const sensor_family *fa
     int dp = ci_decimals(rows, n, offsetof(summary_row, rms_after_p95_ci), 1.0, prec);
     for (int i = 0; i < n; i++) {
         const summary_row *r = &rows[i];
-        snprintf(cols[2].cell[i], TABLE_CELL, "%.*f", prec, r->rms_after_max);
-        snprintf(cols[3].cell[i], TABLE_CELL, "%.*f", prec, r->rms_after_min);
+        fmt_num(cols[2].cell[i], TABLE_CELL, r->rms_after_max, prec);
+        fmt_num(cols[3].cell[i], TABLE_CELL, r->rms_after_min, prec);
         fmt_estimate(cols[4].cell[i], TABLE_CELL, r->improvement_mean, r->improvement_mean_ci, di,
                      1.0, "");
-        snprintf(cols[5].cell[i], TABLE_CELL, "%.2f", r->improvement_max);
-        snprintf(cols[6].cell[i], TABLE_CELL, "%.2f", r->improvement_min);
+        fmt_num(cols[5].cell[i], TABLE_CELL, r->improvement_max, 2);
+        fmt_num(cols[6].cell[i], TABLE_CELL, r->improvement_min, 2);
         fmt_estimate(cols[7].cell[i], TABLE_CELL, r->rms_after_p95, r->rms_after_p95_ci, dp, 1.0,
                      "");
     }
@@ -465,6 +478,16 @@ static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *
                            const summary_row *rows, int n)
 {
     warn_no_reading(f, c, fam, rows, n);
+    for (int i = 0; i < n; i++)
+        if (rows[i].stat_units == 0) {
+            fprintf(f,
+                    "WARNING: no statistic ('-') where no unit has a fit and a reading: %ld of "
+                    "%ld units' fits failed; the yield counts them as failing.  Look at the "
+                    "fit status in units.tsv, or calibrate one unit with `simulate` and "
+                    "`calibrate` to see why.\n",
+                    rows[0].fit_failures, rows[0].units);
+            break;
+        }
     for (int i = 0; i < n; i++) {
         const summary_row *r = &rows[i];
         if (!(r->rms_after_mean > r->rms_before_mean))
