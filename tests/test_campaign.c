@@ -44,10 +44,15 @@ static void cost_by_hand(void **state)
 }
 
 /* The shipped type A campaign, and a config without campaign or
- * validation keys (the key table's defaults, the same campaign): 124 / 0.8
- * + 1 = 156 alpha x 3 beta lines, -62..62 each, back to -62 between lines
- * (the beta moves of 30 are shorter than that return, so they cost nothing
- * more); lines at +-30 cover the validation's beta +-25: no extrapolation. */
+ * validation keys (the key table's defaults, the same campaign): alpha
+ * -61.95..61.95 in steps of 0.7, 123.9 / 0.7 + 1 = 178 alpha x 3 beta lines
+ * = 534 points, back to -61.95 between lines (the beta moves of 30 are
+ * shorter than that return, so they cost nothing more).  Travel 3 scans +
+ * 2 returns of 123.9 = 619.5 deg; with the key table's 5 deg/s, 30 s,
+ * 1 s and 1 s: 619.5 / 5 + 3 x 30 + (534 - 3) x 1 + 534 x 1 x 1
+ * = 123.9 + 90 + 531 + 534 = 1278.9 s = 0.35525 h.  The alpha ends are the
+ * validation's outermost angles (-62 + 0.05 and -61.95 + 0.13 x 953 =
+ * 61.94) and lines at +-30 cover its beta +-25: no extrapolation. */
 static void ess_campaign_of(const char *path)
 {
     config_state st;
@@ -57,16 +62,19 @@ static void ess_campaign_of(const char *path)
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
     assert_true(ci.known);
-    assert_int_equal(ci.points, 156 * 3);
+    assert_int_equal(ci.points, 178 * 3);
     assert_int_equal(ci.lines, 3);
     const sunmc_config *c = &st.cfg;
-    double travel = 3 * 124.0 + 2 * 124.0; /* scans + returns (beta moves 30 < 124) */
+    double travel = 3 * 123.9 + 2 * 123.9; /* scans + returns (beta moves 30 < 123.9) */
+    assert_near(ci.slew_deg, travel, 1e-9);
     double want = (travel / c->slew_deg_per_s + 3 * c->line_settle_s +
-                   (156 * 3 - 3) * c->point_settle_s + 156 * 3 * c->cal_repeats * c->dwell_s) /
+                   (178 * 3 - 3) * c->point_settle_s + 178 * 3 * c->cal_repeats * c->dwell_s) /
                   3600;
     assert_near(ci.hours, want, 1e-12);
-    /* with the key table's 1 s, 1 s, 30 s and 5 deg/s: 1147 s */
-    assert_near(ci.hours, (620.0 / 5 + 3 * 30 + 465 + 468) / 3600, 1e-12);
+    /* with the key table's 1 s, 1 s, 30 s and 5 deg/s: 1278.9 s */
+    assert_near(ci.hours, (619.5 / 5 + 3 * 30 + 531 + 534) / 3600, 1e-12);
+    assert_near(ci.cal_lo[0], -61.95, 1e-9);
+    assert_near(ci.cal_hi[0], 61.95, 1e-9);
     assert_near(ci.outside_deg[0], 0, 0);
     assert_near(ci.outside_deg[1], 0, 0);
     assert_near(ci.extrapolation_deg, 0, 0);
@@ -94,11 +102,14 @@ static void ess_default_campaign(void **state)
     assert_non_null(strstr(text, "validation beta reaches -25..25 deg"));
     assert_non_null(strstr(text, "-20..20"));
     config_state_free(&st);
-    /* Validation alpha beyond the campaign's alpha range: on axis 0. */
+    /* Validation alpha beyond the campaign's alpha range: on axis 0.  The
+     * 0.7 scan from -50 stops at -50 + 142 x 0.7 = 49.4; the validation
+     * reaches 61.94 (and -61.95, 11.95 below -50): 12.54 beyond. */
     const char *narrow[] = {"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"};
     build(&st, "configs/ess_type_a.ini", narrow, 2);
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
-    assert_true(ci.outside_deg[0] > 11.9 && ci.outside_deg[0] <= 12);
+    assert_near(ci.cal_hi[0], 49.4, 1e-9);
+    assert_near(ci.outside_deg[0], 61.94 - 49.4, 1e-9);
     config_state_free(&st);
 }
 
@@ -210,18 +221,19 @@ static void run_campaign(const char *config, const char *sets, const char *dir,
 }
 
 /* run: Table 1 states points and hours and warns; summary.tsv has them.
- * The shipped campaign (468 points, 1147 s = 0.318611 h, see above) covers
- * its validation; lines at +-20 do not, by 5 deg.  Two lines at +-25: 312
- * points, 2 scans + 1 return of 124 deg at 5 deg/s, 2 line settles of 30 s,
- * 310 point settles and 312 readings of 1 s: 756.4 s = 0.210111 h. */
+ * The shipped campaign (534 points, 1278.9 s = 0.35525 h, see above) covers
+ * its validation; lines at +-20 do not, by 5 deg.  Two lines at +-25: 356
+ * points, 2 scans + 1 return of 123.9 deg at 5 deg/s (74.34 s), 2 line
+ * settles of 30 s, 354 point settles and 356 readings of 1 s: 844.34 s
+ * = 0.234539 h. */
 static void run_reports_campaign(void **state)
 {
     char out[16384];
     const char *head = "campaign_points\tcampaign_hours\textrapolation_deg\n";
     char want[128];
-    snprintf(want, sizeof want, "%s468\t0.318611\t0\n", head);
+    snprintf(want, sizeof want, "%s534\t0.35525\t0\n", head);
     run_campaign(NULL, "", "run", want, out, sizeof out);
-    assert_non_null(strstr(out, "campaign: 468 points on 3 lines, 1 reading each: 0.32 "
+    assert_non_null(strstr(out, "campaign: 534 points on 3 lines, 1 reading each: 0.36 "
                                 "turntable hours"));
     assert_null(strstr(out, "WARNING"));
     /* A config with no campaign or validation keys: the same campaign, the
@@ -229,16 +241,16 @@ static void run_reports_campaign(void **state)
     const char *bare = test_tmp("bare.ini");
     assert_int_equal(test_write_file(bare, "[sensor]\nfamily = ess\n"), 0);
     run_campaign(bare, "", "runbare", want, out, sizeof out);
-    assert_non_null(strstr(out, "campaign: 468 points on 3 lines, 1 reading each: 0.32 "
+    assert_non_null(strstr(out, "campaign: 534 points on 3 lines, 1 reading each: 0.36 "
                                 "turntable hours"));
     assert_null(strstr(out, "WARNING"));
-    snprintf(want, sizeof want, "%s468\t0.318611\t5\n", head);
+    snprintf(want, sizeof want, "%s534\t0.35525\t5\n", head);
     run_campaign(NULL, "--set campaign.beta_deg=-20,0,20", "run20", want, out, sizeof out);
     assert_non_null(strstr(out, "WARNING: validation beta reaches -25..25 deg"));
-    snprintf(want, sizeof want, "%s312\t0.210111\t0\n", head);
+    snprintf(want, sizeof want, "%s356\t0.234539\t0\n", head);
     run_campaign(NULL, "--set campaign.beta_deg=-25,25", "run25", want, out, sizeof out);
     assert_null(strstr(out, "WARNING"));
-    assert_non_null(strstr(out, "312 points on 2 lines"));
+    assert_non_null(strstr(out, "356 points on 2 lines"));
 }
 
 /* calibrate: the campaign of the data, in file order. */

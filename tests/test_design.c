@@ -16,7 +16,7 @@ static void build(config_state *st, const char *const *sets, int n)
 static void space_counts(void **state)
 {
     config_state st;
-    const char *sets[] = {"campaign.search_steps_deg=0.3,1", "campaign.search_max_lines=3",
+    const char *sets[] = {"campaign.search_steps_deg=0.3,0.6", "campaign.search_max_lines=3",
                           "campaign.search_beta_step_deg=15", "campaign.search_beta_max_deg=30",
                           "campaign.search_repeats=1", "campaign.search_max_extrapolation_deg=90"};
     build(&st, sets, 6);
@@ -25,7 +25,7 @@ static void space_counts(void **state)
     assert_int_equal(design_space(&st.cfg, &d, err, sizeof err), SUNMC_OK);
     assert_int_equal(d.n, 1 + 2 * (1 + 2 * 2));
     assert_true(d.cand[0].is_input);
-    assert_string_equal(d.cand[0].step, "0.8");
+    assert_string_equal(d.cand[0].step, "0.7");
     assert_string_equal(d.cand[0].lines, "-30, 0, 30");
     int found = 0;
     for (int i = 0; i < d.n; i++)
@@ -100,7 +100,10 @@ static void design_refusals(void **state)
 
 /* The extended ESS model's alias check decides design's verdict too: 0.8
  * deg samples the fine period's 1st harmonic as its 4th (aliased, never
- * chosen), 0.7 deg resolves every fitted harmonic. */
+ * chosen), 0.7 deg resolves every fitted harmonic.  The input is the
+ * former shipped campaign, 0.8 deg over -62..62 (over the shipped
+ * -61.95..61.95 a 0.8 scan ends 0.69 deg short of the validation, beyond
+ * campaign.search_max_extrapolation_deg, and would not be tried). */
 static void design_extended_model_aliases(void **state)
 {
     char out[16384], cmd[4096];
@@ -108,6 +111,8 @@ static void design_extended_model_aliases(void **state)
              "%s design configs/ess_type_a.ini --space steps_deg=0.7,0.8 --space max_lines=3 "
              "--space beta_max_deg=30 --space beta_step_deg=30 --space screen_units=10 "
              "--space max_units=20 --space repeats=1 --set calibration.model=extended "
+             "--set campaign.alpha_step_deg=0.8 --set campaign.alpha_min_deg=-62 "
+             "--set campaign.alpha_max_deg=62 "
              "--set validation.alpha_step_deg=1.3 --set report.yield_target=0.5 --out %s --quiet",
              test_sunmc(), test_tmp("dext"));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);

@@ -338,20 +338,18 @@ static void bad_model_name(void **state)
 }
 
 /* Mean noise-free RMS after (band 0:62) of `units` units of a shipped
- * config with the model given, at campaign step step_deg (NULL: the
- * config's); *aliased receives the units whose campaign aliased a term. */
-static double noise_free_after(const char *config, const char *model, const char *step_deg,
+ * config with the model given and the --set options sets ("": the
+ * config's campaign); *aliased receives the units whose campaign aliased a
+ * term. */
+static double noise_free_after(const char *config, const char *model, const char *sets,
                                int units, long *aliased)
 {
     const char *dir = test_tmp("halving");
     char cmd[2048], out[8192];
-    char step[64] = "";
-    if (step_deg)
-        snprintf(step, sizeof step, "--set campaign.alpha_step_deg=%s", step_deg);
     snprintf(cmd, sizeof cmd,
              "rm -rf %s; %s run %s --units %d --seed 11 --set noise.row_current_pct=0 "
              "--set noise.encoder_arcsec=0 --set calibration.model=%s %s --quiet --out %s",
-             dir, test_sunmc(), config, units, model, step, dir);
+             dir, test_sunmc(), config, units, model, sets, dir);
     if (test_run(cmd, out, sizeof out) != 0)
         fail_msg("%s", out);
     char path[600];
@@ -369,23 +367,28 @@ static double noise_free_after(const char *config, const char *model, const char
 
 /* The issue's goal: the extended model at least halves the systematic
  * (noise-free) error after calibration of types A and B, on their shipped
- * beta lines at a step that samples every fitted harmonic apart (0.7 deg;
- * 1000 units: A 2.11x, B 2.89x).  The shipped 0.8-deg step samples the
- * fine period's fundamental as the 4th harmonic: every unit is flagged,
- * that term held at 0, and the gain shrinks (A 1.65x, B 2.21x). */
+ * campaign, whose 0.7-deg step samples every fitted harmonic apart (1000
+ * units: A 2.11x, B 2.89x).  The former shipped step, 0.8 deg over
+ * -62..62, samples the fine period's fundamental as the 4th harmonic:
+ * every unit is flagged, that term held at 0, and the gain shrinks (A
+ * 1.67x, B 2.26x). */
 static void halves_types_a_and_b(void **state)
 {
     const char *configs[] = {"configs/ess_type_a.ini", "configs/ess_type_b.ini"};
     long aliased;
     for (int k = 0; k < 2; k++) {
-        double paper = noise_free_after(configs[k], "paper", "0.7", 40, &aliased);
+        double paper = noise_free_after(configs[k], "paper", "", 40, &aliased);
         assert_int_equal(aliased, 0);
-        double ext = noise_free_after(configs[k], "extended", "0.7", 40, &aliased);
+        double ext = noise_free_after(configs[k], "extended", "", 40, &aliased);
         assert_int_equal(aliased, 0);
         if (!(paper >= 2.0 * ext))
             fail_msg("%s: paper %.5g deg, extended %.5g deg: %.2fx", configs[k], paper, ext,
                      paper / ext);
-        double ext08 = noise_free_after(configs[k], "extended", "0.8", 40, &aliased);
+        double ext08 = noise_free_after(configs[k], "extended",
+                                        "--set campaign.alpha_step_deg=0.8 "
+                                        "--set campaign.alpha_min_deg=-62 "
+                                        "--set campaign.alpha_max_deg=62",
+                                        40, &aliased);
         assert_int_equal(aliased, 40);
         assert_true(ext08 > ext && ext08 < paper / 1.5);
     }

@@ -289,17 +289,19 @@ static void sweep_failed_point_no_nan(void **state)
 }
 
 /* A sweep over the ESS calibration model: both rows, the same units
- * before calibration (common random numbers); on the shipped 0.8-deg step
- * the extended model's fundamental aliases with the 4th harmonic, which
- * the aliased column says (the paper's model fits no fundamental), and
- * its noise-free error after is still well below the paper's. */
+ * before calibration (common random numbers); on a 0.8-deg step (the
+ * former shipped campaign, -62..62) the extended model's fundamental
+ * aliases with the 4th harmonic, which the aliased column says (the
+ * paper's model fits no fundamental), and its noise-free error after is
+ * still well below the paper's. */
 static void sweep_calibration_model(void **state)
 {
     char out[16384], cmd[2048];
     snprintf(cmd, sizeof cmd,
              "%s sweep configs/ess_type_a.ini --vary 'calibration.model=paper|extended' "
              "--units 8 --out %s --set noise.row_current_pct=0 --set noise.encoder_arcsec=0 "
-             "--set validation.alpha_step_deg=0.37 --quiet",
+             "--set campaign.alpha_step_deg=0.8 --set campaign.alpha_min_deg=-62 "
+             "--set campaign.alpha_max_deg=62 --set validation.alpha_step_deg=0.37 --quiet",
              test_sunmc(), test_tmp("sweep_model"));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     tsv *t = tsv_load(test_tmp("sweep_model/sweep.tsv"));

@@ -51,7 +51,7 @@ const config_key config_keys[] = {
     {"campaign", "slew_deg_per_s", KEY_DOUBLE, "deg/s", "5", 0.001, 1000, NULL,
      OFF(slew_deg_per_s),
      "campaign cost: table rate; both axes move at once, the longer travel sets the time"},
-    {"campaign", "search_steps_deg", KEY_LIST, "deg", "0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.8, 1",
+    {"campaign", "search_steps_deg", KEY_LIST, "deg", "0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 1",
      0.001, 90, NULL, OFF(search_steps_deg),
      "`design`: fast-axis steps tried (ESS alpha, DSS b); steps that alias are run, marked "
      "and never chosen"},

@@ -61,15 +61,18 @@ const config_key ess_keys[] = {
      "the after-compensation RMS has the ESS paper's Table 1 size"},
 
     /* [campaign] */
-    {"campaign", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(cal_alpha_min_deg),
-     "first turntable inner-frame angle (ESS paper: +-62 deg)"},
-    {"campaign", "alpha_max_deg", KEY_DOUBLE, "deg", "62", -89, 89, NULL, OFF(cal_alpha_max_deg),
-     "last turntable inner-frame angle"},
-    {"campaign", "alpha_step_deg", KEY_DOUBLE, "deg", "0.8", 0.001, 90, NULL,
+    {"campaign", "alpha_min_deg", KEY_DOUBLE, "deg", "-61.95", -89, 89, NULL,
+     OFF(cal_alpha_min_deg),
+     "first turntable inner-frame angle (ESS paper: +-62 deg); -61.95..61.95 is 177 steps of "
+     "0.7 and ends on the validation's outermost angles"},
+    {"campaign", "alpha_max_deg", KEY_DOUBLE, "deg", "61.95", -89, 89, NULL,
+     OFF(cal_alpha_max_deg), "last turntable inner-frame angle"},
+    {"campaign", "alpha_step_deg", KEY_DOUBLE, "deg", "0.7", 0.001, 90, NULL,
      OFF(cal_alpha_step_deg),
-     "inner-frame step; 0.8 samples 5 phases of the 0.5-deg fine-code term (ESS paper Table 2: "
-     "1 and 0.25 alias it); 0.8 x beta -30, 0, 30 is the shipped configs' campaign, chosen by "
-     "`sunmc design`"},
+     "inner-frame step; 0.7 = 0.5 x 7/5 samples 5 phases of the 0.5-deg fine-code term (ESS "
+     "paper Table 2: 1 and 0.25 alias it) and resolves harmonics 1, 2 and 4 of the 2-deg fine "
+     "period (0.8 samples the 1st as the 4th); 0.7 x beta -30, 0, 30 is the shipped configs' "
+     "campaign, chosen by `sunmc design` for both calibration models"},
     {"campaign", "beta_deg", KEY_LIST, "deg", "-30, 0, 30", -89, 89, NULL, OFF(cal_beta_deg),
      "outer-frame angles, one alpha scan each; +-30 covers the validation's beta +-25 (no "
      "extrapolation)"},
