@@ -15,6 +15,7 @@
 #include "ess_calfit.h"
 #include "ess_unit.h"
 #include "family.h"
+#include "fit.h"
 #include "status.h"
 #include "units.h"
 
@@ -517,6 +518,42 @@ static void test_alias_warning(void **state)
     }
 }
 
+/* y = x0 + x1 t exactly at the start: zero residuals, no step lowers the
+ * cost.  The start is the solution (0 iterations, the gradient test), not
+ * a failed fit -- a perfect unit fitted from its nominal model. */
+static int line_fdf(const double *x, void *params, double *f, double *J, size_t ld)
+{
+    const double *t = params;
+    for (size_t i = 0; i < 4; i++) {
+        f[i] = x[0] + x[1] * t[i] - (2.0 + 0.5 * t[i]);
+        J[i] = 1.0;
+        J[ld + i] = t[i];
+    }
+    return GSL_SUCCESS;
+}
+
+static void test_fit_start_at_minimum(void **state)
+{
+    fit_workspace *fw = fit_workspace_alloc(4, 2);
+    assert_non_null(fw);
+    double t[4] = {-1, 0, 1, 3}, x[2] = {2.0, 0.5};
+    fit_result res;
+    assert_int_equal(fit_solve(fw, line_fdf, t, x, 50, &res), SUNMC_OK);
+    assert_int_equal(res.status, GSL_SUCCESS);
+    assert_int_equal(res.info, 2);
+    assert_int_equal(res.iterations, 0);
+    assert_near(res.chisq, 0, 0);
+    assert_near(x[0], 2.0, 0);
+    assert_near(x[1], 0.5, 0);
+    /* A start off the line still iterates to it. */
+    x[0] = 1.0, x[1] = 0.0;
+    assert_int_equal(fit_solve(fw, line_fdf, t, x, 50, &res), SUNMC_OK);
+    assert_true(res.iterations > 0);
+    assert_near(x[0], 2.0, 1e-9);
+    assert_near(x[1], 0.5, 1e-9);
+    fit_workspace_free(fw);
+}
+
 static void test_nonconvergence_warning(void **state)
 {
     config_state st;
@@ -593,6 +630,7 @@ int main(void)
         cmocka_unit_test(test_as_good_as_independent_least_squares),
         cmocka_unit_test(test_weight_equals_repeated_rows),
         cmocka_unit_test(test_alias_warning),
+        cmocka_unit_test(test_fit_start_at_minimum),
         cmocka_unit_test(test_nonconvergence_warning),
         cmocka_unit_test(test_refuses_n_le_p),
         cmocka_unit_test(test_single_beta_line_has_no_cross_validation),

@@ -235,6 +235,16 @@ static double newton_decrement(fit_workspace *fw)
     return d;
 }
 
+/* GSL's gradient test at the current point: max_i |max(x_i, 1) g_i| <=
+ * gtol max(|f|^2 / 2, 1). */
+static int gradient_small(const fit_workspace *fw, const lm_state *s)
+{
+    double gnorm = 0.0;
+    for (size_t j = 0; j < fw->p; j++)
+        gnorm = GSL_MAX(gnorm, fabs(GSL_MAX(fw->x[j], 1.0) * fw->g[j]));
+    return gnorm <= FIT_GTOL * GSL_MAX(0.5 * s->f2, 1.0);
+}
+
 /* GSL's tests: every |dx_i| <= xtol (xtol + |x_i|) (info 1), or
  * max_i |max(x_i, 1) g_i| <= gtol max(|f|^2 / 2, 1) (info 2); and a full
  * Gauss-Newton step would lower the cost by less than FIT_DTOL of it
@@ -248,10 +258,7 @@ static int converged(fit_workspace *fw, const lm_state *s, int *info)
         *info = 1;
         return 1;
     }
-    double gnorm = 0.0;
-    for (size_t j = 0; j < fw->p; j++)
-        gnorm = GSL_MAX(gnorm, fabs(GSL_MAX(fw->x[j], 1.0) * fw->g[j]));
-    if (gnorm <= FIT_GTOL * GSL_MAX(0.5 * s->f2, 1.0)) {
+    if (gradient_small(fw, s)) {
         *info = 2;
         return 1;
     }
@@ -267,13 +274,21 @@ static int converged(fit_workspace *fw, const lm_state *s, int *info)
 }
 
 /* GSL's driver: iterate until converged; no step at all on the first
- * iteration is GSL_EMAXITER. */
+ * iteration is GSL_EMAXITER -- unless the start already passes the
+ * gradient test (a perfect unit's data fitted from the nominal model: its
+ * residuals are zero or rounding, and no step can lower them), which is
+ * the solution, 0 iterations. */
 static int lm_drive(fit_workspace *fw, lm_state *s, int max_iter, fit_result *res)
 {
     size_t iter = 0;
     int st, done = 0;
     do {
         st = lm_iterate(fw, s);
+        if (st == GSL_ENOPROG && iter == 0 && gradient_small(fw, s)) {
+            res->info = 2;
+            res->iterations = 0;
+            return GSL_SUCCESS;
+        }
         if (st == GSL_ENOPROG && iter == 0) {
             res->info = st;
             res->iterations = 1;
