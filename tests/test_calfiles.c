@@ -299,10 +299,11 @@ static void ess_files(void **state)
         expect_g6(tsv_num(bands, bnd, "predicted_rms_arcsec"), sqrt(noise * noise + crms * crms),
                   "predicted_rms_arcsec");
     }
-    /* field.tsv: the campaign's alpha range in 0.1 deg steps */
-    assert_near(tsv_num(field, 0, "alpha_deg"), -62, 1e-9);
-    assert_near(tsv_num(field, field->nr - 1, "alpha_deg"), 62, 1e-6);
-    assert_int_equal(field->nr, 1241);
+    /* field.tsv: the campaign's alpha range, -61.95..61.95, in 0.1 deg
+     * steps: 123.9 / 0.1 + 1 = 1240 */
+    assert_near(tsv_num(field, 0, "alpha_deg"), -61.95, 1e-9);
+    assert_near(tsv_num(field, field->nr - 1, "alpha_deg"), 61.95, 1e-6);
+    assert_int_equal(field->nr, 1240);
 
     /* crossval.tsv: one fold per beta line, its points held out */
     double betas[16];
