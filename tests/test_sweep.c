@@ -261,15 +261,17 @@ static void sweep_list_labels(void **state)
     assert_true(strncmp(row, "-30,-10,10,30\t-30,-10,10,30\t0\t", 30) == 0);
 }
 
-/* A point where every unit's fit fails (per-row gains of 40 %) has no
- * statistic: its table cells say "-" and a line under the table says why,
+/* A point where every unit's fit fails (per-row gains of 40 %, on the
+ * former 0.8 deg campaign over -62..62; the shipped 0.7 deg fits them) has
+ * no statistic: its table cells say "-" and a line under the table says why,
  * never "nan"; the failed column counts the 3 units. */
 static void sweep_failed_point_no_nan(void **state)
 {
     char out[16384], cmd[2048];
     snprintf(cmd, sizeof cmd,
              "%s sweep configs/ess_type_a.ini --vary tolerance.gain_pct=1,40 --units 3 "
-             "--set validation.alpha_step_deg=1.3 --quiet",
+             "--set campaign.alpha_step_deg=0.8 --set campaign.alpha_min_deg=-62 "
+             "--set campaign.alpha_max_deg=62 --set validation.alpha_step_deg=1.3 --quiet",
              test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_null(strstr(out, "nan"));

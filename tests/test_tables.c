@@ -96,7 +96,8 @@ static void test_band_header_per_family(void **state)
     assert_brackets_balanced(out);
 }
 
-/* A run whose every fit fails (per-row gains of 40 %) has no statistic:
+/* A run whose every fit fails (per-row gains of 40 %, on the former 0.8
+ * deg campaign over -62..62; the shipped 0.7 deg fits them) has no statistic:
  * Table 1 prints "-" (never nan), a WARNING says why with the count, and
  * the yield, over all units, is 0 with its Wilson interval (3 units:
  * upper bound z^2 / (n + z^2) = 3.84 / 6.84 = 56.1 %). */
@@ -105,7 +106,8 @@ static void test_all_fits_failed_no_nan(void **state)
     char out[16384], cmd[2048];
     snprintf(cmd, sizeof cmd,
              "%s run configs/ess_type_a.ini --units 3 --set tolerance.gain_pct=40 "
-             "--set validation.alpha_step_deg=2.3",
+             "--set campaign.alpha_step_deg=0.8 --set campaign.alpha_min_deg=-62 "
+             "--set campaign.alpha_max_deg=62 --set validation.alpha_step_deg=2.3",
              test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     assert_null(strstr(out, "nan"));
