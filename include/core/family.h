@@ -60,6 +60,10 @@ typedef struct {
     const char *name;               /* "campaign_noise" */
     uint32_t stream;                /* rng.h stream id */
     const char *const *keys;        /* "section.key" names, NULL-terminated */
+    /* NULL, or whether the stream is drawn at all under config c (a
+     * measurement only some modes make): when 0 it is no input, whatever
+     * its keys say */
+    int (*active)(const sunmc_config *c);
 } family_noise;
 
 typedef struct sensor_family {

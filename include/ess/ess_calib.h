@@ -20,6 +20,10 @@
  *     (sin, cos) with their strong directions projected out), so the
  *     paper's 4x term is kept and an aliased later harmonic is regularised
  *     to 0 with all its incidence terms.
+ *  5. At beta = 0 the sun simulator's tilt toward Y turns alpha as b = -c
+ *     does; only the beta lines separate them, by 1 - cos(beta).  A
+ *     workspace from ess_calib_alloc_fix(n, kind, 1) keeps the tilt fixed
+ *     at cw->sun_y_rad (a measurement) and fits one parameter fewer.
  */
 #ifndef SUNMC_ESS_CALIB_H
 #define SUNMC_ESS_CALIB_H
@@ -81,7 +85,11 @@ typedef struct {
     double *scratch[2];   /* per-point work arrays */
     int kind;             /* the model fitted (enum ess_model_kind) */
     int n_prior_rows;     /* ess_calib_prior_rows(kind) */
-    fit_workspace *fw;    /* n + n_prior_rows residuals, ess_model_np(kind) parameters */
+    int fix_sun_y;        /* 1: the sun-simulator tilt stays at sun_y_rad, not fitted */
+    double sun_y_rad;     /* its measured value (set before ess_calibrate) */
+    int np_fit;           /* parameters fitted: ess_model_np(kind) - fix_sun_y */
+    double *jfull;        /* fix_sun_y: the model's full Jacobian, fw->ld x np */
+    fit_workspace *fw;    /* n + n_prior_rows residuals, np_fit parameters */
     ess_model model;      /* working model of the residual function */
     ess_alias_set alias;
     double *alias_work[2 * ESS_ALIAS_MAX_H + 2]; /* extended: ess_alias_check_set's */
@@ -95,12 +103,19 @@ int ess_calib_prior_rows(int kind);
  * `kind`. NULL on failure. */
 ess_calib_workspace *ess_calib_alloc(size_t n);
 ess_calib_workspace *ess_calib_alloc_kind(size_t n, int kind);
+/* The same with the sun-simulator tilt toward Y fixed (fix_sun_y = 1) at
+ * cw->sun_y_rad instead of fitted (0: as ess_calib_alloc_kind). */
+ess_calib_workspace *ess_calib_alloc_fix(size_t n, int kind, int fix_sun_y);
+/* The model parameter (enum ess_param) of fitted parameter j of cw: the
+ * fit's vector leaves out a fixed sun tilt. */
+int ess_calib_param_of(const ess_calib_workspace *cw, int j);
 /* About how many bytes ess_calib_alloc_kind(n, kind) takes. */
 double ess_calib_bytes(size_t n, int kind);
 void ess_calib_free(ess_calib_workspace *cw);
 
 /* Fit the model to cw's data.  theta0_rad: fine-code period; roll_rad: the
- * measured (fixed) roll; alias_threshold: see ess_alias_check.  out receives
+ * measured (fixed) roll (and cw->sun_y_rad the measured sun tilt when
+ * cw->fix_sun_y); alias_threshold: see ess_alias_check.  out receives
  * the fitted model (prepared), res the fit's outcome.  SUNMC_OK or
  * SUNMC_EFIT. */
 int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,

@@ -50,11 +50,18 @@ typedef struct {
     double roll_measured_arcsec;  /* `calibrate`: known roll, default 0 */
     double alias_threshold;
     int cal_model;                /* enum ess_model_kind: paper | extended */
+    int sun_y_mode;               /* enum ess_sun_y_mode: fitted | measured */
+    double sun_y_sigma_arcsec;    /* sun-simulator tilt toward Y: measurement sigma */
+    double sun_y_measured_arcsec; /* `calibrate`: its measured value, default 0 */
 
     /* [validation] */
     double val_alpha_min_deg, val_alpha_max_deg, val_alpha_step_deg, val_alpha_offset_deg;
     double_list val_beta_deg;
 } ess_config;
+
+/* calibration.sun_y (the key's enum order): the sun simulator's tilt toward
+ * Y fitted with the rest, or fixed at a measurement like the roll. */
+enum ess_sun_y_mode { ESS_SUN_Y_FITTED = 0, ESS_SUN_Y_MEASURED = 1 };
 
 /* The ESS part of config c (const for a const c). */
 #define ess_cfg(c)                                                                                \

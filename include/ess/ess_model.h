@@ -82,6 +82,7 @@ typedef struct {
     double p[ESS_NP_MAX];
     double roll_rad;     /* fixed installation roll about X */
     double sun_x_rad;    /* fixed sun tilt toward X */
+    int sun_y_fixed;     /* 1: p[ESS_P_SUN_Y] is a measurement the fit kept (calibration.sun_y) */
     double omega;        /* 2 pi / fine-error period, 1/rad */
     /* derived by ess_model_prepare() */
     mat3 R, dR_y, dR_z;

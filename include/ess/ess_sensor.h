@@ -62,6 +62,13 @@ void ess_deviations_values(const ess_deviations *d, double out[ESS_N_DEV]);
  * roll measurement from RNG_STREAM_ALIGNMENT. */
 void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_deviations *d);
 
+/* calibration.sun_y = measured: unit `unit`'s measurement of its sun
+ * simulator's tilt toward Y (d->sun_y_arcsec plus a normal error of
+ * calibration.sun_y_sigma_arcsec from stream RNG_STREAM_SUN_Y, drawn only
+ * here, so no other draw moves); 0 when the tilt is fitted. */
+double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
+                                 const ess_deviations *d);
+
 /* One built sensor, ready to read: lengths in mm, angles in radians. */
 typedef struct {
     double H_mm;        /* design height: the etching rule */

@@ -53,7 +53,7 @@ static int noise_sources(const sunmc_config *c, budget_result *b, char *err, siz
                                   "family %s: noise key %s is not a number key", fam->name,
                                   *dotted);
             double v = get_value(c, k);
-            if (v > 0) {
+            if (v > 0 && (!nz->active || nz->active(c))) {
                 int rc = add_source(b, k, *dotted, BUDGET_NOISE, v, err, errlen);
                 if (rc)
                     return rc;

@@ -43,6 +43,7 @@ static int noise_sources(const sunmc_config *c, sens_result *s, char *err, size_
             size_t len = strlen(keys);
             snprintf(keys + len, sizeof keys - len, "%s%s", len ? ", " : "", *k);
         }
+        on &= !nz->active || nz->active(c);
         int rc = on ? add_source(s, nz->name, SENS_NOISE, keys, nz->stream, err, errlen) : 0;
         if (rc)
             return rc;

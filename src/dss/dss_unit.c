@@ -390,9 +390,9 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
 static const char *const dss_cal_noise_keys[] = {"noise.centroid_px", "noise.encoder_arcsec", NULL};
 static const char *const dss_val_noise_keys[] = {"noise.centroid_px", NULL};
 static const family_noise dss_random_noise[] = {
-    {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys},
-    {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys},
-    {NULL, 0, NULL}};
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys, NULL},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys, NULL},
+    {NULL, 0, NULL, NULL}};
 
 const sensor_family dss_family = {
     .name = "dss",

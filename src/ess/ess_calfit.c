@@ -233,7 +233,7 @@ static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calre
                  too_many ? CALREPORT_MAX_FOLDS : f.nb);
         return;
     }
-    lab_folds folds = {.n_folds = f.nb, .min_fit_rows = ess_model_np(cw->kind), .fold_of = beta_fold_of,
+    lab_folds folds = {.n_folds = f.nb, .min_fit_rows = cw->np_fit, .fold_of = beta_fold_of,
                        .label = beta_fold_label, .refit = beta_fold_refit};
     lab_cross_validate(rep, cw->weight, cw->n, &folds, &f);
 }
@@ -287,8 +287,9 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
     calreport_predict(rep, 0, dof_factor);
 }
 
-/* Residual variance, parameters with standard errors and correlations,
- * and the scaled covariance res->cov. */
+/* Residual variance, parameters with standard errors and correlations
+ * (of the fitted parameters: a measured sun tilt is not one), and the
+ * scaled covariance res->cov (model order; 0 for a fixed parameter). */
 static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, calreport *rep)
 {
     /* Residual variance with the degrees of freedom the data leave: the
@@ -300,22 +301,26 @@ static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, ca
                        cw->raw_rad[i];
             chi2 += cw->weight[i] * r * r;
         }
-    int np = res->m.np;
+    int np = cw->np_fit;
     rep->dof = (int)rep->n_used - np + cw->alias.n_prior;
     res->s2 = chi2 / rep->dof;
     rep->sigma_arcsec = sqrt(res->s2) * ARCSEC_PER_RAD;
     rep->np = np;
+    double scale[ESS_NP_MAX];
     for (int j = 0; j < np; j++) {
-        snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[j]);
-        rep->value[j] = res->m.p[j] * par_scale[j];
+        int q = ess_calib_param_of(cw, j);
+        snprintf(rep->name[j], sizeof rep->name[j], "%s", ess_param_names[q]);
+        scale[j] = par_scale[q];
+        rep->value[j] = res->m.p[q] * scale[j];
     }
     int cst = fit_covariance(cw->fw);
     if (cst == SUNMC_OK)
-        cst = calreport_covariance(rep, cw->fw->covar, res->s2, par_scale);
+        cst = calreport_covariance(rep, cw->fw->covar, res->s2, scale);
     if (cst == SUNMC_OK) {
         for (int i = 0; i < np; i++)
             for (int j = 0; j < np; j++)
-                res->cov[i][j] = res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
+                res->cov[ess_calib_param_of(cw, i)][ess_calib_param_of(cw, j)] =
+                    res->s2 * gsl_matrix_get(cw->fw->covar, (size_t)i, (size_t)j);
     } else {
         for (int i = 0; i < np; i++)
             rep->se[i] = NAN;
@@ -345,7 +350,9 @@ static void ess_check_correlations(calreport *rep)
     snprintf(action, sizeof action,
              "b and c are what compensation uses, so their spread is in cal.sigma: put beta "
              "lines farther out (1 - cos(beta) = 0.29 at 45 deg, 0.50 at 60 deg) or measure the "
-             "sun simulator's tilt; the sum that the beta = 0 line sees stays determined");
+             "sun simulator's tilt toward Y and fix it (--set calibration.sun_y=measured --set "
+             "calibration.sun_y_measured_arcsec=VALUE); the sum that the beta = 0 line sees "
+             "stays determined");
     const calreport_corr_cause causes[] = {
         {{"b", "c", "fit_sun_y_arcsec", NULL}, why, action},
     };
@@ -375,7 +382,8 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     gross_check(c, cw, line, res, rep);
     for (size_t i = 0; i < cw->n; i++)
         rep->n_used += cw->weight[i] > 0;
-    int np = ess_model_np(cw->kind);
+    int np = cw->np_fit;
+    cw->sun_y_rad = ec->sun_y_measured_arcsec * RAD_PER_ARCSEC;
     if (rep->n_used <= (size_t)np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "only %zu usable data rows (weight > 0, within half a fine period of "
@@ -451,15 +459,19 @@ int ess_params_fill(params_file *p, const ess_calfit_result *res, const calrepor
                     double theta0_deg)
 {
     int st = params_set_double(p, "design", "theta0_deg", theta0_deg, "fine-code period");
-    for (int j = 0; j < res->m.np && st == SUNMC_OK; j++) {
+    /* rep's standard errors are the fitted parameters': k counts those */
+    for (int j = 0, k = 0; j < res->m.np && st == SUNMC_OK; j++) {
+        if (j == ESS_P_SUN_Y && res->m.sun_y_fixed)
+            continue;
         char comment[PARAMS_COMMENT_MAX];
-        if (rep && isfinite(rep->se[j]))
+        if (rep && isfinite(rep->se[k]))
             snprintf(comment, sizeof comment, "unit %s, standard error %.3g", par_units[j],
-                     rep->se[j]);
+                     rep->se[k]);
         else
             snprintf(comment, sizeof comment, "unit %s", par_units[j]);
         st = params_set_double(p, "parameters", ess_param_names[j], res->m.p[j] * par_scale[j],
                                comment);
+        k++;
     }
     double k, t;
     ess_model_kt(&res->m, &k, &t);
@@ -469,6 +481,10 @@ int ess_params_fill(params_file *p, const ess_calfit_result *res, const calrepor
         st = params_set_double(p, "fixed", "roll_measured_arcsec",
                                res->m.roll_rad * ARCSEC_PER_RAD,
                                "installation roll: measured, not fitted");
+    if (st == SUNMC_OK && res->m.sun_y_fixed)
+        st = params_set_double(p, "fixed", ESS_SUN_Y_MEASURED_KEY,
+                               res->m.p[ESS_P_SUN_Y] * ARCSEC_PER_RAD,
+                               "sun-simulator tilt toward Y: measured, not fitted");
     if (st == SUNMC_OK)
         st = params_set_double(p, "fixed", "sun_x_arcsec", res->m.sun_x_rad * ARCSEC_PER_RAD,
                                "sun tilt toward X: invisible to an alpha sensor");
@@ -498,7 +514,12 @@ static const params_range ess_ranges[] = {
      "tolerance.install_y_arcsec's range"},
     {"parameters", "fit_install_z_arcsec", -36000, 36000, "arcsec",
      "tolerance.install_z_arcsec's range"},
+};
+/* The sun tilt: fitted (in [parameters]) or measured (in [fixed]). */
+static const params_range ess_sun_y_ranges[2] = {
     {"parameters", "fit_sun_y_arcsec", -36000, 36000, "arcsec", "tolerance.sun_y_arcsec's range"},
+    {"fixed", ESS_SUN_Y_MEASURED_KEY, -36000, 36000, "arcsec",
+     "calibration.sun_y_measured_arcsec's range"},
 };
 
 /* The fine-code term must leave the output monotonic (omega k < 1), else the
@@ -544,20 +565,33 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
                           ESS_CALFIT_MODEL_EXT);
     }
     int np = ess_model_np(kind);
-    st = params_check_keys(p, "parameters", ess_param_names, np, err, errlen);
-    double theta0_deg, roll_arcsec, v[ESS_NP_MAX];
+    /* a measured sun tilt is in [fixed]; [parameters] then lacks it */
+    int fixed = params_find(p, "fixed", ESS_SUN_Y_MEASURED_KEY) != NULL;
+    const char *names[ESS_NP_MAX];
+    int idx[ESS_NP_MAX], nfit = 0;
+    for (int j = 0; j < np; j++)
+        if (!(fixed && j == ESS_P_SUN_Y)) {
+            idx[nfit] = j;
+            names[nfit++] = ess_param_names[j];
+        }
+    st = params_check_keys(p, "parameters", names, nfit, err, errlen);
+    double theta0_deg, roll_arcsec, v[ESS_NP_MAX] = {0};
     if (st == SUNMC_OK)
         st = params_get_double(p, "design", "theta0_deg", &theta0_deg, err, errlen);
     if (st == SUNMC_OK)
         st = params_get_double(p, "fixed", "roll_measured_arcsec", &roll_arcsec, err, errlen);
-    for (int j = 0; j < np && st == SUNMC_OK; j++)
-        st = params_get_double(p, "parameters", ess_param_names[j], &v[j], err, errlen);
+    for (int j = 0; j < nfit && st == SUNMC_OK; j++)
+        st = params_get_double(p, "parameters", names[j], &v[idx[j]], err, errlen);
+    if (st == SUNMC_OK && fixed)
+        st = params_get_double(p, "fixed", ESS_SUN_Y_MEASURED_KEY, &v[ESS_P_SUN_Y], err, errlen);
     if (st != SUNMC_OK)
         return st;
     if ((st = params_check_ranges(p, ess_ranges, (int)(sizeof ess_ranges / sizeof ess_ranges[0]),
-                                  err, errlen)) != SUNMC_OK)
+                                  err, errlen)) != SUNMC_OK ||
+        (st = params_check_ranges(p, &ess_sun_y_ranges[fixed], 1, err, errlen)) != SUNMC_OK)
         return st;
     ess_model_init_kind(m, kind, theta0_deg * RAD_PER_DEG, roll_arcsec * RAD_PER_ARCSEC);
+    m->sun_y_fixed = fixed;
     for (int j = 0; j < np; j++)
         m->p[j] = v[j] / par_scale[j];
     if ((st = ess_params_invertible(p, m, err, errlen)) != SUNMC_OK)

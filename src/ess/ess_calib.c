@@ -7,6 +7,7 @@
 #include <gsl/gsl_math.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Eigenvalue of a perfectly spread (sin, cos) sampling. */
 #define ALIAS_FULL_EIGENVALUE 0.5
@@ -221,11 +222,18 @@ ess_calib_workspace *ess_calib_alloc(size_t n)
 
 ess_calib_workspace *ess_calib_alloc_kind(size_t n, int kind)
 {
+    return ess_calib_alloc_fix(n, kind, 0);
+}
+
+ess_calib_workspace *ess_calib_alloc_fix(size_t n, int kind, int fix_sun_y)
+{
     ess_calib_workspace *cw = calloc(1, sizeof *cw);
     if (!cw)
         return NULL;
     cw->n = n;
     cw->kind = kind;
+    cw->fix_sun_y = fix_sun_y != 0;
+    cw->np_fit = ess_model_np(kind) - cw->fix_sun_y;
     cw->n_prior_rows = ess_calib_prior_rows(kind);
     int ok = 1;
     double **arrays[] = {&cw->alpha_rad, &cw->beta_rad, &cw->raw_rad, &cw->weight, &cw->sw,
@@ -237,7 +245,9 @@ ess_calib_workspace *ess_calib_alloc_kind(size_t n, int kind)
         ok &= (cw->table.m[k] = vm_alloc(n)) != NULL;
     for (int k = 0; k < ESS_ALIAS_ARRAYS && kind == ESS_MODEL_EXTENDED; k++)
         ok &= (cw->alias_work[k] = vm_alloc(n)) != NULL;
-    cw->fw = fit_workspace_alloc(n + (size_t)cw->n_prior_rows, (size_t)ess_model_np(kind));
+    cw->fw = fit_workspace_alloc(n + (size_t)cw->n_prior_rows, (size_t)cw->np_fit);
+    if (cw->fw && cw->fix_sun_y)
+        ok &= (cw->jfull = vm_alloc(cw->fw->ld * (size_t)ess_model_np(kind))) != NULL;
     if (!ok || !cw->fw) {
         ess_calib_free(cw);
         return NULL;
@@ -260,14 +270,20 @@ void ess_calib_free(ess_calib_workspace *cw)
         free(cw->table.m[k]);
     for (int k = 0; k < ESS_ALIAS_ARRAYS; k++)
         free(cw->alias_work[k]);
+    free(cw->jfull);
     fit_workspace_free(cw->fw);
     free(cw);
 }
 
+int ess_calib_param_of(const ess_calib_workspace *cw, int j)
+{
+    return cw->fix_sun_y && j >= ESS_P_SUN_Y ? j + 1 : j;
+}
+
 static void load_params(ess_calib_workspace *cw, const double *x)
 {
-    for (int j = 0; j < cw->model.np; j++)
-        cw->model.p[j] = x[j];
+    for (int j = 0; j < cw->np_fit; j++)
+        cw->model.p[ess_calib_param_of(cw, j)] = x[j];
     ess_model_prepare(&cw->model);
 }
 
@@ -287,11 +303,13 @@ static double prior_weight(const ess_calib_workspace *cw, const ess_alias *a, in
 
 /* Residuals and Jacobian together (fit_fdf): the data rows in one
  * vectorised pass, then the prior rows: direction j of fine-code term k at
- * row n + 2 k + j. */
-static int residual_fdf(const double *x, void *params, double *f, double *J, size_t ld)
+ * row n + 2 k + j.  With the sun tilt fixed the model's full Jacobian goes
+ * to cw->jfull and the fitted parameters' columns are copied into J. */
+static int residual_fdf(const double *x, void *params, double *f, double *Jfit, size_t ld)
 {
     ess_calib_workspace *cw = params;
     load_params(cw, x);
+    double *J = cw->fix_sun_y ? cw->jfull : Jfit;
     ess_model_batch(&cw->model, &cw->table, cw->raw_rad, cw->sw, f, J, ld);
     int nt;
     const ess_fine_term *terms = ess_model_fine_terms(cw->kind, &nt);
@@ -307,6 +325,10 @@ static int residual_fdf(const double *x, void *params, double *f, double *J, siz
         J[(size_t)t->p_sin * ld + row] = w * a->evec[j][0];
         J[(size_t)t->p_cos * ld + row] = w * a->evec[j][1];
     }
+    if (cw->fix_sun_y)
+        for (int j = 0; j < cw->np_fit; j++)
+            memcpy(Jfit + (size_t)j * ld, J + (size_t)ess_calib_param_of(cw, j) * ld,
+                   ld * sizeof *J);
     return GSL_SUCCESS;
 }
 
@@ -314,6 +336,11 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
                   double alias_threshold, int max_iter, ess_model *out, fit_result *res)
 {
     ess_model_init_kind(&cw->model, cw->kind, theta0_rad, roll_rad);
+    if (cw->fix_sun_y) {
+        cw->model.p[ESS_P_SUN_Y] = cw->sun_y_rad;
+        cw->model.sun_y_fixed = 1;
+        ess_model_prepare(&cw->model);
+    }
     cw->table.n = cw->n;
     ess_table_fill(&cw->table, cw->alpha_rad, cw->beta_rad);
     for (size_t i = 0; i < vm_pad(cw->n); i++)
@@ -321,12 +348,14 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
     ess_alias_check_set(cw->alpha_rad, cw->n, cw->kind, theta0_rad, alias_threshold,
                         cw->alias_work, &cw->alias);
     double x[ESS_NP_MAX];
-    for (int j = 0; j < cw->model.np; j++)
-        x[j] = cw->model.p[j];
+    for (int j = 0; j < cw->np_fit; j++)
+        x[j] = cw->model.p[ess_calib_param_of(cw, j)];
     int st = fit_solve(cw->fw, residual_fdf, cw, x, max_iter, res);
     ess_model_init_kind(out, cw->kind, theta0_rad, roll_rad);
-    for (int j = 0; j < cw->model.np; j++)
-        out->p[j] = x[j];
+    out->p[ESS_P_SUN_Y] = cw->model.p[ESS_P_SUN_Y];
+    out->sun_y_fixed = cw->fix_sun_y;
+    for (int j = 0; j < cw->np_fit; j++)
+        out->p[ess_calib_param_of(cw, j)] = x[j];
     ess_model_prepare(out);
     return st;
 }

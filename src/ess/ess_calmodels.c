@@ -131,17 +131,18 @@ int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, cal
     double *e2[2] = {malloc(cw->n * sizeof(double)), malloc(cw->n * sizeof(double))};
     int st = e2[0] && e2[1] ? SUNMC_OK : SUNMC_ENOMEM;
     for (int m = 0; m < 2 && st == SUNMC_OK; m++) {
-        ess_calib_workspace *w = ess_calib_alloc_kind(cw->n, compared_kinds[m]);
+        ess_calib_workspace *w = ess_calib_alloc_fix(cw->n, compared_kinds[m], cw->fix_sun_y);
         if (!w) {
             st = SUNMC_ENOMEM;
             break;
         }
+        w->sun_y_rad = cw->sun_y_rad;
         memcpy(w->alpha_rad, cw->alpha_rad, cw->n * sizeof(double));
         memcpy(w->beta_rad, cw->beta_rad, cw->n * sizeof(double));
         memcpy(w->raw_rad, cw->raw_rad, cw->n * sizeof(double));
         calreport_model *x = &cm->m[m];
         snprintf(x->name, sizeof x->name, "%s", kind_names[m]);
-        x->np = ess_model_np(compared_kinds[m]);
+        x->np = w->np_fit;
         score_model(c, cw, betas, nb, w, e2[m], x);
         if (compared_kinds[m] == cw->kind)
             cm->used = m;

@@ -43,7 +43,8 @@ void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     }
     ess_curve_ws *w = calloc(1, sizeof *w);
     if (w)
-        w->cw = ess_calib_alloc_kind(n, ess_cfg(c)->cal_model);
+        w->cw = ess_calib_alloc_fix(n, ess_cfg(c)->cal_model,
+                                    ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED);
     if (!w || !w->cw) {
         free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
@@ -87,11 +88,14 @@ int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     ess_curve_ws *w = cv;
     ess_deviations dev;
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    /* the measured tilt scales with the deviations, as the measured roll */
+    double sun_y_meas = ess_sun_y_measured_arcsec(c, (uint64_t)c->seed, unit, &dev) * dev_sign;
     deviations_scale(&dev, dev_sign);
     ess_unit_build(c, &dev, &w->u);
     int gross;
     ess_unit_campaign(c, &w->u, unit, w->cw, NULL, &gross);
     fit_result fr;
+    w->cw->sun_y_rad = sun_y_meas * RAD_PER_ARCSEC;
     int st = ess_calibrate(w->cw, ec->design.theta0_deg * RAD_PER_DEG,
                            dev.roll_measured_arcsec * RAD_PER_ARCSEC, ec->alias_threshold,
                            c->max_iterations, &w->m, &fr);

@@ -85,6 +85,19 @@ const config_key ess_keys[] = {
     {"calibration", "roll_measured_arcsec", KEY_DOUBLE, "arcsec", "0", -36000, 36000, NULL,
      OFF(roll_measured_arcsec),
      "`calibrate` only: the measured installation roll of a real sensor"},
+    {"calibration", "sun_y", KEY_ENUM, "", "fitted", 0, 0, "fitted|measured", OFF(sun_y_mode),
+     "the sun simulator's tilt toward Y: fitted with the other parameters, or measured and "
+     "fixed like the roll (one parameter fewer); turntable data separate it from eq. 12's b, c "
+     "only by 1 - cos(beta) (|r| ~ 0.99 on +-30 deg lines), so the fitted tilt lets the "
+     "campaign's noise into b and c"},
+    {"calibration", "sun_y_sigma_arcsec", KEY_DOUBLE, "arcsec", "5", 0, 3600, NULL,
+     OFF(sun_y_sigma_arcsec),
+     "calibration.sun_y = measured: sigma of the sun simulator's tilt measurement (Monte "
+     "Carlo; its own random stream)"},
+    {"calibration", "sun_y_measured_arcsec", KEY_DOUBLE, "arcsec", "0", -36000, 36000, NULL,
+     OFF(sun_y_measured_arcsec),
+     "`calibrate` with calibration.sun_y = measured: the measured tilt of the sun simulator "
+     "toward Y"},
     {"calibration", "alias_threshold", KEY_DOUBLE, "", "0.2", 0, 1, NULL, OFF(alias_threshold),
      "smallest normalised eigenvalue of the fine-code (sin, cos) columns below which the "
      "campaign cannot resolve that direction; it is then regularised to 0"},
@@ -189,7 +202,7 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     /* The fit needs more campaign points than parameters. */
     long na = grid_count(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg, 0);
     long points = na * e->cal_beta_deg.n;
-    int np = ess_model_np(e->cal_model);
+    int np = ess_model_np(e->cal_model) - (e->sun_y_mode == ESS_SUN_Y_MEASURED);
     if (points <= np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "campaign: %ld alpha x %d beta_deg = %ld points, fewer than the %d the "

@@ -22,6 +22,8 @@ typedef struct {
     int gross;                 /* campaign points dropped as gross errors */
     ess_val_readings val;      /* the readings `run` validates on */
     long n_val, n_val_gross, n_val_unseen;
+    int sun_y_measured;        /* calibration.sun_y = measured: */
+    double sun_y_meas_arcsec;  /* the unit's measured sun-simulator tilt */
 } ess_sim;
 
 static void sim_free(void *p)
@@ -49,6 +51,8 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     }
     ess_unit u;
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &s->dev);
+    s->sun_y_measured = ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED;
+    s->sun_y_meas_arcsec = ess_sun_y_measured_arcsec(c, (uint64_t)c->seed, unit, &s->dev);
     ess_unit_build(c, &s->dev, &u);
     ess_unit_campaign(c, &u, unit, s->cw, s->truth, &s->gross);
     ess_unit_validation(c, &u, unit, &s->val);
@@ -85,6 +89,10 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
             ref->config, c->product, c->seed);
     fprintf(fc, "# measured installation roll: calibration.roll_measured_arcsec = %.17g\n",
             s->dev.roll_measured_arcsec);
+    if (s->sun_y_measured)
+        fprintf(fc, "# measured sun-simulator tilt toward Y: calibration.sun_y_measured_arcsec = "
+                    "%.17g\n",
+                s->sun_y_meas_arcsec);
     write_conventions(fc);
     fprintf(fc, "alpha_deg,beta_deg,output_deg,weight\n");
     fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
@@ -136,15 +144,21 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
                         size_t len)
 {
     const ess_sim *s = p;
+    char sun_y[128] = "";
+    if (s->sun_y_measured)
+        snprintf(sun_y, sizeof sun_y,
+                 " --set calibration.sun_y=measured --set calibration.sun_y_measured_arcsec=%.17g",
+                 s->sun_y_meas_arcsec);
     snprintf(buf, len,
              "unit %ld of %s (seed %ld): %zu campaign points (%d dropped as gross errors), "
              "%ld validation readings\n"
              "wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n"
-             "calibrate with the unit's measured roll:\n"
+             "calibrate with the unit's measured %s:\n"
              "  sunmc calibrate --config %s --set "
-             "calibration.roll_measured_arcsec=%.17g %s/campaign.csv --out DIR\n",
+             "calibration.roll_measured_arcsec=%.17g%s %s/campaign.csv --out DIR\n",
              ref->unit, c->product, c->seed, s->cw->n, s->gross, s->n_val, ref->out_dir,
-             ref->out_dir, ref->out_dir, ref->config, s->dev.roll_measured_arcsec, ref->out_dir);
+             ref->out_dir, ref->out_dir, s->sun_y_measured ? "roll and sun tilt" : "roll",
+             ref->config, s->dev.roll_measured_arcsec, sun_y, ref->out_dir);
 }
 
 /* ---- calibrate ---- */
@@ -230,7 +244,8 @@ typedef struct {
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
 {
-    int kind = ess_cfg(c)->cal_model, np = ess_model_np(kind);
+    int kind = ess_cfg(c)->cal_model;
+    int np = ess_model_np(kind) - (ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED);
     snprintf(why, len, "the ess %smodel has %d parameters: need at least %d rows",
              kind == ESS_MODEL_EXTENDED ? "extended " : "", np, np + 1);
     return (size_t)np + 1;
@@ -249,7 +264,8 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
 {
     ess_cal *k = calloc(1, sizeof *k);
     if (k)
-        k->cw = ess_calib_alloc_kind(d->n, ess_cfg(c)->cal_model);
+        k->cw = ess_calib_alloc_fix(d->n, ess_cfg(c)->cal_model,
+                                    ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED);
     if (!k || !k->cw) {
         cal_free(k);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");

@@ -46,6 +46,18 @@ void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_
         d->install_x_arcsec + ess_cfg(c)->roll_sigma_arcsec * rng_normal(&r);
 }
 
+double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
+                                 const ess_deviations *d)
+{
+    const ess_config *ec = ess_cfg(c);
+    if (ec->sun_y_mode != ESS_SUN_Y_MEASURED)
+        return 0.0;
+    rng_stream r;
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_SUN_Y), (uint64_t)unit,
+                    RNG_STREAM_SUN_Y);
+    return d->sun_y_arcsec + ec->sun_y_sigma_arcsec * rng_normal(&r);
+}
+
 void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev)
 {
     memset(s, 0, sizeof *s);

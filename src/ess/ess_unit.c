@@ -163,23 +163,33 @@ static const char *const ess_cal_noise_keys[] = {"noise.row_current_pct", "noise
                                                  NULL};
 static const char *const ess_val_noise_keys[] = {"noise.row_current_pct", NULL};
 static const char *const ess_roll_keys[] = {"calibration.roll_sigma_arcsec", NULL};
+static const char *const ess_sun_y_keys[] = {"calibration.sun_y_sigma_arcsec", NULL};
+/* The sun tilt's measurement is an input only when the tilt is measured. */
+static int ess_sun_y_measured(const sunmc_config *c)
+{
+    return ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED;
+}
 static const family_noise ess_random_noise[] = {
-    {"campaign_noise", RNG_STREAM_CAL_NOISE, ess_cal_noise_keys},
-    {"validation_noise", RNG_STREAM_VAL_NOISE, ess_val_noise_keys},
-    {"roll_measurement", RNG_STREAM_ALIGNMENT, ess_roll_keys},
-    {NULL, 0, NULL}};
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, ess_cal_noise_keys, NULL},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, ess_val_noise_keys, NULL},
+    {"roll_measurement", RNG_STREAM_ALIGNMENT, ess_roll_keys, NULL},
+    {"sun_y_measurement", RNG_STREAM_SUN_Y, ess_sun_y_keys, ess_sun_y_measured},
+    {NULL, 0, NULL, NULL}};
 
 static int ess_n_angles(const sunmc_config *c) { return 1; }
 
 static void ess_model_label(const sunmc_config *c, char *buf, size_t len)
 {
+    const char *fixed = ess_sun_y_measured(c) ? "roll and sun-simulator tilt toward Y fixed at "
+                                                "their measurements"
+                                              : "roll fixed at its measurement";
     if (ess_cfg(c)->cal_model == ESS_MODEL_EXTENDED)
         snprintf(buf, len, "extended: ESS paper eq. 12/13 (a, b, c; d = 1), the fine period's 1st "
                            "and 2nd harmonics, the 4th (eq. 7 exact) with cos^4, cos^8 incidence "
-                           "terms + turntable installation, roll fixed at its measurement");
+                           "terms + turntable installation, %s", fixed);
     else
         snprintf(buf, len, "ESS paper eq. 9/12/13 (a, b, c, k, t; d = 1) + turntable "
-                           "installation, roll fixed at its measurement");
+                           "installation, %s", fixed);
 }
 
 static int ess_dev_columns(const sunmc_config *c, const char **names, int max)
@@ -217,21 +227,27 @@ static void ess_ws_free(void *p)
  * point). */
 static double ess_ws_bytes(const sunmc_config *c)
 {
-    return ess_calib_bytes(ess_campaign_size(c), ess_cfg(c)->cal_model) +
+    size_t n = ess_campaign_size(c);
+    int kind = ess_cfg(c)->cal_model;
+    double jfull = ess_sun_y_measured(c) ? (double)sizeof(double) * (double)ess_model_np(kind) *
+                                               (double)(n + (size_t)ess_calib_prior_rows(kind))
+                                         : 0.0;
+    return ess_calib_bytes(n, kind) + jfull +
            (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int));
 }
 
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
-    int kind = ess_cfg(c)->cal_model, np = ess_model_np(kind);
+    int kind = ess_cfg(c)->cal_model, fix = ess_sun_y_measured(c);
+    int np = ess_model_np(kind) - fix;
     if (n <= (size_t)np) {
         sunmc_fail(err, errlen, SUNMC_EINPUT,
                    "campaign has %zu points, fewer than the %d parameters to fit", n, np + 1);
         return NULL;
     }
     ess_ws *w = calloc(1, sizeof *w);
-    if (!w || !(w->cw = ess_calib_alloc_kind(n, kind)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
+    if (!w || !(w->cw = ess_calib_alloc_fix(n, kind, fix)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
         ess_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
         return NULL;
@@ -317,6 +333,8 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     ess_model m;
     fit_result fr;
     double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
+    cw->sun_y_rad =
+        ess_sun_y_measured_arcsec(c, (uint64_t)c->seed, unit, &dev) * RAD_PER_ARCSEC;
     int st = ess_calibrate(cw, theta0, dev.roll_measured_arcsec * RAD_PER_ARCSEC,
                            ec->alias_threshold, c->max_iterations, &m, &fr);
     res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
