@@ -331,6 +331,20 @@ static void ess_files(void **state)
         assert_true(in > 0.5 * sigma && in < 2 * sigma);
         assert_true(outr > 0.5 * sigma && outr < 4 * sigma);
     }
+    /* refit_condition: without the beta = 0 line the two symmetric lines
+     * at +-30 deg see b, c and the simulator's tilt alike (1 - cos beta is
+     * the same on both), so that refit is near-singular; with it held in,
+     * each outer fold's refit is as well posed as the whole fit */
+    double cond0 = NAN, cond_other = 0;
+    for (int k = 0; k < nb; k++) {
+        double q = tsv_num(cv, k, "refit_condition");
+        assert_true(q >= 1);
+        if (betas[k] == 0)
+            cond0 = q;
+        else
+            cond_other = fmax(cond_other, q);
+    }
+    assert_true(cond0 > CALREPORT_FOLD_COND_WARN * cond_other);
     free(err_as);
     tsv_free(field);
     calrun_free(&run);

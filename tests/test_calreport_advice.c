@@ -73,6 +73,38 @@ static void test_crossval_ratio_limit(void **state)
     free(r);
 }
 
+/* A fold whose refit is worse conditioned than the whole fit by more than
+ * CALREPORT_FOLD_COND_WARN is named, with its condition number; just below
+ * the factor it is not (both sides of the limit). */
+static void test_fold_condition_limit(void **state)
+{
+    calreport *r = calloc(1, sizeof *r);
+    calreport_init(r, "toy", "toy");
+    r->n_folds = 3;
+    const char *labels[3] = {"A", "B", "C"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(r->fold[k].label, sizeof r->fold[k].label, "%s", labels[k]);
+        r->fold[k].ok = 1;
+        r->fold[k].cond = 100;
+    }
+    r->cond_jacobian = 40;
+    r->fold[1].cond = 0.999 * CALREPORT_FOLD_COND_WARN * 40;
+    calreport_check_fold_condition(r, CALREPORT_FOLD_COND_WARN);
+    assert_int_equal(r->nw, 0);
+    r->fold[1].cond = 1.001 * CALREPORT_FOLD_COND_WARN * 40;
+    r->fold[2].cond = NAN; /* a model without a Jacobian: never flagged */
+    calreport_check_fold_condition(r, CALREPORT_FOLD_COND_WARN);
+    assert_int_equal(r->nw, 1);
+    assert_non_null(strstr(r->w[0].reason, "refit without B (4e+04) nearly singular"));
+    assert_non_null(strstr(r->w[0].reason, "up to 1e+03 times the fit on all the data's (40)"));
+    assert_null(strstr(r->w[0].reason, "A ("));
+    r->fold[1].ok = 0; /* a failed refit has no condition to speak of */
+    r->nw = 0;
+    calreport_check_fold_condition(r, CALREPORT_FOLD_COND_WARN);
+    assert_int_equal(r->nw, 0);
+    free(r);
+}
+
 /* `simulate` unit of cfg (with sets) into a private dir named name, then
  * `calibrate` its campaign with the same sets; stdout+stderr in out. */
 static void sim_calibrate(const char *name, const char *cfg, int unit, const char *sets,
@@ -99,6 +131,11 @@ static void test_ess_default_campaign_advice(void **state)
     assert_non_null(strstr(out, "c and fit_sun_y_arcsec +0.98"));
     assert_non_null(strstr(out, "1 - cos(beta) = 0.13 at this campaign's widest |beta| = 30 deg"));
     assert_null(strstr(out, "widen the campaign (a wider angle range"));
+    /* without the beta = 0 line, the +-30 lines alone cannot tell b, c
+     * and the simulator's tilt apart (symmetric lines: 1 - cos is the
+     * same on both), so that fold's refit is named, and only that one */
+    assert_non_null(strstr(out, "refit without beta = 0 deg ("));
+    assert_null(strstr(out, "refit without beta = -30"));
     assert_non_null(strstr(out, "calibration.roll_measured_arcsec is left at its default (0 "
                                 "arcsec)"));
     snprintf(args, sizeof args,
@@ -141,6 +178,7 @@ static void test_dss_default_campaign_advice(void **state)
     assert_non_null(strstr(out, "fit_dh_px and fit_glass_index +0.99"));
     assert_non_null(strstr(out, "this campaign reaches 68 deg of field angle at its corners"));
     assert_null(strstr(out, "widen the campaign (a wider angle range"));
+    assert_null(strstr(out, "refit without")); /* every quadrant's refit is determined */
 }
 
 /* One DSS reading far beyond the detector, at a tiny weight: the fit
@@ -166,6 +204,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_correlations_grouped_by_cause),
         cmocka_unit_test(test_crossval_ratio_limit),
+        cmocka_unit_test(test_fold_condition_limit),
         cmocka_unit_test(test_ess_default_campaign_advice),
         cmocka_unit_test(test_ess_half_campaign_crossval_flagged),
         cmocka_unit_test(test_dss_default_campaign_advice),

@@ -124,8 +124,9 @@ static void sign_label(const void *ctx, int k, char *buf, size_t len)
     snprintf(buf, len, "%s", k ? "alpha>=0" : "alpha<0");
 }
 
-static int sign_refit(void *ctx, const double *held, double sum2[2], long n[2])
+static int sign_refit(void *ctx, const double *held, double sum2[2], long n[2], double *cond)
 {
+    (void)cond; /* a closed-form line fit: no Jacobian condition */
     toy_cal *k = ctx;
     double p[TOY_NP];
     toy_line_fit((long)k->d->n, k->a, k->y, k->w, p);

@@ -42,6 +42,7 @@ typedef struct {
     int ok;                           /* refit converged */
     double rms_in_arcsec;             /* refit's residual on the points it used */
     double rms_out_arcsec;            /* its error on the held-out points */
+    double cond;                      /* condition number of the refit's Jacobian (NaN: none) */
 } calreport_fold;
 
 /* ---- model comparison (a family with several calibration models) ----
@@ -161,6 +162,18 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
  * data it did not see. */
 void calreport_check_crossval(calreport *r, double ratio);
 
+/* A fold's refit whose Jacobian condition number exceeds this multiple of
+ * the fit on all the data's is flagged. */
+#define CALREPORT_FOLD_COND_WARN 1e3
+
+/* Warn, naming the folds, when a fold's refit is much worse conditioned
+ * than the fit on all the data (its condition number above factor times
+ * r->cond_jacobian): without those rows some parameter combination is
+ * barely determined, the refit stays near where it started along it, and
+ * that fold's held-out error says more about the start than about the
+ * calibration. */
+void calreport_check_fold_condition(calreport *r, double factor);
+
 /* predicted_rms of angle a in every band: the in-sample residual RMS times
  * dof_factor (sqrt(n / dof): the noise it underestimates) added in
  * quadrature to the propagated calibration sigma (when there is one). */
@@ -172,7 +185,9 @@ int calreport_print(FILE *f, const calreport *r);
 /* Write the band table (one row per angle and band) as TSV with a header. */
 int calreport_write_bands(FILE *f, const calreport *r);
 
-/* Write the cross-validation folds as TSV with a header. */
+/* Write the cross-validation folds as TSV with a header: fold, held_out
+ * (label), points, ok, rms_in_arcsec, rms_out_arcsec, refit_condition (the
+ * refit's Jacobian condition number; NaN for a model without one). */
 int calreport_write_folds(FILE *f, const calreport *r);
 
 /* The model comparison as TSV with a header: model, parameters, ok,

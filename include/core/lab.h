@@ -174,9 +174,10 @@ typedef struct {
     /* Refit on the rows whose weight (the array given to
      * lab_cross_validate, set for the fold) is > 0 and score the refit:
      * sums of squared angle errors (rad^2) and their counts over the rows it
-     * used (index 0) and over the rows with held[i] > 0 (index 1).  Returns
-     * 1 when the refit converged. */
-    int (*refit)(void *ctx, const double *held, double sum2[2], long n[2]);
+     * used (index 0) and over the rows with held[i] > 0 (index 1), and the
+     * condition number of the refit's Jacobian at its solution (*cond; NaN
+     * when the model has none).  Returns 1 when the refit converged. */
+    int (*refit)(void *ctx, const double *held, double sum2[2], long n[2], double *cond);
 } lab_folds;
 
 /* Hold out each fold in turn (weight[i] = 0 for its rows, restored after),

@@ -178,6 +178,35 @@ void calreport_check_crossval(calreport *r, double ratio)
                    worst >= 0 ? r->fold[worst].rms_in_arcsec : NAN);
 }
 
+void calreport_check_fold_condition(calreport *r, double factor)
+{
+    char names[CALREPORT_TEXT_MAX / 2] = "";
+    double worst = 0;
+    int n = 0;
+    for (int k = 0; k < r->n_folds; k++) {
+        const calreport_fold *fo = &r->fold[k];
+        double q = fo->cond / r->cond_jacobian;
+        if (!fo->ok || !(r->cond_jacobian > 0) || !(q > factor))
+            continue;
+        size_t used = strlen(names);
+        snprintf(names + used, sizeof names - used, "%s%s (%.2g)", n ? ", " : "", fo->label,
+                 fo->cond);
+        worst = fmax(worst, q);
+        n++;
+    }
+    if (n == 0)
+        return;
+    calreport_warn(r,
+                   "read the held-out error of the other folds; a campaign whose remaining "
+                   "parts still determine the model (more lines or angles) makes every fold "
+                   "count",
+                   "refit without %s nearly singular: condition number of its Jacobian up to "
+                   "%.2g times the fit on all the data's (%.3g): the rest of the data barely "
+                   "determine some parameter combination, so %s held-out error reflects where "
+                   "the refit started along it, not the calibration",
+                   names, worst, r->cond_jacobian, n == 1 ? "that fold's" : "those folds'");
+}
+
 static void print_value(FILE *f, double v)
 {
     if (isnan(v))
@@ -314,7 +343,7 @@ int calreport_write_bands(FILE *f, const calreport *r)
 
 int calreport_write_folds(FILE *f, const calreport *r)
 {
-    fprintf(f, "fold\theld_out\tpoints\tok\trms_in_arcsec\trms_out_arcsec\n");
+    fprintf(f, "fold\theld_out\tpoints\tok\trms_in_arcsec\trms_out_arcsec\trefit_condition\n");
     for (int k = 0; k < r->n_folds; k++) {
         const calreport_fold *fo = &r->fold[k];
         char label[CALREPORT_NAME_MAX];
@@ -322,8 +351,8 @@ int calreport_write_folds(FILE *f, const calreport *r)
         for (char *s = label; *s; s++)
             if (*s == ' ' || *s == '\t')
                 *s = '_';
-        fprintf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
-                fo->rms_in_arcsec, fo->rms_out_arcsec);
+        fprintf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
+                fo->rms_in_arcsec, fo->rms_out_arcsec, fo->cond);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }

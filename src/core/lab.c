@@ -135,7 +135,8 @@ static void one_fold(calreport *rep, int k, double *weight, const double *saved,
     }
     double sum2[2] = {0, 0};
     long cnt[2] = {0, 0};
-    fo->ok = fo->n_out > 0 && left > f->min_fit_rows && f->refit(ctx, held, sum2, cnt);
+    fo->cond = NAN;
+    fo->ok = fo->n_out > 0 && left > f->min_fit_rows && f->refit(ctx, held, sum2, cnt, &fo->cond);
     fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
     if (!fo->ok)
         return;
@@ -169,6 +170,7 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
     if (pool_n[1])
         rep->cv_rms_out_arcsec = sqrt(pool[1] / (double)pool_n[1]) * ARCSEC_PER_RAD;
     calreport_check_crossval(rep, CALREPORT_CV_RATIO_WARN);
+    calreport_check_fold_condition(rep, CALREPORT_FOLD_COND_WARN);
 }
 
 /* ---- a calibration's files ---- */

@@ -144,13 +144,15 @@ static void quadrant_label(const void *ctx, int k, char *buf, size_t len)
     snprintf(buf, len, "%s", names[k]);
 }
 
-static int quadrant_refit(void *ctx, const double *held, double sum2[2], long n[2])
+static int quadrant_refit(void *ctx, const double *held, double sum2[2], long n[2],
+                          double *cond)
 {
     quadrant_folds *f = ctx;
     dss_calibration ck;
     fit_result fr;
     if (dss_calibrate(f->cw, f->c->max_iterations, &ck, &fr) != SUNMC_OK)
         return 0;
+    *cond = 1.0 / fr.rcond;
     angle_errors(f->cw, f->cw->weight, &ck, NULL, NULL, &sum2[0], &n[0], NULL);
     angle_errors(f->cw, held, &ck, NULL, NULL, &sum2[1], &n[1], NULL);
     return 1;

@@ -207,7 +207,8 @@ static double angle_sum2(const ess_calib_workspace *cw, const double *use, const
     return sum;
 }
 
-static int beta_fold_refit(void *ctx, const double *held, double sum2[2], long n[2])
+static int beta_fold_refit(void *ctx, const double *held, double sum2[2], long n[2],
+                           double *cond)
 {
     beta_folds *f = ctx;
     ess_model mk;
@@ -215,6 +216,7 @@ static int beta_fold_refit(void *ctx, const double *held, double sum2[2], long n
     if (ess_calibrate(f->cw, f->theta0, f->roll, ess_cfg(f->c)->alias_threshold,
                       f->c->max_iterations, &mk, &fr) != SUNMC_OK)
         return 0;
+    *cond = 1.0 / fr.rcond;
     sum2[0] = angle_sum2(f->cw, f->cw->weight, &mk, &n[0]);
     sum2[1] = angle_sum2(f->cw, held, &mk, &n[1]);
     return 1;
