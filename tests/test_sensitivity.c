@@ -179,6 +179,13 @@ static void type_a_indices_and_threads(void **state)
             assert_true(x->s1_lo <= x->s1 && x->s1 <= x->s1_hi);
             assert_true(x->st_lo <= x->st && x->st <= x->st_hi);
             assert_true(x->st >= 0.0); /* Jansen's ST is a mean of squares */
+            /* and above 0 after calibration for every input: redrawing one
+             * input's stream alone moves some unit's result, so each
+             * purpose draws from a stream of its own (were the validation
+             * noise drawn from the campaign's stream, its ST would be 0) */
+            if (w && !(x->st > 0.0))
+                fail_msg("input %s: redrawing its stream alone changed no unit (ST = %g)",
+                         s1->src[i].name, x->st);
             miss += misses(x->s1_lo, x->s1_hi, 0.0, 1.0, &worst);
             miss += misses(x->st_lo, x->st_hi, 0.0, 1.0, &worst);
             miss += misses(x->s1_lo, x->s1_lo, -INFINITY, x->st_hi, &worst); /* ST >= S1 */
