@@ -11,10 +11,12 @@
 #include "ess_calib.h"
 #include "ess_config.h"
 #include "ess_model.h"
+#include "budget.h"
 #include "ess_sensor.h"
 #include "params_io.h"
 #include "registry.h"
 #include "rng.h"
+#include "sensitivity.h"
 #include "status.h"
 #include "units.h"
 
@@ -183,6 +185,31 @@ static void measurement_stream(void **state)
     config_state_free(&sm);
 }
 
+/* The measurement is an input of `sensitivity` and `budget` only when the
+ * tilt is measured: fitted, its stream is never drawn. */
+static void noise_source_only_when_measured(void **state)
+{
+    static sens_result s;
+    static budget_result b;
+    char err[SUNMC_ERRLEN];
+    const char *sets[] = {"calibration.sun_y=measured"};
+    for (int measured = 0; measured <= 1; measured++) {
+        config_state st;
+        load_config(&st, sets, measured);
+        assert_int_equal(sens_sources(&st.cfg, &s, err, sizeof err), SUNMC_OK);
+        int in_sens = 0, in_budget = 0;
+        for (int i = 0; i < s.n; i++)
+            in_sens += strcmp(s.src[i].name, "sun_y_measurement") == 0 &&
+                       s.src[i].stream == RNG_STREAM_SUN_Y;
+        assert_int_equal(budget_sources(&st.cfg, &b, err, sizeof err), SUNMC_OK);
+        for (int i = 0; i < b.n; i++)
+            in_budget += strcmp(b.src[i].name, "calibration.sun_y_sigma_arcsec") == 0;
+        assert_int_equal(in_sens, measured);
+        assert_int_equal(in_budget, measured);
+        config_state_free(&st);
+    }
+}
+
 /* params.ini of a measured tilt: [fixed] sun_y_measured_arcsec, no
  * fit_sun_y_arcsec in [parameters]; loaded back, the same model. */
 static void params_round_trip(void **state)
@@ -282,6 +309,7 @@ int main(void)
         cmocka_unit_test(recovers_exactly),
         cmocka_unit_test(covariance_is_schur_complement),
         cmocka_unit_test(measurement_stream),
+        cmocka_unit_test(noise_source_only_when_measured),
         cmocka_unit_test(params_round_trip),
         cmocka_unit_test(calibrate_report),
         cmocka_unit_test(bad_values),
