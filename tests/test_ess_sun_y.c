@@ -166,7 +166,7 @@ static void measurement_stream(void **state)
     load_config(&sm, sets, 2);
     const sunmc_config *fitted = &sf.cfg, *meas = &sm.cfg;
     const long n = 4000;
-    double sum = 0, sum2 = 0;
+    double sum = 0, sum2 = 0, cross = 0;
     for (long u = 0; u < n; u++) {
         ess_deviations a, b;
         ess_deviations_sample(fitted, 1, u, &a);
@@ -176,8 +176,11 @@ static void measurement_stream(void **state)
         double e = ess_sun_y_measured_arcsec(meas, 1, u, &b) - b.sun_y_arcsec;
         sum += e;
         sum2 += e * e;
+        cross += e * (b.roll_measured_arcsec - b.install_x_arcsec);
     }
     double mean = sum / n, sd = sqrt(sum2 / n - mean * mean);
+    /* its own stream: uncorrelated with the roll's measurement error (sd 5) */
+    assert_true(fabs(cross / n / (7.0 * 5.0)) < 4.5 / sqrt((double)n));
     /* 4.5 standard errors: mean 7/sqrt(n), sd 7/sqrt(2 n) */
     assert_true(fabs(mean) < 4.5 * 7 / sqrt((double)n));
     assert_true(fabs(sd - 7) < 4.5 * 7 / sqrt(2.0 * n));
@@ -236,6 +239,53 @@ static void params_round_trip(void **state)
     assert_true(back.sun_y_fixed);
     for (int j = 0; j < fit.np; j++)
         assert_near(back.p[j], fit.p[j], 1e-15 + 1e-14 * fabs(fit.p[j]));
+    ess_calib_free(cw);
+}
+
+/* calibrate's fit with the tilt measured (extended model, whose
+ * parameters after the tilt shift by one in the fit's vector): the
+ * covariance goes to the model's slots, 0 in the tilt's row; params.ini's
+ * standard errors are the right parameters'. */
+static void calfit_maps_covariance(void **state)
+{
+    ess_model truth;
+    truth_model(&truth, ESS_MODEL_EXTENDED);
+    ess_calib_workspace *cw = campaign(&truth, 1, 20);
+    config_state st;
+    const char *sets[] = {"calibration.model=extended", "calibration.sun_y=measured",
+                          "calibration.sun_y_measured_arcsec=34",
+                          "calibration.roll_measured_arcsec=12"};
+    load_config(&st, sets, 4);
+    static ess_calfit_result res;
+    static calreport rep;
+    static params_file p;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(rep.np, ESS_NP_EXT - 1);
+    assert_int_equal(rep.dof, (int)cw->n - (ESS_NP_EXT - 1));
+    for (int j = 0; j < ESS_NP_EXT; j++)
+        assert_true(res.cov[ESS_P_SUN_Y][j] == 0 && res.cov[j][ESS_P_SUN_Y] == 0);
+    /* the report's standard errors (in each name's unit) are the fit's */
+    for (int i = 0; i < cw->np_fit; i++) {
+        int q = ess_calib_param_of(cw, i);
+        assert_string_equal(rep.name[i], ess_param_names[q]);
+        const char *name = ess_param_names[q];
+        double scale = strstr(name, "_deg") ? DEG_PER_RAD
+                       : strstr(name, "_arcsec") ? ARCSEC_PER_RAD
+                                                 : 1.0;
+        assert_near(sqrt(res.cov[q][q]) * scale, rep.se[i], 1e-9 * rep.se[i]);
+    }
+    params_init(&p);
+    assert_int_equal(ess_params_fill(&p, &res, &rep, 2.0), SUNMC_OK);
+    for (int i = 0; i < cw->np_fit; i++) {
+        const params_entry *e = params_find(&p, "parameters", rep.name[i]);
+        char want[64];
+        snprintf(want, sizeof want, "standard error %.3g", rep.se[i]);
+        assert_non_null(e);
+        if (!strstr(e->comment, want))
+            fail_msg("%s: '%s' lacks '%s'", rep.name[i], e->comment, want);
+    }
+    config_state_free(&st);
     ess_calib_free(cw);
 }
 
@@ -311,6 +361,7 @@ int main(void)
         cmocka_unit_test(measurement_stream),
         cmocka_unit_test(noise_source_only_when_measured),
         cmocka_unit_test(params_round_trip),
+        cmocka_unit_test(calfit_maps_covariance),
         cmocka_unit_test(calibrate_report),
         cmocka_unit_test(bad_values),
     };
