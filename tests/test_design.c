@@ -124,6 +124,25 @@ static void design_extended_model_aliases(void **state)
     assert_string_equal(out, "0.7 0 pass 0\n0.7 0 pass 1\n0.8 1 aliased 0\n0.8 1 aliased 0\n");
 }
 
+/* Four lines over +-40 deg are evenly spaced at 80/3 deg: the table is
+ * set to -40, -13.33, 13.33, 40 (0.01 deg, what a lab sets), not
+ * 13.33333333, in design.tsv's beta column and label. */
+static void design_lines_lab_resolution(void **state)
+{
+    char cmd[2048], out[8192];
+    snprintf(cmd, sizeof cmd,
+             "%s design configs/ess_type_a.ini --space steps_deg=0.7 --set "
+             "campaign.search_beta_max_deg=40 --set campaign.search_beta_step_deg=40 --set "
+             "campaign.search_repeats=1 --set campaign.search_screen_units=10 --units 10 --set "
+             "validation.alpha_step_deg=2.3 --quiet --out %s",
+             test_sunmc(), test_tmp("dlines"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 1); /* 10 units settle nothing */
+    const char *tsv = test_tmp("dlines/design.tsv");
+    assert_true(test_file_has(tsv, "\t-40, -13.33, 13.33, 40\t"));
+    assert_true(test_file_has(tsv, "\t-40, -20, 0, 20, 40\t"));
+    assert_false(test_file_has(tsv, "13.333"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -131,6 +150,7 @@ int main(void)
         cmocka_unit_test(design_command),
         cmocka_unit_test(design_refusals),
         cmocka_unit_test(design_extended_model_aliases),
+        cmocka_unit_test(design_lines_lab_resolution),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

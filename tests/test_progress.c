@@ -4,6 +4,9 @@
 #include "test_util.h"
 #include "progress.h"
 
+#include <stdlib.h>
+#include <unistd.h>
+
 static void test_eta_arithmetic(void **state)
 {
     /* 250 of 1000 in 10 s: 40 s for the other 750 at the same rate */
@@ -60,12 +63,53 @@ static void test_sweep_lines_off_terminal(void **state)
     assert_string_equal(out, "");
 }
 
+/* Off a terminal, many stages (design has hundreds) give the first line,
+ * then one per 10 % of the total (the stages here take no time, so the
+ * 30 s clause never fires): 200 stages of 1 unit -> lines at 0, 10, ...,
+ * 90 % = 10 lines; 3 stages of a third each -> 3 lines, one per stage. */
+static int stage_lines(int stages, long per)
+{
+    char path[] = "/tmp/sunmc_progress_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    fflush(stderr);
+    int saved = dup(STDERR_FILENO);
+    dup2(fd, STDERR_FILENO);
+    cli_meter m;
+    cli_meter_start(&m, "design", "steps", stages * per, 0);
+    for (int i = 0; i < stages; i++)
+        cli_meter_stage(&m, "candidate", i * per);
+    cli_meter_end(&m);
+    fflush(stderr);
+    dup2(saved, STDERR_FILENO);
+    close(saved);
+    close(fd);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int lines = 0, c;
+    while ((c = fgetc(f)) != EOF) {
+        lines += c == '\n';
+        assert_true(c != '\r');
+    }
+    fclose(f);
+    unlink(path);
+    return lines;
+}
+
+static void test_many_stages_log_stays_short(void **state)
+{
+    assert_int_equal(stage_lines(200, 1), 10);
+    assert_int_equal(stage_lines(3, 50), 3);
+    assert_int_equal(stage_lines(1, 50), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_eta_arithmetic),
         cmocka_unit_test(test_line_format),
         cmocka_unit_test(test_sweep_lines_off_terminal),
+        cmocka_unit_test(test_many_stages_log_stays_short),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,7 +3,9 @@
  *
  * On a terminal (isatty(stderr)) the line is rewritten in place, at most
  * every PROGRESS_REFRESH_S; otherwise (a log, a pipe) one line per stage
- * is printed, never a carriage return.  --quiet prints nothing.  The core
+ * is printed, never a carriage return -- but when stages are many (design
+ * has hundreds) only the first, then one each PROGRESS_LOG_STEP_PCT of the
+ * total or PROGRESS_LOG_S seconds, so a log stays short.  --quiet prints nothing.  The core
  * reports its stages and units through the callbacks it is given; only
  * this file prints them. */
 #ifndef SUNMC_CLI_PROGRESS_H
@@ -18,6 +20,8 @@ typedef struct {
     const char *what;         /* what total counts: "units" */
     double t0, last;          /* start, last refresh (s) */
     int tty, quiet, shown;
+    int logged;               /* off a terminal: lines printed */
+    double logged_pct, logged_t; /* the last one's percent and time */
     long total, base, done;   /* all, done by finished stages, done now */
     char stage[METER_STAGE_MAX];
 } cli_meter;

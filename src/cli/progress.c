@@ -9,6 +9,10 @@
 
 /* Seconds between refreshes of the terminal line. */
 #define PROGRESS_REFRESH_S 0.25
+/* Off a terminal: a stage's line once the total has moved this many
+ * percent, or this many seconds have passed, since the last line. */
+#define PROGRESS_LOG_STEP_PCT 10.0
+#define PROGRESS_LOG_S 30.0
 #define SECONDS_PER_MINUTE 60.0
 #define SECONDS_PER_HOUR 3600.0
 
@@ -83,6 +87,16 @@ void cli_meter_stage(cli_meter *m, const char *stage, long base)
 {
     snprintf(m->stage, sizeof m->stage, "%s", stage);
     m->base = m->done = base;
+    if (!m->tty) {
+        double pct = m->total > 0 ? 100.0 * (double)base / (double)m->total : 0.0;
+        double t = meter_now_s();
+        if (m->logged && pct - m->logged_pct < PROGRESS_LOG_STEP_PCT &&
+            t - m->logged_t < PROGRESS_LOG_S)
+            return;
+        m->logged++;
+        m->logged_pct = pct;
+        m->logged_t = t;
+    }
     meter_show(m, 1);
 }
 

@@ -34,13 +34,19 @@ static int set_key(sunmc_config *cfg, const char *dotted, const char *text, char
     return config_parse_value(k, config_value_ptr(k, cfg), text, "sunmc design", err, errlen);
 }
 
-/* Line set of n lines evenly spaced over +-extent, as config text. */
+/* Table positions a lab sets: line angles rounded to 0.01 deg. */
+#define DESIGN_LINE_RES_DEG 0.01
+
+/* Line set of n lines evenly spaced over +-extent, each rounded to
+ * DESIGN_LINE_RES_DEG (-40, -13.33, 13.33, 40, not 13.33333333), as
+ * config text. */
 static void line_set(int n, double extent, char *buf, size_t len)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int i = 0; i < n && used < len; i++) {
         double v = n == 1 ? 0.0 : -extent + 2.0 * extent * i / (n - 1);
+        v = round(v / DESIGN_LINE_RES_DEG) * DESIGN_LINE_RES_DEG;
         used += (size_t)snprintf(buf + used, len - used, "%s%.10g", i ? ", " : "",
                                  fabs(v) < 1e-12 ? 0.0 : v);
     }
