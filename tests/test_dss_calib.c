@@ -359,7 +359,7 @@ static void singular_values(const char *mount, const double *want, int n_want,
     dss_config *dc = dss_cfg(&c);
     dss_model m;
     dss_model_init(&m, &dc->design);
-    int idx[DSS_NP], nf = dss_calib_free_params(&dc->design, 1, idx);
+    int idx[DSS_NP], nf = dss_calib_free_params(&dc->design, 1, 0, idx);
     assert_int_equal(nf, n_want);
     dss_sensor s;
     const dss_deviations none = {0};

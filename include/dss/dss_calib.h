@@ -36,8 +36,10 @@
  * c1, c2, sun_b1, sun_b2, 0.13" for c3, 0.001 px for dx, dy: nothing the
  * default campaign cannot determine is left free.  On a narrow campaign
  * the tilt-vs-simulator pair goes first (+-10 deg: 15-40"): the report's
- * correlation warning and its propagated uncertainty say so; use the
- * aligned procedure there.  The one weak direction is the height against
+ * correlation warning and its propagated uncertainty say so; measure the
+ * sun simulator's direction there (calibration.sun = measured: a workspace
+ * with fix_sun holds sun_b1, sun_b2 at cw->sun_rad, two parameters fewer)
+ * or use the aligned procedure.  The one weak direction is the height against
  * the glass: height, glass thickness and index act on the radial spot
  * distance r through, with s = sin(theta),
  * r = (H - t + t/n) s + (H - t + t/n^3) s^3 / 2 + O(s^5): only the higher
@@ -75,6 +77,7 @@ enum dss_model_kind { DSS_MODEL_PHYSICAL = 0, DSS_MODEL_POLYNOMIAL = 1 };
 typedef struct {
     int kind;          /* enum dss_model_kind */
     dss_model phys;    /* kind == DSS_MODEL_PHYSICAL */
+    int sun_measured;  /* physical: sun_b1, sun_b2 are a measurement, not fitted */
     dss_poly poly;     /* kind == DSS_MODEL_POLYNOMIAL */
 } dss_calibration;
 
@@ -99,10 +102,10 @@ void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *a
 void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b1,
                            const double *b2, double *alpha, double *beta);
 
-/* The physical model's fitted parameters for design d (its mount) and
- * fit_index, as dss_param indices into free_idx (may be NULL); returns
- * their count. */
-int dss_calib_free_params(const dss_design *d, int fit_index, int free_idx[DSS_NP]);
+/* The physical model's fitted parameters for design d (its mount),
+ * fit_index and fix_sun (1: a measured sun simulator, not fitted), as
+ * dss_param indices into free_idx (may be NULL); returns their count. */
+int dss_calib_free_params(const dss_design *d, int fit_index, int fix_sun, int free_idx[DSS_NP]);
 
 typedef struct {
     size_t n;             /* readings */
@@ -118,6 +121,8 @@ typedef struct {
     int poly_order;
     int n_free;           /* physical: parameters fitted */
     int free_idx[DSS_NP]; /* physical: their dss_param indices */
+    int fix_sun;          /* physical, as_mounted: sun_b1, sun_b2 held at sun_rad */
+    double sun_rad[2];    /* their measured values (set before dss_calibrate) */
     fit_workspace *fw;    /* physical: 2n x n_free; polynomial: n x n_terms */
     dss_model work;       /* physical: the residual function's model */
     dss_table table;      /* physical: the table rotation of each reading */
@@ -132,6 +137,12 @@ typedef struct {
  * NULL on failure (no memory, or no more residuals than parameters). */
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index);
+/* The same with the sun simulator's direction fixed (fix_sun = 1, as
+ * mounted only) at cw->sun_rad instead of fitted. */
+dss_calib_workspace *dss_calib_alloc_fix(const dss_design *d, size_t n, int kind, int poly_order,
+                                         int fit_index, int fix_sun);
+/* dss_calib_alloc_fix for config dc's design and calibration keys. */
+dss_calib_workspace *dss_calib_alloc_config(const dss_config *dc, size_t n);
 void dss_calib_free(dss_calib_workspace *cw);
 /* About how many bytes dss_calib_alloc takes for n readings of model kind. */
 double dss_calib_bytes(size_t n, int kind, int poly_order);

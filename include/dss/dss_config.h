@@ -32,6 +32,11 @@ typedef struct {
  * mounted and the sun simulator points where it points. */
 enum dss_mount { DSS_MOUNT_ALIGNED = 0, DSS_MOUNT_AS_MOUNTED = 1 };
 
+/* The values of calibration.sun: the sun simulator's direction (sun_b1,
+ * sun_b2; campaign.mount = as_mounted) fitted with the rest, or fixed at a
+ * measurement. */
+enum dss_sun_mode { DSS_SUN_FITTED = 0, DSS_SUN_MEASURED = 1 };
+
 /* The values of design.onboard_refraction. */
 enum dss_onboard_refraction { DSS_ONBOARD_CORRECTED = 0, DSS_ONBOARD_IGNORED = 1 };
 
@@ -57,6 +62,9 @@ typedef struct {
     int cal_model;           /* 0 physical, 1 polynomial */
     int poly_order;
     int fit_glass_index;     /* physical model: 1 fits the glass index too */
+    int sun_mode;            /* enum dss_sun_mode: calibration.sun */
+    double sun_sigma_arcsec; /* sun simulator's direction: measurement sigma, per angle */
+    double sun_b1_measured_arcsec, sun_b2_measured_arcsec; /* `calibrate`: its measured value */
 
     /* [validation] */
     double val_b_min_deg, val_b_max_deg, val_b_step_deg, val_b_offset_deg;

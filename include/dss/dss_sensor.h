@@ -65,6 +65,14 @@ typedef struct {
     double sun_b1_arcsec, sun_b2_arcsec;
 } dss_deviations;
 
+/* calibration.sun = measured (campaign.mount = as_mounted): unit `unit`'s
+ * measurement of its sun simulator's direction, out = (sun_b1, sun_b2)
+ * arcsec: the deviations d->sun_b1_arcsec, d->sun_b2_arcsec plus normal
+ * errors of calibration.sun_sigma_arcsec from stream RNG_STREAM_SUN_B, drawn
+ * only here, so no other draw moves; (0, 0) when the direction is fitted. */
+void dss_sun_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
+                             const dss_deviations *d, double out[2]);
+
 /* DSS_DEVIATIONS as a table (dss_sensor.c). */
 extern const deviation_spec dss_deviation_list[DSS_N_TOL];
 

@@ -19,7 +19,8 @@ enum rng_stream_id {
     RNG_STREAM_CAL_NOISE = 0x200, /* sensor and encoder noise of the campaign */
     RNG_STREAM_VAL_NOISE = 0x201, /* noise of the validation readings */
     RNG_STREAM_ALIGNMENT = 0x202, /* the roll alignment measurement */
-    RNG_STREAM_SUN_Y = 0x203      /* the sun simulator's tilt measurement (ESS) */
+    RNG_STREAM_SUN_Y = 0x203,     /* the sun simulator's tilt measurement (ESS) */
+    RNG_STREAM_SUN_B = 0x204      /* the sun simulator's direction measurement (DSS) */
 };
 
 typedef struct {

@@ -201,6 +201,8 @@ static void dss_check_correlations(calreport *rep)
         "separate them hold the index at the glass maker's value (calibration.fit_glass_index "
         "= off) or calibrate to wider field angles";
     static const char act_tilt[] =
+        "measure the sun simulator's direction and fix it (--set calibration.sun=measured --set "
+        "calibration.sun_b1_measured_arcsec=B1 --set calibration.sun_b2_measured_arcsec=B2), "
         "calibrate in an aligned lab (campaign.mount = aligned: no simulator tilt to fit) or "
         "over wider table angles";
     const calreport_corr_cause causes[] = {
@@ -465,8 +467,11 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
             for (int j = 0; rep && j < rep->np; j++)
                 if (strcmp(rep->name[j], dss_param_names[k]) == 0 && isfinite(rep->se[j]))
                     snprintf(comment, sizeof comment, "standard error %.3g", rep->se[j]);
+            int measured = cal->sun_measured && (k == DSS_P_S1 || k == DSS_P_S2);
             st = params_set_double(p, "parameters", dss_param_names[k], dss_param_value(m, k),
-                                   comment[0] ? comment : "fixed");
+                                   comment[0] ? comment
+                                              : measured ? "measured, not fitted (calibration.sun)"
+                                                         : "fixed");
         }
         return st;
     }

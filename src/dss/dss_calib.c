@@ -35,13 +35,14 @@ void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_
     }
 }
 
-int dss_calib_free_params(const dss_design *d, int fit_index, int free_idx[DSS_NP])
+int dss_calib_free_params(const dss_design *d, int fit_index, int fix_sun, int free_idx[DSS_NP])
 {
+    fix_sun |= d->mount == DSS_MOUNT_ALIGNED;
     int n = 0;
     for (int j = 0; j < DSS_NP; j++) {
         if (j == DSS_P_N && !fit_index)
             continue;
-        if ((j == DSS_P_S1 || j == DSS_P_S2) && d->mount == DSS_MOUNT_ALIGNED)
+        if ((j == DSS_P_S1 || j == DSS_P_S2) && fix_sun)
             continue;
         if (free_idx)
             free_idx[n] = j;
@@ -82,6 +83,18 @@ double dss_calib_bytes(size_t n, int kind, int poly_order)
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
                                      int fit_index)
 {
+    return dss_calib_alloc_fix(d, n, kind, poly_order, fit_index, 0);
+}
+
+dss_calib_workspace *dss_calib_alloc_config(const dss_config *dc, size_t n)
+{
+    return dss_calib_alloc_fix(&dc->design, n, dc->cal_model, dc->poly_order,
+                               dc->fit_glass_index, dc->sun_mode == DSS_SUN_MEASURED);
+}
+
+dss_calib_workspace *dss_calib_alloc_fix(const dss_design *d, size_t n, int kind, int poly_order,
+                                         int fit_index, int fix_sun)
+{
     if (kind == DSS_MODEL_POLYNOMIAL && (poly_order < 1 || poly_order > DSS_POLY_MAX_ORDER))
         return NULL;
     dss_calib_workspace *cw = calloc(1, sizeof *cw);
@@ -104,7 +117,8 @@ dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, in
         cw->fw = n > nt ? fit_workspace_alloc(n, nt) : NULL;
         ok = cw->basis && cw->target && cw->fw;
     } else if (ok) {
-        cw->n_free = dss_calib_free_params(d, fit_index, cw->free_idx);
+        cw->fix_sun = fix_sun && d->mount == DSS_MOUNT_AS_MOUNTED;
+        cw->n_free = dss_calib_free_params(d, fit_index, cw->fix_sun, cw->free_idx);
         /* rows 2i, 2i + 1 of every padded point: the pads' rows stay 0 */
         cw->fw = 2 * n > (size_t)cw->n_free
                      ? fit_workspace_alloc(2 * vm_pad(n), (size_t)cw->n_free)
@@ -178,8 +192,14 @@ static int calibrate_physical(dss_calib_workspace *cw, int max_iter, dss_calibra
                               fit_result *res)
 {
     dss_model_init(&cw->work, &cw->design);
+    if (cw->fix_sun) {
+        cw->work.p[DSS_P_S1] = cw->sun_rad[0];
+        cw->work.p[DSS_P_S2] = cw->sun_rad[1];
+        dss_model_prepare(&cw->work);
+    }
     out->kind = DSS_MODEL_PHYSICAL;
-    dss_model_init(&out->phys, &cw->design);
+    out->phys = cw->work;
+    out->sun_measured = cw->fix_sun;
     if (2 * usable(cw) < (size_t)cw->n_free + 1) {
         memset(res, 0, sizeof *res);
         res->status = GSL_EINVAL;

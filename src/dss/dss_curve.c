@@ -37,7 +37,7 @@ void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     size_t n = dss_campaign_size(c);
     dss_curve_ws *w = calloc(1, sizeof *w);
     if (w)
-        w->cw = dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order, dc->fit_glass_index);
+        w->cw = dss_calib_alloc_config(dc, n);
     if (!w || !w->cw) {
         free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
@@ -78,6 +78,11 @@ int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     dss_calib_workspace *cw = w->cw;
     dss_deviations dev;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    /* the measured direction scales with the deviations it measures */
+    double sun[2];
+    dss_sun_measured_arcsec(c, (uint64_t)c->seed, unit, &dev, sun);
+    cw->sun_rad[0] = sun[0] * dev_sign * RAD_PER_ARCSEC;
+    cw->sun_rad[1] = sun[1] * dev_sign * RAD_PER_ARCSEC;
     deviations_scale(&dev, dev_sign);
     dss_unit_build(c, &dev, &w->u);
     dss_unit_campaign(c, &w->u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight,

@@ -76,6 +76,22 @@ const config_key dss_keys[] = {
      "physical model: fit the cover-glass index too (height, thickness and index are nearly "
      "collinear, |corr| ~0.99, yet fitting all three predicts the spots best; off holds the "
      "index at design; see dss_calib.h)"},
+    {"calibration", "sun", KEY_ENUM, "", "fitted", 0, 0, "fitted|measured", OFF(sun_mode),
+     "campaign.mount = as_mounted: the sun simulator's direction (sun_b1, sun_b2) fitted with "
+     "the other parameters, or measured and fixed (two parameters fewer); on a narrow campaign "
+     "it and the mount's tilt c1, c2 stop separating, so the fitted direction lets the "
+     "campaign's noise into c1, c2"},
+    {"calibration", "sun_sigma_arcsec", KEY_DOUBLE, "arcsec", "5", 0, 3600, NULL,
+     OFF(sun_sigma_arcsec),
+     "calibration.sun = measured: sigma of the measurement of each of sun_b1, sun_b2 (Monte "
+     "Carlo; its own random stream)"},
+    {"calibration", "sun_b1_measured_arcsec", KEY_DOUBLE, "arcsec", "0", -36000, 36000, NULL,
+     OFF(sun_b1_measured_arcsec),
+     "`calibrate` with calibration.sun = measured: the sun simulator's measured direction, the "
+     "table angle about X it equals"},
+    {"calibration", "sun_b2_measured_arcsec", KEY_DOUBLE, "arcsec", "0", -36000, 36000, NULL,
+     OFF(sun_b2_measured_arcsec),
+     "`calibrate` with calibration.sun = measured: the same about Y"},
 
     /* [validation] */
     {"validation", "b_min_deg", KEY_DOUBLE, "deg", "-60", -89, 89, NULL, OFF(val_b_min_deg),
@@ -107,14 +123,16 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
     long nb = grid_count(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg, 0);
     long n = nb * nb;
     int phys = d->cal_model == DSS_MODEL_PHYSICAL;
-    int np = phys ? dss_calib_free_params(&d->design, d->fit_glass_index, NULL)
+    int np = phys ? dss_calib_free_params(&d->design, d->fit_glass_index,
+                                                d->sun_mode == DSS_SUN_MEASURED, NULL)
                   : dss_poly_n_terms(d->poly_order);
     if ((phys ? 2 * n : n) > np)
         return SUNMC_OK;
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
                       "campaign: %ld x %ld b grid = %ld readings, too few for the %s model's %d "
                       "parameters (campaign.b_min_deg, campaign.b_max_deg, campaign.b_step_deg, "
-                      "calibration.model, calibration.poly_order, calibration.fit_glass_index)",
+                      "calibration.model, calibration.poly_order, calibration.fit_glass_index, "
+                      "calibration.sun)",
                       nb, nb, n, phys ? "physical" : "polynomial", np);
 }
 
@@ -197,6 +215,10 @@ int dss_config_validate(const sunmc_config *c, char *err, size_t errlen)
     if (s == SUNMC_OK)
         s = config_check_grid(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg,
                               d->design.fov_deg, "campaign.b", err, errlen);
+    if (s == SUNMC_OK && d->sun_mode == DSS_SUN_MEASURED && d->design.mount == DSS_MOUNT_ALIGNED)
+        s = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                       "calibration.sun = measured needs campaign.mount = as_mounted: an "
+                       "aligned lab has no sun-simulator direction to fit or measure");
     if (s == SUNMC_OK)
         s = campaign_size_check(d, err, errlen);
     if (s == SUNMC_OK)

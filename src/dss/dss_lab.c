@@ -25,6 +25,8 @@ typedef struct {
     double *col[C_COLUMNS];  /* the campaign as `run` fits it, and its truth */
     dss_val_readings val;    /* the readings `run` validates on */
     long n_val;
+    int sun_measured;        /* calibration.sun = measured: */
+    double sun_meas_arcsec[2]; /* the unit's measured sun_b1, sun_b2 */
 } dss_sim;
 
 static void sim_free(void *p)
@@ -52,6 +54,9 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     }
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &s->dev);
+    const dss_config *dc = dss_cfg(c);
+    s->sun_measured = dc->sun_mode == DSS_SUN_MEASURED && dc->design.mount == DSS_MOUNT_AS_MOUNTED;
+    dss_sun_measured_arcsec(c, (uint64_t)c->seed, unit, &s->dev, s->sun_meas_arcsec);
     dss_unit_build(c, &s->dev, &u);
     double **v = s->col;
     s->n_spot = dss_unit_campaign(c, &u, unit, v[C_B1], v[C_B2], v[C_X], v[C_Y], v[C_WEIGHT],
@@ -99,6 +104,10 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
     long nb = grid_count(dc->cal_b_min_deg, dc->cal_b_max_deg, dc->cal_b_step_deg, 0);
     fprintf(fc, "# sunmc %s simulate: unit %ld of %s (%s), seed %ld; weight 0: no spot\n",
             SUNMC_VERSION, ref->unit, ref->config, c->product, c->seed);
+    if (s->sun_measured)
+        fprintf(fc, "# measured sun-simulator direction: calibration.sun_b1_measured_arcsec = "
+                    "%.17g, calibration.sun_b2_measured_arcsec = %.17g\n",
+                s->sun_meas_arcsec[0], s->sun_meas_arcsec[1]);
     write_conventions(fc, c);
     fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
     fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
@@ -146,12 +155,19 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
                         size_t len)
 {
     const dss_sim *s = p;
-    snprintf(buf, len,
-             "unit %ld of %s (seed %ld): %zu campaign readings (%zu with a spot), %ld "
-             "validation readings\n"
-             "wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n",
-             ref->unit, c->product, c->seed, s->n, s->n_spot, s->n_val, ref->out_dir,
-             ref->out_dir, ref->out_dir);
+    int k = snprintf(buf, len,
+                     "unit %ld of %s (seed %ld): %zu campaign readings (%zu with a spot), %ld "
+                     "validation readings\n"
+                     "wrote %s/campaign.csv, %s/truth.csv, %s/validation.csv\n",
+                     ref->unit, c->product, c->seed, s->n, s->n_spot, s->n_val, ref->out_dir,
+                     ref->out_dir, ref->out_dir);
+    if (s->sun_measured && k >= 0 && (size_t)k < len)
+        snprintf(buf + k, len - (size_t)k,
+                 "calibrate with the unit's measured sun simulator:\n"
+                 "  sunmc calibrate --config %s --set calibration.sun=measured "
+                 "--set calibration.sun_b1_measured_arcsec=%.17g --set "
+                 "calibration.sun_b2_measured_arcsec=%.17g %s/campaign.csv --out DIR\n",
+                 ref->config, s->sun_meas_arcsec[0], s->sun_meas_arcsec[1], ref->out_dir);
 }
 
 /* ---- calibrate ---- */
@@ -253,13 +269,14 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     const dss_config *dc = dss_cfg(c);
     dss_cal *k = calloc(1, sizeof *k);
     if (k)
-        k->cw = dss_calib_alloc(&dc->design, d->n, dc->cal_model, dc->poly_order,
-                                dc->fit_glass_index);
+        k->cw = dss_calib_alloc_config(dc, d->n);
     if (!k || !k->cw) {
         cal_free(k);
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "cannot set up the fit");
     }
     k->line = d->line;
+    k->cw->sun_rad[0] = dc->sun_b1_measured_arcsec * RAD_PER_ARCSEC;
+    k->cw->sun_rad[1] = dc->sun_b2_measured_arcsec * RAD_PER_ARCSEC;
     for (size_t i = 0; i < d->n; i++) {
         k->cw->b1_rad[i] = d->v[0][i] * RAD_PER_DEG;
         k->cw->b2_rad[i] = d->v[1][i] * RAD_PER_DEG;

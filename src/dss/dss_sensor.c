@@ -4,6 +4,7 @@
 #include "dss_lane.h"
 #include "dss_score.h"
 #include "dss_rotation.h"
+#include "family.h"
 #include "rng.h"
 #include "status.h"
 #include "units.h"
@@ -35,6 +36,20 @@ void dss_deviations_values(const dss_deviations *d, double out[DSS_N_DEV])
 void dss_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, dss_deviations *d)
 {
     deviations_sample(dss_deviation_list, DSS_N_TOL, c, seed, unit, d);
+}
+
+void dss_sun_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
+                             const dss_deviations *d, double out[2])
+{
+    const dss_config *dc = dss_cfg(c);
+    out[0] = out[1] = 0.0;
+    if (dc->sun_mode != DSS_SUN_MEASURED || dc->design.mount != DSS_MOUNT_AS_MOUNTED)
+        return;
+    rng_stream r;
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_SUN_B), (uint64_t)unit,
+                    RNG_STREAM_SUN_B);
+    out[0] = d->sun_b1_arcsec + dc->sun_sigma_arcsec * rng_normal(&r);
+    out[1] = d->sun_b2_arcsec + dc->sun_sigma_arcsec * rng_normal(&r);
 }
 
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)

@@ -156,8 +156,7 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     size_t n = dss_campaign_size(c);
     dss_ws *w = calloc(1, sizeof *w);
     if (w)
-        w->cw = dss_calib_alloc(&dc->design, n, dc->cal_model, dc->poly_order,
-                                dc->fit_glass_index);
+        w->cw = dss_calib_alloc_config(dc, n);
     if (!w || !w->cw || dss_val_alloc(c, &w->val) != SUNMC_OK) {
         dss_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
@@ -354,6 +353,10 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     dss_calibration cal;
     fit_result fr;
+    double sun[2];
+    dss_sun_measured_arcsec(c, (uint64_t)c->seed, unit, &dev, sun);
+    cw->sun_rad[0] = sun[0] * RAD_PER_ARCSEC;
+    cw->sun_rad[1] = sun[1] * RAD_PER_ARCSEC;
     int st = dss_calibrate(cw, c->max_iterations, &cal, &fr);
     res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
     res->fit_gsl_status = fr.status;
@@ -382,6 +385,7 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
         snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s",
                  dc->fit_glass_index ? " (thickness and index)" : " (thickness)",
                  dc->design.mount == DSS_MOUNT_ALIGNED ? " (aligned lab)"
+                 : dc->sun_mode == DSS_SUN_MEASURED    ? " (sun simulator measured)"
                                                        : ", sun simulator sun_b1, sun_b2");
 }
 
@@ -389,9 +393,17 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
  * noise of the campaign share one stream. */
 static const char *const dss_cal_noise_keys[] = {"noise.centroid_px", "noise.encoder_arcsec", NULL};
 static const char *const dss_val_noise_keys[] = {"noise.centroid_px", NULL};
+static const char *const dss_sun_keys[] = {"calibration.sun_sigma_arcsec", NULL};
+/* The sun simulator's measurement is an input only when it is made. */
+static int dss_sun_measured(const sunmc_config *c)
+{
+    const dss_config *dc = dss_cfg(c);
+    return dc->sun_mode == DSS_SUN_MEASURED && dc->design.mount == DSS_MOUNT_AS_MOUNTED;
+}
 static const family_noise dss_random_noise[] = {
     {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys, NULL},
     {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys, NULL},
+    {"sun_measurement", RNG_STREAM_SUN_B, dss_sun_keys, dss_sun_measured},
     {NULL, 0, NULL, NULL}};
 
 const sensor_family dss_family = {
