@@ -5,10 +5,9 @@
  * campaign against the Schur complement of the full fit's covariance (an
  * independent derivation), the measurement's stream, budget/sensitivity,
  * params.ini, the report, and the keys' error paths. */
-#include "test_util.h"
+#include "test_measured.h"
 #include "test_tsv.h"
 
-#include "budget.h"
 #include "calreport.h"
 #include "config.h"
 #include "dss_calfit.h"
@@ -17,7 +16,6 @@
 #include "dss_sensor.h"
 #include "params_io.h"
 #include "rng.h"
-#include "sensitivity.h"
 #include "status.h"
 #include "units.h"
 
@@ -219,23 +217,12 @@ static void measurement_stream(void **state)
  * direction is measured. */
 static void noise_source_only_when_measured(void **state)
 {
-    static sens_result s;
-    static budget_result b;
-    char err[SUNMC_ERRLEN];
     const char *sets[] = {"calibration.sun=measured"};
     for (int measured = 0; measured <= 1; measured++) {
         config_state st;
         load_config(&st, sets, measured);
-        assert_int_equal(sens_sources(&st.cfg, &s, err, sizeof err), SUNMC_OK);
-        int in_sens = 0, in_budget = 0;
-        for (int i = 0; i < s.n; i++)
-            in_sens += strcmp(s.src[i].name, "sun_measurement") == 0 &&
-                       s.src[i].stream == RNG_STREAM_SUN_B;
-        assert_int_equal(budget_sources(&st.cfg, &b, err, sizeof err), SUNMC_OK);
-        for (int i = 0; i < b.n; i++)
-            in_budget += strcmp(b.src[i].name, "calibration.sun_sigma_arcsec") == 0;
-        assert_int_equal(in_sens, measured);
-        assert_int_equal(in_budget, measured);
+        test_measurement_source(&st.cfg, "sun_measurement", RNG_STREAM_SUN_B,
+                                "calibration.sun_sigma_arcsec", measured);
         config_state_free(&st);
     }
 }
@@ -353,8 +340,7 @@ static void calibrate_report(void **state)
  * an aligned lab is refused. */
 static void bad_values(void **state)
 {
-    const char *ini = test_tmp("bad_sun.ini"), *dir = test_tmp("bad_sun_out");
-    const char *cases[][2] = {
+    static const char *const cases[][2] = {
         {"sun = measure\n", "calibration.sun = 'measure' is not allowed: one of fitted|measured"},
         {"sun_sigma_arcsec = -1\n", "calibration.sun_sigma_arcsec"},
         {"sun_sigma_arcsec = 3601\n", "calibration.sun_sigma_arcsec"},
@@ -363,18 +349,8 @@ static void bad_values(void **state)
         {"sun_b2_measured_arcsec = 36001\n", "calibration.sun_b2_measured_arcsec"},
         {"sun_b2_measured_arcsec = -36001\n", "calibration.sun_b2_measured_arcsec"},
     };
-    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
-        char text[256], cmd[1024], out[4096], want[512];
-        snprintf(text, sizeof text, "[sensor]\nfamily = dss\n\n[calibration]\n%s", cases[k][0]);
-        assert_int_equal(test_write_file(ini, text), 0);
-        snprintf(cmd, sizeof cmd, "%s run %s --units 2 --out %s", test_sunmc(), ini, dir);
-        assert_int_equal(test_run(cmd, out, sizeof out), 2);
-        snprintf(want, sizeof want, "%s:5: %s", ini, cases[k][1]);
-        if (!strstr(out, want))
-            fail_msg("case %zu: '%s' not in: %s", k, want, out);
-        snprintf(cmd, sizeof cmd, "test -e %s", dir);
-        assert_int_not_equal(system(cmd), 0);
-    }
+    test_bad_calibration_lines("dss", cases, sizeof cases / sizeof *cases);
+    const char *ini = test_tmp("bad_sun.ini"), *dir = test_tmp("bad_sun_out");
     char cmd[1024], out[4096];
     assert_int_equal(test_write_file(ini, "[sensor]\nfamily = dss\n\n[campaign]\nmount = "
                                           "aligned\n\n[calibration]\nsun = measured\n"),
