@@ -14,6 +14,7 @@
 #include "dss_calib.h"
 #include "dss_model.h"
 #include "dss_sensor.h"
+#include "family.h"
 #include "params_io.h"
 #include "rng.h"
 #include "status.h"
@@ -184,7 +185,11 @@ static void measurement_stream(void **state)
     load_config(&sf, NULL, 0);
     load_config(&sm, sets, 2);
     const long n = 4000;
-    double sum[2] = {0, 0}, sum2[2] = {0, 0}, cross = 0;
+    /* the other random streams a unit draws besides its tolerances */
+    static const uint32_t others[] = {RNG_STREAM_CAL_NOISE, RNG_STREAM_VAL_NOISE,
+                                      RNG_STREAM_ALIGNMENT, RNG_STREAM_SUN_Y};
+    enum { N_OTHERS = sizeof others / sizeof *others };
+    double sum[2] = {0, 0}, sum2[2] = {0, 0}, cross = 0, with[N_OTHERS] = {0};
     for (long u = 0; u < n; u++) {
         dss_deviations a, b;
         double mf[2], mm[2];
@@ -200,7 +205,16 @@ static void measurement_stream(void **state)
             sum2[k] += err[k] * err[k];
         }
         cross += err[0] * err[1];
+        for (int k = 0; k < N_OTHERS; k++) {
+            rng_stream o;
+            rng_stream_init(&o, unit_stream_seed(&sm.cfg, 1, others[k]), (uint64_t)u, others[k]);
+            with[k] += err[0] / 7 * rng_normal(&o);
+        }
     }
+    /* its own stream: uncorrelated with the first draw of every other one
+     * (drawn from the campaign's noise stream it would repeat its errors) */
+    for (int k = 0; k < N_OTHERS; k++)
+        assert_true(fabs(with[k] / n) < 4.5 / sqrt((double)n));
     for (int k = 0; k < 2; k++) {
         double mean = sum[k] / n, sd = sqrt(sum2[k] / n - mean * mean);
         /* 4.5 standard errors: mean 7/sqrt(n), sd 7/sqrt(2 n) */
