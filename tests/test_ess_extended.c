@@ -5,6 +5,7 @@
  * alias detector on every fitted harmonic on both sides of its limit, the
  * key's error path, and the Monte Carlo's halving of the noise-free error
  * of types A and B. */
+#include "test_ess_grid.h"
 #include "test_tsv.h"
 
 #include "ess_calib.h"
@@ -35,21 +36,6 @@ static void truth_model(ess_model *m)
     ess_model_prepare(m);
 }
 
-/* A campaign grid: alphas -62..62 in step_deg, betas. */
-static ess_calib_workspace *grid(int kind, double step_deg, const double *betas, int nb)
-{
-    long na = (long)floor(124.0 / step_deg + 1e-9) + 1;
-    ess_calib_workspace *cw = ess_calib_alloc_kind((size_t)(na * nb), kind);
-    assert_non_null(cw);
-    size_t i = 0;
-    for (int k = 0; k < nb; k++)
-        for (long j = 0; j < na; j++, i++) {
-            cw->alpha_rad[i] = (-62 + j * step_deg) * RAD_PER_DEG;
-            cw->beta_rad[i] = betas[k] * RAD_PER_DEG;
-            cw->weight[i] = 1;
-        }
-    return cw;
-}
 
 static const double betas3[] = {-20, 0, 20};
 
@@ -147,7 +133,7 @@ static void batch_is_scalar(void **state)
 {
     ess_model m;
     truth_model(&m);
-    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, 7.3, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_EXTENDED, 7.3, betas3, 3);
     size_t n = cw->n, ld = vm_pad(n);
     ess_table_fill(&cw->table, cw->alpha_rad, cw->beta_rad);
     double *sw = vm_alloc(n), *raw = vm_alloc(n), *f = vm_alloc(ld);
@@ -214,7 +200,7 @@ static void compensate_inverts(void **state)
 static ess_calib_workspace *fit_truth(double step_deg, const double *betas, const ess_model *truth,
                                       ess_model *fit)
 {
-    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, step_deg, betas, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_EXTENDED, step_deg, betas, 3);
     for (size_t i = 0; i < cw->n; i++)
         cw->raw_rad[i] = ess_model_predict(truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
     fit_result fr;
@@ -245,7 +231,7 @@ static void recovers_injected_terms(void **state)
  * period) for a campaign step. */
 static ess_alias_set alias_at(double step_deg, double threshold)
 {
-    ess_calib_workspace *cw = grid(ESS_MODEL_EXTENDED, step_deg, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_EXTENDED, step_deg, betas3, 3);
     ess_alias_set a;
     ess_alias_check_set(cw->alpha_rad, cw->n, ESS_MODEL_EXTENDED, THETA0_RAD, threshold,
                         cw->alias_work, &a);

@@ -1,5 +1,6 @@
 /* test_ess_fit.c - the ESS compensation model, its Jacobian, its inverse,
  * the alias detector and the calibration fit (round trips). */
+#include "test_ess_grid.h"
 #include "test_util.h"
 
 #include "ess_calib.h"
@@ -26,21 +27,6 @@ static void truth_model(ess_model *m, double roll_arcsec)
     ess_model_prepare(m);
 }
 
-/* A campaign grid: alphas lo..hi step, betas. */
-static ess_calib_workspace *grid(double step_deg, const double *betas, int nb)
-{
-    long na = (long)floor(124.0 / step_deg + 1e-9) + 1;
-    ess_calib_workspace *cw = ess_calib_alloc((size_t)(na * nb));
-    assert_non_null(cw);
-    size_t i = 0;
-    for (int k = 0; k < nb; k++)
-        for (long j = 0; j < na; j++, i++) {
-            cw->alpha_rad[i] = (-62 + j * step_deg) * RAD_PER_DEG;
-            cw->beta_rad[i] = betas[k] * RAD_PER_DEG;
-            cw->weight[i] = 1;
-        }
-    return cw;
-}
 
 static const double betas3[] = {-20, 0, 20};
 
@@ -109,7 +95,7 @@ static void test_alias_detector(void **state)
     const double steps[] = {1.0, 0.25, 0.5, 0.2, 0.3};
     const int weak[] = {2, 1, 2, 0, 0};
     for (int s = 0; s < 5; s++) {
-        ess_calib_workspace *cw = grid(steps[s], betas3, 3);
+        ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_PAPER, steps[s], betas3, 3);
         ess_alias al;
         ess_alias_check(cw->alpha_rad, cw->n, 2 * M_PI / (THETA0_RAD / 4), 0.2, &al);
         assert_int_equal(al.n_weak, weak[s]);
@@ -133,7 +119,7 @@ static void test_fit_round_trip(void **state)
 {
     ess_model truth, fit;
     truth_model(&truth, 20);
-    ess_calib_workspace *cw = grid(0.2, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_PAPER, 0.2, betas3, 3);
     for (size_t i = 0; i < cw->n; i++)
         cw->raw_rad[i] = ess_model_predict(&truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
     fit_result fr;
@@ -152,7 +138,7 @@ static void test_fit_aliased_stays_sane(void **state)
 {
     ess_model truth, fit;
     truth_model(&truth, 0);
-    ess_calib_workspace *cw = grid(1.0, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_PAPER, 1.0, betas3, 3);
     for (size_t i = 0; i < cw->n; i++)
         cw->raw_rad[i] = ess_model_predict(&truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
     fit_result fr;
@@ -174,7 +160,7 @@ static void test_fit_ignores_dropped_points(void **state)
 {
     ess_model truth, fit;
     truth_model(&truth, 0);
-    ess_calib_workspace *cw = grid(0.2, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_PAPER, 0.2, betas3, 3);
     for (size_t i = 0; i < cw->n; i++)
         cw->raw_rad[i] = ess_model_predict(&truth, cw->alpha_rad[i], cw->beta_rad[i], NULL);
     cw->raw_rad[100] += 2 * RAD_PER_DEG;
@@ -193,7 +179,7 @@ static void test_batch_matches_scalar(void **state)
 {
     ess_model m;
     truth_model(&m, 15);
-    ess_calib_workspace *cw = grid(0.7, betas3, 3);
+    ess_calib_workspace *cw = test_ess_grid(ESS_MODEL_PAPER, 0.7, betas3, 3);
     size_t n = cw->n, ld = vm_pad(n + 3);
     cw->table.n = n;
     ess_table_fill(&cw->table, cw->alpha_rad, cw->beta_rad);
