@@ -49,6 +49,10 @@ typedef struct {
  * "100.0"; a yield above 0 never shows as "0.0". */
 int report_percent_decimals(double frac, int min_decimals);
 
+/* v with d decimals into buf, or "-" where there is no number (no unit
+ * with a fit, no point): no table prints nan.  Returns snprintf's count. */
+int report_format_number(char *buf, size_t len, double v, int d);
+
 /* Number of rows = angles x bands. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);
 

@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "family.h"
 #include "output.h"
+#include "report.h"
 #include "status.h"
 
 #include <math.h>
@@ -206,10 +207,9 @@ static void curve_walk(curve_run *r, FILE *fo)
 /* One number of the table, or "-" where there is none (no point). */
 static void print_cell(double v, int prec)
 {
-    if (isfinite(v))
-        printf(" %9.*f", prec, v);
-    else
-        printf(" %9s", "-");
+    char text[64];
+    report_format_number(text, sizeof text, v, prec);
+    printf(" %9s", text);
 }
 
 /* The table on stdout: RMS and max |error| per series and angle. */

@@ -57,13 +57,6 @@ static int axis_width(const sweep_axis *ax)
 /* The numeric columns of the table. */
 enum { COL_BEFORE, COL_AFTER, COL_P95, COL_IMPROVE, COL_POINTS, SWEEP_NUM_COLS };
 
-/* A statistic as printed: "-" when there is none (no unit of the point
- * has a fit: the failed column counts them), never "nan". */
-static int num_text(char *buf, size_t len, double v, int prec)
-{
-    return isfinite(v) ? snprintf(buf, len, "%.*f", prec, v) : snprintf(buf, len, "-");
-}
-
 /* Printed width of each numeric column over every row: its header or its
  * widest value (an improvement past 1,000 widens its column, not the row). */
 static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NUM_COLS])
@@ -77,7 +70,7 @@ static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NU
                             s->improvement_mean};
         for (int k = 0; k < COL_POINTS; k++) {
             char text[64];
-            int len = num_text(text, sizeof text, v[k], k == COL_IMPROVE ? 2 : prec);
+            int len = report_format_number(text, sizeof text, v[k], k == COL_IMPROVE ? 2 : prec);
             w[k] = len > w[k] ? len : w[k];
         }
         int len = snprintf(NULL, 0, "%ld", s->campaign_points);
@@ -112,7 +105,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             const double x[COL_POINTS] = {s->rms_before_mean, s->rms_after_mean,
                                           s->rms_after_p95, s->improvement_mean};
             for (int k = 0; k < COL_POINTS; k++) {
-                num_text(t[k], sizeof t[k], x[k], k == COL_IMPROVE ? 2 : prec);
+                report_format_number(t[k], sizeof t[k], x[k], k == COL_IMPROVE ? 2 : prec);
                 missing |= !isfinite(x[k]);
             }
             printf("%-6s %-9s %*s %*s %*s %*s %6.*f%% %6ld %6ld %*ld %6.2f%s\n",

@@ -316,14 +316,9 @@ static int ci_decimals(const summary_row *rows, int n, size_t ci_offset, double 
     return d < prec ? prec : d > prec + 3 ? prec + 3 : d;
 }
 
-/* A number with d decimals, or "-" where there is none (no unit with a
- * fit): a table never prints nan. */
-static void fmt_num(char *buf, size_t len, double v, int d)
+int report_format_number(char *buf, size_t len, double v, int d)
 {
-    if (isfinite(v))
-        snprintf(buf, len, "%.*f", d, v);
-    else
-        snprintf(buf, len, "-");
+    return isfinite(v) ? snprintf(buf, len, "%.*f", d, v) : snprintf(buf, len, "-");
 }
 
 /* "v [lo, hi]" with d decimals (a bound that cannot be had is "-"), values
@@ -393,12 +388,12 @@ static void print_table1(FILE *f, const sunmc_config *c, const sensor_family *fa
     int dp = ci_decimals(rows, n, offsetof(summary_row, rms_after_p95_ci), 1.0, prec);
     for (int i = 0; i < n; i++) {
         const summary_row *r = &rows[i];
-        fmt_num(cols[2].cell[i], TABLE_CELL, r->rms_after_max, prec);
-        fmt_num(cols[3].cell[i], TABLE_CELL, r->rms_after_min, prec);
+        report_format_number(cols[2].cell[i], TABLE_CELL, r->rms_after_max, prec);
+        report_format_number(cols[3].cell[i], TABLE_CELL, r->rms_after_min, prec);
         fmt_estimate(cols[4].cell[i], TABLE_CELL, r->improvement_mean, r->improvement_mean_ci, di,
                      1.0, "");
-        fmt_num(cols[5].cell[i], TABLE_CELL, r->improvement_max, 2);
-        fmt_num(cols[6].cell[i], TABLE_CELL, r->improvement_min, 2);
+        report_format_number(cols[5].cell[i], TABLE_CELL, r->improvement_max, 2);
+        report_format_number(cols[6].cell[i], TABLE_CELL, r->improvement_min, 2);
         fmt_estimate(cols[7].cell[i], TABLE_CELL, r->rms_after_p95, r->rms_after_p95_ci, dp, 1.0,
                      "");
     }
