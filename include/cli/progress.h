@@ -19,9 +19,8 @@ typedef struct {
     const char *cmd;          /* "sweep" */
     const char *what;         /* what total counts: "units" */
     double t0, last;          /* start, last refresh (s) */
-    int tty, quiet, shown;
-    int logged;               /* off a terminal: lines printed */
-    double logged_pct, logged_t; /* the last one's percent and time */
+    int tty, quiet, shown;    /* shown: length of the last line printed (0: none yet) */
+    double logged_pct;        /* off a terminal: the last line's percent (its time: last) */
     long total, base, done;   /* all, done by finished stages, done now */
     char stage[METER_STAGE_MAX];
 } cli_meter;

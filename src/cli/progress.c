@@ -89,13 +89,10 @@ void cli_meter_stage(cli_meter *m, const char *stage, long base)
     m->base = m->done = base;
     if (!m->tty) {
         double pct = m->total > 0 ? 100.0 * (double)base / (double)m->total : 0.0;
-        double t = meter_now_s();
-        if (m->logged && pct - m->logged_pct < PROGRESS_LOG_STEP_PCT &&
-            t - m->logged_t < PROGRESS_LOG_S)
+        if (m->shown && pct - m->logged_pct < PROGRESS_LOG_STEP_PCT &&
+            meter_now_s() - m->last < PROGRESS_LOG_S)
             return;
-        m->logged++;
         m->logged_pct = pct;
-        m->logged_t = t;
     }
     meter_show(m, 1);
 }
