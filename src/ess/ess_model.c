@@ -1,5 +1,6 @@
 /* ess_model.c - forward ESS calibration model, its gradient and inverse. */
 #include "ess_model_lane.h"
+#include "root.h"
 #include "status.h"
 #include "vmath.h"
 
@@ -244,29 +245,21 @@ VM_KERNEL void ess_model_predict_batch(const ess_model *m, const ess_table *t, d
  * COMP_TOL_RAD for w k > 0.9 or so, and a lane never meets the step test
  * though its x is as good as the arithmetic allows.  Bisection ends at
  * adjacent doubles whatever the slope. */
-static double finecode_g(double ks, double kc, double w, double raw, double x)
+typedef struct {
+    double ks, kc, w, raw;
+} finecode_eq;
+
+static double finecode_g(double x, const void *ctx)
 {
-    return x - ks * sin(w * x) - kc * cos(w * x) - raw;
+    const finecode_eq *e = ctx;
+    return x - e->ks * sin(e->w * x) - e->kc * cos(e->w * x) - e->raw;
 }
 
 static double finecode_bisect(double ks, double kc, double w, double raw)
 {
     double k = hypot(ks, kc);
-    double lo = raw - 2.0 * k, hi = raw + 2.0 * k;
-    for (;;) {
-        double mid = lo + 0.5 * (hi - lo);
-        if (mid <= lo || mid >= hi)
-            return fabs(finecode_g(ks, kc, w, raw, lo)) <= fabs(finecode_g(ks, kc, w, raw, hi))
-                       ? lo
-                       : hi;
-        double g = finecode_g(ks, kc, w, raw, mid);
-        if (g == 0.0)
-            return mid;
-        if (g > 0.0)
-            hi = mid;
-        else
-            lo = mid;
-    }
+    finecode_eq e = {ks, kc, w, raw};
+    return root_bisect_increasing(finecode_g, &e, raw - 2.0 * k, raw + 2.0 * k);
 }
 
 /* Newton on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane

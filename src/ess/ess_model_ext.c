@@ -44,6 +44,7 @@
  * incidence to the dial angle).
  */
 #include "ess_model_lane.h"
+#include "root.h"
 #include "status.h"
 
 #include <math.h>
@@ -264,22 +265,22 @@ VM_KERNEL void ess_model_ext_predict_batch(const ess_model *m, const ess_table *
  * paper's model): g(x) = x - F(x) - raw rises strictly (the caller checked
  * ess_model_ext_invertible), and |F| < asin(|rho|) / w1 + |L| < 2 / w1
  * (|rho| < 1/3, w1 (k1 + 2 k2) < 1), so the root lies within raw +- 2 / w1. */
+typedef struct {
+    const ess_model *m;
+    double raw;
+} ext_eq;
+
+static double ext_g(double x, const void *ctx)
+{
+    const ext_eq *e = ctx;
+    return x - ess_model_ext_fine(e->m, x, NULL, NULL) - e->raw;
+}
+
 static double ext_bisect(const ess_model *m, double raw)
 {
     double half = 2.0 / (0.25 * m->omega);
-    double lo = raw - half, hi = raw + half;
-    for (;;) {
-        double mid = lo + 0.5 * (hi - lo);
-        if (mid <= lo || mid >= hi)
-            return mid;
-        double g = mid - ess_model_ext_fine(m, mid, NULL, NULL) - raw;
-        if (g == 0.0)
-            return mid;
-        if (g > 0.0)
-            hi = mid;
-        else
-            lo = mid;
-    }
+    ext_eq e = {m, raw};
+    return root_bisect_increasing(ext_g, &e, raw - half, raw + half);
 }
 
 /* Newton on alpha_d - F(alpha_d) = raw for k <= ESS_COMP_CHUNK raws
