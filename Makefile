@@ -57,18 +57,20 @@ KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_mode
               src/dss/dss_model_batch.c src/dss/dss_score.c src/dss/dss_onboard.c
 KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-trapping-math -fno-builtin-sin -fno-builtin-cos
 
-# Layers, one way: cli -> families (ess, dss) -> core -> util.  Each layer
-# compiles against its own headers and those below it only, so an include
-# that points upward does not build.
+# Layers, one way: cli -> families -> core -> util.  Each layer compiles
+# against its own headers and those below it only, so an include that
+# points upward does not build.  The families are every folder of src/ that
+# is not cli, core or util: adding a family is a folder (src/NAME/ and
+# include/NAME/) and its line in src/core/registry.c, no line here.
+FAMILIES := $(sort $(filter-out cli core util,$(notdir $(patsubst %/,%,$(wildcard src/*/)))))
 LAYER_INC_util := -Iinclude/util
 LAYER_INC_core := $(LAYER_INC_util) -Iinclude/core
-LAYER_INC_ess  := $(LAYER_INC_core) -Iinclude/ess
-LAYER_INC_dss  := $(LAYER_INC_core) -Iinclude/dss
+$(foreach f,$(FAMILIES),$(eval LAYER_INC_$(f) := $$(LAYER_INC_core) -Iinclude/$(f)))
 LAYER_INC_cli  := $(LAYER_INC_core) -Iinclude/cli
-TEST_INC       := $(LAYER_INC_core) -Iinclude/cli -Iinclude/ess -Iinclude/dss -Itests
+TEST_INC       := $(LAYER_INC_core) -Iinclude/cli $(FAMILIES:%=-Iinclude/%) -Itests
 layer_inc = $(LAYER_INC_$(word 2,$(subst /, ,$(1))))
 
-LAYERS   := util core ess dss
+LAYERS   := util core $(FAMILIES)
 MAIN_SRC := $(wildcard src/cli/*.c)
 LIB_SRC  := $(foreach l,$(LAYERS),$(wildcard src/$(l)/*.c))
 TEST_SRC := $(wildcard tests/test_*.c)

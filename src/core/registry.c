@@ -4,13 +4,19 @@
 
 #include <string.h>
 
-extern const sensor_family ess_family;
-extern const sensor_family dss_family;
+/* The families, one line each (F(name): the folder src/name/ defines
+ * `const sensor_family name_family`), in the order the reference config
+ * lists them; the first is sensor.family's default. */
+#define SUNMC_FAMILIES(F) \
+    F(ess)                \
+    F(dss)
 
-/* The families, in the order the reference config lists them (the first is
- * sensor.family's default); empty slots are NULL.  sensor_family_register
- * fills the next one (tests only). */
-static const sensor_family *sensor_families[CONFIG_FAMILIES_MAX] = {&ess_family, &dss_family};
+#define FAMILY_DECLARE(name) extern const sensor_family name##_family;
+#define FAMILY_ENTRY(name) &name##_family,
+SUNMC_FAMILIES(FAMILY_DECLARE)
+
+/* Empty slots are NULL; sensor_family_register fills the next one (tests only). */
+static const sensor_family *sensor_families[CONFIG_FAMILIES_MAX] = {SUNMC_FAMILIES(FAMILY_ENTRY)};
 
 int sensor_family_count(void)
 {
