@@ -26,7 +26,7 @@
 #include "test_tsv.h"
 
 #include "ess_calfit.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "params_io.h"
 #include "units.h"
 
@@ -380,7 +380,7 @@ static void dss_files(void **state)
                      SUNMC_OK);
     assert_int_equal(params_get_double(&pf, "parameters", "fit_sun_b2_arcsec", &sb2, err, sizeof err),
                      SUNMC_OK);
-    dss_table_rotation(sb1 * RAD_PER_ARCSEC, sb2 * RAD_PER_ARCSEC, Rs);
+    table_rotation(sb1 * RAD_PER_ARCSEC, sb2 * RAD_PER_ARCSEC, Rs);
     for (int i = 0; i < 3; i++)
         v_sun[i] = Rs[i][2];
     int c1 = csv_col(camp, "b1_deg"), c2 = csv_col(camp, "b2_deg"), cx = csv_col(camp, "x_px");
@@ -410,7 +410,7 @@ static void dss_files(void **state)
          * w = R(b) R(s) e_z, alpha = atan2(w_x, w_z), beta = atan2(w_y, w_z) */
         mat3 Rb;
         double sv[3];
-        dss_table_rotation(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, Rb);
+        table_rotation(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, Rb);
         mat3_vec(Rb, v_sun, sv);
         double a0 = atan2(sv[0], sv[2]), b0 = atan2(sv[1], sv[2]);
         ea[i] = (a * RAD_PER_DEG - a0) * ARCSEC_PER_RAD;

@@ -8,7 +8,7 @@
 #include "config.h"
 #include "csv.h"
 #include "dss_calfit.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "ess_calfit.h"
 #include "ess_unit.h"
 #include "family.h"

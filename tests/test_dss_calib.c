@@ -9,7 +9,7 @@
 #include "dss_calfit.h"
 #include "dss_calib.h"
 #include "dss_model.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_unit.h"
 #include "family.h"
 #include "status.h"
@@ -443,7 +443,7 @@ static void test_polynomial_standard_errors(void **state)
         cw->b2_rad[i] = b2;
         /* a spot near the nominal one, with noise the polynomial cannot fit */
         double a0, be0;
-        dss_table_truth(b1, b2, &a0, &be0);
+        table_truth(b1, b2, &a0, &be0);
         seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
         double e1 = ((double)(seed >> 11) / 9007199254740992.0 - 0.5) * 0.5;
         seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -470,7 +470,7 @@ static void test_polynomial_standard_errors(void **state)
                                                 &bm),
                              SUNMC_OK);
             double a0, be0, t[DSS_POLY_MAX_TERMS], s = cal.poly.scale_rad;
-            dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &be0);
+            table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &be0);
             double u = am / s, v = bm / s;
             const double mono[6] = {1, u, v, u * u, u * v, v * v};
             memcpy(t, mono, sizeof mono);

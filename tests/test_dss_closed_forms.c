@@ -9,7 +9,7 @@
  * pixel-integrated disc); and the calibration model's spot and its exact
  * inverse.
  *
- * Conventions (dss_sensor.h, dss_rotation.h): passive rotations
+ * Conventions (dss_sensor.h, rotation.h): passive rotations
  * Rx(a) = [1 0 0; 0 c s; 0 -s c], Ry(a) = [c 0 -s; 0 1 0; s 0 c],
  * Rz(a) = [c s 0; -s c 0; 0 0 1]; mount M = Ry(c2) Rx(c1) Rz(c3); table
  * R(b) = Ry(b2) Rx(b1); sun in the sensor frame u = M R(b) M^T e_z; truth
@@ -88,7 +88,7 @@ static void ref_spot_mm(const double u[3], double x0, double y0, double H, doubl
     spot[1] = y0 - r * sin(ph);
 }
 
-static void table_truth(double b1, double b2, double *a0, double *b0)
+static void ref_table_truth(double b1, double b2, double *a0, double *b0)
 {
     *a0 = -b2;
     *b0 = atan(tan(b1) / cos(b2));
@@ -236,7 +236,7 @@ static void test_c3_closed_form(void **state)
         for (double b1 = -40; b1 <= 40; b1 += 10)
             for (double b2 = -40; b2 <= 40; b2 += 10) {
                 double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, a0, b0, x, y, am, bm;
-                table_truth(r1, r2, &a0, &b0);
+                ref_table_truth(r1, r2, &a0, &b0);
                 assert_int_equal(dss_sensor_read(&s, r1, r2, NULL, &x, &y), SUNMC_OK);
                 dss_sensor_angles(&s, x, y, &am, &bm);
                 double ta = cos(g) * tan(a0) + sin(g) * tan(b0);
@@ -439,7 +439,7 @@ static void test_model_and_inverse(void **state)
                 assert_near(got[0], want[0] / pix, 1e-9);
                 assert_near(got[1], want[1] / pix, 1e-9);
                 double a, b, a0, b0;
-                table_truth(r1, r2, &a0, &b0);
+                ref_table_truth(r1, r2, &a0, &b0);
                 if (mounted) {
                     double w[3] = {0, 0, 1};
                     rx(sun[0], w, w);

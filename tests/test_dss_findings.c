@@ -8,7 +8,7 @@
 #include "test_util.h"
 
 #include "config.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_sensor.h"
 #include "status.h"
 #include "units.h"
@@ -25,7 +25,7 @@ static void errors(const sunmc_config *c, const dss_deviations *dev, double a_de
     double x, y, am, bm, a0, b0;
     assert_int_equal(dss_sensor_read(&s, b1, b2, NULL, &x, &y), SUNMC_OK);
     dss_sensor_angles(&s, x, y, &am, &bm);
-    dss_table_truth(b1, b2, &a0, &b0);
+    table_truth(b1, b2, &a0, &b0);
     assert_near(a0, a_deg * RAD_PER_DEG, 1e-14);
     assert_near(b0, b_deg * RAD_PER_DEG, 1e-14);
     *ea = (am - a0) * ARCSEC_PER_RAD;

@@ -3,8 +3,8 @@
 #include "test_util.h"
 
 #include "dss_centroid.h"
-#include "dss_optics.h"
-#include "dss_rotation.h"
+#include "optics.h"
+#include "rotation.h"
 #include "status.h"
 #include "units.h"
 
@@ -25,10 +25,10 @@ static void test_zxy_is_product(void **state)
     for (size_t k = 0; k < N_SETS; k++) {
         double tx = angle_sets[k][0], ty = angle_sets[k][1], tz = angle_sets[k][2];
         mat3 c, rx, ry, rz, t, p;
-        dss_zxy(tx, ty, tz, c);
-        dss_rot_x(tx, rx);
-        dss_rot_y(ty, ry);
-        dss_rot_z(tz, rz);
+        rot_zxy(tx, ty, tz, c);
+        rot_x(tx, rx);
+        rot_y(ty, ry);
+        rot_z(tz, rz);
         mat3_mul(rx, rz, t);
         mat3_mul(ry, t, p);
         assert_mat_near(c, p, 1e-15);
@@ -40,7 +40,7 @@ static void test_zxy_orthonormal(void **state)
 {
     for (size_t k = 0; k < N_SETS; k++) {
         mat3 c, ct, p;
-        dss_zxy(angle_sets[k][0], angle_sets[k][1], angle_sets[k][2], c);
+        rot_zxy(angle_sets[k][0], angle_sets[k][1], angle_sets[k][2], c);
         mat3_transpose(c, ct);
         mat3_mul(c, ct, p);
         for (int i = 0; i < 3; i++)
@@ -61,14 +61,14 @@ static void test_zxy_order(void **state)
 {
     double tx = 0.4, ty = -0.3, tz = 0.7;
     mat3 c, rx, ry, rz, t, other;
-    dss_zxy(tx, ty, tz, c);
-    dss_rot_x(tx, rx);
-    dss_rot_y(ty, ry);
-    dss_rot_z(tz, rz);
+    rot_zxy(tx, ty, tz, c);
+    rot_x(tx, rx);
+    rot_y(ty, ry);
+    rot_z(tz, rz);
     /* The final frame's Y axis, expressed in the old frame, is row 2 of C
      * and does not depend on ty. */
     mat3 c0;
-    dss_zxy(tx, 0.0, tz, c0);
+    rot_zxy(tx, 0.0, tz, c0);
     for (int j = 0; j < 3; j++)
         assert_near(c[1][j], c0[1][j], 1e-15);
     /* yxz order differs. */
@@ -80,11 +80,11 @@ static void test_zxy_order(void **state)
             diff = fmax(diff, fabs(other[i][j] - c[i][j]));
     assert_true(diff > 0.05);
     mat3 e;
-    dss_zxy(tx, 0, 0, e);
+    rot_zxy(tx, 0, 0, e);
     assert_mat_near(e, rx, 0);
-    dss_zxy(0, ty, 0, e);
+    rot_zxy(0, ty, 0, e);
     assert_mat_near(e, ry, 0);
-    dss_zxy(0, 0, tz, e);
+    rot_zxy(0, 0, tz, e);
     assert_mat_near(e, rz, 0);
     double z[3] = {0, 0, 1}, v[3];
     mat3_vec(rx, z, v);
@@ -99,14 +99,14 @@ static void test_zxy_derivatives(void **state)
     for (size_t k = 0; k < N_SETS; k++) {
         double a[3] = {angle_sets[k][0], angle_sets[k][1], angle_sets[k][2]};
         mat3 d[3];
-        dss_zxy_deriv(a[0], a[1], a[2], d[0], d[1], d[2]);
+        rot_zxy_deriv(a[0], a[1], a[2], d[0], d[1], d[2]);
         for (int w = 0; w < 3; w++) {
             double ap[3] = {a[0], a[1], a[2]}, am[3] = {a[0], a[1], a[2]};
             ap[w] += h;
             am[w] -= h;
             mat3 cp, cm, num;
-            dss_zxy(ap[0], ap[1], ap[2], cp);
-            dss_zxy(am[0], am[1], am[2], cm);
+            rot_zxy(ap[0], ap[1], ap[2], cp);
+            rot_zxy(am[0], am[1], am[2], cm);
             for (int i = 0; i < 3; i++)
                 for (int j = 0; j < 3; j++)
                     num[i][j] = (cp[i][j] - cm[i][j]) / (2 * h);
@@ -123,55 +123,55 @@ static void test_table_truth(void **state)
         for (double b2 = -60; b2 <= 60; b2 += 7.5) {
             double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG;
             mat3 R;
-            dss_table_rotation(r1, r2, R);
+            table_rotation(r1, r2, R);
             double z[3] = {0, 0, 1}, u[3];
             mat3_vec(R, z, u);
             assert_near(u[0], -sin(r2) * cos(r1), 1e-15);
             assert_near(u[1], sin(r1), 1e-15);
             assert_near(u[2], cos(r1) * cos(r2), 1e-15);
             double a, b, a0, b0;
-            dss_angles_of(u, &a, &b);
-            dss_table_truth(r1, r2, &a0, &b0);
+            sun_angles_of(u, &a, &b);
+            table_truth(r1, r2, &a0, &b0);
             assert_near(a0, -r2, 0);
             assert_near(a, a0, 1e-14);
             assert_near(b, b0, 1e-14);
         }
 }
 
-/* dss_table_solve inverts R(b) v = w; and fails for an unreachable w. */
+/* table_solve inverts R(b) v = w; and fails for an unreachable w. */
 static void test_table_solve(void **state)
 {
     mat3 M;
-    dss_zxy(3e-4, -2e-4, 5e-4, M);
+    rot_zxy(3e-4, -2e-4, 5e-4, M);
     double v[3] = {M[2][0], M[2][1], M[2][2]};
     for (double b1 = -55; b1 <= 55; b1 += 11)
         for (double b2 = -55; b2 <= 55; b2 += 11) {
             mat3 R;
             double w[3], s1, s2;
-            dss_table_rotation(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, R);
+            table_rotation(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, R);
             mat3_vec(R, v, w);
-            assert_int_equal(dss_table_solve(v, w, &s1, &s2), SUNMC_OK);
+            assert_int_equal(table_solve(v, w, &s1, &s2), SUNMC_OK);
             assert_near(s1, b1 * RAD_PER_DEG, 1e-12);
             assert_near(s2, b2 * RAD_PER_DEG, 1e-12);
         }
     double vx[3] = {0.8, 0, 0.6}, wy[3] = {0, 1, 0}, s1, s2;
-    assert_int_equal(dss_table_solve(vx, wy, &s1, &s2), SUNMC_EDOM);
+    assert_int_equal(table_solve(vx, wy, &s1, &s2), SUNMC_EDOM);
 }
 
 /* Angle between vectors: small angles to full precision. */
 static void test_angle_between(void **state)
 {
     double u[3], v[3];
-    dss_vector_of(0.3, -0.2, u);
-    dss_vector_of(0.3 + 1e-9, -0.2, v);
-    double e = dss_angle_between(u, v);
+    sun_vector_of(0.3, -0.2, u);
+    sun_vector_of(0.3 + 1e-9, -0.2, v);
+    double e = angle_between(u, v);
     /* d(direction)/d(alpha) at (alpha, beta): |d u / d alpha| */
     double h = 1e-6, up[3];
-    dss_vector_of(0.3 + h, -0.2, up);
-    double rate = dss_angle_between(u, up) / h;
+    sun_vector_of(0.3 + h, -0.2, up);
+    double rate = angle_between(u, up) / h;
     assert_near(e, 1e-9 * rate, 1e-15); /* acos of the dot product would be off by ~1e-8 */
     double a, b;
-    dss_angles_of(u, &a, &b);
+    sun_angles_of(u, &a, &b);
     assert_near(a, 0.3, 1e-15);
     assert_near(b, -0.2, 1e-15);
 }
@@ -195,26 +195,26 @@ static void test_optics_trace(void **state)
             double T = th * RAD_PER_DEG, F = phi * RAD_PER_DEG;
             double u[3] = {sin(T) * cos(F), sin(T) * sin(F), cos(T)};
             double s0[2], s1[2], s2[2], s3[2];
-            assert_int_equal(dss_optics_trace(u, P, 0.0, t, n, s0), SUNMC_OK);
-            assert_int_equal(dss_optics_trace(u, P, 1.7, t, n, s1), SUNMC_OK);
+            assert_int_equal(optics_trace(u, P, 0.0, t, n, s0), SUNMC_OK);
+            assert_int_equal(optics_trace(u, P, 1.7, t, n, s1), SUNMC_OK);
             double r = radial_mm(T, P[2], t, n);
             assert_near(s0[0], P[0] - r * cos(F), 1e-12);
             assert_near(s0[1], P[1] - r * sin(F), 1e-12);
             assert_near(s1[0], s0[0], 1e-12);
             assert_near(s1[1], s0[1], 1e-12);
-            double q = dss_optics_q(u, P[2], t, n, NULL);
+            double q = optics_q(u, P[2], t, n, NULL);
             assert_near(s0[0], P[0] - u[0] * q, 1e-12);
             assert_near(s0[1], P[1] - u[1] * q, 1e-12);
-            assert_int_equal(dss_optics_trace(u, P, 0.0, 0.0, n, s2), SUNMC_OK);
-            assert_int_equal(dss_optics_trace(u, P, 0.5, t, 1.0, s3), SUNMC_OK);
+            assert_int_equal(optics_trace(u, P, 0.0, 0.0, n, s2), SUNMC_OK);
+            assert_int_equal(optics_trace(u, P, 0.5, t, 1.0, s3), SUNMC_OK);
             assert_near(s2[0], P[0] - P[2] * tan(T) * cos(F), 1e-12);
             assert_near(s3[0], s2[0], 1e-12);
             assert_near(s3[1], s2[1], 1e-12);
         }
     /* The glass pulls the spot in: at 60 deg, by t (tan 60 - tan asin(sin 60 / n)). */
     double u60[3] = {sin(M_PI / 3), 0, cos(M_PI / 3)}, sg[2], sn[2];
-    dss_optics_trace(u60, P, 0, t, n, sg);
-    dss_optics_trace(u60, P, 0, 0, n, sn);
+    optics_trace(u60, P, 0, t, n, sg);
+    optics_trace(u60, P, 0, 0, n, sn);
     assert_near(sg[0] - sn[0], t * (tan(M_PI / 3) - tan(asin(sin(M_PI / 3) / n))), 1e-12);
 }
 
@@ -224,29 +224,29 @@ static void test_optics_errors(void **state)
     const double P[3] = {0, 0, 3};
     double s[2], th;
     double below[3] = {0.6, 0, -0.8}, grazing[3] = {1, 0, 0}, up[3] = {0, 0, 1};
-    assert_int_equal(dss_optics_trace(below, P, 0, 0.4, 1.5, s), SUNMC_EDOM);
-    assert_int_equal(dss_optics_trace(grazing, P, 0, 0.4, 1.5, s), SUNMC_EDOM);
-    assert_int_equal(dss_optics_trace(up, P, 2.9, 0.4, 1.5, s), SUNMC_EDOM);
-    assert_int_equal(dss_optics_trace(up, P, -0.1, 0.4, 1.5, s), SUNMC_EDOM);
-    assert_int_equal(dss_optics_field_angle(1e6, 3, 0.4, 1.5, &th), SUNMC_EDOM);
+    assert_int_equal(optics_trace(below, P, 0, 0.4, 1.5, s), SUNMC_EDOM);
+    assert_int_equal(optics_trace(grazing, P, 0, 0.4, 1.5, s), SUNMC_EDOM);
+    assert_int_equal(optics_trace(up, P, 2.9, 0.4, 1.5, s), SUNMC_EDOM);
+    assert_int_equal(optics_trace(up, P, -0.1, 0.4, 1.5, s), SUNMC_EDOM);
+    assert_int_equal(optics_field_angle(1e6, 3, 0.4, 1.5, &th), SUNMC_EDOM);
 }
 
 /* The closed form's gradient against central differences. */
 static void test_optics_gradient(void **state)
 {
-    double u[3] = {0.5, -0.3, 0}, g[DSS_OPTICS_NGRAD];
+    double u[3] = {0.5, -0.3, 0}, g[OPTICS_NGRAD];
     u[2] = sqrt(1 - u[0] * u[0] - u[1] * u[1]);
-    double x[DSS_OPTICS_NGRAD] = {u[0], u[1], u[2], 3.0, 0.4, 1.52};
-    dss_optics_q(u, 3.0, 0.4, 1.52, g);
+    double x[OPTICS_NGRAD] = {u[0], u[1], u[2], 3.0, 0.4, 1.52};
+    optics_q(u, 3.0, 0.4, 1.52, g);
     const double h = 1e-6;
-    for (int k = 0; k < DSS_OPTICS_NGRAD; k++) {
-        double xp[DSS_OPTICS_NGRAD], xm[DSS_OPTICS_NGRAD];
+    for (int k = 0; k < OPTICS_NGRAD; k++) {
+        double xp[OPTICS_NGRAD], xm[OPTICS_NGRAD];
         memcpy(xp, x, sizeof x);
         memcpy(xm, x, sizeof x);
         xp[k] += h;
         xm[k] -= h;
-        double qp = dss_optics_q(xp, xp[3], xp[4], xp[5], NULL);
-        double qm = dss_optics_q(xm, xm[3], xm[4], xm[5], NULL);
+        double qp = optics_q(xp, xp[3], xp[4], xp[5], NULL);
+        double qm = optics_q(xm, xm[3], xm[4], xm[5], NULL);
         assert_near(g[k], (qp - qm) / (2 * h), 1e-7);
     }
 }
@@ -256,7 +256,7 @@ static void test_field_angle_inverse(void **state)
 {
     for (double th = 0; th <= 75; th += 2.5) {
         double T = th * RAD_PER_DEG, got;
-        assert_int_equal(dss_optics_field_angle(radial_mm(T, 3.0, 0.4, 1.52), 3.0, 0.4, 1.52, &got),
+        assert_int_equal(optics_field_angle(radial_mm(T, 3.0, 0.4, 1.52), 3.0, 0.4, 1.52, &got),
                          SUNMC_OK);
         assert_near(got, T, 1e-12);
     }

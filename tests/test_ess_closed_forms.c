@@ -613,7 +613,8 @@ static double ref_structural(const ref_model *r, double T)
     return ad - r->ks * sin(r->omega * ad) - r->kc * cos(r->omega * ad);
 }
 
-/* s = rot_x(roll) rot_y(iy) rot_z(iz) rot_x(alpha) rot_y(beta) rot_y(sx) rot_x(sy) e_z */
+/* s = rot_x(roll) rot_y(-iy) rot_z(iz) rot_x(alpha) rot_y(-beta) rot_y(-sx) rot_x(sy) e_z
+ * (rotation.h's passive rot_y; these angles turn the sensor, the active way) */
 static double ref_predict(const ref_model *r, double alpha, double beta)
 {
     double v[3] = {0, 0, 1};

@@ -282,7 +282,7 @@ static void test_turntable_truth_tilted(void **state)
     ess_unit_build(&c, &dev, &u);
     mat3 rx, ry, rz, ta, tb, t1, t2, R;
     rot_x(900 * RAD_PER_ARCSEC, rx);
-    rot_y(-1500 * RAD_PER_ARCSEC, ry);
+    rot_y(1500 * RAD_PER_ARCSEC, ry); /* install_y -1500, active */
     rot_z(2400 * RAD_PER_ARCSEC, rz);
     mat3_mul(rx, ry, t1);
     mat3_mul(t1, rz, R);
@@ -292,7 +292,7 @@ static void test_turntable_truth_tilted(void **state)
     for (double a = -50; a <= 50; a += 12.5)
         for (double b = -30; b <= 30; b += 15) {
             rot_x(a * RAD_PER_DEG, ta);
-            rot_y(b * RAD_PER_DEG, tb);
+            rot_y(-b * RAD_PER_DEG, tb);
             mat3_mul(ta, tb, t1);
             mat3_mul(R, t1, t2);
             double s[3];

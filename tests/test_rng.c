@@ -148,11 +148,16 @@ static void test_rotations(void **state)
             for (int j = 0; j < 3; j++)
                 assert_near(d[i][j], (rp[i][j] - rm[i][j]) / 2e-6, 1e-9);
     }
-    /* rot_x(alpha) rot_y(beta) (0,0,1) = (sin b, cos b sin a, cos b cos a) */
+    /* passive: rot_y(a) (0,0,1) = (-sin a, 0, cos a), so
+     * rot_x(alpha) rot_y(-beta) (0,0,1) = (sin b, cos b sin a, cos b cos a) */
     double v[3] = {0, 0, 1}, w[3];
     mat3 rx, ry, m;
+    rot_y(0.3, ry);
+    mat3_vec(ry, v, w);
+    assert_near(w[0], -sin(0.3), 1e-15);
+    assert_near(w[2], cos(0.3), 1e-15);
     rot_x(0.4, rx);
-    rot_y(-0.2, ry);
+    rot_y(0.2, ry);
     mat3_mul(rx, ry, m);
     mat3_vec(m, v, w);
     assert_near(w[0], sin(-0.2), 1e-15);

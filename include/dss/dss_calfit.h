@@ -5,7 +5,7 @@
  * cross-validation by grid quadrant) and params.ini for `compensate`.
  *
  * Residual of a reading: compensated (alpha, beta) minus the recorded
- * table's truth angles (dss_table_truth), arcsec, banded on the field angle
+ * table's truth angles (table_truth), arcsec, banded on the field angle
  * atan(hypot(tan alpha, tan beta)) as in the Monte Carlo.
  */
 #ifndef SUNMC_DSS_CALFIT_H

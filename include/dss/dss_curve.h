@@ -6,7 +6,7 @@
  * The map's axes are the sun angles of the DSS paper's figures, i.e. the
  * truth (alpha0, beta0) of eq. 3-4, not the table angles: a grid point
  * (alpha, beta) is reached with the table at b2 = -alpha,
- * b1 = atan(tan beta cos b2) (the inverse of dss_table_truth).  Both axes
+ * b1 = atan(tan beta cos b2) (the inverse of table_truth).  Both axes
  * take the validation grid's values: validation.b_min_deg + b_offset_deg +
  * j b_step_deg up to b_max_deg.  Points whose spot leaves the detector are
  * not seen (SUNMC_EDOM; NaN in curve.tsv). */

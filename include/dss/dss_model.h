@@ -4,9 +4,9 @@
  *
  * It is the geometry of dss_sensor.h with the as-built quantities as
  * parameters (lengths in mm, angles in rad):
- *     u    = M R(b) v_sun,            M = dss_zxy(c1, c2, c3)
+ *     u    = M R(b) v_sun,            M = rot_zxy(c1, c2, c3)
  *     v_sun = M^T e_z (campaign.mount = aligned) or R(s1, s2) e_z (as_mounted)
- *     spot = (x0, y0) - (ux, uy) q(u; H, t, n)          (dss_optics.h)
+ *     spot = (x0, y0) - (ux, uy) q(u; H, t, n)          (optics.h)
  * and is fitted in pixels.  What the campaign cannot separate (found from
  * the Jacobian's conditioning, see dss_calib.h) is held fixed by the fit;
  * the model itself carries every parameter.
@@ -118,5 +118,12 @@ void dss_model_batch(const dss_model *m, const dss_table *t, const double *x_px,
  * Returns SUNMC_EDOM if any failed. */
 int dss_model_compensate_batch(const dss_model *m, size_t n, const double *x_px,
                                const double *y_px, double *alpha, double *beta, int *status);
+
+/* The same for k <= DSS_CHUNK radial distances at once, by
+ * Newton on arrays (vectorised, dss_model_batch.c: each lane iterates as
+ * one alone would): theta[i], failed[i] = 1 where it did not converge.
+ * Arrays of vm_pad(k) values (vmath.h), r_mm's pads any valid numbers. */
+void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm, double n,
+                           double *theta, long *failed);
 
 #endif

@@ -18,7 +18,7 @@
  * it.  A spot at (x, y) px lies r = pixel_mm hypot(x, y) from the nominal
  * pinhole foot (the detector centre); the field angle theta solves
  * r = (h - t) tan(theta) + t tan(theta_g), sin(theta_g) = sin(theta) / n
- * (dss_optics_field_angle), and the sun is u = (-x/r sin theta, -y/r sin
+ * (optics_field_angle), and the sun is u = (-x/r sin theta, -y/r sin
  * theta, cos theta): alpha = atan(-x tan(theta) / r), likewise beta.  With
  * glass_t_mm = 0 this is eq. 9-10 exactly, alpha = atan(-x pixel_mm / h). */
 typedef struct {

@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-/* The table's truth angles (eq. 3-4, dss_table_truth) of k positions. */
+/* The table's truth angles (eq. 3-4, table_truth) of k positions. */
 void dss_table_truth_batch(size_t k, const double *b1, const double *b2, double *alpha,
                            double *beta);
 
@@ -22,7 +22,7 @@ void dss_truth_batch(int mount, const double v_sun[3], size_t k, const double *b
 void dss_field_chunk(size_t k, const double *alpha0, const double *beta0, double *field_deg);
 
 /* The angle (rad) between the directions of (alpha, beta) and of
- * (alpha0, beta0): dss_angle_between of their dss_vector_of. */
+ * (alpha0, beta0): angle_between of their sun_vector_of. */
 void dss_total_error_chunk(size_t k, const double *alpha, const double *beta,
                            const double *alpha0, const double *beta0, double *total);
 

@@ -3,7 +3,7 @@
  * on-board formula (DSS paper eq. 9-10) reads.  This generates the data; the
  * calibration models (dss_model.h, dss_poly.h) only fit them.
  *
- * Frames (rotation conventions in dss_rotation.h):
+ * Frames (rotation conventions in rotation.h):
  *  - Sensor frame b: origin at the detector centre, which the on-board
  *    formula takes as principal point; X along the pixel rows, Y along the
  *    columns, Z the detector normal toward the mask.  Spot coordinates
@@ -13,7 +13,7 @@
  *    all in pixels as in the DSS paper.  The cover glass has thickness
  *    t + dt and index n + dn.
  *  - The sensor is mounted on the table top rotated by zxy (c1 about X, c2
- *    about Y, c3 about Z): M = dss_zxy(c1, c2, c3) takes table-top vectors
+ *    about Y, c3 about Z): M = rot_zxy(c1, c2, c3) takes table-top vectors
  *    into frame b.  The sun simulator's direction in the table's base
  *    frame is v_sun, and at table angles b the sun in frame b is
  *        u = M R(b) v_sun                       (general lab geometry).

@@ -3,9 +3,11 @@
  * derivatives and the exact inverse used for compensation.
  *
  * Forward model of the raw output for turntable angles (alpha, beta):
- *     s       = R_inst rot_x(alpha) rot_y(beta) v_sun            (unit vector)
- *     R_inst  = rot_x(roll) rot_y(inst_y) rot_z(inst_z)
- *     v_sun   = rot_y(sun_x) rot_x(sun_y) (0, 0, 1)
+ *     s       = R_inst rot_x(alpha) rot_y(-beta) v_sun           (unit vector)
+ *     R_inst  = rot_x(roll) rot_y(-inst_y) rot_z(inst_z)
+ *     v_sun   = rot_y(-sun_x) rot_x(sun_y) (0, 0, 1)
+ * (rotation.h's passive rotations; the table's beta, inst_y and sun_x turn
+ * the sensor or the sun about Y the active way, hence their minus signs)
  *     T       = s_y / s_z                         = tan(incidence alpha)
  *     alpha_d = atan((a T + b) / (c T + d))       eq. 12 with d = 1
  *     raw     = alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d)
@@ -106,12 +108,12 @@ double ess_model_structural(const ess_model *m, double T);
 double ess_model_predict(const ess_model *m, double alpha_rad, double beta_rad,
                          double grad[ESS_NP_MAX]);
 
-/* The same from the turntable matrix M = rot_x(alpha) rot_y(beta), which a
+/* The same from the turntable matrix M = rot_x(alpha) rot_y(-beta), which a
  * fit computes once per point (ess_turntable_matrix). */
 double ess_model_predict_m(const ess_model *m, const mat3 M, double grad[ESS_NP_MAX]);
 void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M);
 
-/* Turntable matrices rot_x(alpha) rot_y(beta) of n points, structure of
+/* Turntable matrices rot_x(alpha) rot_y(-beta) of n points, structure of
  * arrays for the batch forms: m[3 r + c][i] = M_i[r][c].  Every array
  * holds vm_pad(n) values (vmath.h). */
 typedef struct {

@@ -1,7 +1,7 @@
-/* dss_optics.h - where the sun spot falls: a pinhole over a detector with a
+/* optics.h - where the sun spot falls: a pinhole over a detector with a
  * plane-parallel cover glass between them, traced with Snell's law.
  *
- * Frame: the sensor frame b of dss_sensor.h; the detector is the plane z = 0,
+ * Frame: the sensor frame (DSS: b of dss_sensor.h); the detector is the plane z = 0,
  * lengths in mm.  The pinhole is at (x0, y0, H); the glass of thickness t
  * and index n fills gap <= z <= gap + t (gap + t <= H).  u is the unit vector
  * toward the sun (u[2] > 0); light travels along -u.
@@ -12,11 +12,11 @@
  *     spot = (x0, y0) - (ux, uy) q,   q = (H - t)/uz + t / sqrt(n^2 - s^2),
  * independent of the gap: a plane-parallel plate shifts the ray by the same
  * amount wherever it sits between pinhole and detector (so there is no gap
- * key).  dss_optics_trace does the ray trace with the vector form of Snell's
- * law; the calibration model uses dss_optics_q; a test checks they agree.
+ * key).  optics_trace does the ray trace with the vector form of Snell's
+ * law; the calibration model uses optics_q; a test checks they agree.
  */
-#ifndef SUNMC_DSS_OPTICS_H
-#define SUNMC_DSS_OPTICS_H
+#ifndef SUNMC_OPTICS_H
+#define SUNMC_OPTICS_H
 
 #include <stddef.h>
 
@@ -24,26 +24,19 @@
  * glass (gap_mm, t_mm, index n) to the detector: spot_mm[2].  SUNMC_EDOM when
  * the sun is at or below the horizon, or the glass does not fit under the
  * pinhole. */
-int dss_optics_trace(const double u[3], const double pinhole_mm[3], double gap_mm, double t_mm,
+int optics_trace(const double u[3], const double pinhole_mm[3], double gap_mm, double t_mm,
                      double n, double spot_mm[2]);
 
 /* q of the closed form (mm per unit of u_xy) and, if grad != NULL, its
  * partial derivatives: grad[0..2] by (ux, uy, uz) taken as independent,
  * grad[3] by H, grad[4] by t, grad[5] by n.  u[2] > 0 and n > s assumed. */
-#define DSS_OPTICS_NGRAD 6
-double dss_optics_q(const double u[3], double H_mm, double t_mm, double n,
-                    double grad[DSS_OPTICS_NGRAD]);
+#define OPTICS_NGRAD 6
+double optics_q(const double u[3], double H_mm, double t_mm, double n,
+                    double grad[OPTICS_NGRAD]);
 
 /* Field angle theta (rad) of a spot at radial distance r_mm from the pinhole's
  * foot: the inverse of r = (H - t) tan(theta) + t tan(theta_g), by Newton's
  * method (r is monotonic in theta).  SUNMC_EDOM if it does not converge. */
-int dss_optics_field_angle(double r_mm, double H_mm, double t_mm, double n, double *theta);
-
-/* The same for k <= DSS_CHUNK (dss_model.h) radial distances at once, by
- * Newton on arrays (vectorised, dss_model_batch.c: each lane iterates as
- * one alone would): theta[i], failed[i] = 1 where it did not converge.
- * Arrays of vm_pad(k) values (vmath.h), r_mm's pads any valid numbers. */
-void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm, double n,
-                           double *theta, long *failed);
+int optics_field_angle(double r_mm, double H_mm, double t_mm, double n, double *theta);
 
 #endif

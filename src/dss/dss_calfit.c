@@ -1,7 +1,7 @@
 /* dss_calfit.c - `sunmc calibrate` of a DSS: dss_calibrate plus the
  * report and params.ini. */
 #include "dss_calfit.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "family.h"
 #include "lab.h"
 #include "status.h"
@@ -275,7 +275,7 @@ static int poly_covariance(const dss_calib_workspace *cw, const dss_calibration 
             dss_onboard_angles(&q->onboard, cw->x_px[i], cw->y_px[i], &am, &bm) != SUNMC_OK)
             continue;
         const double *t = cw->basis + i * (size_t)nt;
-        dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0); /* the polynomial's truth */
+        table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0); /* the polynomial's truth */
         double ra = am - a0, rb = bm - b0;
         for (int k = 0; k < nt; k++) {
             ra += q->ca[k] * t[k];

@@ -1,6 +1,6 @@
 /* dss_calib.c - fitting the DSS calibration models (see dss_calib.h). */
 #include "dss_calib.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_score.h"
 #include "dss_sensor.h"
 #include "status.h"
@@ -57,7 +57,7 @@ void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *a
     if (cal->kind == DSS_MODEL_PHYSICAL)
         dss_model_truth(&cal->phys, b1, b2, alpha, beta);
     else
-        dss_table_truth(b1, b2, alpha, beta);
+        table_truth(b1, b2, alpha, beta);
 }
 
 void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b1,
@@ -275,7 +275,7 @@ static int calibrate_poly(dss_calib_workspace *cw, int max_iter, dss_calibration
             if (!(cw->weight[i] > 0) ||
                 dss_onboard_angles(&p->onboard, cw->x_px[i], cw->y_px[i], &am, &bm) != SUNMC_OK)
                 continue;
-            dss_table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+            table_truth(cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
             cw->target[i] = axis == 0 ? a0 - am : b0 - bm;
         }
         double x[DSS_POLY_MAX_TERMS] = {0};

@@ -1,6 +1,6 @@
 /* dss_curve.c - one DSS unit's error maps (the family's curve hooks). */
 #include "dss_curve.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_unit.h"
 #include "status.h"
 #include "units.h"
@@ -98,11 +98,11 @@ int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
 static void errors_of(double a, double b, double a0, double b0, double out[UNIT_MAX_ANGLES])
 {
     double u[3], v[3];
-    dss_vector_of(a, b, u);
-    dss_vector_of(a0, b0, v);
+    sun_vector_of(a, b, u);
+    sun_vector_of(a0, b0, v);
     out[CURVE_ALPHA] = (a - a0) * ARCSEC_PER_RAD;
     out[CURVE_BETA] = (b - b0) * ARCSEC_PER_RAD;
-    out[CURVE_TOTAL] = dss_angle_between(u, v) * ARCSEC_PER_RAD;
+    out[CURVE_TOTAL] = angle_between(u, v) * ARCSEC_PER_RAD;
 }
 
 int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,

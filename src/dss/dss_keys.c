@@ -8,7 +8,7 @@
 #include "dss_config.h"
 #include "dss_model.h"
 #include "dss_poly.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_unit.h"
 #include "family.h"
 #include "status.h"
@@ -188,7 +188,7 @@ static int band_check(const sunmc_config *c, char *err, size_t errlen)
             double b1 = d->val_b_min_deg + d->val_b_offset_deg + (double)j1 * d->val_b_step_deg;
             double b2 = d->val_b_min_deg + d->val_b_offset_deg + (double)j2 * d->val_b_step_deg;
             double a0, b0;
-            dss_table_truth(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, &a0, &b0);
+            table_truth(b1 * RAD_PER_DEG, b2 * RAD_PER_DEG, &a0, &b0);
             double f = dss_field_angle_deg(a0, b0);
             band_acc_add(&acc, &c->bands_deg, f, 0);
             max_abs = fmax(max_abs, f);

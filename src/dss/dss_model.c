@@ -1,7 +1,7 @@
 /* dss_model.c - the physical DSS calibration model (see dss_model.h). */
 #include "dss_model.h"
 #include "dss_lane.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_sensor.h"
 #include "status.h"
 #include "units.h"
@@ -53,8 +53,8 @@ void dss_model_init(dss_model *m, const dss_design *d)
 void dss_model_prepare(dss_model *m)
 {
     double c1 = m->p[DSS_P_C1], c2 = m->p[DSS_P_C2], c3 = m->p[DSS_P_C3];
-    dss_zxy(c1, c2, c3, m->M);
-    dss_zxy_deriv(c1, c2, c3, m->dM[0], m->dM[1], m->dM[2]);
+    rot_zxy(c1, c2, c3, m->M);
+    rot_zxy_deriv(c1, c2, c3, m->dM[0], m->dM[1], m->dM[2]);
     double s1 = m->p[DSS_P_S1], s2 = m->p[DSS_P_S2];
     dss_sun_direction(m->mount, m->M, s1, s2, m->v0);
     memset(m->dv0, 0, sizeof m->dv0);
@@ -64,9 +64,9 @@ void dss_model_prepare(dss_model *m)
             for (int i = 0; i < 3; i++)
                 m->dv0[k][i] = m->dM[k][2][i];
     } else {
-        /* v = R(s1, s2) e_z, the third column of dss_zxy(s1, s2, 0) */
+        /* v = R(s1, s2) e_z, the third column of rot_zxy(s1, s2, 0) */
         mat3 d1, d2, d3;
-        dss_zxy_deriv(s1, s2, 0.0, d1, d2, d3);
+        rot_zxy_deriv(s1, s2, 0.0, d1, d2, d3);
         for (int i = 0; i < 3; i++) {
             m->dv0[3][i] = d1[i][2];
             m->dv0[4][i] = d2[i][2];
@@ -77,7 +77,7 @@ void dss_model_prepare(dss_model *m)
 VM_NOSAN int dss_model_spot(const dss_model *m, double b1, double b2, double spot_px[2],
                             double J[2][DSS_NP])
 {
-    dss_lane_model e = dss_lane_model_spot(m, dss_lane_table_of(b1, b2), J != NULL);
+    dss_lane_model e = dss_lane_model_spot(m, geo_table_of(b1, b2), J != NULL);
     if (!e.ok)
         return SUNMC_EDOM;
     spot_px[0] = e.x;

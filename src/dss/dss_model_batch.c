@@ -19,7 +19,7 @@ VM_KERNEL void dss_table_fill(dss_table *t, const double *b1_rad, const double *
     double *restrict m3 = t->m[3], *restrict m4 = t->m[4], *restrict m5 = t->m[5];
     double *restrict m6 = t->m[6], *restrict m7 = t->m[7], *restrict m8 = t->m[8];
     VM_SIMD for (size_t i = 0; i < vm_pad(t->n); i++) {
-        dss_lane_table R = dss_lane_table_of(b1_rad[i], b2_rad[i]);
+        geo_table R = geo_table_of(b1_rad[i], b2_rad[i]);
         m0[i] = R.r00;
         m1[i] = R.r01;
         m2[i] = R.r02;
@@ -43,7 +43,7 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
     double *jc1 = col[DSS_P_C1], *jc2 = col[DSS_P_C2], *jc3 = col[DSS_P_C3], *jn = col[DSS_P_N];
     double *js1 = col[DSS_P_S1], *js2 = col[DSS_P_S2];
     VM_SIMD for (size_t i = 0; i < vm_pad(t->n); i++) {
-        dss_lane_table R = {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]};
+        geo_table R = {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]};
         dss_lane_model e = dss_lane_model_spot(m, R, 1);
         /* a dropped or unmodelled point gives 0, whatever the model says there */
         double w = sw[i];
@@ -77,7 +77,7 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
                                      double n, double *theta, long *failed)
 {
     /* A lane without a finite distance (a spot the campaign did not see is
-     * NaN) fails at once, as it would after DSS_FIELD_MAX_ITER steps, and
+     * NaN) fails at once, as it would after OPTICS_FIELD_MAX_ITER steps, and
      * iterates on 0 meanwhile: it neither holds its chunk for the whole
      * budget nor sends the vector sine and cosine to their slow path. */
     _Alignas(VM_ALIGN) double th[DSS_CHUNK], r[DSS_CHUNK];
@@ -86,19 +86,19 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         bad[i] = (long)!(fabs(r_mm[i]) <= DBL_MAX);
         r[i] = vm_keep(!bad[i], r_mm[i]);
-        th[i] = dss_lane_field_start(r[i], H_mm, t_mm, n);
+        th[i] = optics_lane_field_start(r[i], H_mm, t_mm, n);
         active[i] = !bad[i];
     }
     long left = 0;
     for (size_t i = 0; i < kp; i++)
         left += active[i];
-    for (int it = 0; it < DSS_FIELD_MAX_ITER && left > 0; it++) {
+    for (int it = 0; it < OPTICS_FIELD_MAX_ITER && left > 0; it++) {
         left = 0;
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             double step;
-            double next = dss_lane_field_step(r[i], H_mm, t_mm, n, th[i], &step);
+            double next = optics_lane_field_step(r[i], H_mm, t_mm, n, th[i], &step);
             th[i] = vm_select(active[i] != 0, next, th[i]);
-            active[i] = active[i] & (long)!(fabs(step) < DSS_FIELD_TOL_RAD);
+            active[i] = active[i] & (long)!(fabs(step) < OPTICS_FIELD_TOL_RAD);
         }
         for (size_t i = 0; i < kp; i++)
             left += active[i];
@@ -110,7 +110,7 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
 }
 
 /* Compensation of k <= DSS_CHUNK spots at once (padded lanes): every lane
- * iterates until its own Newton step is below DSS_FIELD_TOL_RAD, exactly
+ * iterates until its own Newton step is below OPTICS_FIELD_TOL_RAD, exactly
  * as one spot alone would; then the table solve.  status[i]: SUNMC_OK or
  * SUNMC_EDOM. */
 VM_KERNEL static void compensate_chunk(const dss_model *m, size_t k, const double *x_px,

@@ -3,7 +3,7 @@
  * chunk of one, so it gives the same bits however it is asked for. */
 #include "dss_onboard.h"
 #include "dss_lane.h"
-#include "dss_optics.h"
+#include "optics.h"
 #include "status.h"
 #include "units.h"
 #include "vmath.h"

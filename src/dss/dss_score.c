@@ -19,7 +19,7 @@ VM_KERNEL void dss_table_truth_batch(size_t k, const double *b1, const double *b
 VM_KERNEL void dss_truth_batch(int mount, const double v_sun[3], size_t k, const double *b1,
                                const double *b2, double *alpha, double *beta)
 {
-    dss_v3 v = dss_lane_v3_of(v_sun);
+    geo_v3 v = geo_v3_of(v_sun);
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
         dss_lane_ab t = dss_lane_truth(mount, v, b1[i], b2[i]);
         alpha[i] = t.alpha;
@@ -38,8 +38,8 @@ VM_KERNEL void dss_total_error_chunk(size_t k, const double *alpha, const double
                                      const double *alpha0, const double *beta0, double *total)
 {
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
-        dss_v3 u = dss_lane_vector_of(tan(alpha[i]), tan(beta[i]));
-        dss_v3 v = dss_lane_vector_of(tan(alpha0[i]), tan(beta0[i]));
+        geo_v3 u = dss_lane_vector_of(tan(alpha[i]), tan(beta[i]));
+        geo_v3 v = dss_lane_vector_of(tan(alpha0[i]), tan(beta0[i]));
         total[i] = dss_lane_angle_between(u, v);
     }
 }

@@ -3,7 +3,7 @@
 #include "dss_sensor.h"
 #include "dss_lane.h"
 #include "dss_score.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "family.h"
 #include "rng.h"
 #include "status.h"
@@ -64,7 +64,7 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     s->pinhole_mm[2] = d->h_mm + dev->dh_px * s->pixel_mm;
     s->glass_t_mm = d->glass_thickness_mm + dev->glass_thickness_um * MM_PER_UM;
     s->glass_n = d->glass_index + dev->glass_index;
-    dss_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
+    rot_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
             dev->c3_arcsec * RAD_PER_ARCSEC, s->M);
     s->mount = d->mount;
     dss_sun_direction(d->mount, s->M, dev->sun_b1_arcsec * RAD_PER_ARCSEC,
@@ -82,7 +82,7 @@ void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, do
         return;
     }
     mat3 S;
-    dss_table_rotation(sun_b1, sun_b2, S);
+    table_rotation(sun_b1, sun_b2, S);
     for (int i = 0; i < 3; i++)
         v[i] = S[i][2]; /* R(s) e_z: the third column */
 }
@@ -108,7 +108,7 @@ void dss_sensor_truth(const dss_sensor *s, double b1, double b2, double *alpha, 
 
 VM_NOSAN void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u[3])
 {
-    dss_v3 v = dss_lane_sun(s, b1, b2);
+    geo_v3 v = dss_lane_sun(s, b1, b2);
     u[0] = v.x;
     u[1] = v.y;
     u[2] = v.z;
@@ -117,7 +117,7 @@ VM_NOSAN void dss_sensor_sun(const dss_sensor *s, double b1, double b2, double u
 VM_NOSAN int dss_sensor_spot(const dss_sensor *s, const double u[3], const double noise_px[2],
                              double *x_px, double *y_px)
 {
-    dss_lane_spot sp = dss_lane_sensor_spot(s, dss_lane_v3_of(u));
+    dss_lane_spot sp = dss_lane_sensor_spot(s, geo_v3_of(u));
     if (!sp.ok)
         return SUNMC_EDOM;
     *x_px = noise_px ? sp.x + noise_px[0] : sp.x;

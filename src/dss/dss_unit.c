@@ -4,7 +4,7 @@
 #include "dss_curve.h"
 #include "dss_lab.h"
 #include "dss_grid.h"
-#include "dss_rotation.h"
+#include "rotation.h"
 #include "dss_score.h"
 #include "family.h"
 #include "rng.h"

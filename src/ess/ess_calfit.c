@@ -75,7 +75,7 @@ int ess_angle_error(const ess_model *m, double alpha_rad, double beta_rad, doubl
 {
     mat3 rx, ry, M;
     rot_x(alpha_rad, rx);
-    rot_y(beta_rad, ry);
+    rot_y(-beta_rad, ry); /* the table turns the sensor: active */
     mat3_mul(rx, ry, M);
     double w[3], s[3], comp;
     mat3_vec(M, m->v, w);

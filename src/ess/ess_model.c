@@ -54,9 +54,14 @@ void ess_model_prepare(ess_model *m)
 {
     mat3 rx, ry, rz, dry, drz, t;
     rot_x(m->roll_rad, rx);
-    rot_y(m->p[ESS_P_INST_Y], ry);
+    /* install_y turns the sensor (active): rot_y(-y), whose derivative by
+     * y is -drot_y(-y) */
+    rot_y(-m->p[ESS_P_INST_Y], ry);
     rot_z(m->p[ESS_P_INST_Z], rz);
-    drot_y(m->p[ESS_P_INST_Y], dry);
+    drot_y(-m->p[ESS_P_INST_Y], dry);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            dry[i][j] = -dry[i][j];
     drot_z(m->p[ESS_P_INST_Z], drz);
     mat3_mul(rx, ry, t);
     mat3_mul(t, rz, m->R);
@@ -117,7 +122,7 @@ void ess_turntable_matrix(double alpha_rad, double beta_rad, mat3 M)
 {
     mat3 rx, ry;
     rot_x(alpha_rad, rx);
-    rot_y(beta_rad, ry);
+    rot_y(-beta_rad, ry); /* the table turns the sensor: active */
     mat3_mul(rx, ry, M);
 }
 
@@ -177,7 +182,7 @@ VM_KERNEL void ess_table_fill(ess_table *t, const double *alpha_rad, const doubl
     double *restrict m3 = t->m[3], *restrict m4 = t->m[4], *restrict m5 = t->m[5];
     double *restrict m6 = t->m[6], *restrict m7 = t->m[7], *restrict m8 = t->m[8];
     VM_SIMD for (size_t i = 0; i < np; i++) {
-        /* rot_x(alpha) rot_y(beta), as ess_turntable_matrix */
+        /* rot_x(alpha) rot_y(-beta), as ess_turntable_matrix */
         double ca = cos(alpha_rad[i]), sa = sin(alpha_rad[i]);
         double cb = cos(beta_rad[i]), sb = sin(beta_rad[i]);
         m0[i] = cb;

@@ -34,7 +34,7 @@ static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
 }
 
 /* k <= ESS_CHUNK readings at true table angles a, b (padded arrays): the
- * sun in the sensor frame (R_install rot_x(a) rot_y(b) v_sun), its true
+ * sun in the sensor frame (R_install rot_x(a) rot_y(-b) v_sun), its true
  * incidence, and the sensor's output with and (raw0 != NULL) without the
  * noise. */
 VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, const double *b,
@@ -45,7 +45,7 @@ VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, c
     const double(*R)[3] = (const double(*)[3])u->R_install, *v = u->v_sun;
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
         double ca = cos(a[i]), sa = sin(a[i]), cb = cos(b[i]), sb = sin(b[i]);
-        /* w = rot_x(a) rot_y(b) v, as mat3_mul and mat3_vec (rotation.h) */
+        /* w = rot_x(a) rot_y(-b) v, as mat3_mul and mat3_vec (rotation.h) */
         double w0 = cb * v[0] + 0.0 * v[1] + sb * v[2];
         double w1 = -(sa * sb) * v[0] + ca * v[1] + sa * cb * v[2];
         double w2 = -(ca * sb) * v[0] + -sa * v[1] + ca * cb * v[2];

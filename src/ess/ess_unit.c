@@ -27,7 +27,7 @@ void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *
     ess_sensor_init(&u->sensor, &ess_cfg(c)->design, dev);
     mat3 rx, ry, rz, t;
     rot_x(dev->install_x_arcsec * RAD_PER_ARCSEC, rx);
-    rot_y(dev->install_y_arcsec * RAD_PER_ARCSEC, ry);
+    rot_y(-(dev->install_y_arcsec * RAD_PER_ARCSEC), ry); /* active, as the table */
     rot_z(dev->install_z_arcsec * RAD_PER_ARCSEC, rz);
     mat3_mul(rx, ry, t);
     mat3_mul(t, rz, u->R_install);
