@@ -44,6 +44,12 @@ int deviations_values(const deviation_spec *list, int n, const void *dev, double
 /* The column names in the same order, into names[max]; returns the count. */
 int deviations_columns(const deviation_spec *list, int n, const char **names, int max);
 
+/* Multiply every deviation of the list in dev by s (all count values of
+ * each entry): s = -1 makes the mirror unit of `sunmc curve`, a fixed
+ * tolerance of -V.  A field of the family's deviations struct that is not
+ * in the list (a derived measurement) is the family's to scale. */
+void deviations_scale(const deviation_spec *list, int n, void *dev, double s);
+
 /* X-macro helpers: pass them to a family's list, whose lines are
  *   X(name, unit, count, stream, columns, default, dist, max, help)
  * with `columns` count strings (no braces).  The family's config struct

@@ -39,3 +39,12 @@ int deviations_columns(const deviation_spec *list, int n, const char **names, in
                 names[k] = list[e].columns[i];
     return k;
 }
+
+void deviations_scale(const deviation_spec *list, int n, void *dev, double s)
+{
+    for (int e = 0; e < n; e++) {
+        double *v = (double *)(void *)((char *)dev + list[e].dev_offset);
+        for (int i = 0; i < list[e].count; i++)
+            v[i] *= s;
+    }
+}

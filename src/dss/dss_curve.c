@@ -57,21 +57,6 @@ void dss_curve_free(void *cv)
     free(w);
 }
 
-/* Every deviation times s (the mirror unit of a signed fixed tolerance). */
-static void deviations_scale(dss_deviations *d, double s)
-{
-    d->dh_px *= s;
-    d->dx_px *= s;
-    d->dy_px *= s;
-    d->c1_arcsec *= s;
-    d->c2_arcsec *= s;
-    d->c3_arcsec *= s;
-    d->glass_thickness_um *= s;
-    d->glass_index *= s;
-    d->sun_b1_arcsec *= s;
-    d->sun_b2_arcsec *= s;
-}
-
 int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
 {
     dss_curve_ws *w = cv;
@@ -83,7 +68,7 @@ int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     dss_sun_measured_arcsec(c, (uint64_t)c->seed, unit, &dev, sun);
     cw->sun_rad[0] = sun[0] * dev_sign * RAD_PER_ARCSEC;
     cw->sun_rad[1] = sun[1] * dev_sign * RAD_PER_ARCSEC;
-    deviations_scale(&dev, dev_sign);
+    deviations_scale(dss_deviation_list, DSS_N_TOL, &dev, dev_sign);
     dss_unit_build(c, &dev, &w->u);
     dss_unit_campaign(c, &w->u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight,
                       NULL, NULL);

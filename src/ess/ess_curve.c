@@ -62,26 +62,6 @@ void ess_curve_free(void *cv)
     free(w);
 }
 
-/* Every deviation times s (the mirror unit of a signed fixed tolerance). */
-static void deviations_scale(ess_deviations *d, double s)
-{
-    d->dH_um *= s;
-    d->dd_um *= s;
-    d->dphi_deg *= s;
-    d->slit_width_um *= s;
-    d->harmonic_phase_deg *= s;
-    for (int m = 0; m < ESS_FINE_ROWS; m++) {
-        d->gain_pct[m] *= s;
-        d->etch_um[m] *= s;
-    }
-    d->install_x_arcsec *= s;
-    d->install_y_arcsec *= s;
-    d->install_z_arcsec *= s;
-    d->sun_x_arcsec *= s;
-    d->sun_y_arcsec *= s;
-    d->roll_measured_arcsec *= s;
-}
-
 int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
 {
     const ess_config *ec = ess_cfg(c);
@@ -90,7 +70,8 @@ int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
     /* the measured tilt scales with the deviations, as the measured roll */
     double sun_y_meas = ess_sun_y_measured_arcsec(c, (uint64_t)c->seed, unit, &dev) * dev_sign;
-    deviations_scale(&dev, dev_sign);
+    deviations_scale(ess_deviation_list, ESS_N_TOL, &dev, dev_sign);
+    dev.roll_measured_arcsec *= dev_sign; /* derived: the measurement of install_x */
     ess_unit_build(c, &dev, &w->u);
     int gross;
     ess_unit_campaign(c, &w->u, unit, w->cw, NULL, &gross);
