@@ -24,7 +24,7 @@ typedef struct {
     int n_positional;
     const char *sets[CLI_MAX_SETS];   /* "section.key=value", in order */
     int n_sets;
-    char set_buf[CLI_MAX_SETS][128];  /* storage for sets made from options */
+    char set_buf[CLI_MAX_SETS][1024]; /* storage for sets made from options */
     long first, end;                  /* unit range; end < 0: from run.units */
     int threads;                      /* -1: from run.threads */
     const char *out;                  /* --out DIR */

@@ -277,6 +277,8 @@ int config_parse_value(const config_key *k, void *dst, const char *value, const 
 /* " (did you mean SECTION.KEY?)" naming the key of any family nearest to
  * section.name (case-blind, at most two edits), or "" when none is near. */
 void config_suggest(const char *section, const char *name, char *buf, size_t len);
+/* " (did you mean [SECTION]?)" for a mistyped section name, or "". */
+void config_suggest_section(const char *section, char *buf, size_t len);
 
 /* Registered family names as "a|b". */
 void config_family_choices(char *buf, size_t len);

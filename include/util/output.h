@@ -10,14 +10,21 @@
  *   - out_check, before any work: DIR must be creatable (its nearest existing
  *     ancestor is a directory we can create entries in), must not be an
  *     existing file, and when it exists it must be empty or hold the marker
- *     file OUT_MARKER that every sunmc output directory holds (so sunmc never
- *     replaces a directory it did not write, such as a home directory).
- *   - out_begin creates a temporary directory beside DIR (.NAME.tmp.XXXXXX in
- *     DIR's parent); every file is written there (out_open).
+ *     file OUT_MARKER that every sunmc output directory holds and nothing but
+ *     the files that marker lists (so sunmc never replaces a directory it did
+ *     not write, such as a home directory, nor a user's file put into one);
+ *     out_check_inputs: nor one that holds an input of the command.
+ *   - out_begin removes what a killed run into DIR left beside it (its
+ *     .NAME.tmp.HOST-PID.* directories; a .NAME.old.* is put back as DIR when
+ *     DIR is missing), then creates a temporary directory beside DIR
+ *     (.NAME.tmp.HOST-PID.XXXXXX in DIR's parent); every file is written
+ *     there (out_open).
  *   - out_commit flushes and syncs every file (any write error, e.g. a full
- *     disk, is an error: nothing is moved), then moves an existing DIR aside
- *     (.NAME.old.XXXXXX), renames the temporary directory to DIR, and removes
- *     the old one.  DIR is absent only between two renames.
+ *     disk, is an error: nothing is moved), lists them in the marker, then
+ *     exchanges the temporary directory and an existing DIR in one step
+ *     (renameat2 RENAME_EXCHANGE) and removes the old one; where the file
+ *     system cannot exchange, DIR is moved aside (.NAME.old.HOST-PID.*) and
+ *     the new one renamed into place.
  *   - out_abort (any error) removes the temporary directory.
  *   - Between out_begin and out_commit/out_abort, SIGINT, SIGTERM and SIGHUP
  *     remove the temporary directory (async-signal-safe: unlink and rmdir of
@@ -54,6 +61,12 @@ typedef struct {
  * directory that is neither empty nor a sunmc output directory.  Creates
  * nothing (a probe directory is made and removed at once). */
 int out_check(const char *dir, char *err, size_t errlen);
+
+/* Before any work: SUNMC_EINPUT naming them when dir (existing) holds any
+ * of the n paths inputs (compared by real path; NULL entries skipped) or is
+ * one of them: replacing dir would destroy an input of the command. */
+int out_check_inputs(const char *dir, const char *const *inputs, int n, char *err,
+                     size_t errlen);
 
 /* Start writing the files of dir: creates its parents if missing and the
  * temporary directory beside it, and installs the signal handlers. */

@@ -131,7 +131,7 @@ int cmd_calibrate(int argc, char **argv)
     if (cli_wants_help(argc, argv, calibrate_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet", &o);
+    int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet FILES1", &o);
     if (rc)
         return rc;
     char names[256];
@@ -195,7 +195,7 @@ int cmd_compensate(int argc, char **argv)
     if (cli_wants_help(argc, argv, compensate_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "compensate", "quiet", &o);
+    int rc = cli_parse(argc, argv, 2, "compensate", "quiet FILES2", &o);
     if (rc)
         return rc;
     if (o.n_positional != 2) {

@@ -53,10 +53,13 @@ static int apply_only(config_state *st, const char *spec, double *sign, char *er
     memcpy(name, key, (size_t)(eq - key));
     name[eq - key] = '\0';
     const config_key *k = config_find_in(st->cfg.family, "tolerance", name);
-    if (!k || !config_is_tolerance(k, st->cfg.family))
+    if (!k || !config_is_tolerance(k, st->cfg.family)) {
+        char hint[2 * CONFIG_STR_MAX + 32];
+        config_suggest("tolerance", name, hint, sizeof hint);
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "--only %s: '%s' is not a tolerance key of this sensor family", spec,
-                          name);
+                          "--only %s: '%s' is not a tolerance key of this sensor family%s", spec,
+                          name, hint);
+    }
     const char *val = eq + 1;
     while (*val == ' ')
         val++;

@@ -116,10 +116,15 @@ int cmd_merge(int argc, char **argv)
     const char *out = NULL;
     int n = 0;
     char err[SUNMC_ERRLEN];
+    int options_done = 0;
     for (int i = 2; dirs && i < argc; i++) {
-        if (strcmp(argv[i], "--quiet") == 0)
+        if (!options_done && strcmp(argv[i], "--") == 0) {
+            options_done = 1;
+            continue;
+        }
+        if (!options_done && strcmp(argv[i], "--quiet") == 0)
             continue; /* merge prints no progress; accepted like the other commands */
-        if (strncmp(argv[i], "--", 2) == 0) {
+        if (!options_done && argv[i][0] == '-' && argv[i][1] != '\0') {
             fprintf(stderr, "sunmc merge: unknown option %s (see sunmc merge --help)\n", argv[i]);
             free(dirs);
             return EXIT_BAD_INPUT;
@@ -138,6 +143,8 @@ int cmd_merge(int argc, char **argv)
     merge_shard *s = calloc((size_t)n, sizeof *s);
     config_state st;
     int rc = s ? out_check(out, err, sizeof err) : SUNMC_ENOMEM;
+    if (rc == SUNMC_OK)
+        rc = out_check_inputs(out, dirs, n, err, sizeof err);
     if (rc == SUNMC_OK)
         rc = merge_plan(dirs, n, s, err, sizeof err);
     if (rc == SUNMC_OK && (rc = shard_config(&s[0], &st, err, sizeof err)) == SUNMC_OK) {

@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "par.h"
 #include "status.h"
+#include "suggest.h"
 
 #include <gsl/gsl_errno.h>
 #include <omp.h>
@@ -42,6 +43,15 @@ static void usage(FILE *f)
             SUNMC_VERSION);
 }
 
+/* 1 when argv holds --help or -h. */
+static int asks_help(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
+            return 1;
+    return 0;
+}
+
 static int dispatch(int argc, char **argv)
 {
     if (argc < 2) {
@@ -49,7 +59,8 @@ static int dispatch(int argc, char **argv)
         return EXIT_BAD_INPUT;
     }
     const char *cmd = argv[1];
-    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0 ||
+        (strcmp(cmd, "--family") == 0 && asks_help(argc, argv))) {
         usage(stdout);
         return cli_help_keys(stdout, argc, argv);
     }
@@ -73,7 +84,12 @@ static int dispatch(int argc, char **argv)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(cmd, commands[i].name) == 0)
             return commands[i].fn(argc, argv);
-    fprintf(stderr, "sunmc: unknown command '%s' (see sunmc --help)\n", cmd);
+    const char *names[sizeof commands / sizeof commands[0]];
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        names[i] = commands[i].name;
+    const char *near = suggest_nearest(cmd, names, sizeof names / sizeof names[0]);
+    fprintf(stderr, "sunmc: unknown command '%s'%s%s%s (see sunmc --help)\n", cmd,
+            near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
     return EXIT_BAD_INPUT;
 }
 

@@ -133,9 +133,12 @@ int config_set_value(config_state *st, const char *section, const char *name, co
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
                               "%s: %s.%s applies to %s sensors, but sensor.family is %s", where,
                               section, name, fams, st->cfg.family->name);
-        if (!section_known(section))
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown section [%s]", where, section);
         char hint[2 * CONFIG_STR_MAX];
+        if (!section_known(section)) {
+            config_suggest_section(section, hint, sizeof hint);
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown section [%s]%s", where,
+                              section, hint);
+        }
         config_suggest(section, name, hint, sizeof hint);
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown key '%s' in section [%s]%s",
                           where, name, section, hint);
@@ -190,6 +193,16 @@ static int unknown_key(const char *path, int line, const char *section, const ch
                       line, name, section, hint);
 }
 
+/* FILE:LINE: unknown section, with the nearest known section offered. */
+static int unknown_section(const char *path, int line, const char *section, char *err,
+                           size_t errlen)
+{
+    char hint[2 * CONFIG_STR_MAX];
+    config_suggest_section(section, hint, sizeof hint);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]%s", path, line,
+                      section, hint);
+}
+
 /* Read path's entries; every section and key must be known to some family
  * (whether it applies to this config's family is checked when it is set). */
 static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen)
@@ -204,8 +217,7 @@ static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen
     ini_begin(&r, f, path);
     while ((st = ini_next(&r, &item, &e, err, errlen)) == SUNMC_OK && item != INI_END) {
         if (item == INI_SECTION && !section_known(e.section))
-            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown section [%s]", path, e.line,
-                            e.section);
+            st = unknown_section(path, e.line, e.section, err, errlen);
         else if (item == INI_KEY && !config_find(e.section, e.key))
             st = unknown_key(path, e.line, e.section, e.key, err, errlen);
         else if (item == INI_KEY)
@@ -218,7 +230,17 @@ static int read_ini(const char *path, ini_entries *out, char *err, size_t errlen
     return st;
 }
 
-/* Split "section.key=value" into its parts; SUNMC_EINPUT when malformed. */
+/* Narrow [*a, *b) past blanks at either end. */
+static void trim_span(const char **a, const char **b)
+{
+    while (*a < *b && (**a == ' ' || **a == '\t'))
+        (*a)++;
+    while (*b > *a && ((*b)[-1] == ' ' || (*b)[-1] == '\t'))
+        (*b)--;
+}
+
+/* Split "section.key=value" into its parts, blanks around each trimmed
+ * (as in a config file's "key = value"); SUNMC_EINPUT when malformed. */
 static int split_set(const char *arg, char *section, char *name, char *value, char *err,
                      size_t errlen)
 {
@@ -227,14 +249,25 @@ static int split_set(const char *arg, char *section, char *name, char *value, ch
     if (!eq || !dot || dot > eq || dot == arg || dot + 1 == eq)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--set %s: expected section.key=value (e.g. tolerance.dH_um=3)", arg);
-    size_t ls = (size_t)(dot - arg), ln = (size_t)(eq - dot - 1);
+    const char *s0 = arg, *s1 = dot, *n0 = dot + 1, *n1 = eq, *v0 = eq + 1;
+    trim_span(&s0, &s1);
+    trim_span(&n0, &n1);
+    while (*v0 == ' ' || *v0 == '\t')
+        v0++;
+    if (s0 == s1 || n0 == n1)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "--set %s: expected section.key=value (e.g. tolerance.dH_um=3)", arg);
+    size_t ls = (size_t)(s1 - s0), ln = (size_t)(n1 - n0);
     if (ls >= CONFIG_STR_MAX || ln >= CONFIG_STR_MAX || strlen(eq + 1) >= INI_LINE_MAX)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--set %s: too long", arg);
-    memcpy(section, arg, ls);
+    memcpy(section, s0, ls);
     section[ls] = '\0';
-    memcpy(name, dot + 1, ln);
+    memcpy(name, n0, ln);
     name[ln] = '\0';
-    strcpy(value, eq + 1);
+    strcpy(value, v0);
+    size_t lv = strlen(value);
+    while (lv > 0 && (value[lv - 1] == ' ' || value[lv - 1] == '\t'))
+        value[--lv] = '\0';
     return SUNMC_OK;
 }
 

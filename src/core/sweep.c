@@ -56,9 +56,14 @@ static int parse_key(const char *spec, const sensor_family *family, sweep_axis *
     const config_key *k = config_find_in(family, ax->section, ax->name);
     if (!k)
         k = config_find(ax->section, ax->name);
-    if (!k)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--vary %s: unknown key '%s'", spec,
-                          ax->dotted);
+    if (!k) {
+        char hint[2 * CONFIG_STR_MAX + 32];
+        config_suggest(ax->section, ax->name, hint, sizeof hint);
+        if (!hint[0])
+            config_suggest_section(ax->section, hint, sizeof hint);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--vary %s: unknown key '%s'%s", spec,
+                          ax->dotted, hint);
+    }
     if (k->type == KEY_FAMILY || k->type == KEY_BANDS)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--vary %s: %s cannot be varied (it changes what the report's rows are)",

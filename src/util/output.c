@@ -6,15 +6,29 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
+#ifndef RENAME_EXCHANGE
+#define RENAME_EXCHANGE (1 << 1)
+#endif
+
 #define OUT_MARKER_TEXT \
-    "sunmc output directory: the next sunmc command writing here replaces it whole\n"
+    "sunmc output directory: the next sunmc command writing here replaces it whole\n" \
+    "(only while it holds nothing but the files listed below)\n"
+/* Each file the command wrote is listed in the marker on a line of its own. */
+#define OUT_MARKER_FILE "file\t"
+/* Largest marker read back (a listing of OUT_MAX_FILES names). */
+#define OUT_MARKER_READ_MAX 8192
+/* Names of foreign entries shown in a message. */
+#define OUT_FOREIGN_SHOWN 8
 
 /* ---- the signal guard: one output set at a time ---- */
 
@@ -123,24 +137,89 @@ static int split_dir(const char *dir, char *norm, char *parent, char *base, char
     return SUNMC_OK;
 }
 
-/* 1 when directory path is empty or holds the sunmc marker. */
-static int dir_replaceable(const char *path)
+/* 1 when the marker text lists file name. */
+static int marker_lists(const char *text, const char *name)
 {
-    DIR *d = opendir(path);
-    if (!d)
-        return 0;
-    int empty = 1;
-    struct dirent *e;
-    while (empty && (e = readdir(d)) != NULL)
-        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
-            empty = 0;
-    closedir(d);
-    if (empty)
-        return 1;
+    size_t n = strlen(name);
+    for (const char *p = text; (p = strstr(p, OUT_MARKER_FILE)) != NULL; p++) {
+        const char *q = p + strlen(OUT_MARKER_FILE);
+        if ((p == text || p[-1] == '\n') && strncmp(q, name, n) == 0 && q[n] == '\n')
+            return 1;
+    }
+    return 0;
+}
+
+/* The marker of directory path into text; 0 when it has none. */
+static int marker_read(const char *path, char *text, size_t len)
+{
     char m[OUT_PATH_MAX];
     struct stat st;
     snprintf(m, sizeof m, "%s/%s", path, OUT_MARKER);
-    return lstat(m, &st) == 0 && S_ISREG(st.st_mode);
+    FILE *f = lstat(m, &st) == 0 && S_ISREG(st.st_mode) ? fopen(m, "r") : NULL;
+    if (!f)
+        return 0;
+    size_t n = fread(text, 1, len - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    return 1;
+}
+
+/* The entries of directory path that sunmc did not write: not the marker,
+ * not a file the marker lists (every entry when there is no marker).  Their
+ * names into list ("a, b, ..."); the count, -1 when path cannot be read. */
+static int foreign_entries(const char *path, char *list, size_t len, int *has_marker)
+{
+    static char text[OUT_MARKER_READ_MAX];
+    *has_marker = marker_read(path, text, sizeof text);
+    DIR *d = opendir(path);
+    if (!d)
+        return -1;
+    int n = 0;
+    size_t used = 0;
+    if (len)
+        list[0] = '\0';
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        const char *name = e->d_name;
+        if (strcmp(name, ".") == 0 || strcmp(name, "..") == 0 ||
+            (*has_marker && (strcmp(name, OUT_MARKER) == 0 || marker_lists(text, name))))
+            continue;
+        if (n < OUT_FOREIGN_SHOWN && used < len)
+            used += (size_t)snprintf(list + used, len - used, "%s%s", n ? ", " : "", name);
+        else if (n == OUT_FOREIGN_SHOWN && used < len)
+            used += (size_t)snprintf(list + used, len - used, ", ...");
+        n++;
+    }
+    closedir(d);
+    return n;
+}
+
+/* 1 when directory path is empty or holds only what sunmc wrote there. */
+static int dir_replaceable(const char *path)
+{
+    int marker;
+    return foreign_entries(path, NULL, 0, &marker) == 0;
+}
+
+/* Refusal of an existing directory that holds files sunmc did not write. */
+static int refuse_foreign(const char *dir, const char *norm, char *err, size_t errlen)
+{
+    char list[512];
+    int marker;
+    int n = foreign_entries(norm, list, sizeof list, &marker);
+    if (n < 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--out %s: cannot read it: %s", dir,
+                          strerror(errno));
+    if (!marker)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "--out %s: the directory holds files sunmc did not write (no %s "
+                          "marker: %s); sunmc replaces its output directory whole, so give a "
+                          "new or empty directory",
+                          dir, OUT_MARKER, list);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "--out %s: holds %d file%s sunmc did not write there (%s); sunmc replaces "
+                      "its output directory whole, so move %s or give another --out",
+                      dir, n, n == 1 ? "" : "s", list, n == 1 ? "it" : "them");
 }
 
 /* Create and remove a directory in dir: can we make entries there? */
@@ -198,11 +277,7 @@ int out_check(const char *dir, char *err, size_t errlen)
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
                               "--out %s: exists and is not a directory", dir);
         if (!dir_replaceable(norm))
-            return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "--out %s: the directory holds files sunmc did not write (no %s "
-                              "marker); sunmc replaces its output directory whole, so give a "
-                              "new or empty directory",
-                              dir, OUT_MARKER);
+            return refuse_foreign(dir, norm, err, errlen);
         return probe_dir(dir, parent, err, errlen);
     }
     if (errno == ENOTDIR)
@@ -214,6 +289,32 @@ int out_check(const char *dir, char *err, size_t errlen)
     if ((st = existing_ancestor(dir, norm, anc, err, errlen)) != SUNMC_OK)
         return st;
     return probe_dir(dir, anc, err, errlen);
+}
+
+int out_check_inputs(const char *dir, const char *const *inputs, int n, char *err,
+                     size_t errlen)
+{
+    char rd[PATH_MAX], ri[PATH_MAX], list[512] = "";
+    if (!realpath(dir, rd))
+        return SUNMC_OK; /* a new directory holds nothing */
+    size_t len = strlen(rd), used = 0;
+    int hits = 0;
+    for (int k = 0; k < n; k++) {
+        if (!inputs[k] || !realpath(inputs[k], ri))
+            continue;
+        if (strncmp(ri, rd, len) != 0 || (ri[len] != '/' && ri[len] != '\0' && len > 1))
+            continue;
+        if (used < sizeof list)
+            used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", hits ? ", " : "",
+                                     inputs[k]);
+        hits++;
+    }
+    if (hits)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "--out %s: holds %s of this command (%s); sunmc replaces its output "
+                          "directory whole, so write to another directory",
+                          dir, hits == 1 ? "an input" : "inputs", list);
+    return SUNMC_OK;
 }
 
 int out_mkdirs(const char *dir, char *err, size_t errlen)
@@ -250,12 +351,87 @@ static FILE *guarded_fopen(const char *path)
     return fopen(path, "w");
 }
 
+static int remove_tree(const char *path);
+
+/* "HOST-PID" of this process, naming its temporary and old directories
+ * so that a later run can tell a dead run's litter from a live run's. */
+static void owner_tag(char *buf, size_t len)
+{
+    char host[65] = "";
+    if (gethostname(host, sizeof host - 1) != 0 || !host[0])
+        strcpy(host, "host");
+    host[strcspn(host, ".-/")] = '\0';
+    snprintf(buf, len, "%.32s-%ld", host, (long)getpid());
+}
+
+/* 1 when a litter name's tag ("HOST-PID.XXXXXX") is of a process of this
+ * host that no longer runs, or is of the older tagless form ("XXXXXX"). */
+static int litter_dead(const char *tag)
+{
+    const char *dot = strrchr(tag, '.');
+    if (!dot)
+        return 1;
+    char mine[96], host[96];
+    owner_tag(mine, sizeof mine);
+    size_t n = (size_t)(dot - tag);
+    if (n >= sizeof host)
+        return 0;
+    memcpy(host, tag, n);
+    host[n] = '\0';
+    char *dash = strrchr(host, '-');
+    if (!dash)
+        return 0;
+    long pid = strtol(dash + 1, NULL, 10);
+    *dash = '\0';
+    char *mdash = strrchr(mine, '-');
+    *mdash = '\0';
+    if (strcmp(host, mine) != 0 || pid <= 0)
+        return 0;
+    return kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
+/* Clean up what a killed run into parent/base left: its temporary
+ * directories are removed; an old directory moved aside is put back when
+ * base is missing (a kill between two renames), else removed.  Live runs'
+ * directories (this host, process still running) are left alone. */
+static void clean_litter(const char *parent, const char *base)
+{
+    char tmp_pre[OUT_NAME_MAX * 2 + 8], old_pre[OUT_NAME_MAX * 2 + 8], target[OUT_PATH_MAX];
+    snprintf(tmp_pre, sizeof tmp_pre, ".%s.tmp.", base);
+    snprintf(old_pre, sizeof old_pre, ".%s.old.", base);
+    if (snprintf(target, sizeof target, "%s/%s", parent, base) >= (int)sizeof target)
+        return;
+    DIR *d = opendir(parent);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        int is_tmp = strncmp(e->d_name, tmp_pre, strlen(tmp_pre)) == 0;
+        int is_old = strncmp(e->d_name, old_pre, strlen(old_pre)) == 0;
+        if (!is_tmp && !is_old)
+            continue;
+        if (!litter_dead(e->d_name + strlen(is_tmp ? tmp_pre : old_pre)))
+            continue;
+        char path[OUT_PATH_MAX];
+        struct stat st;
+        if (snprintf(path, sizeof path, "%s/%s", parent, e->d_name) >= (int)sizeof path)
+            continue;
+        if (is_old && lstat(target, &st) != 0 && errno == ENOENT && rename(path, target) == 0)
+            continue;
+        remove_tree(path);
+    }
+    closedir(d);
+}
+
 /* The temporary directory beside the target, with the usual permissions
  * (mkdtemp makes it private). */
 static int make_tmpdir(out_set *o, const char *parent, const char *base, char *err,
                        size_t errlen)
 {
-    if (snprintf(o->tmpdir, OUT_PATH_MAX, "%s/.%s.tmp.XXXXXX", parent, base) >= OUT_PATH_MAX)
+    char tag[96];
+    owner_tag(tag, sizeof tag);
+    if (snprintf(o->tmpdir, OUT_PATH_MAX, "%s/.%s.tmp.%s.XXXXXX", parent, base, tag) >=
+        OUT_PATH_MAX)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: path too long", o->dir);
     if (!mkdtemp(o->tmpdir)) {
         int e = errno;
@@ -278,8 +454,10 @@ int out_begin(out_set *o, const char *dir, char *err, size_t errlen)
     int st = split_dir(dir, o->dir, parent, base, err, errlen);
     if (st == SUNMC_OK)
         st = out_mkdirs(parent, err, errlen);
-    if (st == SUNMC_OK)
+    if (st == SUNMC_OK) {
+        clean_litter(parent, base);
         st = make_tmpdir(o, parent, base, err, errlen);
+    }
     if (st != SUNMC_OK)
         return st;
     snprintf(guard_tmpdir, sizeof guard_tmpdir, "%s", o->tmpdir);
@@ -378,8 +556,52 @@ static int remove_tree(const char *path)
     return (rmdir(path) != 0 || bad) ? -1 : 0;
 }
 
-/* Move an existing target aside, the new directory into place, and remove
- * the old one. */
+/* Swap the new directory and the old target in one step (Linux
+ * renameat2 RENAME_EXCHANGE): the target is never missing.  0 on success;
+ * -1 where the file system cannot (the caller renames twice). */
+static int exchange_dirs(const char *a, const char *b)
+{
+#ifdef SYS_renameat2
+    return (int)syscall(SYS_renameat2, AT_FDCWD, a, AT_FDCWD, b, RENAME_EXCHANGE);
+#else
+    (void)a;
+    (void)b;
+    errno = ENOSYS;
+    return -1;
+#endif
+}
+
+/* Where exchange_dirs cannot: move the target aside, the new directory
+ * into place.  A kill between the two renames leaves the old directory
+ * aside, which the next run into the target puts back (clean_litter). */
+static int rename_twice(out_set *o, char *aside, char *err, size_t errlen)
+{
+    char parent[OUT_PATH_MAX], base[OUT_NAME_MAX * 2], norm[OUT_PATH_MAX], tag[96];
+    split_dir(o->dir, norm, parent, base, NULL, 0);
+    owner_tag(tag, sizeof tag);
+    if (snprintf(aside, OUT_PATH_MAX, "%s/.%s.old.%s.XXXXXX", parent, base, tag) >=
+            OUT_PATH_MAX ||
+        !mkdtemp(aside))
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot make room beside it: %s", o->dir,
+                          strerror(errno));
+    if (rename(o->dir, aside) != 0) {
+        int e = errno;
+        rmdir(aside);
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot move the old directory aside: %s",
+                          o->dir, strerror(e));
+    }
+    if (rename(o->tmpdir, o->dir) != 0) {
+        int e = errno;
+        rename(aside, o->dir);
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot move the new files into place: %s",
+                          o->dir, strerror(e));
+    }
+    o->tmpdir[0] = '\0';
+    return SUNMC_OK;
+}
+
+/* Put the new directory in place of the target (exchanged with an existing
+ * one, else renamed) and remove the old one. */
 static int swap_into_place(out_set *o, char *err, size_t errlen)
 {
     char aside[OUT_PATH_MAX] = "";
@@ -390,29 +612,22 @@ static int swap_into_place(out_set *o, char *err, size_t errlen)
                               "%s: changed while sunmc ran (no longer empty or a sunmc output "
                               "directory): nothing written",
                               o->dir);
-        char parent[OUT_PATH_MAX], base[OUT_NAME_MAX * 2], norm[OUT_PATH_MAX];
-        split_dir(o->dir, norm, parent, base, NULL, 0);
-        if (snprintf(aside, sizeof aside, "%s/.%s.old.XXXXXX", parent, base) >= (int)sizeof aside ||
-            !mkdtemp(aside))
-            return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot make room beside it: %s", o->dir,
-                              strerror(errno));
-        if (rename(o->dir, aside) != 0) {
-            int e = errno;
-            rmdir(aside);
-            return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot move the old directory aside: %s",
-                              o->dir, strerror(e));
+        if (exchange_dirs(o->tmpdir, o->dir) == 0) {
+            snprintf(aside, sizeof aside, "%s", o->tmpdir); /* now holds the old files */
+            o->tmpdir[0] = '\0';
+        } else {
+            int st = rename_twice(o, aside, err, errlen);
+            if (st != SUNMC_OK)
+                return st;
         }
     } else if (errno != ENOENT) {
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", o->dir, strerror(errno));
-    }
-    if (rename(o->tmpdir, o->dir) != 0) {
-        int e = errno;
-        if (aside[0])
-            rename(aside, o->dir);
+    } else if (rename(o->tmpdir, o->dir) != 0) {
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot move the new files into place: %s",
-                          o->dir, strerror(e));
+                          o->dir, strerror(errno));
+    } else {
+        o->tmpdir[0] = '\0';
     }
-    o->tmpdir[0] = '\0';
     if (aside[0] && remove_tree(aside) != 0)
         return sunmc_fail(err, errlen, SUNMC_EIO,
                           "%s: written, but the previous contents (moved to %s) could not be "
@@ -421,9 +636,31 @@ static int swap_into_place(out_set *o, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
+/* List the set's files in its marker, so that the next command may replace
+ * them (and only them). */
+static int marker_list_files(out_set *o, char *err, size_t errlen)
+{
+    char m[OUT_PATH_MAX];
+    if (snprintf(m, sizeof m, "%s/%s", o->tmpdir, OUT_MARKER) >= (int)sizeof m)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: path too long", o->dir);
+    FILE *f = fopen(m, "a");
+    int bad = !f;
+    for (int i = 0; f && i < o->n; i++)
+        bad |= fprintf(f, OUT_MARKER_FILE "%s\n", o->name[i]) < 0;
+    if (f) {
+        bad |= fflush(f) != 0;
+        bad |= fsync(fileno(f)) != 0 && errno != EINVAL;
+        bad |= fclose(f) != 0;
+    }
+    return bad ? sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot write: %s", m, strerror(errno))
+               : SUNMC_OK;
+}
+
 int out_commit(out_set *o, char *err, size_t errlen)
 {
     int status = close_all(o, err, errlen);
+    if (status == SUNMC_OK)
+        status = marker_list_files(o, err, errlen);
     if (status != SUNMC_OK) {
         out_abort(o);
         return status;

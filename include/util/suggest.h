@@ -1,0 +1,21 @@
+/* suggest.h - "did you mean ...?": the nearest of a set of names to a
+ * mistyped one, by case-blind edit distance. */
+#ifndef SUNMC_SUGGEST_H
+#define SUNMC_SUGGEST_H
+
+#include <stddef.h>
+
+/* Longest name compared; longer names are never suggested. */
+#define SUGGEST_NAME_MAX 64
+/* Largest edit distance still offered as a suggestion. */
+#define SUGGEST_MAX_DISTANCE 2
+
+/* Levenshtein distance of a and b ignoring case; SUGGEST_NAME_MAX when
+ * either is SUGGEST_NAME_MAX long or longer. */
+int suggest_distance(const char *a, const char *b);
+
+/* The name of names[n] nearest to word, when at most SUGGEST_MAX_DISTANCE
+ * edits away and fewer than half of word's length; NULL otherwise. */
+const char *suggest_nearest(const char *word, const char *const *names, size_t n);
+
+#endif

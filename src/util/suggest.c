@@ -1,0 +1,43 @@
+/* suggest.c - the nearest name to a mistyped one (suggest.h). */
+#include "suggest.h"
+
+#include <ctype.h>
+#include <string.h>
+
+int suggest_distance(const char *a, const char *b)
+{
+    size_t na = strlen(a), nb = strlen(b);
+    if (na >= SUGGEST_NAME_MAX || nb >= SUGGEST_NAME_MAX)
+        return SUGGEST_NAME_MAX;
+    int prev[SUGGEST_NAME_MAX + 1], cur[SUGGEST_NAME_MAX + 1];
+    for (size_t j = 0; j <= nb; j++)
+        prev[j] = (int)j;
+    for (size_t i = 1; i <= na; i++) {
+        cur[0] = (int)i;
+        for (size_t j = 1; j <= nb; j++) {
+            int same = tolower((unsigned char)a[i - 1]) == tolower((unsigned char)b[j - 1]);
+            int best = prev[j - 1] + !same;
+            if (prev[j] + 1 < best)
+                best = prev[j] + 1;
+            if (cur[j - 1] + 1 < best)
+                best = cur[j - 1] + 1;
+            cur[j] = best;
+        }
+        memcpy(prev, cur, sizeof cur);
+    }
+    return prev[nb];
+}
+
+const char *suggest_nearest(const char *word, const char *const *names, size_t n)
+{
+    const char *best = NULL;
+    int best_d = SUGGEST_MAX_DISTANCE + 1;
+    for (size_t i = 0; i < n; i++) {
+        int d = suggest_distance(word, names[i]);
+        if (d < best_d && 2 * d < (int)strlen(word)) {
+            best = names[i];
+            best_d = d;
+        }
+    }
+    return best;
+}
