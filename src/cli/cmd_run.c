@@ -13,6 +13,7 @@
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
@@ -225,6 +226,30 @@ static int job_setup(run_job *j, int argc, char **argv)
     return 0;
 }
 
+/* --resume without a checkpoint: a finished run in out must be of this
+ * run (same config, seed, build), else it would be replaced by another
+ * one without a word. */
+static int finished_same_run(const char *out, const run_manifest *m, char *err, size_t errlen)
+{
+    char path[PATH_MAX], e2[SUNMC_ERRLEN];
+    run_manifest old;
+    if (snprintf(path, sizeof path, "%s/%s", out, MANIFEST_NAME) >= (int)sizeof path ||
+        access(path, F_OK) != 0 || manifest_read(path, &old, e2, sizeof e2) != SUNMC_OK)
+        return SUNMC_OK;
+    int st = manifest_compatible(&old, path, m, "this run", e2, sizeof e2);
+    if (st == SUNMC_OK && (old.first != m->first || old.end != m->end)) {
+        snprintf(e2, sizeof e2, "%.300s holds units %ld:%ld, this run %ld:%ld", path, old.first,
+                 old.end, m->first, m->end);
+        st = SUNMC_EINPUT;
+    }
+    if (st == SUNMC_OK)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "--resume: %s holds a finished run, not this one (%s); drop --resume to "
+                      "replace it, or give the options of that run",
+                      out, e2);
+}
+
 /* The checkpoint beside --out: resumed (--resume, same run) or new.  A
  * checkpoint of another run is refused on --resume; without --resume an
  * earlier one is discarded, saying so. */
@@ -238,6 +263,8 @@ static int job_checkpoint(run_job *j, char *err, size_t errlen)
         st = checkpoint_open(&j->ckpt, j->o.out, &m, c->block_units, &j->r.layout, &found, err,
                              errlen);
         if (st != SUNMC_OK)
+            return st;
+        if (!found && (st = finished_same_run(j->o.out, &m, err, errlen)) != SUNMC_OK)
             return st;
         if (!found && !j->o.quiet)
             fprintf(stderr, "sunmc run: --resume: no checkpoint of %s; running every unit\n",

@@ -3,6 +3,7 @@
 #include "config.h"
 #include "ini.h"
 #include "registry.h"
+#include "shortest.h"
 #include "status.h"
 
 #include <ctype.h>
@@ -208,6 +209,12 @@ static int set_string(const config_key *k, void *dst, const char *v, const char 
                                   "%s: %s.%s is not valid UTF-8 (byte %ld)", where, k->section,
                                   k->name, (long)(p - (const unsigned char *)v) + 1);
             p += n - 1;
+        } else if (*p == '#' && (p == (const unsigned char *)v || p[-1] == ' ')) {
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s: %s.%s holds '#' at its start or after a blank, which starts "
+                              "a comment in a config file (config.ini would not read it back); "
+                              "write it without the blank, e.g. 'Typ#2'",
+                              where, k->section, k->name);
         } else if (*p == '\t' || !isprint(*p)) {
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
                               "%s: %s.%s holds a tab or control character", where, k->section,
@@ -349,17 +356,23 @@ static void format_list(const double_list *l, char *buf, size_t len)
 {
     size_t used = 0;
     buf[0] = '\0';
-    for (int i = 0; i < l->n && used < len; i++)
-        used += (size_t)snprintf(buf + used, len - used, "%s%.10g", i ? ", " : "", l->v[i]);
+    for (int i = 0; i < l->n && used < len; i++) {
+        char t[SHORTEST_TEXT_MAX];
+        shortest_double(l->v[i], t, sizeof t);
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", i ? ", " : "", t);
+    }
 }
 
 static void format_bands(const band_list *b, char *buf, size_t len)
 {
     size_t used = 0;
     buf[0] = '\0';
-    for (int i = 0; i < b->n && used < len; i++)
-        used += (size_t)snprintf(buf + used, len - used, "%s%.10g:%.10g", i ? ", " : "", b->lo[i],
-                                 b->hi[i]);
+    for (int i = 0; i < b->n && used < len; i++) {
+        char lo[SHORTEST_TEXT_MAX], hi[SHORTEST_TEXT_MAX];
+        shortest_double(b->lo[i], lo, sizeof lo);
+        shortest_double(b->hi[i], hi, sizeof hi);
+        used += (size_t)snprintf(buf + used, len - used, "%s%s:%s", i ? ", " : "", lo, hi);
+    }
 }
 
 void config_format_value(const config_key *k, const sunmc_config *c, char *buf, size_t len)
@@ -367,7 +380,7 @@ void config_format_value(const config_key *k, const sunmc_config *c, char *buf, 
     const void *base = config_value_cptr(k, c);
     switch (k->type) {
     case KEY_DOUBLE:
-        snprintf(buf, len, "%.10g", *(const double *)base);
+        shortest_double(*(const double *)base, buf, len);
         break;
     case KEY_INT:
         snprintf(buf, len, "%d", *(const int *)base);

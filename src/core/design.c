@@ -5,6 +5,7 @@
 #include "family.h"
 #include "montecarlo.h"
 #include "report.h"
+#include "shortest.h"
 #include "status.h"
 
 #include <math.h>
@@ -125,7 +126,7 @@ int design_space(const sunmc_config *c, design_result *d, char *err, size_t errl
     if (s == SUNMC_OK && d->n == 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: the input campaign is not valid");
     for (int i = 0; s == SUNMC_OK && i < c->search_steps_deg.n; i++) {
-        snprintf(step, sizeof step, "%.10g", c->search_steps_deg.v[i]);
+        shortest_double(c->search_steps_deg.v[i], step, sizeof step);
         for (int r = 0; s == SUNMC_OK && r < c->search_repeats.n; r++) {
             int rep = (int)c->search_repeats.v[r];
             if (!kl) {

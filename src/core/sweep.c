@@ -1,5 +1,6 @@
 /* sweep.c - parsing --vary axes and applying grid points to a config. */
 #include "sweep.h"
+#include "shortest.h"
 #include "status.h"
 
 #include <errno.h>
@@ -74,17 +75,6 @@ static int parse_key(const char *spec, const sensor_family *family, sweep_axis *
     *key = k;
     *vals = eq + 1;
     return SUNMC_OK;
-}
-
-/* v as the shortest decimal text that reads back as v exactly (a value is
- * applied and written as given: 4.12345678901234, not 4.123456789). */
-static void shortest_text(double v, char *buf, size_t len)
-{
-    for (int digits = 15; digits <= 17; digits++) {
-        snprintf(buf, len, "%.*g", digits, v);
-        if (strtod(buf, NULL) == v)
-            return;
-    }
 }
 
 /* START:STOP:STEP of a number key. */
@@ -178,7 +168,7 @@ int sweep_axis_parse(const char *spec, const sensor_family *family, sweep_axis *
         s = parse_list(spec, vals, ',', ax, err, errlen);
     if (s == SUNMC_OK && ax->numeric)
         for (int i = 0; i < ax->n; i++)
-            shortest_text(ax->v[i], ax->text[i], sizeof ax->text[i]);
+            shortest_double(ax->v[i], ax->text[i], sizeof ax->text[i]);
     return s;
 }
 
