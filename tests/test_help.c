@@ -104,16 +104,16 @@ static void test_suggest_names_nearest_key(void **state)
 
 static void test_mistyped_key_suggested_in_file_and_set(void **state)
 {
-    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 1 --set tolerance.dh_um=2"),
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --units 1 --set tolerance.dH_un=2"),
                      2);
-    assert_non_null(strstr(out, "unknown key 'dh_um' in section [tolerance] (did you mean "
+    assert_non_null(strstr(out, "unknown key 'dH_un' in section [tolerance] (did you mean "
                                 "tolerance.dH_um?)"));
     const char *ini = test_tmp("typo.ini");
-    assert_int_equal(test_write_file(ini, "[sensor]\nfamily = ess\n[tolerance]\ndh_um = 2\n"), 0);
+    assert_int_equal(test_write_file(ini, "[sensor]\nfamily = ess\n[tolerance]\ndH_un = 2\n"), 0);
     char args[512];
     snprintf(args, sizeof args, "config %s", ini);
     assert_int_equal(sunmc(args), 2);
-    assert_non_null(strstr(out, ":4: unknown key 'dh_um' in section [tolerance] (did you mean "
+    assert_non_null(strstr(out, ":4: unknown key 'dH_un' in section [tolerance] (did you mean "
                                 "tolerance.dH_um?)"));
 }
 

@@ -65,11 +65,11 @@ static void expect_error(const char *path, const char *set, const char *needle)
 
 static void registry_lookup(void **state)
 {
-    assert_int_equal(sensor_family_count(), 3);
+    assert_int_equal(sensor_family_count(), 4); /* ess, dss, psd and the toy */
     assert_ptr_equal(sensor_family_find("toy"), &toy_family);
     assert_string_equal(sensor_family_at(0)->name, "ess");
     assert_null(sensor_family_find("nope"));
-    assert_null(sensor_family_at(3));
+    assert_null(sensor_family_at(4));
     assert_int_equal(sensor_family_register(&toy_family), -1); /* name taken */
 }
 
@@ -102,7 +102,7 @@ static void config_errors(void **state)
 {
     expect_error(NULL, "design.span_deg=10", "applies to toy sensors, but sensor.family is ess");
     expect_error(ini, "design.H_mm=5", "applies to ess sensors, but sensor.family is toy");
-    expect_error(ini, "sensor.family=nope", "one of ess|dss|toy");
+    expect_error(ini, "sensor.family=nope", "one of ess|dss|psd|toy");
     expect_error(ini, "campaign.step_deg=41", "0.1 to 40 deg");
     config_state st;
     char err[SUNMC_ERRLEN] = "";
@@ -132,9 +132,9 @@ static void reference_lists_the_toy(void **state)
     FILE *f = open_memstream(&buf, &len);
     assert_int_equal(config_write_reference(f), SUNMC_OK);
     fclose(f);
-    assert_non_null(strstr(buf, "Values shown are the ESS defaults; where the\n# DSS or TOY "));
+    assert_non_null(strstr(buf, "Values shown are the ESS defaults; where the\n# DSS or PSD or TOY "));
     assert_non_null(strstr(buf, "or toy (a test-only analytic sensor)"));
-    assert_non_null(strstr(buf, "#   families: ess, dss, toy; allowed: one of ess|dss|toy\n"));
+    assert_non_null(strstr(buf, "#   families: ess, dss, psd, toy; allowed: one of ess|dss|psd|toy\n"));
     assert_non_null(strstr(buf, "; toy default: toy\n# product = ESS type A\n"));
     assert_non_null(strstr(buf, "#   families: toy; allowed: 1 to 80 deg\n# span_deg = 40\n"));
     free(buf);

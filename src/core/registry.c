@@ -9,7 +9,8 @@
  * lists them; the first is sensor.family's default. */
 #define SUNMC_FAMILIES(F) \
     F(ess)                \
-    F(dss)
+    F(dss)                \
+    F(psd)
 
 #define FAMILY_DECLARE(name) extern const sensor_family name##_family;
 #define FAMILY_ENTRY(name) &name##_family,

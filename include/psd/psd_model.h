@@ -1,0 +1,126 @@
+/* psd_model.h - the calibration models of the four-channel sensor.
+ *
+ * Physical model (psd_model.c): the sensor of psd_sensor.h with fitted
+ * aperture offsets dx, dy, height error dh, mount rotations tilt_x,
+ * tilt_y, rot_z (zxy, rotation.h), gains of channels 2-4 relative to
+ * channel 1 and the four dark signals (in the data's unit; they absorb the
+ * lab's uniform background, which adds to every channel alike).  A reading
+ * m[4] gives the dark-corrected signals s_k = (m_k - dark_k) / gain_k and
+ * their ratios (x, y) (psd_ratios), which do not depend on the sun's
+ * intensity; the model predicts them from the geometry, and compensation
+ * inverts that by Newton's method in (tan alpha, tan beta) of the table
+ * top.  Residuals of the fit are the ratio differences divided by the
+ * ratios' nominal sensitivity (ratio per unit of tan), i.e. about radians.
+ *
+ * Polynomial model (psd_poly.c): the field's method: the ratios of the raw
+ * channels (no dark correction), and tan(alpha), tan(beta) of the truth
+ * fitted as polynomials in (x, y) of total degree <= order by linear least
+ * squares; form fss20 is the 20-term 5th-order form of aeroztark's
+ * FSScalibration (order 5 without the x^2 y^2 term).
+ */
+#ifndef SUNMC_PSD_MODEL_H
+#define SUNMC_PSD_MODEL_H
+
+#include "fit.h"
+#include "psd_sensor.h"
+
+#include <stddef.h>
+
+enum {
+    PSD_P_DX = 0, PSD_P_DY, PSD_P_DH, PSD_P_TX, PSD_P_TY, PSD_P_RZ,
+    PSD_P_G2, PSD_P_G3, PSD_P_G4, PSD_P_D1, PSD_P_D2, PSD_P_D3, PSD_P_D4,
+    PSD_NP
+};
+#define PSD_NP_GEOMETRY 6
+#define PSD_NEWTON_MAX_ITER 40
+#define PSD_NEWTON_TOL 1e-13
+#define PSD_FIT_MAX_ITER 100
+
+/* Parameter names with units (params.ini, units.tsv, reports) and the
+ * factor from the internal unit (mm, rad, ratio, data unit) to them. */
+extern const char *const psd_param_names[PSD_NP];
+extern const double psd_param_scale[PSD_NP];
+
+typedef struct {
+    psd_sensor s;                    /* the fitted geometry (gain, dark unused) */
+    double gain[PSD_CHANNELS];       /* relative; gain[0] = 1 */
+    double dark[PSD_CHANNELS];       /* data unit */
+    double sens;                     /* nominal ratio per unit tan */
+} psd_phys;
+
+/* The physical model of design d with parameters p (internal units). */
+void psd_phys_set(psd_phys *m, const psd_design *d, const double p[PSD_NP]);
+
+/* Dark-corrected ratios of reading r[4]; SUNMC_EDOM where they are not finite. */
+int psd_phys_observed(const psd_phys *m, const double r[4], double *x, double *y);
+/* Predicted ratios for the table top's sun vector ut. */
+int psd_phys_predicted(const psd_phys *m, const double ut[3], double *x, double *y);
+/* The table top's sun vector ut whose predicted ratios are (x, y).
+ * SUNMC_EDOM when Newton's method does not converge (saturated spot). */
+int psd_phys_invert(const psd_phys *m, double x, double y, double ut[3]);
+
+/* Rows of a calibration: readings m[k][i], the table top's sun vectors
+ * ut[3 i ..], weights w[i] (> 0 used). */
+typedef struct {
+    size_t n;
+    const double *m[PSD_CHANNELS];
+    const double *ut;
+    const double *w;
+    const psd_design *design;
+    psd_phys work;                   /* scratch of the fit */
+    double *scratch;                 /* room for 8 n doubles (the fit's ratios) */
+} psd_rows;
+
+/* Start values: the nominal geometry, and per channel dark and gain from a
+ * straight-line fit of the readings to the nominal photocurrents. */
+void psd_phys_start(psd_rows *d, double p[PSD_NP]);
+/* The parameters fitted (indices into p, into free[PSD_NP]); the tilts
+ * about X and Y only when fit_tilt (otherwise they stay at p's value: on
+ * a campaign of a few tens of degrees they move the spot as the aperture
+ * offsets do, to first order).  Returns their count. */
+int psd_phys_free(int fit_tilt, int *free);
+/* Fit p (start values in, solution out) with fw (2 n residuals,
+ * psd_phys_free's count of parameters).  SUNMC_OK or SUNMC_EFIT (res says
+ * why). */
+int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
+                 fit_result *res);
+
+/* ---- polynomial (psd_poly.c) ---- */
+#define PSD_POLY_MAX_ORDER 5
+#define PSD_POLY_MAX_TERMS 21
+typedef struct {
+    int order, form, nt;
+    double scale;                    /* x and y enter the terms as x / scale (conditioning) */
+    int ex[PSD_POLY_MAX_TERMS], ey[PSD_POLY_MAX_TERMS]; /* term k = x^ex y^ey */
+    double ca[PSD_POLY_MAX_TERMS], cb[PSD_POLY_MAX_TERMS]; /* tan alpha, tan beta */
+} psd_poly;
+
+/* The terms of order and form (enum psd_poly_form); returns their count. */
+int psd_poly_init(psd_poly *q, int order, int form);
+/* Raw ratios of reading r[4] (no dark correction) for detector d. */
+int psd_poly_ratios(const psd_design *d, const double r[4], double *x, double *y);
+/* Weighted least squares of the rows (work: room for nt (nt + 1) doubles).
+ * SUNMC_EFIT when the normal matrix is singular. */
+int psd_poly_fit(psd_poly *q, const psd_rows *d, double *work);
+/* Compensated sun angles (rad) of reading r. */
+int psd_poly_eval(const psd_poly *q, const psd_design *d, const double r[4], double *alpha,
+                  double *beta);
+
+/* ---- a fitted calibration of either model ---- */
+typedef struct {
+    int model;                       /* enum psd_model */
+    const psd_design *design;
+    double p[PSD_NP];                /* physical: internal units */
+    psd_phys phys;
+    psd_poly poly;
+} psd_cal;
+
+/* The nominal calibration of design d (no fit): the design's geometry,
+ * equal gains, the nominal dark signal dark_fs (data in fractions of full
+ * scale, as the Monte Carlo writes them). */
+void psd_cal_nominal(psd_cal *k, const psd_design *d);
+/* The sun angles (rad, table top: tan alpha = u_x/u_z, tan beta =
+ * u_y/u_z) of reading r[4].  SUNMC_EDOM where it cannot be read. */
+int psd_cal_angles(const psd_cal *k, const double r[4], double *alpha, double *beta);
+
+#endif

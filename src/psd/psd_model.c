@@ -1,0 +1,330 @@
+/* psd_model.c - the physical calibration model: ratios, their inversion
+ * and the fit (see psd_model.h). */
+#include "psd_model.h"
+#include "status.h"
+#include "units.h"
+#include "vmath.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <string.h>
+
+const char *const psd_param_names[PSD_NP] = {
+    "dx_um", "dy_um", "dh_um", "tilt_x_arcsec", "tilt_y_arcsec", "rot_z_arcsec",
+    "gain2_rel", "gain3_rel", "gain4_rel", "dark1_raw", "dark2_raw", "dark3_raw", "dark4_raw"};
+const double psd_param_scale[PSD_NP] = {
+    1.0 / MM_PER_UM, 1.0 / MM_PER_UM, 1.0 / MM_PER_UM, ARCSEC_PER_RAD, ARCSEC_PER_RAD,
+    ARCSEC_PER_RAD, 1, 1, 1, 1, 1, 1, 1};
+
+/* Forward-difference steps of the fit's Jacobian (internal units). */
+static const double fd_step[PSD_NP_GEOMETRY] = {1e-6, 1e-6, 1e-6, 1e-7, 1e-7, 1e-7};
+/* Step of the inversion's numeric Jacobian (tan units). */
+#define PSD_NEWTON_STEP 1e-7
+
+void psd_phys_set(psd_phys *m, const psd_design *d, const double p[PSD_NP])
+{
+    psd_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    dev.dx_um[0] = p[PSD_P_DX] / MM_PER_UM;
+    dev.dy_um[0] = p[PSD_P_DY] / MM_PER_UM;
+    dev.dh_um[0] = p[PSD_P_DH] / MM_PER_UM;
+    dev.tilt_x_arcsec[0] = p[PSD_P_TX] * ARCSEC_PER_RAD;
+    dev.tilt_y_arcsec[0] = p[PSD_P_TY] * ARCSEC_PER_RAD;
+    dev.rot_z_arcsec[0] = p[PSD_P_RZ] * ARCSEC_PER_RAD;
+    psd_sensor_build(d, &dev, &m->s);
+    m->gain[0] = 1.0;
+    for (int k = 1; k < PSD_CHANNELS; k++)
+        m->gain[k] = p[PSD_P_G2 + k - 1];
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        m->dark[k] = p[PSD_P_D1 + k];
+    m->sens = d->detector == PSD_QUADRANT ? d->h_mm * 4.0 / (M_PI * m->s.R_mm)
+                                          : d->h_mm / m->s.half_mm;
+}
+
+int psd_phys_observed(const psd_phys *m, const double r[4], double *x, double *y)
+{
+    double s[PSD_CHANNELS];
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        s[k] = (r[k] - m->dark[k]) / m->gain[k];
+    psd_ratios(m->s.detector, m->s.lateral, s, x, y);
+    return isfinite(*x) && isfinite(*y) ? SUNMC_OK : SUNMC_EDOM;
+}
+
+int psd_phys_predicted(const psd_phys *m, const double ut[3], double *x, double *y)
+{
+    double u[3], spot[2], i[4];
+    mat3_vec(m->s.M, ut, u);
+    if (psd_sensor_spot(&m->s, u, spot) != SUNMC_OK)
+        return SUNMC_EDOM;
+    psd_sensor_currents(&m->s, spot, u[2], i);
+    psd_ratios(m->s.detector, m->s.lateral, i, x, y);
+    return isfinite(*x) && isfinite(*y) ? SUNMC_OK : SUNMC_EDOM;
+}
+
+static int predict_tan(const psd_phys *m, double ta, double tb, double *x, double *y)
+{
+    double n = sqrt(1.0 + ta * ta + tb * tb), ut[3] = {ta / n, tb / n, 1.0 / n};
+    return psd_phys_predicted(m, ut, x, y);
+}
+
+int psd_phys_invert(const psd_phys *m, double x, double y, double ut[3])
+{
+    if (!isfinite(x) || !isfinite(y))
+        return SUNMC_EDOM;
+    /* linear start: the spot where the ratios put it, seen through the aperture */
+    double ta = -x / m->sens, tb = -y / m->sens;
+    for (int it = 0; it < PSD_NEWTON_MAX_ITER; it++) {
+        double fx, fy, ax, ay, bx, by;
+        if (predict_tan(m, ta, tb, &fx, &fy) != SUNMC_OK ||
+            predict_tan(m, ta + PSD_NEWTON_STEP, tb, &ax, &ay) != SUNMC_OK ||
+            predict_tan(m, ta, tb + PSD_NEWTON_STEP, &bx, &by) != SUNMC_OK)
+            return SUNMC_EDOM;
+        double j11 = (ax - fx) / PSD_NEWTON_STEP, j21 = (ay - fy) / PSD_NEWTON_STEP;
+        double j12 = (bx - fx) / PSD_NEWTON_STEP, j22 = (by - fy) / PSD_NEWTON_STEP;
+        double det = j11 * j22 - j12 * j21;
+        if (!(fabs(det) > 1e-12 * m->sens * m->sens))
+            return SUNMC_EDOM; /* saturated: the ratios no longer move */
+        double ex = x - fx, ey = y - fy;
+        double da = (j22 * ex - j12 * ey) / det, db = (-j21 * ex + j11 * ey) / det;
+        ta += da;
+        tb += db;
+        if (fabs(da) + fabs(db) < PSD_NEWTON_TOL) {
+            double n = sqrt(1.0 + ta * ta + tb * tb);
+            ut[0] = ta / n;
+            ut[1] = tb / n;
+            ut[2] = 1.0 / n;
+            return SUNMC_OK;
+        }
+    }
+    return SUNMC_EDOM;
+}
+
+/* ---- start values ---- */
+
+void psd_phys_start(psd_rows *d, double p[PSD_NP])
+{
+    memset(p, 0, PSD_NP * sizeof *p);
+    psd_phys_set(&d->work, d->design, p);
+    double sw[PSD_CHANNELS] = {0}, sx[PSD_CHANNELS] = {0}, sy[PSD_CHANNELS] = {0};
+    double sxx[PSD_CHANNELS] = {0}, sxy[PSD_CHANNELS] = {0};
+    for (size_t r = 0; r < d->n; r++) {
+        double w = d->w ? d->w[r] : 1.0, u[3], spot[2], i[4];
+        mat3_vec(d->work.s.M, d->ut + 3 * r, u);
+        if (!(w > 0) || psd_sensor_spot(&d->work.s, u, spot) != SUNMC_OK)
+            continue;
+        psd_sensor_currents(&d->work.s, spot, u[2], i);
+        for (int k = 0; k < PSD_CHANNELS; k++) {
+            sw[k] += w;
+            sx[k] += w * i[k];
+            sy[k] += w * d->m[k][r];
+            sxx[k] += w * i[k] * i[k];
+            sxy[k] += w * i[k] * d->m[k][r];
+        }
+    }
+    double g[PSD_CHANNELS], off[PSD_CHANNELS];
+    for (int k = 0; k < PSD_CHANNELS; k++) {
+        double den = sw[k] * sxx[k] - sx[k] * sx[k];
+        g[k] = den != 0.0 ? (sw[k] * sxy[k] - sx[k] * sy[k]) / den : 0.0;
+        off[k] = sw[k] > 0 ? (sy[k] - g[k] * sx[k]) / sw[k] : 0.0;
+    }
+    int ok = g[0] != 0.0 && isfinite(g[0]);
+    for (int k = 0; k < PSD_CHANNELS; k++) {
+        if (k > 0)
+            p[PSD_P_G2 + k - 1] = ok ? g[k] / g[0] : 1.0;
+        p[PSD_P_D1 + k] = off[k];
+    }
+}
+
+/* ---- the fit ---- */
+
+/* Corner signs of the ratios' numerators (psd_sensor.h). */
+static const double ratio_cx[PSD_CHANNELS] = {-1, 1, 1, -1};
+static const double ratio_cy[PSD_CHANNELS] = {-1, 1, -1, 1};
+
+/* d x / d s_k and d y / d s_k of the ratios at signals s (psd_ratios). */
+static void ratio_grad(const psd_phys *m, const double s[4], double x, double y, double gx[4],
+                       double gy[4])
+{
+    if (m->s.detector == PSD_LATERAL && m->s.lateral == PSD_DUO) {
+        double sx = s[0] + s[1], sy = s[2] + s[3];
+        gx[0] = (-1.0 - x) / sx;
+        gx[1] = (1.0 - x) / sx;
+        gx[2] = gx[3] = 0.0;
+        gy[0] = gy[1] = 0.0;
+        gy[2] = (-1.0 - y) / sy;
+        gy[3] = (1.0 - y) / sy;
+        return;
+    }
+    double S = s[0] + s[1] + s[2] + s[3];
+    for (int k = 0; k < PSD_CHANNELS; k++) {
+        gx[k] = (ratio_cx[k] - x) / S;
+        gy[k] = (ratio_cy[k] - y) / S;
+    }
+}
+
+/* Scratch of the fdf: the parameters it fits, and per row the base
+ * ratios (observed, predicted) and the stepped predictions. */
+typedef struct {
+    psd_rows *d;
+    int nfree;
+    int free[PSD_NP];
+    double p[PSD_NP];                /* every parameter; the free ones from x */
+    double *xo, *yo, *xp, *yp, *xp2, *yp2;
+} fdf_ctx;
+
+static double row_weight(const psd_rows *d, size_t r)
+{
+    double w = d->w ? d->w[r] : 1.0;
+    return w > 0 ? sqrt(w) : 0.0;
+}
+
+/* Base residuals; a row the model cannot read or predict counts nothing. */
+static void base_residuals(fdf_ctx *c, double *f, size_t ld)
+{
+    psd_rows *d = c->d;
+    psd_phys_set(&d->work, d->design, c->p);
+    for (size_t r = 0; r < d->n; r++) {
+        double rd[4] = {d->m[0][r], d->m[1][r], d->m[2][r], d->m[3][r]};
+        if (psd_phys_observed(&d->work, rd, &c->xo[r], &c->yo[r]) != SUNMC_OK)
+            c->xo[r] = c->yo[r] = NAN;
+        if (psd_phys_predicted(&d->work, d->ut + 3 * r, &c->xp[r], &c->yp[r]) != SUNMC_OK)
+            c->xp[r] = c->yp[r] = NAN;
+        double sw = row_weight(d, r);
+        int ok = isfinite(c->xo[r]) && isfinite(c->xp[r]) && sw > 0;
+        f[2 * r] = ok ? sw * (c->xo[r] - c->xp[r]) / d->work.sens : 0.0;
+        f[2 * r + 1] = ok ? sw * (c->yo[r] - c->yp[r]) / d->work.sens : 0.0;
+    }
+    for (size_t i = 2 * d->n; i < ld; i++)
+        f[i] = 0.0;
+}
+
+/* Column of a geometry parameter: forward difference of the prediction. */
+static void geometry_column(fdf_ctx *c, int j, const double *f, double *col)
+{
+    psd_rows *d = c->d;
+    double keep = c->p[j], h = fd_step[j];
+    c->p[j] = keep + h;
+    psd_phys_set(&d->work, d->design, c->p);
+    for (size_t r = 0; r < d->n; r++) {
+        double x2, y2;
+        int ok = isfinite(c->xo[r]) && isfinite(c->xp[r]);
+        if (!ok || row_weight(d, r) == 0.0 ||
+            psd_phys_predicted(&d->work, d->ut + 3 * r, &x2, &y2) != SUNMC_OK) {
+            col[2 * r] = col[2 * r + 1] = 0.0;
+            continue;
+        }
+        double k = -row_weight(d, r) / (d->work.sens * h);
+        col[2 * r] = k * (x2 - c->xp[r]);
+        col[2 * r + 1] = k * (y2 - c->yp[r]);
+    }
+    c->p[j] = keep;
+}
+
+/* Columns of the gains and darks: analytic, through the observed ratios. */
+static void channel_columns(fdf_ctx *c, double *J, size_t ld, const int *col_of)
+{
+    psd_rows *d = c->d;
+    psd_phys_set(&d->work, d->design, c->p);
+    const psd_phys *m = &d->work;
+    for (size_t r = 0; r < d->n; r++) {
+        double sw = row_weight(d, r), s[4], gx[4], gy[4];
+        int ok = isfinite(c->xo[r]) && isfinite(c->xp[r]) && sw > 0;
+        for (int k = 0; k < PSD_CHANNELS; k++)
+            s[k] = (d->m[k][r] - m->dark[k]) / m->gain[k];
+        ratio_grad(m, s, c->xo[r], c->yo[r], gx, gy);
+        for (int k = 0; k < PSD_CHANNELS; k++) {
+            /* d s_k / d dark_k = -1 / g_k;  d s_k / d g_k = -s_k / g_k */
+            int jd = col_of[PSD_P_D1 + k], jg = k > 0 ? col_of[PSD_P_G2 + k - 1] : -1;
+            double kk = ok ? sw / m->sens : 0.0;
+            if (jd >= 0) {
+                J[(size_t)jd * ld + 2 * r] = kk * gx[k] * (-1.0 / m->gain[k]);
+                J[(size_t)jd * ld + 2 * r + 1] = kk * gy[k] * (-1.0 / m->gain[k]);
+            }
+            if (jg >= 0) {
+                J[(size_t)jg * ld + 2 * r] = kk * gx[k] * (-s[k] / m->gain[k]);
+                J[(size_t)jg * ld + 2 * r + 1] = kk * gy[k] * (-s[k] / m->gain[k]);
+            }
+        }
+    }
+}
+
+static int fdf(const double *x, void *params, double *f, double *J, size_t ld)
+{
+    fdf_ctx *c = params;
+    int col_of[PSD_NP];
+    for (int j = 0; j < PSD_NP; j++)
+        col_of[j] = -1;
+    for (int q = 0; q < c->nfree; q++) {
+        c->p[c->free[q]] = x[q];
+        col_of[c->free[q]] = q;
+    }
+    base_residuals(c, f, ld);
+    for (int q = 0; q < c->nfree; q++) {
+        double *col = J + (size_t)q * ld;
+        for (size_t i = 2 * c->d->n; i < ld; i++)
+            col[i] = 0.0;
+        if (c->free[q] < PSD_NP_GEOMETRY)
+            geometry_column(c, c->free[q], f, col);
+    }
+    channel_columns(c, J, ld, col_of);
+    psd_phys_set(&c->d->work, c->d->design, c->p);
+    return GSL_SUCCESS;
+}
+
+int psd_phys_free(int fit_tilt, int *free)
+{
+    int n = 0;
+    for (int j = 0; j < PSD_NP; j++)
+        if (fit_tilt || (j != PSD_P_TX && j != PSD_P_TY))
+            free[n++] = j;
+    return n;
+}
+
+int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
+                 fit_result *res)
+{
+    fdf_ctx c = {.d = d};
+    c.nfree = psd_phys_free(fit_tilt, c.free);
+    if (fw->p != (size_t)c.nfree)
+        return SUNMC_EFIT;
+    memcpy(c.p, p, sizeof c.p);
+    double *buf = d->scratch, x[PSD_NP];
+    c.xo = buf;
+    c.yo = buf + d->n;
+    c.xp = buf + 2 * d->n;
+    c.yp = buf + 3 * d->n;
+    c.xp2 = buf + 4 * d->n;
+    c.yp2 = buf + 5 * d->n;
+    for (int q = 0; q < c.nfree; q++)
+        x[q] = p[c.free[q]];
+    int st = fit_solve(fw, fdf, &c, x, PSD_FIT_MAX_ITER, res);
+    for (int q = 0; q < c.nfree; q++)
+        p[c.free[q]] = x[q];
+    return st;
+}
+
+/* ---- a fitted calibration ---- */
+
+void psd_cal_nominal(psd_cal *k, const psd_design *d)
+{
+    memset(k, 0, sizeof *k);
+    k->model = PSD_MODEL_PHYSICAL;
+    k->design = d;
+    for (int c = 1; c < PSD_CHANNELS; c++)
+        k->p[PSD_P_G2 + c - 1] = 1.0;
+    for (int c = 0; c < PSD_CHANNELS; c++)
+        k->p[PSD_P_D1 + c] = d->dark_fs;
+    psd_phys_set(&k->phys, d, k->p);
+}
+
+int psd_cal_angles(const psd_cal *k, const double r[4], double *alpha, double *beta)
+{
+    if (k->model == PSD_MODEL_POLYNOMIAL)
+        return psd_poly_eval(&k->poly, k->design, r, alpha, beta);
+    double x, y, ut[3];
+    if (psd_phys_observed(&k->phys, r, &x, &y) != SUNMC_OK ||
+        psd_phys_invert(&k->phys, x, y, ut) != SUNMC_OK)
+        return SUNMC_EDOM;
+    sun_angles_of(ut, alpha, beta);
+    return SUNMC_OK;
+}

@@ -1,0 +1,360 @@
+/* psd_unit.c - the four-channel analog sun sensor family: its Monte Carlo
+ * unit and its sensor_family struct (see psd_unit.h). */
+#include "psd_unit.h"
+#include "lab.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { ANGLE_ALPHA = 0, ANGLE_BETA, ANGLE_TOTAL, PSD_N_ANGLES };
+static const char *const psd_angle_names[PSD_N_ANGLES] = {"alpha", "beta", "total"};
+static const char *const psd_poly_par[] = {"poly_terms"};
+
+PSD_DEVIATIONS(DEVIATION_X_COLUMNS)
+static const deviation_spec psd_deviation_list[] = {
+#define PSD_X_SPEC(name, unit, count, stream, ...)                                                \
+    DEVIATION_SPEC(psd_config, psd_deviations, name, count, stream),
+    PSD_DEVIATIONS(PSD_X_SPEC)
+#undef PSD_X_SPEC
+};
+
+static long alpha_n(double amax, double step, double offset)
+{
+    return grid_count(-amax, amax, step, offset);
+}
+
+long psd_campaign_rows(const sunmc_config *c)
+{
+    const psd_config *p = psd_cfg(c);
+    return alpha_n(p->cal_alpha_max_deg, p->cal_alpha_step_deg, 0) * p->cal_beta_deg.n *
+           c->cal_repeats;
+}
+
+long psd_validation_points(const sunmc_config *c)
+{
+    const psd_config *p = psd_cfg(c);
+    return alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg) *
+           p->val_beta_deg.n;
+}
+
+void psd_campaign_angles(const sunmc_config *c, long i, double *alpha, double *beta)
+{
+    const psd_config *p = psd_cfg(c);
+    long na = alpha_n(p->cal_alpha_max_deg, p->cal_alpha_step_deg, 0), pt = i / c->cal_repeats;
+    *alpha = (-p->cal_alpha_max_deg + (double)(pt % na) * p->cal_alpha_step_deg) * RAD_PER_DEG;
+    *beta = p->cal_beta_deg.v[pt / na] * RAD_PER_DEG;
+}
+
+void psd_validation_angles(const sunmc_config *c, long i, double *alpha, double *beta)
+{
+    const psd_config *p = psd_cfg(c);
+    long na = alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg);
+    *alpha = (-p->val_alpha_max_deg + p->val_alpha_offset_deg +
+              (double)(i % na) * p->val_alpha_step_deg) * RAD_PER_DEG;
+    *beta = p->val_beta_deg.v[i / na] * RAD_PER_DEG;
+}
+
+void psd_unit_sample(const sunmc_config *c, long unit, double dev_sign, psd_deviations *dev)
+{
+    deviations_sample(psd_deviation_list, PSD_N_TOL, c, (uint64_t)c->seed, unit, dev);
+    double *v = (double *)dev;
+    for (size_t k = 0; k < sizeof *dev / sizeof(double); k++)
+        v[k] *= dev_sign;
+}
+
+int psd_unit_read(const sunmc_config *c, const psd_sensor *s, double alpha, double beta,
+                  rng_stream *r, double m[4])
+{
+    const psd_config *p = psd_cfg(c);
+    double ut[3], u[3], z[PSD_CHANNELS];
+    for (int k = 0; k < PSD_CHANNELS; k++) /* drawn whether seen or not: streams stay aligned */
+        z[k] = r ? rng_normal(r) : 0.0;
+    psd_table_sun(p, alpha, beta, ut);
+    mat3_vec(s->M, ut, u);
+    int st = psd_sensor_read(s, u, m);
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k], p->adc_bits);
+    return st;
+}
+
+int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *poly_work,
+                 psd_cal *k, fit_result *fr)
+{
+    const psd_config *p = psd_cfg(c);
+    memset(fr, 0, sizeof *fr);
+    k->design = &p->design;
+    k->model = p->cal_model;
+    if (p->cal_model == PSD_MODEL_POLYNOMIAL) {
+        psd_poly_init(&k->poly, p->poly_order, p->poly_form);
+        return psd_poly_fit(&k->poly, d, poly_work);
+    }
+    psd_phys_start(d, k->p);
+    int st = psd_phys_fit(fw, d, p->fit_tilt, k->p, fr);
+    psd_phys_set(&k->phys, &p->design, k->p);
+    return st;
+}
+
+/* ---- the workspace ---- */
+
+typedef struct {
+    long n;
+    double *m[PSD_CHANNELS], *ut, *w, *scratch, *poly_work;
+    fit_workspace *fw;
+} psd_ws;
+
+static void psd_ws_free(void *ws)
+{
+    psd_ws *w = ws;
+    if (!w)
+        return;
+    free(w->m[0]);
+    fit_workspace_free(w->fw);
+    free(w);
+}
+
+#define PSD_POLY_WORK (PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2))
+
+static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    psd_ws *w = calloc(1, sizeof *w);
+    long n = psd_campaign_rows(c);
+    if (w) {
+        w->n = n;
+        w->m[0] = malloc(((size_t)n * 16 + PSD_POLY_WORK) * sizeof(double));
+        int fr[PSD_NP];
+        w->fw = fit_workspace_alloc(2 * (size_t)n, (size_t)psd_phys_free(psd_cfg(c)->fit_tilt, fr));
+    }
+    if (!w || !w->m[0] || !w->fw) {
+        psd_ws_free(w);
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
+        return NULL;
+    }
+    for (int k = 1; k < PSD_CHANNELS; k++)
+        w->m[k] = w->m[k - 1] + n;
+    w->ut = w->m[3] + n;
+    w->w = w->ut + 3 * n;
+    w->scratch = w->w + n;
+    w->poly_work = w->scratch + 8 * n;
+    return w;
+}
+
+static double psd_ws_bytes(const sunmc_config *c)
+{
+    long n = psd_campaign_rows(c);
+    return ((double)n * 16 + PSD_POLY_WORK) * sizeof(double) +
+           fit_workspace_bytes(2 * (size_t)n, PSD_NP);
+}
+
+/* The campaign of sensor s into w's rows; returns the rows seen. */
+static long campaign(const sunmc_config *c, const psd_sensor *s, long unit, psd_ws *w)
+{
+    rng_stream r;
+    unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
+    long seen = 0;
+    for (long i = 0; i < w->n; i++) {
+        double a, b, m[4];
+        psd_campaign_angles(c, i, &a, &b);
+        psd_table_sun(psd_cfg(c), a, b, w->ut + 3 * i);
+        int ok = psd_unit_read(c, s, a, b, &r, m) == SUNMC_OK;
+        for (int k = 0; k < PSD_CHANNELS; k++)
+            w->m[k][i] = m[k];
+        w->w[i] = ok;
+        seen += ok;
+    }
+    return seen;
+}
+
+/* Errors (rad) of calibration k on reading m against truth ut. */
+static int errors(const psd_cal *k, const double m[4], const double ut[3], double e[3])
+{
+    double a, b, ta, tb, uc[3];
+    if (psd_cal_angles(k, m, &a, &b) != SUNMC_OK)
+        return SUNMC_EDOM;
+    sun_angles_of(ut, &ta, &tb);
+    sun_vector_of(a, b, uc);
+    e[ANGLE_ALPHA] = a - ta;
+    e[ANGLE_BETA] = b - tb;
+    e[ANGLE_TOTAL] = angle_between(uc, ut);
+    return SUNMC_OK;
+}
+
+/* The validation grid: errors before (the nominal design's reading), after
+ * and after without noise, per angle and band; gross: points not read. */
+static void validate(const sunmc_config *c, const psd_sensor *s, const psd_cal *k, int fit_ok,
+                     long unit, unit_result *res)
+{
+    const psd_config *p = psd_cfg(c);
+    psd_cal nominal;
+    psd_cal_nominal(&nominal, &p->design);
+    band_acc bef[PSD_N_ANGLES], aft[PSD_N_ANGLES], sys[PSD_N_ANGLES];
+    for (int a = 0; a < PSD_N_ANGLES; a++) {
+        band_acc_reset(&bef[a]);
+        band_acc_reset(&aft[a]);
+        band_acc_reset(&sys[a]);
+    }
+    rng_stream r;
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    long nv = psd_validation_points(c);
+    for (long i = 0; i < nv; i++) {
+        double a, b, ut[3], m[4], m0[4], e0[3], e1[3], e2[3];
+        psd_validation_angles(c, i, &a, &b);
+        psd_table_sun(p, a, b, ut);
+        int st = psd_unit_read(c, s, a, b, &r, m);
+        st |= psd_unit_read(c, s, a, b, NULL, m0);
+        double field = acos(fmin(ut[2], 1.0)) * DEG_PER_RAD;
+        if (st != SUNMC_OK || errors(&nominal, m, ut, e0) != SUNMC_OK ||
+            (fit_ok && (errors(k, m, ut, e1) != SUNMC_OK || errors(k, m0, ut, e2) != SUNMC_OK))) {
+            res->gross_val++;
+            continue;
+        }
+        for (int q = 0; q < PSD_N_ANGLES; q++) {
+            band_acc_add(&bef[q], &c->bands_deg, field, e0[q]);
+            if (fit_ok) {
+                band_acc_add(&aft[q], &c->bands_deg, field, e1[q]);
+                band_acc_add(&sys[q], &c->bands_deg, field, e2[q]);
+            }
+        }
+    }
+    for (int q = 0; q < PSD_N_ANGLES; q++) {
+        unit_result_set_rms(res, q, &bef[q], &aft[q], &c->bands_deg, ARCSEC_PER_RAD);
+        unit_result_set_sys(res, q, &sys[q], &c->bands_deg, ARCSEC_PER_RAD);
+    }
+}
+
+/* Residual RMS (arcsec) of the fitted calibration on its campaign. */
+static double fit_rms(const psd_ws *w, const psd_cal *k)
+{
+    double s2 = 0;
+    long n = 0;
+    for (long i = 0; i < w->n; i++) {
+        double m[4] = {w->m[0][i], w->m[1][i], w->m[2][i], w->m[3][i]}, e[3];
+        if (w->w[i] > 0 && errors(k, m, w->ut + 3 * i, e) == SUNMC_OK) {
+            s2 += e[ANGLE_TOTAL] * e[ANGLE_TOTAL];
+            n++;
+        }
+    }
+    return n ? sqrt(s2 / (double)n) * ARCSEC_PER_RAD : NAN;
+}
+
+static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    psd_ws *w = ws;
+    const psd_config *p = psd_cfg(c);
+    double t = unit_clock();
+    psd_deviations dev;
+    psd_sensor s;
+    psd_unit_sample(c, unit, 1.0, &dev);
+    psd_sensor_build(&p->design, &dev, &s);
+    memset(res, 0, sizeof *res);
+    res->unit = unit;
+    deviations_values(psd_deviation_list, PSD_N_TOL, &dev, res->dev, UNIT_MAX_DEV);
+    campaign(c, &s, unit, w);
+    unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
+
+    psd_rows d = {.n = (size_t)w->n, .ut = w->ut, .w = w->w, .design = &p->design,
+                  .scratch = w->scratch};
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        d.m[k] = w->m[k];
+    psd_cal k;
+    fit_result fr;
+    int st = psd_unit_fit(c, w->fw, &d, w->poly_work, &k, &fr);
+    res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
+    res->fit_gsl_status = fr.status;
+    res->fit_iterations = (int)fr.iterations;
+    if (p->cal_model == PSD_MODEL_PHYSICAL)
+        for (int j = 0; j < PSD_NP; j++)
+            res->par[j] = k.p[j] * psd_param_scale[j];
+    else
+        res->par[0] = k.poly.nt;
+    res->fit_rms = st == SUNMC_OK ? fit_rms(w, &k) : NAN;
+    unit_phase_end(res, UNIT_PHASE_FIT, &t);
+
+    validate(c, &s, &k, st == SUNMC_OK, unit, res);
+    unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
+    return SUNMC_OK;
+}
+
+/* ---- the family's descriptions ---- */
+
+static int psd_n_angles(const sunmc_config *c) { return PSD_N_ANGLES; }
+
+static void psd_model_label(const sunmc_config *c, char *buf, size_t len)
+{
+    const psd_config *p = psd_cfg(c);
+    if (p->cal_model == PSD_MODEL_POLYNOMIAL)
+        snprintf(buf, len, "polynomial of order %d (%s) in the raw ratios", p->poly_order,
+                 p->poly_form == PSD_POLY_FSS20 ? "FSScalibration's 20 terms" : "every term");
+    else
+        snprintf(buf, len, "physical: aperture dx, dy, dh, mount tilt_x, tilt_y, rot_z, "
+                           "channel gains and darks");
+}
+
+static int psd_dev_columns(const sunmc_config *c, const char **names, int max)
+{
+    return deviations_columns(psd_deviation_list, PSD_N_TOL, names, max);
+}
+
+static int psd_par_columns(const sunmc_config *c, const char **names, int max)
+{
+    int phys = psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL, n = phys ? PSD_NP : 1;
+    for (int i = 0; i < n && i < max; i++)
+        names[i] = phys ? psd_param_names[i] : psd_poly_par[i];
+    return n;
+}
+
+static long psd_table_grid(const sunmc_config *c, int which, double *a0, double *a1, long max)
+{
+    const psd_config *p = psd_cfg(c);
+    int val = which == FAMILY_GRID_VALIDATION;
+    long n = val ? psd_validation_points(c) : psd_campaign_rows(c) / c->cal_repeats;
+    for (long i = 0; i < n && i < max && a0 && a1; i++) {
+        double a, b;
+        if (val)
+            psd_validation_angles(c, i, &a, &b);
+        else
+            psd_campaign_angles(c, i * c->cal_repeats, &a, &b);
+        a0[i] = a * DEG_PER_RAD;
+        a1[i] = b * DEG_PER_RAD;
+    }
+    return n;
+}
+
+static const char *const psd_table_axes[] = {"alpha", "beta"};
+static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.adc_bits", NULL};
+static const char *const psd_val_noise_keys[] = {"noise.channel_pct", NULL};
+static const family_noise psd_noise[] = {
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL},
+    {NULL, 0, NULL, NULL}};
+
+const sensor_family psd_family = {
+    .name = "psd",
+    .description = "four-channel analog sun sensor: lateral PSD or quadrant photodiode",
+    .rms_unit = "arcsec",
+    .arcsec_per_rms_unit = 1.0,
+    .keys = psd_keys,
+    .defaults = psd_defaults,
+    .validate = psd_validate,
+    .model_label = psd_model_label,
+    .n_angles = psd_n_angles,
+    .angle_names = psd_angle_names,
+    .band_name = "field angle",
+    .deviations = psd_deviation_list,
+    .n_deviations = PSD_N_TOL,
+    .noise = psd_noise,
+    .dev_columns = psd_dev_columns,
+    .par_columns = psd_par_columns,
+    .workspace_alloc = psd_ws_alloc,
+    .workspace_bytes = psd_ws_bytes,
+    .workspace_free = psd_ws_free,
+    .unit_run = psd_unit_run,
+    .table_grid = psd_table_grid,
+    .table_axis_names = psd_table_axes,
+    .design_step_key = "campaign.alpha_step_deg",
+    .design_lines_key = "campaign.beta_deg",
+    .lab = NULL,
+};
