@@ -362,7 +362,10 @@ static void summary_tsv_columns(void **state)
                           "campaign_points",
                           "campaign_hours",
                           "extrapolation_deg",
-                          "no_reading_units"};
+                          "no_reading_units",
+                          "worse",
+                          "worse_ci_lo",
+                          "worse_ci_hi"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);

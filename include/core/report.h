@@ -28,6 +28,8 @@ typedef struct {
     double rms_after_sys_mean; /* systematic part: noise-free validation readings */
     double improvement_mean, improvement_max, improvement_min;
     double yield;           /* fraction of all units with RMS after <= spec */
+    double worse;           /* fraction of the stat_units whose RMS after exceeds their RMS
+                               before: calibration made them worse (Wilson interval) */
     /* Confidence intervals at level `confidence` (report.confidence):
      * Student t over the per-unit values for the means (improvement: mean
      * of the per-unit ratios), the distribution-free order-statistic
@@ -41,7 +43,7 @@ typedef struct {
     double campaign_hours;
     double extrapolation_deg;
     stats_interval rms_before_mean_ci, rms_after_mean_ci, rms_after_sys_mean_ci;
-    stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci;
+    stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci, worse_ci;
 } summary_row;
 
 /* Decimals that show a fraction frac in percent (at least min_decimals, at

@@ -42,6 +42,7 @@ typedef struct {
     stats_moments before, after, sys, ratio;
     long pass;           /* units meeting the spec */
     long no_reading;     /* units with a fit but no usable reading in the band */
+    long worse;          /* units whose RMS after exceeds their RMS before */
     double imp_max, imp_min;
     double *after_v;     /* after values, arrival order until sorted */
     size_t cap;
@@ -117,6 +118,7 @@ static int cell_add(band_cell *s, const unit_result *ur, int a, int b, double sp
     s->imp_max = fmax(s->imp_max, bef / aft);
     s->imp_min = fmin(s->imp_min, bef / aft);
     s->pass += aft <= spec;
+    s->worse += aft > bef;
     if (isfinite(ur->rms_after_sys[a][b]))
         stats_moments_add(&s->sys, ur->rms_after_sys[a][b]);
     return SUNMC_OK;
@@ -155,6 +157,8 @@ static void cell_statistics(band_cell *s, long n, double conf, int quantiles, su
     stats_moments_t(&s->ratio, level, &r->improvement_mean, &r->improvement_mean_ci, err,
                     sizeof err);
     stats_wilson(s->pass, n, level, &r->yield_ci, err, sizeof err);
+    stats_wilson(s->worse, (long)k, level, &r->worse_ci, err, sizeof err);
+    r->worse = k > 0 ? (double)s->worse / (double)k : NAN;
     r->rms_after_p95_ci = (stats_interval){NAN, NAN};
     r->yield = n > 0 ? (double)s->pass / (double)n : NAN;
     r->rms_after_max = r->rms_after_min = r->rms_after_p95 = NAN;
@@ -172,7 +176,7 @@ static void cell_statistics(band_cell *s, long n, double conf, int quantiles, su
     if (!has_level) {
         stats_interval none = {NAN, NAN};
         r->rms_before_mean_ci = r->rms_after_mean_ci = r->rms_after_sys_mean_ci = none;
-        r->improvement_mean_ci = r->yield_ci = r->rms_after_p95_ci = none;
+        r->improvement_mean_ci = r->yield_ci = r->rms_after_p95_ci = r->worse_ci = none;
     }
 }
 
@@ -416,6 +420,7 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
         set_head(&cols[2 + k], heads[k], h, k == 0);
     snprintf(h, sizeof h, "[%g%% CI]", 100.0 * c->confidence);
     set_head(&cols[5], "yield", h, 1);
+    set_head(&cols[6], "made worse", h, 1);
     int d[3];
     for (int k = 0; k < 3; k++)
         d[k] = ci_decimals(rows, n, off[k], 1.0, prec);
@@ -428,8 +433,10 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
             fmt_estimate(cols[2 + k].cell[i], TABLE_CELL, v[k], ci[k], d[k], 1.0, "");
         fmt_estimate(cols[5].cell[i], TABLE_CELL, r->yield, r->yield_ci,
                      report_percent_decimals(r->yield, 1), 100.0, "%");
+        fmt_estimate(cols[6].cell[i], TABLE_CELL, r->worse, r->worse_ci,
+                     report_percent_decimals(r->worse, 1), 100.0, "%");
     }
-    table_print(f, cols, 6, n);
+    table_print(f, cols, 7, n);
 }
 
 void report_print_campaign(FILE *f, const sunmc_config *c)
@@ -539,7 +546,9 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
             "%g%% intervals: means and improvement Student t over the n = %s units with a fit,\n"
             "p95 distribution-free order statistics (estimate: Hyndman-Fan type 7), yield Wilson\n"
             "score over all %ld units (a failed fit fails); max/min over the same n, no interval.\n"
-            "Systematic part: after-RMS of the same validation points read without noise.\n",
+            "Systematic part: after-RMS of the same validation points read without noise.\n"
+            "Made worse: share of those units whose RMS after exceeds their RMS before "
+            "(Wilson).\n",
             100.0 * c->confidence, nk, rows[0].units);
     fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld", u,
             rows[0].fit_failures, rows[0].gross_errors);
@@ -564,7 +573,8 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
                "improvement_mean\timprovement_mean_ci_lo\timprovement_mean_ci_hi\t"
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
                "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
-               "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\n");
+               "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
+               "worse\tworse_ci_lo\tworse_ci_hi\n");
 }
 
 /* "S\tS_ci_lo\tS_ci_hi\t" */
@@ -596,10 +606,11 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
         write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
         fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
         write_estimate(f, r->yield, r->yield_ci);
-        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\t%ld\n", c->spec_arcsec,
+        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\t%ld\t", c->spec_arcsec,
                 r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
                 model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
                 r->no_reading_units);
+        fprintf(f, "%.6g\t%.6g\t%.6g\n", r->worse, r->worse_ci.lo, r->worse_ci.hi);
     }
 }
 
