@@ -53,6 +53,11 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
 int cli_config(const cli_options *o, config_state *st);
 
 /* Run the Monte Carlo of st over o's unit range and report; used by run. */
+/* --shard K/N of `units` units: units [*first, *end), floor(K units / N)
+ * to floor((K + 1) units / N); the N parts tile 0..units-1, their sizes
+ * differ by at most one (0 <= K < N). */
+void cli_shard_units(long k, long n, long units, long *first, long *end);
+
 int cmd_run(int argc, char **argv);
 int cmd_config(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);

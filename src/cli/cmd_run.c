@@ -107,6 +107,12 @@ static void print_profile(const double phase_s[UNIT_PHASES], long n, double wall
             100.0 * (per_unit_ms - sum_ms) / per_unit_ms);
 }
 
+void cli_shard_units(long k, long n, long units, long *first, long *end)
+{
+    *first = k * units / n;
+    *end = (k + 1) * units / n;
+}
+
 /* --shard K/N: the K-th of N near-equal parts of units 0..run.units-1
  * (--units N sets run.units); prints the error and returns an exit code. */
 static int shard_range(const cli_options *o, const sunmc_config *c, long *first, long *end)
@@ -121,8 +127,7 @@ static int shard_range(const cli_options *o, const sunmc_config *c, long *first,
                 o->shard_n, c->units);
         return EXIT_BAD_INPUT;
     }
-    *first = o->shard_k * c->units / o->shard_n;
-    *end = (o->shard_k + 1) * c->units / o->shard_n;
+    cli_shard_units(o->shard_k, o->shard_n, c->units, first, end);
     return 0;
 }
 
