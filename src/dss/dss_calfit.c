@@ -584,6 +584,10 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
         st = params_require(p, "parameters", "fit_glass_thickness_um", q[DSS_P_T] < q[DSS_P_H],
                             "such that the glass lies under the pinhole", err, errlen);
     if (st == SUNMC_OK)
+        st = params_require(p, "parameters", "fit_glass_index", q[DSS_P_N] >= 1,
+                            ">= 1 - design.glass_index (a glass index of at least 1)", err,
+                            errlen);
+    if (st == SUNMC_OK)
         dss_model_prepare(m);
     return st;
 }
