@@ -2,7 +2,7 @@
 #   make            build build/sunmc
 #   make run        install missing packages, build, run the shipped configs, print Table 1
 #   make test       install missing packages, build, run the cmocka suite (plain and ASan+UBSan)
-#   make test-fast  the plain suites without the golden comparison (what `make mutate` runs)
+#   make test-fast  the plain suites, golden comparison included (what `make mutate` runs)
 #   make mutate     apply each mutant of tests/mutants.txt to a copy of the tree, run test-fast
 #   make plots RUN=DIR   draw every figure a run directory holds
 #   make figures    regenerate the papers' figures into build/figures/
@@ -84,9 +84,12 @@ LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
 TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tobj/%.o)
 TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(BUILD)/tobj/%.o)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-# The suites that know the right answer: all but the golden comparison (which
-# checks outputs against their own recording) and the mutation script's test.
-FAST_TEST_BIN := $(filter-out $(BUILD)/tests/test_golden $(BUILD)/tests/test_mutate,$(TEST_BIN))
+# The suites `make test-fast` and `make mutate` run: all but the mutation
+# script's own test.  The golden comparison is among them (issue 29): a number
+# only tests/golden/ records (a budget.tsv column, a params.ini digit) is still
+# guarded against a mutant; it takes ~10 s and runs last (mutate.sh orders the
+# suites by their time).
+FAST_TEST_BIN := $(filter-out $(BUILD)/tests/test_mutate,$(TEST_BIN))
 
 ASAN     := $(BUILD)/asan
 ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
