@@ -53,6 +53,10 @@ typedef struct {
     gsl_permutation *perm;
     gsl_vector *rhs, *step, *work3p;
     gsl_matrix *covar;         /* p x p */
+    /* Gaussian priors (fit_prior_set): p extra residual rows
+     * prior_w[j] (x[j] - prior_mean[j]); all weights 0 when off. */
+    double *prior_mean, *prior_w;
+    int prior_on;
 } fit_workspace;
 
 typedef struct {
@@ -60,7 +64,8 @@ typedef struct {
     int info;            /* convergence reason: 1 small step, 2 small gradient (GSL's),
                           * 3 a further step would not lower the cost (fit.c) */
     size_t iterations;
-    double chisq;        /* sum of squared residuals at the solution */
+    double chisq;        /* sum of squared residuals at the solution (data rows only) */
+    double chisq_prior;  /* the prior rows' share of the cost at the solution (0 when off) */
     double rcond;        /* reciprocal condition number of J at the solution
                           * (sqrt of the 1-norm estimate for J^T J) */
 } fit_result;
@@ -80,6 +85,17 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
 
 /* Covariance (J^T J)^-1 at the last solution into fw->covar (unscaled). */
 int fit_covariance(fit_workspace *fw);
+
+/* Gaussian priors on the parameters, as p residual rows appended to the
+ * model's n: row j is weight[j] (x[j] - mean[j]), so in the data's residual
+ * units weight[j] = sigma_row / sigma_j (a data row's noise over the
+ * prior's standard deviation of parameter j); weight 0 leaves x[j] free.
+ * They enter J^T J (so fit_covariance's inverse is the posterior's, in
+ * units of the data rows' variance), J^T f and the cost; res->chisq stays
+ * the data rows' sum.  Kept for every fit_solve until fit_prior_clear.
+ * Weights must be finite and >= 0: SUNMC_EINPUT otherwise. */
+int fit_prior_set(fit_workspace *fw, const double *mean, const double *weight);
+void fit_prior_clear(fit_workspace *fw);
 
 /* A words-for-humans reason for a GSL status / info code. */
 const char *fit_reason(const fit_result *res);

@@ -51,7 +51,8 @@ fit_workspace *fit_workspace_alloc(size_t n, size_t p)
     fw->ld = vm_pad(n);
     int ok = (fw->f = vm_alloc(fw->ld)) && (fw->J = vm_alloc(fw->ld * p)) &&
              (fw->f_trial = vm_alloc(fw->ld)) && (fw->J_trial = vm_alloc(fw->ld * p));
-    double **pv[] = {&fw->x, &fw->x_trial, &fw->dx, &fw->g, &fw->diag, &fw->work};
+    double **pv[] = {&fw->x,    &fw->x_trial, &fw->dx,         &fw->g,
+                     &fw->diag, &fw->work,    &fw->prior_mean, &fw->prior_w};
     for (size_t k = 0; k < sizeof pv / sizeof *pv; k++)
         ok = ok && (*pv[k] = calloc(p, sizeof(double))) != NULL;
     fw->JTJ = gsl_matrix_alloc(p, p);
@@ -73,8 +74,9 @@ void fit_workspace_free(fit_workspace *fw)
 {
     if (!fw)
         return;
-    double *arrays[] = {fw->f, fw->J, fw->f_trial, fw->J_trial, fw->x,
-                        fw->x_trial, fw->dx, fw->g, fw->diag, fw->work};
+    double *arrays[] = {fw->f,       fw->J,  fw->f_trial, fw->J_trial, fw->x,
+                        fw->x_trial, fw->dx, fw->g,       fw->diag,    fw->work,
+                        fw->prior_mean, fw->prior_w};
     for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++)
         free(arrays[k]);
     /* GSL's free functions accept NULL */
@@ -98,7 +100,29 @@ VM_KERNEL static double dot(const double *restrict a, const double *restrict b, 
     return s;
 }
 
-/* J^T J and g = J^T f at the current point; returns |f|^2. */
+/* The prior rows' cost at x: sum of (w_j (x_j - mean_j))^2. */
+static double prior_cost(const fit_workspace *fw, const double *x)
+{
+    double s = 0.0;
+    for (size_t j = 0; fw->prior_on && j < fw->p; j++) {
+        double r = fw->prior_w[j] * (x[j] - fw->prior_mean[j]);
+        s += r * r;
+    }
+    return s;
+}
+
+/* The prior rows' part of J^T J (diagonal w^2) and of J^T f. */
+static void prior_normal_equations(fit_workspace *fw)
+{
+    for (size_t j = 0; fw->prior_on && j < fw->p; j++) {
+        double w2 = fw->prior_w[j] * fw->prior_w[j];
+        *gsl_matrix_ptr(fw->JTJ, j, j) += w2;
+        fw->g[j] += w2 * (fw->x[j] - fw->prior_mean[j]);
+    }
+}
+
+/* J^T J and g = J^T f at the current point, the prior rows included;
+ * returns the cost |f|^2 + the prior's. */
 static double normal_equations(fit_workspace *fw)
 {
     size_t n = fw->n, p = fw->p, ld = fw->ld;
@@ -111,7 +135,8 @@ static double normal_equations(fit_workspace *fw)
         }
         fw->g[j] = dot(cj, fw->f, n);
     }
-    return dot(fw->f, fw->f, n);
+    prior_normal_equations(fw);
+    return dot(fw->f, fw->f, n) + prior_cost(fw, fw->x);
 }
 
 /* More's scaling: D_j = max(D_j, |J_j|), a zero column counting as 1. */
@@ -204,7 +229,8 @@ static int lm_iterate(fit_workspace *fw, lm_state *s)
         st = s->fdf(fw->x_trial, s->params, fw->f_trial, fw->J_trial, fw->ld);
         if (st != GSL_SUCCESS)
             return st;
-        double f2t = dot(fw->f_trial, fw->f_trial, fw->n), rho = -1.0;
+        double f2t = dot(fw->f_trial, fw->f_trial, fw->n) + prior_cost(fw, fw->x_trial);
+        double rho = -1.0;
         if (f2t < s->f2) {
             double pred = predicted_reduction(fw, s->mu, s->f2);
             rho = pred > 0.0 ? (1.0 - f2t / s->f2) / pred : -1.0;
@@ -324,6 +350,7 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
     res->iterations = 0;
     res->info = 0;
     res->chisq = GSL_NAN;
+    res->chisq_prior = 0.0;
     res->rcond = GSL_NAN;
     for (size_t j = 0; j < p; j++) {
         fw->x[j] = x[j];
@@ -341,6 +368,7 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
     for (size_t j = 0; j < p; j++)
         x[j] = fw->x[j];
     res->chisq = dot(fw->f, fw->f, fw->n);
+    res->chisq_prior = prior_cost(fw, fw->x);
     res->rcond = jacobian_rcond(fw);
     if (st != GSL_SUCCESS || !gsl_finite(res->chisq))
         return SUNMC_EFIT;
@@ -357,6 +385,29 @@ int fit_covariance(fit_workspace *fw)
         gsl_linalg_cholesky_invert(fw->covar) != GSL_SUCCESS)
         return SUNMC_EFIT;
     return SUNMC_OK;
+}
+
+int fit_prior_set(fit_workspace *fw, const double *mean, const double *weight)
+{
+    int on = 0;
+    for (size_t j = 0; j < fw->p; j++) {
+        if (!(isfinite(weight[j]) && weight[j] >= 0.0 && isfinite(mean[j])))
+            return SUNMC_EINPUT;
+        on |= weight[j] > 0.0;
+    }
+    for (size_t j = 0; j < fw->p; j++) {
+        fw->prior_mean[j] = mean[j];
+        fw->prior_w[j] = weight[j];
+    }
+    fw->prior_on = on;
+    return SUNMC_OK;
+}
+
+void fit_prior_clear(fit_workspace *fw)
+{
+    fw->prior_on = 0;
+    for (size_t j = 0; j < fw->p; j++)
+        fw->prior_w[j] = 0.0;
 }
 
 const char *fit_reason(const fit_result *res)
