@@ -70,10 +70,12 @@ int cmd_calibrate(int argc, char **argv);
 int cmd_compensate(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 
-/* Progress line on stderr when it is a terminal. */
+/* Progress on stderr: a refreshed line on a terminal, else (a log) a line
+ * per 10 % of the units or 30 s. */
 typedef struct {
     double t0;
     double last; /* time of the last refresh */
+    double logged_pct, logged_t; /* off a terminal: the last line's step and time */
     int tty;
     int quiet;
 } cli_progress;
@@ -117,6 +119,11 @@ int cli_help_keys(FILE *f, int argc, char **argv);
 /* Print text and return 1 when argv[2..] holds --help or -h; with
  * --family NAME or a config file also that family's config keys. */
 int cli_wants_help(int argc, char **argv, const char *text);
+
+/* The command line argv as a shell command ("sunmc run ... --resume"),
+ * arguments quoted where needed, --resume added when missing: what a user
+ * types to finish an interrupted run. */
+void cli_resume_command(int argc, char **argv, char *buf, size_t len);
 
 /* Exit status for a module status. */
 int cli_exit_code(int status);

@@ -84,6 +84,12 @@ int out_open_all(out_set *o, const char *const *names, FILE **files, int n, char
  * new files (see above).  On error nothing is moved (out_abort is done). */
 int out_commit(out_set *o, char *err, size_t errlen);
 
+/* Text (up to OUT_NOTE_MAX) the signal handler writes to stderr after it
+ * removed the temporary directory: what was kept and how to resume.  NULL
+ * or "" for none. */
+#define OUT_NOTE_MAX 2048
+void out_signal_note(const char *note);
+
 /* Close every stream and remove the temporary directory. */
 void out_abort(out_set *o);
 

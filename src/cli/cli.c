@@ -15,6 +15,10 @@
 
 /* Seconds between progress-line refreshes. */
 #define PROGRESS_INTERVAL_S 0.25
+/* Off a terminal: a line each time the run moves this many percent, or
+ * after this many seconds (as the meters of progress.c). */
+#define PROGRESS_LOG_STEP_PCT 10.0
+#define PROGRESS_LOG_INTERVAL_S 30.0
 
 void cli_print_keys(FILE *f, const sensor_family *fam)
 {
@@ -116,6 +120,8 @@ void cli_progress_start(cli_progress *p, int quiet)
 {
     p->t0 = now_s();
     p->last = 0;
+    p->logged_pct = 0;
+    p->logged_t = p->t0;
     p->tty = isatty(STDERR_FILENO);
     p->quiet = quiet;
 }
@@ -123,15 +129,26 @@ void cli_progress_start(cli_progress *p, int quiet)
 void cli_progress_update(long done, long total, void *ctx)
 {
     cli_progress *p = ctx;
-    if (p->quiet || !p->tty)
+    if (p->quiet)
         return;
     double t = now_s();
     if (t - p->last < PROGRESS_INTERVAL_S && done < total)
         return;
+    /* Off a terminal (a batch log): a line per 10 % or 30 s. */
+    double pct = total > 0 ? 100.0 * (double)done / (double)total : 0.0;
+    if (!p->tty && pct - p->logged_pct < PROGRESS_LOG_STEP_PCT &&
+        t - p->logged_t < PROGRESS_LOG_INTERVAL_S)
+        return;
     p->last = t;
     char line[METER_STAGE_MAX + 128];
     cli_meter_line(line, sizeof line, "run", "units", done, total, t - p->t0, "");
-    fprintf(stderr, "\r%s, %.0f units/s   ", line, done / fmax(t - p->t0, 1e-9));
+    if (p->tty) {
+        fprintf(stderr, "\r%s, %.0f units/s   ", line, done / fmax(t - p->t0, 1e-9));
+    } else {
+        fprintf(stderr, "%s, %.0f units/s\n", line, done / fmax(t - p->t0, 1e-9));
+        p->logged_pct = floor(pct / PROGRESS_LOG_STEP_PCT) * PROGRESS_LOG_STEP_PCT;
+        p->logged_t = t;
+    }
     fflush(stderr);
 }
 
@@ -183,4 +200,38 @@ void cli_run_files_abort(cli_run_files *rf)
     if (rf->open)
         out_abort(&rf->os);
     rf->open = 0;
+}
+
+/* 1 when s needs quoting for a POSIX shell. */
+static int needs_quotes(const char *s)
+{
+    if (!*s)
+        return 1;
+    for (; *s; s++)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%",
+                     *s))
+            return 1;
+    return 0;
+}
+
+void cli_resume_command(int argc, char **argv, char *buf, size_t len)
+{
+    size_t used = (size_t)snprintf(buf, len, "sunmc");
+    int has_resume = 0;
+    for (int i = 1; i < argc && used < len; i++) {
+        const char *a = argv[i];
+        has_resume |= strcmp(a, "--resume") == 0;
+        if (!needs_quotes(a)) {
+            used += (size_t)snprintf(buf + used, len - used, " %s", a);
+            continue;
+        }
+        used += (size_t)snprintf(buf + used, len - used, " '");
+        for (; *a && used < len; a++)
+            used += (size_t)(*a == '\'' ? snprintf(buf + used, len - used, "'\\''")
+                                        : snprintf(buf + used, len - used, "%c", *a));
+        if (used < len)
+            used += (size_t)snprintf(buf + used, len - used, "'");
+    }
+    if (!has_resume && used < len)
+        snprintf(buf + used, len - used, " --resume");
 }

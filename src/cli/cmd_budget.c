@@ -132,6 +132,11 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
     write_tail(f, c, fam, b);
 }
 
+/* Shares named in the outside-0..100 % warning. */
+#define BUDGET_OUTSIDE_SHOWN 4
+
+static int shown_significant(const budget_share *s);
+
 /* "12.34% [11.90, 12.80]~" (~: the interval includes 0); "-" for a share
  * that cannot be formed (too few units with a fit), never "nan%". */
 static void fmt_share(char *buf, size_t len, const budget_share *s)
@@ -141,7 +146,56 @@ static void fmt_share(char *buf, size_t len, const budget_share *s)
         return;
     }
     snprintf(buf, len, "%6.2f%% [%6.2f, %6.2f]%s", 100 * s->v, 100 * s->ci.lo, 100 * s->ci.hi,
-             s->significant ? " " : "~");
+             shown_significant(s) ? " " : "~");
+}
+
+/* A share in percent as printed (two decimals). */
+static double shown_pct(double v)
+{
+    return round(100 * 100 * v) / 100;
+}
+
+/* The mark follows the interval as printed: one that shows 0 at either end
+ * ("-0.00% [-0.00, -0.00]") is not marked significant. */
+static int shown_significant(const budget_share *s)
+{
+    return s->significant && (shown_pct(s->ci.lo) > 0 || shown_pct(s->ci.hi) < 0);
+}
+
+/* Shares outside 0..100 % (as printed) are named in a warning: sources
+ * that interact (calibration couples them), or too few units. */
+static void add_outside(char *buf, size_t len, int *n, const char *name, const char *when,
+                        const budget_share *s)
+{
+    if (isnan(s->v) || (shown_pct(s->v) >= 0 && shown_pct(s->v) <= 100))
+        return;
+    size_t used = strlen(buf);
+    if (*n < BUDGET_OUTSIDE_SHOWN && used < len)
+        snprintf(buf + used, len - used, "%s%s %s %.2f%%", *n ? ", " : "", name, when,
+                 shown_pct(s->v));
+    else if (*n == BUDGET_OUTSIDE_SHOWN && used < len)
+        snprintf(buf + used, len - used, ", ...");
+    (*n)++;
+}
+
+static void warn_outside(const budget_result *b)
+{
+    char list[512] = "";
+    int n = 0;
+    add_outside(list, sizeof list, &n, "floor", "before", &b->floor_before);
+    add_outside(list, sizeof list, &n, "floor", "after", &b->floor_after);
+    for (int i = 0; i < b->n; i++) {
+        const budget_source *s = &b->src[b->order[i]];
+        add_outside(list, sizeof list, &n, s->name, "before", &s->share_before);
+        add_outside(list, sizeof list, &n, s->name, "after", &s->share_after);
+    }
+    add_outside(list, sizeof list, &n, "interaction", "before", &b->interaction_before);
+    add_outside(list, sizeof list, &n, "interaction", "after", &b->interaction_after);
+    if (n)
+        printf("WARNING: %d share%s outside 0..100 %% (%s): a share is no fraction of the "
+               "total there; the sources interact (the interaction row holds what they do "
+               "together) or the units are too few (more --units narrow the intervals)\n",
+               n, n == 1 ? "" : "s", list);
 }
 
 static void fmt_limit(char *buf, size_t len, const budget_source *s)
@@ -217,6 +271,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            "MS_all.  ~ = the interval\nincludes 0: inside the Monte Carlo noise (more --units "
            "narrow it).\n",
            u);
+    warn_outside(b);
 }
 
 int cmd_budget(int argc, char **argv)

@@ -193,6 +193,7 @@ typedef struct {
     checkpoint ckpt;
     int has_ckpt;
     long replayed;          /* units taken from the checkpoint */
+    char resume_cmd[1536];  /* the command that finishes this run */
 } run_job;
 
 /* Options, config, unit range and --until; prints errors, returns an exit code. */
@@ -202,6 +203,7 @@ static int job_setup(run_job *j, int argc, char **argv)
                        "CONFIG units seed threads set out quiet profile until shard resume", &j->o);
     if (rc)
         return rc;
+    cli_resume_command(argc, argv, j->resume_cmd, sizeof j->resume_cmd);
     if (j->o.resume && !j->o.out) {
         fprintf(stderr, "sunmc run: --resume needs the --out DIR of the interrupted run\n");
         return EXIT_BAD_INPUT;
@@ -287,6 +289,15 @@ static int job_checkpoint(run_job *j, char *err, size_t errlen)
         st = checkpoint_create(&j->ckpt, j->o.out, &m, c->block_units, &j->r.layout, err, errlen);
     }
     j->has_ckpt = st == SUNMC_OK;
+    if (j->has_ckpt) {
+        char note[OUT_NOTE_MAX];
+        snprintf(note, sizeof note,
+                 "\nsunmc run: interrupted: %s is as it was; kept: every completed block of "
+                 "units, checkpointed in %s; this finishes the run without running them "
+                 "again:\n  %s\n",
+                 j->o.out, j->ckpt.dir, j->resume_cmd);
+        out_signal_note(note);
+    }
     return st;
 }
 
@@ -353,6 +364,10 @@ static int job_finish(run_job *j, long done, double wall_s)
         print_profile(j->r.phase_s, done, wall_s, j->threads);
     /* Table 1 first: a failed write must not cost the result. */
     report_print_table(stdout, c, c->family, j->rows);
+    if (j->first != 0 || j->end != c->units)
+        printf("units %ld:%ld of the run of %ld units (run.units): `sunmc merge` joins the "
+               "shards of a run\n",
+               j->first, j->first + done, c->units);
     if (j->o.until) {
         note[0] = ';';
         note[1] = ' ';
@@ -371,9 +386,9 @@ static int job_finish(run_job *j, long done, double wall_s)
     if (status != SUNMC_OK) {
         fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
         if (j->has_ckpt && j->ckpt.done > 0)
-            fprintf(stderr, "sunmc run: %ld units are checkpointed in %s: the same command with "
-                            "--resume writes them without running them again\n",
-                    j->ckpt.done, j->ckpt.dir);
+            fprintf(stderr, "sunmc run: kept: %ld units checkpointed in %s; once there is room, "
+                            "this writes them without running them again:\n  %s\n",
+                    j->ckpt.done, j->ckpt.dir, j->resume_cmd);
         return cli_exit_code(status);
     }
     checkpoint_close(&j->ckpt);

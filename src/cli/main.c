@@ -6,7 +6,9 @@
 #include "suggest.h"
 
 #include <gsl/gsl_errno.h>
+#include <errno.h>
 #include <omp.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/time.h>
@@ -93,19 +95,91 @@ static int dispatch(int argc, char **argv)
     return EXIT_BAD_INPUT;
 }
 
+/* Smallest OpenMP thread stack sunmc runs on: the DSS kernels need 48 KiB
+ * (measured: 32 KiB crashes), taken four times over. */
+#define MIN_THREAD_STACK_BYTES (256.0 * 1024)
+
+/* Bytes of an OMP_STACKSIZE / GOMP_STACKSIZE text ("16K", "4M", "65536B";
+ * a bare number is KiB); < 0 when malformed. */
+static double stack_bytes(const char *v)
+{
+    char *end;
+    double n = strtod(v, &end);
+    while (*end == ' ')
+        end++;
+    double unit = 1024;
+    switch (*end) {
+    case 'b': case 'B': unit = 1; end++; break;
+    case 'k': case 'K': unit = 1024; end++; break;
+    case 'm': case 'M': unit = 1024.0 * 1024; end++; break;
+    case 'g': case 'G': unit = 1024.0 * 1024 * 1024; end++; break;
+    default: break;
+    }
+    while (*end == ' ')
+        end++;
+    return end == v || *end || !(n >= 0) ? -1 : n * unit;
+}
+
+/* The OpenMP runtime sized its threads' stacks from the environment before
+ * main: one too small for the kernels would crash a worker (a segfault, no
+ * message), so it is refused up front. */
+static int check_thread_stack(void)
+{
+    static const char *const vars[] = {"OMP_STACKSIZE", "GOMP_STACKSIZE"};
+    for (int i = 0; i < 2; i++) {
+        const char *v = getenv(vars[i]);
+        if (!v)
+            continue;
+        double b = stack_bytes(v);
+        if (b >= 0 && b < MIN_THREAD_STACK_BYTES) {
+            fprintf(stderr, "sunmc: %s=%s gives OpenMP threads stacks smaller than the %.0fK "
+                            "sunmc needs; unset it or set %s=%.0fK or more\n",
+                    vars[i], v, MIN_THREAD_STACK_BYTES / 1024, vars[i],
+                    MIN_THREAD_STACK_BYTES / 1024);
+            return EXIT_BAD_INPUT;
+        }
+    }
+    return 0;
+}
+
+/* A failed write to stdout (a closed pipe, a full disk) is said, with what
+ * was kept: the files of --out are complete all the same.  Without --out
+ * stdout was the result, so the exit status is 1. */
+static int check_stdout(int argc, char **argv, int rc)
+{
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return rc;
+    const char *out = NULL;
+    for (int i = 2; i + 1 < argc; i++)
+        if (strcmp(argv[i], "--out") == 0)
+            out = argv[i + 1];
+    int e = errno;
+    if (out && rc == 0)
+        fprintf(stderr, "sunmc: standard output failed (%s): the printed table is cut; kept: "
+                        "the files of --out %s, complete\n", strerror(e), out);
+    else
+        fprintf(stderr, "sunmc: standard output failed (%s): the printed result is cut\n",
+                strerror(e));
+    return rc ? rc : out ? 0 : 1;
+}
+
 /* Under mpirun every rank runs `run` (its units split across the ranks);
  * any other command runs on rank 0 alone. */
 int main(int argc, char **argv)
 {
     gsl_set_error_handler_off();
+    /* A closed pipe (`sunmc ... | head`) must not end the process before
+     * --out is committed: writes to it fail with EPIPE instead. */
+    signal(SIGPIPE, SIG_IGN);
     char err[SUNMC_ERRLEN];
     if (par_init(&argc, &argv, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
     }
-    int rc = 0;
-    if (par_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0))
+    int rc = check_thread_stack();
+    if (rc == 0 && (par_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0)))
         rc = dispatch(argc, argv);
+    rc = check_stdout(argc, argv, rc);
     par_finalize();
     return rc;
 }

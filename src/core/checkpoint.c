@@ -172,6 +172,13 @@ int checkpoint_open(checkpoint *k, const char *out, const run_manifest *m, long 
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--out %s: path too long", out);
     if (stat(k->dir, &sb) != 0)
         return SUNMC_OK;
+    /* Killed before its first commit (no progress file): a checkpoint of
+     * 0 units, whatever else it holds; started afresh. */
+    join(path, sizeof path, k->dir, PROGRESS_NAME);
+    if (stat(path, &sb) != 0 && errno == ENOENT) {
+        checkpoint_remove(out, NULL);
+        return SUNMC_OK;
+    }
     *found = 1;
     k->layout = *l;
     k->first = m->first;

@@ -45,6 +45,7 @@ static const int guard_signals[] = {SIGINT, SIGTERM, SIGHUP};
 #define GUARD_NSIG ((int)(sizeof guard_signals / sizeof guard_signals[0]))
 static struct sigaction guard_old[GUARD_NSIG];
 static struct sigaction guard_default;
+static char guard_note[OUT_NOTE_MAX]; /* written to stderr by the handler */
 
 /* While files are being written: remove them and the temporary directory,
  * then end by the same signal.  While the main thread moves or removes them
@@ -58,6 +59,9 @@ static void guard_on_signal(int sig)
         for (int i = 0; i < n; i++)
             unlink(guard_paths[i]);
         rmdir(guard_tmpdir);
+        size_t len = strlen(guard_note);
+        if (len && write(STDERR_FILENO, guard_note, len) < 0)
+            guard_note[0] = '\0';
     } else if (expected == GUARD_MAIN) {
         guard_pending = sig;
         return;
@@ -66,6 +70,11 @@ static void guard_on_signal(int sig)
     }
     sigaction(sig, &guard_default, NULL);
     raise(sig);
+}
+
+void out_signal_note(const char *note)
+{
+    snprintf(guard_note, sizeof guard_note, "%s", note ? note : "");
 }
 
 static void guard_install(void)
@@ -95,6 +104,7 @@ static int guard_take(void)
 static void guard_release(void)
 {
     guard_n = 0;
+    guard_note[0] = '\0';
     guard_tmpdir[0] = '\0';
     for (int i = 0; i < GUARD_NSIG; i++)
         sigaction(guard_signals[i], &guard_old[i], NULL);
