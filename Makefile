@@ -243,7 +243,8 @@ figures: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
 
 # Fuzzing (tests/fuzz/: libFuzzer harnesses for the INI config, --set lists,
-# the CSV reader and params.ini + compensate, each with a seed corpus).  The
+# the CSV reader, params.ini + compensate and the command line's argument
+# vectors, each with a seed corpus).  The
 # library is rebuilt with clang and -fsanitize=fuzzer-no-link,address,undefined
 # into $(FUZZ)/; each harness runs FUZZ_SECONDS seconds from its seeds plus
 # what earlier runs found ($(FUZZ)/corpus/NAME); crashes are written to
@@ -270,9 +271,14 @@ $(FUZZ)/obj/%.o: src/%.c $(ALL_HDR)
 $(FUZZ)/libsunmc.a: $(FUZZ_OBJ)
 	ar rcs $@ $^
 
-$(FUZZ)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h $(FUZZ)/libsunmc.a
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(TEST_INC) -o $@ $< $(FUZZ)/libsunmc.a \
-	    $(PKG_LIBS) -lm
+# The commands without main(), for the command-line harness (fuzz_argv).
+FUZZ_CLI_OBJ := $(CLI_LIB_SRC:src/%.c=$(FUZZ)/obj/%.o)
+$(FUZZ)/libsunmc_cli.a: $(FUZZ_CLI_OBJ)
+	ar rcs $@ $^
+
+$(FUZZ)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h $(FUZZ)/libsunmc_cli.a $(FUZZ)/libsunmc.a
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(TEST_INC) -o $@ $< $(FUZZ)/libsunmc_cli.a \
+	    $(FUZZ)/libsunmc.a $(PKG_LIBS) -lm
 
 fuzz-build: fuzz-deps
 	$(MAKE) --no-print-directory $(FUZZ_BIN)
