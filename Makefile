@@ -56,6 +56,16 @@ KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_mode
               src/ess/ess_sensor.c src/ess/ess_readings.c src/dss/dss_readings.c \
               src/dss/dss_model_batch.c src/dss/dss_score.c src/dss/dss_onboard.c
 KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-trapping-math -fno-builtin-sin -fno-builtin-cos
+# KERNEL_ISA=baseline builds the kernels for the baseline only (no AVX2
+# clone): every node of a mixed cluster then runs the same path, and its
+# shards merge (manifest.ini records kernel_isa and build).
+KERNEL_ISA ?=
+ifeq ($(KERNEL_ISA),baseline)
+ALL_CFLAGS += -DVM_FORCE_BASELINE
+endif
+# The build's identity in manifest.ini: the flags that move a result's bits.
+$(BUILD)/obj/util/vmath.o $(BUILD)/asan/obj/util/vmath.o: \
+    ALL_CFLAGS += -DSUNMC_BUILD_FLAGS='"$(strip $(OPT) $(ARCH) $(if $(filter baseline,$(KERNEL_ISA)),kernels baseline))"'
 
 # Layers, one way: cli -> families -> core -> util.  Each layer compiles
 # against its own headers and those below it only, so an include that

@@ -29,7 +29,7 @@
 
 #define UNITFILE_NAME "units.bin"
 #define MANIFEST_NAME "manifest.ini"
-#define MANIFEST_FORMAT 1
+#define MANIFEST_FORMAT 2
 #define UNITFILE_HEADER_WORDS 8
 
 typedef struct {
@@ -64,6 +64,8 @@ typedef struct {
     unsigned long long config_hash;
     long seed;
     long first, end;
+    char isa[16];    /* kernel path run: "avx2" or "baseline" (vm_isa) */
+    char build[160]; /* compiler and flags (vm_build_id) */
 } run_manifest;
 
 /* The manifest of units [first, end) of st's config. */

@@ -63,7 +63,12 @@ double hypot(double, double) __attribute__((const));
  * sanitizer build of the tests would not reproduce the plain build's
  * numbers.  Kernels are left uninstrumented (they are loops over arrays of
  * vm_pad(n) values; valgrind covers them). */
-#ifdef VM_LIBMVEC
+#if defined(VM_LIBMVEC) && defined(VM_FORCE_BASELINE)
+/* `make KERNEL_ISA=baseline`: one path on every CPU (a cluster of mixed
+ * nodes whose shards must merge). */
+#define VM_NOSAN __attribute__((no_sanitize("address", "undefined")))
+#define VM_KERNEL VM_NOSAN
+#elif defined(VM_LIBMVEC)
 #define VM_NOSAN __attribute__((no_sanitize("address", "undefined")))
 #define VM_KERNEL __attribute__((target_clones("default", "arch=x86-64-v3"))) VM_NOSAN
 #else
@@ -76,6 +81,15 @@ double hypot(double, double) __attribute__((const));
 #define VM_INLINE static inline __attribute__((always_inline)) VM_NOSAN
 
 #define VM_SIMD _Pragma("omp simd")
+
+/* The kernel path this process runs: "avx2" (x86-64-v3, chosen by the
+ * loader on a CPU that has it) or "baseline".  Its last bits differ, so it
+ * is part of a result's identity (manifest.ini kernel_isa). */
+const char *vm_isa(void);
+
+/* The build's identity: compiler version and the flags that move a
+ * result's last bits (manifest.ini build). */
+const char *vm_build_id(void);
 
 /* x where keep is true, else +0 (NaN and inf included): a select that GCC
  * vectorises inside a kernel loop, as it needs x in every lane (with

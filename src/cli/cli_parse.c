@@ -236,6 +236,8 @@ static int set_option(cli_options *o, const char *command, const char *name, con
         return set_shard(o, command, v);
     } else if (strcmp(name, "config") == 0) {
         o->config = v;
+    } else if (strcmp(name, "isa") == 0) {
+        o->isa = v;
     } else {
         return bad(command, "unknown option", a);
     }

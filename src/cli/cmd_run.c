@@ -8,6 +8,7 @@
 #include "checkpoint.h"
 #include "runner.h"
 #include "status.h"
+#include "vmath.h"
 
 #include <math.h>
 #include <omp.h>
@@ -18,7 +19,7 @@
 static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
-    "                 [--until STAT:HALFWIDTH] [--shard K/N] [--resume]\n"
+    "                 [--until STAT:HALFWIDTH] [--shard K/N] [--resume] [--isa baseline|avx2]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
     "--out DIR writes summary.tsv, units.tsv, config.ini, manifest.ini and units.bin (the\n"
@@ -32,7 +33,9 @@ static const char run_help[] =
     "fraction) or --units N / run.units is reached; the result is that of a fixed run of\n"
     "the units it took.  STAT: yield, rms_after_mean, rms_before_mean, rms_after_sys_mean,\n"
     "rms_after_p95, improvement_mean.\n"
-    "--profile prints on stderr the time per unit and its split (campaign, fit, validation).\n";
+    "--profile prints on stderr the time per unit and its split (campaign, fit, validation).\n"
+    "--isa baseline|avx2 (or SUNMC_ISA) runs only if the kernels take that path; manifest.ini\n"
+    "records the path and the build, and merge and --resume refuse a mix of them.\n";
 
 static const char config_help[] =
     "usage: sunmc config [CONFIG] [--set SECTION.KEY=VALUE]... [--reference]\n"
@@ -196,14 +199,46 @@ typedef struct {
     char resume_cmd[1536];  /* the command that finishes this run */
 } run_job;
 
+/* --isa (else $SUNMC_ISA): the kernel path this run must take.  The
+ * loader chose it before main, so a path other than the chosen one is
+ * refused (with the build that runs it), never run silently. */
+static int check_isa(const char *want)
+{
+    const char *env = getenv("SUNMC_ISA");
+    const char *how = want ? "--isa" : "SUNMC_ISA";
+    if (!want)
+        want = env && env[0] ? env : NULL;
+    if (!want)
+        return 0;
+    if (strcmp(want, "baseline") != 0 && strcmp(want, "avx2") != 0) {
+        fprintf(stderr, "sunmc run: %s %s: one of baseline, avx2\n", how, want);
+        return EXIT_BAD_INPUT;
+    }
+    if (strcmp(want, vm_isa()) == 0)
+        return 0;
+    fprintf(stderr,
+            "sunmc run: %s %s: this binary on this CPU runs the %s kernels (chosen when it "
+            "loaded); %s\n",
+            how, want, vm_isa(),
+            strcmp(want, "baseline") == 0
+                ? "build one that runs the baseline on every CPU with `make clean && make "
+                  "KERNEL_ISA=baseline`"
+                : "this CPU or build has no AVX2 path: run on an x86-64-v3 node with the "
+                  "default build");
+    return EXIT_BAD_INPUT;
+}
+
 /* Options, config, unit range and --until; prints errors, returns an exit code. */
 static int job_setup(run_job *j, int argc, char **argv)
 {
     int rc = cli_parse(argc, argv, 2, "run",
-                       "CONFIG units seed threads set out quiet profile until shard resume", &j->o);
+                       "CONFIG units seed threads set out quiet profile until shard resume isa",
+                       &j->o);
     if (rc)
         return rc;
     cli_resume_command(argc, argv, j->resume_cmd, sizeof j->resume_cmd);
+    if ((rc = check_isa(j->o.isa)))
+        return rc;
     if (j->o.resume && !j->o.out) {
         fprintf(stderr, "sunmc run: --resume needs the --out DIR of the interrupted run\n");
         return EXIT_BAD_INPUT;

@@ -1,5 +1,6 @@
 /* unitfile.c - units.bin (per-unit results, lossless) and manifest.ini. */
 #include "unitfile.h"
+#include "vmath.h"
 #include "ini.h"
 #include "status.h"
 
@@ -157,6 +158,8 @@ void manifest_of(const config_state *st, long first, long end, run_manifest *m)
     m->seed = st->cfg.seed;
     m->first = first;
     m->end = end;
+    snprintf(m->isa, sizeof m->isa, "%s", vm_isa());
+    snprintf(m->build, sizeof m->build, "%s", vm_build_id());
 }
 
 int manifest_write(FILE *f, const run_manifest *m, char *err, size_t errlen)
@@ -164,9 +167,10 @@ int manifest_write(FILE *f, const run_manifest *m, char *err, size_t errlen)
     fprintf(f,
             "# sunmc run manifest: what `sunmc merge` and `run --resume` check\n"
             "[manifest]\nformat = %d\nsunmc_version = %s\nfamily = %s\nconfig_fnv1a64 = %016llx\n"
-            "seed = %ld\nfirst_unit = %ld\nend_unit = %ld\nunits_file = %s\n",
+            "seed = %ld\nfirst_unit = %ld\nend_unit = %ld\nunits_file = %s\nkernel_isa = %s\n"
+            "build = %s\n",
             m->format, m->version, m->family, m->config_hash, m->seed, m->first, m->end,
-            UNITFILE_NAME);
+            UNITFILE_NAME, m->isa, m->build);
     return ferror(f) ? sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error", MANIFEST_NAME)
                      : SUNMC_OK;
 }
@@ -175,10 +179,12 @@ int manifest_write(FILE *f, const run_manifest *m, char *err, size_t errlen)
 static int manifest_key(const ini_entry *e, const char *path, run_manifest *m, unsigned *mask,
                         char *err, size_t errlen)
 {
-    static const char *const keys[] = {"format", "sunmc_version", "family", "config_fnv1a64",
-                                       "seed", "first_unit", "end_unit", "units_file"};
+    static const char *const keys[] = {"format",     "sunmc_version", "family",
+                                       "config_fnv1a64", "seed",      "first_unit",
+                                       "end_unit",   "units_file",    "kernel_isa",
+                                       "build"};
     int k = -1;
-    for (int i = 0; i < 8; i++)
+    for (int i = 0; i < 10; i++)
         if (strcmp(e->key, keys[i]) == 0)
             k = i;
     char *end = NULL;
@@ -203,6 +209,10 @@ static int manifest_key(const ini_entry *e, const char *path, run_manifest *m, u
         m->first = v;
     else if (k == 6)
         m->end = v;
+    else if (k == 8)
+        snprintf(m->isa, sizeof m->isa, "%.*s", (int)sizeof m->isa - 1, e->value);
+    else if (k == 9)
+        snprintf(m->build, sizeof m->build, "%.*s", (int)sizeof m->build - 1, e->value);
     return SUNMC_OK;
 }
 
@@ -223,7 +233,7 @@ int manifest_read(const char *path, run_manifest *m, char *err, size_t errlen)
             break;
     ini_end(&r);
     fclose(f);
-    if (st == SUNMC_OK && mask != 0xffu)
+    if (st == SUNMC_OK && mask != 0x3ffu)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: incomplete manifest (keys missing)", path);
     if (st == SUNMC_OK && m->format != MANIFEST_FORMAT)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: manifest format %d; this sunmc reads %d",
@@ -255,6 +265,17 @@ int manifest_compatible(const run_manifest *a, const char *a_name, const run_man
         what = "config (config_fnv1a64)";
         snprintf(va, sizeof va, "%016llx", a->config_hash);
         snprintf(vb, sizeof vb, "%016llx", b->config_hash);
+    } else if (strcmp(a->isa, b->isa) != 0) {
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s and %s ran different kernel paths: kernel_isa %s against %s (their "
+                          "last bits differ); run every part on one path: a build made with "
+                          "`make KERNEL_ISA=baseline` runs the baseline on every CPU",
+                          a_name, b_name, a->isa, b->isa);
+    } else if (strcmp(a->build, b->build) != 0) {
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s and %s are of different builds: build '%s' against '%s' (their "
+                          "last bits may differ); run every part with one sunmc binary",
+                          a_name, b_name, a->build, b->build);
     }
     if (!what)
         return SUNMC_OK;

@@ -13,3 +13,29 @@ double *vm_alloc(size_t n)
         memset(p, 0, bytes);
     return p;
 }
+
+#ifndef SUNMC_BUILD_FLAGS
+#define SUNMC_BUILD_FLAGS "-"
+#endif
+
+const char *vm_isa(void)
+{
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__GLIBC__) && \
+    defined(_OPENMP) && !defined(VM_FORCE_BASELINE)
+#if __GLIBC_PREREQ(2, 35)
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("x86-64-v3"))
+        return "avx2";
+#endif
+#endif
+    return "baseline";
+}
+
+const char *vm_build_id(void)
+{
+#ifdef __VERSION__
+    return "cc " __VERSION__ ", " SUNMC_BUILD_FLAGS;
+#else
+    return "cc ?, " SUNMC_BUILD_FLAGS;
+#endif
+}

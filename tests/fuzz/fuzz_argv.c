@@ -18,7 +18,7 @@
 static const struct {
     const char *command, *allowed;
 } commands[] = {
-    {"run", "CONFIG units seed threads set out quiet profile until shard resume"},
+    {"run", "CONFIG units seed threads set out quiet profile until shard resume isa"},
     {"config", "CONFIG? set reference"},
     {"sweep", "CONFIG units seed threads set out quiet vary"},
     {"design", "CONFIG units seed threads set space out quiet"},
