@@ -15,6 +15,7 @@
 #include "campaign.h"
 #include "config.h"
 #include "fit.h"
+#include "prior.h"
 
 #include <gsl/gsl_matrix.h>
 #include <stddef.h>
@@ -94,6 +95,12 @@ typedef struct {
     double se[CALREPORT_MAX_PAR];     /* standard error (scaled covariance) */
     double corr[CALREPORT_MAX_PAR][CALREPORT_MAX_PAR];
     int cov_ok;                       /* se and corr formed (calreport_covariance) */
+    /* priors (calibration.priors = tolerances, prior.h; prior_on 0: none),
+     * per parameter in the units of its name */
+    int prior_on;
+    long prior_units;                 /* pilot units they come from */
+    double prior_mean[CALREPORT_MAX_PAR];
+    double prior_sigma[CALREPORT_MAX_PAR];
     double cond_jacobian;             /* 1 / rcond of J at the solution (fit.h) */
     double cond_correlation;          /* largest / smallest eigenvalue of corr */
 
@@ -133,6 +140,18 @@ void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
  * the correlation matrix and its condition number.  r->np must be set.
  * SUNMC_EFIT when a variance is not positive or the eigen-solve fails. */
 int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const double *scale);
+
+/* Record priors p (fit-vector order, internal units; np = 0: none) in
+ * the parameters' reported units (value = internal x scale[j]). */
+void calreport_set_priors(calreport *r, const calib_prior *p, const double *scale);
+
+/* Posterior over prior standard deviation at or above which the campaign
+ * is said not to beat the prior for a parameter. */
+#define CALREPORT_PRIOR_NOT_BEATEN 0.9
+/* One warning naming every parameter whose standard error is at least
+ * CALREPORT_PRIOR_NOT_BEATEN of its prior's sigma: the data add little to
+ * what the lab knew (needs se: after calreport_covariance). */
+void calreport_check_priors(calreport *r);
 
 /* Add one warning for each pair with |corr| > threshold, naming both. */
 void calreport_check_correlations(calreport *r, double threshold);

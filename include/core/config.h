@@ -64,6 +64,9 @@ typedef union {
 
 struct sensor_family;
 
+/* calibration.priors (the key's enum order). */
+enum config_priors { CONFIG_PRIORS_OFF = 0, CONFIG_PRIORS_TOLERANCES = 1 };
+
 typedef struct {
     /* [sensor] */
     const struct sensor_family *family; /* from the registry (registry.h) */
@@ -89,6 +92,8 @@ typedef struct {
     int max_iterations;                 /* [calibration] most fit iterations */
     double max_dropped_fraction;        /* [calibration] calibrate: gross-error rows refused above */
     double max_residual_ratio;          /* [calibration] calibrate: residual / noise refused above */
+    int cal_priors;                     /* [calibration] enum config_priors: off | tolerances */
+    int prior_units;                    /* [calibration] pilot units of the priors */
 
     /* [run] */
     long units;

@@ -77,6 +77,14 @@ static inline int ess_is_gross(double raw_rad, double ref_rad, double half_perio
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                        ess_calib_workspace *cw, ess_campaign_point *truth, int *gross);
 
+/* The two halves of ess_unit_campaign: the config's campaign table angles
+ * into cw (alphas fastest), and unit u's readings at cw's angles drawn
+ * from r, with weight 0 for an unseen reading or a gross error (counted in
+ * *gross); truth as above. */
+void ess_campaign_angles(const sunmc_config *c, ess_calib_workspace *cw);
+void ess_campaign_read(const sunmc_config *c, const ess_unit *u, rng_stream *r,
+                       ess_calib_workspace *cw, ess_campaign_point *truth, int *gross);
+
 /* Status of a validation reading. */
 enum ess_reading_status { ESS_READING_OK = 0, ESS_READING_UNSEEN = 1, ESS_READING_GROSS = 2 };
 

@@ -86,6 +86,13 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
 /* Covariance (J^T J)^-1 at the last solution into fw->covar (unscaled). */
 int fit_covariance(fit_workspace *fw);
 
+/* fit_covariance when the data rows' variance s2 estimated from the
+ * residuals differs from sigma_row^2, the one the priors' weights assumed
+ * (fit_prior_set): k = s2 / sigma_row^2.  covar = (J^T J + k W^2)^-1, so
+ * s2 covar = (J^T J / s2 + Sigma_prior^-1)^-1, the posterior covariance
+ * with the prior's own variances kept.  k = 1 is fit_covariance. */
+int fit_covariance_rescaled(fit_workspace *fw, double k);
+
 /* Gaussian priors on the parameters, as p residual rows appended to the
  * model's n: row j is weight[j] (x[j] - mean[j]), so in the data's residual
  * units weight[j] = sigma_row / sigma_j (a data row's noise over the

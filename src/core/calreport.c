@@ -243,7 +243,8 @@ static void print_models(FILE *f, const calreport_models *m)
         fprintf(f, "  %s\n", m->note);
 }
 
-int calreport_print(FILE *f, const calreport *r)
+/* What the fit was given and how it ended. */
+static void print_header(FILE *f, const calreport *r)
 {
     fprintf(f, "calibration: sensor family %s, model %s\n", r->sensor, r->model);
     fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used, r->dof);
@@ -258,12 +259,27 @@ int calreport_print(FILE *f, const calreport *r)
         fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
                 r->fit.iterations, fit_reason(&r->fit));
     fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);
+}
 
+/* Parameters with standard errors (and priors), the correlation matrix. */
+static void print_parameters(FILE *f, const calreport *r)
+{
     fprintf(f, "\nparameters (standard errors from the covariance at the solution, "
                "scaled by the residual variance):\n");
     for (int i = 0; i < r->np; i++)
         fprintf(f, "  %-24s %+.9e  +- %.3e\n", r->name[i], r->value[i], r->se[i]);
-
+    if (r->prior_on) {
+        fprintf(f, "\npriors (calibration.priors = tolerances: mean and sigma over a pilot of %ld "
+                   "units drawn from the config's tolerances, fitted without noise); moved = "
+                   "(fitted - prior mean) / prior sigma, se/prior = what the data left of the "
+                   "prior's uncertainty:\n",
+                r->prior_units);
+        for (int i = 0; i < r->np; i++)
+            fprintf(f, "  %-24s prior %+.6e +- %.3e  moved %+7.2f  se/prior %6.3f\n", r->name[i],
+                    r->prior_mean[i], r->prior_sigma[i],
+                    (r->value[i] - r->prior_mean[i]) / r->prior_sigma[i],
+                    r->se[i] / r->prior_sigma[i]);
+    }
     if (!r->cov_ok) {
         fprintf(f, "\ncorrelation matrix: not available (the parameter covariance could not be "
                    "formed: the Jacobian is rank-deficient or the residual is not finite)\n");
@@ -282,7 +298,11 @@ int calreport_print(FILE *f, const calreport *r)
     fprintf(f, "condition number: %.3g of the Jacobian (parameters in internal units), "
                "%.3g of the correlation matrix\n",
             r->cond_jacobian, r->cond_correlation);
+}
 
+/* Residual, propagated and predicted accuracy per angle and band. */
+static void print_bands(FILE *f, const calreport *r)
+{
     fprintf(f, "\nper band (arcsec; predicted = sqrt(noise^2 + calibration^2), calibration = "
                "parameter covariance\npropagated to the compensated angle):\n");
     char head[64];
@@ -304,7 +324,10 @@ int calreport_print(FILE *f, const calreport *r)
             print_value(f, r->predicted_rms[a][b]);
             fputc('\n', f);
         }
+}
 
+static void print_crossval(FILE *f, const calreport *r)
+{
     fprintf(f, "\ncross-validation (hold out each part, refit the rest, error on the held-out "
                "part, arcsec):\n");
     if (r->n_folds == 0)
@@ -320,13 +343,52 @@ int calreport_print(FILE *f, const calreport *r)
     if (r->n_folds > 0)
         fprintf(f, "  pooled: in-sample %.2f, held-out %.2f (the honest accuracy estimate)\n",
                 r->cv_rms_in_arcsec, r->cv_rms_out_arcsec);
+}
 
+int calreport_print(FILE *f, const calreport *r)
+{
+    print_header(f, r);
+    print_parameters(f, r);
+    print_bands(f, r);
+    print_crossval(f, r);
     print_models(f, &r->models);
-
     fprintf(f, "\nwarnings: %d\n", r->nw);
     for (int i = 0; i < r->nw; i++)
         fprintf(f, "  %d. %s\n     what to do: %s\n", i + 1, r->w[i].reason, r->w[i].action);
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
+}
+
+void calreport_set_priors(calreport *r, const calib_prior *p, const double *scale)
+{
+    r->prior_on = p->np > 0;
+    r->prior_units = p->units;
+    for (int j = 0; j < p->np && j < CALREPORT_MAX_PAR; j++) {
+        r->prior_mean[j] = p->mean[j] * scale[j];
+        r->prior_sigma[j] = p->sigma[j] * fabs(scale[j]);
+    }
+}
+
+void calreport_check_priors(calreport *r)
+{
+    if (!r->prior_on || !r->cov_ok)
+        return;
+    char names[CALREPORT_TEXT_MAX / 2] = "";
+    size_t len = 0;
+    int n = 0;
+    for (int j = 0; j < r->np; j++)
+        if (r->se[j] >= CALREPORT_PRIOR_NOT_BEATEN * r->prior_sigma[j] && len < sizeof names) {
+            len += (size_t)snprintf(names + len, sizeof names - len, "%s%s (%.2f)",
+                                    n ? ", " : "", r->name[j], r->se[j] / r->prior_sigma[j]);
+            n++;
+        }
+    if (n)
+        calreport_warn(r,
+                       "these parameters are what the tolerances say, not what this campaign "
+                       "measured: widen the campaign (more lines, a wider alpha span, more "
+                       "repeats) if they matter, or tighten the tolerance behind them",
+                       "the campaign cannot beat the prior for %d parameter%s: standard error "
+                       "over prior sigma >= %.2f for %s",
+                       n, n == 1 ? "" : "s", CALREPORT_PRIOR_NOT_BEATEN, names);
 }
 
 int calreport_write_bands(FILE *f, const calreport *r)

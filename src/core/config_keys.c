@@ -91,6 +91,14 @@ const config_key config_keys[] = {
      OFF(max_residual_ratio),
      "`calibrate`: a fit whose residual exceeds this many times the reading noise of the "
      "config (at least 1 arcsec) is refused"},
+    {"calibration", "priors", KEY_ENUM, "", "off", 0, 0, "off|tolerances", OFF(cal_priors),
+     "Gaussian priors on the fitted parameters: off, or tolerances (each parameter's mean and "
+     "sigma over a pilot of calibration.prior_units units drawn from the tolerances and "
+     "fitted without noise: what the lab knows before the campaign), as extra residual rows "
+     "weighted by the reading noise"},
+    {"calibration", "prior_units", KEY_INT, "", "48", 8, 100000, NULL, OFF(prior_units),
+     "calibration.priors = tolerances: units of the pilot that sets the priors (drawn from "
+     "run.seed's own pilot stream, the same in every shard and thread)"},
 
     /* [run] */
     {"run", "units", KEY_LONG, "", "1000", 1, 100000000, NULL, OFF(units),

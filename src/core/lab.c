@@ -177,6 +177,26 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
 
 #define LAB_CAL_FILES 4 /* params.ini, residuals.tsv, bands.tsv, crossval.tsv */
 
+/* params.ini's [prior] section: each parameter's prior mean and sigma (the
+ * user's statement of what was known before the campaign), when the fit
+ * had priors. */
+static int params_priors(params_file *pf, const calreport *rep)
+{
+    int st = SUNMC_OK;
+    char key[CALREPORT_NAME_MAX + 8];
+    if (rep->prior_on)
+        st = params_set_double(pf, "prior", "pilot_units", (double)rep->prior_units,
+                               "calibration.priors = tolerances: units of the pilot");
+    for (int j = 0; rep->prior_on && j < rep->np && st == SUNMC_OK; j++) {
+        snprintf(key, sizeof key, "%s_mean", rep->name[j]);
+        st = params_set_double(pf, "prior", key, rep->prior_mean[j], NULL);
+        snprintf(key, sizeof key, "%s_sigma", rep->name[j]);
+        if (st == SUNMC_OK)
+            st = params_set_double(pf, "prior", key, rep->prior_sigma[j], NULL);
+    }
+    return st;
+}
+
 int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_config *c,
                           const calreport *rep, const char *data, const char *config,
                           size_t rows, const char *out_dir, char *err, size_t errlen)
@@ -186,7 +206,8 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
     params_init(pf);
     int st = lab_params_header(pf, data, config, rows, rep, err, errlen);
-    if (st == SUNMC_OK && lab->params_fill(cal, c, rep, pf) != SUNMC_OK)
+    if (st == SUNMC_OK &&
+        (lab->params_fill(cal, c, rep, pf) != SUNMC_OK || params_priors(pf, rep) != SUNMC_OK))
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "params.ini: too many entries");
     const char *names[OUT_MAX_FILES] = {"params.ini", "residuals.tsv", "bands.tsv",
                                         "crossval.tsv"};

@@ -2,6 +2,7 @@
  * (ess_calibrate) plus uncertainty, residuals, cross-validation and
  * params.ini. */
 #include "ess_calfit.h"
+#include "ess_prior.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "lab.h"
@@ -292,7 +293,8 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
 /* Residual variance, parameters with standard errors and correlations
  * (of the fitted parameters: a measured sun tilt is not one), and the
  * scaled covariance res->cov (model order; 0 for a fixed parameter). */
-static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, calreport *rep)
+static void parameters(const ess_calib_workspace *cw, const calib_prior *prior,
+                       ess_calfit_result *res, calreport *rep)
 {
     /* Residual variance with the degrees of freedom the data leave: the
      * regularised (aliased) directions are fixed by their priors. */
@@ -315,7 +317,11 @@ static void parameters(const ess_calib_workspace *cw, ess_calfit_result *res, ca
         scale[j] = par_scale[q];
         rep->value[j] = res->m.p[q] * scale[j];
     }
-    int cst = fit_covariance(cw->fw);
+    calreport_set_priors(rep, prior, scale);
+    /* the priors' weights assumed the config's row noise; the data say s2 */
+    double k = prior->np > 0 && prior->sigma_row > 0 ? res->s2 / (prior->sigma_row * prior->sigma_row)
+                                                     : 1.0;
+    int cst = fit_covariance_rescaled(cw->fw, k);
     if (cst == SUNMC_OK)
         cst = calreport_covariance(rep, cw->fw->covar, res->s2, scale);
     if (cst == SUNMC_OK) {
@@ -393,8 +399,11 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                           rep->n_used, cw->kind == ESS_MODEL_EXTENDED ? "extended " : "", np,
                           np + 1);
 
-    int st =
-        ess_calibrate(cw, theta0, roll, ec->alias_threshold, c->max_iterations, &res->m, &rep->fit);
+    calib_prior prior;
+    int st = ess_prior_apply(c, cw, &prior, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    st = ess_calibrate(cw, theta0, roll, ec->alias_threshold, c->max_iterations, &res->m, &rep->fit);
     rep->fit_ok = st == SUNMC_OK;
     rep->cond_jacobian = 1.0 / rep->fit.rcond;
     alias_warnings(c, cw, rep);
@@ -407,8 +416,9 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
 
-    parameters(cw, res, rep);
+    parameters(cw, &prior, res, rep);
     ess_check_correlations(rep);
+    calreport_check_priors(rep);
 
     int n_uncomp;
     band_stats(c, cw, res, rep, &n_uncomp);

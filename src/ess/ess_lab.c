@@ -3,6 +3,7 @@
  * (ess_calfit.h); `compensate` applies params.ini. */
 #include "ess_calfit.h"
 #include "ess_lab.h"
+#include "ess_prior.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "status.h"
@@ -229,10 +230,7 @@ static int cal_predict(const sunmc_config *c, const double *in, double *out, dou
  * the encoder's noise added; averaged over the repeats. */
 static double cal_noise_arcsec(const sunmc_config *c)
 {
-    const ess_config *e = ess_cfg(c);
-    double phase = e->design.theta0_deg * ARCSEC_PER_DEG / (2 * M_PI) *
-                   e->noise.row_current_pct * FRACTION_PER_PCT / M_SQRT2;
-    return hypot(phase, c->encoder_arcsec) / sqrt((double)c->cal_repeats);
+    return ess_reading_noise_arcsec(c);
 }
 
 typedef struct {

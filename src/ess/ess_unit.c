@@ -4,6 +4,7 @@
 #include "ess_curve.h"
 #include "ess_lab.h"
 #include "ess_grid.h"
+#include "ess_prior.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -57,11 +58,16 @@ double ess_half_period_rad(const sunmc_config *c)
 void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                        ess_calib_workspace *cw, ess_campaign_point *truth, int *gross)
 {
-    const ess_config *ec = ess_cfg(c);
-    long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
-    double half_period = ess_half_period_rad(c);
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
+    ess_campaign_angles(c, cw);
+    ess_campaign_read(c, u, &r, cw, truth, gross);
+}
+
+void ess_campaign_angles(const sunmc_config *c, ess_calib_workspace *cw)
+{
+    const ess_config *ec = ess_cfg(c);
+    long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
     size_t i = 0;
     for (int k = 0; k < ec->cal_beta_deg.n; k++)
         for (long j = 0; j < na; j++, i++) {
@@ -69,12 +75,18 @@ void ess_unit_campaign(const sunmc_config *c, const ess_unit *u, long unit,
                                RAD_PER_DEG;
             cw->beta_rad[i] = ec->cal_beta_deg.v[k] * RAD_PER_DEG;
         }
+}
+
+void ess_campaign_read(const sunmc_config *c, const ess_unit *u, rng_stream *r,
+                       ess_calib_workspace *cw, ess_campaign_point *truth, int *gross)
+{
+    double half_period = ess_half_period_rad(c);
     *gross = 0;
     for (size_t i0 = 0; i0 < cw->n; i0 += ESS_CHUNK) {
         ess_campaign_point chunk[ESS_CHUNK];
         size_t np = cw->n - i0 < ESS_CHUNK ? cw->n - i0 : ESS_CHUNK;
         ess_campaign_point *p = truth ? truth + i0 : chunk;
-        ess_campaign_batch(c, u, &r, np, cw->alpha_rad + i0, cw->beta_rad + i0, p);
+        ess_campaign_batch(c, u, r, np, cw->alpha_rad + i0, cw->beta_rad + i0, p);
         for (size_t q = 0; q < np; q++) {
             cw->raw_rad[i0 + q] = p[q].raw_rad;
             int keep = p[q].seen && !ess_is_gross(p[q].raw_rad, cw->alpha_rad[i0 + q], half_period);
@@ -211,6 +223,7 @@ static int ess_par_columns(const sunmc_config *c, const char **names, int max)
 typedef struct {
     ess_calib_workspace *cw;
     ess_val_readings val;
+    calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
 } ess_ws;
 
 static void ess_ws_free(void *p)
@@ -250,6 +263,11 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     if (!w || !(w->cw = ess_calib_alloc_fix(n, kind, fix)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
         ess_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
+        return NULL;
+    }
+    ess_campaign_angles(c, w->cw);
+    if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
+        ess_ws_free(w);
         return NULL;
     }
     return w;

@@ -380,7 +380,14 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
 
 int fit_covariance(fit_workspace *fw)
 {
+    return fit_covariance_rescaled(fw, 1.0);
+}
+
+int fit_covariance_rescaled(fit_workspace *fw, double k)
+{
     gsl_matrix_memcpy(fw->covar, fw->JTJ);
+    for (size_t j = 0; fw->prior_on && j < fw->p; j++)
+        *gsl_matrix_ptr(fw->covar, j, j) += (k - 1.0) * fw->prior_w[j] * fw->prior_w[j];
     if (gsl_linalg_cholesky_decomp1(fw->covar) != GSL_SUCCESS ||
         gsl_linalg_cholesky_invert(fw->covar) != GSL_SUCCESS)
         return SUNMC_EFIT;
