@@ -117,6 +117,13 @@ typedef struct family_lab {
     /* ---- compensate: apply params.ini to raw readings. ---- */
     const char *const *raw_columns;   /* read, NULL-terminated */
     const char *const *comp_columns;  /* added, NULL-terminated; deg */
+    /* Optional inputs (NULL-terminated, or NULL): read when the file has
+     * every one of them, and then opt_comp_columns (deg) are added too
+     * (e.g. the table angles and the truth they give).  compensate gets
+     * them after raw_columns (NaN when absent) and fills theirs after
+     * comp_columns. */
+    const char *const *opt_columns;
+    const char *const *opt_comp_columns;
     /* Said after the count of readings that could not be compensated, or NULL. */
     const char *comp_fail_note;
     /* The calibration a params.ini describes, into model (model_size bytes). */

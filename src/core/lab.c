@@ -238,22 +238,41 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
 
 /* ---- compensate ---- */
 
-/* Column indices of lab->raw_columns in t (cols), and a refusal when t
- * already has one of lab->comp_columns. */
-static int comp_columns(const family_lab *lab, const csv_table *t, const char *raw_path,
-                        int *cols, int *n_raw, char *err, size_t errlen)
+/* Refusal when t already has one of the columns `added`. */
+static int comp_no_dup(const char *const *added, const csv_table *t, const char *raw_path,
+                       char *err, size_t errlen)
 {
     int st = SUNMC_OK;
-    *n_raw = 0;
-    for (; lab->raw_columns[*n_raw] && st == SUNMC_OK; (*n_raw)++)
-        st = csv_column(t, lab->raw_columns[*n_raw], 1, &cols[*n_raw], err, errlen);
-    for (int k = 0; lab->comp_columns[k] && st == SUNMC_OK; k++) {
+    for (int k = 0; added && added[k] && st == SUNMC_OK; k++) {
         int dup;
-        st = csv_column(t, lab->comp_columns[k], 0, &dup, err, errlen);
+        st = csv_column(t, added[k], 0, &dup, err, errlen);
         if (st == SUNMC_OK && dup >= 0)
             st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: the input already has a column '%s'",
-                            raw_path, t->header_line, lab->comp_columns[k]);
+                            raw_path, t->header_line, added[k]);
     }
+    return st;
+}
+
+/* Column indices of lab->raw_columns in t (cols), then of the optional
+ * columns when t has them all (*n_opt of them, else 0), and a refusal when
+ * t already has a column compensate adds. */
+static int comp_columns(const family_lab *lab, const csv_table *t, const char *raw_path,
+                        int *cols, int *n_raw, int *n_opt, char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    *n_raw = *n_opt = 0;
+    for (; lab->raw_columns[*n_raw] && st == SUNMC_OK; (*n_raw)++)
+        st = csv_column(t, lab->raw_columns[*n_raw], 1, &cols[*n_raw], err, errlen);
+    int all = lab->opt_columns != NULL, k = 0;
+    for (; lab->opt_columns && lab->opt_columns[k] && st == SUNMC_OK; k++) {
+        st = csv_column(t, lab->opt_columns[k], 0, &cols[*n_raw + k], err, errlen);
+        all &= cols[*n_raw + k] >= 0;
+    }
+    *n_opt = all ? k : 0;
+    if (st == SUNMC_OK)
+        st = comp_no_dup(lab->comp_columns, t, raw_path, err, errlen);
+    if (st == SUNMC_OK && *n_opt)
+        st = comp_no_dup(lab->opt_comp_columns, t, raw_path, err, errlen);
     return st;
 }
 
@@ -271,20 +290,26 @@ static int comp_values(const csv_table *t, const int *cols, int n_raw, double **
 }
 
 static void comp_rows(const family_lab *lab, const void *model, const csv_table *t,
-                      double *const *v, int n_raw, FILE *out, lab_comp_stats *s)
+                      double *const *v, int n_raw, int n_opt, FILE *out, lab_comp_stats *s)
 {
     for (int j = 0; j < t->n_cols; j++)
         fprintf(out, "%s,", t->names[j]);
-    int n_comp = 0;
+    int n_comp = 0, n_opt_comp = 0, n_opt_in = 0;
     for (; lab->comp_columns[n_comp]; n_comp++)
         fprintf(out, "%s%s", n_comp ? "," : "", lab->comp_columns[n_comp]);
+    while (lab->opt_columns && lab->opt_columns[n_opt_in])
+        n_opt_in++;
+    for (; n_opt && lab->opt_comp_columns && lab->opt_comp_columns[n_opt_comp]; n_opt_comp++)
+        fprintf(out, ",%s", lab->opt_comp_columns[n_opt_comp]);
     fprintf(out, "\n");
     for (size_t i = 0; i < t->n_rows; i++) {
         for (int j = 0; j < t->n_cols; j++)
             fprintf(out, "%s,", t->field[i * (size_t)t->n_cols + (size_t)j]);
         double raw[LAB_MAX_COLUMNS], comp[LAB_MAX_COLUMNS];
-        for (int k = 0; k < n_raw; k++)
-            raw[k] = v[k][i];
+        for (int k = 0; k < n_raw + n_opt_in; k++)
+            raw[k] = k < n_raw + n_opt ? v[k][i] : NAN;
+        for (int k = 0; k < LAB_MAX_COLUMNS; k++)
+            comp[k] = NAN;
         int ok = lab->compensate(model, raw, comp) == SUNMC_OK;
         for (int k = 0; k < n_comp; k++) {
             if (ok)
@@ -292,6 +317,8 @@ static void comp_rows(const family_lab *lab, const void *model, const csv_table 
             else
                 fprintf(out, "%snan", k ? "," : "");
         }
+        for (int k = n_comp; k < n_comp + n_opt_comp; k++)
+            fprintf(out, ",%.15g", comp[k] * DEG_PER_RAD);
         fprintf(out, "\n");
         if (!ok && !s->failed++)
             s->first_failed_line = t->line[i];
@@ -304,14 +331,14 @@ int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw
     memset(s, 0, sizeof *s);
     csv_table *t = NULL;
     int st = csv_read(raw_path, &t, err, errlen);
-    int cols[LAB_MAX_COLUMNS], n_raw = 0;
+    int cols[LAB_MAX_COLUMNS], n_raw = 0, n_opt = 0;
     double *v[LAB_MAX_COLUMNS] = {NULL};
     if (st == SUNMC_OK)
-        st = comp_columns(lab, t, raw_path, cols, &n_raw, err, errlen);
+        st = comp_columns(lab, t, raw_path, cols, &n_raw, &n_opt, err, errlen);
     if (st == SUNMC_OK)
-        st = comp_values(t, cols, n_raw, v, err, errlen);
+        st = comp_values(t, cols, n_raw + n_opt, v, err, errlen);
     if (st == SUNMC_OK)
-        comp_rows(lab, model, t, v, n_raw, out, s);
+        comp_rows(lab, model, t, v, n_raw, n_opt, out, s);
     for (int k = 0; k < LAB_MAX_COLUMNS; k++)
         free(v[k]);
     csv_free(t);
