@@ -131,7 +131,7 @@ all: $(BUILD)/sunmc
 deps:
 	@if ! pkg-config --exists gsl cmocka 2>/dev/null || \
 	    [ ! -f /usr/include/Random123/philox.h ] || ! command -v gnuplot >/dev/null 2>&1 || \
-	    ! command -v cc >/dev/null 2>&1; then \
+	    ! command -v cc >/dev/null 2>&1 || ! /usr/bin/python3 -c 'import scipy.io' >/dev/null 2>&1; then \
 	  echo "sunmc: installing missing system packages (scripts/install-deps.sh)"; \
 	  MPI=$(MPI) bash scripts/install-deps.sh; \
 	elif [ "$(MPI)" = 1 ] && ! command -v mpicc >/dev/null 2>&1; then \

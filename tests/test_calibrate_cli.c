@@ -244,7 +244,7 @@ static void test_cli_bad_data(void **state)
     snprintf(cmd, sizeof cmd, "%s calibrate --sensor xyz --config configs/ess_type_a.ini a.csv",
              test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
-    assert_non_null(strstr(out, "--sensor must be ess or dss"));
+    assert_non_null(strstr(out, "--sensor must be ess, dss or psd"));
     snprintf(cmd, sizeof cmd, "%s calibrate --sensor ess a.csv", test_sunmc());
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
     assert_non_null(strstr(out, "needs --config CONFIG and one data file"));

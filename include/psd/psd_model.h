@@ -34,7 +34,7 @@ enum {
 #define PSD_NP_GEOMETRY 6
 #define PSD_NEWTON_MAX_ITER 40
 #define PSD_NEWTON_TOL 1e-13
-#define PSD_FIT_MAX_ITER 100
+#define PSD_FIT_MAX_ITER 1000
 
 /* Parameter names with units (params.ini, units.tsv, reports) and the
  * factor from the internal unit (mm, rad, ratio, data unit) to them. */
@@ -69,6 +69,11 @@ typedef struct {
     const psd_design *design;
     psd_phys work;                   /* scratch of the fit */
     double *scratch;                 /* room for 8 n doubles (the fit's ratios) */
+    /* The fit's variables are p[j] / xscale[j] (set by psd_phys_fit), so
+     * that the Jacobian's columns are of one size; its covariance is in
+     * those units. */
+    double xscale[PSD_NP];
+    double sig1;                     /* channel 1's signal per unit photocurrent (psd_phys_start) */
 } psd_rows;
 
 /* Start values: the nominal geometry, and per channel dark and gain from a
@@ -77,8 +82,9 @@ void psd_phys_start(psd_rows *d, double p[PSD_NP]);
 /* The parameters fitted (indices into p, into free[PSD_NP]); the tilts
  * about X and Y only when fit_tilt (otherwise they stay at p's value: on
  * a campaign of a few tens of degrees they move the spot as the aperture
- * offsets do, to first order).  Returns their count. */
-int psd_phys_free(int fit_tilt, int *free);
+ * offsets do, to first order), and not the one combination the ratios
+ * cannot see (psd_model.c: dark4 or gain3).  Returns their count. */
+int psd_phys_free(const psd_design *d, int fit_tilt, int *free);
 /* Fit p (start values in, solution out) with fw (2 n residuals,
  * psd_phys_free's count of parameters).  SUNMC_OK or SUNMC_EFIT (res says
  * why). */

@@ -182,7 +182,7 @@ static int grid_check(const psd_config *p, char *err, size_t errlen)
     long n = alpha_count(p->cal_alpha_max_deg, p->cal_alpha_step_deg, 0) * p->cal_beta_deg.n;
     psd_poly q;
     int fr[PSD_NP];
-    int np = p->cal_model == PSD_MODEL_PHYSICAL ? psd_phys_free(p->fit_tilt, fr) : psd_poly_init(&q, p->poly_order,
+    int np = p->cal_model == PSD_MODEL_PHYSICAL ? psd_phys_free(&p->design, p->fit_tilt, fr) : psd_poly_init(&q, p->poly_order,
                                                                            p->poly_form);
     long nr = p->cal_model == PSD_MODEL_PHYSICAL ? 2 * n : n;
     if (p->cal_beta_deg.n < 2 || nr <= np)

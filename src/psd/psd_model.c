@@ -37,8 +37,10 @@ void psd_phys_set(psd_phys *m, const psd_design *d, const double p[PSD_NP])
         m->gain[k] = p[PSD_P_G2 + k - 1];
     for (int k = 0; k < PSD_CHANNELS; k++)
         m->dark[k] = p[PSD_P_D1 + k];
-    m->sens = d->detector == PSD_QUADRANT ? d->h_mm * 4.0 / (M_PI * m->s.R_mm)
-                                          : d->h_mm / m->s.half_mm;
+    /* with the fitted height: a fit cannot shrink its residuals by letting
+     * h, and with it the ratios' slope, go to 0 */
+    m->sens = d->detector == PSD_QUADRANT ? m->s.h_mm * 4.0 / (M_PI * m->s.R_mm)
+                                          : m->s.h_mm / m->s.half_mm;
 }
 
 int psd_phys_observed(const psd_phys *m, const double r[4], double *x, double *y)
@@ -128,6 +130,7 @@ void psd_phys_start(psd_rows *d, double p[PSD_NP])
         off[k] = sw[k] > 0 ? (sy[k] - g[k] * sx[k]) / sw[k] : 0.0;
     }
     int ok = g[0] != 0.0 && isfinite(g[0]);
+    d->sig1 = ok ? g[0] : 0.0;
     for (int k = 0; k < PSD_CHANNELS; k++) {
         if (k > 0)
             p[PSD_P_G2 + k - 1] = ok ? g[k] / g[0] : 1.0;
@@ -169,6 +172,8 @@ typedef struct {
     int nfree;
     int free[PSD_NP];
     double p[PSD_NP];                /* every parameter; the free ones from x */
+    int tie_dark4;                   /* corner layouts: dark4 follows the others */
+    double dark_xy;                  /* dark1 + dark2 - dark3 - dark4, held */
     double *xo, *yo, *xp, *yp, *xp2, *yp2;
 } fdf_ctx;
 
@@ -232,17 +237,28 @@ static void channel_columns(fdf_ctx *c, double *J, size_t ld, const int *col_of)
         for (int k = 0; k < PSD_CHANNELS; k++)
             s[k] = (d->m[k][r] - m->dark[k]) / m->gain[k];
         ratio_grad(m, s, c->xo[r], c->yo[r], gx, gy);
+        /* d s_k / d dark_k = -1 / g_k;  d s_k / d g_k = -s_k / g_k */
+        double kk = ok ? sw / m->sens : 0.0, dd[2][PSD_CHANNELS];
         for (int k = 0; k < PSD_CHANNELS; k++) {
-            /* d s_k / d dark_k = -1 / g_k;  d s_k / d g_k = -s_k / g_k */
-            int jd = col_of[PSD_P_D1 + k], jg = k > 0 ? col_of[PSD_P_G2 + k - 1] : -1;
-            double kk = ok ? sw / m->sens : 0.0;
-            if (jd >= 0) {
-                J[(size_t)jd * ld + 2 * r] = kk * gx[k] * (-1.0 / m->gain[k]);
-                J[(size_t)jd * ld + 2 * r + 1] = kk * gy[k] * (-1.0 / m->gain[k]);
-            }
+            dd[0][k] = kk * gx[k] * (-1.0 / m->gain[k]);
+            dd[1][k] = kk * gy[k] * (-1.0 / m->gain[k]);
+            int jg = k > 0 ? col_of[PSD_P_G2 + k - 1] : -1;
             if (jg >= 0) {
                 J[(size_t)jg * ld + 2 * r] = kk * gx[k] * (-s[k] / m->gain[k]);
                 J[(size_t)jg * ld + 2 * r + 1] = kk * gy[k] * (-s[k] / m->gain[k]);
+            }
+        }
+        if (c->tie_dark4) /* dark4 = dark1 + dark2 - dark3 - const */
+            for (int a = 0; a < 2; a++) {
+                dd[a][0] += dd[a][3];
+                dd[a][1] += dd[a][3];
+                dd[a][2] -= dd[a][3];
+            }
+        for (int k = 0; k < PSD_CHANNELS; k++) {
+            int jd = col_of[PSD_P_D1 + k];
+            if (jd >= 0) {
+                J[(size_t)jd * ld + 2 * r] = dd[0][k];
+                J[(size_t)jd * ld + 2 * r + 1] = dd[1][k];
             }
         }
     }
@@ -255,9 +271,11 @@ static int fdf(const double *x, void *params, double *f, double *J, size_t ld)
     for (int j = 0; j < PSD_NP; j++)
         col_of[j] = -1;
     for (int q = 0; q < c->nfree; q++) {
-        c->p[c->free[q]] = x[q];
+        c->p[c->free[q]] = x[q] * c->d->xscale[c->free[q]];
         col_of[c->free[q]] = q;
     }
+    if (c->tie_dark4)
+        c->p[PSD_P_D4] = c->p[PSD_P_D1] + c->p[PSD_P_D2] - c->p[PSD_P_D3] - c->dark_xy;
     base_residuals(c, f, ld);
     for (int q = 0; q < c->nfree; q++) {
         double *col = J + (size_t)q * ld;
@@ -267,27 +285,47 @@ static int fdf(const double *x, void *params, double *f, double *J, size_t ld)
             geometry_column(c, c->free[q], f, col);
     }
     channel_columns(c, J, ld, col_of);
+    for (int q = 0; q < c->nfree; q++) {
+        double s = c->d->xscale[c->free[q]], *col = J + (size_t)q * ld;
+        for (size_t i = 0; i < 2 * c->d->n; i++)
+            col[i] *= s;
+    }
     psd_phys_set(&c->d->work, c->d->design, c->p);
     return GSL_SUCCESS;
 }
 
-int psd_phys_free(int fit_tilt, int *free)
+/* Corner layouts (tetra-lateral, quadrant): the ratios do not see the
+ * darks' combination dark1 + dark2 - dark3 - dark4 (it adds as much to
+ * each numerator's two sides and nothing to the sum), so dark4 follows the
+ * other three.  Electrode pairs (duo-lateral): the y ratio does not see a
+ * common scale of channels 3 and 4, so gain3 stays at its start. */
+static int corner_layout(const psd_design *d)
+{
+    return !(d->detector == PSD_LATERAL && d->lateral == PSD_DUO);
+}
+
+int psd_phys_free(const psd_design *d, int fit_tilt, int *free)
 {
     int n = 0;
-    for (int j = 0; j < PSD_NP; j++)
-        if (fit_tilt || (j != PSD_P_TX && j != PSD_P_TY))
-            free[n++] = j;
+    for (int j = 0; j < PSD_NP; j++) {
+        if (!fit_tilt && (j == PSD_P_TX || j == PSD_P_TY))
+            continue;
+        if ((corner_layout(d) && j == PSD_P_D4) || (!corner_layout(d) && j == PSD_P_G3))
+            continue;
+        free[n++] = j;
+    }
     return n;
 }
 
 int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
                  fit_result *res)
 {
-    fdf_ctx c = {.d = d};
-    c.nfree = psd_phys_free(fit_tilt, c.free);
+    fdf_ctx c = {.d = d, .tie_dark4 = corner_layout(d->design)};
+    c.nfree = psd_phys_free(d->design, fit_tilt, c.free);
     if (fw->p != (size_t)c.nfree)
         return SUNMC_EFIT;
     memcpy(c.p, p, sizeof c.p);
+    c.dark_xy = p[PSD_P_D1] + p[PSD_P_D2] - p[PSD_P_D3] - p[PSD_P_D4];
     double *buf = d->scratch, x[PSD_NP];
     c.xo = buf;
     c.yo = buf + d->n;
@@ -295,11 +333,18 @@ int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
     c.yp = buf + 3 * d->n;
     c.xp2 = buf + 4 * d->n;
     c.yp2 = buf + 5 * d->n;
+    /* variables of one size: 10 um, 1e-3 rad, 1 % of gain, 1 % of the
+     * first channel's signal (its start value's straight-line slope) */
+    double sig = fabs(d->sig1) > 0 && isfinite(d->sig1) ? fabs(d->sig1) : 1.0;
+    for (int j = 0; j < PSD_NP; j++)
+        d->xscale[j] = j < PSD_P_TX ? 1e-2 : j < PSD_P_G2 ? 1e-3 : j < PSD_P_D1 ? 1e-2 : 1e-2 * sig;
     for (int q = 0; q < c.nfree; q++)
-        x[q] = p[c.free[q]];
+        x[q] = p[c.free[q]] / d->xscale[c.free[q]];
     int st = fit_solve(fw, fdf, &c, x, PSD_FIT_MAX_ITER, res);
     for (int q = 0; q < c.nfree; q++)
-        p[c.free[q]] = x[q];
+        p[c.free[q]] = x[q] * d->xscale[c.free[q]];
+    if (c.tie_dark4)
+        p[PSD_P_D4] = p[PSD_P_D1] + p[PSD_P_D2] - p[PSD_P_D3] - c.dark_xy;
     return st;
 }
 

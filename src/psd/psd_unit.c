@@ -126,7 +126,7 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         w->n = n;
         w->m[0] = malloc(((size_t)n * 16 + PSD_POLY_WORK) * sizeof(double));
         int fr[PSD_NP];
-        w->fw = fit_workspace_alloc(2 * (size_t)n, (size_t)psd_phys_free(psd_cfg(c)->fit_tilt, fr));
+        w->fw = fit_workspace_alloc(2 * (size_t)n, (size_t)psd_phys_free(&psd_cfg(c)->design, psd_cfg(c)->fit_tilt, fr));
     }
     if (!w || !w->m[0] || !w->fw) {
         psd_ws_free(w);
@@ -308,7 +308,6 @@ static int psd_par_columns(const sunmc_config *c, const char **names, int max)
 
 static long psd_table_grid(const sunmc_config *c, int which, double *a0, double *a1, long max)
 {
-    const psd_config *p = psd_cfg(c);
     int val = which == FAMILY_GRID_VALIDATION;
     long n = val ? psd_validation_points(c) : psd_campaign_rows(c) / c->cal_repeats;
     for (long i = 0; i < n && i < max && a0 && a1; i++) {
@@ -356,5 +355,5 @@ const sensor_family psd_family = {
     .table_axis_names = psd_table_axes,
     .design_step_key = "campaign.alpha_step_deg",
     .design_lines_key = "campaign.beta_deg",
-    .lab = NULL,
+    .lab = &psd_lab,
 };

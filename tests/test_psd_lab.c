@@ -1,0 +1,273 @@
+/* test_psd_lab.c - the four-channel sensor's lab commands and importers:
+ * simulate -> calibrate -> compensate recovers the simulated unit's truth
+ * (both models), the truth columns follow the table angles, repeated rows
+ * do not shrink the standard errors, the Monte Carlo is the same for any
+ * thread count, and scripts/psd-import.py reads synthetic files of the
+ * three public formats (.mat written here with scipy, the CSV and the
+ * YAML by hand) and refuses what it cannot read. */
+#include "test_util.h"
+
+#include "csv.h"
+
+#include <math.h>
+#include <string.h>
+
+static char dir[512];
+
+static int setup(void **state) { return test_private_dir(dir, sizeof dir, "psd_lab"); }
+
+/* RMS (arcsec) of compensated - truth over both axes of a compensate
+ * output, and the count of its rows. */
+static double comp_rms(const char *path, size_t *n)
+{
+    csv_table *t = NULL;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    const char *names[4] = {"compensated_alpha_deg", "compensated_beta_deg", "truth_alpha_deg",
+                            "truth_beta_deg"};
+    double *v[4];
+    for (int k = 0; k < 4; k++) {
+        int col;
+        assert_int_equal(csv_column(t, names[k], 1, &col, err, sizeof err), SUNMC_OK);
+        v[k] = malloc((t->n_rows + 1) * sizeof(double));
+        assert_int_equal(csv_doubles(t, col, v[k], err, sizeof err), SUNMC_OK);
+    }
+    double s2 = 0;
+    for (size_t i = 0; i < t->n_rows; i++)
+        for (int a = 0; a < 2; a++)
+            s2 += pow((v[a][i] - v[a + 2][i]) * 3600, 2);
+    *n = t->n_rows;
+    for (int k = 0; k < 4; k++)
+        free(v[k]);
+    csv_free(t);
+    return sqrt(s2 / (2.0 * (double)*n));
+}
+
+static void round_trip(const char *model, const char *sets, double max_arcsec)
+{
+    char out[65536], args[2048];
+    snprintf(args, sizeof args,
+             "simulate configs/psd.ini --unit 5 --out $D/sim_%s && "
+             "%s calibrate --config configs/psd.ini --set calibration.model=%s %s "
+             "$D/sim_%s/campaign.csv --out $D/cal_%s --quiet && "
+             "%s compensate $D/cal_%s/params.ini $D/sim_%s/validation.csv > $D/comp_%s.csv",
+             model, test_sunmc(), model, sets, model, model, test_sunmc(), model, model, model);
+    if (test_sunmc_in(dir, args, out, sizeof out) != 0)
+        fail_msg("%s", out);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/comp_%s.csv", dir, model);
+    size_t n;
+    double rms = comp_rms(path, &n);
+    assert_true(n == 72);
+    if (!(rms < max_arcsec))
+        fail_msg("%s: compensated RMS %.1f arcsec, expected below %g", model, rms, max_arcsec);
+}
+
+/* One reading's noise is about 120 arcsec per axis (0.02 % of full scale,
+ * configs/psd.ini); a calibration on 45 points adds less than that.  The
+ * polynomial of order 3 (10 terms an axis) on the 5 beta lines; order 5
+ * would interpolate between them with 1,800 arcsec of error. */
+static void physical_round_trip(void **state) { round_trip("physical", "", 250); }
+static void polynomial_round_trip(void **state)
+{
+    round_trip("polynomial", "--set calibration.poly_order=3", 350);
+}
+
+/* Without the table angles compensate adds no truth columns; with them,
+ * the truth follows campaign.table_order of the calibration. */
+static void truth_columns_only_with_table_angles(void **state)
+{
+    char out[65536];
+    assert_int_equal(test_sunmc_in(dir,
+                                   "simulate configs/psd.ini --unit 2 --out $D/s2 && cut -d, -f3-6 "
+                                   "$D/s2/validation.csv | grep -v '^#' > $D/raw.csv && " 
+                                   "build/sunmc calibrate --config configs/psd.ini "
+                                   "$D/s2/campaign.csv --out $D/c2 --quiet && build/sunmc "
+                                   "compensate $D/c2/params.ini $D/raw.csv",
+                                   out, sizeof out),
+                     0);
+    assert_non_null(strstr(out, "i1,i2,i3,i4,compensated_alpha_deg,compensated_beta_deg\n"));
+    assert_null(strstr(out, "truth_alpha_deg"));
+    assert_int_equal(test_sunmc_in(dir, "compensate $D/c2/params.ini $D/s2/validation.csv", out,
+                                   sizeof out),
+                     0);
+    assert_non_null(strstr(out, "compensated_beta_deg,truth_alpha_deg,truth_beta_deg\n"));
+}
+
+/* Every row repeated 4 times: the same fit, the same standard errors (each
+ * point counts once), and the repeatability named. */
+static void repeats_are_not_information(void **state)
+{
+    char out[65536], once[65536];
+    assert_int_equal(test_sunmc_in(dir,
+                                   "simulate configs/psd.ini --unit 7 --out $D/s7 && "
+                                   "grep -v '^#' $D/s7/campaign.csv > $D/once.csv && "
+                                   "(head -1 $D/once.csv; tail -n +2 $D/once.csv | "
+                                   "awk '{for(i=0;i<4;i++)print}') > $D/four.csv",
+                                   out, sizeof out),
+                     0);
+    assert_int_equal(test_sunmc_in(dir, "calibrate --config configs/psd.ini $D/once.csv", once,
+                                   sizeof once),
+                     0);
+    assert_int_equal(test_sunmc_in(dir, "calibrate --config configs/psd.ini $D/four.csv", out,
+                                   sizeof out),
+                     0);
+    const char *a = strstr(once, "  dx_um"), *b = strstr(out, "  dx_um");
+    assert_non_null(a);
+    assert_non_null(b);
+    double va, sa, vb, sb;
+    assert_int_equal(sscanf(a, " dx_um %lf +- %lf", &va, &sa), 2);
+    assert_int_equal(sscanf(b, " dx_um %lf +- %lf", &vb, &sb), 2);
+    assert_near(vb, va, 1e-6 * fabs(va) + 1e-9);
+    assert_near(sb, sa, 1e-3 * sa);
+    assert_non_null(strstr(out, "repeatability: 4 rows per point"));
+}
+
+/* The Monte Carlo's units do not depend on the thread count. */
+static void threads_do_not_change_units(void **state)
+{
+    char out[65536];
+    assert_int_equal(test_sunmc_in(dir,
+                                   "run configs/psd.ini --units 0:12 --threads 1 --quiet --out "
+                                   "$D/t1 && build/sunmc run configs/psd.ini --units 0:12 "
+                                   "--threads 2 --quiet --out $D/t2 && cmp $D/t1/units.tsv "
+                                   "$D/t2/units.tsv",
+                                   out, sizeof out),
+                     0);
+}
+
+/* ---- importers ---- */
+
+static int importer(const char *args, char *out, size_t len)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "D=%s; scripts/psd-import.py %s", dir, args);
+    return test_run(cmd, out, len);
+}
+
+/* Two beta files of 3 alphas x 10 readings: channel k of reading r of
+ * alpha j is 100 beta + 10 j + k + r / 100 (so every value says where it
+ * came from). */
+static void import_aeroztark_mat(void **state)
+{
+    char out[65536], cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "mkdir -p %s/mat && /usr/bin/python3 -c \"\n"
+             "import numpy as np, scipy.io\n"
+             "for beta in (-2, 3):\n"
+             "    a = np.array([[100*beta + 10*j + k + r/100 for k in range(4)]\n"
+             "                  for j in range(3) for r in range(10)])\n"
+             "    scipy.io.savemat('%s/mat/beta_%%d.mat' %% beta, {'data_a': a, 'data_d': a.astype(np.uint16)})\n"
+             "\"",
+             dir, dir);
+    if (test_run(cmd, out, sizeof out) != 0)
+        fail_msg("writing the .mat files needs python3-scipy (scripts/install-deps.sh): %s", out);
+    assert_int_equal(importer("aeroztark $D/mat --out $D/az.csv", out, sizeof out), 0);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/az.csv", dir);
+    csv_table *t = NULL;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal((int)t->n_rows, 60);
+    /* sorted: beta_-2.mat first; row 15 = alpha index 1 (-0 deg), reading 5 */
+    double v[6];
+    for (int k = 0; k < 6; k++)
+        v[k] = strtod(t->field[15 * (size_t)t->n_cols + (size_t)k], NULL);
+    assert_near(v[0], 0, 0);
+    assert_near(v[1], -2, 0);
+    assert_near(v[2], -200 + 10 + 0 + 0.05, 1e-9);
+    assert_near(v[5], -200 + 10 + 3 + 0.05, 1e-9);
+    assert_near(strtod(t->field[0], NULL), -1, 0); /* 3 alphas: -1, 0, 1 */
+    csv_free(t);
+    assert_true(test_file_has(path, "# source: beta_3.mat\n"));
+}
+
+static void import_kenscl_csv(void **state)
+{
+    char out[65536], p[1024];
+    snprintf(p, sizeof p, "%s/k_X.txt", dir);
+    assert_int_equal(test_write_file(p, "# Sensor: ADPD2140, Rotationstage: ELL18M\n"
+                                        "Datetime,Stage Angle,xL,xR,yL,yR,X,Y\n"
+                                        "01.12.2021 18:29:29,-59.992,650.634,648.529,392.150,"
+                                        "718.597,-46.576,0.256\n"
+                                        "01.12.2021 18:29:30,-59.904,653.198,650.604,393.188,"
+                                        "720.397,-46.566,0.315\n"),
+                     0);
+    snprintf(p, sizeof p, "%s/k_Y.txt", dir);
+    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL,xR,yL,yR,X,Y\n"
+                                        "x,12.5,1,2,3,4,0,0\n"),
+                     0);
+    assert_int_equal(importer("kenscl $D/k_X.txt --out $D/kx.csv", out, sizeof out), 0);
+    snprintf(p, sizeof p, "%s/kx.csv", dir);
+    assert_true(test_file_has(p, "-59.904,0,653.198,650.604,393.188,720.397\n"));
+    assert_int_equal(importer("kenscl $D/k_Y.txt --out $D/ky.csv", out, sizeof out), 0);
+    snprintf(p, sizeof p, "%s/ky.csv", dir);
+    assert_true(test_file_has(p, "0,12.5,1,2,3,4\n"));
+}
+
+/* elevation 30, azimuth 90: the sun along +Y, alpha 0, beta 30; the
+ * channels' ratios give back x and y. */
+static void import_14og_yaml(void **state)
+{
+    char out[65536], p[1024];
+    snprintf(p, sizeof p, "%s/m.yaml", dir);
+    assert_int_equal(test_write_file(p, "- elevation: 30.0\n  azimuth: 90.0\n  x: 0.1\n  y: -0.2\n"
+                                        "- elevation: 0.0\n  azimuth: 45.0\n  x: 0\n  y: 0\n"),
+                     0);
+    assert_int_equal(importer("14og $D/m.yaml --out $D/og.csv", out, sizeof out), 0);
+    snprintf(p, sizeof p, "%s/og.csv", dir);
+    csv_table *t = NULL;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(csv_read(p, &t, err, sizeof err), SUNMC_OK);
+    assert_int_equal((int)t->n_rows, 2);
+    double v[6];
+    for (int k = 0; k < 6; k++)
+        v[k] = strtod(t->field[k], NULL);
+    assert_near(v[0], 0, 1e-9);
+    assert_near(v[1], 30, 1e-9);
+    double sum = v[2] + v[3] + v[4] + v[5];
+    assert_near((v[3] + v[4] - v[2] - v[5]) / sum, 0.1, 1e-9);
+    assert_near((v[3] + v[5] - v[2] - v[4]) / sum, -0.2, 1e-9);
+    csv_free(t);
+}
+
+static void importer_refusals(void **state)
+{
+    char out[65536], p[1024];
+    snprintf(p, sizeof p, "%s/bad.txt", dir);
+    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL\n"), 0);
+    assert_int_equal(importer("kenscl $D/bad.txt --out $D/no.csv", out, sizeof out), 2);
+    assert_non_null(strstr(out, "_X.txt or _Y.txt"));
+    snprintf(p, sizeof p, "%s/bad_X.txt", dir);
+    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL\n1,2,3\n"), 0);
+    assert_int_equal(importer("kenscl $D/bad_X.txt --out $D/no.csv", out, sizeof out), 2);
+    assert_non_null(strstr(out, "header lacks"));
+    assert_int_equal(importer("aeroztark $D/nothing --out $D/no.csv", out, sizeof out), 2);
+    assert_non_null(strstr(out, "no such file"));
+    snprintf(p, sizeof p, "%s/beta_1.mat", dir);
+    assert_int_equal(test_write_file(p, "not a mat file"), 0);
+    assert_int_equal(importer("aeroztark $D/beta_1.mat --out $D/no.csv", out, sizeof out), 2);
+    snprintf(p, sizeof p, "%s/y.yaml", dir);
+    assert_int_equal(test_write_file(p, "- elevation: 3\n  x: 1\n"), 0);
+    assert_int_equal(importer("14og $D/y.yaml --out $D/no.csv", out, sizeof out), 2);
+    assert_int_equal(importer("nosuch $D/y.yaml --out $D/no.csv", out, sizeof out), 2);
+    snprintf(p, sizeof p, "%s/no.csv", dir);
+    FILE *f = fopen(p, "r");
+    assert_null(f); /* nothing written */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(physical_round_trip),
+        cmocka_unit_test(polynomial_round_trip),
+        cmocka_unit_test(truth_columns_only_with_table_angles),
+        cmocka_unit_test(repeats_are_not_information),
+        cmocka_unit_test(threads_do_not_change_units),
+        cmocka_unit_test(import_aeroztark_mat),
+        cmocka_unit_test(import_kenscl_csv),
+        cmocka_unit_test(import_14og_yaml),
+        cmocka_unit_test(importer_refusals),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
