@@ -55,6 +55,7 @@ extern const char *const dss_param_names[DSS_NP];
 typedef struct {
     double p[DSS_NP];
     double pixel_mm;       /* detector pitch: the model's spots are in px */
+    double half_px;        /* half the detector side: no reading beyond it (0: unknown) */
     int mount;             /* enum dss_mount */
     double nominal[DSS_NP]; /* the design's values (dss_model_init) */
     /* filled by dss_model_prepare */

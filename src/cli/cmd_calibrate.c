@@ -184,7 +184,9 @@ static int compensate(const family_lab *lab, const params_file *pf, const char *
         return cli_exit_code(st);
     }
     if (cs.failed)
-        fprintf(stderr, "sunmc compensate: %s:%d: %ld readings could not be compensated (nan)%s%s\n",
+        fprintf(stderr, "sunmc compensate: %s:%d: %ld readings could not be compensated (nan): "
+                        "beyond what the calibrated sensor can produce (outside the detector, "
+                        "beyond the output's range) or without an inverse%s%s\n",
                 raw_path, cs.first_failed_line, cs.failed, lab->comp_fail_note ? ": " : "",
                 lab->comp_fail_note ? lab->comp_fail_note : "");
     return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;

@@ -449,6 +449,9 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     if (cal->kind == DSS_MODEL_PHYSICAL) {
         const dss_model *m = &cal->phys;
         st = params_set_double(p, "design", "pixel_mm", m->pixel_mm, "detector pitch");
+        if (st == SUNMC_OK && m->half_px > 0)
+            st = params_set_double(p, "design", "detector_px", 2 * m->half_px,
+                                   "detector side: compensate marks readings beyond it nan");
         if (st == SUNMC_OK)
             st = params_set_double(p, "design", "h_mm", m->nominal[DSS_P_H],
                                    "nominal pinhole height over the detector, glass included");
@@ -570,6 +573,15 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
                                                            : DSS_MOUNT_AS_MOUNTED};
     dss_model_init(m, &d);
     m->pixel_mm = dv[0]; /* exactly as written */
+    m->half_px = 0; /* older params.ini: no detector side, no check */
+    double side = 0;
+    if (params_find(p, "design", "detector_px") &&
+        (st = params_get_double(p, "design", "detector_px", &side, err, errlen)) == SUNMC_OK &&
+        (st = params_require(p, "design", "detector_px", side >= 1, ">= 1", err, errlen)) ==
+            SUNMC_OK)
+        m->half_px = 0.5 * side;
+    if (st != SUNMC_OK)
+        return st;
     for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
         double v;
         st = params_get_double(p, "parameters", dss_param_names[k], &v, err, errlen);

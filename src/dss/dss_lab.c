@@ -317,6 +317,12 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
 
 static int compensate(const void *model, const double *raw, double *comp_rad)
 {
+    /* A spot beyond the detector is no reading this sensor can produce:
+     * marked, never turned into a plausible angle. */
+    const dss_calibration *cal = model;
+    double half = cal->kind == DSS_MODEL_PHYSICAL ? cal->phys.half_px : 0;
+    if (half > 0 && !(fabs(raw[0]) <= half && fabs(raw[1]) <= half))
+        return SUNMC_EDOM;
     return dss_compensate(model, raw[0], raw[1], &comp_rad[0], &comp_rad[1]);
 }
 

@@ -45,6 +45,7 @@ void dss_model_init(dss_model *m, const dss_design *d)
     m->p[DSS_P_T] = d->glass_thickness_mm;
     m->p[DSS_P_N] = d->glass_index;
     m->pixel_mm = d->pixel_um * MM_PER_UM;
+    m->half_px = 0.5 * d->detector_px;
     m->mount = d->mount;
     memcpy(m->nominal, m->p, sizeof m->nominal);
     dss_model_prepare(m);

@@ -326,9 +326,19 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
     return ess_params_load(p, model, err, errlen);
 }
 
+/* An ESS encodes the incidence's tangent: no output reaches +-90 deg, and
+ * an inverse that lands there (the tangent wrapped) is no angle the sensor
+ * saw.  Such readings are marked, never turned into a plausible angle. */
+#define ESS_OUTPUT_LIMIT_DEG 90.0
+
 static int compensate(const void *model, const double *raw, double *comp_rad)
 {
-    return ess_model_compensate(model, raw[0] * RAD_PER_DEG, &comp_rad[0]);
+    if (!(fabs(raw[0]) < ESS_OUTPUT_LIMIT_DEG))
+        return SUNMC_EDOM;
+    int st = ess_model_compensate(model, raw[0] * RAD_PER_DEG, &comp_rad[0]);
+    if (st == SUNMC_OK && !(fabs(comp_rad[0]) < ESS_OUTPUT_LIMIT_DEG * RAD_PER_DEG))
+        return SUNMC_EDOM;
+    return st;
 }
 
 /* The roll is fixed, not fitted (ess_calib.h): a rotation about X is

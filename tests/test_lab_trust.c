@@ -1,0 +1,82 @@
+/* test_lab_trust.c - issue 22, rules 5 and 6: lab data the fit cannot
+ * stand behind is refused or flagged, and compensate never turns a reading
+ * the sensor cannot produce into a plausible angle. */
+#include "test_util.h"
+
+static char dir[512];
+
+#define E "configs/ess_type_a.ini"
+#define D "configs/dss.ini"
+
+static int sunmc(const char *args, char *out, size_t len)
+{
+    return test_sunmc_in(dir, args, out, len);
+}
+
+/* One simulated and calibrated unit of each family, shared by the tests. */
+static int setup(void **state)
+{
+    if (test_private_dir(dir, sizeof dir, "labtrust") != 0)
+        return -1;
+    char out[16384];
+    const char *steps[] = {
+        "simulate " E " --unit 3 --quiet --out $D/le", "simulate " D " --unit 3 --quiet --out $D/ld",
+        "calibrate --config " E " $D/le/campaign.csv --quiet --out $D/ce",
+        "calibrate --config " D " $D/ld/campaign.csv --quiet --out $D/cd"};
+    for (int i = 0; i < 4; i++)
+        if (sunmc(steps[i], out, sizeof out) != 0) {
+            fprintf(stderr, "%s: %s\n", steps[i], out);
+            return -1;
+        }
+    return 0;
+}
+
+static char *slurp(const char *args)
+{
+    static char out[65536];
+    int rc = sunmc(args, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s: exit %d: %s", args, rc, out);
+    return out;
+}
+
+/* The issue's reproducer: ESS output_deg 95 -> -85.04 deg, 180 -> -0.037
+ * deg; DSS x_px 5000 on a +-1023.5 px detector -> -84.5 deg.  Now nan with
+ * a count on stderr; readings inside the range are unchanged. */
+static void test_compensate_marks_impossible(void **state)
+{
+    char p[700];
+    snprintf(p, sizeof p, "%s/re.csv", dir);
+    assert_int_equal(test_write_file(p, "output_deg\n10\n95\n180\n-95\n89.99\n-60\n"), 0);
+    char *out = slurp("compensate $D/ce/params.ini $D/re.csv");
+    const char *bad[] = {"\n95,nan\n", "\n180,nan\n", "\n-95,nan\n"};
+    for (int i = 0; i < 3; i++)
+        if (!strstr(out, bad[i]))
+            fail_msg("'%s' not marked: %s", bad[i] + 1, out);
+    if (!strstr(out, "\n10,9.9") || !strstr(out, "\n-60,-60.0"))
+        fail_msg("readings in range changed: %s", out);
+    if (!strstr(out, "readings could not be compensated (nan)") ||
+        !strstr(out, "beyond what the calibrated sensor can produce"))
+        fail_msg("%s", out);
+    snprintf(p, sizeof p, "%s/rd.csv", dir);
+    assert_int_equal(test_write_file(p, "x_px,y_px\n10,10\n5000,0\n0,-5000\n1023.9,0\n1024.1,0\n"
+                                        "-1000,0\n"),
+                     0);
+    out = slurp("compensate $D/cd/params.ini $D/rd.csv");
+    const char *dbad[] = {"\n5000,0,nan,nan\n", "\n0,-5000,nan,nan\n", "\n1024.1,0,nan,nan\n"};
+    for (int i = 0; i < 3; i++)
+        if (!strstr(out, dbad[i]))
+            fail_msg("'%s' not marked: %s", dbad[i] + 1, out);
+    assert_null(strstr(out, "\n1023.9,0,nan"));
+    assert_null(strstr(out, "\n-1000,0,nan"));
+    assert_non_null(strstr(out, "3 readings could not be compensated"));
+    assert_true(test_file_has(test_tmp("labtrust/cd/params.ini"), "detector_px              = 2048"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_compensate_marks_impossible),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
