@@ -14,7 +14,9 @@ repeated readings as repeated rows).
       SRC: one CSV (Datetime,Stage Angle,xL,xR,yL,yR,X,Y) of
       kenscl/Sun-Sensor-Calibration, or a folder of them.  A file whose name
       ends in _X.txt is a sweep of alpha (beta = 0), _Y.txt one of beta
-      (alpha = 0).  i1..i4 = xL, xR, yL, yR (pairs: design.lateral = duo).
+      (alpha = 0).  i1..i4 = yL, yR, xL, xR (pairs: design.lateral = duo):
+      in these files the _X sweep moves the yL, yR pair's balance and the
+      _Y sweep the xL, xR pair's, so x = (i2 - i1)/(i1 + i2) follows alpha.
   scripts/psd-import.py 14og SRC --out FILE.csv
       SRC: merged_data.yaml of 14Og/SunSensorCalibration (elevation,
       azimuth in deg, normalised spot x, y).  The sun vector (sin el cos az,
@@ -94,7 +96,7 @@ def kenscl_file(path):
                 raise ImportError_("%s:%d: not a number row" % (path, ln))
             a = v[0] if axis == 0 else 0.0
             b = v[0] if axis == 1 else 0.0
-            rows.append((a, b, v[1], v[2], v[3], v[4]))
+            rows.append((a, b, v[3], v[4], v[1], v[2]))
     if not rows:
         raise ImportError_("%s: no data rows" % path)
     return rows

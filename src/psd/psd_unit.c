@@ -323,7 +323,7 @@ static long psd_table_grid(const sunmc_config *c, int which, double *a0, double 
 }
 
 static const char *const psd_table_axes[] = {"alpha", "beta"};
-static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.adc_bits", NULL};
+static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", NULL};
 static const char *const psd_val_noise_keys[] = {"noise.channel_pct", NULL};
 static const family_noise psd_noise[] = {
     {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL},
