@@ -96,12 +96,44 @@ static void calibrate_reports_priors(void **state)
     assert_true(sigma > 0 && ratio > 0 && ratio < 1);
 }
 
+/* The DSS on a +-10 deg campaign: without priors the mount's tilt and the
+ * sun simulator's are one direction and the fit loses the mount frame (tens
+ * of arcsec); the priors hold them to what the tolerances allow. */
+static void dss_narrow_campaign_rescued(void **state)
+{
+    const char *narrow =
+        "--set campaign.b_min_deg=-10 --set campaign.b_max_deg=10 --set campaign.b_step_deg=1 "
+        "--set validation.b_min_deg=-9.7 --set validation.b_max_deg=9.7 "
+        "--set validation.b_step_deg=0.9 --set report.bands_deg=0:10 "
+        "--set calibration.fit_glass_index=off --units 40 --quiet";
+    double after[2];
+    const char *priors[2] = {"off", "tolerances"};
+    for (int k = 0; k < 2; k++) {
+        char out[16384], cmd[4096], path[1024], name[32];
+        snprintf(name, sizeof name, "narrow_%d", k);
+        snprintf(cmd, sizeof cmd, "%s run configs/dss.ini %s --set calibration.priors=%s --out %s",
+                 test_sunmc(), narrow, priors[k], test_tmp(name));
+        int rc = test_run(cmd, out, sizeof out);
+        if (rc != 0)
+            fail_msg("%s exited %d: %s", cmd, rc, out);
+        snprintf(path, sizeof path, "%s/summary.tsv", test_tmp(name));
+        tsv *t = tsv_load(path);
+        assert_non_null(t);
+        assert_string_equal(tsv_str(t, 2, "angle"), "total");
+        after[k] = tsv_num(t, 2, "rms_after_mean");
+        tsv_free(t);
+    }
+    assert_true(after[0] > 25);        /* arcsec: the frame lost */
+    assert_true(after[1] < after[0] / 3); /* held by the priors */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(priors_do_not_make_tilt_units_worse),
         cmocka_unit_test(pilot_independent_of_threads_and_range),
         cmocka_unit_test(calibrate_reports_priors),
+        cmocka_unit_test(dss_narrow_campaign_rescued),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -142,8 +142,10 @@ void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
 int calreport_covariance(calreport *r, const gsl_matrix *cov, double s2, const double *scale);
 
 /* Record priors p (fit-vector order, internal units; np = 0: none) in
- * the parameters' reported units (value = internal x scale[j]). */
-void calreport_set_priors(calreport *r, const calib_prior *p, const double *scale);
+ * the parameters' reported units: (internal - offset[j]) x scale[j]
+ * (offset NULL: 0). */
+void calreport_set_priors(calreport *r, const calib_prior *p, const double *offset,
+                          const double *scale);
 
 /* Posterior over prior standard deviation at or above which the campaign
  * is said not to beat the prior for a parameter. */

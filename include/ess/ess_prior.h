@@ -24,7 +24,9 @@ int ess_prior_pilot(const sunmc_config *c, const ess_calib_workspace *cw, calib_
 /* calibration.priors = tolerances: the pilot at cw's table angles (set
  * them first), then its priors set on cw's fit for every later
  * ess_calibrate; off: cw's priors cleared.  p receives the priors (np = 0
- * when off). */
+ * when off, and when fewer than two of the pilot's units can be fitted: a
+ * config whose units mostly cannot be; the caller says so where it
+ * reports).  SUNMC_ENOMEM. */
 int ess_prior_apply(const sunmc_config *c, ess_calib_workspace *cw, calib_prior *p, char *err,
                     size_t errlen);
 

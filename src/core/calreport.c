@@ -358,12 +358,13 @@ int calreport_print(FILE *f, const calreport *r)
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
 
-void calreport_set_priors(calreport *r, const calib_prior *p, const double *scale)
+void calreport_set_priors(calreport *r, const calib_prior *p, const double *offset,
+                          const double *scale)
 {
     r->prior_on = p->np > 0;
     r->prior_units = p->units;
     for (int j = 0; j < p->np && j < CALREPORT_MAX_PAR; j++) {
-        r->prior_mean[j] = p->mean[j] * scale[j];
+        r->prior_mean[j] = (p->mean[j] - (offset ? offset[j] : 0.0)) * scale[j];
         r->prior_sigma[j] = p->sigma[j] * fabs(scale[j]);
     }
 }

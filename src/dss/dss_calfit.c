@@ -1,6 +1,7 @@
 /* dss_calfit.c - `sunmc calibrate` of a DSS: dss_calibrate plus the
  * report and params.ini. */
 #include "dss_calfit.h"
+#include "dss_prior.h"
 #include "rotation.h"
 #include "family.h"
 #include "lab.h"
@@ -215,20 +216,25 @@ static void dss_check_correlations(calreport *rep)
 }
 
 static int physical_covariance(const dss_calib_workspace *cw, const dss_calibration *cal,
-                               calreport *rep, double *cov_s)
+                               const calib_prior *prior, calreport *rep, double *cov_s)
 {
     int have_cov = 0;
     /* chisq is in px^2 over 2 n residuals (weighted). */
     double s2 = rep->fit.chisq / rep->dof;
     rep->np = cw->n_free;
-    double scale[CALREPORT_MAX_PAR];
+    double scale[CALREPORT_MAX_PAR], nominal[CALREPORT_MAX_PAR];
     for (int k = 0; k < cw->n_free; k++) {
         int idx = cw->free_idx[k];
         snprintf(rep->name[k], sizeof rep->name[k], "%s", dss_param_names[idx]);
         rep->value[k] = dss_param_value(&cal->phys, idx);
         scale[k] = dss_param_scale(&cal->phys, idx);
+        nominal[k] = cal->phys.nominal[idx];
     }
-    int cst = fit_covariance(cw->fw);
+    calreport_set_priors(rep, prior, nominal, scale);
+    /* the priors' weights assumed the config's row noise; the data say s2 */
+    double k2 = prior->np > 0 && prior->sigma_row > 0 ? s2 / (prior->sigma_row * prior->sigma_row)
+                                                      : 1.0;
+    int cst = fit_covariance_rescaled(cw->fw, k2);
     if (cst == SUNMC_OK)
         cst = calreport_covariance(rep, cw->fw->covar, s2, scale);
     if (cst == SUNMC_OK && rep->fit_ok) {
@@ -400,7 +406,16 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "only %zu usable readings (weight > 0); the %s model has %d parameters",
                           rep->n_used, rep->model, np);
-    int st = dss_calibrate(cw, c->max_iterations, cal, &rep->fit);
+    calib_prior prior;
+    int st = dss_prior_apply(c, cw, &prior, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 && cw->kind == DSS_MODEL_PHYSICAL)
+        calreport_warn(rep, "check the config's design values and tolerances against this sensor",
+                       "calibration.priors = tolerances: the priors could not be formed (fewer "
+                       "than two of the pilot's %d units could be fitted); fitted without them",
+                       c->prior_units);
+    st = dss_calibrate(cw, c->max_iterations, cal, &rep->fit);
     if (st == SUNMC_EINPUT)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "too few usable readings for the %s model",
                           rep->model);
@@ -416,8 +431,9 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
     double cov_s[2 * DSS_POLY_MAX_TERMS * DSS_POLY_MAX_TERMS]; /* >= DSS_NP^2 */
-    int have_cov = phys ? physical_covariance(cw, cal, rep, cov_s)
+    int have_cov = phys ? physical_covariance(cw, cal, &prior, rep, cov_s)
                         : poly_covariance(cw, cal, rep, cov_s);
+    calreport_check_priors(rep);
     band_stats(c, cw, cal, cov_s, have_cov, n_res, rep);
     cross_validate(c, cw, rep);
     return SUNMC_OK;

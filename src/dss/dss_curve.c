@@ -1,5 +1,6 @@
 /* dss_curve.c - one DSS unit's error maps (the family's curve hooks). */
 #include "dss_curve.h"
+#include "dss_prior.h"
 #include "rotation.h"
 #include "dss_unit.h"
 #include "status.h"
@@ -43,6 +44,13 @@ void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
                    "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
                    "or fewer points than parameters)", n);
+        return NULL;
+    }
+    /* the same priors as `run`'s units (dss_unit.c) */
+    calib_prior prior;
+    dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
+    if (dss_prior_apply(c, w->cw, &prior, err, errlen) != SUNMC_OK) {
+        dss_curve_free(w);
         return NULL;
     }
     return w;

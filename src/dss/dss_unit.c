@@ -1,6 +1,7 @@
 /* dss_unit.c - the DSS family: sample -> physical sensor -> rotary-table
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
+#include "dss_prior.h"
 #include "dss_curve.h"
 #include "dss_lab.h"
 #include "dss_grid.h"
@@ -53,15 +54,11 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
                          double *b2_rad, double *x_px, double *y_px, double *weight,
                          double *truth_alpha_rad, double *truth_beta_rad)
 {
-    const dss_config *dc = dss_cfg(c);
     long nb = cal_axis_count(c);
     size_t n = (size_t)nb * (size_t)nb, seen = 0;
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
-    for (size_t i = 0; i < n; i++) {
-        b1_rad[i] = (dc->cal_b_min_deg + (double)(i / (size_t)nb) * dc->cal_b_step_deg) * RAD_PER_DEG;
-        b2_rad[i] = (dc->cal_b_min_deg + (double)(i % (size_t)nb) * dc->cal_b_step_deg) * RAD_PER_DEG;
-    }
+    dss_campaign_angles(c, b1_rad, b2_rad);
     /* The table really stands at the recorded angles plus the encoder error;
      * the draws are made for every point so that a point's noise does not
      * depend on whether others are seen. */
@@ -129,6 +126,7 @@ static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
 typedef struct {
     dss_calib_workspace *cw;
     dss_val_readings val;
+    calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
 } dss_ws;
 
 static void dss_ws_free(void *p)
@@ -162,6 +160,11 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
                    "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
                    "or fewer points than parameters)", n);
+        return NULL;
+    }
+    dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
+    if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
+        dss_ws_free(w);
         return NULL;
     }
     return w;

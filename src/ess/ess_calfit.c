@@ -317,7 +317,7 @@ static void parameters(const ess_calib_workspace *cw, const calib_prior *prior,
         scale[j] = par_scale[q];
         rep->value[j] = res->m.p[q] * scale[j];
     }
-    calreport_set_priors(rep, prior, scale);
+    calreport_set_priors(rep, prior, NULL, scale);
     /* the priors' weights assumed the config's row noise; the data say s2 */
     double k = prior->np > 0 && prior->sigma_row > 0 ? res->s2 / (prior->sigma_row * prior->sigma_row)
                                                      : 1.0;
@@ -403,6 +403,11 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     int st = ess_prior_apply(c, cw, &prior, err, errlen);
     if (st != SUNMC_OK)
         return st;
+    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 && 1)
+        calreport_warn(rep, "check the config's design values and tolerances against this sensor",
+                       "calibration.priors = tolerances: the priors could not be formed (fewer "
+                       "than two of the pilot's %d units could be fitted); fitted without them",
+                       c->prior_units);
     st = ess_calibrate(cw, theta0, roll, ec->alias_threshold, c->max_iterations, &res->m, &rep->fit);
     rep->fit_ok = st == SUNMC_OK;
     rep->cond_jacobian = 1.0 / rep->fit.rcond;

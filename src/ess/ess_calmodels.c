@@ -13,6 +13,7 @@
  * errors, else the one with fewer parameters (the paper's).
  */
 #include "ess_calfit.h"
+#include "ess_prior.h"
 #include "status.h"
 #include "units.h"
 
@@ -140,6 +141,12 @@ int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, cal
         memcpy(w->alpha_rad, cw->alpha_rad, cw->n * sizeof(double));
         memcpy(w->beta_rad, cw->beta_rad, cw->n * sizeof(double));
         memcpy(w->raw_rad, cw->raw_rad, cw->n * sizeof(double));
+        calib_prior prior; /* each model its own priors, as the fit uses */
+        st = ess_prior_apply(c, w, &prior, err, errlen);
+        if (st != SUNMC_OK) {
+            ess_calib_free(w);
+            break;
+        }
         calreport_model *x = &cm->m[m];
         snprintf(x->name, sizeof x->name, "%s", kind_names[m]);
         x->np = w->np_fit;
@@ -154,7 +161,9 @@ int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, cal
     }
     free(e2[0]);
     free(e2[1]);
-    if (st != SUNMC_OK)
+    if (st == SUNMC_ENOMEM)
         return sunmc_fail(err, errlen, st, "out of memory for the model comparison");
+    if (st != SUNMC_OK)
+        return st;
     return SUNMC_OK;
 }

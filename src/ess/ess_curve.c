@@ -1,5 +1,6 @@
 /* ess_curve.c - one ESS unit's error curves (the family's curve hooks). */
 #include "ess_curve.h"
+#include "ess_prior.h"
 #include "ess_unit.h"
 #include "status.h"
 #include "units.h"
@@ -48,6 +49,13 @@ void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     if (!w || !w->cw) {
         free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
+        return NULL;
+    }
+    /* the same priors as `run`'s units (ess_unit.c) */
+    calib_prior prior;
+    ess_campaign_angles(c, w->cw);
+    if (ess_prior_apply(c, w->cw, &prior, err, errlen) != SUNMC_OK) {
+        ess_curve_free(w);
         return NULL;
     }
     return w;
