@@ -177,8 +177,8 @@ static void calrun_load(calrun *r, const char *cfg, int unit, const char *cal_se
     snprintf(cmd, sizeof cmd, "%s simulate %s --unit %d %s --out %s", test_sunmc(), cfg, unit,
              cal_sets, r->sim);
     run_ok(cmd, out, len);
-    snprintf(cmd, sizeof cmd, "%s calibrate --config %s %s %s/campaign.csv --out %s", test_sunmc(),
-             cfg, cal_sets, r->sim, r->cal);
+    snprintf(cmd, sizeof cmd, "%s calibrate --config %s --set calibration.priors=off %s %s/campaign.csv "
+             "--out %s", test_sunmc(), cfg, cal_sets, r->sim, r->cal);
     run_ok(cmd, out, len);
     report_numbers(out, &r->used, &r->dof, &r->sigma);
     snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),

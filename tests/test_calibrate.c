@@ -39,6 +39,9 @@ static void build_config(config_state *st, const char *const *sets, int n)
     char err[SUNMC_ERRLEN];
     if (config_build(st, NULL, sets, n, err, sizeof err) != SUNMC_OK)
         fail_msg("%s", err);
+    /* the plain least-squares fit: this suite checks it against independent
+     * derivations (calibration.priors = tolerances is tested in test_calib_priors.c) */
+    st->cfg.cal_priors = CONFIG_PRIORS_OFF;
 }
 
 /* ---- an independent ESS model (shares no code with sunmc) ---- */

@@ -114,7 +114,7 @@ static void sim_calibrate(const char *name, const char *cfg, int unit, const cha
     const char *d = test_tmp(name);
     snprintf(args, sizeof args,
              "simulate %s --unit %d %s --out $D --quiet > /dev/null && %s calibrate --config %s "
-             "%s $D/campaign.csv",
+             "--set calibration.priors=off %s $D/campaign.csv",
              cfg, unit, sets, test_sunmc(), cfg, sets);
     assert_int_equal(test_sunmc_in(d, args, out, len), 0);
 }
@@ -161,6 +161,7 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
     /* the report to a file: its warnings on stderr too */
     assert_int_equal(test_sunmc_in(test_tmp("ess_half"),
                                    "calibrate --config configs/ess_type_a.ini --set "
+                                   "calibration.priors=off --set "
                                    "campaign.alpha_min_deg=0 $D/campaign.csv > $D/report.txt "
                                    "2> $D/err.txt; cat $D/err.txt",
                                    out, sizeof out),

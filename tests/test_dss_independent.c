@@ -302,7 +302,8 @@ static void compare(const indep_dss *m, const indep_dss *design, double sigma_px
     snprintf(vpath, sizeof vpath, "%s_val.csv", test_tmp(tag));
     assert_int_equal(test_write_file(vpath, text), 0);
 
-    snprintf(cmd, sizeof cmd, "%s calibrate --sensor dss --config configs/dss.ini %s %s --out %s_cal",
+    snprintf(cmd, sizeof cmd, "%s calibrate --sensor dss --config configs/dss.ini --set calibration.priors=off %s %s "
+             "--out %s_cal",
              test_sunmc(), extra, path, test_tmp(tag));
     if (test_run(cmd, out, sizeof out) != 0)
         fail_msg("%s: %s", cmd, out);

@@ -274,7 +274,9 @@ static void printed_compact(void **state)
 
 /* ---- end to end ---- */
 
-#define SMALL "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --quiet"
+#define SMALL                                                                                \
+    "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --quiet "                  \
+    "--set calibration.priors=off"
 #define SEEDS 20
 #define SUB_UNITS 50
 #define REF_UNITS 1000

@@ -91,7 +91,7 @@ const config_key config_keys[] = {
      OFF(max_residual_ratio),
      "`calibrate`: a fit whose residual exceeds this many times the reading noise of the "
      "config (at least 1 arcsec) is refused"},
-    {"calibration", "priors", KEY_ENUM, "", "off", 0, 0, "off|tolerances", OFF(cal_priors),
+    {"calibration", "priors", KEY_ENUM, "", "tolerances", 0, 0, "off|tolerances", OFF(cal_priors),
      "Gaussian priors on the fitted parameters: off, or tolerances (each parameter's mean and "
      "sigma over a pilot of calibration.prior_units units drawn from the tolerances and "
      "fitted without noise: what the lab knows before the campaign), as extra residual rows "
