@@ -73,10 +73,85 @@ static void test_compensate_marks_impossible(void **state)
     assert_true(test_file_has(test_tmp("labtrust/cd/params.ini"), "detector_px              = 2048"));
 }
 
+/* Write campaign.csv of the ESS unit with its outputs shifted by up to
+ * +-0.2 deg (a campaign the model cannot describe), the first row's weight
+ * w (1: unweighted). */
+static void garbage_campaign(const char *name, const char *w)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "grep -v '^#' %s/le/campaign.csv | awk -F, 'BEGIN { srand(7); OFS = \",\" } "
+             "NR == 1 { print; next } { $3 = $3 + (rand() - 0.5) * 0.4; if (NR == 2) $4 = %s; "
+             "print }' > %s/%s",
+             dir, w, dir, name);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* The issue's reproducer: one row of weight 10 (or 1e6) took a garbage
+ * campaign past the "model does not describe these data" refusal (the
+ * residual shrank by sqrt(max weight): 0.344" for a 357" misfit). */
+static void test_weights_do_not_pass_garbage(void **state)
+{
+    const char *w[] = {"1", "10", "1e6"};
+    for (int i = 0; i < 3; i++) {
+        char name[32], args[256], out[65536];
+        snprintf(name, sizeof name, "garbage%d.csv", i);
+        garbage_campaign(name, w[i]);
+        snprintf(args, sizeof args, "calibrate --config " E " $D/%s --out $D/g%d", name, i);
+        int rc = sunmc(args, out, sizeof out);
+        if (rc == 0 || !strstr(out, "the model does not describe these data"))
+            fail_msg("weight %s: exit %d: %s", w[i], rc, out);
+        if (i > 0 && !strstr(out, "of a row of the median weight"))
+            fail_msg("weight %s: the message does not say the residual is scaled: %s", w[i], out);
+    }
+}
+
+/* The issue's reproducer: exactly duplicated rows counted as independent
+ * readings (every standard error shrank by sqrt 2, the model advice
+ * flipped).  Default: counted once, with a warning naming the lines; the
+ * result equals that of the file without them. */
+static void test_duplicates(void **state)
+{
+    char cmd[4096], out[65536];
+    snprintf(cmd, sizeof cmd,
+             "grep -v '^#' %s/le/campaign.csv > %s/once.csv && cp %s/once.csv %s/twice.csv && "
+             "tail -n +2 %s/once.csv >> %s/twice.csv",
+             dir, dir, dir, dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(sunmc("calibrate --config " E " $D/once.csv --out $D/c1", out, sizeof out),
+                     0);
+    assert_int_equal(sunmc("calibrate --config " E " $D/twice.csv --out $D/c2", out, sizeof out),
+                     0);
+    if (!strstr(out, "534 rows repeat an earlier row exactly") || !strstr(out, "536 = 2") ||
+        !strstr(out, "--duplicates=average"))
+        fail_msg("%s", out);
+    snprintf(cmd, sizeof cmd,
+             "grep -v -e '^data_' -e '^# ' %s/c1/params.ini > %s/p1 && "
+             "grep -v -e '^data_' -e '^# ' %s/c2/params.ini > %s/p2 && cmp %s/p1 %s/p2",
+             dir, dir, dir, dir, dir, dir);
+    if (test_run(cmd, out, sizeof out) != 0)
+        fail_msg("params.ini of the doubled file differs from the single one: %s", out);
+    assert_int_equal(sunmc("calibrate --config " E " $D/twice.csv --duplicates=refuse --out $D/c3",
+                           out, sizeof out),
+                     2);
+    if (!strstr(out, "twice.csv:536: repeats line 2 exactly"))
+        fail_msg("%s", out);
+    assert_int_equal(sunmc("calibrate --config " E " $D/twice.csv --duplicates keep --quiet",
+                           out, sizeof out),
+                     0);
+    assert_non_null(strstr(out, "counted as independent readings (--duplicates=keep)"));
+    assert_int_equal(sunmc("calibrate --config " E " $D/once.csv --duplicates=sometimes", out,
+                           sizeof out),
+                     2);
+    assert_non_null(strstr(out, "one of average, refuse, keep"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compensate_marks_impossible),
+        cmocka_unit_test(test_weights_do_not_pass_garbage),
+        cmocka_unit_test(test_duplicates),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -40,6 +40,7 @@ typedef struct {
     long shard_k, shard_n;            /* run --shard K/N; shard_n = 0: none */
     int resume;                       /* run --resume */
     const char *isa;                  /* run --isa baseline|avx2 (else SUNMC_ISA) */
+    const char *duplicates;           /* calibrate --duplicates average|refuse|keep */
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the

@@ -151,6 +151,16 @@ void lab_columns_free(lab_columns *d);
  * outputs swapped).  Also scales the weights so that the largest is 1: only
  * their ratios matter. */
 #define LAB_MAX_INCONSISTENT 0.1
+/* Exact duplicate rows (every column equal, weight > 0): a reading logged
+ * twice.  LAB_DUP_AVERAGE counts each once (the later copies' weight is
+ * set to 0), LAB_DUP_REFUSE refuses the file (FILE:LINE naming both
+ * lines), LAB_DUP_KEEP leaves them.  note gets "LINE = FIRST_LINE, ..." of
+ * the first LAB_DUP_SHOWN; returns their count (>= 0), or minus a status. */
+enum { LAB_DUP_AVERAGE, LAB_DUP_REFUSE, LAB_DUP_KEEP };
+#define LAB_DUP_SHOWN 5
+int lab_duplicates(lab_columns *d, int mode, char *note, size_t notelen, char *err,
+                   size_t errlen);
+
 int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,
                    size_t errlen);
 

@@ -13,8 +13,10 @@
 
 static const char calibrate_help[] =
     "usage: sunmc calibrate --config CONFIG DATA.csv [--sensor FAMILY] [--out DIR]\n"
-    "                       [--set SECTION.KEY=VALUE]...\n"
+    "                       [--set SECTION.KEY=VALUE]... [--duplicates average|refuse|keep]\n"
     "The family (ess, dss) is CONFIG's sensor.family; --sensor, when given, must agree.\n"
+    "Rows that repeat an earlier row exactly are a reading logged twice: counted once\n"
+    "(--duplicates average, the default, with a warning naming them), refused, or kept.\n"
     "Fits the family's calibration model (the Monte Carlo's own fit) to turntable data and\n"
     "prints the parameters with standard errors, the correlation matrix, condition numbers,\n"
     "residual RMS and predicted accuracy per band, cross-validation and warnings.\n"
@@ -62,6 +64,34 @@ static void warn_stderr(const calreport *rep)
         fprintf(stderr, "sunmc calibrate: WARNING: %s\n", rep->w[i].reason);
 }
 
+/* Exact duplicate rows, as --duplicates says (default average, warned). */
+static int duplicates(const cli_options *o, lab_columns *d, char *err, size_t errlen)
+{
+    const char *m = o->duplicates ? o->duplicates : "average";
+    int mode = strcmp(m, "average") == 0  ? LAB_DUP_AVERAGE
+               : strcmp(m, "refuse") == 0 ? LAB_DUP_REFUSE
+               : strcmp(m, "keep") == 0   ? LAB_DUP_KEEP
+                                          : -1;
+    if (mode < 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "--duplicates %s: one of average, refuse, keep", m);
+    char note[256];
+    int n = lab_duplicates(d, mode, note, sizeof note, err, errlen);
+    if (n < 0)
+        return -n;
+    if (n > 0)
+        fprintf(stderr,
+                "sunmc calibrate: WARNING: %s: %d row%s repeat%s an earlier row exactly "
+                "(line = earlier line: %s): %s\n",
+                d->path, n, n == 1 ? "" : "s", n == 1 ? "s" : "", note,
+                mode == LAB_DUP_KEEP
+                    ? "counted as independent readings (--duplicates=keep): every standard "
+                      "error shrinks as if they were"
+                    : "each counted once (--duplicates=average; =refuse refuses the file, "
+                      "=keep counts them as independent readings)");
+    return SUNMC_OK;
+}
+
 /* Read the data, fit, print the report; with --out write the files. */
 static int calibrate(const cli_options *o, const config_state *cs, const family_lab *lab)
 {
@@ -71,6 +101,8 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     lab_columns d;
     size_t min_rows = lab->cal_min_rows(c, why, sizeof why);
     int st = lab_columns_read(data, lab->cal_columns, min_rows, why, &d, err, sizeof err);
+    if (st == SUNMC_OK)
+        st = duplicates(o, &d, err, sizeof err);
     if (st == SUNMC_OK)
         st = lab_check_data(lab, c, &d, err, sizeof err);
     calreport *rep = st == SUNMC_OK ? malloc(sizeof *rep) : NULL;
@@ -131,7 +163,7 @@ int cmd_calibrate(int argc, char **argv)
     if (cli_wants_help(argc, argv, calibrate_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet FILES1", &o);
+    int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet duplicates FILES1", &o);
     if (rc)
         return rc;
     char names[256];

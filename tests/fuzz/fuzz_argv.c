@@ -25,7 +25,7 @@ static const struct {
     {"budget", "CONFIG units seed threads set out quiet"},
     {"curve", "CONFIG seed set out quiet unit only"},
     {"simulate", "CONFIG unit seed set out quiet"},
-    {"calibrate", "sensor config set out quiet FILES1"},
+    {"calibrate", "sensor config set out quiet duplicates FILES1"},
     {"compensate", "quiet FILES2"},
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
