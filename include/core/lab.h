@@ -126,6 +126,11 @@ typedef struct family_lab {
     const char *const *opt_comp_columns;
     /* Said after the count of readings that could not be compensated, or NULL. */
     const char *comp_fail_note;
+
+    /* 1 when the fit itself counts the rows at one point once (their mean,
+     * the scatter reported as repeatability): calibrate --duplicates then
+     * leaves exact repeats to it. */
+    int cal_counts_repeats_once;
     /* The calibration a params.ini describes, into model (model_size bytes). */
     size_t model_size;
     int (*params_load)(const params_file *p, void *model, char *err, size_t errlen);

@@ -102,9 +102,9 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     size_t min_rows = lab->cal_min_rows(c, why, sizeof why);
     int st = lab_columns_read(data, lab->cal_columns, min_rows, why, &d, err, sizeof err);
     if (st == SUNMC_OK)
-        st = duplicates(o, &d, err, sizeof err);
-    if (st == SUNMC_OK)
         st = lab_check_data(lab, c, &d, err, sizeof err);
+    if (st == SUNMC_OK && !lab->cal_counts_repeats_once)
+        st = duplicates(o, &d, err, sizeof err);
     calreport *rep = st == SUNMC_OK ? malloc(sizeof *rep) : NULL;
     if (st != SUNMC_OK || !rep) {
         fprintf(stderr, "sunmc calibrate: %s\n", st != SUNMC_OK ? err : "out of memory");

@@ -386,6 +386,7 @@ static int compensate(const void *model, const double *raw, double *comp_rad)
 }
 
 const family_lab psd_lab = {
+    .cal_counts_repeats_once = 1,
     .sim_run = sim_run,
     .sim_write = sim_write,
     .sim_summary = sim_summary,
