@@ -198,8 +198,8 @@ typedef struct {
  * only) and a list of "section.key=value" overrides.  The family is taken
  * from sensor.family (overrides first, then the file, else the registry's
  * first family); defaults of that family are applied, then the file, then the overrides, then
- * config_validate.  On error returns SUNMC_EINPUT (or SUNMC_EIO for an
- * unreadable file) with "FILE:LINE: message" in err. */
+ * config_validate.  On error returns SUNMC_EINPUT (an unreadable file
+ * included) with "FILE:LINE: message" (or "FILE: message") in err. */
 int config_build(config_state *st, const char *path, const char *const *sets, int n_sets,
                  char *err, size_t errlen);
 void config_state_free(config_state *st);

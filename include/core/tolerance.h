@@ -24,7 +24,4 @@ void tolerance_range(const tolerance *t, double truncation_sigmas, double *lo, d
  * or "fixed, +2": how tolerance t's range above comes about, for messages. */
 void tolerance_range_text(const tolerance *t, double truncation_sigmas, char *buf, size_t len);
 
-/* A tolerance with every deviation switched off (fixed 0). */
-tolerance tolerance_nominal(void);
-
 #endif

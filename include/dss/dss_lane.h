@@ -1,7 +1,7 @@
 /* dss_lane.h - the DSS physics and its calibration model for one reading,
  * as inline functions: the scalar API (optics.c, dss_centroid.c,
  * dss_sensor.c, dss_model.c) and the vectorised batches (dss_readings.c,
- * dss_batch.c: one reading per vector lane) are the same code.  The
+ * dss_model_batch.c: one reading per vector lane) are the same code.  The
  * formulas are documented in dss_sensor.h, optics.h, dss_centroid.h,
  * rotation.h and dss_model.h.  Everything is passed and returned by
  * value so that GCC vectorises a loop calling these (vmath.h). */

@@ -134,8 +134,9 @@ void ess_model_batch(const ess_model *m, const ess_table *t, const double *raw_r
 void ess_model_predict_batch(const ess_model *m, const ess_table *t, double *raw_rad);
 
 /* Compensation, the exact inverse of the model: solve
- * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Newton (the
- * extended model: its fine-code terms), then
+ * alpha_d - ks sin(w alpha_d) - kc cos(w alpha_d) = raw by Halley's method
+ * (bisection where it does not settle; the extended model: its fine-code
+ * terms, by Newton), then
  * eq. 13: tan(alpha) = (b - d tan alpha_d) / (c tan alpha_d - a).
  * SUNMC_EDOM when the fine-code term is not invertible (w k >= 1; the
  * extended model: ess_model_ext_invertible) or the iteration fails. */

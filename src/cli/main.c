@@ -1,5 +1,5 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
- * satellite sun sensors.  Dispatches to one command per file (main_*.c). */
+ * satellite sun sensors.  Dispatches to one command per file (cmd_*.c). */
 #include "cli.h"
 #include "par.h"
 #include "status.h"

@@ -63,8 +63,3 @@ void tolerance_range_text(const tolerance *t, double truncation_sigmas, char *bu
     }
 }
 
-tolerance tolerance_nominal(void)
-{
-    tolerance t = {0.0, DIST_FIXED};
-    return t;
-}

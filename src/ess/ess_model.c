@@ -267,7 +267,7 @@ static double finecode_bisect(double ks, double kc, double w, double raw)
     return root_bisect_increasing(finecode_g, &e, raw - 2.0 * k, raw + 2.0 * k);
 }
 
-/* Newton on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane
+/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane
  * iterates until its own step is below COMP_TOL_RAD, exactly as one
  * reading alone would; a lane still moving after COMP_MAX_ITER steps is
  * solved by bisection (finecode_bisect); then eq. 13.  status[i]: SUNMC_OK
