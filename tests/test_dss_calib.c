@@ -126,9 +126,10 @@ static const char *const quiet[] = {"noise.centroid_px=0", "noise.encoder_arcsec
                                     "noise.s_curve=off"};
 
 /* Noise-free data: the physical fit recovers every parameter. */
-static void test_physical_fit_recovers(void **state)
+static void physical_fit_recovers(const char *disc)
 {
-    sunmc_config c = dss_test_config(quiet, 3);
+    const char *sets[] = {quiet[0], quiet[1], quiet[2], disc};
+    sunmc_config c = dss_test_config(sets, 4);
     dss_unit u;
     dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
     dss_calibration cal;
@@ -153,6 +154,17 @@ static void test_physical_fit_recovers(void **state)
     assert_int_equal(j, DSS_P_N);
     assert_true(dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD < 1e-6);
     dss_calib_free(cw);
+}
+
+static void test_physical_fit_recovers(void **state)
+{
+    physical_fit_recovers("design.sun_disc_deg=0");
+}
+
+/* The sun's disc in the data and the model: the fit is not biased by it. */
+static void test_physical_fit_recovers_disc(void **state)
+{
+    physical_fit_recovers("design.sun_disc_deg=0.533");
 }
 
 /* Holding the index at design leaves a bias of tenths of an arcsecond. */
@@ -501,7 +513,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_model_matches_sensor), cmocka_unit_test(test_model_jacobian),
-        cmocka_unit_test(test_physical_fit_recovers), cmocka_unit_test(test_fixed_index_bias),
+        cmocka_unit_test(test_physical_fit_recovers),
+        cmocka_unit_test(test_physical_fit_recovers_disc), cmocka_unit_test(test_fixed_index_bias),
         cmocka_unit_test(test_polynomial_exact),     cmocka_unit_test(test_polynomial_basis),
         cmocka_unit_test(test_family_units),
         cmocka_unit_test(test_errors),               cmocka_unit_test(test_cli),

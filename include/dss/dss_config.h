@@ -21,6 +21,8 @@ typedef struct {
     double glass_thickness_mm;
     double glass_index;
     double fov_deg;          /* half field of view, per axis */
+    double sun_disc_deg;     /* the sun's apparent diameter (0: a point sun) */
+    double limb_darkening;   /* linear limb-darkening coefficient u: I(mu) = 1 - u (1 - mu) */
     int onboard_refraction;  /* enum dss_onboard_refraction (dss_onboard.h) */
     int mount;               /* enum dss_mount: campaign.mount, the lab's procedure, carried
                               * with the design so every model of the unit knows it */

@@ -47,6 +47,21 @@ VM_INLINE geo_xy dss_lane_scurve(const double amp_px[DSS_SCURVE_HARMONICS], doub
     return b;
 }
 
+/* The sun disc's gain 1 + dr / f on the spot's distance from the
+ * pinhole's foot (dss_sensor.h, Sun disc) for a sun at s2 = sin^2 theta,
+ * uz = cos theta, pinhole height H, glass t, n; c = dss_disc_coefficient.
+ * With the factor s taken out of f and its derivatives:
+ *   f / s = (H - t) / c + t / g,  g = sqrt(n^2 - s^2)   (= q, optics.h)
+ *   dr / (c s) = 2 (H - t) / cz^3 + t ((1 - 2 n^2) / g^3 + 3 cz^2 n^2 / g^5). */
+VM_INLINE double dss_lane_disc_gain(double c, double s2, double uz, double H, double t, double n)
+{
+    double g2 = n * n - s2, g = sqrt(g2), g3 = g2 * g;
+    double q = (H - t) / uz + t / g;
+    double d = 2.0 * (H - t) / (uz * uz * uz) +
+               t * ((1.0 - 2.0 * n * n) / g3 + 3.0 * uz * uz * n * n / (g3 * g2));
+    return 1.0 + c * d / q;
+}
+
 /* The plane-parallel glass may sit anywhere under the pinhole (optics.h);
  * it is traced lying on the detector. */
 #define DSS_GLASS_GAP_MM 0.0
@@ -64,6 +79,10 @@ VM_INLINE dss_lane_spot dss_lane_sensor_spot(const dss_sensor *s, geo_v3 u)
     int fits = t >= 0.0 && DSS_GLASS_GAP_MM + t <= H;
     geo_xy sp = optics_lane_trace(u, s->pinhole_mm, DSS_GLASS_GAP_MM, t, s->glass_n);
     double lim = s->half_side_mm - 0.5 * s->spot_px * s->pixel_mm;
+    double k = dss_lane_disc_gain(s->disc_c_rad2, u.x * u.x + u.y * u.y, u.z, H, t, s->glass_n);
+    int disc = s->disc_c_rad2 != 0.0;
+    sp.x = vm_select(disc, s->pinhole_mm[0] + k * (sp.x - s->pinhole_mm[0]), sp.x);
+    sp.y = vm_select(disc, s->pinhole_mm[1] + k * (sp.y - s->pinhole_mm[1]), sp.y);
     dss_lane_spot o;
     o.ok = (u.z > 0.0) & fits & (fabs(sp.x) <= lim) & (fabs(sp.y) <= lim);
     o.x = sp.x / s->pixel_mm;
@@ -138,13 +157,18 @@ VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, in
     dss_lane_model e;
     e.ok = (u.z > 0.0) & (n * n > u.x * u.x + u.y * u.y);
     optics_lane_qd g = optics_lane_q(u, H, t, n);
-    double q = g.q;
+    /* the sun's disc scales the spot's distance from the pinhole's foot;
+     * the Jacobian takes the gain as constant (its derivatives are ~1e-5 of
+     * the terms kept) */
+    double k = dss_lane_disc_gain(m->disc_c_rad2, u.x * u.x + u.y * u.y, u.z, H, t, n);
+    k = vm_select(m->disc_c_rad2 != 0.0, k, 1.0);
+    double q = g.q * k;
     double inv_pix = 1.0 / m->pixel_mm;
     e.x = (m->p[DSS_P_X0] - u.x * q) * inv_pix;
     e.y = (m->p[DSS_P_Y0] - u.y * q) * inv_pix;
     if (!want_j)
         return e;
-    double gx = g.ux, gy = g.uy, gz = g.uz, gH = g.H, gt = g.t, gn = g.n;
+    double gx = k * g.ux, gy = k * g.uy, gz = k * g.uz, gH = k * g.H, gt = k * g.t, gn = k * g.n;
     e.jx.x0 = inv_pix;
     e.jx.y0 = 0.0;
     e.jy.x0 = 0.0;

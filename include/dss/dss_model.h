@@ -57,6 +57,7 @@ typedef struct {
     double pixel_mm;       /* detector pitch: the model's spots are in px */
     double half_px;        /* half the detector side: no reading beyond it (0: unknown) */
     int mount;             /* enum dss_mount */
+    double disc_c_rad2;    /* the sun's disc (dss_disc_coefficient; 0: a point sun) */
     double nominal[DSS_NP]; /* the design's values (dss_model_init) */
     /* filled by dss_model_prepare */
     mat3 M, dM[3];         /* M and dM/dc1, dM/dc2, dM/dc3 */

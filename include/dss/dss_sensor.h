@@ -39,6 +39,21 @@
  *    mm; the pinhole inverts the image), and the refraction error of the
  *    paper's Fig. 5 is part of the error before calibration.
  *
+ * Sun disc: the spot is the pinhole's image of the sun's disc (apparent
+ * diameter design.sun_disc_deg, linear limb darkening u), traced through
+ * the glass.  Each point of the disc at angular offset (a radial, b
+ * tangential) lands at f(theta0 + a + b^2 / (2 tan theta0)) along azimuth
+ * phi0 + b / sin theta0, f(theta) = (H - t) tan theta + t tan theta_g the
+ * radial spot distance; averaged over the disc (<a^2> = <b^2> = m2 / 2) the
+ * centroid lies along the centre's spot, farther out by
+ *     dr = (m2 / 4) (f'' + f' / tan theta - f / sin^2 theta)
+ * to second order in the disc's radius R (next terms ~ R^4), with
+ * m2 = <r^2> = R^2 (15 - 7u) / (10 (3 - u)) (R^2 / 2 for a uniform disc).
+ * Without glass dr = (m2 / 2) h tan theta / cos^2 theta: an angle bias of
+ * (m2 / 2) tan theta = (R^2 / 4) tan theta uniform, ~1.0 arcsec tan theta at
+ * u = 0.6.  dss_lane_disc_gain gives 1 + dr / f; test_dss_disc checks it
+ * against a numerical integration over the disc.
+ *
  * Centroid: the spot is the pinhole's shadow, a disc of the pinhole's
  * diameter; its centroid carries the optional S-curve bias (dss_centroid.h)
  * and Gaussian detector noise.  A spot whose disc leaves the detector is not
@@ -100,9 +115,15 @@ typedef struct {
     double v0[3];              /* sun in the table base frame: M^T e_z (aligned) or
                                 * R(sun_b1, sun_b2) e_z (as_mounted) */
     double spot_px;            /* spot diameter */
+    double disc_c_rad2;        /* the sun's disc: dss_disc_coefficient (0: a point sun) */
     int s_curve;               /* 1: apply the S-curve bias */
     double scurve_amp_px[DSS_SCURVE_HARMONICS];
 } dss_sensor;
+
+/* The sun disc's coefficient m2 / 4 (rad^2) of design.sun_disc_deg and
+ * design.limb_darkening u (see Sun disc above): R^2 (15 - 7u) / (40 (3 - u)). */
+#define DSS_DISC_C_MAX_RAD2 1e-4 /* above design.sun_disc_deg = 2's coefficient (7.6e-5) */
+double dss_disc_coefficient(double sun_disc_deg, double limb_darkening);
 
 /* Build the sensor from design d, deviations dev and s_curve (0 or 1). */
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve);

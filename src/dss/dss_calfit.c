@@ -2,6 +2,7 @@
  * report and params.ini. */
 #include "dss_calfit.h"
 #include "dss_prior.h"
+#include "dss_sensor.h"
 #include "rotation.h"
 #include "family.h"
 #include "lab.h"
@@ -468,6 +469,10 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
         if (st == SUNMC_OK && m->half_px > 0)
             st = params_set_double(p, "design", "detector_px", 2 * m->half_px,
                                    "detector side: compensate marks readings beyond it nan");
+        if (st == SUNMC_OK && m->disc_c_rad2 > 0)
+            st = params_set_double(p, "design", "sun_disc_c_rad2", m->disc_c_rad2,
+                                   "the sun's disc: its second moment / 4 (design.sun_disc_deg, "
+                                   "limb_darkening); compensate removes its centroid bias");
         if (st == SUNMC_OK)
             st = params_set_double(p, "design", "h_mm", m->nominal[DSS_P_H],
                                    "nominal pinhole height over the detector, glass included");
@@ -596,6 +601,12 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
         (st = params_require(p, "design", "detector_px", side >= 1, ">= 1", err, errlen)) ==
             SUNMC_OK)
         m->half_px = 0.5 * side;
+    if (st == SUNMC_OK && params_find(p, "design", "sun_disc_c_rad2") &&
+        (st = params_get_double(p, "design", "sun_disc_c_rad2", &m->disc_c_rad2, err,
+                                errlen)) == SUNMC_OK)
+        st = params_require(p, "design", "sun_disc_c_rad2",
+                            m->disc_c_rad2 >= 0 && m->disc_c_rad2 <= DSS_DISC_C_MAX_RAD2,
+                            "in [0, 1e-4] (a sun disc of at most 2 deg)", err, errlen);
     if (st != SUNMC_OK)
         return st;
     for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {

@@ -39,6 +39,15 @@ const config_key dss_keys[] = {
      "cover-glass refractive index"},
     {"design", "dss_fov_deg", KEY_DOUBLE, "deg", "60", 1, 80, NULL, OFF(design.fov_deg),
      "half field of view per axis"},
+    {"design", "sun_disc_deg", KEY_DOUBLE, "deg", "0", 0, 2, NULL, OFF(design.sun_disc_deg),
+     "the sun's apparent diameter: the spot is the pinhole's image of the disc, whose centroid "
+     "sits (R^2/4) tan(theta) farther out than the centre's image (~1.1 arcsec tan(theta); "
+     "docs/dss.md); 0.533 = the sun's mean diameter over the year (0.524-0.542; 1 AU, solar "
+     "radius 695,700 km, IAU 2015 B3); 0 (default, for now) = a point sun, as before"},
+    {"design", "limb_darkening", KEY_DOUBLE, "", "0.6", 0, 1, NULL, OFF(design.limb_darkening),
+     "linear limb-darkening coefficient u of the sun's disc, I(mu) = 1 - u (1 - mu): 0.6 = the "
+     "visible value (Eddington grey atmosphere; Neckel & Labs 1994, Sol. Phys. 153, give "
+     "0.55-0.65 over 500-600 nm, ~0.45 at 900 nm); 0 = a uniform disc"},
     {"design", "onboard_refraction", KEY_ENUM, "", "corrected", 0, 0, "corrected|ignored",
      OFF(design.onboard_refraction),
      "on-board formula: corrected = exact inverse of the nominal geometry, cover glass "

@@ -47,6 +47,7 @@ void dss_model_init(dss_model *m, const dss_design *d)
     m->pixel_mm = d->pixel_um * MM_PER_UM;
     m->half_px = 0.5 * d->detector_px;
     m->mount = d->mount;
+    m->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     memcpy(m->nominal, m->p, sizeof m->nominal);
     dss_model_prepare(m);
 }

@@ -109,6 +109,8 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
     }
 }
 
+#define DSS_DISC_PASSES 2
+
 /* Compensation of k <= DSS_CHUNK spots at once (padded lanes): every lane
  * iterates until its own Newton step is below OPTICS_FIELD_TOL_RAD, exactly
  * as one spot alone would; then the table solve.  status[i]: SUNMC_OK or
@@ -129,6 +131,18 @@ VM_KERNEL static void compensate_chunk(const dss_model *m, size_t k, const doubl
         r[i] = hypot(dx[i], dy[i]);
     }
     dss_field_angle_chunk(k, r, H, t, n, th, active);
+    /* the sun's disc: r = gain(theta) f(theta); solved again on r / gain of
+     * the last theta: the gain's slope (~1e-4 / rad) times the first
+     * theta's error (the bias, ~5e-6 rad) leaves ~3e-10 rad, the second
+     * pass ~1e-14 */
+    for (int pass = 0; pass < DSS_DISC_PASSES && m->disc_c_rad2 != 0.0; pass++) {
+        _Alignas(VM_ALIGN) double rf[DSS_CHUNK];
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double s = sin(th[i]), c = cos(th[i]);
+            rf[i] = r[i] / dss_lane_disc_gain(m->disc_c_rad2, s * s, c, H, t, n);
+        }
+        dss_field_angle_chunk(k, rf, H, t, n, th, active);
+    }
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         dss_lane_angles o = dss_lane_model_angles(m, dx[i], dy[i], r[i], th[i], v_phi);
         a[i] = o.alpha;

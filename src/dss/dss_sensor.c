@@ -52,6 +52,12 @@ void dss_sun_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
     out[1] = d->sun_b2_arcsec + dc->sun_sigma_arcsec * rng_normal(&r);
 }
 
+double dss_disc_coefficient(double sun_disc_deg, double limb_darkening)
+{
+    double R = 0.5 * sun_disc_deg * RAD_PER_DEG, u = limb_darkening;
+    return R * R * (15.0 - 7.0 * u) / (40.0 * (3.0 - u));
+}
+
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)
 {
     memset(s, 0, sizeof *s);
@@ -70,6 +76,7 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     dss_sun_direction(d->mount, s->M, dev->sun_b1_arcsec * RAD_PER_ARCSEC,
                       dev->sun_b2_arcsec * RAD_PER_ARCSEC, s->v0);
     s->spot_px = d->pinhole_um / d->pixel_um;
+    s->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     s->s_curve = s_curve;
     dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
 }
