@@ -13,7 +13,10 @@
 
 #include "config.h"
 #include "dss_config.h"
+#include "dss_calfit.h"
+#include "dss_calib.h"
 #include "dss_model.h"
+#include "params_io.h"
 #include "dss_sensor.h"
 #include "status.h"
 #include "units.h"
@@ -169,12 +172,55 @@ static void test_disc_model_and_onboard(void **state)
     }
 }
 
+/* params.ini carries the disc to compensate; a coefficient outside its
+ * range (a disc above 2 deg, or negative) is refused, naming the key. */
+static void test_disc_params_round_trip(void **state)
+{
+    (void)state;
+    dss_design d = design_of(0.533, 0.6, 0.4);
+    dss_calibration cal = {.kind = DSS_MODEL_PHYSICAL};
+    dss_model_init(&cal.phys, &d);
+    assert_true(cal.phys.disc_c_rad2 > 1e-6);
+    static params_file p;
+    params_init(&p);
+    assert_int_equal(params_set_text(&p, "calibration", "model", DSS_CALFIT_MODEL_PHYSICAL, NULL),
+                     SUNMC_OK);
+    assert_int_equal(dss_params_fill(&p, &cal, NULL), SUNMC_OK);
+    static dss_calibration back;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(dss_params_load(&p, &back, err, sizeof err), SUNMC_OK);
+    assert_near(back.phys.disc_c_rad2, cal.phys.disc_c_rad2, 1e-15 * cal.phys.disc_c_rad2);
+    const double bad[] = {-1e-9, DSS_DISC_C_MAX_RAD2 * 1.01};
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < p.n; k++)
+            if (strcmp(p.e[k].key, "sun_disc_c_rad2") == 0)
+                snprintf(p.e[k].value, sizeof p.e[k].value, "%.17g", bad[i]);
+        assert_int_equal(dss_params_load(&p, &back, err, sizeof err), SUNMC_EINPUT);
+        assert_non_null(strstr(err, "sun_disc_c_rad2"));
+    }
+    /* at the limit it is taken */
+    for (int k = 0; k < p.n; k++)
+        if (strcmp(p.e[k].key, "sun_disc_c_rad2") == 0)
+            snprintf(p.e[k].value, sizeof p.e[k].value, "%.17g", DSS_DISC_C_MAX_RAD2);
+    assert_int_equal(dss_params_load(&p, &back, err, sizeof err), SUNMC_OK);
+    /* a point sun writes no key (older params.ini read as a point sun) */
+    dss_design d0 = design_of(0, 0.6, 0.4);
+    dss_model_init(&cal.phys, &d0);
+    params_init(&p);
+    assert_int_equal(params_set_text(&p, "calibration", "model", DSS_CALFIT_MODEL_PHYSICAL, NULL),
+                     SUNMC_OK);
+    assert_int_equal(dss_params_fill(&p, &cal, NULL), SUNMC_OK);
+    assert_int_equal(dss_params_load(&p, &back, err, sizeof err), SUNMC_OK);
+    assert_true(back.phys.disc_c_rad2 == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_disc_bias_matches_integration),
         cmocka_unit_test(test_disc_bias_closed_form),
         cmocka_unit_test(test_disc_model_and_onboard),
+        cmocka_unit_test(test_disc_params_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
