@@ -154,7 +154,16 @@ test-mpi:
 	    $(BUILD)/mpi/tests/test_cluster > $(BUILD)/mpi/test-mpi.log; st=$$?; \
 	    cat $(BUILD)/mpi/test-mpi.log; exit $$st
 
-$(BUILD)/obj/%.o: src/%.c $(BUILD)/obj/%.d $(BUILD)/mpi.flag
+# Without GSL the first compile would fail on a raw "gsl/gsl_matrix.h: No
+# such file": say which command installs the packages instead.
+$(BUILD)/packages.ok:
+	@if ! pkg-config --exists gsl 2>/dev/null && [ ! -f /usr/include/gsl/gsl_matrix.h ]; then \
+	  echo "sunmc: GSL is not installed (gsl/gsl_matrix.h is missing): run 'make deps'" \
+	       "(scripts/install-deps.sh installs GSL, cmocka, Random123 and gnuplot), then make" >&2; \
+	  exit 1; fi
+	@mkdir -p $(BUILD) && touch $@
+
+$(BUILD)/obj/%.o: src/%.c $(BUILD)/obj/%.d $(BUILD)/mpi.flag | $(BUILD)/packages.ok
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(DEPFLAGS) $(call layer_inc,$<) -c $< -o $@
 
@@ -313,6 +322,8 @@ install: $(BUILD)/sunmc
 	install -m 755 $(BUILD)/sunmc $(DESTDIR)$(PREFIX)/bin/sunmc
 	install -m 644 configs/*.ini $(DESTDIR)$(PREFIX)/share/sunmc/configs/
 	install -m 644 $(wildcard scripts/*.gp) $(DESTDIR)$(PREFIX)/share/sunmc/scripts/
+	install -m 755 scripts/plots.sh scripts/slurm-array.sh scripts/mpi-batch.sh \
+	    $(DESTDIR)$(PREFIX)/share/sunmc/scripts/
 	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions
 	install -m 644 man/sunmc.1 $(DESTDIR)$(PREFIX)/share/man/man1/sunmc.1
 	install -m 644 scripts/sunmc-completion.bash $(DESTDIR)$(PREFIX)/share/bash-completion/completions/sunmc

@@ -108,6 +108,18 @@ static void test_range_printed(void **state)
     assert_null(strstr(out, "of the run of"));
 }
 
+/* sweep's header said "10 units each" / "seed 1" while run.units or
+ * run.seed was an axis. */
+static void test_sweep_header_axes(void **state)
+{
+    char out[65536];
+    assert_int_equal(sunmc("sweep " D " --units 2 --vary run.seed=1,2 --quiet", out, sizeof out),
+                     0);
+    must_have(out, "2 units each, run.seed per point");
+    assert_int_equal(sunmc("sweep " D " --vary run.units=2,3 --quiet", out, sizeof out), 0);
+    must_have(out, "run.units per point, seed 1");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -115,6 +127,7 @@ int main(void)
         cmocka_unit_test(test_progress_in_logs),
         cmocka_unit_test(test_budget_outside_warned),
         cmocka_unit_test(test_range_printed),
+        cmocka_unit_test(test_sweep_header_axes),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -84,8 +84,23 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
     const char *u = fam->rms_unit;
     int prec = strcmp(u, "deg") == 0 ? 4 : 2, w[SWEEP_NUM_COLS];
     num_widths(rows, n_points * n_rows, prec, w);
-    printf("\n%s (%s): sweep of %ld points, %ld units each, seed %ld, spec %g arcsec\n",
-           c->product, fam->name, n_points, rows[0].units, c->seed, c->spec_arcsec);
+    /* run.units / run.seed on an axis: the header says so, not the base's */
+    int vary_units = 0, vary_seed = 0;
+    for (int i = 0; i < n_axes; i++) {
+        vary_units |= strcmp(axes[i].dotted, "run.units") == 0;
+        vary_seed |= strcmp(axes[i].dotted, "run.seed") == 0;
+    }
+    char units[48], seed[48];
+    if (vary_units)
+        snprintf(units, sizeof units, "run.units per point");
+    else
+        snprintf(units, sizeof units, "%ld units each", rows[0].units);
+    if (vary_seed)
+        snprintf(seed, sizeof seed, "run.seed per point");
+    else
+        snprintf(seed, sizeof seed, "seed %ld", c->seed);
+    printf("\n%s (%s): sweep of %ld points, %s, %s, spec %g arcsec\n", c->product, fam->name,
+           n_points, units, seed, c->spec_arcsec);
     for (int i = 0; i < n_axes; i++)
         printf("%-*s ", axis_width(&axes[i]), axes[i].dotted);
     printf("%-6s %-9s %*s %*s %*s %*s %7s %6s %6s %*s %6s\n", "angle", "band", w[COL_BEFORE],
