@@ -95,6 +95,15 @@ typedef struct {
     int cal_priors;                     /* [calibration] enum config_priors: off | tolerances */
     int prior_units;                    /* [calibration] pilot units of the priors */
 
+    /* [environment]: temperatures and materials (docs/temperature.md) */
+    double cal_temp_c;                  /* the lab's temperature: campaign and fit */
+    double op_temp_c;                   /* the validation's temperature (orbit) */
+    double spacer_cte_ppm_k;            /* spacer: ESS slit-to-dial H, DSS pinhole height h */
+    double mask_cte_ppm_k;              /* ESS dial (code pitch) */
+    double detector_cte_ppm_k;          /* DSS pixel pitch */
+    double glass_cte_ppm_k;             /* DSS cover-glass thickness */
+    double glass_dn_dt_ppm_k;           /* DSS cover-glass index, dn/dT */
+
     /* [run] */
     long units;
     long seed;

@@ -20,7 +20,7 @@
 /* Sections in the order files, dumps and the reference list them. */
 const char *const config_sections[] = {"sensor",   "design",      "tolerance",
                                        "noise",    "campaign",    "calibration",
-                                       "validation", "run",       "report"};
+                                       "validation", "environment", "run", "report"};
 const size_t config_section_count = sizeof config_sections / sizeof config_sections[0];
 
 const config_key config_keys[] = {
@@ -99,6 +99,31 @@ const config_key config_keys[] = {
     {"calibration", "prior_units", KEY_INT, "", "48", 8, 100000, NULL, OFF(prior_units),
      "calibration.priors = tolerances: units of the pilot that sets the priors (drawn from "
      "run.seed's own pilot stream, the same in every shard and thread)"},
+
+    /* [environment] */
+    {"environment", "calibration_temp_c", KEY_DOUBLE, "C", "20", -100, 150, NULL,
+     OFF(cal_temp_c), "the lab's temperature: the campaign is simulated and fitted at it"},
+    {"environment", "operating_temp_c", KEY_DOUBLE, "C", "20", -100, 150, NULL, OFF(op_temp_c),
+     "the temperature of the validation (in orbit, e.g. -30 or 60); equal to "
+     "calibration_temp_c: the lab's validation, as without these keys; the materials below "
+     "move the unit by (operating - calibration) (docs/temperature.md)"},
+    {"environment", "spacer_cte_ppm_k", KEY_DOUBLE, "ppm/K", "23.1", -50, 100, NULL,
+     OFF(spacer_cte_ppm_k),
+     "expansion of the spacer that sets the ESS slit-to-dial distance H and the DSS pinhole "
+     "height h; 23.1 = aluminium (6061-T6; ASM Handbook vol. 2)"},
+    {"environment", "mask_cte_ppm_k", KEY_DOUBLE, "ppm/K", "7.1", -50, 100, NULL,
+     OFF(mask_cte_ppm_k),
+     "expansion of the ESS code dial (its code pitch); 7.1 = N-BK7 (Schott data sheet)"},
+    {"environment", "detector_cte_ppm_k", KEY_DOUBLE, "ppm/K", "2.6", -50, 100, NULL,
+     OFF(detector_cte_ppm_k),
+     "expansion of the DSS detector (its pixel pitch); 2.6 = silicon at 20 C (Okada & "
+     "Tokumaru 1984, J. Appl. Phys. 56)"},
+    {"environment", "glass_cte_ppm_k", KEY_DOUBLE, "ppm/K", "7.1", -50, 100, NULL,
+     OFF(glass_cte_ppm_k), "expansion of the DSS cover glass (its thickness); 7.1 = N-BK7"},
+    {"environment", "glass_dn_dt_ppm_k", KEY_DOUBLE, "ppm/K", "1.6", -50, 50, NULL,
+     OFF(glass_dn_dt_ppm_k),
+     "the DSS cover glass's index change per kelvin (absolute dn/dT, 1e-6/K); 1.6 = N-BK7 "
+     "near 20 C in the visible to near infrared (Schott data sheet, 1.1-1.6)"},
 
     /* [run] */
     {"run", "units", KEY_LONG, "", "1000", 1, 100000000, NULL, OFF(units),

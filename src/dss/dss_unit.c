@@ -1,6 +1,7 @@
 /* dss_unit.c - the DSS family: sample -> physical sensor -> rotary-table
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
+#include "dss_thermal.h"
 #include "dss_prior.h"
 #include "dss_curve.h"
 #include "dss_lab.h"
@@ -372,6 +373,12 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
+    /* validation at the operating temperature (the lab's: u itself) */
+    if (c->op_temp_c != c->cal_temp_c) {
+        dss_deviations dev_op;
+        dss_deviations_at_temp(c, &dev, &dev_op);
+        dss_unit_build(c, &dev_op, &u);
+    }
     dss_unit_validation(c, &u, unit, &w->val);
     dss_unit_validate(c, &u, &cal, &w->val, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);

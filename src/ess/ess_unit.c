@@ -1,6 +1,7 @@
 /* ess_unit.c - the ESS family: sample -> physical sensor -> turntable
  * campaign -> fit -> validation, for one unit. */
 #include "ess_unit.h"
+#include "ess_thermal.h"
 #include "ess_curve.h"
 #include "ess_lab.h"
 #include "ess_grid.h"
@@ -363,6 +364,12 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = ess_calib_residual_rms(cw, &m) * DEG_PER_RAD;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
+    /* validation at the operating temperature (the lab's: u itself) */
+    if (c->op_temp_c != c->cal_temp_c) {
+        ess_deviations dev_op;
+        ess_deviations_at_temp(c, &dev, &dev_op);
+        ess_unit_build(c, &dev_op, &u);
+    }
     ess_unit_validation(c, &u, unit, &w->val);
     ess_unit_validate(c, &u, &m, &w->val, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
