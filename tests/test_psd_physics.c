@@ -155,6 +155,23 @@ static void disc_in_rectangles(void **state)
     assert_near(a, R * R * (acos(t) - t * sqrt(1 - t * t)), 1e-13);
     /* its centroid: 2 (R^2 - c^2)^(3/2) / (3 A) */
     assert_near(my / a, 2 * pow(R * R - 0.16, 1.5) / (3 * a), 1e-13);
+    /* an off-centre corner x > 0.2, y > -0.3 against a midpoint sum over a
+     * 4000 x 4000 grid (error ~ the disc's perimeter x cell / 2) */
+    psd_disc_rect(R, 0.2, 5, -0.3, 5, &a, &mx, &my);
+    long N = 4000;
+    double cell = 2 * R / (double)N, sa = 0, sx = 0, sy = 0;
+    for (long i = 0; i < N; i++)
+        for (long j = 0; j < N; j++) {
+            double x = -R + (i + 0.5) * cell, y = -R + (j + 0.5) * cell;
+            if (x * x + y * y <= R * R && x > 0.2 && y > -0.3) {
+                sa += cell * cell;
+                sx += x * cell * cell;
+                sy += y * cell * cell;
+            }
+        }
+    assert_near(a, sa, 2e-3);
+    assert_near(mx, sx, 2e-3);
+    assert_near(my, sy, 2e-3);
 }
 
 static void dark_and_gain_on_the_ratios(void **state)
@@ -184,6 +201,7 @@ static void dark_and_gain_on_the_ratios(void **state)
     assert_near(x, (1.04 * m0[1] - m0[0]) / (1.04 * m0[1] + m0[0]), 1e-12);
     /* the physical model's dark and gain correction undoes both */
     dev.dark_pct[0] = 2;
+    dev.dark_pct[1] = 1.5; /* on the channel with a gain: dark before gain */
     dev.dark_pct[3] = -1;
     psd_sensor_build(&d, &dev, &s);
     assert_int_equal(psd_sensor_read(&s, u, m), SUNMC_OK);
@@ -192,6 +210,7 @@ static void dark_and_gain_on_the_ratios(void **state)
     p[PSD_P_G2] = 1.04;
     p[PSD_P_G3] = p[PSD_P_G4] = 1;
     p[PSD_P_D1] = 0.02;
+    p[PSD_P_D2] = 0.015;
     p[PSD_P_D4] = -0.01;
     psd_phys_set(&ph, &d, p);
     assert_int_equal(psd_phys_observed(&ph, m, &x, &y), SUNMC_OK);
