@@ -136,6 +136,36 @@ static void threads_do_not_change_units(void **state)
                      0);
 }
 
+/* `sunmc curve`: one unit's noiseless errors over the validation grid, far
+ * smaller after the calibration than before. */
+static void curve_of_one_unit(void **state)
+{
+    char out[65536], path[1024];
+    assert_int_equal(test_sunmc_in(dir, "curve configs/psd.ini --unit 1 --out $D/curve --quiet",
+                                   out, sizeof out),
+                     0);
+    snprintf(path, sizeof path, "%s/curve/curve.tsv", dir);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[4096];
+    assert_non_null(fgets(line, sizeof line, f));
+    assert_non_null(strstr(line, "alpha_deg\tbeta_deg\terror_before_alpha_arcsec\t"
+                                 "error_after_alpha_arcsec"));
+    double sb = 0, sa = 0;
+    int n = 0;
+    while (fgets(line, sizeof line, f)) {
+        double a, b, before, after;
+        if (sscanf(line, "%lf %lf %lf %lf", &a, &b, &before, &after) == 4) {
+            sb += before * before;
+            sa += after * after;
+            n++;
+        }
+    }
+    fclose(f);
+    assert_int_equal(n, 72);
+    assert_true(sqrt(sa / n) < 0.1 * sqrt(sb / n));
+}
+
 /* ---- importers ---- */
 
 static int importer(const char *args, char *out, size_t len)
@@ -264,6 +294,7 @@ int main(void)
         cmocka_unit_test(truth_columns_only_with_table_angles),
         cmocka_unit_test(repeats_are_not_information),
         cmocka_unit_test(threads_do_not_change_units),
+        cmocka_unit_test(curve_of_one_unit),
         cmocka_unit_test(import_aeroztark_mat),
         cmocka_unit_test(import_kenscl_csv),
         cmocka_unit_test(import_14og_yaml),

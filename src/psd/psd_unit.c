@@ -278,6 +278,91 @@ static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     return SUNMC_OK;
 }
 
+/* ---- error curves (`sunmc curve`): one unit, noiseless readings ---- */
+
+typedef struct {
+    psd_ws *ws;
+    psd_sensor s;
+    psd_cal k, nominal;
+} psd_curve;
+
+static void psd_curve_free(void *p)
+{
+    psd_curve *cv = p;
+    if (cv)
+        psd_ws_free(cv->ws);
+    free(cv);
+}
+
+static void *psd_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    psd_curve *cv = calloc(1, sizeof *cv);
+    if (cv)
+        cv->ws = psd_ws_alloc(c, err, errlen);
+    if (!cv || !cv->ws) {
+        psd_curve_free(cv);
+        if (!cv)
+            sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+        return NULL;
+    }
+    return cv;
+}
+
+static int psd_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *p,
+                             int *fit_ok)
+{
+    psd_curve *cv = p;
+    const psd_config *pc = psd_cfg(c);
+    psd_deviations dev;
+    psd_unit_sample(c, unit, dev_sign, &dev);
+    psd_sensor_build(&pc->design, &dev, &cv->s);
+    campaign(c, &cv->s, unit, cv->ws);
+    psd_rows d = {.n = (size_t)cv->ws->n, .ut = cv->ws->ut, .w = cv->ws->w,
+                  .design = &pc->design, .scratch = cv->ws->scratch};
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        d.m[k] = cv->ws->m[k];
+    fit_result fr;
+    *fit_ok = psd_unit_fit(c, cv->ws->fw, &d, cv->ws->poly_work, &cv->k, &fr) == SUNMC_OK;
+    psd_cal_nominal(&cv->nominal, &pc->design);
+    return SUNMC_OK;
+}
+
+static int psd_curve_eval(const sunmc_config *c, const void *p, double a0_deg, double a1_deg,
+                          double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
+{
+    const psd_curve *cv = p;
+    double a = a0_deg * RAD_PER_DEG, b = a1_deg * RAD_PER_DEG, ut[3], m[4], e0[3], e1[3];
+    psd_table_sun(psd_cfg(c), a, b, ut);
+    if (psd_unit_read(c, &cv->s, a, b, NULL, m) != SUNMC_OK ||
+        errors(&cv->nominal, m, ut, e0) != SUNMC_OK)
+        return SUNMC_EDOM;
+    int ok = errors(&cv->k, m, ut, e1) == SUNMC_OK;
+    for (int q = 0; q < PSD_N_ANGLES; q++) {
+        before[q] = e0[q] * ARCSEC_PER_RAD;
+        after[q] = ok ? e1[q] * ARCSEC_PER_RAD : NAN;
+    }
+    return SUNMC_OK;
+}
+
+static long psd_curve_axis(const sunmc_config *c, int axis, double *v, long max)
+{
+    const psd_config *p = psd_cfg(c);
+    if (axis == 1) {
+        for (int j = 0; j < p->val_beta_deg.n && j < max; j++)
+            v[j] = p->val_beta_deg.v[j];
+        return p->val_beta_deg.n;
+    }
+    long na = alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg);
+    for (long i = 0; i < na && i < max; i++) {
+        double a, b;
+        psd_validation_angles(c, i, &a, &b);
+        v[i] = a * DEG_PER_RAD;
+    }
+    return na;
+}
+
+static const char *const psd_curve_axes[] = {"alpha_deg", "beta_deg"};
+
 /* ---- the family's descriptions ---- */
 
 static int psd_n_angles(const sunmc_config *c) { return PSD_N_ANGLES; }
@@ -355,5 +440,11 @@ const sensor_family psd_family = {
     .table_axis_names = psd_table_axes,
     .design_step_key = "campaign.alpha_step_deg",
     .design_lines_key = "campaign.beta_deg",
+    .curve_axis_names = psd_curve_axes,
+    .curve_axis = psd_curve_axis,
+    .curve_alloc = psd_curve_alloc,
+    .curve_free = psd_curve_free,
+    .curve_prepare = psd_curve_prepare,
+    .curve_eval = psd_curve_eval,
     .lab = &psd_lab,
 };
