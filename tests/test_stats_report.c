@@ -365,7 +365,8 @@ static void summary_tsv_columns(void **state)
                           "no_reading_units",
                           "worse",
                           "worse_ci_lo",
-                          "worse_ci_hi"};
+                          "worse_ci_hi",
+                          "yield_interval"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);

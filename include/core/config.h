@@ -64,6 +64,13 @@ typedef union {
 
 struct sensor_family;
 
+/* report.yield_interval (the key's enum order). */
+enum config_yield_interval {
+    CONFIG_YIELD_WILSON = 0,
+    CONFIG_YIELD_CLOPPER_PEARSON = 1,
+    CONFIG_YIELD_CLOPPER_PEARSON_LOWER = 2
+};
+
 /* calibration.priors (the key's enum order). */
 enum config_priors { CONFIG_PRIORS_OFF = 0, CONFIG_PRIORS_TOLERANCES = 1 };
 
@@ -117,6 +124,7 @@ typedef struct {
     long budget_units;                  /* budget: units per bisection step */
     int budget_steps;                   /* budget: bisection steps per source */
     double confidence;                  /* level of the confidence intervals */
+    int yield_interval;                 /* enum config_yield_interval */
 
     family_config fam;                  /* the family's own keys (its keys table) */
 

@@ -55,6 +55,9 @@ int report_percent_decimals(double frac, int min_decimals);
  * with a fit, no point): no table prints nan.  Returns snprintf's count. */
 int report_format_number(char *buf, size_t len, double v, int d);
 
+/* The yield interval's method of c (report.yield_interval), in words. */
+const char *report_yield_interval_name(const sunmc_config *c);
+
 /* Number of rows = angles x bands. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);
 

@@ -27,7 +27,7 @@ static const char budget_help[] =
     "= no).  Inverse limit: the largest value of each source (others at theirs) whose yield\n"
     "against report.spec_arcsec is still at least report.yield_target, by bisection on\n"
     "Monte Carlos of report.budget_units units (report.budget_steps steps); its interval\n"
-    "from the Wilson yield intervals of the values tried (- where none is clear).\n"
+    "from the yield intervals (report.yield_interval) of the values tried (- where none is clear).\n"
     "--out DIR writes budget.tsv and config.ini (all or nothing).\n";
 
 static const char *const limit_names[] = {"ok", "at_key_max", "unmet"};

@@ -18,7 +18,7 @@ static const char design_help[] =
     "Searches calibration campaigns -- fast-axis step (ESS alpha), symmetric slow-axis line\n"
     "sets (ESS beta: 1 line at 0, or 2..7 evenly spaced over +-B), readings per point -- for\n"
     "the cheapest in turntable hours whose yield (widest band, report.spec_arcsec) has its\n"
-    "lower confidence bound (report.confidence, Wilson) at report.yield_target or above.\n"
+    "lower confidence bound (report.confidence, report.yield_interval) at report.yield_target or above.\n"
     "Every candidate runs the same units and seed (common random numbers); a screen on\n"
     "campaign.search_screen_units units drops hopeless ones and marks aliasing steps (never\n"
     "chosen); survivors, cheapest first, run on in blocks of run.block_units until the bound\n"

@@ -149,6 +149,13 @@ const config_key config_keys[] = {
      "`budget`: bisection steps per source for the inverse limit"},
     {"report", "confidence", KEY_DOUBLE, "", "0.95", 0.5, 0.999, NULL, OFF(confidence),
      "two-sided level of every confidence interval in summary.tsv, sweep.tsv and Table 1"},
+    {"report", "yield_interval", KEY_ENUM, "", "wilson", 0, 0,
+     "wilson|clopper_pearson|clopper_pearson_lower", OFF(yield_interval),
+     "the yield's interval: wilson (two-sided score interval, coverage near nominal, may "
+     "under-cover very close to 100 %), clopper_pearson (two-sided, exact: coverage at least "
+     "report.confidence) or clopper_pearson_lower (one-sided: the yield is at least the lower "
+     "bound with confidence report.confidence, upper bound 1); design and budget compare the "
+     "lower bound with report.yield_target"},
 };
 
 const size_t config_key_count = sizeof config_keys / sizeof config_keys[0];

@@ -144,7 +144,36 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
  * interval, yield with Wilson's; conf outside (0, 1) leaves the intervals
  * NaN (a config not built from the key table).  Sorts s's after values
  * unless !quantiles (then max, min and p95 are left NaN). */
-static void cell_statistics(band_cell *s, long n, double conf, int quantiles, summary_row *r)
+/* The yield's interval by report.yield_interval: Wilson's score interval,
+ * Clopper-Pearson's, or its one-sided lower bound at level conf (the
+ * two-sided interval at 2 conf - 1 gives the lower bound; upper bound 1). */
+static void yield_interval(int method, long pass, long n, double conf, stats_interval *ci)
+{
+    char err[SUNMC_ERRLEN];
+    if (method == CONFIG_YIELD_WILSON) {
+        stats_wilson(pass, n, conf, ci, err, sizeof err);
+    } else if (method == CONFIG_YIELD_CLOPPER_PEARSON) {
+        stats_clopper_pearson(pass, n, conf, ci, err, sizeof err);
+    } else {
+        stats_clopper_pearson(pass, n, 2.0 * conf - 1.0, ci, err, sizeof err);
+        if (n > 0)
+            ci->hi = 1.0;
+    }
+}
+
+/* report.yield_interval's values, for summary.tsv. */
+static const char *const yield_interval_key[] = {"wilson", "clopper_pearson",
+                                                 "clopper_pearson_lower"};
+
+const char *report_yield_interval_name(const sunmc_config *c)
+{
+    static const char *const names[] = {"Wilson score", "Clopper-Pearson",
+                                        "one-sided Clopper-Pearson lower bound"};
+    return names[c->yield_interval >= 0 && c->yield_interval < 3 ? c->yield_interval : 0];
+}
+
+static void cell_statistics(band_cell *s, long n, double conf, int method, int quantiles,
+                            summary_row *r)
 {
     char err[SUNMC_ERRLEN];
     int has_level = conf > 0.0 && conf < 1.0;
@@ -156,7 +185,7 @@ static void cell_statistics(band_cell *s, long n, double conf, int quantiles, su
                     sizeof err);
     stats_moments_t(&s->ratio, level, &r->improvement_mean, &r->improvement_mean_ci, err,
                     sizeof err);
-    stats_wilson(s->pass, n, level, &r->yield_ci, err, sizeof err);
+    yield_interval(method, s->pass, n, level, &r->yield_ci);
     stats_wilson(s->worse, (long)k, level, &r->worse_ci, err, sizeof err);
     r->worse = k > 0 ? (double)s->worse / (double)k : NAN;
     r->rms_after_p95_ci = (stats_interval){NAN, NAN};
@@ -199,7 +228,7 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
             r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
             r->stat_units = s->after.n;
             r->no_reading_units = s->no_reading;
-            cell_statistics(s, acc->n, acc->c->confidence, 1, r);
+            cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval, 1, r);
         }
 }
 
@@ -249,7 +278,8 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band)
     int quantiles = strcmp(report_stats[stat].name, "rms_after_p95") == 0;
     for (int a = 0; a < acc->na; a++) {
         summary_row r;
-        cell_statistics(&acc->cell[a * acc->nb + band], acc->n, acc->c->confidence, quantiles, &r);
+        cell_statistics(&acc->cell[a * acc->nb + band], acc->n, acc->c->confidence,
+                        acc->c->yield_interval, quantiles, &r);
         const stats_interval *ci = (const stats_interval *)((const char *)&r + report_stats[stat].ci);
         double half = 0.5 * (ci->hi - ci->lo);
         if (!(half >= 0))
@@ -544,12 +574,13 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
     snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
     fprintf(f,
             "%g%% intervals: means and improvement Student t over the n = %s units with a fit,\n"
-            "p95 distribution-free order statistics (estimate: Hyndman-Fan type 7), yield Wilson\n"
-            "score over all %ld units (a failed fit fails); max/min over the same n, no interval.\n"
+            "p95 distribution-free order statistics (estimate: Hyndman-Fan type 7), yield %s\n"
+            "(report.yield_interval) over all %ld units (a failed fit fails); max/min over the\n"
+            "same n, no interval.\n"
             "Systematic part: after-RMS of the same validation points read without noise.\n"
             "Made worse: share of those units whose RMS after exceeds their RMS before "
             "(Wilson).\n",
-            100.0 * c->confidence, nk, rows[0].units);
+            100.0 * c->confidence, nk, report_yield_interval_name(c), rows[0].units);
     fprintf(f, "RMS in %s.  fit failures: %ld   gross errors (validation readings): %ld", u,
             rows[0].fit_failures, rows[0].gross_errors);
     if (fam->alias_term)
@@ -574,7 +605,7 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
                "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
                "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
-               "worse\tworse_ci_lo\tworse_ci_hi\n");
+               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval\n");
 }
 
 /* "S\tS_ci_lo\tS_ci_hi\t" */
@@ -610,7 +641,8 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
                 r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
                 model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
                 r->no_reading_units);
-        fprintf(f, "%.6g\t%.6g\t%.6g\n", r->worse, r->worse_ci.lo, r->worse_ci.hi);
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\n", r->worse, r->worse_ci.lo, r->worse_ci.hi,
+                yield_interval_key[c->yield_interval]);
     }
 }
 
