@@ -127,6 +127,31 @@ static void dss_narrow_campaign_rescued(void **state)
     assert_true(after[1] < after[0] / 3); /* held by the priors */
 }
 
+/* A single-beta-line ESS campaign (issue 22's reproducer): no `nan` next
+ * to confident numbers; the installation about Y and Z, which beta = 0
+ * cannot see, is reported as not determined, with a warning that says so. */
+static void single_beta_line_not_determined(void **state)
+{
+    char out[65536], cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "%s simulate configs/ess_type_a.ini --unit 5 --quiet --out %s && "
+             "awk -F, '/^#/||/^alpha/{print;next} $2==0{print}' %s/campaign.csv > %s/one.csv && "
+             "%s calibrate --config configs/ess_type_a.ini %s/one.csv 2>/dev/null",
+             test_sunmc(), test_tmp("one"), test_tmp("one"), test_tmp("one"), test_sunmc(),
+             test_tmp("one"));
+    int rc = test_run(cmd, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s exited %d: %s", cmd, rc, out);
+    assert_null(strstr(out, "nan"));
+    assert_non_null(strstr(out, "fit_install_y_arcsec     +0.000000000e+00  not determined"));
+    assert_non_null(strstr(out, "fit_install_z_arcsec     +0.000000000e+00  not determined"));
+    assert_non_null(strstr(out, "2 parameters not determined: no unit of the pilot's moved "
+                                "fit_install_y_arcsec, fit_install_z_arcsec"));
+    /* b is seen: it keeps a standard error */
+    assert_non_null(strstr(out, "\n  b                        "));
+    assert_null(strstr(out, "\n  b                        +2.413607904e-05  not determined"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -134,6 +159,7 @@ int main(void)
         cmocka_unit_test(pilot_independent_of_threads_and_range),
         cmocka_unit_test(calibrate_reports_priors),
         cmocka_unit_test(dss_narrow_campaign_rescued),
+        cmocka_unit_test(single_beta_line_not_determined),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -101,6 +101,7 @@ typedef struct {
     long prior_units;                 /* pilot units they come from */
     double prior_mean[CALREPORT_MAX_PAR];
     double prior_sigma[CALREPORT_MAX_PAR];
+    int undetermined[CALREPORT_MAX_PAR]; /* the campaign does not see it (prior.h unseen) */
     double cond_jacobian;             /* 1 / rcond of J at the solution (fit.h) */
     double cond_correlation;          /* largest / smallest eigenvalue of corr */
 

@@ -35,6 +35,8 @@ typedef struct {
     double sigma[PRIOR_MAX_P];  /* over the pilot, floored at PRIOR_SIGMA_FLOOR */
     double weight[PRIOR_MAX_P]; /* sigma_row / sigma: fit_prior_set's */
     double sum2[PRIOR_MAX_P];   /* accumulation (Welford) */
+    int unseen[PRIOR_MAX_P];    /* 1: no pilot fit moved it from its start (the campaign
+                                   does not see it): held there, not determined */
     double sigma_row;    /* one data row's noise, residual units */
 } calib_prior;
 

@@ -266,8 +266,13 @@ static void print_parameters(FILE *f, const calreport *r)
 {
     fprintf(f, "\nparameters (standard errors from the covariance at the solution, "
                "scaled by the residual variance):\n");
-    for (int i = 0; i < r->np; i++)
-        fprintf(f, "  %-24s %+.9e  +- %.3e\n", r->name[i], r->value[i], r->se[i]);
+    for (int i = 0; i < r->np; i++) {
+        if (r->prior_on && r->undetermined[i])
+            fprintf(f, "  %-24s %+.9e  not determined (held: the campaign does not see it)\n",
+                    r->name[i], r->value[i]);
+        else
+            fprintf(f, "  %-24s %+.9e  +- %.3e\n", r->name[i], r->value[i], r->se[i]);
+    }
     if (r->prior_on) {
         fprintf(f, "\npriors (calibration.priors = tolerances: mean and sigma over a pilot of %ld "
                    "units drawn from the config's tolerances, fitted without noise); moved = "
@@ -366,6 +371,7 @@ void calreport_set_priors(calreport *r, const calib_prior *p, const double *offs
     for (int j = 0; j < p->np && j < CALREPORT_MAX_PAR; j++) {
         r->prior_mean[j] = (p->mean[j] - (offset ? offset[j] : 0.0)) * scale[j];
         r->prior_sigma[j] = p->sigma[j] * fabs(scale[j]);
+        r->undetermined[j] = p->unseen[j];
     }
 }
 
@@ -376,8 +382,27 @@ void calreport_check_priors(calreport *r)
     char names[CALREPORT_TEXT_MAX / 2] = "";
     size_t len = 0;
     int n = 0;
+    char unseen[CALREPORT_TEXT_MAX / 2] = "";
+    size_t lu = 0;
+    int nu = 0;
     for (int j = 0; j < r->np; j++)
-        if (r->se[j] >= CALREPORT_PRIOR_NOT_BEATEN * r->prior_sigma[j] && len < sizeof names) {
+        if (r->undetermined[j] && lu < sizeof unseen) {
+            lu += (size_t)snprintf(unseen + lu, sizeof unseen - lu, "%s%s", nu ? ", " : "",
+                                   r->name[j]);
+            nu++;
+        }
+    if (nu)
+        calreport_warn(r,
+                       "add table positions that move them (for the ESS: beta lines other than "
+                       "0 for the installation about Y and Z), or measure them and fix them",
+                       "%d parameter%s not determined: no unit of the pilot's moved %s from "
+                       "%s starting value on these table angles, so the fit holds %s there and "
+                       "the propagated accuracy does not include %s",
+                       nu, nu == 1 ? "" : "s", unseen, nu == 1 ? "its" : "their",
+                       nu == 1 ? "it" : "them", nu == 1 ? "it" : "them");
+    for (int j = 0; j < r->np; j++)
+        if (!r->undetermined[j] && r->se[j] >= CALREPORT_PRIOR_NOT_BEATEN * r->prior_sigma[j] &&
+            len < sizeof names) {
             len += (size_t)snprintf(names + len, sizeof names - len, "%s%s (%.2f)",
                                     n ? ", " : "", r->name[j], r->se[j] / r->prior_sigma[j]);
             n++;

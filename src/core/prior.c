@@ -45,6 +45,7 @@ int calib_prior_finish(calib_prior *p, double sigma_row, char *err, size_t errle
                           sigma_row);
     p->sigma_row = sigma_row;
     for (int j = 0; j < p->np; j++) {
+        p->unseen[j] = !(p->sum2[j] > 0);
         p->sigma[j] = fmax(sqrt(p->sum2[j] / (double)(p->units - 1)), PRIOR_SIGMA_FLOOR);
         p->weight[j] = sigma_row / p->sigma[j];
     }
