@@ -23,6 +23,7 @@
 #define SUNMC_PRIOR_H
 
 #include "config.h"
+#include "fit.h"
 
 #include <stdint.h>
 
@@ -55,5 +56,13 @@ void calib_prior_add(calib_prior *p, const double *x);
 /* Means, sigmas and weights for a data row's noise sigma_row (>= 0).
  * SUNMC_EINPUT (with a message) when fewer than 2 pilot units converged. */
 int calib_prior_finish(calib_prior *p, double sigma_row, char *err, size_t errlen);
+
+/* Give a pilot's outcome to the fit: pilot_status SUNMC_OK sets p's priors
+ * on fw (fit_prior_set); SUNMC_EINPUT (fewer than two pilot units could be
+ * fitted: a config whose units mostly cannot be) leaves fw without priors
+ * and p empty (np = 0), which the caller reports; any other status is
+ * returned.  SUNMC_OK, or the failing status. */
+int calib_prior_install(fit_workspace *fw, calib_prior *p, int pilot_status, char *err,
+                        size_t errlen);
 
 #endif

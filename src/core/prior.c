@@ -13,6 +13,20 @@ uint64_t prior_pilot_seed(const sunmc_config *c)
     return (uint64_t)c->seed ^ PRIOR_PILOT_SEED_XOR;
 }
 
+int calib_prior_install(fit_workspace *fw, calib_prior *p, int pilot_status, char *err,
+                        size_t errlen)
+{
+    if (pilot_status == SUNMC_EINPUT) {
+        calib_prior_reset(p, 0);
+        return SUNMC_OK;
+    }
+    if (pilot_status != SUNMC_OK)
+        return pilot_status;
+    if (fit_prior_set(fw, p->mean, p->weight) != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: weights not finite");
+    return SUNMC_OK;
+}
+
 int calib_prior_reset(calib_prior *p, int np)
 {
     memset(p, 0, sizeof *p);

@@ -106,12 +106,5 @@ int dss_prior_apply(const sunmc_config *c, dss_calib_workspace *cw, calib_prior 
     fit_prior_clear(cw->fw);
     if (c->cal_priors != CONFIG_PRIORS_TOLERANCES)
         return SUNMC_OK;
-    int st = pilot(c, cw, p, err, errlen);
-    if (st == SUNMC_EINPUT) { /* the pilot's units could not be fitted: no priors */
-        calib_prior_reset(p, 0);
-        return SUNMC_OK;
-    }
-    if (st == SUNMC_OK && fit_prior_set(cw->fw, p->mean, p->weight) != SUNMC_OK)
-        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: weights not finite");
-    return st;
+    return calib_prior_install(cw->fw, p, pilot(c, cw, p, err, errlen), err, errlen);
 }

@@ -74,12 +74,5 @@ int ess_prior_apply(const sunmc_config *c, ess_calib_workspace *cw, calib_prior 
     calib_prior_reset(p, 0);
     if (c->cal_priors != CONFIG_PRIORS_TOLERANCES)
         return SUNMC_OK;
-    int st = ess_prior_pilot(c, cw, p, err, errlen);
-    if (st == SUNMC_EINPUT) { /* the pilot's units could not be fitted: no priors */
-        calib_prior_reset(p, 0);
-        return SUNMC_OK;
-    }
-    if (st == SUNMC_OK && fit_prior_set(cw->fw, p->mean, p->weight) != SUNMC_OK)
-        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: weights not finite");
-    return st;
+    return calib_prior_install(cw->fw, p, ess_prior_pilot(c, cw, p, err, errlen), err, errlen);
 }
