@@ -225,14 +225,6 @@ static int cal_predict(const sunmc_config *c, const double *in, double *out, dou
     return SUNMC_OK;
 }
 
-/* The four-quadrant phase of rows read with relative noise sigma: sigma /
- * sqrt 2 of the fundamental, i.e. theta0 / (2 pi) sigma / sqrt 2 in angle;
- * the encoder's noise added; averaged over the repeats. */
-static double cal_noise_arcsec(const sunmc_config *c)
-{
-    return ess_reading_noise_arcsec(c);
-}
-
 typedef struct {
     ess_calib_workspace *cw;
     const int *line;
@@ -366,7 +358,7 @@ const family_lab ess_lab = {
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = cal_campaign_range,
     .cal_predict = cal_predict,
-    .cal_noise_arcsec = cal_noise_arcsec,
+    .cal_noise_arcsec = ess_reading_noise_arcsec, /* ess_prior.h */
     .cal_measured = cal_measured,
     .params_title = "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"
                     "read by `sunmc compensate`; units are in the key names, standard "
