@@ -23,8 +23,9 @@ VERSION := 0.1.0
 # ranks.  The choice is remembered in $(BUILD)/mpi.flag, so a later plain
 # `make` or `make test` keeps it (MPI=0 switches back); every object is
 # rebuilt when it changes.
+# Reading the file while make parses writes nothing; the rule below rewrites
+# it (only when the choice changed, so nothing rebuilds otherwise).
 MPI ?= $(or $(shell cat $(BUILD)/mpi.flag 2>/dev/null),0)
-MPI_FLAG_STALE := $(shell mkdir -p $(BUILD) && [ "$$(cat $(BUILD)/mpi.flag 2>/dev/null)" = "$(MPI)" ] || echo $(MPI) > $(BUILD)/mpi.flag)
 ifeq ($(MPI),1)
 CC := mpicc
 MPI_CFLAGS := -DSUNMC_MPI
@@ -122,7 +123,7 @@ $(ALL_DEP): ;
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
+.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps
 
 all: $(BUILD)/sunmc
@@ -163,50 +164,47 @@ $(BUILD)/packages.ok:
 	  exit 1; fi
 	@mkdir -p $(BUILD) && touch $@
 
-$(BUILD)/obj/%.o: src/%.c $(BUILD)/obj/%.d $(BUILD)/mpi.flag | $(BUILD)/packages.ok
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(DEPFLAGS) $(call layer_inc,$<) -c $< -o $@
+$(BUILD)/mpi.flag: FORCE
+	@mkdir -p $(BUILD); [ "$$(cat $@ 2>/dev/null)" = "$(MPI)" ] || echo $(MPI) > $@
+FORCE:
+
+# One template per build kind: $(1) the output folder, $(2) the compiler,
+# $(3) the flags, $(4) extra prerequisites of each object.  The plain build
+# ($(BUILD)) and the ASan+UBSan build ($(ASAN)) are two calls of it; the
+# fuzz build below reuses its object and library rules.
+define LIB_RULES
+$(1)/obj/%.o: src/%.c $(1)/obj/%.d $(BUILD)/mpi.flag $(4)
+	@mkdir -p $$(dir $$@)
+	$(2) $(3) $$(DEPFLAGS) $$(call layer_inc,$$<) -c $$< -o $$@
+
+$(1)/libsunmc.a: $$(LIB_SRC:src/%.c=$(1)/obj/%.o)
+	ar rcs $$@ $$^
+
+# The commands without main(), so that tests can run them in process.
+$(1)/libsunmc_cli.a: $$(CLI_LIB_SRC:src/%.c=$(1)/obj/%.o)
+	ar rcs $$@ $$^
+endef
+
+define BUILD_RULES
+$(call LIB_RULES,$(1),$$(CC),$(2),$(3))
+
+$(1)/sunmc: $$(MAIN_SRC:src/%.c=$(1)/obj/%.o) $(1)/libsunmc.a
+	$$(CC) $(2) -o $$@ $$^ $$(ALL_LDLIBS)
+
+$(1)/tobj/%.o: tests/%.c $(1)/tobj/%.d $(BUILD)/mpi.flag
+	@mkdir -p $$(dir $$@)
+	$$(CC) $(2) $$(DEPFLAGS) $$(TEST_INC) -c $$< -o $$@
+
+$(1)/tests/%: $(1)/tobj/%.o $$(TEST_HELP_SRC:tests/%.c=$(1)/tobj/%.o) $(1)/libsunmc_cli.a $(1)/libsunmc.a | $(1)/tests
+	$$(CC) $(2) -o $$@ $$< $$(TEST_HELP_SRC:tests/%.c=$(1)/tobj/%.o) $(1)/libsunmc_cli.a \
+	    $(1)/libsunmc.a $$(CMOCKA_LIBS) $$(ALL_LDLIBS)
+endef
+
+$(eval $(call BUILD_RULES,$(BUILD),$$(ALL_CFLAGS),| $$(BUILD)/packages.ok))
+$(eval $(call BUILD_RULES,$(ASAN),$$(ALL_CFLAGS) $$(ASAN_FLAGS)))
 
 $(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(KERNEL_SRC:src/%.c=$(ASAN)/obj/%.o): \
     ALL_CFLAGS += $(KERNEL_CFLAGS)
-
-$(BUILD)/libsunmc.a: $(LIB_OBJ)
-	ar rcs $@ $^
-
-$(BUILD)/sunmc: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/libsunmc.a
-	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
-
-$(BUILD)/tobj/%.o: tests/%.c $(BUILD)/tobj/%.d $(BUILD)/mpi.flag
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(DEPFLAGS) $(TEST_INC) -c $< -o $@
-
-$(BUILD)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
-	ar rcs $@ $^
-
-$(BUILD)/tests/%: $(BUILD)/tobj/%.o $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a | $(BUILD)/tests
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(TEST_HELP_OBJ) $(BUILD)/libsunmc_cli.a $(BUILD)/libsunmc.a \
-	    $(CMOCKA_LIBS) $(ALL_LDLIBS)
-
-$(ASAN)/obj/%.o: src/%.c $(ASAN)/obj/%.d $(BUILD)/mpi.flag
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(DEPFLAGS) $(call layer_inc,$<) -c $< -o $@
-
-$(ASAN)/libsunmc.a: $(ASAN_OBJ)
-	ar rcs $@ $^
-
-$(ASAN)/sunmc: $(MAIN_SRC:src/%.c=$(ASAN)/obj/%.o) $(ASAN)/libsunmc.a
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $^ $(ALL_LDLIBS)
-
-$(ASAN)/tobj/%.o: tests/%.c $(ASAN)/tobj/%.d $(BUILD)/mpi.flag
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) $(DEPFLAGS) $(TEST_INC) -c $< -o $@
-
-$(ASAN)/libsunmc_cli.a: $(CLI_LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
-	ar rcs $@ $^
-
-$(ASAN)/tests/%: $(ASAN)/tobj/%.o $(ASAN_TEST_HELP_OBJ) $(ASAN)/libsunmc_cli.a $(ASAN)/libsunmc.a | $(ASAN)/tests
-	$(CC) $(ALL_CFLAGS) $(ASAN_FLAGS) -o $@ $< $(ASAN_TEST_HELP_OBJ) $(ASAN)/libsunmc_cli.a \
-	    $(ASAN)/libsunmc.a $(CMOCKA_LIBS) $(ALL_LDLIBS)
 
 $(BUILD)/tests $(ASAN)/tests:
 	mkdir -p $@
@@ -283,17 +281,14 @@ fuzz-deps:
 	@command -v $(FUZZ_CC) >/dev/null 2>&1 || { echo "sunmc: installing clang for make fuzz"; \
 	  FUZZ=1 bash scripts/install-deps.sh; }
 
-$(FUZZ)/obj/%.o: src/%.c $(ALL_HDR)
-	@mkdir -p $(dir $@)
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(call layer_inc,$<) -c $< -o $@
-
-$(FUZZ)/libsunmc.a: $(FUZZ_OBJ)
-	ar rcs $@ $^
-
-# The commands without main(), for the command-line harness (fuzz_argv).
-FUZZ_CLI_OBJ := $(CLI_LIB_SRC:src/%.c=$(FUZZ)/obj/%.o)
-$(FUZZ)/libsunmc_cli.a: $(FUZZ_CLI_OBJ)
-	ar rcs $@ $^
+# The same object and library rules as the other builds (a header change
+# recompiles its includers through the .d files); libsunmc_cli.a holds the
+# commands for the command-line harness (fuzz_argv).
+$(eval $(call LIB_RULES,$(FUZZ),$$(FUZZ_CC),$$(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link))
+FUZZ_DEP := $(FUZZ_OBJ:.o=.d) $(CLI_LIB_SRC:src/%.c=$(FUZZ)/obj/%.d)
+$(FUZZ_DEP): ;
+.PRECIOUS: $(FUZZ_DEP)
+-include $(wildcard $(FUZZ_DEP))
 
 $(FUZZ)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h $(FUZZ)/libsunmc_cli.a $(FUZZ)/libsunmc.a
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(TEST_INC) -o $@ $< $(FUZZ)/libsunmc_cli.a \
