@@ -43,8 +43,9 @@ roll=$(sed -n 's/.*calibration.roll_measured_arcsec=\([-0-9.e+]*\).*/\1/p' "$O/s
 # same results as text and is compared.  test_shards checks units.bin.
 find "$O" -name units.bin -delete
 # Paths of this run's directory, the version and the machine's kernel path and
-# build (manifest.ini kernel_isa, build) are not part of the result.
+# build (manifest.ini kernel_isa, build) are not part of the result, nor the
+# checksums of units.bin (units_fnv1a64), which hash those last bits.
 find "$O" -type f | while read -r f; do
   sed -i -e "s#$O#OUT#g" -e '/^# sunmc [0-9]/d' -e '/^version *=/d' -e '/^sunmc_version *=/d' \
-      -e '/^kernel_isa *=/d' -e '/^build *=/d' "$f"
+      -e '/^kernel_isa *=/d' -e '/^build *=/d' -e '/^units_fnv1a64 *=/d' "$f"
 done

@@ -4,12 +4,15 @@
  *
  * The directory holds manifest.ini (the run's: version, family, config
  * hash, seed, unit range), units.bin (the records of the completed units,
- * appended a block at a time) and `progress` ("units_done K" and
- * "block_units B").  A block is committed by writing its records, syncing
- * units.bin, then replacing `progress` atomically (temporary file, sync,
+ * appended a block at a time), units.sum (the FNV-1a 64 of each block's
+ * records, a line "%016llx" per block, unitsum.h) and `progress`
+ * ("units_done K" and "block_units B").  A block is committed by writing
+ * its records and its checksum, syncing both, then replacing `progress` atomically (temporary file, sync,
  * rename, sync of the directory): `progress` never counts a unit whose
  * record is not on disk, and records beyond it (a block cut short) are
- * dropped on resume.  The checkpoint is removed once DIR is complete.
+ * dropped on resume.  On resume every committed block is checked against
+ * its checksum: a flipped bit is refused, naming the file and the units.
+ * The checkpoint is removed once DIR is complete.
  */
 #ifndef SUNMC_CHECKPOINT_H
 #define SUNMC_CHECKPOINT_H
@@ -22,6 +25,7 @@
 typedef struct {
     char dir[PATH_MAX];
     FILE *bin;              /* units.bin, appending */
+    FILE *sum;              /* units.sum, appending: a checksum per block */
     unitfile_layout layout;
     long first;             /* the run's first unit */
     long done;              /* units committed */

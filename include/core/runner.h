@@ -10,6 +10,7 @@
 #include "report.h"
 #include "status.h"
 #include "unitfile.h"
+#include "unitsum.h"
 
 #include <stdio.h>
 
@@ -35,6 +36,7 @@ typedef struct {
     checkpoint *ckpt;                /* each block committed here when non-NULL */
     int distribute;                  /* split the blocks across MPI ranks (mc_plan) */
     int ckpt_status;                 /* the first checkpoint error (then no more) */
+    unitsum_acc sum;                 /* checksums of the records written to units_bin */
     char ckpt_err[SUNMC_ERRLEN];
 } run_sink;
 
@@ -46,6 +48,9 @@ int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, 
 int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, char *err,
                    size_t errlen);
 void run_sink_free(run_sink *r);
+/* The checksums of the records written so far into m (units_sum_units,
+ * units_fnv1a64). */
+void run_sink_sums(run_sink *r, run_manifest *m);
 
 /* Stream units [first, end) of c through r in blocks of c->block_units. */
 int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn progress,

@@ -17,7 +17,9 @@
  *
  * manifest.ini (INI, section [manifest]): format, sunmc_version, family,
  * config_fnv1a64 (config_hash), seed, first_unit, end_unit (the units
- * [first_unit, end_unit) that units.bin holds), units_file.
+ * [first_unit, end_unit) that units.bin holds), units_file, kernel_isa,
+ * build, units_sum_units and units_fnv1a64 (the checksums of units.bin's
+ * records, unitsum.h).
  */
 #ifndef SUNMC_UNITFILE_H
 #define SUNMC_UNITFILE_H
@@ -25,12 +27,17 @@
 #include "config.h"
 #include "family.h"
 
+#include <stdint.h>
 #include <stdio.h>
 
 #define UNITFILE_NAME "units.bin"
 #define MANIFEST_NAME "manifest.ini"
-#define MANIFEST_FORMAT 2
+#define MANIFEST_FORMAT 3 /* 3: units_sum_units, units_fnv1a64 */
+#define MANIFEST_SUM_MAX 32
 #define UNITFILE_HEADER_WORDS 8
+#define UNITFILE_INT_WORDS 7
+#define UNITFILE_MAX_WORDS \
+    (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 + 3 * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
 
 typedef struct {
     int nd, np, na, nb;
@@ -43,6 +50,9 @@ void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfil
 int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t errlen);
 int unitfile_write(FILE *f, const unitfile_layout *l, const unit_result *r, long n, char *err,
                    size_t errlen);
+
+/* One record as written: w[l->words] (UNITFILE_MAX_WORDS suffice). */
+void unitfile_pack(const unitfile_layout *l, const unit_result *r, uint64_t *w);
 
 /* Read and check the header of path against the layout the config expects
  * (SUNMC_EINPUT naming what differs). */
@@ -66,6 +76,9 @@ typedef struct {
     long first, end;
     char isa[16];    /* kernel path run: "avx2" or "baseline" (vm_isa) */
     char build[160]; /* compiler and flags (vm_build_id) */
+    long sum_units;  /* units of one checksum of units.bin (unitsum.h) */
+    int nsum;
+    unsigned long long sum[MANIFEST_SUM_MAX];
 } run_manifest;
 
 /* The manifest of units [first, end) of st's config. */

@@ -65,11 +65,15 @@ static int shard_config(const merge_shard *s, config_state *st, char *err, size_
 /* Replay every shard's units through r in unit order. */
 static int replay_shards(run_sink *r, const merge_shard *s, int n, char *err, size_t errlen)
 {
-    char path[PATH_MAX];
+    char path[PATH_MAX], man[PATH_MAX];
     int st = SUNMC_OK;
     for (int i = 0; i < n && st == SUNMC_OK; i++) {
         snprintf(path, sizeof path, "%s/%s", s[i].dir, UNITFILE_NAME);
-        st = run_replay(r, path, s[i].m.first, s[i].m.end, NULL, err, errlen);
+        snprintf(man, sizeof man, "%s/%s", s[i].dir, MANIFEST_NAME);
+        st = unitsum_verify(path, &r->layout, s[i].m.first, s[i].m.end, UNITSUM_LEAF_UNITS,
+                            s[i].m.sum_units, s[i].m.sum, s[i].m.nsum, man, err, errlen);
+        if (st == SUNMC_OK)
+            st = run_replay(r, path, s[i].m.first, s[i].m.end, NULL, err, errlen);
     }
     return st;
 }
@@ -90,6 +94,7 @@ static int merge_into(const char *out, const merge_shard *s, int n, const config
         if ((rc = replay_shards(&r, s, n, err, errlen)) == SUNMC_OK) {
             run_manifest m = s[0].m;
             m.end = s[n - 1].m.end;
+            run_sink_sums(&r, &m);
             report_acc_rows(r.acc, rows);
             report_print_table(stdout, c, c->family, rows);
             printf("merged units %ld:%ld from %d shard%s into %s\n", m.first, m.end, n,

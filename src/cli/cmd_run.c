@@ -414,6 +414,7 @@ static int job_finish(run_job *j, long done, double wall_s)
         return 0;
     run_manifest m;
     manifest_of(&j->st, j->first, j->first + done, &m);
+    run_sink_sums(&j->r, &m);
     fprintf(j->rf.f[RUN_FILE_CONFIG], "# units %ld:%ld of this config%s\n", j->first,
             j->first + done, note);
     config_write(j->rf.f[RUN_FILE_CONFIG], &j->st);

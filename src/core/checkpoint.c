@@ -1,6 +1,8 @@
 /* checkpoint.c - completed blocks of a run, committed atomically, for
  * run --resume. */
 #include "checkpoint.h"
+#include "params_io.h"
+#include "unitsum.h"
 #include "status.h"
 
 #include <errno.h>
@@ -11,6 +13,7 @@
 #include <unistd.h>
 
 #define PROGRESS_NAME "progress"
+#define SUM_LINE_BYTES 17 /* "%016llx\n" */
 
 int checkpoint_path(const char *out, char *buf, size_t len)
 {
@@ -95,7 +98,7 @@ void checkpoint_remove(const char *out, long *removed_units)
         fclose(f);
     }
     static const char *const names[] = {PROGRESS_NAME, PROGRESS_NAME ".tmp", MANIFEST_NAME,
-                                        UNITFILE_NAME};
+                                        UNITFILE_NAME, UNITSUM_NAME};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         join(path, sizeof path, dir, names[i]);
         unlink(path);
@@ -116,9 +119,15 @@ int checkpoint_create(checkpoint *k, const char *out, const run_manifest *m, lon
     k->block_units = block_units;
     if (mkdir(k->dir, 0777) != 0)
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", k->dir, strerror(errno));
-    int st = write_manifest(k->dir, m, err, errlen);
+    run_manifest mk = *m; /* the checksums are in units.sum, a block each */
+    mk.sum_units = block_units;
+    mk.nsum = 0;
+    int st = write_manifest(k->dir, &mk, err, errlen);
     checkpoint_units_path(k, path, sizeof path);
     if (st == SUNMC_OK && !(k->bin = fopen(path, "wb")))
+        st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", path, strerror(errno));
+    join(path, sizeof path, k->dir, UNITSUM_NAME);
+    if (st == SUNMC_OK && !(k->sum = fopen(path, "w")))
         st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", path, strerror(errno));
     if (st == SUNMC_OK)
         st = unitfile_write_header(k->bin, l, err, errlen);
@@ -158,6 +167,50 @@ static int same_run(const checkpoint *k, const run_manifest *ck, const run_manif
         st = sunmc_fail(err, errlen, SUNMC_EINPUT,
                         "%s ran blocks of %ld units, this run of %ld (run.block_units)", k->dir,
                         ck_block, k->block_units);
+    return st;
+}
+
+/* The checksums of units.sum for the k->done committed units: *n of them
+ * into a new array (NULL and SUNMC_EINPUT when there are fewer). */
+static unsigned long long *read_sums(checkpoint *k, const char *path, long *n, char *err,
+                                     size_t errlen)
+{
+    *n = (k->done + k->block_units - 1) / k->block_units;
+    unsigned long long *h = malloc((size_t)(*n > 0 ? *n : 1) * sizeof *h);
+    FILE *f = fopen(path, "r");
+    long i = 0;
+    char line[SUM_LINE_BYTES + 2];
+    while (h && f && i < *n && fgets(line, sizeof line, f) && strlen(line) == SUM_LINE_BYTES &&
+           sscanf(line, "%16llx", &h[i]) == 1)
+        i++;
+    if (f)
+        fclose(f);
+    if (h && i == *n)
+        return h;
+    free(h);
+    sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: holds %ld of the %ld block checksums its progress "
+               "file needs (remove %s to start over)", path, i, *n, k->dir);
+    return NULL;
+}
+
+/* Every committed block against its checksum; units.sum then appends. */
+static int check_sums(checkpoint *k, const run_manifest *m, char *err, size_t errlen)
+{
+    char path[PATH_MAX + 16], bin[PATH_MAX + 16], hint[2 * PATH_MAX + 64];
+    join(path, sizeof path, k->dir, UNITSUM_NAME);
+    checkpoint_units_path(k, bin, sizeof bin);
+    long n = 0;
+    unsigned long long *h = read_sums(k, path, &n, err, errlen);
+    if (!h)
+        return SUNMC_EINPUT;
+    int st = unitsum_verify(bin, &k->layout, m->first, m->first + k->done, k->block_units,
+                            k->block_units, h, n, path, hint, sizeof hint);
+    free(h);
+    if (st != SUNMC_OK)
+        return sunmc_fail(err, errlen, st, "%s (remove %s to start over)", hint, k->dir);
+    if (st == SUNMC_OK && (truncate(path, (off_t)n * SUM_LINE_BYTES) != 0 ||
+                           !(k->sum = fopen(path, "a"))))
+        st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", path, strerror(errno));
     return st;
 }
 
@@ -201,6 +254,22 @@ int checkpoint_open(checkpoint *k, const char *out, const run_manifest *m, long 
                           "progress file counts (remove %s to start over)", path, k->done, k->dir);
     if (truncate(path, size) != 0 || !(k->bin = fopen(path, "ab")))
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", path, strerror(errno));
+    return check_sums(k, m, err, errlen);
+}
+
+/* The block's checksum, a line of units.sum, synced. */
+static int append_sum(checkpoint *k, const unit_result *r, long n, char *err, size_t errlen)
+{
+    uint64_t w[UNITFILE_MAX_WORDS];
+    unsigned long long h = PARAMS_FNV1A64_INIT;
+    for (long u = 0; u < n; u++) {
+        unitfile_pack(&k->layout, &r[u], w);
+        h = params_fnv1a64(h, w, (size_t)unitfile_record_bytes(&k->layout));
+    }
+    if (fprintf(k->sum, "%016llx\n", h) != SUM_LINE_BYTES || fflush(k->sum) != 0 ||
+        fsync(fileno(k->sum)) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EIO, "%s/%s: %s", k->dir, UNITSUM_NAME,
+                          strerror(errno));
     return SUNMC_OK;
 }
 
@@ -211,6 +280,8 @@ int checkpoint_append(checkpoint *k, const unit_result *r, long n, char *err, si
     int st = n > 0 ? unitfile_write(k->bin, &k->layout, r, n, err, errlen) : SUNMC_OK;
     if (st == SUNMC_OK && (fflush(k->bin) != 0 || fsync(fileno(k->bin)) != 0))
         st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: %s", path, strerror(errno));
+    if (st == SUNMC_OK && n > 0)
+        st = append_sum(k, r, n, err, errlen);
     if (st != SUNMC_OK)
         return st;
     k->done += n;
@@ -221,5 +292,8 @@ void checkpoint_close(checkpoint *k)
 {
     if (k->bin)
         fclose(k->bin);
+    if (k->sum)
+        fclose(k->sum);
     k->bin = NULL;
+    k->sum = NULL;
 }

@@ -14,6 +14,7 @@ int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, 
     r->units_tsv = units_tsv;
     r->units_bin = units_bin;
     unitfile_layout_of(c, fam, &r->layout);
+    unitsum_init(&r->sum, UNITSUM_LEAF_UNITS);
     r->acc = report_acc_new(c, fam);
     if (!r->acc)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the statistics");
@@ -39,6 +40,8 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
      * commit refuses it, and the run goes on to print its result. */
     if (r->units_bin && !ferror(r->units_bin))
         unitfile_write(r->units_bin, &r->layout, results, n, NULL, 0);
+    if (r->units_bin && unitsum_add_results(&r->sum, &r->layout, results, n) != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the checksums");
     for (long u = 0; u < n; u++)
         for (int k = 0; k < UNIT_PHASES; k++)
             r->phase_s[k] += results[u].phase_s[k];
@@ -58,6 +61,12 @@ void run_sink_free(run_sink *r)
 {
     report_acc_free(r->acc);
     r->acc = NULL;
+    unitsum_free(&r->sum);
+}
+
+void run_sink_sums(run_sink *r, run_manifest *m)
+{
+    unitsum_finish(&r->sum, m->sum, &m->nsum, &m->sum_units);
 }
 
 int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn progress,

@@ -12,8 +12,6 @@
 #define UNITFILE_MAGIC "SUNMCUB1"
 #define UNITFILE_ORDER 0x0102030405060708ULL
 #define UNITFILE_INT_WORDS 7
-#define UNITFILE_MAX_WORDS \
-    (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 + 3 * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
 
 void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfile_layout *l)
 {
@@ -47,7 +45,7 @@ int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t e
 }
 
 /* One record into w (words): the integers, then the doubles in order. */
-static void pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
+void unitfile_pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
 {
     int64_t ints[UNITFILE_INT_WORDS] = {r->unit,        r->fit_status, r->fit_gsl_status,
                                         r->fit_iterations, r->alias_weak, r->gross_cal,
@@ -98,7 +96,7 @@ int unitfile_write(FILE *f, const unitfile_layout *l, const unit_result *r, long
 {
     uint64_t w[UNITFILE_MAX_WORDS];
     for (long u = 0; u < n; u++) {
-        pack(l, &r[u], w);
+        unitfile_pack(l, &r[u], w);
         if (fwrite(w, 8, (size_t)l->words, f) != (size_t)l->words)
             return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error: %s", UNITFILE_NAME,
                               strerror(errno));
@@ -113,6 +111,9 @@ int unitfile_read_header(FILE *f, const char *path, const unitfile_layout *l, ch
     if (fread(w, sizeof w, 1, f) != 1 || memcmp(&w[0], UNITFILE_MAGIC, 8) != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: not a sunmc units file (no %s header)",
                           path, UNITFILE_MAGIC);
+    if (w[7] != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: header word 8 is not zero (a flipped "
+                          "bit or an edited file)", path);
     if (w[1] != UNITFILE_ORDER)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "%s: written on a machine of another byte order", path);
@@ -168,11 +169,34 @@ int manifest_write(FILE *f, const run_manifest *m, char *err, size_t errlen)
             "# sunmc run manifest: what `sunmc merge` and `run --resume` check\n"
             "[manifest]\nformat = %d\nsunmc_version = %s\nfamily = %s\nconfig_fnv1a64 = %016llx\n"
             "seed = %ld\nfirst_unit = %ld\nend_unit = %ld\nunits_file = %s\nkernel_isa = %s\n"
-            "build = %s\n",
+            "build = %s\nunits_sum_units = %ld\nunits_fnv1a64 =",
             m->format, m->version, m->family, m->config_hash, m->seed, m->first, m->end,
-            UNITFILE_NAME, m->isa, m->build);
+            UNITFILE_NAME, m->isa, m->build, m->sum_units);
+    for (int i = 0; i < m->nsum; i++)
+        fprintf(f, " %016llx", m->sum[i]);
+    fputc('\n', f);
     return ferror(f) ? sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error", MANIFEST_NAME)
                      : SUNMC_OK;
+}
+
+/* units_fnv1a64: up to MANIFEST_SUM_MAX hashes of 16 hex digits. */
+static int manifest_sums(const ini_entry *e, const char *path, run_manifest *m, char *err,
+                         size_t errlen)
+{
+    const char *p = e->value;
+    m->nsum = 0;
+    while (*p) {
+        char *end;
+        errno = 0;
+        unsigned long long h = strtoull(p, &end, 16);
+        if (end - p != 16 || errno || (*end && *end != ' ') || m->nsum == MANIFEST_SUM_MAX)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: units_fnv1a64 = %s: not a list "
+                              "of at most %d hashes of 16 hex digits", path, e->line, e->value,
+                              MANIFEST_SUM_MAX);
+        m->sum[m->nsum++] = h;
+        p = *end ? end + 1 : end;
+    }
+    return SUNMC_OK;
 }
 
 /* One key of the manifest into m; bit `seen` of *mask marks it read. */
@@ -182,14 +206,14 @@ static int manifest_key(const ini_entry *e, const char *path, run_manifest *m, u
     static const char *const keys[] = {"format",     "sunmc_version", "family",
                                        "config_fnv1a64", "seed",      "first_unit",
                                        "end_unit",   "units_file",    "kernel_isa",
-                                       "build"};
+                                       "build",      "units_sum_units", "units_fnv1a64"};
     int k = -1;
-    for (int i = 0; i < 10; i++)
+    for (int i = 0; i < 12; i++)
         if (strcmp(e->key, keys[i]) == 0)
             k = i;
     char *end = NULL;
     errno = 0;
-    long v = k == 0 || (k >= 4 && k <= 6) ? strtol(e->value, &end, 10) : 0;
+    long v = k == 0 || (k >= 4 && k <= 6) || k == 10 ? strtol(e->value, &end, 10) : 0;
     if (k < 0 || strcmp(e->section, "manifest") != 0 ||
         (end && (end == e->value || *end != '\0' || errno || v < 0)))
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unexpected %s.%s = %s", path, e->line,
@@ -213,6 +237,10 @@ static int manifest_key(const ini_entry *e, const char *path, run_manifest *m, u
         snprintf(m->isa, sizeof m->isa, "%.*s", (int)sizeof m->isa - 1, e->value);
     else if (k == 9)
         snprintf(m->build, sizeof m->build, "%.*s", (int)sizeof m->build - 1, e->value);
+    else if (k == 10)
+        m->sum_units = v;
+    else if (k == 11)
+        return manifest_sums(e, path, m, err, errlen);
     return SUNMC_OK;
 }
 
@@ -233,11 +261,14 @@ int manifest_read(const char *path, run_manifest *m, char *err, size_t errlen)
             break;
     ini_end(&r);
     fclose(f);
-    if (st == SUNMC_OK && mask != 0x3ffu)
-        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: incomplete manifest (keys missing)", path);
     if (st == SUNMC_OK && m->format != MANIFEST_FORMAT)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: manifest format %d; this sunmc reads %d",
                         path, m->format, MANIFEST_FORMAT);
+    if (st == SUNMC_OK && mask != 0xfffu)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: incomplete manifest (keys missing)", path);
+    if (st == SUNMC_OK && m->sum_units < 1)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: units_sum_units = %ld: must be at least 1",
+                        path, m->sum_units);
     if (st == SUNMC_OK && m->end <= m->first)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: empty unit range %ld:%ld", path, m->first,
                         m->end);
