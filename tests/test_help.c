@@ -2,6 +2,7 @@
  * brackets, and "did you mean" for a mistyped key (in a file and in --set). */
 #include "test_util.h"
 
+#include "lab.h"
 #include "registry.h"
 
 static char out[65536];
@@ -81,6 +82,31 @@ static void test_every_command_help_balanced(void **state)
     }
 }
 
+/* calibrate --help and compensate --help name every registered family's
+ * columns, read from its lab descriptor (nothing per family in src/cli). */
+static void test_lab_help_from_descriptors(void **state)
+{
+    for (int i = 0; i < sensor_family_count(); i++) {
+        const sensor_family *f = sensor_family_at(i);
+        if (!f->lab)
+            continue;
+        char want[256];
+        size_t n = (size_t)snprintf(want, sizeof want, "  %s: ", f->name);
+        for (int k = 0; f->lab->cal_columns[k]; k++) {
+            int last = f->lab->cal_columns[k + 1] == NULL;
+            n += (size_t)snprintf(want + n, sizeof want - n, last ? "[,%s]" : "%s%s",
+                                  last ? f->lab->cal_columns[k] : k ? "," : "",
+                                  f->lab->cal_columns[k]);
+        }
+        assert_int_equal(sunmc("calibrate --help"), 0);
+        assert_non_null(strstr(out, want));
+        snprintf(want, sizeof want, "  %s: %s", f->name, f->lab->raw_columns[0]);
+        assert_int_equal(sunmc("compensate --help"), 0);
+        assert_non_null(strstr(out, want));
+        assert_non_null(strstr(out, f->lab->comp_columns[0]));
+    }
+}
+
 static void test_suggest_names_nearest_key(void **state)
 {
     char hint[128];
@@ -133,6 +159,7 @@ int main(void)
         cmocka_unit_test(test_command_help_follows_config_family),
         cmocka_unit_test(test_unknown_family_is_refused),
         cmocka_unit_test(test_every_command_help_balanced),
+        cmocka_unit_test(test_lab_help_from_descriptors),
         cmocka_unit_test(test_suggest_names_nearest_key),
         cmocka_unit_test(test_mistyped_key_suggested_in_file_and_set),
         cmocka_unit_test(test_spec_in_table_unit),

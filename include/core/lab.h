@@ -76,6 +76,9 @@ typedef struct family_lab {
     /* Data columns (NULL-terminated, "weight" last) and the shape of a row,
      * for --help and messages. */
     const char *const *cal_columns;
+    /* calibrate --help: the columns' conventions, lines each starting with
+     * seven spaces and ending in '\n' (or NULL). */
+    const char *cal_help;
     /* Fewest data rows c's model can be fitted to, and why (for the message). */
     size_t (*cal_min_rows)(const sunmc_config *c, char *why, size_t len);
     /* Fit d (which must outlive *cal) and fill rep; *cal is the fitted
@@ -124,6 +127,9 @@ typedef struct family_lab {
      * comp_columns. */
     const char *const *opt_columns;
     const char *const *opt_comp_columns;
+    /* compensate --help: what comp_columns (and opt_comp_columns) hold,
+     * lines as cal_help's (or NULL). */
+    const char *comp_help;
     /* Said after the count of readings that could not be compensated, or NULL. */
     const char *comp_fail_note;
 

@@ -7,52 +7,116 @@
 #include "registry.h"
 #include "status.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-static const char calibrate_help[] =
+/* "a, b or c": the families with lab commands, for messages. */
+static void lab_family_names(char *buf, size_t len)
+{
+    int n = 0, k = 0;
+    for (int i = 0; i < sensor_family_count(); i++)
+        n += sensor_family_at(i)->lab != NULL;
+    buf[0] = '\0';
+    for (int i = 0; i < sensor_family_count(); i++) {
+        const sensor_family *f = sensor_family_at(i);
+        if (!f->lab)
+            continue;
+        size_t used = strlen(buf);
+        snprintf(buf + used, len - used, "%s%s", k == 0 ? "" : k == n - 1 ? " or " : ", ",
+                 f->name);
+        k++;
+    }
+}
+
+/* Room for calibrate --help and compensate --help. */
+#define LAB_HELP_MAX 8192
+
+static const char calibrate_head[] =
     "usage: sunmc calibrate --config CONFIG DATA.csv [--sensor FAMILY] [--out DIR]\n"
     "                       [--set SECTION.KEY=VALUE]... [--duplicates average|refuse|keep]\n"
-    "The family (ess, dss) is CONFIG's sensor.family; --sensor, when given, must agree.\n"
+    "The family (%s) is CONFIG's sensor.family; --sensor, when given, must agree.\n"
     "Rows that repeat an earlier row exactly are a reading logged twice: counted once\n"
     "(--duplicates average, the default, with a warning naming them), refused, or kept.\n"
     "Fits the family's calibration model (the Monte Carlo's own fit) to turntable data and\n"
     "prints the parameters with standard errors, the correlation matrix, condition numbers,\n"
     "residual RMS and predicted accuracy per band, cross-validation and warnings.\n"
     "Design values come from CONFIG (and --set).  DATA.csv: a header line, '#' comments,\n"
-    "columns in any order, extra columns ignored:\n"
-    "  ess: alpha_deg,beta_deg,output_deg[,weight]   (turntable inner/outer angle, raw output)\n"
-    "       the known installation roll is calibration.roll_measured_arcsec (default 0);\n"
-    "       calibration.model = paper (eq. 12 + k sin(4 pi alpha + t)) or extended (the fine\n"
-    "       period's 1st, 2nd and incidence-dependent 4th harmonics, eq. 7 exact); the report\n"
-    "       compares both by cross-validation and says which it recommends\n"
-    "  dss: b1_deg,b2_deg,x_px,y_px[,weight]\n"
-    "Conventions (README, \"Calibrating a real sensor\"; simulate writes them into its CSVs):\n"
-    "  ess: alpha = inner frame about the sensor's X (across the code rows), beta = outer\n"
-    "       frame about Y: sun s = R_install Rx(alpha) Ry(beta) v_sun; output = raw incidence\n"
-    "       atan2(s_y, s_z) with its errors; gross errors (codes off by > half a fine period)\n"
-    "       must be dropped (weight 0)\n"
-    "  dss: x_px, y_px = spot centroid in pixels from the detector centre (pixel i at\n"
-    "       i - (N - 1)/2), X along the rows; the image is inverted (sun toward +X: x_px < 0);\n"
-    "       b1 turns the table top about the base's X, then b2 about the new Y; design.h_mm\n"
-    "       includes the cover glass; only spots wholly on the detector are readings\n"
+    "columns in any order, extra columns ignored (conventions: docs/conventions.md;\n"
+    "simulate writes them into its CSVs):\n";
+
+static const char calibrate_tail[] =
     "--out DIR writes params.ini (for `sunmc compensate`), residuals.tsv, bands.tsv,\n"
-    "crossval.tsv, and for the ess field.tsv (propagated sigma across the field) and\n"
-    "models.tsv (the model comparison), all or nothing.\n"
+    "crossval.tsv and the family's own files (above), all or nothing.\n"
     "Exit status 2 for bad data (FILE:LINE: message), 1 when the fit fails.\n";
 
-static const char compensate_help[] =
+static const char compensate_head[] =
     "usage: sunmc compensate PARAMS.ini RAW.csv > COMPENSATED.csv\n"
     "Applies a calibration written by `sunmc calibrate` to raw readings.  RAW.csv needs the\n"
-    "column output_deg (ess) or x_px,y_px (dss) ('#' comment lines skipped); the output\n"
-    "repeats every input column and adds the compensated angle(s):\n"
-    "  ess: compensated_deg, the incidence atan2(s_y, s_z) in the sensor frame\n"
-    "  dss: compensated_alpha_deg,compensated_beta_deg: with params.ini's design.mount =\n"
-    "       as_mounted the sun's direction w in the mount's (table-top) frame, alpha =\n"
-    "       atan(w_x/w_z), beta = atan(w_y/w_z); aligned: the table's angles of the DSS\n"
-    "       paper's eq. 3-4, alpha = -b2, beta = atan(tan b1 / cos b2)\n"
-    "Conventions of x_px, y_px, b1, b2: see `sunmc calibrate --help`.\n";
+    "family's raw columns ('#' comment lines skipped); the output repeats every input column\n"
+    "and adds the compensated angle(s):\n";
+
+static const char compensate_tail[] =
+    "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
+
+/* Append printf-style text to buf (used bytes *n), truncating at len. */
+static void help_add(char *buf, size_t len, size_t *n, const char *fmt, ...)
+{
+    if (*n + 1 >= len)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(buf + *n, len - *n, fmt, ap);
+    va_end(ap);
+    *n = k < 0 ? *n : *n + (size_t)k < len ? *n + (size_t)k : len - 1;
+}
+
+/* "a,b,c" of a NULL-terminated list into buf; "weight" last is "[,weight]". */
+static void help_columns(char *buf, size_t len, size_t *n, const char *const *cols)
+{
+    for (int k = 0; cols && cols[k]; k++) {
+        int optional = strcmp(cols[k], "weight") == 0 && !cols[k + 1];
+        help_add(buf, len, n, optional ? "[,%s]" : "%s%s", optional ? cols[k] : k ? "," : "",
+                 cols[k]);
+    }
+}
+
+/* calibrate --help (calibrate != 0) or compensate --help, from each
+ * registered family's lab descriptor: no family is named here. */
+static void lab_help(int calibrate, char *buf, size_t len)
+{
+    char names[256];
+    lab_family_names(names, sizeof names);
+    size_t n = 0;
+    help_add(buf, len, &n, calibrate ? calibrate_head : compensate_head, names);
+    for (int i = 0; i < sensor_family_count(); i++) {
+        const family_lab *lab = sensor_family_at(i)->lab;
+        if (!lab)
+            continue;
+        help_add(buf, len, &n, "  %s: ", sensor_family_at(i)->name);
+        if (calibrate) {
+            help_columns(buf, len, &n, lab->cal_columns);
+            for (int k = 0; lab->extra_files && lab->extra_files[k]; k++)
+                help_add(buf, len, &n, "%s%s", k ? ", " : "   (--out adds ", lab->extra_files[k]);
+            help_add(buf, len, &n, "%s\n%s", lab->extra_files ? ")" : "",
+                     lab->cal_help ? lab->cal_help : "");
+        } else {
+            help_columns(buf, len, &n, lab->raw_columns);
+            help_add(buf, len, &n, " -> ");
+            help_columns(buf, len, &n, lab->comp_columns);
+            if (lab->opt_columns) {
+                help_add(buf, len, &n, "; with ");
+                help_columns(buf, len, &n, lab->opt_columns);
+                help_add(buf, len, &n, " also ");
+                help_columns(buf, len, &n, lab->opt_comp_columns);
+            }
+            help_add(buf, len, &n, "\n%s", lab->comp_help ? lab->comp_help : "");
+        }
+    }
+    help_add(buf, len, &n, "%s", calibrate ? calibrate_tail : compensate_tail);
+}
 
 /* The report's warnings again on stderr when the report itself goes to a
  * file or a pipe, so that none passes unseen (whatever --quiet says). */
@@ -140,27 +204,11 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     return cli_exit_code(st);
 }
 
-/* "ess or dss": the families with lab commands, for messages. */
-static void lab_family_names(char *buf, size_t len)
-{
-    int n = 0, k = 0;
-    for (int i = 0; i < sensor_family_count(); i++)
-        n += sensor_family_at(i)->lab != NULL;
-    buf[0] = '\0';
-    for (int i = 0; i < sensor_family_count(); i++) {
-        const sensor_family *f = sensor_family_at(i);
-        if (!f->lab)
-            continue;
-        size_t used = strlen(buf);
-        snprintf(buf + used, len - used, "%s%s", k == 0 ? "" : k == n - 1 ? " or " : ", ",
-                 f->name);
-        k++;
-    }
-}
-
 int cmd_calibrate(int argc, char **argv)
 {
-    if (cli_wants_help(argc, argv, calibrate_help))
+    char help[LAB_HELP_MAX];
+    lab_help(1, help, sizeof help);
+    if (cli_wants_help(argc, argv, help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "calibrate", "sensor config set out quiet duplicates FILES1", &o);
@@ -226,7 +274,9 @@ static int compensate(const family_lab *lab, const params_file *pf, const char *
 
 int cmd_compensate(int argc, char **argv)
 {
-    if (cli_wants_help(argc, argv, compensate_help))
+    char help[LAB_HELP_MAX];
+    lab_help(0, help, sizeof help);
+    if (cli_wants_help(argc, argv, help))
         return 0;
     cli_options o;
     int rc = cli_parse(argc, argv, 2, "compensate", "quiet FILES2", &o);

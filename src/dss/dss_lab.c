@@ -172,6 +172,19 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 /* ---- calibrate ---- */
 
+/* calibrate --help and compensate --help (family_lab.cal_help, comp_help). */
+static const char cal_help[] =
+    "       x_px, y_px = spot centroid in pixels from the detector centre (pixel i at\n"
+    "       i - (N - 1)/2), X along the rows; the image is inverted (sun toward +X:\n"
+    "       x_px < 0); b1 turns the table top about the base's X, then b2 about the new Y;\n"
+    "       design.h_mm includes the cover glass; only spots wholly on the detector are\n"
+    "       readings\n";
+static const char comp_help[] =
+    "       with params.ini's design.mount = as_mounted the sun's direction w in the\n"
+    "       mount's (table-top) frame, alpha = atan(w_x/w_z), beta = atan(w_y/w_z);\n"
+    "       aligned: the table's angles of the DSS paper's eq. 3-4, alpha = -b2,\n"
+    "       beta = atan(tan b1 / cos b2)\n";
+
 static const char *const cal_columns[] = {"b1_deg", "b2_deg", "x_px", "y_px", "weight", NULL};
 
 /* ---- calibrate: what the data must look like (lab_check_data) ---- */
@@ -332,6 +345,7 @@ const family_lab dss_lab = {
     .sim_summary = sim_summary,
     .sim_free = sim_free,
     .cal_columns = cal_columns,
+    .cal_help = cal_help,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .cal_n_inputs = 2,
@@ -348,6 +362,7 @@ const family_lab dss_lab = {
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
+    .comp_help = comp_help,
     .comp_fail_note = NULL,
     .model_size = sizeof(dss_calibration),
     .params_load = params_load,

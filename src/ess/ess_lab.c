@@ -164,6 +164,19 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 /* ---- calibrate ---- */
 
+/* calibrate --help and compensate --help (family_lab.cal_help, comp_help). */
+static const char cal_help[] =
+    "       (turntable inner/outer angle, raw output); alpha = inner frame about the\n"
+    "       sensor's X (across the code rows), beta = outer frame about Y: sun s =\n"
+    "       R_install Rx(alpha) Ry(beta) v_sun; output = raw incidence atan2(s_y, s_z) with\n"
+    "       its errors; gross errors (codes off by > half a fine period) must be dropped\n"
+    "       (weight 0); the known installation roll is calibration.roll_measured_arcsec\n"
+    "       (default 0); calibration.model = paper (eq. 12 + k sin(4 pi alpha + t)) or\n"
+    "       extended (the fine period's 1st, 2nd and incidence-dependent 4th harmonics,\n"
+    "       eq. 7 exact); the report compares both by cross-validation and recommends one\n";
+static const char comp_help[] =
+    "       compensated_deg: the incidence atan2(s_y, s_z) in the sensor frame\n";
+
 static const char *const cal_columns[] = {"alpha_deg", "beta_deg", "output_deg", "weight", NULL};
 
 /* ---- calibrate: what the data must look like (lab_check_data) ---- */
@@ -352,6 +365,7 @@ const family_lab ess_lab = {
     .sim_summary = sim_summary,
     .sim_free = sim_free,
     .cal_columns = cal_columns,
+    .cal_help = cal_help,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .cal_n_inputs = 2,
@@ -370,6 +384,7 @@ const family_lab ess_lab = {
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
+    .comp_help = comp_help,
     .comp_fail_note = "the model is not invertible there",
     .model_size = sizeof(ess_model),
     .params_load = params_load,

@@ -120,6 +120,16 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 /* ---- calibrate ---- */
 
+/* calibrate --help and compensate --help (family_lab.cal_help, comp_help). */
+static const char cal_help[] =
+    "       the table's angles (campaign.table_order, table_alpha_sign, table_beta_sign\n"
+    "       say how they put the sun in the table top) and the raw channel signals in\n"
+    "       any one unit (dark signals and polarity are fitted); repeated readings as\n"
+    "       repeated rows: their spread is the repeatability, each point counted once\n";
+static const char comp_help[] =
+    "       the sun's angles in the table top, atan(u_x/u_z), atan(u_y/u_z); the\n"
+    "       truth columns by the calibration's table convention\n";
+
 static const char *const cal_columns[] = {"alpha_deg", "beta_deg", "i1", "i2", "i3", "i4",
                                           "weight", NULL};
 static const int cal_min_distinct[] = {2, 1};
@@ -392,6 +402,7 @@ const family_lab psd_lab = {
     .sim_summary = sim_summary,
     .sim_free = sim_free,
     .cal_columns = cal_columns,
+    .cal_help = cal_help,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .cal_n_inputs = 2,
@@ -406,6 +417,7 @@ const family_lab psd_lab = {
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
+    .comp_help = comp_help,
     .opt_columns = table_columns,
     .opt_comp_columns = truth_columns,
     .comp_fail_note = "a saturated spot (beyond the linear field) or a reading the model cannot "
