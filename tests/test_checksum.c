@@ -3,7 +3,9 @@
  * block or in a shard's units.bin is refused on --resume and on merge (exit
  * 2, naming the file and the units); an edited checksum list is refused
  * with FILE:LINE; untouched runs resume and merge to the whole run's files
- * byte for byte (test_resume, test_shards, test_golden hold the rest). */
+ * byte for byte (test_resume, test_shards, test_golden hold the rest).
+ * A merged config.ini of part of a run states the merged units, and
+ * running it reproduces the merge. */
 #include "test_util.h"
 
 #include "params_io.h"
@@ -183,6 +185,35 @@ static void flipped_bit_in_a_shard_is_refused_on_merge(void **state)
     sh("grep -q '^units_sum_units = 64$' m/manifest.ini", "");
 }
 
+/* ---- issue 22: a merged config.ini states the merged units ---- */
+
+static void merged_config_states_its_units_and_reproduces(void **state)
+{
+    (void)state;
+    make_shards();
+    char out[16384];
+    assert_int_equal(sunmc("merge $D/m0 $D/s0", out, sizeof out), 0);
+    assert_true(test_file_has(test_tmp("checksum/m0/config.ini"),
+                              "\nunits = 300  # sunmc merge of units 0:300 (the shards' "
+                              "run.units: 600)\n"));
+    assert_int_equal(sunmc("run $D/m0/config.ini --quiet --out $D/r0", out, sizeof out), 0);
+    sh("cmp m0/units.bin r0/units.bin && cmp m0/summary.tsv r0/summary.tsv && "
+       "cmp m0/manifest.ini r0/manifest.ini", "");
+    assert_int_equal(sunmc("merge $D/m1 $D/s1", out, sizeof out), 0);
+    assert_true(test_file_has(test_tmp("checksum/m1/config.ini"),
+                              "\nunits = 600  # sunmc merge of units 300:600: run it with "
+                              "--units 300:600\n"));
+    assert_int_equal(sunmc("run $D/m1/config.ini --units 300:600 --quiet --out $D/r1", out,
+                           sizeof out), 0);
+    sh("cmp m1/units.bin r1/units.bin && cmp m1/summary.tsv r1/summary.tsv", "");
+    /* the shards of the whole run keep its units line; a merge of merges says 0:600 */
+    sh("cmp whole/config.ini m/config.ini || (diff whole/config.ini m/config.ini; false)", "");
+    assert_int_equal(sunmc("merge $D/mm $D/m0 $D/s1", out, sizeof out), 0);
+    assert_true(test_file_has(test_tmp("checksum/mm/config.ini"),
+                              "\nunits = 600  # sunmc merge of units 0:600"));
+    sh("cmp whole/summary.tsv mm/summary.tsv && cmp whole/units.bin mm/units.bin", "");
+}
+
 /* ---- resume: a flipped bit in a committed checkpoint block ---- */
 
 static long committed(const char *name)
@@ -259,6 +290,7 @@ int main(void)
         cmocka_unit_test(node_is_hash_of_its_two_children),
         cmocka_unit_test(thirty_two_leaves_stay_leaves),
         cmocka_unit_test(flipped_bit_in_a_shard_is_refused_on_merge),
+        cmocka_unit_test(merged_config_states_its_units_and_reproduces),
         cmocka_unit_test(flipped_bit_in_a_checkpoint_is_refused_on_resume),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -17,8 +17,22 @@ static const char merge_help[] =
     "one range with no gap or overlap) into OUT: every statistic is recomputed in unit order\n"
     "from the shards' units.bin, so OUT holds the files of the single run of that range.\n";
 
-/* The shard's config.ini without its "# units" line: the merged file's body. */
-static char *config_body(const char *dir, char *err, size_t errlen)
+static void merged_units_line(FILE *m, long first, long end, long units)
+{
+    if (first == 0)
+        fprintf(m, "units = %ld  # sunmc merge of units 0:%ld (the shards' run.units: %ld)\n", end,
+                end, units);
+    else
+        fprintf(m, "units = %ld  # sunmc merge of units %ld:%ld: run it with --units %ld:%ld\n",
+                end, first, end, first, end);
+}
+
+/* The shard's config.ini without its "# units" line: the merged file's
+ * body.  When the merged units [first, end) are not the whole run of
+ * `units` (run.units), its units line says end, so that running the merged
+ * config.ini (with --units first:end when first > 0) reproduces the merge. */
+static char *config_body(const char *dir, long first, long end, long units, char *err,
+                         size_t errlen)
 {
     char path[PATH_MAX];
     snprintf(path, sizeof path, "%s/config.ini", dir);
@@ -31,11 +45,17 @@ static char *config_body(const char *dir, char *err, size_t errlen)
     size_t len = 0;
     FILE *m = open_memstream(&buf, &len);
     char line[4096];
-    int first = 1;
+    /* a shard that is itself a merge has its own units line */
+    int top = 1, in_run = 0, whole = first == 0 && end == units;
     while (m && fgets(line, sizeof line, f)) {
-        if (!(first && strncmp(line, "# units ", 8) == 0))
+        if (line[0] == '[')
+            in_run = strncmp(line, "[run]", 5) == 0;
+        if (in_run && strncmp(line, "units = ", 8) == 0 &&
+            (!whole || atol(line + 8) != units || strstr(line, "# sunmc merge")))
+            merged_units_line(m, first, end, units);
+        else if (!(top && strncmp(line, "# units ", 8) == 0))
             fputs(line, m);
-        first = 0;
+        top = 0;
     }
     fclose(f);
     if (m)
@@ -83,7 +103,7 @@ static int merge_into(const char *out, const merge_shard *s, int n, const config
 {
     const sunmc_config *c = &st->cfg;
     summary_row *rows = calloc((size_t)report_n_rows(c, c->family), sizeof *rows);
-    char *body = config_body(s[0].dir, err, errlen);
+    char *body = config_body(s[0].dir, s[0].m.first, s[n - 1].m.end, c->units, err, errlen);
     cli_run_files rf;
     run_sink r;
     int rc = rows && body ? cli_run_files_begin(&rf, out, err, errlen) : SUNMC_ENOMEM;
