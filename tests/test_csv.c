@@ -220,6 +220,59 @@ static void test_quotes_and_separators(void **state)
     assert_non_null(strstr(err, "nul.csv:3: binary data (NUL byte)"));
 }
 
+/* Issue 22: the limits of csv_read_text, each on both sides, checked while
+ * the file streams in. */
+static void write_bytes(const char *path, const char *text, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1, n, f), n);
+    assert_int_equal(fclose(f), 0);
+}
+
+static void test_read_text_limits(void **state)
+{
+    char path[512], err[SUNMC_ERRLEN], *buf = NULL;
+    snprintf(path, sizeof path, "%s/lim.csv", dir);
+    write_bytes(path, "a,b\n1,2\n", 8);
+    assert_int_equal(csv_read_text(path, 8, 3, &buf, err, sizeof err), SUNMC_OK);
+    assert_string_equal(buf, "a,b\n1,2\n");
+    free(buf);
+    assert_int_equal(csv_read_text(path, 7, 3, &buf, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "lim.csv:2: larger than 7 bytes"));
+    assert_int_equal(csv_read_text(path, 8, 2, &buf, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "lim.csv:1: line longer than 2 bytes"));
+    /* the last line without its newline counts too */
+    write_bytes(path, "a,b\n1,22", 8);
+    assert_int_equal(csv_read_text(path, 100, 3, &buf, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "lim.csv:2: line longer than 3 bytes"));
+    /* a NUL far into a long file is found with its line */
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    for (int i = 0; i < 100000; i++)
+        fputs("1,2\n", f);
+    fputc('\0', f);
+    assert_int_equal(fclose(f), 0);
+    assert_int_equal(csv_read_text(path, CSV_MAX_BYTES, CSV_LINE_MAX, &buf, err, sizeof err),
+                     SUNMC_EINPUT);
+    assert_non_null(strstr(err, "lim.csv:100001: binary data (NUL byte)"));
+}
+
+/* The reproducer: `calibrate /dev/zero` read until memory ran out (the
+ * size limit itself is tested above on both sides with small limits). */
+static void test_calibrate_endless_input(void **state)
+{
+    char out[4096], cmd[1024];
+    const char *cal = "calibrate --sensor dss --config configs/dss.ini";
+    snprintf(cmd, sizeof cmd, "%s %s /dev/zero", test_sunmc(), cal);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "/dev/zero:1: binary data (NUL byte) in a text file"));
+    snprintf(cmd, sizeof cmd, "head -c 4194305 /dev/zero | tr '\\0' 1 | %s %s /dev/stdin",
+             test_sunmc(), cal);
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "/dev/stdin:1: line longer than 4194304 bytes"));
+}
+
 static void test_duplicates(void **state)
 {
     /* the first column from the left that repeats one, and its first place */
@@ -389,6 +442,8 @@ int main(void)
         cmocka_unit_test(test_params_errors),
         cmocka_unit_test(test_spreadsheet_export),
         cmocka_unit_test(test_quotes_and_separators),
+        cmocka_unit_test(test_read_text_limits),
+        cmocka_unit_test(test_calibrate_endless_input),
         cmocka_unit_test(test_duplicates),
         cmocka_unit_test(test_wide_header),
         cmocka_unit_test(test_calibrate_spreadsheet_export),

@@ -15,7 +15,8 @@
  *   - duplicate header names (the first repeated column and its first
  *     occurrence), an unnamed column, a header that is one column separated
  *     by ';' or tabs (said so), a quote not closed or followed by text, a
- *     row with a different number of fields, a NUL byte (csv_read);
+ *     row with a different number of fields, a NUL byte, a line over
+ *     CSV_LINE_MAX bytes, a file over CSV_MAX_BYTES (csv_read);
  *   - a missing column (csv_column, at the header line);
  *   - a field that is not a number, or is NaN or infinite (csv_doubles);
  *   - too few data rows (csv_require_rows, at the last line).
@@ -38,6 +39,17 @@ typedef struct {
     char **field;        /* n_rows * n_cols: field[r * n_cols + c], trimmed text */
     char *buf;           /* storage of all the text */
 } csv_table;
+
+/* The most csv_read reads: a data file's bytes, and one line's. */
+#define CSV_MAX_BYTES ((size_t)1 << 28)
+#define CSV_LINE_MAX ((size_t)1 << 22) /* 4 MiB: a 200000-column header fits */
+
+/* The text of path into a new NUL-terminated *buf (free it), checked while
+ * it streams in: a NUL byte, a line of more than max_line bytes or a file of
+ * more than max_bytes is SUNMC_EINPUT "FILE:LINE: ..." as soon as it is
+ * read (never the whole of /dev/zero in memory). */
+int csv_read_text(const char *path, size_t max_bytes, size_t max_line, char **buf_out,
+                  char *err, size_t errlen);
 
 /* Read and split the whole file.  On success *out is a new table (free it
  * with csv_free).  Checks: a header exists, header names are non-empty and

@@ -108,50 +108,75 @@ static int fields_of(const csv_table *t, int lineno, char *s, char **out, int *n
     return SUNMC_OK;
 }
 
-static int read_all(const char *path, char **buf_out, char *err, size_t errlen)
+/* Check the len new bytes at p of the text read so far: no NUL, no line
+ * longer than max_line.  *line and *col are where p starts (from 1, 0). */
+static int check_chunk(const char *path, const char *p, size_t len, size_t max_line, int *line,
+                       size_t *col, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < len; i++) {
+        if (p[i] == '\0')
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: binary data (NUL byte) in a text file", path, *line);
+        if (p[i] == '\n') {
+            (*line)++;
+            *col = 0;
+        } else if (++*col > max_line) {
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: line longer than %zu bytes (the most a line may hold): "
+                              "not a CSV of readings?", path, *line, max_line);
+        }
+    }
+    return SUNMC_OK;
+}
+
+int csv_read_text(const char *path, size_t max_bytes, size_t max_line, char **buf_out,
+                  char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: cannot read: %s", path, strerror(errno));
-    size_t cap = 1 << 16, len = 0;
+    size_t cap = 1 << 16, len = 0, col = 0;
+    int line = 1, st = SUNMC_OK;
     char *buf = malloc(cap);
-    if (!buf) {
-        fclose(f);
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
-    }
-    for (;;) {
+    if (!buf)
+        st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+    while (st == SUNMC_OK) {
         if (len + 1 >= cap) {
             char *nb = realloc(buf, cap *= 2);
             if (!nb) {
-                free(buf);
-                fclose(f);
-                return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+                st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", path);
+                break;
             }
             buf = nb;
         }
-        size_t got = fread(buf + len, 1, cap - 1 - len, f);
+        size_t want = cap - 1 - len;
+        if (want > max_bytes + 1 - len)
+            want = max_bytes + 1 - len; /* one byte past the limit tells it is passed */
+        size_t got = fread(buf + len, 1, want, f);
+        st = check_chunk(path, buf + len, got, max_line, &line, &col, err, errlen);
         len += got;
+        if (st == SUNMC_OK && len > max_bytes)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: larger than %zu bytes (the most "
+                            "sunmc reads from one data file): split it", path,
+                            buf[len - 1] == '\n' ? line - 1 : line, max_bytes);
         if (got == 0)
             break;
     }
-    int bad = ferror(f);
+    if (st == SUNMC_OK && ferror(f))
+        st = sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
     fclose(f);
-    if (bad) {
+    if (st != SUNMC_OK) {
         free(buf);
-        return sunmc_fail(err, errlen, SUNMC_EIO, "%s: read error", path);
-    }
-    const char *nul = memchr(buf, '\0', len);
-    if (nul) {
-        int line = 1;
-        for (const char *q = buf; q < nul; q++)
-            line += *q == '\n';
-        free(buf);
-        return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "%s:%d: binary data (NUL byte) in a text file", path, line);
+        return st;
     }
     buf[len] = '\0';
     *buf_out = buf;
     return SUNMC_OK;
+}
+
+static int read_all(const char *path, char **buf_out, char *err, size_t errlen)
+{
+    return csv_read_text(path, CSV_MAX_BYTES, CSV_LINE_MAX, buf_out, err, errlen);
 }
 
 void csv_free(csv_table *t)
