@@ -4,6 +4,8 @@
  * `make figures`' Fig. 11 unit is of the paper's size. */
 #include "test_util.h"
 
+#include <unistd.h>
+
 #define B_UNIT "configs/ess_type_b.ini --unit 32 --set design.harmonics=given " \
                "--set validation.alpha_offset_deg=0 --set validation.beta_deg=-25,25 --quiet"
 
@@ -57,6 +59,29 @@ static void test_uninvertible_fit_is_flagged(void **state)
     assert_int_equal(test_sunmc_in(d, args, out, sizeof out), 0);
     assert_null(strstr(out, "   nan"));
     assert_non_null(strstr(out, "        -"));
+}
+
+/* Issue 22: `curve --only dh_px=-1000` drew a table of dashes with exit 0.
+ * A sensor that sees no grid point is refused (exit 2, nothing written)
+ * with the value where its readings stop; one just inside still draws. */
+static void test_only_impossible_sensor_refused(void **state)
+{
+    char out[16384];
+    const char *d = test_tmp("only_impossible");
+    assert_int_equal(test_sunmc_in(d, "curve configs/dss.ini --only dh_px=-1000 --out $D", out,
+                                   sizeof out), 2);
+    if (!strstr(out, "curve --only dh_px=-1000: an impossible sensor: it gives no reading at "
+                     "any of the 841 grid points") ||
+        !strstr(out, "it reads from dh_px = 0 to about -472.") ||
+        !strstr(out, "nothing from -47"))
+        fail_msg("%s", out);
+    assert_int_equal(access(d, F_OK), -1);
+    /* either side of the boundary */
+    assert_int_equal(test_sunmc_in(d, "curve configs/dss.ini --only dh_px=-473 --quiet", out,
+                                   sizeof out), 2);
+    assert_int_equal(test_sunmc_in(d, "curve configs/dss.ini --only dh_px=-472 --quiet", out,
+                                   sizeof out), 0);
+    assert_null(strstr(out, "impossible"));
 }
 
 /* The line of scripts/figures.sh that starts with key (e.g. "paper=\""),
@@ -125,6 +150,7 @@ int main(void)
         cmocka_unit_test(test_large_ripple_is_compensated),
         cmocka_unit_test(test_uninvertible_fit_is_flagged),
         cmocka_unit_test(test_fig11_unit_of_paper_size),
+        cmocka_unit_test(test_only_impossible_sensor_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

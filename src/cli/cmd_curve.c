@@ -78,6 +78,8 @@ static int apply_only(config_state *st, const char *spec, double *sign, char *er
     return s;
 }
 
+#define CURVE_BISECTIONS 12 /* the boundary of the readings to 2.4e-4 of the value */
+
 typedef struct {
     double sum2[3];       /* before, after, source */
     double maxabs[3];
@@ -265,6 +267,68 @@ static void curve_warn(const curve_run *r)
                 r->uncompensated, seen);
 }
 
+/* Grid points at which the unit of r gives a reading. */
+static long curve_seen(const curve_run *r)
+{
+    double bef[UNIT_MAX_ANGLES], aft[UNIT_MAX_ANGLES];
+    long seen = 0;
+    for (long j = 0; j < r->n1; j++)
+        for (long i = 0; i < r->n0; i++)
+            seen += r->fam->curve_eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft) == SUNMC_OK;
+    return seen;
+}
+
+/* Grid points seen by the sensor of `--only NAME=value` (-1: the config
+ * refuses that value). */
+static long seen_at(const cli_options *o, const char *name, double value)
+{
+    config_state t, nom;
+    char spec[2 * CONFIG_STR_MAX], err[SUNMC_ERRLEN];
+    double sign = 1.0;
+    snprintf(spec, sizeof spec, "%s=%.17g", name, value);
+    long seen = -1;
+    if (config_build_unchecked(&t, o->config, o->sets, o->n_sets, err, sizeof err) != SUNMC_OK)
+        return -1;
+    if (config_build_unchecked(&nom, o->config, o->sets, o->n_sets, err, sizeof err) == SUNMC_OK) {
+        curve_run r;
+        memset(&r, 0, sizeof r);
+        if (apply_only(&t, spec, &sign, err, sizeof err) == SUNMC_OK &&
+            set_nominal(&nom, err, sizeof err) == SUNMC_OK &&
+            config_check(&t, o->config, err, sizeof err) == SUNMC_OK &&
+            config_check(&nom, o->config, err, sizeof err) == SUNMC_OK &&
+            curve_setup(&r, &t.cfg, &nom.cfg, 0, sign, err, sizeof err) == SUNMC_OK)
+            seen = curve_seen(&r);
+        if (r.fam)
+            curve_free(&r);
+        config_state_free(&nom);
+    }
+    config_state_free(&t);
+    return seen;
+}
+
+/* --only NAME=VALUE gives a sensor that sees no grid point: refused, with
+ * the value (found by bisection between 0 and VALUE) where readings stop. */
+static int only_impossible(const cli_options *o, long points, char *err, size_t errlen)
+{
+    const char *eq = strchr(o->only, '=');
+    char name[CONFIG_STR_MAX];
+    snprintf(name, sizeof name, "%.*s", (int)(eq - o->only), o->only);
+    double bad = strtod(eq + 1, NULL), good = 0.0;
+    if (seen_at(o, name, good) <= 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "curve --only %s: the sensor gives no reading "
+                          "at any of the %ld grid points, even with %s = 0", o->only, points,
+                          name);
+    for (int it = 0; it < CURVE_BISECTIONS; it++) {
+        double mid = 0.5 * (good + bad);
+        *(seen_at(o, name, mid) > 0 ? &good : &bad) = mid;
+    }
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "curve --only %s: an impossible sensor: it gives no reading at any of the "
+                      "%ld grid points (every cell would be '-'); with every other tolerance 0 it "
+                      "reads from %s = 0 to about %.4g (bisection), and nothing from %.4g on",
+                      o->only, points, name, good, bad);
+}
+
 /* Walk the grid, writing curve.tsv and config.ini to o->out (all or
  * nothing; a failed write is returned in *wstatus, the table still
  * prints). */
@@ -345,6 +409,12 @@ int cmd_curve(int argc, char **argv)
     memset(&r, 0, sizeof r);
     if (status == SUNMC_OK)
         status = curve_setup(&r, &st.cfg, &nom.cfg, unit, sign, err, sizeof err);
+    if (status == SUNMC_OK && curve_seen(&r) == 0)
+        status = o.only ? only_impossible(&o, r.n0 * r.n1, err, sizeof err)
+                        : sunmc_fail(err, sizeof err, SUNMC_EINPUT,
+                                     "curve --unit %ld: the unit gives no reading at any of the "
+                                     "%ld grid points (every cell would be '-')",
+                                     unit, r.n0 * r.n1);
     if (status == SUNMC_OK)
         status = curve_output(&r, &o, &st, unit, &wstatus, err, sizeof err);
     if (status == SUNMC_OK) {
