@@ -169,6 +169,11 @@ static const companion companions[] = {
     {"tolerance.aperture_um", 1, {{"design.aperture_um=2100"}, 1}, "psd"},
     {"tolerance.dh_um", 1, {{"design.h_mm=6"}, 1}, "psd"},
     {"design.glass_thickness_mm", 1, {{"design.h_mm=11"}, 1}, "psd"},
+    /* a family without a thermal model validates at the lab's temperature only */
+    {"environment.calibration_temp_c", 0, {{"environment.operating_temp_c=-100"}, 1}, "psd"},
+    {"environment.calibration_temp_c", 1, {{"environment.operating_temp_c=150"}, 1}, "psd"},
+    {"environment.operating_temp_c", 0, {{"environment.calibration_temp_c=-100"}, 1}, "psd"},
+    {"environment.operating_temp_c", 1, {{"environment.calibration_temp_c=150"}, 1}, "psd"},
 };
 
 static const set_list *companion_of(const char *key, int side, const char *family)

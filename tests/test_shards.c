@@ -93,6 +93,42 @@ static void three_shards_merge_to_the_whole_run(void **state)
     assert_non_null(strstr(text, "seed = 1\n"));
 }
 
+/* With a list of operating temperatures (the per-temperature columns of
+ * units.bin, units.tsv and summary.tsv): two shards of two threads and one
+ * merge to the whole run, byte for byte; a merge with a run of other
+ * temperatures is refused. */
+#define THERMAL SMALL " --set environment.operating_temp_c=-30,0:60:30 --units 120"
+
+static void shards_with_temperatures_merge_to_the_whole_run(void **state)
+{
+    char out[65536];
+    run_ok(THERMAL " --threads 1 --out $D/%s", "tw");
+    run_ok(THERMAL " --shard 0/2 --threads 2 --out $D/%s", "t0");
+    run_ok(THERMAL " --shard 1/2 --threads 2 --out $D/%s", "t1");
+    assert_int_equal(sunmc("merge $D/tm $D/t1 $D/t0", out, sizeof out), 0);
+    assert_non_null(strstr(out, "yield over -30..60 C (at every temperature)"));
+    const char *files[] = {"summary.tsv", "units.tsv", "units.bin"};
+    char a[64], b[64];
+    for (int i = 0; i < 3; i++) {
+        snprintf(a, sizeof a, "tw/%s", files[i]);
+        snprintf(b, sizeof b, "tm/%s", files[i]);
+        if (!same_file(a, b))
+            fail_msg("%s of the merge with temperatures differs from the whole run's", files[i]);
+    }
+    assert_int_equal(sunmc("run configs/ess_type_a.ini --quiet --set campaign.alpha_step_deg=0.4 "
+                           "--set validation.alpha_step_deg=0.7 --set campaign.beta_deg=-15,15 "
+                           "--units 120 --shard 1/2 --out $D/t1lab",
+                           out, sizeof out),
+                     0);
+    assert_int_not_equal(sunmc("merge $D/tx $D/t0 $D/t1lab", out, sizeof out), 0);
+    assert_false(exists("tx"));
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "head -1 %s/tw/units.tsv | tr '\\t' '\\n' | grep -c '_at_-30C$'", dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_int_equal(atoi(out), 6); /* before and after, 3 bands */
+    (void)state;
+}
+
 /* A refused merge: exit 2, the message holds needle, OUT not written. */
 static void refused(const char *shards, const char *needle)
 {
@@ -215,6 +251,7 @@ int main(void)
         cmocka_unit_test(merges_that_are_not_one_run_are_refused),
         cmocka_unit_test(shard_option_errors),
         cmocka_unit_test(units_file_round_trip),
+        cmocka_unit_test(shards_with_temperatures_merge_to_the_whole_run),
     };
     return cmocka_run_group_tests_name("shards", tests, setup, NULL);
 }

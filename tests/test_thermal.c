@@ -18,7 +18,9 @@
 #include "ess_config.h"
 #include "ess_sensor.h"
 #include "ess_thermal.h"
+#include "report.h"
 #include "status.h"
+#include "thermal.h"
 #include "units.h"
 
 static sunmc_config ideal_ess(void)
@@ -44,11 +46,10 @@ static void test_ess_spacer_closed_form(void **state)
     for (int k = 0; k < 2; k++) {
         sunmc_config c = ideal_ess();
         c.mask_cte_ppm_k = 0; /* the spacer alone */
-        c.op_temp_c = temps[k];
         double H = ess_cfg(&c)->design.H_mm, dT = temps[k] - c.cal_temp_c;
         double dH_mm = H * c.spacer_cte_ppm_k * 1e-6 * dT;
         ess_deviations none = {0}, hot;
-        ess_deviations_at_temp(&c, &none, &hot);
+        ess_deviations_at_temp(&c, &none, temps[k], &hot);
         assert_near(hot.dH_um, dH_mm * 1e3, 1e-9);
         ess_sensor s0, sT;
         ess_sensor_init(&s0, &ess_cfg(&c)->design, &none);
@@ -73,13 +74,12 @@ static void test_ess_dial_cancels_spacer(void **state)
     (void)state;
     sunmc_config c = ideal_ess();
     c.mask_cte_ppm_k = c.spacer_cte_ppm_k;
-    c.op_temp_c = -30;
     ess_deviations d = {0}, t;
     d.dH_um = 1.5;
-    ess_deviations_at_temp(&c, &d, &t);
+    ess_deviations_at_temp(&c, &d, -30, &t);
     assert_near(t.dH_um, 1.5, 1e-9);
     c.mask_cte_ppm_k = 0;
-    ess_deviations_at_temp(&c, &d, &t);
+    ess_deviations_at_temp(&c, &d, -30, &t);
     double Hr = ess_cfg(&c)->design.H_mm + 1.5e-3;
     assert_near(t.dH_um, 1.5 + Hr * c.spacer_cte_ppm_k * 1e-6 * -50 * 1e3, 1e-9);
 }
@@ -89,16 +89,16 @@ static void test_zero_dt_unchanged(void **state)
 {
     (void)state;
     sunmc_config e = ideal_ess();
-    e.cal_temp_c = e.op_temp_c = -12.5;
+    e.cal_temp_c = -12.5;
     ess_deviations d = {0}, t;
     d.dH_um = 1.3;
     d.dd_um = -0.7;
-    ess_deviations_at_temp(&e, &d, &t);
+    ess_deviations_at_temp(&e, &d, -12.5, &t);
     assert_memory_equal(&d, &t, sizeof d);
     sunmc_config c = test_family_config("dss");
-    c.cal_temp_c = c.op_temp_c = 33;
+    c.cal_temp_c = 33;
     dss_deviations g = {0.17, -0.08, 0.06, 9.0, -7.0, 8.0, -6.0, 0.004, 7.0, -5.0}, h;
-    dss_deviations_at_temp(&c, &g, &h);
+    dss_deviations_at_temp(&c, &g, 33, &h);
     assert_memory_equal(&g, &h, sizeof g);
 }
 
@@ -109,7 +109,7 @@ static void test_dss_materials(void **state)
     sunmc_config c = test_family_config("dss");
     const dss_design *g = &dss_cfg(&c)->design;
     double p = g->pixel_um * 1e-3, dT = 40;
-    c.op_temp_c = c.cal_temp_c + dT;
+    double T = c.cal_temp_c + dT;
     dss_deviations d = {0}, t;
     d.dh_px = 0.2;
     d.dx_px = 0.5;
@@ -117,7 +117,7 @@ static void test_dss_materials(void **state)
     d.glass_index = 0.001;
     c.spacer_cte_ppm_k = 23.1;
     c.detector_cte_ppm_k = c.glass_cte_ppm_k = c.glass_dn_dt_ppm_k = 0;
-    dss_deviations_at_temp(&c, &d, &t);
+    dss_deviations_at_temp(&c, &d, T, &t);
     double h = g->h_mm + 0.2 * p;
     assert_near(t.dh_px, 0.2 + h * 23.1e-6 * dT / p, 1e-9);
     assert_near(t.glass_thickness_um, 3, 1e-9);
@@ -126,7 +126,7 @@ static void test_dss_materials(void **state)
     assert_true(t.dh_px - 0.2 > 0.4 && t.dh_px - 0.2 < 0.6);
     c.spacer_cte_ppm_k = 0;
     c.detector_cte_ppm_k = 2.6;
-    dss_deviations_at_temp(&c, &d, &t);
+    dss_deviations_at_temp(&c, &d, T, &t);
     double s = 1 + 2.6e-6 * dT;
     assert_near(t.dh_px, (h / s - g->h_mm) / p, 1e-9);
     assert_near(t.dx_px, 0.5 / s, 1e-12);
@@ -135,7 +135,7 @@ static void test_dss_materials(void **state)
     c.detector_cte_ppm_k = 0;
     c.glass_cte_ppm_k = 7.1;
     c.glass_dn_dt_ppm_k = 1.6;
-    dss_deviations_at_temp(&c, &d, &t);
+    dss_deviations_at_temp(&c, &d, T, &t);
     assert_near(t.glass_thickness_um,
                 ((g->glass_thickness_mm + 3e-3) * (1 + 7.1e-6 * dT) - g->glass_thickness_mm) * 1e3,
                 1e-9);
@@ -143,36 +143,161 @@ static void test_dss_materials(void **state)
     assert_near(t.dh_px, 0.2, 1e-9);
 }
 
-/* `run`'s mean after-RMS (the widest band's line of the second block) of
- * config cfg validated at temperature T. */
-static double mean_after(const char *cfg, const char *band, double T)
+/* The mean after-RMS of the row of the printed validation table (after
+ * "validation at the operating temperatures") whose temperature label is
+ * temp ("20" for the lab's, "-30", "worst"), angle and band; NaN when absent. */
+static double thermal_row_after(const char *out, const char *temp, const char *angle,
+                                const char *band)
 {
-    char cmd[512], out[32768];
-    snprintf(cmd, sizeof cmd,
-             "%s run %s --units 40 --quiet --set environment.operating_temp_c=%g",
-             test_sunmc(), cfg, T);
-    assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    const char *last = NULL;
-    for (const char *p = out; (p = strstr(p, band)) != NULL; p++)
-        last = p;
-    assert_non_null(last);
-    const char *bar = strchr(last, '|');
-    assert_non_null(bar);
-    double before, after;
-    assert_int_equal(sscanf(bar + 1, "%lf [%*[^]]] %lf", &before, &after), 2);
-    return after;
+    const char *p = strstr(out, "validation at the operating temperatures");
+    for (p = p ? strchr(p, '\n') : NULL; p && *p; p = strchr(p + 1, '\n')) {
+        char t[32], a[32], b[32], lab[32];
+        double before, after;
+        const char *line = p + 1;
+        if (sscanf(line, "%31s %31s %31s", t, a, b) != 3)
+            continue;
+        const char *rest = line;
+        if (strcmp(a, "(lab)") == 0) {
+            if (sscanf(line, "%31s %31s %31s %31s", t, lab, a, b) != 4)
+                continue;
+        }
+        if (strcmp(t, temp) || strcmp(a, angle) || strcmp(b, band))
+            continue;
+        rest = strchr(line, '|');
+        if (rest && sscanf(rest, "| %lf [%*[^]]] | %lf", &before, &after) == 2)
+            return after;
+    }
+    return NAN;
 }
 
-/* The whole run: validation away from the lab's temperature raises the
- * mean after-RMS of both families; at the lab's it is the lab's. */
+/* Output of `sunmc run CFG --units N --quiet EXTRA`. */
+static void run_out(const char *cfg, long units, const char *extra, char *out, size_t len)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "%s run %s --units %ld --quiet %s", test_sunmc(), cfg, units, extra);
+    assert_int_equal(test_run(cmd, out, len), 0);
+}
+
+/* One run over -30, 0, 30, 60: the worst after-RMS over the range is above
+ * the lab's (both families), each temperature's row is what a run at that
+ * temperature alone gives, and the lab's table is today's, to the byte. */
 static void test_run_in_orbit(void **state)
 {
     (void)state;
-    double lab = mean_after("configs/ess_type_a.ini", "alpha  0:62 ", 20);
-    assert_true(mean_after("configs/ess_type_a.ini", "alpha  0:62 ", 60) > 1.5 * lab);
-    assert_true(mean_after("configs/ess_type_a.ini", "alpha  0:62 ", -30) > 1.5 * lab);
-    double dlab = mean_after("configs/dss.ini", "total  0:60 ", 20);
-    assert_true(mean_after("configs/dss.ini", "total  0:60 ", 30) > 2 * dlab);
+    static char list[65536], one[65536], none[65536];
+    run_out("configs/ess_type_a.ini", 40, "--set environment.operating_temp_c=-30,0,30,60", list,
+            sizeof list);
+    double lab = thermal_row_after(list, "20", "alpha", "0:62");
+    double worst = thermal_row_after(list, "worst", "alpha", "0:62");
+    assert_true(lab > 0.005 && lab < 0.01);
+    assert_true(worst > 1.5 * lab);
+    assert_true(thermal_row_after(list, "-30", "alpha", "0:62") > 1.5 * lab);
+    assert_true(thermal_row_after(list, "60", "alpha", "0:62") > 1.5 * lab);
+    assert_true(worst >= thermal_row_after(list, "0", "alpha", "0:62"));
+    assert_non_null(strstr(list, "yield over -30..60 C (at every temperature), alpha 0:62: "));
+    run_out("configs/ess_type_a.ini", 40, "--set environment.operating_temp_c=60", one,
+            sizeof one);
+    assert_true(thermal_row_after(one, "60", "alpha", "0:30") ==
+                thermal_row_after(list, "60", "alpha", "0:30"));
+    /* the lab's table: the same bytes as without the keys */
+    run_out("configs/ess_type_a.ini", 40, "", none, sizeof none);
+    assert_null(strstr(none, "validation at the operating"));
+    const char *cut = strstr(list, "\nvalidation at the operating");
+    assert_non_null(cut);
+    assert_int_equal(strlen(none), (size_t)(cut - list));
+    assert_memory_equal(none, list, strlen(none));
+    /* a range item gives the same run */
+    run_out("configs/ess_type_a.ini", 40, "--set environment.operating_temp_c=-30:60:30", one,
+            sizeof one);
+    assert_string_equal(one, list);
+    run_out("configs/dss.ini", 20, "--set environment.operating_temp_c=30", list, sizeof list);
+    double dlab = thermal_row_after(list, "20", "total", "0:60");
+    assert_true(dlab > 0);
+    assert_true(thermal_row_after(list, "30", "total", "0:60") > 2 * dlab);
+}
+
+/* The rows over the range from made-up units, against sums written here:
+ * a unit's worst is its largest RMS over the temperatures, it passes only
+ * where it passes at each, and a NaN at one temperature fails it. */
+static void test_worst_over_range(void **state)
+{
+    (void)state;
+    sunmc_config c = test_family_config("ess");
+    c.op_temps_c = (double_list){2, {-30, 60}};
+    assert_int_equal(thermal_n_temps(&c), 2);
+    const sensor_family *fam = c.family;
+    int nb = c.bands_deg.n, nr = report_n_rows(&c, fam);
+    assert_int_equal(nr, 4 * nb);
+    double spec = c.spec_arcsec / fam->arcsec_per_rms_unit;
+    enum { NU = 5 };
+    /* after at -30 and 60 per unit, in units of the spec */
+    const double at[NU][2] = {{0.5, 0.9}, {1.2, 0.3}, {0.8, 0.8}, {0.2, NAN}, {0.95, 1.01}};
+    static unit_result res[NU];
+    memset(res, 0, sizeof res);
+    for (int u = 0; u < NU; u++) {
+        res[u].unit = u;
+        for (int b = 0; b < nb; b++) {
+            res[u].rms_before[0][b] = res[u].rms_after[0][b] = 0.1 * spec;
+            res[u].rms_after_sys[0][b] = 0.1 * spec;
+            for (int t = 0; t < 2; t++) {
+                res[u].rms_before_t[t][0][b] = 2 * spec;
+                res[u].rms_after_t[t][0][b] = at[u][t] * spec;
+            }
+        }
+    }
+    summary_row rows[4 * CONFIG_BANDS_MAX];
+    assert_int_equal(report_summarize(&c, fam, res, NU, rows), SUNMC_OK);
+    const summary_row *w = &rows[report_primary_row(&c, fam, 0, 0)];
+    assert_int_equal(w->condition, REPORT_WORST);
+    assert_true(isnan(w->temp_c));
+    assert_near(w->yield, 2.0 / NU, 1e-15); /* units 0 and 2 */
+    assert_int_equal(w->stat_units, 4);      /* unit 3 has no value at 60 */
+    assert_near(w->rms_after_mean, (0.9 + 1.2 + 0.8 + 1.01) / 4 * spec, 1e-12 * spec);
+    assert_near(w->rms_after_max, 1.2 * spec, 1e-15);
+    const summary_row *hot = &rows[(2 * 1 + 0) * nb]; /* set 2: 60 C, band 0 */
+    assert_int_equal(hot->condition, REPORT_OPERATING);
+    assert_near(hot->temp_c, 60, 0);
+    assert_near(hot->yield, 3.0 / NU, 1e-15); /* 0, 1, 2 */
+    assert_near(rows[0].yield, 1.0, 0);       /* the lab's */
+    assert_int_equal(rows[0].condition, REPORT_LAB);
+    assert_near(unit_primary_after(&c, &res[1], 0, 0), 1.2 * spec, 1e-15);
+    assert_true(isnan(unit_primary_after(&c, &res[3], 0, 0)));
+    /* the lab's temperature alone: no operating temperature, the lab's rows */
+    c.op_temps_c = (double_list){1, {c.cal_temp_c}};
+    assert_int_equal(thermal_n_temps(&c), 0);
+    assert_int_equal(report_n_rows(&c, fam), nb);
+    assert_int_equal(report_primary_row(&c, fam, 0, 2), 2);
+    assert_near(unit_primary_after(&c, &res[1], 0, 0), 0.1 * spec, 0);
+}
+
+/* Refused temperature lists: exit 2 with the key and the reason. */
+static void test_temperature_list_errors(void **state)
+{
+    (void)state;
+    const struct {
+        const char *cfg, *value, *needle;
+    } bad[] = {
+        {"configs/ess_type_a.ini", "0:60:0", "STEP must be non-zero"},
+        {"configs/ess_type_a.ini", "60:0:10", "STEP must be non-zero"},
+        {"configs/ess_type_a.ini", "0:60", "START:STOP:STEP"},
+        {"configs/ess_type_a.ini", "0:a:10", "three numbers"},
+        {"configs/ess_type_a.ini", "-40:120:10", "at most 16"},
+        {"configs/ess_type_a.ini", "-30,200", "out of range"},
+        {"configs/dss.ini", "-30:160:10", "out of range"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char cmd[512], out[4096];
+        snprintf(cmd, sizeof cmd, "%s run %s --units 2 --quiet --set environment.operating_temp_c=%s",
+                 test_sunmc(), bad[i].cfg, bad[i].value);
+        assert_int_equal(test_run(cmd, out, sizeof out), 2);
+        if (!strstr(out, bad[i].needle) || !strstr(out, "operating_temp_c"))
+            fail_msg("%s: expected '%s' in: %s", bad[i].value, bad[i].needle, out);
+    }
+    /* 16 temperatures are allowed */
+    char cmd[512], out[4096];
+    snprintf(cmd, sizeof cmd, "%s config configs/ess_type_a.ini --set environment.operating_temp_c=-40:110:10",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
 }
 
 int main(void)
@@ -183,6 +308,8 @@ int main(void)
         cmocka_unit_test(test_zero_dt_unchanged),
         cmocka_unit_test(test_dss_materials),
         cmocka_unit_test(test_run_in_orbit),
+        cmocka_unit_test(test_worst_over_range),
+        cmocka_unit_test(test_temperature_list_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,6 +25,7 @@
 #define CONFIG_STR_MAX 64      /* longest string value */
 #define CONFIG_ORIGIN_MAX 300  /* "file:line" or "--set" or "default" */
 #define CONFIG_PICK_MAX 8      /* most streams one pick-freeze source swaps */
+#define CONFIG_TEMPS_MAX 16    /* most operating temperatures (environment.operating_temp_c) */
 
 /* Distribution of a manufacturing or assembly tolerance.
  * fixed:       the deviation is `value` for every unit;
@@ -104,7 +105,7 @@ typedef struct {
 
     /* [environment]: temperatures and materials (docs/temperature.md) */
     double cal_temp_c;                  /* the lab's temperature: campaign and fit */
-    double op_temp_c;                   /* the validation's temperature (orbit) */
+    double_list op_temps_c;             /* the validations' temperatures (orbit); thermal.h */
     double spacer_cte_ppm_k;            /* spacer: ESS slit-to-dial H, DSS pinhole height h */
     double mask_cte_ppm_k;              /* ESS dial (code pitch) */
     double detector_cte_ppm_k;          /* DSS pixel pitch */

@@ -19,6 +19,7 @@
 #define UNIT_MAX_DEV 32
 #define UNIT_MAX_PAR 48
 #define UNIT_MAX_ANGLES 3
+#define UNIT_MAX_TEMPS CONFIG_TEMPS_MAX /* operating temperatures (thermal.h) */
 
 /* Fit status of a unit, as written in units.tsv. */
 enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
@@ -41,6 +42,11 @@ typedef struct {
     /* The systematic part of rms_after: the same validation points read
      * without reading noise (same unit, same fitted calibration). */
     double rms_after_sys[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    /* The same unit (same calibration, made at environment.calibration_temp_c)
+     * validated at operating temperature t (thermal.h; only when
+     * thermal_n_temps(c) > 0, t < thermal_n_temps(c)): RMS before and after. */
+    double rms_before_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    double rms_after_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     double fit_rms;                 /* fit residual RMS, rms unit */
     int fit_status;                 /* enum unit_fit_status */
     int fit_gsl_status;             /* GSL's status code of the fit */
@@ -104,6 +110,10 @@ typedef struct sensor_family {
      * refuse). */
     const deviation_spec *deviations;
     int n_deviations;
+    /* 1 when unit_run validates at environment.operating_temp_c (filling
+     * rms_before_t / rms_after_t); 0: a config whose operating temperatures
+     * are other than the lab's is refused for this family. */
+    int thermal;
     const family_noise *noise;
 
     /* Column names of unit_result.dev and .par for this config. */

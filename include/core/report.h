@@ -13,7 +13,14 @@
 
 #include <stdio.h>
 
+/* Which validation a row summarises (thermal.h): the lab's temperature,
+ * one operating temperature, or the worst over the operating temperatures
+ * (a unit's worst RMS; it passes only when it passes at every one). */
+enum report_condition { REPORT_LAB = 0, REPORT_OPERATING = 1, REPORT_WORST = 2 };
+
 typedef struct {
+    int condition;          /* enum report_condition */
+    double temp_c;          /* its temperature (C); NaN for the worst over the range */
     int angle;              /* index into the family's angle names */
     int band;               /* index into c->bands_deg */
     long units;             /* units in the run */
@@ -58,8 +65,17 @@ int report_format_number(char *buf, size_t len, double v, int d);
 /* The yield interval's method of c (report.yield_interval), in words. */
 const char *report_yield_interval_name(const sunmc_config *c);
 
-/* Number of rows = angles x bands. */
+/* Number of rows = angles x bands, times (operating temperatures + 2) when
+ * the config has operating temperatures (thermal.h): the lab's rows first
+ * (angle-major, as without them), then each temperature's, then the worst
+ * over them. */
 int report_n_rows(const sunmc_config *c, const sensor_family *fam);
+/* The lab's rows: angles x bands. */
+int report_n_lab_rows(const sunmc_config *c, const sensor_family *fam);
+/* Index of the row that budget, sensitivity and sweep judge by for angle
+ * and band: the worst over the operating temperatures when there are any,
+ * else the lab's. */
+int report_primary_row(const sunmc_config *c, const sensor_family *fam, int angle, int band);
 
 /* The statistics of a stream of units, added in unit order a block at a
  * time: running moments for the means, counts, max/min, and per angle and
@@ -108,6 +124,10 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
  * prefixes extra columns: lead_names in the header, lead_values (as text,
  * without tabs) on every row (for sweeps). */
 void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names);
+/* The same, with the columns condition (lab, operating, worst) and temp_c
+ * after the others when c has operating temperatures (thermal.h). */
+void report_write_summary_header_of(FILE *f, const sunmc_config *c, int n_lead,
+                                    const char *const *lead_names);
 void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
                                const summary_row *rows, int n_lead, const char *const *lead_values);
 

@@ -8,11 +8,13 @@
  *   header, 8 words of 8 bytes: the magic "SUNMCUB1", the byte-order check
  *     0x0102030405060708, words per record, then nd, np, na, nb (columns
  *     of the family and config: deviations, parameters, angles, bands) and
- *     a zero;
+ *     nt, the operating temperatures (thermal.h; 0 without them);
  *   one record per unit, in unit order, each word 8 bytes: unit,
  *     fit_status, fit_gsl_status, fit_iterations, alias_weak, gross_cal,
  *     gross_val as int64, then as IEEE doubles dev[nd], par[np], fit_rms,
- *     rms_before[na][nb], rms_after[na][nb], rms_after_sys[na][nb].
+ *     rms_before[na][nb], rms_after[na][nb], rms_after_sys[na][nb], then
+ *     for each operating temperature t < nt rms_before_t[t][na][nb] and
+ *     rms_after_t[t][na][nb].
  * The profile times are not stored.
  *
  * manifest.ini (INI, section [manifest]): format, sunmc_version, family,
@@ -36,11 +38,13 @@
 #define MANIFEST_SUM_MAX 32
 #define UNITFILE_HEADER_WORDS 8
 #define UNITFILE_INT_WORDS 7
-#define UNITFILE_MAX_WORDS \
-    (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 + 3 * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
+#define UNITFILE_MAX_WORDS                                                                       \
+    (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 +                                       \
+     (3 + 2 * UNIT_MAX_TEMPS) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
 
 typedef struct {
     int nd, np, na, nb;
+    int nt;     /* operating temperatures (thermal.h); 0: none */
     long words; /* per record */
 } unitfile_layout;
 

@@ -18,6 +18,7 @@
 
 /* Deviations d as they are at the operating temperature; out = d (the same
  * bits) when the temperatures are equal. */
-void dss_deviations_at_temp(const sunmc_config *c, const dss_deviations *d, dss_deviations *out);
+void dss_deviations_at_temp(const sunmc_config *c, const dss_deviations *d, double temp_c,
+                            dss_deviations *out);
 
 #endif

@@ -24,6 +24,7 @@
 /* Unit deviations d (at the lab's temperature) as they are at the
  * operating temperature: out = d with dH_um moved as above; out = d (the
  * same bits) when the two temperatures are equal. */
-void ess_deviations_at_temp(const sunmc_config *c, const ess_deviations *d, ess_deviations *out);
+void ess_deviations_at_temp(const sunmc_config *c, const ess_deviations *d, double temp_c,
+                            ess_deviations *out);
 
 #endif

@@ -183,6 +183,25 @@ static int parse_axes(const cli_options *o, const config_state *base, sweep_axis
     return 0;
 }
 
+/* One point's Monte Carlo into its lab-shaped rows: the lab's, or with
+ * operating temperatures the worst over them (report_primary_row). */
+static int point_rows(const sunmc_config *c, long first, long end, int threads, cli_meter *m,
+                      summary_row *rows)
+{
+    const sensor_family *fam = c->family;
+    int n = report_n_rows(c, fam), nb = c->bands_deg.n;
+    summary_row *all = calloc((size_t)n, sizeof *all);
+    if (!all) {
+        fprintf(stderr, "sunmc sweep: out of memory\n");
+        return 1;
+    }
+    int rc = cli_monte_carlo(c, first, end, threads, m, all);
+    for (int i = 0; rc == 0 && i < report_n_lab_rows(c, fam); i++)
+        rows[i] = all[report_primary_row(c, fam, i / nb, i % nb)];
+    free(all);
+    return rc;
+}
+
 /* Run every point's Monte Carlo into its rows (n_rows per point); the
  * command's exit status. */
 static int run_points(const cli_options *o, const sweep_axis *axes, int n_axes, long n_points,
@@ -207,7 +226,7 @@ static int run_points(const cli_options *o, const sweep_axis *axes, int n_axes, 
             k += snprintf(stage + k, sizeof stage - (size_t)k, " %s=%s", axes[i].dotted, v[i]);
         cli_meter_stage(&m, stage, base);
         base += end - first;
-        rc = cli_monte_carlo(c, first, end, cli_threads(o, c), &m, &rows[p * n_rows]);
+        rc = point_rows(c, first, end, cli_threads(o, c), &m, &rows[p * n_rows]);
         config_state_free(&st);
     }
     cli_meter_end(&m);
@@ -275,7 +294,7 @@ int cmd_sweep(int argc, char **argv)
     }
 
     const sensor_family *fam = base.cfg.family;
-    int n_rows = report_n_rows(&base.cfg, fam);
+    int n_rows = report_n_lab_rows(&base.cfg, fam);
     summary_row *rows = calloc((size_t)(n_points * n_rows), sizeof *rows);
     if (!rows) {
         fprintf(stderr, "sunmc sweep: out of memory for %ld points\n", n_points);

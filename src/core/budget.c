@@ -1,6 +1,7 @@
 /* budget.c - sources, the all / floor / alone runs, shares with intervals,
  * ranks (the inverse limits are in budget_limit.c). */
 #include "budget.h"
+#include "thermal.h"
 #include "memory.h"
 #include "montecarlo.h"
 #include "report.h"
@@ -112,7 +113,7 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
     if (st == SUNMC_OK && (st = report_summarize(c, fam, res, units, rows)) != SUNMC_OK)
         sunmc_fail(err, errlen, st, "out of memory summarising %ld units", units);
     if (st == SUNMC_OK) {
-        const summary_row *r = &rows[angle * c->bands_deg.n + band];
+        const summary_row *r = &rows[report_primary_row(c, fam, angle, band)];
         memset(out, 0, sizeof *out);
         out->before_mean = r->rms_before_mean;
         out->after_mean = r->rms_after_mean;
@@ -120,7 +121,8 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
         out->yield_ci = r->yield_ci;
         out->fit_failures = r->fit_failures;
         for (long u = 0; u < units && (sq_before || sq_after); u++) {
-            double bef = res[u].rms_before[angle][band], aft = res[u].rms_after[angle][band];
+            double bef = unit_primary_before(c, &res[u], angle, band);
+            double aft = unit_primary_after(c, &res[u], angle, band);
             int ok = res[u].fit_status == UNIT_FIT_OK && isfinite(bef) && isfinite(aft);
             if (sq_before)
                 sq_before[u] = ok ? bef * bef : NAN;

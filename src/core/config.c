@@ -1,6 +1,7 @@
 /* config.c - building a config: finding keys across the shared and family
  * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
+#include "thermal.h"
 #include "ini.h"
 #include "memory.h"
 #include "registry.h"
@@ -527,7 +528,9 @@ int config_validate(const sunmc_config *c, char *err, size_t errlen)
 {
     if (!c->family)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensor.family is not set");
-    int s = c->family->validate ? c->family->validate(c, err, errlen) : SUNMC_OK;
+    int s = thermal_check(c, err, errlen);
+    if (s == SUNMC_OK && c->family->validate)
+        s = c->family->validate(c, err, errlen);
     return s == SUNMC_OK ? memory_check_workspace(c, err, errlen) : s;
 }
 

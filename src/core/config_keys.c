@@ -103,10 +103,13 @@ const config_key config_keys[] = {
     /* [environment] */
     {"environment", "calibration_temp_c", KEY_DOUBLE, "C", "20", -100, 150, NULL,
      OFF(cal_temp_c), "the lab's temperature: the campaign is simulated and fitted at it"},
-    {"environment", "operating_temp_c", KEY_DOUBLE, "C", "20", -100, 150, NULL, OFF(op_temp_c),
-     "the temperature of the validation (in orbit, e.g. -30 or 60); equal to "
-     "calibration_temp_c: the lab's validation, as without these keys; the materials below "
-     "move the unit by (operating - calibration) (docs/temperature.md)"},
+    {"environment", "operating_temp_c", KEY_LIST, "C", "20", -100, 150, NULL, OFF(op_temps_c),
+     "the temperatures of the validation (in orbit): a list, items START:STOP:STEP included "
+     "(e.g. -30, 0, 30, 60 or -30:60:30); each unit is calibrated once at calibration_temp_c "
+     "and validated at the lab's temperature and at each of these, the materials below moving "
+     "it by (operating - calibration); the yield over the range counts a unit passing at every "
+     "one; just calibration_temp_c: the lab's validation alone, as without these keys "
+     "(docs/temperature.md)"},
     {"environment", "spacer_cte_ppm_k", KEY_DOUBLE, "ppm/K", "23.1", -50, 100, NULL,
      OFF(spacer_cte_ppm_k),
      "expansion of the spacer that sets the ESS slit-to-dial distance H and the DSS pinhole "

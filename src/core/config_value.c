@@ -246,7 +246,61 @@ static int nonempty_item(const config_key *k, const char *t, int item, const cha
                       "at an end)", where, k->section, k->name, item);
 }
 
-/* A comma-separated list of numbers, each within the key's range. */
+/* Guard against the rounding of (stop - start) / step: 0:60:30 has 3 values. */
+#define LIST_RANGE_EPS 1e-9
+
+/* Append d to l, within the key's range and the list's size. */
+static int list_push(const config_key *k, double_list *l, double d, const char *t,
+                     const char *where, char *err, size_t errlen)
+{
+    int st = check_range(k, d, where, t, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (l->n >= CONFIG_LIST_MAX)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values", where,
+                          k->section, k->name, CONFIG_LIST_MAX);
+    l->v[l->n++] = d;
+    return SUNMC_OK;
+}
+
+/* An item START:STOP:STEP: START, START + STEP, ... up to STOP (the
+ * values cut at 15 significant digits, as sweep's ranges). */
+static int list_range(const config_key *k, double_list *l, char *t, const char *where, char *err,
+                      size_t errlen)
+{
+    char *c1 = strchr(t, ':'), *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    double start, stop, step;
+    if (!c2 || strchr(c2 + 1, ':'))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s: '%s' is not a number or a range START:STOP:STEP", where,
+                          k->section, k->name, t);
+    *c1 = *c2 = '\0';
+    if (parse_double(ini_trim(t), &start) != 0 || parse_double(ini_trim(c1 + 1), &stop) != 0 ||
+        parse_double(ini_trim(c2 + 1), &step) != 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s: a range is START:STOP:STEP, three numbers", where,
+                          k->section, k->name);
+    if (step == 0 || (stop - start) * step < 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s: range %g:%g:%g: STEP must be non-zero and lead from START "
+                          "to STOP",
+                          where, k->section, k->name, start, stop, step);
+    double count = floor((stop - start) / step + LIST_RANGE_EPS) + 1;
+    if (count > CONFIG_LIST_MAX)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values", where,
+                          k->section, k->name, CONFIG_LIST_MAX);
+    for (int i = 0; i < (int)count; i++) {
+        char v[32];
+        snprintf(v, sizeof v, "%.15g", start + (double)i * step);
+        int st = list_push(k, l, strtod(v, NULL), v, where, err, errlen);
+        if (st != SUNMC_OK)
+            return st;
+    }
+    return SUNMC_OK;
+}
+
+/* A comma-separated list of numbers and ranges START:STOP:STEP, each value
+ * within the key's range. */
 static int set_list(const config_key *k, void *dst, char *v, const char *where, char *err,
                     size_t errlen)
 {
@@ -259,16 +313,16 @@ static int set_list(const config_key *k, void *dst, char *v, const char *where, 
         char *t = ini_trim(tok);
         if ((st = nonempty_item(k, t, ++item, where, err, errlen)) != SUNMC_OK)
             return st;
-        if (tmp.n >= CONFIG_LIST_MAX)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s has more than %d values",
-                              where, k->section, k->name, CONFIG_LIST_MAX);
-        if (parse_double(t, &d) != 0)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "%s: %s.%s: '%s' is not a number (a comma-separated list)", where,
-                              k->section, k->name, t);
-        if ((st = check_range(k, d, where, t, err, errlen)) != SUNMC_OK)
+        if (strchr(t, ':'))
+            st = list_range(k, &tmp, t, where, err, errlen);
+        else if (parse_double(t, &d) != 0)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT,
+                            "%s: %s.%s: '%s' is not a number (a comma-separated list)", where,
+                            k->section, k->name, t);
+        else
+            st = list_push(k, &tmp, d, t, where, err, errlen);
+        if (st != SUNMC_OK)
             return st;
-        tmp.v[tmp.n++] = d;
     }
     if (tmp.n == 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s is an empty list", where,

@@ -163,7 +163,7 @@ static int run_more(design_result *d, design_candidate *k, report_acc *acc, long
     k->units += n;
     d->units_run += n;
     report_acc_rows(acc, rows);
-    const summary_row *r = &rows[d->angle * k->cfg.bands_deg.n + d->band];
+    const summary_row *r = &rows[report_primary_row(&k->cfg, k->cfg.family, d->angle, d->band)];
     k->yield = r->yield;
     k->yield_ci = r->yield_ci;
     k->after_mean = r->rms_after_mean;

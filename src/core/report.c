@@ -1,6 +1,7 @@
 /* report.c - statistics over units and the TSV / table writers. */
 #include "report.h"
 #include "campaign.h"
+#include "thermal.h"
 #include "status.h"
 
 #include <gsl/gsl_sort.h>
@@ -25,9 +26,29 @@ int report_percent_decimals(double frac, int min_decimals)
     return d;
 }
 
+/* Sets of rows: the lab's; with operating temperatures, one per
+ * temperature and the worst over them. */
+static int n_sets(const sunmc_config *c)
+{
+    int nt = thermal_n_temps(c);
+    return nt > 0 ? nt + 2 : 1;
+}
+
 int report_n_rows(const sunmc_config *c, const sensor_family *fam)
 {
+    return fam->n_angles(c) * c->bands_deg.n * n_sets(c);
+}
+
+int report_n_lab_rows(const sunmc_config *c, const sensor_family *fam)
+{
     return fam->n_angles(c) * c->bands_deg.n;
+}
+
+int report_primary_row(const sunmc_config *c, const sensor_family *fam, int angle, int band)
+{
+    int nt = thermal_n_temps(c);
+    int set = nt > 0 ? nt + 1 : 0;
+    return (set * fam->n_angles(c) + angle) * c->bands_deg.n + band;
 }
 
 void report_band_label(const sunmc_config *c, int i, char *buf, size_t len)
@@ -51,11 +72,12 @@ typedef struct {
 struct report_acc {
     const sunmc_config *c;
     const sensor_family *fam;
-    int na, nb;
+    int na, nb, nt;      /* angles, bands, operating temperatures (thermal.h) */
     double spec;         /* report.spec_arcsec in the rms unit */
     long n, gross, alias, failed;
     campaign_info campaign;
-    band_cell cell[UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
+    /* set-major: the lab's, each operating temperature, the worst over them */
+    band_cell cell[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
 };
 
 report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
@@ -67,13 +89,14 @@ report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
     a->fam = fam;
     a->na = fam->n_angles(c);
     a->nb = c->bands_deg.n;
+    a->nt = thermal_n_temps(c);
     a->spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
     char err[SUNMC_ERRLEN];
     if (campaign_describe(c, &a->campaign, err, sizeof err) != SUNMC_OK) {
         free(a);
         return NULL;
     }
-    for (int i = 0; i < a->na * a->nb; i++) {
+    for (int i = 0; i < a->na * a->nb * n_sets(c); i++) {
         a->cell[i].imp_max = -INFINITY;
         a->cell[i].imp_min = INFINITY;
     }
@@ -84,7 +107,7 @@ void report_acc_free(report_acc *a)
 {
     if (!a)
         return;
-    for (int i = 0; i < a->na * a->nb; i++)
+    for (int i = 0; i < a->na * a->nb * n_sets(a->c); i++)
         free(a->cell[i].after_v);
     free(a);
 }
@@ -94,10 +117,11 @@ long report_acc_units(const report_acc *a)
     return a->n;
 }
 
-static int cell_add(band_cell *s, const unit_result *ur, int a, int b, double spec)
+/* One unit's RMS before, after and its systematic part (NaN: none) in a
+ * cell; a unit without a fit only counts in the yield's denominator. */
+static int cell_add(band_cell *s, int fit_ok, double bef, double aft, double sys, double spec)
 {
-    double bef = ur->rms_before[a][b], aft = ur->rms_after[a][b];
-    if (ur->fit_status != UNIT_FIT_OK)
+    if (!fit_ok)
         return SUNMC_OK;
     if (!isfinite(bef) || !isfinite(aft)) {
         s->no_reading++;
@@ -119,9 +143,22 @@ static int cell_add(band_cell *s, const unit_result *ur, int a, int b, double sp
     s->imp_min = fmin(s->imp_min, bef / aft);
     s->pass += aft <= spec;
     s->worse += aft > bef;
-    if (isfinite(ur->rms_after_sys[a][b]))
-        stats_moments_add(&s->sys, ur->rms_after_sys[a][b]);
+    if (isfinite(sys))
+        stats_moments_add(&s->sys, sys);
     return SUNMC_OK;
+}
+
+/* A unit's cells at the operating temperatures and the worst over them. */
+static int thermal_add(report_acc *acc, const unit_result *ur, int a, int b)
+{
+    int ok = ur->fit_status == UNIT_FIT_OK, nab = acc->na * acc->nb, i = a * acc->nb + b;
+    for (int t = 0; t < acc->nt; t++)
+        if (cell_add(&acc->cell[(1 + t) * nab + i], ok, ur->rms_before_t[t][a][b],
+                     ur->rms_after_t[t][a][b], NAN, acc->spec) != SUNMC_OK)
+            return SUNMC_ENOMEM;
+    return cell_add(&acc->cell[(1 + acc->nt) * nab + i], ok,
+                    thermal_worst(ur->rms_before_t, acc->nt, a, b),
+                    thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN, acc->spec);
 }
 
 int report_acc_add(report_acc *acc, const unit_result *results, long n)
@@ -134,7 +171,10 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
         acc->failed += ur->fit_status != UNIT_FIT_OK;
         for (int a = 0; a < acc->na; a++)
             for (int b = 0; b < acc->nb; b++)
-                if (cell_add(&acc->cell[a * acc->nb + b], ur, a, b, acc->spec) != SUNMC_OK)
+                if (cell_add(&acc->cell[a * acc->nb + b], ur->fit_status == UNIT_FIT_OK,
+                             ur->rms_before[a][b], ur->rms_after[a][b], ur->rms_after_sys[a][b],
+                             acc->spec) != SUNMC_OK ||
+                    (acc->nt > 0 && thermal_add(acc, ur, a, b) != SUNMC_OK))
                     return SUNMC_ENOMEM;
     }
     return SUNMC_OK;
@@ -211,25 +251,30 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int q
 
 void report_acc_rows(report_acc *acc, summary_row *rows)
 {
-    for (int a = 0; a < acc->na; a++)
-        for (int b = 0; b < acc->nb; b++) {
-            summary_row *r = &rows[a * acc->nb + b];
-            band_cell *s = &acc->cell[a * acc->nb + b];
-            memset(r, 0, sizeof *r);
-            r->angle = a;
-            r->band = b;
-            r->units = acc->n;
-            r->fit_failures = acc->failed;
-            r->gross_errors = acc->gross;
-            r->alias_units = acc->alias;
-            r->confidence = acc->c->confidence;
-            r->campaign_points = acc->campaign.points;
-            r->campaign_hours = acc->campaign.known ? acc->campaign.hours : NAN;
-            r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
-            r->stat_units = s->after.n;
-            r->no_reading_units = s->no_reading;
-            cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval, 1, r);
-        }
+    int nab = acc->na * acc->nb;
+    for (int i = 0; i < nab * n_sets(acc->c); i++) {
+        int set = i / nab, a = i % nab / acc->nb, b = i % acc->nb;
+        summary_row *r = &rows[i];
+        band_cell *s = &acc->cell[i];
+        memset(r, 0, sizeof *r);
+        r->angle = a;
+        r->band = b;
+        r->condition = set == 0 ? REPORT_LAB
+                     : set <= acc->nt ? REPORT_OPERATING : REPORT_WORST;
+        r->temp_c = set == 0 ? acc->c->cal_temp_c
+                  : set <= acc->nt ? thermal_temp_c(acc->c, set - 1) : NAN;
+        r->units = acc->n;
+        r->fit_failures = acc->failed;
+        r->gross_errors = acc->gross;
+        r->alias_units = acc->alias;
+        r->confidence = acc->c->confidence;
+        r->campaign_points = acc->campaign.points;
+        r->campaign_hours = acc->campaign.known ? acc->campaign.hours : NAN;
+        r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
+        r->stat_units = s->after.n;
+        r->no_reading_units = s->no_reading;
+        cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval, 1, r);
+    }
 }
 
 /* The estimates with an interval, by name, and where their interval is. */
@@ -302,7 +347,7 @@ int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit
 
 /* ---- Table 1 for people ---- */
 
-#define TABLE_ROWS (UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
+#define TABLE_ROWS ((UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
 #define TABLE_CELL 64
 #define TABLE_COLS 8
 
@@ -469,6 +514,91 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
     table_print(f, cols, 7, n);
 }
 
+#define PERCENT 100.0
+
+/* A row's temperature as the tables show it: "20 (lab)", "-30", "worst". */
+static void temp_label(const summary_row *r, char *buf, size_t len)
+{
+    if (r->condition == REPORT_WORST)
+        snprintf(buf, len, "worst");
+    else
+        snprintf(buf, len, "%g%s", r->temp_c, r->condition == REPORT_LAB ? " (lab)" : "");
+}
+
+/* The range of the operating temperatures, "-30..60 C". */
+static void range_label(const sunmc_config *c, char *buf, size_t len)
+{
+    int nt = thermal_n_temps(c);
+    double lo = INFINITY, hi = -INFINITY;
+    for (int t = 0; t < nt; t++) {
+        lo = fmin(lo, thermal_temp_c(c, t));
+        hi = fmax(hi, thermal_temp_c(c, t));
+    }
+    if (lo == hi)
+        snprintf(buf, len, "%g C", lo);
+    else
+        snprintf(buf, len, "%g..%g C", lo, hi);
+}
+
+/* Validation at the operating temperatures: every set of rows (lab, each
+ * temperature, worst over them) with mean RMS before/after, p95, max and
+ * yield; then the yield over the range beside the lab's. */
+static void print_thermal(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                          const summary_row *rows, int prec, table_col *cols)
+{
+    int n = report_n_rows(c, fam);
+    char h[TABLE_CELL], pct[24], range[64];
+    range_label(c, range, sizeof range);
+    snprintf(pct, sizeof pct, "[%g%% CI]", 100.0 * c->confidence);
+    fprintf(f, "\nvalidation at the operating temperatures (environment.operating_temp_c), "
+               "calibrated at %g C;\nworst = each unit's worst RMS over %s, passing only where "
+               "it passes at every temperature:\n",
+            c->cal_temp_c, range);
+    set_head(&cols[0], "temp", "C", 0);
+    cols[0].left = 1;
+    for (int i = 0; i < n; i++)
+        temp_label(&rows[i], cols[0].cell[i], TABLE_CELL);
+    table_col *lab = cols + 1;
+    label_columns(c, fam, rows, n, lab);
+    lab[0].bar = 0;
+    snprintf(h, sizeof h, "[%s] %s", fam->rms_unit, pct);
+    set_head(&cols[3], "mean RMS before", h, 1);
+    set_head(&cols[4], "mean RMS after", h, 1);
+    set_head(&cols[5], "p95 of RMS after", h, 0);
+    snprintf(h, sizeof h, "[%s]", fam->rms_unit);
+    set_head(&cols[6], "max RMS after", h, 0);
+    set_head(&cols[7], "yield", pct, 1);
+    int db = ci_decimals(rows, n, offsetof(summary_row, rms_before_mean_ci), 1.0, prec);
+    int da = ci_decimals(rows, n, offsetof(summary_row, rms_after_mean_ci), 1.0, prec);
+    int dp = ci_decimals(rows, n, offsetof(summary_row, rms_after_p95_ci), 1.0, prec);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        fmt_estimate(cols[3].cell[i], TABLE_CELL, r->rms_before_mean, r->rms_before_mean_ci, db,
+                     1.0, "");
+        fmt_estimate(cols[4].cell[i], TABLE_CELL, r->rms_after_mean, r->rms_after_mean_ci, da,
+                     1.0, "");
+        fmt_estimate(cols[5].cell[i], TABLE_CELL, r->rms_after_p95, r->rms_after_p95_ci, dp, 1.0,
+                     "");
+        report_format_number(cols[6].cell[i], TABLE_CELL, r->rms_after_max, prec);
+        fmt_estimate(cols[7].cell[i], TABLE_CELL, r->yield, r->yield_ci,
+                     report_percent_decimals(r->yield, 1), PERCENT, "%");
+    }
+    table_print(f, cols, 8, n);
+    int wb = report_widest_band(c);
+    for (int a = 0; a < fam->n_angles(c); a++) {
+        const summary_row *w = &rows[report_primary_row(c, fam, a, wb)];
+        const summary_row *l = &rows[a * c->bands_deg.n + wb];
+        char band[32], yw[96], yl[96];
+        report_band_label(c, wb, band, sizeof band);
+        fmt_estimate(yw, sizeof yw, w->yield, w->yield_ci, report_percent_decimals(w->yield, 1),
+                     PERCENT, "%");
+        fmt_estimate(yl, sizeof yl, l->yield, l->yield_ci, report_percent_decimals(l->yield, 1),
+                     PERCENT, "%");
+        fprintf(f, "yield over %s (at every temperature), %s %s: %s   at the lab's %g C: %s\n",
+                range, fam->angle_names[a], band, yw, c->cal_temp_c, yl);
+    }
+}
+
 void report_print_campaign(FILE *f, const sunmc_config *c)
 {
     campaign_info ci;
@@ -548,8 +678,7 @@ static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *
 void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const summary_row *rows)
 {
-    int n = report_n_rows(c, fam);
-    n = n < TABLE_ROWS ? n : TABLE_ROWS;
+    int n = report_n_lab_rows(c, fam);
     const char *u = fam->rms_unit;
     const int prec = strcmp(u, "deg") == 0 ? 4 : 2;
     static table_col cols[TABLE_COLS]; /* large; the report prints from one thread */
@@ -587,11 +716,13 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
         fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
     print_warnings(f, c, fam, rows, n);
+    if (thermal_n_temps(c) > 0)
+        print_thermal(f, c, fam, rows, prec, cols);
 }
 
 /* ---- summary.tsv and units.tsv ---- */
 
-void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names)
+static void summary_header(FILE *f, int n_lead, const char *const *lead_names, int thermal)
 {
     for (int i = 0; i < n_lead; i++)
         fprintf(f, "%s\t", lead_names[i]);
@@ -605,8 +736,23 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
                "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
                "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
-               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval\n");
+               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval");
+    fprintf(f, "%s\n", thermal ? "\tcondition\ttemp_c" : "");
 }
+
+void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names)
+{
+    summary_header(f, n_lead, lead_names, 0);
+}
+
+void report_write_summary_header_of(FILE *f, const sunmc_config *c, int n_lead,
+                                    const char *const *lead_names)
+{
+    summary_header(f, n_lead, lead_names, thermal_n_temps(c) > 0);
+}
+
+/* summary.tsv's condition column. */
+static const char *const condition_key[] = {"lab", "operating", "worst"};
 
 /* "S\tS_ci_lo\tS_ci_hi\t" */
 static void write_estimate(FILE *f, double v, stats_interval ci)
@@ -641,8 +787,11 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
                 r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
                 model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
                 r->no_reading_units);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\n", r->worse, r->worse_ci.lo, r->worse_ci.hi,
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%s", r->worse, r->worse_ci.lo, r->worse_ci.hi,
                 yield_interval_key[c->yield_interval]);
+        if (thermal_n_temps(c) > 0)
+            fprintf(f, "\t%s\t%g", condition_key[r->condition], r->temp_c);
+        fputc('\n', f);
     }
 }
 
@@ -664,6 +813,20 @@ void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_fami
             for (int b = 0; b < nb; b++)
                 fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a],
                         c->bands_deg.lo[b], c->bands_deg.hi[b], fam->rms_unit);
+    /* at each operating temperature, then the worst over them (thermal.h) */
+    int nt = thermal_n_temps(c);
+    for (int t = 0; t <= nt && nt > 0; t++)
+        for (int w = 0; w < 2; w++)
+            for (int a = 0; a < na; a++)
+                for (int b = 0; b < nb; b++) {
+                    double lo = c->bands_deg.lo[b], hi = c->bands_deg.hi[b];
+                    fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a], lo, hi,
+                            fam->rms_unit);
+                    if (t < nt)
+                        fprintf(f, "_at_%gC", thermal_temp_c(c, t));
+                    else
+                        fprintf(f, "_worst");
+                }
     fputc('\n', f);
 }
 
@@ -693,6 +856,15 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family 
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
                 fprintf(f, "\t%.6g", r->rms_after_sys[a][b]);
+        int nt = thermal_n_temps(c);
+        for (int t = 0; t <= nt && nt > 0; t++)
+            for (int w = 0; w < 2; w++) {
+                const double(*v)[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX] =
+                    w == 0 ? r->rms_before_t : r->rms_after_t;
+                for (int a = 0; a < na; a++)
+                    for (int b = 0; b < nb; b++)
+                        fprintf(f, "\t%.6g", t < nt ? v[t][a][b] : thermal_worst(v, nt, a, b));
+            }
         fputc('\n', f);
     }
 }

@@ -1,6 +1,7 @@
 /* sensitivity.c - Sobol indices by pick-freeze on the per-purpose random
  * streams (sensitivity.h). */
 #include "sensitivity.h"
+#include "thermal.h"
 #include "budget.h"
 #include "montecarlo.h"
 #include "status.h"
@@ -88,7 +89,8 @@ static int run_y(const sunmc_config *c, long units, int threads, const sens_resu
     if (rc)
         return rc;
     for (long u = 0; u < units; u++) {
-        double b = res[u].rms_before[s->angle][s->band], a = res[u].rms_after[s->angle][s->band];
+        double b = unit_primary_before(c, &res[u], s->angle, s->band);
+        double a = unit_primary_after(c, &res[u], s->angle, s->band);
         int ok = res[u].fit_status == UNIT_FIT_OK && isfinite(b) && isfinite(a);
         yb[u] = ok ? b : NAN;
         ya[u] = ok ? a : NAN;

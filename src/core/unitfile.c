@@ -1,5 +1,6 @@
 /* unitfile.c - units.bin (per-unit results, lossless) and manifest.ini. */
 #include "unitfile.h"
+#include "thermal.h"
 #include "vmath.h"
 #include "ini.h"
 #include "status.h"
@@ -20,7 +21,8 @@ void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfil
     l->np = fam->par_columns(c, names, UNIT_MAX_PAR);
     l->na = fam->n_angles(c);
     l->nb = c->bands_deg.n;
-    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + 3L * l->na * l->nb;
+    l->nt = thermal_n_temps(c);
+    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + (3L + 2L * l->nt) * l->na * l->nb;
 }
 
 long unitfile_header_bytes(void)
@@ -36,7 +38,8 @@ long unitfile_record_bytes(const unitfile_layout *l)
 int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t errlen)
 {
     uint64_t w[UNITFILE_HEADER_WORDS] = {0, UNITFILE_ORDER, (uint64_t)l->words, (uint64_t)l->nd,
-                                         (uint64_t)l->np, (uint64_t)l->na, (uint64_t)l->nb, 0};
+                                         (uint64_t)l->np, (uint64_t)l->na, (uint64_t)l->nb,
+                                         (uint64_t)l->nt};
     memcpy(&w[0], UNITFILE_MAGIC, 8);
     if (fwrite(w, sizeof w, 1, f) != 1)
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error: %s", UNITFILE_NAME,
@@ -63,6 +66,13 @@ void unitfile_pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
             memcpy(d, m[k][a], (size_t)l->nb * sizeof *d);
             d += l->nb;
         }
+    for (int t = 0; t < l->nt; t++)
+        for (int k = 0; k < 2; k++)
+            for (int a = 0; a < l->na; a++) {
+                memcpy(d, k == 0 ? r->rms_before_t[t][a] : r->rms_after_t[t][a],
+                       (size_t)l->nb * sizeof *d);
+                d += l->nb;
+            }
 }
 
 static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
@@ -89,6 +99,13 @@ static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
             memcpy(m[k][a], d, (size_t)l->nb * sizeof *d);
             d += l->nb;
         }
+    for (int t = 0; t < l->nt; t++)
+        for (int k = 0; k < 2; k++)
+            for (int a = 0; a < l->na; a++) {
+                memcpy(k == 0 ? r->rms_before_t[t][a] : r->rms_after_t[t][a], d,
+                       (size_t)l->nb * sizeof *d);
+                d += l->nb;
+            }
 }
 
 int unitfile_write(FILE *f, const unitfile_layout *l, const unit_result *r, long n, char *err,
@@ -111,21 +128,24 @@ int unitfile_read_header(FILE *f, const char *path, const unitfile_layout *l, ch
     if (fread(w, sizeof w, 1, f) != 1 || memcmp(&w[0], UNITFILE_MAGIC, 8) != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: not a sunmc units file (no %s header)",
                           path, UNITFILE_MAGIC);
-    if (w[7] != 0)
+    /* word 8: the operating temperatures, 0 without them (thermal.h) */
+    if (w[7] != 0 && (l->nt == 0 || w[7] > UNIT_MAX_TEMPS))
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: header word 8 is not zero (a flipped "
-                          "bit or an edited file)", path);
+                          "bit or an edited file, or a run with operating temperatures)", path);
     if (w[1] != UNITFILE_ORDER)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "%s: written on a machine of another byte order", path);
-    uint64_t want[5] = {(uint64_t)l->words, (uint64_t)l->nd, (uint64_t)l->np, (uint64_t)l->na,
-                        (uint64_t)l->nb};
+    uint64_t want[6] = {(uint64_t)l->words, (uint64_t)l->nd, (uint64_t)l->np, (uint64_t)l->na,
+                        (uint64_t)l->nb, (uint64_t)l->nt};
     if (memcmp(&w[2], want, sizeof want) != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "%s: records of %llu words (%llu deviations, %llu parameters, %llu "
-                          "angles, %llu bands); this config's have %ld (%d, %d, %d, %d)",
+                          "angles, %llu bands, %llu operating temperatures); this config's have "
+                          "%ld (%d, %d, %d, %d, %d)",
                           path, (unsigned long long)w[2], (unsigned long long)w[3],
                           (unsigned long long)w[4], (unsigned long long)w[5],
-                          (unsigned long long)w[6], l->words, l->nd, l->np, l->na, l->nb);
+                          (unsigned long long)w[6], (unsigned long long)w[7], l->words, l->nd,
+                          l->np, l->na, l->nb, l->nt);
     return SUNMC_OK;
 }
 

@@ -5,10 +5,11 @@
 
 #define PER_PPM 1e-6
 
-void dss_deviations_at_temp(const sunmc_config *c, const dss_deviations *d, dss_deviations *out)
+void dss_deviations_at_temp(const sunmc_config *c, const dss_deviations *d, double temp_c,
+                            dss_deviations *out)
 {
     *out = *d;
-    double dT = c->op_temp_c - c->cal_temp_c;
+    double dT = temp_c - c->cal_temp_c;
     if (dT == 0.0)
         return;
     const dss_design *g = &dss_cfg(c)->design;

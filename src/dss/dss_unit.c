@@ -2,6 +2,7 @@
  * campaign -> fit -> validation on its own grid, for one unit. */
 #include "dss_unit.h"
 #include "dss_thermal.h"
+#include "thermal.h"
 #include "dss_prior.h"
 #include "dss_curve.h"
 #include "dss_lab.h"
@@ -337,6 +338,31 @@ static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
     }
 }
 
+/* The unit of deviations dev validated at each operating temperature into
+ * res's rms_*_t (a temperature equal to the lab's: the lab's result). */
+static void dss_validate_temps(const sunmc_config *c, const dss_deviations *dev, long unit,
+                               const dss_calibration *cal, dss_ws *w, unit_result *res)
+{
+    int n = thermal_n_temps(c);
+    for (int t = 0; t < n; t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c) {
+            unit_result_store_temp(res, t, res);
+            continue;
+        }
+        unit_result at;
+        memset(&at, 0, sizeof at);
+        at.fit_status = res->fit_status;
+        dss_deviations dev_t;
+        dss_unit u;
+        dss_deviations_at_temp(c, dev, T, &dev_t);
+        dss_unit_build(c, &dev_t, &u);
+        dss_unit_validation(c, &u, unit, &w->val);
+        dss_unit_validate(c, &u, cal, &w->val, &at);
+        unit_result_store_temp(res, t, &at);
+    }
+}
+
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     dss_ws *w = ws;
@@ -373,14 +399,11 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = st == SUNMC_OK ? dss_calib_residual_rms(cw, &cal) * ARCSEC_PER_RAD : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    /* validation at the operating temperature (the lab's: u itself) */
-    if (c->op_temp_c != c->cal_temp_c) {
-        dss_deviations dev_op;
-        dss_deviations_at_temp(c, &dev, &dev_op);
-        dss_unit_build(c, &dev_op, &u);
-    }
+    /* validation at the lab's temperature (u itself), then at each
+     * operating temperature (thermal.h) with the same calibration */
     dss_unit_validation(c, &u, unit, &w->val);
     dss_unit_validate(c, &u, &cal, &w->val, res);
+    dss_validate_temps(c, &dev, unit, &cal, w, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
@@ -432,6 +455,7 @@ const sensor_family dss_family = {
     .band_name = "field angle",
     .deviations = dss_deviation_list,
     .n_deviations = DSS_N_TOL,
+    .thermal = 1,
     .noise = dss_random_noise,
     .dev_columns = dss_dev_columns,
     .par_columns = dss_par_names,

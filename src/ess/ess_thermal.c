@@ -5,10 +5,11 @@
 
 #define PER_PPM 1e-6
 
-void ess_deviations_at_temp(const sunmc_config *c, const ess_deviations *d, ess_deviations *out)
+void ess_deviations_at_temp(const sunmc_config *c, const ess_deviations *d, double temp_c,
+                            ess_deviations *out)
 {
     *out = *d;
-    double dT = c->op_temp_c - c->cal_temp_c;
+    double dT = temp_c - c->cal_temp_c;
     if (dT == 0.0)
         return;
     double H_mm = ess_cfg(c)->design.H_mm;

@@ -2,6 +2,7 @@
  * campaign -> fit -> validation, for one unit. */
 #include "ess_unit.h"
 #include "ess_thermal.h"
+#include "thermal.h"
 #include "ess_curve.h"
 #include "ess_lab.h"
 #include "ess_grid.h"
@@ -331,6 +332,31 @@ static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const es
     unit_result_set_sys(res, 0, &after_sys, &c->bands_deg, DEG_PER_RAD);
 }
 
+/* The unit of deviations dev validated at each operating temperature into
+ * res's rms_*_t (a temperature equal to the lab's: the lab's result). */
+static void ess_validate_temps(const sunmc_config *c, const ess_deviations *dev, long unit,
+                               const ess_model *m, ess_ws *w, unit_result *res)
+{
+    int n = thermal_n_temps(c);
+    for (int t = 0; t < n; t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c) {
+            unit_result_store_temp(res, t, res);
+            continue;
+        }
+        unit_result at;
+        memset(&at, 0, sizeof at);
+        at.fit_status = res->fit_status;
+        ess_deviations dev_t;
+        ess_unit u;
+        ess_deviations_at_temp(c, dev, T, &dev_t);
+        ess_unit_build(c, &dev_t, &u);
+        ess_unit_validation(c, &u, unit, &w->val);
+        ess_unit_validate(c, &u, m, &w->val, &at);
+        unit_result_store_temp(res, t, &at);
+    }
+}
+
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     const ess_config *ec = ess_cfg(c);
@@ -364,14 +390,11 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = ess_calib_residual_rms(cw, &m) * DEG_PER_RAD;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    /* validation at the operating temperature (the lab's: u itself) */
-    if (c->op_temp_c != c->cal_temp_c) {
-        ess_deviations dev_op;
-        ess_deviations_at_temp(c, &dev, &dev_op);
-        ess_unit_build(c, &dev_op, &u);
-    }
+    /* validation at the lab's temperature (u itself), then at each
+     * operating temperature (thermal.h) with the same calibration */
     ess_unit_validation(c, &u, unit, &w->val);
     ess_unit_validate(c, &u, &m, &w->val, res);
+    ess_validate_temps(c, &dev, unit, &m, w, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
@@ -391,6 +414,7 @@ const sensor_family ess_family = {
     .band_name = "|alpha|",
     .deviations = ess_deviation_list,
     .n_deviations = ESS_N_TOL,
+    .thermal = 1,
     .noise = ess_random_noise,
     .dev_columns = ess_dev_columns,
     .par_columns = ess_par_columns,
