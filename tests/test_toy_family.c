@@ -311,7 +311,7 @@ static void commands_run_the_toy(void **state)
     snprintf(out, sizeof out, "%s/run", dir);
     assert_int_equal(command(cmd_run, "run", out, NULL, NULL), 0);
     snprintf(path, sizeof path, "%s/units.tsv", out);
-    assert_true(test_file_has(path, "\tscale_pct\toffset_arcsec\tp0_arcsec\tp1\tfit_rms_arcsec\t"));
+    assert_true(test_file_has(path, "\tscale_pct\toffset_arcsec\tbow_arcsec\tp0_arcsec\tp1\tfit_rms_arcsec\t"));
     snprintf(path, sizeof path, "%s/summary.tsv", out);
     assert_true(test_file_has(path, "toy\ttoy\talpha\t0:20\t"));
     snprintf(path, sizeof path, "%s/config.ini", out);

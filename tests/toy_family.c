@@ -66,10 +66,10 @@ double toy_val_alpha_deg(const sunmc_config *c, long i)
     return -toy_cfg(c)->span_deg + (double)i * toy_cfg(c)->val_step_deg;
 }
 
-static double toy_read_rad(const toy_deviations *d, double a_rad, double noise_arcsec)
+double toy_read_rad(const toy_deviations *d, double a_rad, double noise_arcsec)
 {
     return a_rad * (1 + d->scale_pct * FRACTION_PER_PCT) +
-           (d->offset_arcsec + noise_arcsec) * RAD_PER_ARCSEC;
+           (d->offset_arcsec + d->bow_arcsec * a_rad * a_rad + noise_arcsec) * RAD_PER_ARCSEC;
 }
 
 static int toy_n_angles(const sunmc_config *c) { return 1; }
@@ -184,6 +184,58 @@ static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     return SUNMC_OK;
 }
 
+/* ---- curve: one unit's error over the validation grid (axis 1 has one
+ * value, the toy has no second axis). ---- */
+static const char *const toy_curve_axis_names[] = {"alpha_deg", "beta_deg"};
+
+static long toy_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
+{
+    long n = axis == 0 ? toy_val_count(c) : 1;
+    for (long i = 0; i < n && i < max; i++)
+        values_deg[i] = axis == 0 ? toy_val_alpha_deg(c, i) : 0;
+    return n;
+}
+
+typedef struct {
+    toy_deviations d;
+    double p[2];
+} toy_curve_unit;
+
+static void *toy_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+{
+    toy_curve_unit *u = calloc(1, sizeof *u);
+    if (!u)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    return u;
+}
+
+static int toy_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv,
+                             int *fit_ok)
+{
+    toy_curve_unit *u = cv;
+    long n = toy_cal_count(c);
+    double *a = malloc(2 * (size_t)n * sizeof *a);
+    if (!a)
+        return SUNMC_ENOMEM;
+    toy_sample(c, unit, &u->d);
+    deviations_scale(toy_deviation_list, TOY_N_TOL, &u->d, dev_sign);
+    toy_campaign(c, &u->d, unit, a, a + n);
+    toy_line_fit(n, a, a + n, NULL, u->p);
+    free(a);
+    *fit_ok = 1;
+    return SUNMC_OK;
+}
+
+static int toy_curve_eval(const sunmc_config *c, const void *cv, double a0_deg, double a1_deg,
+                          double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
+{
+    const toy_curve_unit *u = cv;
+    double a = a0_deg * RAD_PER_DEG, y = toy_read_rad(&u->d, a, 0);
+    before[0] = (y - a) * ARCSEC_PER_RAD;
+    after[0] = ((y - u->p[0]) / u->p[1] - a) * ARCSEC_PER_RAD;
+    return SUNMC_OK;
+}
+
 static const char *const toy_angle_names[] = {"alpha"};
 
 const sensor_family toy_family = {
@@ -202,5 +254,13 @@ const sensor_family toy_family = {
     .workspace_alloc = toy_ws_alloc,
     .workspace_free = toy_ws_free,
     .unit_run = toy_unit_run,
+    .deviations = toy_deviation_list,
+    .n_deviations = TOY_N_TOL,
+    .curve_axis_names = toy_curve_axis_names,
+    .curve_axis = toy_curve_axis,
+    .curve_alloc = toy_curve_alloc,
+    .curve_free = free,
+    .curve_prepare = toy_curve_prepare,
+    .curve_eval = toy_curve_eval,
     .lab = &toy_lab, /* toy_lab.c */
 };

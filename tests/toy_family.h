@@ -3,7 +3,10 @@
  * own plus one registration, with nothing in core or cli naming it.
  *
  * The toy sensor reads one angle: reading = alpha (1 + scale) + offset +
- * noise, alpha on a turntable from -span to +span.  Calibration fits the
+ * bow alpha^2 + noise, alpha on a turntable from -span to +span.  The bow
+ * (default 0) is the tolerance test_toy_tolerance adds "by one line plus
+ * its physics" and follows into sampling, curve, budget and the lab
+ * prediction.  Calibration fits the
  * straight line reading = p0 + p1 alpha by least squares; compensation
  * inverts it.  Noise-free, the fit is exact, so every number of a run has a
  * closed form.
@@ -19,7 +22,9 @@
  * dist, max, help), as in ess_deviations.h. */
 #define TOY_DEVIATIONS(X)                                                                         \
     X(scale_pct, "%", 1, 0, "scale_pct", "1", "uniform", 50, "scale-factor error")             \
-    X(offset_arcsec, "arcsec", 1, 1, "offset_arcsec", "30", "uniform", 3600, "zero offset")
+    X(offset_arcsec, "arcsec", 1, 1, "offset_arcsec", "30", "uniform", 3600, "zero offset")   \
+    X(bow_arcsec, "arcsec", 1, 2, "bow_arcsec", "0", "uniform", 3600,                          \
+      "bow: reading error bow * alpha^2, alpha in rad")
 
 typedef struct {
     TOY_DEVIATIONS(DEVIATION_X_TOLERANCE)
@@ -34,12 +39,15 @@ typedef struct {
 } toy_config;
 
 typedef struct {
-    double scale_pct, offset_arcsec;
+    double scale_pct, offset_arcsec, bow_arcsec;
 } toy_deviations;
 
 #define toy_cfg(c) ((const toy_config *)(const void *)(c)->fam.bytes)
 
 extern const sensor_family toy_family;
+
+/* The reading (rad) of a unit with deviations d at alpha (rad), noise added. */
+double toy_read_rad(const toy_deviations *d, double a_rad, double noise_arcsec);
 
 /* The lab hooks (toy_lab.c). */
 extern const struct family_lab toy_lab;

@@ -82,6 +82,23 @@ static void sim_summary(const void *p, const sunmc_config *c, const lab_unit_ref
 
 static const char *const cal_columns[] = {"alpha_deg", "reading_deg", "weight", NULL};
 
+/* ---- the lab prediction: a unit is its deviations (lab_predict.c) ---- */
+
+/* What the deviation list leaves out of a reading's spread (deg). */
+static const double cal_margin[] = {0.01};
+
+static void cal_unit_build(const sunmc_config *c, const double *dev_values, void *unit)
+{
+    memset(unit, 0, sizeof(toy_deviations));
+    deviations_set_values(toy_family.deviations, toy_family.n_deviations, dev_values, unit);
+}
+
+static int cal_unit_read(const sunmc_config *c, const void *unit, const double *in, double *out)
+{
+    out[0] = toy_read_rad(unit, in[0] * RAD_PER_DEG, 0) * DEG_PER_RAD;
+    return SUNMC_OK;
+}
+
 typedef struct {
     const lab_columns *d;
     double *a, *y, *w;  /* rad, rad, weight */
@@ -251,6 +268,11 @@ const family_lab toy_lab = {
     .sim_summary = sim_summary,
     .sim_free = sim_free,
     .cal_columns = cal_columns,
+    .cal_n_inputs = 1,
+    .cal_unit_bytes = sizeof(toy_deviations),
+    .cal_unit_build = cal_unit_build,
+    .cal_unit_read = cal_unit_read,
+    .cal_predict_margin = cal_margin,
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .params_title = "sunmc calibration of the test-only toy sensor",

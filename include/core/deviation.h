@@ -50,6 +50,14 @@ int deviations_columns(const deviation_spec *list, int n, const char **names, in
  * in the list (a derived measurement) is the family's to scale. */
 void deviations_scale(const deviation_spec *list, int n, void *dev, double s);
 
+/* The inverse of deviations_values: dev's listed fields from values (in
+ * list order, deviations_values' count of them); other fields untouched. */
+void deviations_set_values(const deviation_spec *list, int n, const double *values, void *dev);
+
+/* The largest |draw| of entry spec's tolerance in c (its distribution's
+ * bound, or truncation_sigmas sigmas for a normal one). */
+double deviations_reach(const deviation_spec *spec, const sunmc_config *c);
+
 /* X-macro helpers: pass them to a family's list, whose lines are
  *   X(name, unit, count, stream, columns, default, dist, max, help)
  * with `columns` count strings (no braces).  The family's config struct

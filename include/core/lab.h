@@ -95,11 +95,22 @@ typedef struct family_lab {
     const int *cal_min_distinct;
     /* The configured campaign range of table angle k (deg). */
     void (*cal_campaign_range)(const sunmc_config *c, int k, double *lo_deg, double *hi_deg);
-    /* What the nominal design reads at table angles in_deg: out[j] per
-     * output column (in its unit) and allowed[j], how far a unit within the
-     * config's tolerances may read from it.  Non-OK where it sees no sun. */
-    int (*cal_predict)(const sunmc_config *c, const double *in_deg, double *out,
-                       double *allowed);
+    /* ---- What a unit within the config's tolerances can read
+     * (lab_predict.c derives it from the family's deviation list, so a new
+     * tolerance reaches it with no code here); cal_unit_build NULL: no
+     * consistency check.  A built unit takes cal_unit_bytes (at most
+     * LAB_UNIT_MAX_BYTES). ---- */
+    size_t cal_unit_bytes;
+    /* Build a unit of c whose deviations are dev_values, in the order of
+     * the family's deviation list (deviations_values), into unit. */
+    void (*cal_unit_build)(const sunmc_config *c, const double *dev_values, void *unit);
+    /* The unit's noiseless outputs at table angles in_deg: out[j] per output
+     * column, in its unit.  Non-OK where it sees no sun. */
+    int (*cal_unit_read)(const sunmc_config *c, const void *unit, const double *in_deg,
+                         double *out);
+    /* What the deviation list leaves out of a reading's spread (noise,
+     * code ripple, margins), per output column in its unit. */
+    const double *cal_predict_margin;
     /* The residual standard deviation the config's reading noise gives
      * (arcsec): a fit far above it did not find the sensor in the data. */
     double (*cal_noise_arcsec)(const sunmc_config *c);
@@ -174,6 +185,21 @@ int lab_duplicates(lab_columns *d, int mode, char *note, size_t notelen, char *e
 
 int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,
                    size_t errlen);
+
+/* What a unit within c's tolerances reads at table angles in_deg: out[j],
+ * the nominal unit's output j, and allowed[j], how far any unit may read
+ * from it: the family's margin plus, for each entry of its deviation list,
+ * the larger output change of the unit with that entry alone at the +- ends
+ * of its tolerance (every value of the entry at once).  A linear envelope:
+ * exact for one tolerance, a sum of the worst cases for several.  The
+ * units are built once (lab_predict_alloc); NULL with err when the family
+ * has no lab prediction or memory is short. */
+#define LAB_UNIT_MAX_BYTES 16384
+typedef struct lab_predictor lab_predictor;
+lab_predictor *lab_predict_alloc(const family_lab *lab, const sunmc_config *c, char *err,
+                                 size_t errlen);
+int lab_predict(const lab_predictor *p, const double *in_deg, double *out, double *allowed);
+void lab_predict_free(lab_predictor *p);
 
 /* Refuse a fit that converged on data it did not explain (rep->fit_ok = 0,
  * rep->refused says why): more than calibration.max_dropped_fraction of the

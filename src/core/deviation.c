@@ -4,6 +4,8 @@
 #include "rng.h"
 #include "tolerance.h"
 
+#include <math.h>
+
 void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c, uint64_t seed,
                        long unit, void *dev)
 {
@@ -47,4 +49,22 @@ void deviations_scale(const deviation_spec *list, int n, void *dev, double s)
         for (int i = 0; i < list[e].count; i++)
             v[i] *= s;
     }
+}
+
+void deviations_set_values(const deviation_spec *list, int n, const double *values, void *dev)
+{
+    int k = 0;
+    for (int e = 0; e < n; e++) {
+        double *v = (double *)(void *)((char *)dev + list[e].dev_offset);
+        for (int i = 0; i < list[e].count; i++)
+            v[i] = values[k++];
+    }
+}
+
+double deviations_reach(const deviation_spec *spec, const sunmc_config *c)
+{
+    const tolerance *t = (const tolerance *)(const void *)(c->fam.bytes + spec->tol_offset);
+    double lo, hi;
+    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
+    return fmax(fabs(lo), fabs(hi));
 }

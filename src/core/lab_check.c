@@ -146,7 +146,7 @@ static int garbled_row(const family_lab *lab, const lab_columns *d, size_t i, in
 /* Rows (with weight > 0) whose outputs the design cannot read at their
  * table angles under hypothesis h (-1: h does not apply); *first is the
  * first of them, *used the rows looked at. */
-static long count_inconsistent(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+static long count_inconsistent(const family_lab *lab, const lab_predictor *lp, const lab_columns *d,
                                int h, long *used, size_t *first)
 {
     double in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS], pred[LAB_MAX_COLUMNS],
@@ -161,7 +161,7 @@ static long count_inconsistent(const family_lab *lab, const sunmc_config *c, con
         if (!garbled_row(lab, d, i, h, in, out))
             return -1;
         (*used)++;
-        int ok = lab->cal_predict(c, in, pred, allowed) == SUNMC_OK;
+        int ok = lab_predict(lp, in, pred, allowed) == SUNMC_OK;
         for (int j = 0; ok && j < no; j++)
             ok = fabs(out[j] - pred[j]) <= allowed[j];
         if (!ok && bad++ == 0)
@@ -175,21 +175,17 @@ static int too_many(long bad, long used)
     return used > 0 && (double)bad > LAB_MAX_INCONSISTENT * (double)used;
 }
 
-static int check_consistent(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
-                            char *err, size_t errlen)
+/* The first inconsistent row under h = LAB_AS_IS, told (what the design
+ * reads there) into err with the likely cause. */
+static int refuse_inconsistent(const family_lab *lab, const lab_predictor *lp,
+                               const lab_columns *d, long bad, long used, size_t first,
+                               char *err, size_t errlen)
 {
-    if (!lab->cal_predict)
-        return SUNMC_OK;
-    long used;
-    size_t first;
-    long bad = count_inconsistent(lab, c, d, LAB_AS_IS, &used, &first);
-    if (!too_many(bad, used))
-        return SUNMC_OK;
     char hint[CALREPORT_TEXT_MAX] = "; is it this sensor's data, in degrees and pixels?";
     for (int h = 1; h < LAB_N_HYP; h++) {
         long u2;
         size_t f2;
-        long b2 = count_inconsistent(lab, c, d, h, &u2, &f2);
+        long b2 = count_inconsistent(lab, lp, d, h, &u2, &f2);
         if (b2 >= 0 && !too_many(b2, u2)) {
             snprintf(hint, sizeof hint, "; %s, %ld of them would fit: check the columns",
                      hypothesis_text[h], u2 - b2);
@@ -201,7 +197,7 @@ static int check_consistent(const family_lab *lab, const sunmc_config *c, const 
     garbled_row(lab, d, first, LAB_AS_IS, in, out);
     int ni = lab->cal_n_inputs;
     char what[CALREPORT_TEXT_MAX] = "the design sees no sun there";
-    if (lab->cal_predict(c, in, pred, allowed) == SUNMC_OK)
+    if (lab_predict(lp, in, pred, allowed) == SUNMC_OK)
         snprintf(what, sizeof what, "%s = %.6g where the design reads %.6g +- %.3g",
                  col_name(lab, ni), out[0], pred[0], allowed[0]);
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
@@ -209,6 +205,23 @@ static int check_consistent(const family_lab *lab, const sunmc_config *c, const 
                       "of %ld rows are inconsistent with their table angles%s",
                       d->path, d->line[first], col_name(lab, 0), in[0],
                       col_name(lab, ni > 1 ? 1 : 0), in[ni > 1 ? 1 : 0], what, bad, used, hint);
+}
+
+static int check_consistent(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                            char *err, size_t errlen)
+{
+    if (!lab->cal_unit_build)
+        return SUNMC_OK;
+    lab_predictor *lp = lab_predict_alloc(lab, c, err, errlen);
+    if (!lp)
+        return SUNMC_ENOMEM;
+    long used;
+    size_t first;
+    long bad = count_inconsistent(lab, lp, d, LAB_AS_IS, &used, &first);
+    int st = too_many(bad, used) ? refuse_inconsistent(lab, lp, d, bad, used, first, err, errlen)
+                                 : SUNMC_OK;
+    lab_predict_free(lp);
+    return st;
 }
 
 int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,

@@ -198,45 +198,26 @@ static void cal_campaign_range(const sunmc_config *c, int k, double *lo, double 
     *hi = dss_cfg(c)->cal_b_max_deg;
 }
 
-/* Largest |draw| of a tolerance. */
-static double reach(const sunmc_config *c, const tolerance *t)
-{
-    double lo, hi;
-    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
-    return fmax(fabs(lo), fabs(hi));
-}
-
-/* Noise, S-curve and the centroid's margins of a nominal spot (px). */
+/* What the deviation list leaves out of a spot's spread: noise, the
+ * S-curve and the centroid's margins (px). */
 #define DSS_PREDICT_BASE_PX 2.0
+static const double cal_margin[] = {DSS_PREDICT_BASE_PX, DSS_PREDICT_BASE_PX};
 
-/* The nominal sensor's spot at the table angles (ray-traced through its
- * glass); a unit within the tolerances moves it by its principal-point,
- * height, glass and rotation errors. */
-static int cal_predict(const sunmc_config *c, const double *in, double *out, double *allowed)
+/* A unit with deviations dev_values (list order). */
+static void cal_unit_build(const sunmc_config *c, const double *dev_values, void *unit)
 {
-    const dss_config *d = dss_cfg(c);
     dss_deviations dev;
     memset(&dev, 0, sizeof dev);
-    dss_sensor s;
-    dss_sensor_init(&s, &d->design, &dev, 0);
-    static const double no_noise[2] = {0, 0};
-    int st = dss_sensor_read(&s, in[0] * RAD_PER_DEG, in[1] * RAD_PER_DEG, no_noise, &out[0],
-                             &out[1]);
-    if (st != SUNMC_OK)
-        return st;
-    double pixel_mm = d->design.pixel_um * MM_PER_UM;
-    double r_px = hypot(out[0], out[1]);
-    double tilt = (reach(c, &d->tol.c1_arcsec) + reach(c, &d->tol.c2_arcsec)) * RAD_PER_ARCSEC *
-                      (d->design.h_mm / pixel_mm + r_px * r_px * pixel_mm / d->design.h_mm) +
-                  reach(c, &d->tol.c3_arcsec) * RAD_PER_ARCSEC * r_px;
-    double height = reach(c, &d->tol.dh_px) * r_px * pixel_mm / d->design.h_mm;
-    double glass = (reach(c, &d->tol.glass_thickness_um) * MM_PER_UM / pixel_mm +
-                    reach(c, &d->tol.glass_index) * d->design.glass_thickness_mm / pixel_mm) *
-                   (1 + r_px * pixel_mm / d->design.h_mm);
-    for (int j = 0; j < 2; j++)
-        allowed[j] = DSS_PREDICT_BASE_PX + reach(c, j ? &d->tol.dy_px : &d->tol.dx_px) + tilt +
-                     height + glass;
-    return SUNMC_OK;
+    deviations_set_values(dss_deviation_list, DSS_N_TOL, dev_values, &dev);
+    dss_unit_build(c, &dev, unit);
+}
+
+/* Its spot (px) at table angles in_deg, ray-traced through its glass, noiseless. */
+static int cal_unit_read(const sunmc_config *c, const void *unit, const double *in, double *out)
+{
+    const dss_unit *u = unit;
+    return dss_sensor_read(&u->sensor, in[0] * RAD_PER_DEG, in[1] * RAD_PER_DEG, NULL, &out[0],
+                           &out[1]);
 }
 
 /* The centroid noise seen from the pinhole, with the table's encoder,
@@ -351,7 +332,10 @@ const family_lab dss_lab = {
     .cal_n_inputs = 2,
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = cal_campaign_range,
-    .cal_predict = cal_predict,
+    .cal_unit_bytes = sizeof(dss_unit),
+    .cal_unit_build = cal_unit_build,
+    .cal_unit_read = cal_unit_read,
+    .cal_predict_margin = cal_margin,
     .cal_noise_arcsec = cal_noise_arcsec,
     .params_title = "sunmc calibration of a pinhole digital sun sensor (DSS paper):\n"
                     "read by `sunmc compensate`; units are in the key names",

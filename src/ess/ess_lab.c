@@ -201,41 +201,28 @@ static void cal_campaign_range(const sunmc_config *c, int k, double *lo, double 
     }
 }
 
-/* Largest |draw| of a tolerance. */
-static double reach(const sunmc_config *c, const tolerance *t)
+/* What the deviation list leaves out of a reading's spread: the fine
+ * code's ripple, the noise and the gross margins (deg). */
+#define ESS_PREDICT_BASE_DEG 0.5
+static const double cal_margin[] = {ESS_PREDICT_BASE_DEG};
+
+/* A unit with deviations dev_values (list order), installed on the table
+ * as the Monte Carlo installs it. */
+static void cal_unit_build(const sunmc_config *c, const double *dev_values, void *unit)
 {
-    double lo, hi;
-    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
-    return fmax(fabs(lo), fabs(hi));
+    ess_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    deviations_set_values(ess_deviation_list, ESS_N_TOL, dev_values, &dev);
+    ess_unit_build(c, &dev, unit);
 }
 
-/* What the fine-code error, the noise and gross margins leave of a
- * nominal reading (deg), and the x of the farthest row from the slit's
- * centre (mm) for the tilt's share. */
-#define ESS_PREDICT_BASE_DEG 0.5
-#define ESS_PREDICT_ROW_X_MM 5.0
-
-/* The nominal sensor reads the incidence, which is the inner-frame angle;
- * a unit within the tolerances differs by its height, offset and tilt
- * errors and by its installation and the sun simulator's tilt. */
-static int cal_predict(const sunmc_config *c, const double *in, double *out, double *allowed)
+/* Its raw output (deg) at table angles in_deg, noiseless. */
+static int cal_unit_read(const sunmc_config *c, const void *unit, const double *in, double *out)
 {
-    const ess_config *e = ess_cfg(c);
-    if (!(fabs(in[0]) < 89 && fabs(in[1]) < 89))
-        return SUNMC_EDOM;
-    double ta = tan(in[0] * RAD_PER_DEG), tb = tan(in[1] * RAD_PER_DEG);
-    double H = e->design.H_mm;
-    double slit = reach(c, &e->tol.dH_um) * MM_PER_UM / H * fabs(ta) +
-                  reach(c, &e->tol.dd_um) * MM_PER_UM / H +
-                  tan(reach(c, &e->tol.dphi_deg) * RAD_PER_DEG) *
-                      (ESS_PREDICT_ROW_X_MM / H + fabs(tb));
-    double mount = (reach(c, &e->tol.install_x_arcsec) * fabs(tb) +
-                    reach(c, &e->tol.install_y_arcsec) + reach(c, &e->tol.install_z_arcsec) +
-                    reach(c, &e->tol.sun_x_arcsec) + reach(c, &e->tol.sun_y_arcsec)) *
-                   RAD_PER_ARCSEC * (1 + fabs(tb));
-    out[0] = in[0];
-    allowed[0] = ESS_PREDICT_BASE_DEG + (slit + mount) * (1 + ta * ta) * DEG_PER_RAD;
-    return SUNMC_OK;
+    double raw, truth;
+    int st = ess_unit_read(unit, in[0] * RAD_PER_DEG, in[1] * RAD_PER_DEG, NULL, &raw, &truth);
+    out[0] = raw * DEG_PER_RAD;
+    return st;
 }
 
 typedef struct {
@@ -371,7 +358,10 @@ const family_lab ess_lab = {
     .cal_n_inputs = 2,
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = cal_campaign_range,
-    .cal_predict = cal_predict,
+    .cal_unit_bytes = sizeof(ess_unit),
+    .cal_unit_build = cal_unit_build,
+    .cal_unit_read = cal_unit_read,
+    .cal_predict_margin = cal_margin,
     .cal_noise_arcsec = ess_reading_noise_arcsec, /* ess_prior.h */
     .cal_measured = cal_measured,
     .params_title = "sunmc calibration of an encoded sun sensor (ESS paper eq. 12-14):\n"

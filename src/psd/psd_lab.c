@@ -408,7 +408,7 @@ const family_lab psd_lab = {
     .cal_n_inputs = 2,
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = campaign_range,
-    .cal_predict = NULL, /* raw channels are in the lab's own unit */
+    /* no cal_unit_build: raw channels are in the lab's own unit */
     .cal_noise_arcsec = cal_noise_arcsec,
     .cal_measured = cal_measured,
     .params_title = "sunmc calibration of a four-channel analog sun sensor (psd)",
