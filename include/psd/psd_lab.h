@@ -23,6 +23,7 @@ typedef struct {
     long *point;         /* n: the point (equal table angles) of each row */
     long n_points;
     fit_workspace *fw;   /* physical model only */
+    fit_workspace *fw_channels; /* its first stage (psd_phys_fit_channels) */
     psd_cal cal;
     psd_rows rows;       /* the fit's view of the data (and its variable scales) */
     fit_result fr;

@@ -35,6 +35,8 @@ enum {
 #define PSD_NEWTON_MAX_ITER 40
 #define PSD_NEWTON_TOL 1e-13
 #define PSD_FIT_MAX_ITER 1000
+/* Residuals per row of the first fit stage: the four channels. */
+#define PSD_RESIDUALS_PER_ROW 4
 
 /* Parameter names with units (params.ini, units.tsv, reports) and the
  * factor from the internal unit (mm, rad, ratio, data unit) to them. */
@@ -74,6 +76,10 @@ typedef struct {
      * those units. */
     double xscale[PSD_NP];
     double sig1;                     /* channel 1's signal per unit photocurrent (psd_phys_start) */
+    /* psd_phys_fit's first stage (psd_phys_fit_channels): a workspace of
+     * PSD_RESIDUALS_PER_ROW n residuals and psd_phys_free_channels
+     * parameters, or NULL to start the ratios' fit from p itself. */
+    fit_workspace *fw_channels;
 } psd_rows;
 
 /* Start values: the nominal geometry, and per channel dark and gain from a
@@ -86,10 +92,31 @@ void psd_phys_start(psd_rows *d, double p[PSD_NP]);
  * cannot see (psd_model.c: dark4 or gain3).  Returns their count. */
 int psd_phys_free(const psd_design *d, int fit_tilt, int *free);
 /* Fit p (start values in, solution out) with fw (2 n residuals,
- * psd_phys_free's count of parameters).  SUNMC_OK or SUNMC_EFIT (res says
- * why). */
+ * psd_phys_free's count of parameters): first, when d->fw_channels is
+ * set, psd_phys_fit_channels from p (its solution the start when it
+ * converges), then the ratios (x, y), the held dark combination at that
+ * start's value.  SUNMC_OK or SUNMC_EFIT (res says why). */
 int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
                  fit_result *res);
+
+/* The first stage (psd_fitchan.c): the four channel signals themselves.
+ * Row r's dark-corrected channels m_k - dark_k are predicted as P_r gain_k
+ * i_k (i_k the geometry's photocurrents of unit light) with P_r the light
+ * that reached the sensor at that reading, which a lab does not know (lamp
+ * drift, a beam not uniform over the table's travel): the least-squares
+ * P_r for the other parameters (variable projection).  Every dark signal
+ * is visible to the four channels (the corner layouts' i1 i2 / (i3 i4) is
+ * fixed by the geometry), and no solution lets the gains run away while
+ * both ratios sit in a corner, so it converges from a start far from the
+ * unit (a nominal height off by a factor 3, darks of the wrong sign)
+ * where the ratios' fit does not.  fw: PSD_RESIDUALS_PER_ROW n residuals,
+ * psd_phys_free_channels(fit_tilt) parameters. */
+int psd_phys_fit_channels(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
+                          fit_result *res);
+static inline int psd_phys_free_channels(int fit_tilt)
+{
+    return fit_tilt ? PSD_NP : PSD_NP - 2;
+}
 
 /* ---- polynomial (psd_poly.c) ---- */
 #define PSD_POLY_MAX_ORDER 5

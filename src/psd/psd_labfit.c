@@ -25,6 +25,7 @@ void psd_labcal_free(psd_labcal *k)
         return;
     free(k->ut);
     fit_workspace_free(k->fw);
+    fit_workspace_free(k->fw_channels);
     free(k);
 }
 
@@ -56,8 +57,13 @@ psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *
         k->ut = malloc((n * 16 + PSD_LAB_POLY_WORK) * sizeof(double) + n * sizeof(long));
         k->fw = psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL
                     ? fit_workspace_alloc(2 * n, (size_t)nfree) : NULL;
+        k->fw_channels = k->fw ? fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * n,
+                                                     (size_t)psd_phys_free_channels(
+                                                         psd_cfg(c)->fit_tilt))
+                               : NULL;
     }
-    if (!k || !k->ut || (psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL && !k->fw)) {
+    if (!k || !k->ut ||
+        (psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL && (!k->fw || !k->fw_channels))) {
         psd_labcal_free(k);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %zu rows", n);
         return NULL;
@@ -88,6 +94,7 @@ void psd_labcal_rows(psd_labcal *k, psd_rows *r)
     r->w = k->w;
     r->design = &psd_cfg(k->c)->design;
     r->scratch = k->scratch;
+    r->fw_channels = k->fw_channels;
 }
 
 int psd_labcal_fit(psd_labcal *k, fit_result *fr)

@@ -324,6 +324,16 @@ int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
     c.nfree = psd_phys_free(d->design, fit_tilt, c.free);
     if (fw->p != (size_t)c.nfree)
         return SUNMC_EFIT;
+    if (d->fw_channels) {
+        double q[PSD_NP];
+        fit_result r1;
+        memcpy(q, p, sizeof q);
+        int ok = psd_phys_fit_channels(d->fw_channels, d, fit_tilt, q, &r1) == SUNMC_OK;
+        for (int j = 0; j < PSD_NP; j++)
+            ok &= isfinite(q[j]);
+        if (ok)
+            memcpy(p, q, sizeof q);
+    }
     memcpy(c.p, p, sizeof c.p);
     c.dark_xy = p[PSD_P_D1] + p[PSD_P_D2] - p[PSD_P_D3] - p[PSD_P_D4];
     double *buf = d->scratch, x[PSD_NP];

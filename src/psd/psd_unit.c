@@ -103,7 +103,7 @@ int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *
 typedef struct {
     long n;
     double *m[PSD_CHANNELS], *ut, *w, *scratch, *poly_work;
-    fit_workspace *fw;
+    fit_workspace *fw, *fw_channels;
 } psd_ws;
 
 static void psd_ws_free(void *ws)
@@ -113,6 +113,7 @@ static void psd_ws_free(void *ws)
         return;
     free(w->m[0]);
     fit_workspace_free(w->fw);
+    fit_workspace_free(w->fw_channels);
     free(w);
 }
 
@@ -127,8 +128,10 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         w->m[0] = malloc(((size_t)n * 16 + PSD_POLY_WORK) * sizeof(double));
         int fr[PSD_NP];
         w->fw = fit_workspace_alloc(2 * (size_t)n, (size_t)psd_phys_free(&psd_cfg(c)->design, psd_cfg(c)->fit_tilt, fr));
+        w->fw_channels = fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * (size_t)n,
+                                             (size_t)psd_phys_free_channels(psd_cfg(c)->fit_tilt));
     }
-    if (!w || !w->m[0] || !w->fw) {
+    if (!w || !w->m[0] || !w->fw || !w->fw_channels) {
         psd_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
         return NULL;
@@ -146,7 +149,8 @@ static double psd_ws_bytes(const sunmc_config *c)
 {
     long n = psd_campaign_rows(c);
     return ((double)n * 16 + PSD_POLY_WORK) * sizeof(double) +
-           fit_workspace_bytes(2 * (size_t)n, PSD_NP);
+           fit_workspace_bytes(2 * (size_t)n, PSD_NP) +
+           fit_workspace_bytes(PSD_RESIDUALS_PER_ROW * (size_t)n, PSD_NP);
 }
 
 /* The campaign of sensor s into w's rows; returns the rows seen. */
@@ -256,7 +260,7 @@ static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     psd_rows d = {.n = (size_t)w->n, .ut = w->ut, .w = w->w, .design = &p->design,
-                  .scratch = w->scratch};
+                  .scratch = w->scratch, .fw_channels = w->fw_channels};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = w->m[k];
     psd_cal k;
@@ -318,7 +322,8 @@ static int psd_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     psd_sensor_build(&pc->design, &dev, &cv->s);
     campaign(c, &cv->s, unit, cv->ws);
     psd_rows d = {.n = (size_t)cv->ws->n, .ut = cv->ws->ut, .w = cv->ws->w,
-                  .design = &pc->design, .scratch = cv->ws->scratch};
+                  .design = &pc->design, .scratch = cv->ws->scratch,
+                  .fw_channels = cv->ws->fw_channels};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = cv->ws->m[k];
     fit_result fr;
