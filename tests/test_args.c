@@ -109,6 +109,26 @@ static void test_did_you_mean(void **state)
     snprintf(p, sizeof p, "%s/bad.ini", dir);
     assert_int_equal(test_write_file(p, "[sensr]\nfamily = dss\n"), 0);
     expect("config $D/bad.ini", 2, "bad.ini:1: unknown section [sensr] (did you mean [sensor]?)");
+    /* every other name typed: short commands, options, values of choice keys */
+    expect("rn " D, 2, "unknown command 'rn' (did you mean run?)");
+    expect("x " D, 2, "unknown command 'x' (see sunmc --help)");
+    expect("run " D " --unit 3", 2, "unknown option --unit (did you mean --units?)");
+    expect("curve " D " --unitt 3", 2, "unknown option --unitt (did you mean --unit?)");
+    expect("curve " D " --onli dh_px=1", 2, "(did you mean --only?)");
+    expect("curve " E " --only tolerance.dh_um=2", 2, "did you mean tolerance.dH_um?");
+    expect("sweep " D " --vary tolerance.dh_px=1,2 --vary tolerance.dh_pxx=1,2", 2,
+           "did you mean tolerance.dh_px?");
+    expect("run " D " --set report.yield_interval=wilsn", 2,
+           "one of wilson|clopper_pearson|clopper_pearson_lower (did you mean wilson?)");
+    expect("config " D " --set sensor.family=dsss", 2, "one of ess|dss|psd (did you mean dss?)");
+    expect("run " D " --until rms_after_meen:0.1", 2,
+           "unknown statistic 'rms_after_meen' (did you mean rms_after_mean?)");
+    expect("run " D " --isa avx", 2, "--isa avx: one of baseline, avx2 (did you mean avx2?)");
+    expect("calibrate --sensor dsss --config " D " x.csv", 2,
+           "not 'dsss' (did you mean dss?)");
+    /* --duplicates is checked before the data file is read */
+    expect("calibrate --duplicates averge --config " D " /nonexistent.csv", 2,
+           "--duplicates averge: one of average, refuse, keep (did you mean average?)");
 }
 
 /* `sunmc --family dss --help` said "unknown command". */
@@ -150,6 +170,15 @@ static void test_suggest_limits(void **state)
     assert_string_equal(suggest_nearest("swep", names, 3), "sweep");
     assert_null(suggest_nearest("xyz", names, 3));
     assert_null(suggest_nearest("bud", names, 3)); /* 3 edits */
+    assert_string_equal(suggest_nearest("rn", names, 3), "run"); /* 1 of the longer's 3 */
+    assert_null(suggest_nearest("r", names, 3));                 /* 2 of 3: too far */
+    char hint[96];
+    suggest_hint("keeep", "average|refuse|keep", hint, sizeof hint);
+    assert_string_equal(hint, " (did you mean keep?)");
+    suggest_hint("psd", "ess, dss or psd", hint, sizeof hint);
+    assert_string_equal(hint, " (did you mean psd?)");
+    suggest_hint("zzzz", "ess, dss or psd", hint, sizeof hint);
+    assert_string_equal(hint, "");
     assert_int_equal(suggest_distance("abc", "abd"), 1);
     assert_int_equal(suggest_distance("", "abc"), 3);
 }

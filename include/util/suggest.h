@@ -15,7 +15,12 @@
 int suggest_distance(const char *a, const char *b);
 
 /* The name of names[n] nearest to word, when at most SUGGEST_MAX_DISTANCE
- * edits away and fewer than half of word's length; NULL otherwise. */
+ * edits away and fewer than half the length of the longer of the two
+ * ("rn" -> "run"); NULL otherwise. */
 const char *suggest_nearest(const char *word, const char *const *names, size_t n);
+
+/* " (did you mean NAME?)" for the nearest to word of the names in list
+ * (separated by '|', ',' or blanks, as messages list choices), or "". */
+void suggest_hint(const char *word, const char *list, char *buf, size_t len);
 
 #endif

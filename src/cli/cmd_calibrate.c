@@ -6,6 +6,7 @@
 #include "params_io.h"
 #include "registry.h"
 #include "status.h"
+#include "suggest.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -128,17 +129,29 @@ static void warn_stderr(const calreport *rep)
         fprintf(stderr, "sunmc calibrate: WARNING: %s\n", rep->w[i].reason);
 }
 
-/* Exact duplicate rows, as --duplicates says (default average, warned). */
-static int duplicates(const cli_options *o, lab_columns *d, char *err, size_t errlen)
+/* The mode of --duplicates (default average); -1 with a message when it is
+ * none of them. */
+static int duplicates_mode(const cli_options *o, char *err, size_t errlen)
 {
     const char *m = o->duplicates ? o->duplicates : "average";
     int mode = strcmp(m, "average") == 0  ? LAB_DUP_AVERAGE
                : strcmp(m, "refuse") == 0 ? LAB_DUP_REFUSE
                : strcmp(m, "keep") == 0   ? LAB_DUP_KEEP
                                           : -1;
+    char hint[SUGGEST_NAME_MAX + 32];
+    suggest_hint(m, "average refuse keep", hint, sizeof hint);
     if (mode < 0)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "--duplicates %s: one of average, refuse, keep", m);
+        sunmc_fail(err, errlen, SUNMC_EINPUT, "--duplicates %s: one of average, refuse, keep%s",
+                   m, hint);
+    return mode;
+}
+
+/* Exact duplicate rows, as --duplicates says (default average, warned). */
+static int duplicates(const cli_options *o, lab_columns *d, char *err, size_t errlen)
+{
+    int mode = duplicates_mode(o, err, errlen);
+    if (mode < 0)
+        return SUNMC_EINPUT;
     char note[256];
     int n = lab_duplicates(d, mode, note, sizeof note, err, errlen);
     if (n < 0)
@@ -223,7 +236,15 @@ int cmd_calibrate(int argc, char **argv)
     }
     const sensor_family *fam = o.sensor ? sensor_family_find(o.sensor) : NULL;
     if (o.sensor && (!fam || !fam->lab)) {
-        fprintf(stderr, "sunmc calibrate: --sensor must be %s, not '%s'\n", names, o.sensor);
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(o.sensor, names, hint, sizeof hint);
+        fprintf(stderr, "sunmc calibrate: --sensor must be %s, not '%s'%s\n", names, o.sensor,
+                hint);
+        return EXIT_BAD_INPUT;
+    }
+    char derr[SUNMC_ERRLEN];
+    if (duplicates_mode(&o, derr, sizeof derr) < 0) {
+        fprintf(stderr, "sunmc calibrate: %s\n", derr);
         return EXIT_BAD_INPUT;
     }
     config_state st;

@@ -8,6 +8,7 @@
 #include "checkpoint.h"
 #include "runner.h"
 #include "status.h"
+#include "suggest.h"
 #include "vmath.h"
 
 #include <math.h>
@@ -161,8 +162,10 @@ static int parse_until(const char *arg, const sunmc_config *c, long first, run_u
     u->band = report_widest_band(c);
     u->reached = NAN;
     if (u->stat < 0) {
-        fprintf(stderr, "sunmc run: --until %s: unknown statistic '%s' (one of %s)\n", arg, name,
-                list);
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(name, list, hint, sizeof hint);
+        fprintf(stderr, "sunmc run: --until %s: unknown statistic '%s'%s (one of %s)\n", arg,
+                name, hint, list);
         return EXIT_BAD_INPUT;
     }
     return 0;
@@ -211,7 +214,9 @@ static int check_isa(const char *want)
     if (!want)
         return 0;
     if (strcmp(want, "baseline") != 0 && strcmp(want, "avx2") != 0) {
-        fprintf(stderr, "sunmc run: %s %s: one of baseline, avx2\n", how, want);
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(want, "baseline avx2", hint, sizeof hint);
+        fprintf(stderr, "sunmc run: %s %s: one of baseline, avx2%s\n", how, want, hint);
         return EXIT_BAD_INPUT;
     }
     if (strcmp(want, vm_isa()) == 0)

@@ -5,6 +5,7 @@
 #include "registry.h"
 #include "shortest.h"
 #include "status.h"
+#include "suggest.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -162,17 +163,23 @@ static int set_choice(const config_key *k, void *dst, const char *v, const char 
         const sensor_family *f = sensor_family_find(v);
         char fams[128];
         config_family_choices(fams, sizeof fams);
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(v, fams, hint, sizeof hint);
         if (!f)
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "%s: %s.%s = '%s' is not allowed: one of %s", where, k->section,
-                              k->name, v, fams);
+                              "%s: %s.%s = '%s' is not allowed: one of %s%s", where, k->section,
+                              k->name, v, fams, hint);
         *(const sensor_family **)dst = f;
         return SUNMC_OK;
     }
     int idx = enum_index(k->choices, v);
+    char hint[SUGGEST_NAME_MAX + 32];
     if (idx < 0)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: %s.%s = '%s' is not allowed: one of %s",
-                          where, k->section, k->name, v, k->choices);
+        suggest_hint(v, k->choices, hint, sizeof hint);
+    if (idx < 0)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s: %s.%s = '%s' is not allowed: one of %s%s", where, k->section,
+                          k->name, v, k->choices, hint);
     *(int *)dst = idx + (int)k->min;
     return SUNMC_OK;
 }

@@ -2,6 +2,7 @@
 #include "suggest.h"
 
 #include <ctype.h>
+#include <stdio.h>
 #include <string.h>
 
 int suggest_distance(const char *a, const char *b)
@@ -34,10 +35,26 @@ const char *suggest_nearest(const char *word, const char *const *names, size_t n
     int best_d = SUGGEST_MAX_DISTANCE + 1;
     for (size_t i = 0; i < n; i++) {
         int d = suggest_distance(word, names[i]);
-        if (d < best_d && 2 * d < (int)strlen(word)) {
+        size_t longer = strlen(word) > strlen(names[i]) ? strlen(word) : strlen(names[i]);
+        if (d < best_d && 2 * d < (int)longer) {
             best = names[i];
             best_d = d;
         }
     }
     return best;
+}
+
+void suggest_hint(const char *word, const char *list, char *buf, size_t len)
+{
+    char copy[512], *names[64], *save = NULL;
+    size_t n = 0;
+    snprintf(copy, sizeof copy, "%s", list);
+    for (char *t = strtok_r(copy, "|, ", &save); t && n < 64; t = strtok_r(NULL, "|, ", &save))
+        if (strcmp(t, "or") != 0)
+            names[n++] = t;
+    const char *near = suggest_nearest(word, (const char *const *)names, n);
+    if (near && len > 0)
+        snprintf(buf, len, " (did you mean %s?)", near);
+    else if (len > 0)
+        buf[0] = '\0';
 }
