@@ -79,7 +79,7 @@ static void ess_campaign_of(const char *path)
     assert_near(ci.outside_deg[1], 0, 0);
     assert_near(ci.extrapolation_deg, 0, 0);
     char text[512];
-    campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
+    campaign_extrapolation_text(&ci, c->family->grid->axis_names, text, sizeof text);
     assert_string_equal(text, "");
     config_state_free(&st);
 }
@@ -98,7 +98,7 @@ static void ess_default_campaign(void **state)
     assert_near(ci.outside_deg[0], 0, 0);
     assert_near(ci.outside_deg[1], 5, 1e-12);
     assert_near(ci.extrapolation_deg, 5, 1e-12);
-    campaign_extrapolation_text(&ci, st.cfg.family->table_axis_names, text, sizeof text);
+    campaign_extrapolation_text(&ci, st.cfg.family->grid->axis_names, text, sizeof text);
     assert_non_null(strstr(text, "validation beta reaches -25..25 deg"));
     assert_non_null(strstr(text, "-20..20"));
     config_state_free(&st);

@@ -101,16 +101,16 @@ static void curve_mirrors_it(void **state)
     build(&st, sets, 4);
     const sensor_family *f = st.cfg.family;
     char err[SUNMC_ERRLEN];
-    void *cv = f->curve_alloc(&st.cfg, err, sizeof err);
+    void *cv = f->curve->alloc(&st.cfg, err, sizeof err);
     assert_non_null(cv);
     for (int s = -1; s <= 1; s += 2) {
         int ok;
-        assert_int_equal(f->curve_prepare(&st.cfg, 0, s, cv, &ok), SUNMC_OK);
+        assert_int_equal(f->curve->prepare(&st.cfg, 0, s, cv, &ok), SUNMC_OK);
         double before[UNIT_MAX_ANGLES], after[UNIT_MAX_ANGLES], a = 37 * RAD_PER_DEG;
-        assert_int_equal(f->curve_eval(&st.cfg, cv, 37, 0, before, after), SUNMC_OK);
+        assert_int_equal(f->curve->eval(&st.cfg, cv, 37, 0, before, after), SUNMC_OK);
         assert_near(before[0], s * BOW_ARCSEC * a * a, 1e-9);
     }
-    f->curve_free(cv);
+    f->curve->free(cv);
     config_state_free(&st);
 }
 

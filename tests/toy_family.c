@@ -236,6 +236,15 @@ static int toy_curve_eval(const sunmc_config *c, const void *cv, double a0_deg, 
     return SUNMC_OK;
 }
 
+static const family_curve toy_curve = {
+    .axis_names = toy_curve_axis_names,
+    .axis = toy_curve_axis,
+    .alloc = toy_curve_alloc,
+    .free = free,
+    .prepare = toy_curve_prepare,
+    .eval = toy_curve_eval,
+};
+
 static const char *const toy_angle_names[] = {"alpha"};
 
 const sensor_family toy_family = {
@@ -256,11 +265,6 @@ const sensor_family toy_family = {
     .unit_run = toy_unit_run,
     .deviations = toy_deviation_list,
     .n_deviations = TOY_N_TOL,
-    .curve_axis_names = toy_curve_axis_names,
-    .curve_axis = toy_curve_axis,
-    .curve_alloc = toy_curve_alloc,
-    .curve_free = free,
-    .curve_prepare = toy_curve_prepare,
-    .curve_eval = toy_curve_eval,
+    .curve = &toy_curve,
     .lab = &toy_lab, /* toy_lab.c */
 };

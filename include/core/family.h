@@ -25,7 +25,7 @@
 enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
 
 /* Which grid table_grid lists. */
-enum family_grid { FAMILY_GRID_CAMPAIGN = 0, FAMILY_GRID_VALIDATION = 1 };
+enum family_grid_which { FAMILY_GRID_CAMPAIGN = 0, FAMILY_GRID_VALIDATION = 1 };
 
 /* Phases of a unit's run, timed for `run --profile` (never written to files). */
 enum unit_phase { UNIT_PHASE_CAMPAIGN = 0, UNIT_PHASE_FIT, UNIT_PHASE_VALIDATION, UNIT_PHASES };
@@ -71,6 +71,55 @@ typedef struct {
      * its keys say */
     int (*active)(const sunmc_config *c);
 } family_noise;
+
+/* The turntable grids, for a campaign's cost and span (campaign.h), and
+ * the campaign keys `sunmc design` searches (design.h). */
+typedef struct family_grid {
+    /* Table positions (deg) of the campaign (which = FAMILY_GRID_CAMPAIGN)
+     * or of the validation (FAMILY_GRID_VALIDATION), in the order the table
+     * visits them: axis 0 the fast axis, axis 1 the slow one.  Returns the
+     * count; writes at most max (none when the arrays are NULL). */
+    long (*points)(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
+                   long max);
+    const char *const *axis_names; /* {"alpha", "beta"}: for messages */
+    /* "section.key" of the fast axis' step (a number key), and of the slow
+     * axis' positions (a list key, one scan each) or NULL when the step
+     * sets both axes; design_step_key NULL: `design` does not apply. */
+    const char *design_step_key;
+    const char *design_lines_key;
+} family_grid;
+
+/* Error curves and maps (`sunmc curve`).  A curve is one unit's error at
+ * every point of a 2-D grid: axis 0 is the fast axis (ESS: table alpha;
+ * DSS: sun angle alpha), axis 1 the series / slow axis (ESS: table beta;
+ * DSS: sun angle beta).  The grid is the config's validation grid. */
+typedef struct family_curve {
+    /* Column names of the two axes, with units: {"alpha_deg", "beta_deg"}. */
+    const char *const *axis_names;
+
+    /* Grid values (deg) of axis `axis` (0 or 1) into values[max]; returns
+     * the number of values (may exceed max: then only max are written). */
+    long (*axis)(const sunmc_config *c, int axis, double *values_deg, long max);
+
+    /* Workspace holding one built unit, its campaign and its fitted model. */
+    void *(*alloc)(const sunmc_config *c, char *err, size_t errlen);
+    void (*free)(void *cv);
+
+    /* Build unit `unit` of c: its deviations drawn exactly as unit_run draws
+     * them, each multiplied by dev_sign (+1, or -1 for the mirror unit: a
+     * fixed tolerance of -V), simulate its calibration campaign (with c's
+     * noise) and fit.  *fit_ok = 0 when the fit failed (after-errors are
+     * then NaN).  Non-zero only for a failure of the machinery. */
+    int (*prepare)(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok);
+
+    /* One noiseless reading of the prepared unit at table angles (deg)
+     * axis0_deg, axis1_deg: for each measured angle a (n_angles of them)
+     * before[a] = raw - truth and after[a] = compensated - truth, in the
+     * family's rms_unit.  SUNMC_EDOM when the sun is not seen there or the
+     * reading is a gross error (wrong code period). */
+    int (*eval)(const sunmc_config *c, const void *cv, double axis0_deg, double axis1_deg,
+                double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES]);
+} family_curve;
 
 typedef struct sensor_family {
     const char *name;               /* "ess", "dss": the value of sensor.family */
@@ -131,56 +180,12 @@ typedef struct sensor_family {
      * an error; only a failure of the machinery returns non-zero. */
     int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
 
-    /* ---- The turntable grids, for a campaign's cost and span
-     * (campaign.h); NULL when the family has none.  Table positions (deg)
-     * of the campaign (which = FAMILY_GRID_CAMPAIGN) or of the validation
-     * (FAMILY_GRID_VALIDATION), in the order the table visits them: axis 0
-     * the fast axis, axis 1 the slow one.  Returns the count; writes at most
-     * max (none when the arrays are NULL). ---- */
-    long (*table_grid)(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
-                       long max);
-    const char *const *table_axis_names; /* {"alpha", "beta"}: for messages */
-
-    /* ---- `sunmc design` (design.h): the campaign keys it searches, as
-     * "section.key"; NULL when the family has none.  step: the fast axis'
-     * step (a number key); lines: the slow axis' positions (a list key,
-     * one scan each), or NULL when the step sets both axes. ---- */
-    const char *design_step_key;
-    const char *design_lines_key;
-
-    /* ---- Error curves and maps (`sunmc curve`); all NULL when the family
-     * has none.  A curve is one unit's error at every point of a 2-D grid:
-     * axis 0 is the fast axis (ESS: table alpha; DSS: sun angle alpha),
-     * axis 1 the series / slow axis (ESS: table beta; DSS: sun angle beta).
-     * The grid is the config's validation grid. ---- */
-
-    /* Column names of the two table axes, with units: {"alpha_deg", "beta_deg"}. */
-    const char *const *curve_axis_names;
-
-    /* Grid values (deg) of axis `axis` (0 or 1) into values[max]; returns
-     * the number of values (may exceed max: then only max are written). */
-    long (*curve_axis)(const sunmc_config *c, int axis, double *values_deg, long max);
-
-    /* Workspace holding one built unit, its campaign and its fitted model. */
-    void *(*curve_alloc)(const sunmc_config *c, char *err, size_t errlen);
-    void (*curve_free)(void *cv);
-
-    /* Build unit `unit` of c: its deviations drawn exactly as unit_run draws
-     * them, each multiplied by dev_sign (+1, or -1 for the mirror unit: a
-     * fixed tolerance of -V), simulate its calibration campaign (with c's
-     * noise) and fit.  *fit_ok = 0 when the fit failed (after-errors are
-     * then NaN).  Non-zero only for a failure of the machinery. */
-    int (*curve_prepare)(const sunmc_config *c, long unit, double dev_sign, void *cv,
-                         int *fit_ok);
-
-    /* One noiseless reading of the prepared unit at table angles (deg)
-     * axis0_deg, axis1_deg: for each measured angle a (n_angles of them)
-     * before[a] = raw - truth and after[a] = compensated - truth, in the
-     * family's rms_unit.  SUNMC_EDOM when the sun is not seen there or the
-     * reading is a gross error (wrong code period). */
-    int (*curve_eval)(const sunmc_config *c, const void *cv, double axis0_deg,
-                      double axis1_deg, double before[UNIT_MAX_ANGLES],
-                      double after[UNIT_MAX_ANGLES]);
+    /* ---- Sub-tables, NULL when the family has none: its turntable grids
+     * and the campaign keys `design` searches (family_grid), its error
+     * curves for `curve` (family_curve), its lab commands (family_lab,
+     * lab.h). ---- */
+    const struct family_grid *grid;
+    const struct family_curve *curve;
 
     /* The lab commands' hooks (`simulate`, `calibrate`, `compensate`,
      * lab.h); NULL when the family has none. */

@@ -1,14 +1,13 @@
 /* ess_grid.h - the ESS turntable grids (campaign and validation) as table
- * positions, for the family's table_grid hook (family.h, campaign.h). */
+ * positions, the family's family_grid (family.h, campaign.h). */
 #ifndef SUNMC_ESS_GRID_H
 #define SUNMC_ESS_GRID_H
 
-#include "config.h"
+#include "family.h"
 
 /* Axis 0 = inner frame alpha (fast), axis 1 = outer frame beta (one line
- * per beta), in the order the unit pipeline visits them. */
-extern const char *const ess_table_axis_names[2];
-long ess_table_grid(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
-                    long max);
+ * per beta), in the order the unit pipeline visits them; design searches
+ * campaign.alpha_step_deg and campaign.beta_deg. */
+extern const family_grid ess_grid;
 
 #endif

@@ -114,9 +114,9 @@ typedef struct {
 static void curve_free(curve_run *r)
 {
     if (r->cv)
-        r->fam->curve_free(r->cv);
+        r->fam->curve->free(r->cv);
     if (r->cn)
-        r->fam->curve_free(r->cn);
+        r->fam->curve->free(r->cn);
     free(r->ax0);
     free(r->ax1);
     free(r->ss);
@@ -132,23 +132,23 @@ static int curve_setup(curve_run *r, const sunmc_config *c, const sunmc_config *
     r->fam = fam;
     r->c = c;
     r->nom = nom;
-    r->n0 = fam->curve_axis(c, 0, NULL, 0);
-    r->n1 = fam->curve_axis(c, 1, NULL, 0);
+    r->n0 = fam->curve->axis(c, 0, NULL, 0);
+    r->n1 = fam->curve->axis(c, 1, NULL, 0);
     r->na = fam->n_angles(c);
     r->ax0 = malloc((size_t)(r->n0 > 0 ? r->n0 : 1) * sizeof *r->ax0);
     r->ax1 = malloc((size_t)(r->n1 > 0 ? r->n1 : 1) * sizeof *r->ax1);
     r->ss = calloc((size_t)(r->n1 > 0 ? r->n1 : 1) * (size_t)r->na, sizeof *r->ss);
-    r->cv = fam->curve_alloc(c, err, errlen);
-    r->cn = r->cv ? fam->curve_alloc(nom, err, errlen) : NULL;
+    r->cv = fam->curve->alloc(c, err, errlen);
+    r->cn = r->cv ? fam->curve->alloc(nom, err, errlen) : NULL;
     if (!r->cv || !r->cn)
         return SUNMC_ENOMEM;
     if (!r->ax0 || !r->ax1 || !r->ss)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the curve grid");
-    fam->curve_axis(c, 0, r->ax0, r->n0);
-    fam->curve_axis(c, 1, r->ax1, r->n1);
-    int status = fam->curve_prepare(c, unit, sign, r->cv, &r->fit_ok);
+    fam->curve->axis(c, 0, r->ax0, r->n0);
+    fam->curve->axis(c, 1, r->ax1, r->n1);
+    int status = fam->curve->prepare(c, unit, sign, r->cv, &r->fit_ok);
     if (status == SUNMC_OK)
-        status = fam->curve_prepare(nom, unit, 1.0, r->cn, &r->nom_ok);
+        status = fam->curve->prepare(nom, unit, 1.0, r->cn, &r->nom_ok);
     return status;
 }
 
@@ -156,7 +156,7 @@ static void curve_header(const curve_run *r, FILE *fo)
 {
     const sensor_family *fam = r->fam;
     const char *u = fam->rms_unit;
-    fprintf(fo, "%s\t%s", fam->curve_axis_names[0], fam->curve_axis_names[1]);
+    fprintf(fo, "%s\t%s", fam->curve->axis_names[0], fam->curve->axis_names[1]);
     for (int a = 0; a < r->na; a++)
         fprintf(fo, "\terror_before_%s_%s\terror_after_%s_%s\terror_source_%s_%s",
                 fam->angle_names[a], u, fam->angle_names[a], u, fam->angle_names[a], u);
@@ -184,8 +184,8 @@ static void curve_walk(curve_run *r, FILE *fo)
         for (long i = 0; i < r->n0; i++) {
             double bef[UNIT_MAX_ANGLES], aft[UNIT_MAX_ANGLES], nb[UNIT_MAX_ANGLES],
                 na_[UNIT_MAX_ANGLES];
-            int s1 = fam->curve_eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft);
-            int s2 = fam->curve_eval(r->nom, r->cn, r->ax0[i], r->ax1[j], nb, na_);
+            int s1 = fam->curve->eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft);
+            int s2 = fam->curve->eval(r->nom, r->cn, r->ax0[i], r->ax1[j], nb, na_);
             if (s1 != SUNMC_OK) {
                 r->unseen++;
                 for (int a = 0; a < na; a++)
@@ -229,7 +229,7 @@ static void curve_print(const curve_run *r, const char *only, long unit)
     else
         printf("unit %ld, seed %ld", unit, r->c->seed);
     printf("%s\n", r->fit_ok ? "" : "  -- its fit FAILED: no after-compensation curve");
-    printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve_axis_names[1], "angle",
+    printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve->axis_names[1], "angle",
            "RMS", "", "", "max |err|", "", "", "points");
     printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s |\n", "", "", "before", "after", "source",
            "before", "after", "source");
@@ -274,7 +274,7 @@ static long curve_seen(const curve_run *r)
     long seen = 0;
     for (long j = 0; j < r->n1; j++)
         for (long i = 0; i < r->n0; i++)
-            seen += r->fam->curve_eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft) == SUNMC_OK;
+            seen += r->fam->curve->eval(r->c, r->cv, r->ax0[i], r->ax1[j], bef, aft) == SUNMC_OK;
     return seen;
 }
 
@@ -401,7 +401,7 @@ int cmd_curve(int argc, char **argv)
     if (status == SUNMC_OK)
         status = config_check(&nom, o.config, err, sizeof err);
     long unit = o.unit >= 0 ? o.unit : 0;
-    if (status == SUNMC_OK && !st.cfg.family->curve_eval)
+    if (status == SUNMC_OK && !st.cfg.family->curve)
         status = sunmc_fail(err, sizeof err, SUNMC_EINPUT,
                             "the %s family has no error curves in this version",
                             st.cfg.family->name);

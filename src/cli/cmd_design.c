@@ -71,7 +71,7 @@ static void write_tsv(FILE *f, const design_result *d)
     fprintf(f, "rank\tcandidate\t%s\t%s\trepeats\tinput\tpoints\thours\textrapolation_deg\tunits\t"
                "yield\tyield_ci_lo\tyield_ci_hi\trms_after_mean_%s\trms_after_mean_ci_lo\t"
                "rms_after_mean_ci_hi\talias_units\tfit_failures\tverdict\tpareto\tbest\n",
-            fam->design_step_key, fam->design_lines_key ? fam->design_lines_key : "lines",
+            fam->grid->design_step_key, fam->grid->design_lines_key ? fam->grid->design_lines_key : "lines",
             fam->rms_unit);
     for (int j = 0; j < d->n; j++) {
         const design_candidate *k = &d->cand[d->order[j]];
@@ -103,7 +103,7 @@ static void print_shortlist(const design_result *d, double secs)
     printf("\n%s (%s): campaign design, spec %g arcsec, yield target %g%% at %g%% confidence\n",
            c->product, fam->name, c->spec_arcsec, 100 * c->yield_target, 100 * c->confidence);
     printf("candidate = %s | %s x repeats; yield of the widest band, seed %ld\n",
-           fam->design_step_key, fam->design_lines_key ? fam->design_lines_key : "-", c->seed);
+           fam->grid->design_step_key, fam->grid->design_lines_key ? fam->grid->design_lines_key : "-", c->seed);
     printf("   %-40s %6s %6s %6s  %-21s  %s\n", "candidate", "points", "hours", "units",
            "yield [CI]", "verdict");
     int shown = 0;
@@ -139,7 +139,7 @@ static int write_best(FILE *f, config_state *st, const design_result *d, const c
     const sensor_family *fam = st->cfg.family;
     char rep[16];
     snprintf(rep, sizeof rep, "%d", k->repeats);
-    const char *keys[3] = {fam->design_step_key, fam->design_lines_key, "campaign.repeats"};
+    const char *keys[3] = {fam->grid->design_step_key, fam->grid->design_lines_key, "campaign.repeats"};
     const char *vals[3] = {k->step, k->lines, rep};
     for (int i = 0; i < 3; i++) {
         if (!keys[i])

@@ -48,7 +48,7 @@ void campaign_cost(const sunmc_config *c, const double *a0, const double *a1, lo
 static int grid_alloc(const sunmc_config *c, int which, double **a0, double **a1, long *n)
 {
     const sensor_family *fam = c->family;
-    *n = fam->table_grid(c, which, NULL, NULL, 0);
+    *n = fam->grid->points(c, which, NULL, NULL, 0);
     size_t len = (size_t)(*n > 0 ? *n : 1);
     *a0 = malloc(len * sizeof **a0);
     *a1 = malloc(len * sizeof **a1);
@@ -57,14 +57,14 @@ static int grid_alloc(const sunmc_config *c, int which, double **a0, double **a1
         free(*a1);
         return SUNMC_ENOMEM;
     }
-    fam->table_grid(c, which, *a0, *a1, *n);
+    fam->grid->points(c, which, *a0, *a1, *n);
     return SUNMC_OK;
 }
 
 int campaign_describe(const sunmc_config *c, campaign_info *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
-    if (!c->family || !c->family->table_grid)
+    if (!c->family || !c->family->grid)
         return SUNMC_OK;
     double *a0, *a1;
     long n;

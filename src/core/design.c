@@ -70,8 +70,8 @@ static int add_candidate(design_result *d, const sunmc_config *base, const char 
     k->cfg = *base;
     char err[SUNMC_ERRLEN], rep[16];
     snprintf(rep, sizeof rep, "%d", repeats);
-    if (set_key(&k->cfg, fam->design_step_key, step, err, sizeof err) != SUNMC_OK ||
-        (lines[0] && set_key(&k->cfg, fam->design_lines_key, lines, err, sizeof err) != SUNMC_OK) ||
+    if (set_key(&k->cfg, fam->grid->design_step_key, step, err, sizeof err) != SUNMC_OK ||
+        (lines[0] && set_key(&k->cfg, fam->grid->design_lines_key, lines, err, sizeof err) != SUNMC_OK) ||
         set_key(&k->cfg, "campaign.repeats", rep, err, sizeof err) != SUNMC_OK ||
         config_validate(&k->cfg, err, sizeof err) != SUNMC_OK)
         return SUNMC_OK;
@@ -100,7 +100,7 @@ int design_space(const sunmc_config *c, design_result *d, char *err, size_t errl
     memset(d, 0, sizeof *d);
     d->best = -1;
     const sensor_family *fam = c->family;
-    if (!fam->design_step_key)
+    if (!fam->grid || !fam->grid->design_step_key)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design: the %s family names no campaign keys to search", fam->name);
     d->cand = calloc(DESIGN_MAX_CANDIDATES, sizeof *d->cand);
@@ -113,10 +113,10 @@ int design_space(const sunmc_config *c, design_result *d, char *err, size_t errl
     for (const config_key *k = fam->keys; k && k->section; k++) {
         char dotted[2 * CONFIG_STR_MAX + 2];
         snprintf(dotted, sizeof dotted, "%s.%s", k->section, k->name);
-        ks = strcmp(dotted, fam->design_step_key) == 0 ? k : ks;
-        kl = fam->design_lines_key && strcmp(dotted, fam->design_lines_key) == 0 ? k : kl;
+        ks = strcmp(dotted, fam->grid->design_step_key) == 0 ? k : ks;
+        kl = fam->grid->design_lines_key && strcmp(dotted, fam->grid->design_lines_key) == 0 ? k : kl;
     }
-    if (!ks || (fam->design_lines_key && !kl))
+    if (!ks || (fam->grid->design_lines_key && !kl))
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "design: %s's design keys are not its keys",
                           fam->name);
     config_format_value(ks, c, step, sizeof step);

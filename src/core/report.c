@@ -609,7 +609,7 @@ void report_print_campaign(FILE *f, const sunmc_config *c)
             "campaign: %ld points on %ld lines, %d reading%s each: %.2f turntable hours "
             "(campaign.dwell_s, point_settle_s, line_settle_s, slew_deg_per_s)\n",
             ci.points, ci.lines, c->cal_repeats, c->cal_repeats == 1 ? "" : "s", ci.hours);
-    campaign_extrapolation_text(&ci, c->family->table_axis_names, text, sizeof text);
+    campaign_extrapolation_text(&ci, c->family->grid->axis_names, text, sizeof text);
     if (text[0])
         fprintf(f, "WARNING: %s: the calibration is extrapolated there; let the campaign "
                    "cover the validation angles\n",

@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-const char *const dss_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
+static const char *const dss_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
 
 /* Indices of the measured angles (the family's angle_names order). */
 enum { CURVE_ALPHA = 0, CURVE_BETA, CURVE_TOTAL };
@@ -21,7 +21,7 @@ typedef struct {
     int fit_ok;
 } dss_curve_ws;
 
-long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
+static long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
 {
     const dss_config *dc = dss_cfg(c);
     (void)axis; /* both axes span the same validation grid */
@@ -32,7 +32,9 @@ long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, long ma
     return n;
 }
 
-void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+static void dss_curve_free(void *cv);
+
+static void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     const dss_config *dc = dss_cfg(c);
     size_t n = dss_campaign_size(c);
@@ -56,7 +58,7 @@ void *dss_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     return w;
 }
 
-void dss_curve_free(void *cv)
+static void dss_curve_free(void *cv)
 {
     dss_curve_ws *w = cv;
     if (!w)
@@ -65,7 +67,7 @@ void dss_curve_free(void *cv)
     free(w);
 }
 
-int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
+static int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
 {
     dss_curve_ws *w = cv;
     dss_calib_workspace *cw = w->cw;
@@ -98,7 +100,7 @@ static void errors_of(double a, double b, double a0, double b0, double out[UNIT_
     out[CURVE_TOTAL] = angle_between(u, v) * ARCSEC_PER_RAD;
 }
 
-int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
+static int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
                    double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
 {
     (void)c;
@@ -121,3 +123,12 @@ int dss_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
         errors_of(ac, bc, a0, b0, after);
     return SUNMC_OK;
 }
+
+const family_curve dss_curve = {
+    .axis_names = dss_curve_axis_names,
+    .axis = dss_curve_axis,
+    .alloc = dss_curve_alloc,
+    .free = dss_curve_free,
+    .prepare = dss_curve_prepare,
+    .eval = dss_curve_eval,
+};

@@ -3,9 +3,9 @@
 #include "dss_config.h"
 #include "family.h"
 
-const char *const dss_table_axis_names[2] = {"b2", "b1"};
+static const char *const dss_table_axis_names[2] = {"b2", "b1"};
 
-long dss_table_grid(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
+static long dss_table_grid(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
                     long max)
 {
     const dss_config *dc = dss_cfg(c);
@@ -23,3 +23,10 @@ long dss_table_grid(const sunmc_config *c, int which, double *axis0_deg, double 
             }
     return i;
 }
+
+const family_grid dss_grid = {
+    .points = dss_table_grid,
+    .axis_names = dss_table_axis_names,
+    .design_step_key = "campaign.b_step_deg",
+    .design_lines_key = NULL,
+};

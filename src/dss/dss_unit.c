@@ -463,15 +463,7 @@ const sensor_family dss_family = {
     .workspace_bytes = dss_ws_bytes,
     .workspace_free = dss_ws_free,
     .unit_run = dss_unit_run,
-    .table_grid = dss_table_grid,
-    .table_axis_names = dss_table_axis_names,
-    .design_step_key = "campaign.b_step_deg",
-    .design_lines_key = NULL,
-    .curve_axis_names = dss_curve_axis_names,
-    .curve_axis = dss_curve_axis,
-    .curve_alloc = dss_curve_alloc,
-    .curve_free = dss_curve_free,
-    .curve_prepare = dss_curve_prepare,
-    .curve_eval = dss_curve_eval,
+    .grid = &dss_grid,       /* dss_grid.c */
+    .curve = &dss_curve,     /* dss_curve.c */
     .lab = &dss_lab, /* dss_lab.c */
 };

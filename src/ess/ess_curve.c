@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const ess_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
+static const char *const ess_curve_axis_names[2] = {"alpha_deg", "beta_deg"};
 
 typedef struct {
     ess_calib_workspace *cw;
@@ -18,7 +18,7 @@ typedef struct {
     int fit_ok;
 } ess_curve_ws;
 
-long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
+static long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
 {
     const ess_config *ec = ess_cfg(c);
     if (axis == 1) {
@@ -34,7 +34,9 @@ long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long ma
     return n;
 }
 
-void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
+static void ess_curve_free(void *cv);
+
+static void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
     if (n <= ESS_NP) {
@@ -61,7 +63,7 @@ void *ess_curve_alloc(const sunmc_config *c, char *err, size_t errlen)
     return w;
 }
 
-void ess_curve_free(void *cv)
+static void ess_curve_free(void *cv)
 {
     ess_curve_ws *w = cv;
     if (!w)
@@ -70,7 +72,7 @@ void ess_curve_free(void *cv)
     free(w);
 }
 
-int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
+static int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *cv, int *fit_ok)
 {
     const ess_config *ec = ess_cfg(c);
     ess_curve_ws *w = cv;
@@ -93,7 +95,7 @@ int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, void *c
     return SUNMC_OK;
 }
 
-int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
+static int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, double beta_deg,
                    double before[UNIT_MAX_ANGLES], double after[UNIT_MAX_ANGLES])
 {
     const ess_curve_ws *w = cv;
@@ -112,3 +114,12 @@ int ess_curve_eval(const sunmc_config *c, const void *cv, double alpha_deg, doub
         after[0] = (comp - truth) * DEG_PER_RAD;
     return SUNMC_OK;
 }
+
+const family_curve ess_curve = {
+    .axis_names = ess_curve_axis_names,
+    .axis = ess_curve_axis,
+    .alloc = ess_curve_alloc,
+    .free = ess_curve_free,
+    .prepare = ess_curve_prepare,
+    .eval = ess_curve_eval,
+};

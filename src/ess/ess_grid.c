@@ -3,9 +3,9 @@
 #include "ess_config.h"
 #include "family.h"
 
-const char *const ess_table_axis_names[2] = {"alpha", "beta"};
+static const char *const ess_table_axis_names[2] = {"alpha", "beta"};
 
-long ess_table_grid(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
+static long ess_table_grid(const sunmc_config *c, int which, double *axis0_deg, double *axis1_deg,
                     long max)
 {
     const ess_config *ec = ess_cfg(c);
@@ -25,3 +25,10 @@ long ess_table_grid(const sunmc_config *c, int which, double *axis0_deg, double 
             }
     return i;
 }
+
+const family_grid ess_grid = {
+    .points = ess_table_grid,
+    .axis_names = ess_table_axis_names,
+    .design_step_key = "campaign.alpha_step_deg",
+    .design_lines_key = "campaign.beta_deg",
+};

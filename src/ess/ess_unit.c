@@ -422,16 +422,7 @@ const sensor_family ess_family = {
     .workspace_bytes = ess_ws_bytes,
     .workspace_free = ess_ws_free,
     .unit_run = ess_unit_run,
-    /* curve hooks: ess_curve.c */
-    .table_grid = ess_table_grid,
-    .table_axis_names = ess_table_axis_names,
-    .design_step_key = "campaign.alpha_step_deg",
-    .design_lines_key = "campaign.beta_deg",
-    .curve_axis_names = ess_curve_axis_names,
-    .curve_axis = ess_curve_axis,
-    .curve_alloc = ess_curve_alloc,
-    .curve_free = ess_curve_free,
-    .curve_prepare = ess_curve_prepare,
-    .curve_eval = ess_curve_eval,
+    .grid = &ess_grid,       /* ess_grid.c */
+    .curve = &ess_curve,     /* ess_curve.c */
     .lab = &ess_lab, /* ess_lab.c */
 };

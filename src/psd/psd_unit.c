@@ -420,6 +420,22 @@ static const family_noise psd_noise[] = {
     {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL},
     {NULL, 0, NULL, NULL}};
 
+static const family_grid psd_grid_hooks = {
+    .points = psd_table_grid,
+    .axis_names = psd_table_axes,
+    .design_step_key = "campaign.alpha_step_deg",
+    .design_lines_key = "campaign.beta_deg",
+};
+
+static const family_curve psd_curve_hooks = {
+    .axis_names = psd_curve_axes,
+    .axis = psd_curve_axis,
+    .alloc = psd_curve_alloc,
+    .free = psd_curve_free,
+    .prepare = psd_curve_prepare,
+    .eval = psd_curve_eval,
+};
+
 const sensor_family psd_family = {
     .name = "psd",
     .description = "four-channel analog sun sensor: lateral PSD or quadrant photodiode",
@@ -441,15 +457,7 @@ const sensor_family psd_family = {
     .workspace_bytes = psd_ws_bytes,
     .workspace_free = psd_ws_free,
     .unit_run = psd_unit_run,
-    .table_grid = psd_table_grid,
-    .table_axis_names = psd_table_axes,
-    .design_step_key = "campaign.alpha_step_deg",
-    .design_lines_key = "campaign.beta_deg",
-    .curve_axis_names = psd_curve_axes,
-    .curve_axis = psd_curve_axis,
-    .curve_alloc = psd_curve_alloc,
-    .curve_free = psd_curve_free,
-    .curve_prepare = psd_curve_prepare,
-    .curve_eval = psd_curve_eval,
+    .grid = &psd_grid_hooks,
+    .curve = &psd_curve_hooks,
     .lab = &psd_lab,
 };
