@@ -1,5 +1,5 @@
 /* campaign.h - what a calibration campaign costs in turntable time and
- * which table angles it covers, for every family (through its table_grid
+ * which table angles it covers, for every family (through its family_grid
  * hook, family.h) and for a real campaign's data (`sunmc calibrate`).
  *
  * Cost model (keys in [campaign], each with its unit in the name): the
@@ -47,7 +47,7 @@ void campaign_cost(const sunmc_config *c, const double *a0, const double *a1, lo
                    double to_deg, campaign_info *out);
 
 /* Cost and span of c's own campaign and validation grids (the family's
- * table_grid hook); out->known = 0 when the family has none.
+ * family_grid); out->known = 0 when the family has none.
  * SUNMC_ENOMEM. */
 int campaign_describe(const sunmc_config *c, campaign_info *out, char *err, size_t errlen);
 

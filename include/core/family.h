@@ -24,7 +24,7 @@
 /* Fit status of a unit, as written in units.tsv. */
 enum unit_fit_status { UNIT_FIT_OK = 0, UNIT_FIT_FAILED = 1 };
 
-/* Which grid table_grid lists. */
+/* Which grid family_grid.points lists. */
 enum family_grid_which { FAMILY_GRID_CAMPAIGN = 0, FAMILY_GRID_VALIDATION = 1 };
 
 /* Phases of a unit's run, timed for `run --profile` (never written to files). */
