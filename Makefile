@@ -126,7 +126,7 @@ $(ALL_DEP): ;
 .PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps
 
-all: $(BUILD)/sunmc
+all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 
 # Install system packages only when something is missing.
 deps:
@@ -206,6 +206,23 @@ $(eval $(call BUILD_RULES,$(ASAN),$$(ALL_CFLAGS) $$(ASAN_FLAGS)))
 $(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(KERNEL_SRC:src/%.c=$(ASAN)/obj/%.o): \
     ALL_CFLAGS += $(KERNEL_CFLAGS)
 
+# sunmc-baseline: the same program with the kernels (and vmath.o's build
+# id) built for the baseline only.  `sunmc run --isa baseline` and
+# SUNMC_ISA=baseline run it on any CPU, so the shards of a mixed cluster
+# merge (issue 22, rule 3).  Only these objects differ from the plain build.
+BASE_OBJ := $(KERNEL_SRC:src/%.c=$(BUILD)/base/%.o) $(BUILD)/base/util/vmath.o
+$(BUILD)/base/%.o: src/%.c $(BUILD)/obj/%.o
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(KERNEL_CFLAGS) -DVM_FORCE_BASELINE $(call layer_inc,$<) -c $< -o $@
+$(BUILD)/base/util/vmath.o: src/util/vmath.c $(BUILD)/obj/util/vmath.o
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -DVM_FORCE_BASELINE \
+	    -DSUNMC_BUILD_FLAGS='"$(strip $(OPT) $(ARCH) kernels baseline)"' \
+	    $(call layer_inc,$<) -c $< -o $@
+$(BUILD)/sunmc-baseline: $(MAIN_SRC:src/%.c=$(BUILD)/obj/%.o) $(BASE_OBJ) \
+    $(filter-out $(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(BUILD)/obj/util/vmath.o,$(LIB_SRC:src/%.c=$(BUILD)/obj/%.o))
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(ALL_LDLIBS)
+
 $(BUILD)/tests $(ASAN)/tests:
 	mkdir -p $@
 
@@ -219,10 +236,10 @@ test: deps
 	$(MAKE) --no-print-directory test-plain test-asan
 	@bash tests/summarize.sh $(BUILD)/test-plain.log $(ASAN)/test-asan.log $(SUMMARY_EXTRA)
 
-test-plain: $(BUILD)/sunmc $(TEST_BIN)
+test-plain: $(BUILD)/sunmc $(BUILD)/sunmc-baseline $(TEST_BIN)
 	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(TEST_BIN) | tee $(BUILD)/test-plain.log
 
-test-fast: $(BUILD)/sunmc $(FAST_TEST_BIN)
+test-fast: $(BUILD)/sunmc $(BUILD)/sunmc-baseline $(FAST_TEST_BIN)
 	@SUNMC=$(BUILD)/sunmc bash tests/run-suite.sh $(FAST_TEST_BIN)
 
 test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
@@ -312,9 +329,10 @@ fuzz: fuzz-build
 bench: $(BUILD)/sunmc
 	bash scripts/bench.sh $(BUILD)/sunmc
 
-install: $(BUILD)/sunmc
+install: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/sunmc/configs $(DESTDIR)$(PREFIX)/share/sunmc/scripts
 	install -m 755 $(BUILD)/sunmc $(DESTDIR)$(PREFIX)/bin/sunmc
+	install -m 755 $(BUILD)/sunmc-baseline $(DESTDIR)$(PREFIX)/bin/sunmc-baseline
 	install -m 644 configs/*.ini $(DESTDIR)$(PREFIX)/share/sunmc/configs/
 	install -m 644 $(wildcard scripts/*.gp) $(DESTDIR)$(PREFIX)/share/sunmc/scripts/
 	install -m 755 scripts/plots.sh scripts/slurm-array.sh scripts/mpi-batch.sh \

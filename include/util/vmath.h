@@ -87,6 +87,10 @@ double hypot(double, double) __attribute__((const));
  * is part of a result's identity (manifest.ini kernel_isa). */
 const char *vm_isa(void);
 
+/* 1 in a binary whose kernels were built for the baseline only
+ * (VM_FORCE_BASELINE: sunmc-baseline, or `make KERNEL_ISA=baseline`). */
+int vm_forced_baseline(void);
+
 /* The build's identity: compiler version and the flags that move a
  * result's last bits (manifest.ini build). */
 const char *vm_build_id(void);

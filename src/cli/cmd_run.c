@@ -202,9 +202,10 @@ typedef struct {
     char resume_cmd[1536];  /* the command that finishes this run */
 } run_job;
 
-/* --isa (else $SUNMC_ISA): the kernel path this run must take.  The
- * loader chose it before main, so a path other than the chosen one is
- * refused (with the build that runs it), never run silently. */
+/* --isa (else $SUNMC_ISA): the kernel path this run must take.  baseline
+ * was forced before main (main.c runs sunmc-baseline); a path this binary
+ * cannot run here (avx2 on a CPU or build without it) is refused, never
+ * run silently. */
 static int check_isa(const char *want)
 {
     const char *env = getenv("SUNMC_ISA");
@@ -226,10 +227,9 @@ static int check_isa(const char *want)
             "loaded); %s\n",
             how, want, vm_isa(),
             strcmp(want, "baseline") == 0
-                ? "build one that runs the baseline on every CPU with `make clean && make "
-                  "KERNEL_ISA=baseline`"
-                : "this CPU or build has no AVX2 path: run on an x86-64-v3 node with the "
-                  "default build");
+                ? "run sunmc-baseline (built and installed beside sunmc)"
+                : "this CPU or build has no AVX2 path: run on an x86-64-v3 node with sunmc "
+                  "(not sunmc-baseline)");
     return EXIT_BAD_INPUT;
 }
 

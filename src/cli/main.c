@@ -4,8 +4,10 @@
 #include "par.h"
 #include "status.h"
 #include "suggest.h"
+#include "vmath.h"
 
 #include <gsl/gsl_errno.h>
+#include <limits.h>
 #include <errno.h>
 #include <omp.h>
 #include <signal.h>
@@ -163,6 +165,48 @@ static int check_stdout(int argc, char **argv, int rc)
     return rc ? rc : out ? 0 : 1;
 }
 
+/* The binary beside this one whose kernels run the baseline on every CPU. */
+#define BASELINE_BINARY "sunmc-baseline"
+
+/* --isa baseline (`run`) or SUNMC_ISA=baseline (any command) on a binary
+ * whose kernels have an AVX2 clone: the loader picked the clone before
+ * main, so the command is run again by sunmc-baseline (same arguments),
+ * before MPI starts.  Returns only on an error (an exit code) or when
+ * nothing is to be done (0). */
+static int isa_reexec(int argc, char **argv)
+{
+    const char *want = NULL, *env = getenv("SUNMC_ISA");
+    for (int i = 2; argc >= 2 && strcmp(argv[1], "run") == 0 && i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0)
+            break;
+        if (strcmp(argv[i], "--isa") == 0 && i + 1 < argc)
+            want = argv[i + 1];
+        else if (strncmp(argv[i], "--isa=", 6) == 0)
+            want = argv[i] + 6;
+    }
+    if (!want && env && env[0])
+        want = env;
+    if (!want || strcmp(want, "baseline") != 0 || vm_forced_baseline())
+        return 0;
+    char self[PATH_MAX], path[PATH_MAX + 32];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0)
+        return 0; /* cmd_run says the path cannot be forced */
+    self[n] = '\0';
+    char *slash = strrchr(self, '/');
+    snprintf(path, sizeof path, "%.*s/%s", slash ? (int)(slash - self) : 1,
+             slash ? self : ".", BASELINE_BINARY);
+    if (access(path, X_OK) != 0) {
+        fprintf(stderr, "sunmc: --isa baseline: %s is missing (`make` builds it beside sunmc, "
+                        "`make install` installs it)\n", path);
+        return EXIT_BAD_INPUT;
+    }
+    argv[0] = path;
+    execv(path, argv);
+    fprintf(stderr, "sunmc: --isa baseline: cannot run %s: %s\n", path, strerror(errno));
+    return EXIT_BAD_INPUT;
+}
+
 /* Under mpirun every rank runs `run` (its units split across the ranks);
  * any other command runs on rank 0 alone. */
 int main(int argc, char **argv)
@@ -172,6 +216,9 @@ int main(int argc, char **argv)
      * --out is committed: writes to it fail with EPIPE instead. */
     signal(SIGPIPE, SIG_IGN);
     char err[SUNMC_ERRLEN];
+    int xrc = isa_reexec(argc, argv);
+    if (xrc)
+        return xrc;
     if (par_init(&argc, &argv, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;

@@ -319,8 +319,8 @@ int manifest_compatible(const run_manifest *a, const char *a_name, const run_man
     } else if (strcmp(a->isa, b->isa) != 0) {
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "%s and %s ran different kernel paths: kernel_isa %s against %s (their "
-                          "last bits differ); run every part on one path: a build made with "
-                          "`make KERNEL_ISA=baseline` runs the baseline on every CPU",
+                          "last bits differ); run every part on one path: `sunmc run --isa "
+                          "baseline` (or SUNMC_ISA=baseline) runs the baseline on every CPU",
                           a_name, b_name, a->isa, b->isa);
     } else if (strcmp(a->build, b->build) != 0) {
         return sunmc_fail(err, errlen, SUNMC_EINPUT,

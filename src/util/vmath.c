@@ -31,6 +31,15 @@ const char *vm_isa(void)
     return "baseline";
 }
 
+int vm_forced_baseline(void)
+{
+#ifdef VM_FORCE_BASELINE
+    return 1;
+#else
+    return 0;
+#endif
+}
+
 const char *vm_build_id(void)
 {
 #ifdef __VERSION__
