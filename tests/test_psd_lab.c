@@ -75,6 +75,42 @@ static void polynomial_round_trip(void **state)
 
 /* Without the table angles compensate adds no truth columns; with them,
  * the truth follows campaign.table_order of the calibration. */
+/* A nominal height 2.7 times too small (1.5 mm for the unit's 4 mm): the
+ * first stage of the physical fit (the four channels) still finds it. */
+static void physical_far_start(void **state)
+{
+    round_trip("physical", "--set design.h_mm=1.5", 250);
+}
+
+/* The lab's lamp changing by 20 % from reading to reading
+ * (noise.lamp_pct): the physical model, on the dark-corrected ratios, does
+ * not see it; the polynomial, on the raw ratios over the darks, does (the
+ * raw ratio is (n_dark + L N) / (s_dark + L S)). */
+static void lamp_changes_only_the_polynomial(void **state)
+{
+    const char *models[2] = {"physical", "polynomial"};
+    double rms[2];
+    for (int k = 0; k < 2; k++) {
+        char out[65536], args[2048], path[1024];
+        snprintf(args, sizeof args,
+                 "simulate configs/psd.ini --unit 5 --set noise.lamp_pct=20 --out $D/lamp && "
+                 "%s calibrate --config configs/psd.ini --set calibration.model=%s "
+                 "--set calibration.poly_order=3 $D/lamp/campaign.csv --out $D/lamp_%s "
+                 "--quiet && %s compensate $D/lamp_%s/params.ini $D/lamp/validation.csv > "
+                 "$D/lamp_%s.csv",
+                 test_sunmc(), models[k], models[k], test_sunmc(), models[k], models[k]);
+        if (test_sunmc_in(dir, args, out, sizeof out) != 0)
+            fail_msg("%s", out);
+        snprintf(path, sizeof path, "%s/lamp_%s.csv", dir, models[k]);
+        size_t n;
+        rms[k] = comp_rms(path, &n);
+        assert_true(n == 72);
+    }
+    if (!(rms[0] < 250 && rms[1] > 1000))
+        fail_msg("lamp 20 %%: physical %.1f (expected < 250), polynomial %.1f (> 1000)", rms[0],
+                 rms[1]);
+}
+
 static void truth_columns_only_with_table_angles(void **state)
 {
     char out[65536];
@@ -291,6 +327,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(physical_round_trip),
         cmocka_unit_test(polynomial_round_trip),
+        cmocka_unit_test(physical_far_start),
+        cmocka_unit_test(lamp_changes_only_the_polynomial),
         cmocka_unit_test(truth_columns_only_with_table_angles),
         cmocka_unit_test(repeats_are_not_information),
         cmocka_unit_test(threads_do_not_change_units),

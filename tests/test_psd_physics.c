@@ -12,6 +12,9 @@
  *  - dark and gain on the ratios: a dark d added to both channels of a
  *    duo pair turns x into x S / (S + 2 d) (S = i1 + i2); a gain 1 + e on
  *    channel 2 turns it into ((1 + e) i2 - i1) / ((1 + e) i2 + i1);
+ *  - the lab's lamp: light L turns the raw ratio into
+ *    (sum c_k d_k + L N) / (sum d_k + L S) and leaves the dark-corrected one;
+ *  - the physical fit's first stage recovers a noiseless unit exactly;
  *  - tetra-lateral: the corner currents' ratios are the pincushioned
  *    X' = X (1 + k Y^2), Y' = Y (1 + k X^2). */
 #include "test_util.h"
@@ -218,6 +221,106 @@ static void dark_and_gain_on_the_ratios(void **state)
     assert_near(y, y0, 1e-12);
 }
 
+/* The lab's lamp (noise.lamp_pct): light L on channels with darks d_k and
+ * signals S_k: the raw ratio is (sum_k c_k d_k + L N) / (sum_k d_k + L S)
+ * with N = sum_k c_k S_k (c_k the corner signs), S = sum_k S_k; the
+ * dark-corrected ratios are those of L = 1. */
+static void lamp_on_raw_and_corrected_ratios(void **state)
+{
+    psd_design d = base_design(PSD_LATERAL, PSD_TETRA);
+    psd_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    const double dark[4] = {0.02, 0.015, 0.03, -0.01}, cx[4] = {-1, 1, 1, -1};
+    for (int k = 0; k < 4; k++)
+        dev.dark_pct[k] = dark[k] * 100;
+    dev.gain_pct[1] = 60;
+    psd_sensor s;
+    psd_sensor_build(&d, &dev, &s);
+    double u[3], m1[4], mL[4], x1, y1, x, y, L = 1.37;
+    unit_vec(11, -6, u);
+    assert_int_equal(psd_sensor_read_lit(&s, u, 1.0, m1), SUNMC_OK);
+    assert_int_equal(psd_sensor_read_lit(&s, u, L, mL), SUNMC_OK);
+    double N = 0, S = 0, Nd = 0, Sd = 0;
+    for (int k = 0; k < 4; k++) {
+        N += cx[k] * (m1[k] - dark[k]);
+        S += m1[k] - dark[k];
+        Nd += cx[k] * dark[k];
+        Sd += dark[k];
+        assert_near(mL[k] - dark[k], L * (m1[k] - dark[k]), 1e-15);
+    }
+    psd_ratios(d.detector, d.lateral, mL, &x, &y);
+    assert_near(x, (Nd + L * N) / (Sd + L * S), 1e-14);
+    psd_phys ph;
+    double p[PSD_NP] = {0};
+    p[PSD_P_G2] = 1.6;
+    p[PSD_P_G3] = p[PSD_P_G4] = 1;
+    for (int k = 0; k < 4; k++)
+        p[PSD_P_D1 + k] = dark[k];
+    psd_phys_set(&ph, &d, p);
+    assert_int_equal(psd_phys_observed(&ph, m1, &x1, &y1), SUNMC_OK);
+    assert_int_equal(psd_phys_observed(&ph, mL, &x, &y), SUNMC_OK);
+    assert_near(x, x1, 1e-14);
+    assert_near(y, y1, 1e-14);
+}
+
+/* The physical fit's first stage (psd_phys_fit_channels) on noiseless
+ * readings whose light changes from row to row: it finds the unit exactly
+ * (every dark, unequal gains, the height) from a start with the height off
+ * by a factor 3 and the darks 0.1 of full scale off, where the ratios'
+ * fit from the same start does not find it. */
+static void channel_fit_finds_the_unit(void **state)
+{
+    enum { NA = 11, NB = 4, N = NA * NB };
+    psd_design d = base_design(PSD_LATERAL, PSD_TETRA);
+    d.signal_fs = 0.1;
+    psd_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    const double dark[4] = {0.32, 0.31, 0.335, 0.29}, gain[4] = {1, 1.6, 1.05, 1.55};
+    for (int k = 0; k < 4; k++) {
+        dev.dark_pct[k] = dark[k] * 100;
+        dev.gain_pct[k] = (gain[k] - 1) * 100;
+    }
+    dev.dh_um[0] = -800;
+    dev.dy_um[0] = -300;
+    psd_sensor s;
+    psd_sensor_build(&d, &dev, &s);
+    static double m[4][N], ut[3 * N], scratch[8 * N];
+    for (int r = 0; r < N; r++) {
+        double a = -20 + 4 * (r % NA), b = -15 + 10 * (r / NA), mm[4];
+        unit_vec(a, b, ut + 3 * r);
+        assert_int_equal(psd_sensor_read_lit(&s, ut + 3 * r, 1 + 0.3 * sin(r), mm), SUNMC_OK);
+        for (int k = 0; k < 4; k++)
+            m[k][r] = mm[k];
+    }
+    psd_design nominal = d;
+    nominal.h_mm = 4 * 3.0; /* the truth: 3.2 mm */
+    psd_rows rows = {.n = N, .m = {m[0], m[1], m[2], m[3]}, .ut = ut, .design = &nominal,
+                     .scratch = scratch};
+    double p[PSD_NP], q[PSD_NP];
+    psd_phys_start(&rows, p);
+    for (int k = 0; k < 4; k++)
+        p[PSD_P_D1 + k] = dark[k] + (k % 2 ? 0.1 : -0.1);
+    memcpy(q, p, sizeof q);
+    fit_workspace *fw = fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * N, psd_phys_free_channels(0));
+    fit_result res;
+    assert_int_equal(psd_phys_fit_channels(fw, &rows, 0, p, &res), SUNMC_OK);
+    for (int k = 0; k < 4; k++) {
+        assert_near(p[PSD_P_D1 + k], dark[k], 1e-8);
+        if (k > 0)
+            assert_near(p[PSD_P_G2 + k - 1], gain[k], 1e-7);
+    }
+    assert_near(nominal.h_mm + p[PSD_P_DH], 3.2, 1e-7);
+    assert_near(p[PSD_P_DY], -0.3, 1e-7);
+    fit_workspace_free(fw);
+    /* the ratios' fit alone (no first stage) from the same start */
+    int fr[PSD_NP];
+    fw = fit_workspace_alloc(2 * N, psd_phys_free(&nominal, 0, fr));
+    rows.fw_channels = NULL;
+    psd_phys_fit(fw, &rows, 0, q, &res);
+    assert_false(fabs(nominal.h_mm + q[PSD_P_DH] - 3.2) < 1e-3);
+    fit_workspace_free(fw);
+}
+
 static void tetra_pincushion(void **state)
 {
     psd_design d = base_design(PSD_LATERAL, PSD_TETRA);
@@ -291,6 +394,8 @@ int main(void)
         cmocka_unit_test(quadrant_uniform_disc),
         cmocka_unit_test(disc_in_rectangles),
         cmocka_unit_test(dark_and_gain_on_the_ratios),
+        cmocka_unit_test(lamp_on_raw_and_corrected_ratios),
+        cmocka_unit_test(channel_fit_finds_the_unit),
         cmocka_unit_test(tetra_pincushion),
         cmocka_unit_test(inversion_and_adc),
         cmocka_unit_test(table_conventions),

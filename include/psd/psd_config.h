@@ -88,6 +88,7 @@ typedef struct {
     psd_design design;
     psd_tolerances tol;
     double noise_fs_pct;    /* channel noise sigma, % of full scale */
+    double lamp_pct;        /* the lab's light, sigma of its change per reading, % */
     int adc_bits;
     int table_order;
     int table_alpha_sign, table_beta_sign; /* 0: +1, 1: -1 */

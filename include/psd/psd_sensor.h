@@ -75,6 +75,9 @@ void psd_ratios(int detector, int lateral, const double sig[4], double *x, doubl
 /* Noiseless measured channels m[4] for sun direction u.  SUNMC_EDOM as
  * psd_sensor_spot, or when no light reaches the detector. */
 int psd_sensor_read(const psd_sensor *s, const double u[3], double m[4]);
+/* The same with the sun's light scaled by `light` (the lab's lamp at this
+ * reading, noise.lamp_pct): m_k = dark_k + gain_k (light i_k + b share). */
+int psd_sensor_read_lit(const psd_sensor *s, const double u[3], double light, double m[4]);
 
 /* Quantise m (fraction of full scale) to `bits` bits: clipped to [0, 1]. */
 double psd_adc(double m, int bits);

@@ -56,6 +56,10 @@ const config_key psd_keys[] = {
     /* [noise] */
     {"noise", "channel_pct", KEY_DOUBLE, "%", "0.05", 0, 10, NULL, OFF(noise_fs_pct),
      "sigma of each channel's noise, % of the ADC's full scale"},
+    {"noise", "lamp_pct", KEY_DOUBLE, "%", "0", 0, 50, NULL, OFF(lamp_pct),
+     "the sun simulator's light at the sensor, changing from one reading to the next (lamp "
+     "drift, a beam not uniform over the table's travel): each reading's light times 1 + "
+     "N(0, lamp_pct); the dark-corrected ratios do not see it, the raw ones do"},
     {"noise", "adc_bits", KEY_INT, "", "12", 4, 24, NULL, OFF(adc_bits),
      "ADC resolution (quantisation of each channel)"},
 

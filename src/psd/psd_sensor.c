@@ -130,6 +130,11 @@ void psd_ratios(int detector, int lateral, const double sig[4], double *x, doubl
 
 int psd_sensor_read(const psd_sensor *s, const double u[3], double m[4])
 {
+    return psd_sensor_read_lit(s, u, 1.0, m);
+}
+
+int psd_sensor_read_lit(const psd_sensor *s, const double u[3], double light, double m[4])
+{
     double spot[2], i[4];
     int st = psd_sensor_spot(s, u, spot);
     if (st != SUNMC_OK)
@@ -139,7 +144,7 @@ int psd_sensor_read(const psd_sensor *s, const double u[3], double m[4])
     if (!(i[0] + i[1] + i[2] + i[3] > 0.0) && !(s->background > 0.0))
         return SUNMC_EDOM;
     for (int k = 0; k < PSD_CHANNELS; k++)
-        m[k] = s->dark[k] + s->gain[k] * (i[k] + share * s->background);
+        m[k] = s->dark[k] + s->gain[k] * (light * i[k] + share * s->background);
     return SUNMC_OK;
 }
 

@@ -73,9 +73,12 @@ int psd_unit_read(const sunmc_config *c, const psd_sensor *s, double alpha, doub
     double ut[3], u[3], z[PSD_CHANNELS];
     for (int k = 0; k < PSD_CHANNELS; k++) /* drawn whether seen or not: streams stay aligned */
         z[k] = r ? rng_normal(r) : 0.0;
+    /* the lamp's draw only when it is on: configs without it keep their streams */
+    double light = r && p->lamp_pct > 0 ? 1.0 + p->lamp_pct * FRACTION_PER_PCT * rng_normal(r)
+                                        : 1.0;
     psd_table_sun(p, alpha, beta, ut);
     mat3_vec(s->M, ut, u);
-    int st = psd_sensor_read(s, u, m);
+    int st = psd_sensor_read_lit(s, u, light > 0 ? light : 0.0, m);
     for (int k = 0; k < PSD_CHANNELS; k++)
         m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k], p->adc_bits);
     return st;
@@ -413,8 +416,8 @@ static long psd_table_grid(const sunmc_config *c, int which, double *a0, double 
 }
 
 static const char *const psd_table_axes[] = {"alpha", "beta"};
-static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", NULL};
-static const char *const psd_val_noise_keys[] = {"noise.channel_pct", NULL};
+static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
+static const char *const psd_val_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
 static const family_noise psd_noise[] = {
     {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL},
     {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL},
