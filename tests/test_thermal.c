@@ -97,7 +97,8 @@ static void test_zero_dt_unchanged(void **state)
     assert_memory_equal(&d, &t, sizeof d);
     sunmc_config c = test_family_config("dss");
     c.cal_temp_c = 33;
-    dss_deviations g = {0.17, -0.08, 0.06, 9.0, -7.0, 8.0, -6.0, 0.004, 7.0, -5.0}, h;
+    dss_deviations g = {0.17, -0.08, 0.06, 9.0, -7.0, 8.0, -6.0, 0.004, 7.0, -5.0,
+                          1.0, 0.5, -2.0, 0.3}, h;
     dss_deviations_at_temp(&c, &g, 33, &h);
     assert_memory_equal(&g, &h, sizeof g);
 }
@@ -300,6 +301,73 @@ static void test_temperature_list_errors(void **state)
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
 }
 
+/* share_after (budget.tsv) of tolerance.spacer_cte_ppm_k = 5 of a budget
+ * over the operating temperatures temps ("" for the lab's alone). */
+static double budget_cte_share(const char *family_cfg, const char *temps)
+{
+    static char dir[128];
+    char cmd[1024], out[4096];
+    if (!dir[0])
+        assert_int_equal(test_private_dir(dir, sizeof dir, "thermal_budget"), 0);
+    snprintf(cmd, sizeof cmd,
+             "%s budget %s --units 24 --quiet --set report.budget_units=10 "
+             "--set report.budget_steps=1 --set tolerance.spacer_cte_ppm_k=5 %s%s --out %s/b "
+             ">/dev/null && awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i } "
+             "$3 == \"spacer_cte_ppm_k\" { print $c[\"share_after\"] }' %s/b/budget.tsv",
+             test_sunmc(), family_cfg, temps[0] ? "--set environment.operating_temp_c=" : "",
+             temps, dir, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    char *end;
+    double v = strtod(out, &end);
+    if (end == out)
+        fail_msg("no spacer_cte_ppm_k row in the budget: %s", out);
+    return v;
+}
+
+/* The unit's CTE scatter is a tolerance like the others: the budget ranks
+ * it in orbit and gives it no share at the lab's temperature. */
+static void test_budget_sees_cte(void **state)
+{
+    (void)state;
+    assert_true(budget_cte_share("configs/ess_type_a.ini", "-30,60") > 0.02);
+    assert_true(budget_cte_share("configs/ess_type_a.ini", "") == 0.0);
+    /* an Invar spacer: the DSS floor is no longer its aluminium drift */
+    assert_true(
+        budget_cte_share("configs/dss.ini", "-30,60 --set environment.spacer_cte_ppm_k=1.2") > 0.1);
+}
+
+/* A unit's own CTE adds to the material's. */
+static void test_unit_cte_adds(void **state)
+{
+    (void)state;
+    sunmc_config c = ideal_ess();
+    ess_deviations d = {0}, a, b;
+    d.spacer_cte_ppm_k = 2.5;
+    d.mask_cte_ppm_k = -1.0;
+    ess_deviations_at_temp(&c, &d, 60, &a);
+    c.spacer_cte_ppm_k += 2.5;
+    c.mask_cte_ppm_k -= 1.0;
+    d.spacer_cte_ppm_k = d.mask_cte_ppm_k = 0;
+    ess_deviations_at_temp(&c, &d, 60, &b);
+    assert_near(a.dH_um, b.dH_um, 1e-12);
+    sunmc_config g = test_family_config("dss");
+    dss_deviations e = {0}, x, y;
+    e.spacer_cte_ppm_k = 1;
+    e.detector_cte_ppm_k = 0.5;
+    e.glass_cte_ppm_k = -2;
+    e.glass_dn_dt_ppm_k = 0.3;
+    dss_deviations_at_temp(&g, &e, -30, &x);
+    g.spacer_cte_ppm_k += 1;
+    g.detector_cte_ppm_k += 0.5;
+    g.glass_cte_ppm_k -= 2;
+    g.glass_dn_dt_ppm_k += 0.3;
+    memset(&e, 0, sizeof e);
+    dss_deviations_at_temp(&g, &e, -30, &y);
+    assert_near(x.dh_px, y.dh_px, 1e-12);
+    assert_near(x.glass_thickness_um, y.glass_thickness_um, 1e-12);
+    assert_near(x.glass_index, y.glass_index, 1e-15);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -310,6 +378,8 @@ int main(void)
         cmocka_unit_test(test_run_in_orbit),
         cmocka_unit_test(test_worst_over_range),
         cmocka_unit_test(test_temperature_list_errors),
+        cmocka_unit_test(test_budget_sees_cte),
+        cmocka_unit_test(test_unit_cte_adds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

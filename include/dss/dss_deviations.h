@@ -36,7 +36,16 @@
       "sun-simulator axis in the table base frame: it points where a perfect one would with the " \
       "table at (sun_b1, sun_b2); campaign.mount = as_mounted only")                              \
     X(sun_b2_arcsec, "arcsec", 1, 9, "sun_b2_arcsec", "10", "uniform", 36000,                     \
-      "sun-simulator axis, the table angle about Y it equals (see sun_b1_arcsec)")
+      "sun-simulator axis, the table angle about Y it equals (see sun_b1_arcsec)")                \
+    X(spacer_cte_ppm_k, "ppm/K", 1, 10, "spacer_cte_ppm_k", "0", "uniform", 50,                   \
+      "the unit's spacer expansion against environment.spacer_cte_ppm_k (lot scatter; moves h "   \
+      "only away from calibration_temp_c; 0: no stated source)")                                  \
+    X(detector_cte_ppm_k, "ppm/K", 1, 11, "detector_cte_ppm_k", "0", "uniform", 50,               \
+      "the unit's detector expansion against environment.detector_cte_ppm_k (pixel pitch)")       \
+    X(glass_cte_ppm_k, "ppm/K", 1, 12, "glass_cte_ppm_k", "0", "uniform", 50,                     \
+      "the unit's cover-glass expansion against environment.glass_cte_ppm_k (its thickness)")     \
+    X(glass_dn_dt_ppm_k, "ppm/K", 1, 13, "glass_dn_dt_ppm_k", "0", "uniform", 50,                 \
+      "the unit's cover-glass dn/dT against environment.glass_dn_dt_ppm_k (melt scatter)")
 
 enum {
     DSS_N_TOL = 0 DSS_DEVIATIONS(DEVIATION_X_ONE),

@@ -78,6 +78,8 @@ typedef struct {
     double glass_thickness_um; /* deviation from design.glass_thickness_mm */
     double glass_index;        /* deviation from design.glass_index */
     double sun_b1_arcsec, sun_b2_arcsec;
+    /* the unit's thermal coefficients against the environment's (dss_thermal.h) */
+    double spacer_cte_ppm_k, detector_cte_ppm_k, glass_cte_ppm_k, glass_dn_dt_ppm_k;
 } dss_deviations;
 
 /* calibration.sun = measured (campaign.mount = as_mounted): unit `unit`'s

@@ -51,7 +51,13 @@
     X(sun_x_arcsec, "arcsec", 1, 10, "sun_x_arcsec", "60", "uniform", 36000,                      \
       "sun-simulator direction tilt toward X (the V0 of ESS paper eq. 14)")                       \
     X(sun_y_arcsec, "arcsec", 1, 11, "sun_y_arcsec", "60", "uniform", 36000,                      \
-      "sun-simulator direction tilt toward Y")
+      "sun-simulator direction tilt toward Y")                                                    \
+    X(spacer_cte_ppm_k, "ppm/K", 1, 12, "spacer_cte_ppm_k", "0", "uniform", 50,                   \
+      "the unit's spacer expansion against environment.spacer_cte_ppm_k (lot scatter; moves H "   \
+      "only away from calibration_temp_c; 0: no stated source)")                                  \
+    X(mask_cte_ppm_k, "ppm/K", 1, 13, "mask_cte_ppm_k", "0", "uniform", 50,                       \
+      "the unit's dial expansion against environment.mask_cte_ppm_k (moves the code pitch only "  \
+      "away from calibration_temp_c; 0: no stated source)")
 
 /* Entries, and units.tsv columns of the list (a derived column, the roll
  * measurement, follows them: ESS_N_DEV in ess_sensor.h). */

@@ -43,6 +43,7 @@ typedef struct {
     double etch_um[ESS_FINE_ROWS];
     double install_x_arcsec, install_y_arcsec, install_z_arcsec;
     double sun_x_arcsec, sun_y_arcsec;
+    double spacer_cte_ppm_k, mask_cte_ppm_k; /* the unit's CTEs against the environment's */
     double roll_measured_arcsec; /* the alignment measurement of install_x */
 } ess_deviations;
 

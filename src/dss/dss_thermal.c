@@ -14,13 +14,15 @@ void dss_deviations_at_temp(const sunmc_config *c, const dss_deviations *d, doub
         return;
     const dss_design *g = &dss_cfg(c)->design;
     double p_mm = g->pixel_um * MM_PER_UM;
-    double pitch = 1.0 + c->detector_cte_ppm_k * PER_PPM * dT;
-    double h_mm = (g->h_mm + d->dh_px * p_mm) * (1.0 + c->spacer_cte_ppm_k * PER_PPM * dT);
+    double pitch = 1.0 + (c->detector_cte_ppm_k + d->detector_cte_ppm_k) * PER_PPM * dT;
+    double h_mm = (g->h_mm + d->dh_px * p_mm) *
+                  (1.0 + (c->spacer_cte_ppm_k + d->spacer_cte_ppm_k) * PER_PPM * dT);
     double t_mm = (g->glass_thickness_mm + d->glass_thickness_um * MM_PER_UM) *
-                  (1.0 + c->glass_cte_ppm_k * PER_PPM * dT);
+                  (1.0 + (c->glass_cte_ppm_k + d->glass_cte_ppm_k) * PER_PPM * dT);
     out->dh_px = (h_mm / pitch - g->h_mm) / p_mm;
     out->glass_thickness_um = (t_mm / pitch - g->glass_thickness_mm) * UM_PER_MM;
-    out->glass_index = d->glass_index + c->glass_dn_dt_ppm_k * PER_PPM * dT;
+    double dn_dt = (c->glass_dn_dt_ppm_k + d->glass_dn_dt_ppm_k) * PER_PPM;
+    out->glass_index = d->glass_index + dn_dt * dT;
     out->dx_px = d->dx_px / pitch;
     out->dy_px = d->dy_px / pitch;
 }
