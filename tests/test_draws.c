@@ -186,14 +186,15 @@ static void ess_deviations_independent(void **state)
 {
     (void)state;
     /* Every tolerance normal with its own sigma (in its key's unit). */
-    static const char *const keys[12] = {"dH_um", "dd_um", "dphi_deg", "slit_width_um",
+    static const char *const keys[14] = {"dH_um", "dd_um", "dphi_deg", "slit_width_um",
                                          "harmonic_phase_deg", "gain_pct", "etch_um",
                                          "install_x_arcsec", "install_y_arcsec",
-                                         "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec"};
-    static const double sigma[12] = {2, 1, 0.01, 1.5, 30, 0.7, 0.2, 60, 300, 90, 40, 50};
+                                         "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec",
+                                         "spacer_cte_ppm_k", "mask_cte_ppm_k"};
+    static const double sigma[14] = {2, 1, 0.01, 1.5, 30, 0.7, 0.2, 60, 300, 90, 40, 50, 2.5, 0.8};
     const char *extra[] = {"calibration.roll_sigma_arcsec=25", "tolerance.truncation_sigmas=3"};
     config_state st;
-    build_normal(&st, "configs/ess_type_a.ini", keys, sigma, 12, extra, 2);
+    build_normal(&st, "configs/ess_type_a.ini", keys, sigma, 14, extra, 2);
     static double x[ESS_N_DEV + 1][NU];
     for (long u = 0; u < NU; u++) {
         ess_deviations d;
@@ -204,8 +205,10 @@ static void ess_deviations_independent(void **state)
             x[k][u] = v[k];
         x[ESS_N_DEV][u] = d.roll_measured_arcsec - d.install_x_arcsec; /* measurement error */
     }
-    /* deviation columns: dH dd dphi slit phase gain1-4 etch1-4 inst_x,y,z sun_x,y roll */
-    static const int key_of[ESS_N_DEV - 1] = {0, 1, 2, 3, 4, 5, 5, 5, 5, 6, 6, 6, 6, 7, 8, 9, 10, 11};
+    /* deviation columns: dH dd dphi slit phase gain1-4 etch1-4 inst_x,y,z sun_x,y
+     * spacer_cte mask_cte roll */
+    static const int key_of[ESS_N_DEV - 1] = {0, 1, 2, 3, 4, 5, 5, 5,  5,  6,
+                                              6, 6, 6, 7, 8, 9, 10, 11, 12, 13};
     for (int k = 0; k < ESS_N_DEV - 1; k++) {
         moments m = moments_of(x[k], NU);
         expect_centred(&m, sigma[key_of[k]], NU, ess_deviation_names[k]);
@@ -235,10 +238,13 @@ static void ess_deviations_independent(void **state)
 static void dss_deviations_independent(void **state)
 {
     (void)state;
-    static const char *const keys[DSS_N_DEV] = {"dh_px", "dx_px", "dy_px", "c1_arcsec",
-                                                "c2_arcsec", "c3_arcsec", "glass_thickness_um",
-                                                "glass_index", "sun_b1_arcsec", "sun_b2_arcsec"};
-    static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004, 15, 25};
+    static const char *const keys[DSS_N_DEV] = {
+        "dh_px",         "dx_px",         "dy_px",           "c1_arcsec",
+        "c2_arcsec",     "c3_arcsec",     "glass_thickness_um", "glass_index",
+        "sun_b1_arcsec", "sun_b2_arcsec", "spacer_cte_ppm_k", "detector_cte_ppm_k",
+        "glass_cte_ppm_k", "glass_dn_dt_ppm_k"};
+    static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004, 15, 25,
+                                            2,   0.5, 1.5, 0.7};
     config_state st;
     build_normal(&st, "configs/dss.ini", keys, sigma, DSS_N_DEV, NULL, 0);
     static double x[DSS_N_DEV][NU];
