@@ -87,6 +87,8 @@ typedef struct {
     int fit_ok;
     char refused[CALREPORT_TEXT_MAX]; /* why a converged fit is refused (lab_check_fit), else "" */
     double sigma_arcsec;              /* residual standard deviation, sqrt(chi2 / dof) */
+    double sigma_typical_arcsec;      /* the same for a row of the median weight (lab_check_fit;
+                                         0: not computed) */
 
     /* parameters, in the units of their names */
     int np;

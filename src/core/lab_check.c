@@ -271,6 +271,7 @@ void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_colum
      * refusal (weight 1e6 showed 0.344" for a 357" misfit). */
     double w_typ = median_weight(d);
     double typical = rep->sigma_arcsec / sqrt(w_typ);
+    rep->sigma_typical_arcsec = typical;
     if (offered && (double)dropped > c->max_dropped_fraction * (double)offered)
         snprintf(rep->refused, sizeof rep->refused,
                  "%zu of %zu rows were dropped as gross errors, more than "
