@@ -18,6 +18,8 @@
 #include "ess_config.h"
 #include "ess_sensor.h"
 #include "ess_thermal.h"
+#include "psd_config.h"
+#include "psd_thermal.h"
 #include "report.h"
 #include "status.h"
 #include "thermal.h"
@@ -368,6 +370,32 @@ static void test_unit_cte_adds(void **state)
     assert_near(x.glass_index, y.glass_index, 1e-15);
 }
 
+/* The four-channel sensor: dark signals double every dark_doubling_k,
+ * gains by the responsivity's coefficient, h with the spacer, the glass
+ * with its own; the lab's temperature the same bits. */
+static void test_psd_at_temp(void **state)
+{
+    (void)state;
+    sunmc_config c = test_family_config("psd");
+    psd_config *p = (psd_config *)(void *)c.fam.bytes;
+    p->dark_doubling_k = 8;
+    p->responsivity_tc_ppm_k = 500;
+    psd_sensor s, t;
+    psd_sensor_nominal(&p->design, &s);
+    s.dark[1] = 0.03;
+    psd_sensor_at_temp(&c, &s, c.cal_temp_c, &t);
+    assert_memory_equal(&s, &t, sizeof s);
+    psd_sensor_at_temp(&c, &s, c.cal_temp_c + 16, &t);
+    assert_near(t.dark[1], 0.12, 1e-15);           /* two doublings */
+    assert_near(t.gain[2], s.gain[2] * 1.008, 1e-15); /* 500 ppm/K over 16 K */
+    assert_near(t.h_mm, s.h_mm * (1 + c.spacer_cte_ppm_k * 16e-6), 1e-15);
+    assert_near(t.glass_t_mm, s.glass_t_mm * (1 + c.glass_cte_ppm_k * 16e-6), 1e-15);
+    assert_near(t.glass_n, s.glass_n + c.glass_dn_dt_ppm_k * 16e-6, 1e-15);
+    p->dark_doubling_k = 0; /* no drift */
+    psd_sensor_at_temp(&c, &s, c.cal_temp_c - 50, &t);
+    assert_near(t.dark[1], 0.03, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -380,6 +408,7 @@ int main(void)
         cmocka_unit_test(test_temperature_list_errors),
         cmocka_unit_test(test_budget_sees_cte),
         cmocka_unit_test(test_unit_cte_adds),
+        cmocka_unit_test(test_psd_at_temp),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -104,6 +104,9 @@ static void config_errors(void **state)
     expect_error(ini, "design.H_mm=5", "applies to ess sensors, but sensor.family is toy");
     expect_error(ini, "sensor.family=nope", "one of ess|dss|psd|toy");
     expect_error(ini, "campaign.step_deg=41", "0.1 to 40 deg");
+    /* a family without a thermal model: no operating temperature but the lab's */
+    expect_error(ini, "environment.operating_temp_c=20,60", "toy has no thermal model");
+    expect_error(ini, "environment.operating_temp_c=-40:120:10", "at most 16");
     config_state st;
     char err[SUNMC_ERRLEN] = "";
     const char *sets[] = {"design.span_deg=10", "campaign.step_deg=20"};

@@ -97,6 +97,9 @@ typedef struct {
     double val_alpha_max_deg, val_alpha_step_deg, val_alpha_offset_deg;
     double_list val_beta_deg;
     int cal_model, poly_order, poly_form, fit_tilt;
+    /* [environment] (psd_thermal.h) */
+    double dark_doubling_k;       /* the dark signals double every this many K; 0: no drift */
+    double responsivity_tc_ppm_k; /* the channels' gains per kelvin */
 } psd_config;
 
 static inline const psd_config *psd_cfg(const sunmc_config *c)

@@ -54,6 +54,14 @@ const config_key psd_keys[] = {
     PSD_DEVIATIONS(DEVIATION_X_KEYS)
 
     /* [noise] */
+    {"environment", "dark_doubling_k", KEY_DOUBLE, "K", "0", 0, 100, NULL, OFF(dark_doubling_k),
+     "the channels' dark signals double every this many kelvin away from calibration_temp_c "
+     "(silicon photodiodes: roughly every 5 to 10 K); 0: no drift (no stated source for this "
+     "sensor's amplifier offsets)"},
+    {"environment", "responsivity_tc_ppm_k", KEY_DOUBLE, "ppm/K", "0", -10000, 10000, NULL,
+     OFF(responsivity_tc_ppm_k),
+     "the channels' gains per kelvin (photodiode responsivity; common to the four, it "
+     "cancels in the ratios but for the dark signals); 0: none stated"},
     {"noise", "channel_pct", KEY_DOUBLE, "%", "0.05", 0, 10, NULL, OFF(noise_fs_pct),
      "sigma of each channel's noise, % of the ADC's full scale"},
     {"noise", "lamp_pct", KEY_DOUBLE, "%", "0", 0, 50, NULL, OFF(lamp_pct),

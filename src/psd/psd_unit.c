@@ -1,6 +1,8 @@
 /* psd_unit.c - the four-channel analog sun sensor family: its Monte Carlo
  * unit and its sensor_family struct (see psd_unit.h). */
 #include "psd_unit.h"
+#include "psd_thermal.h"
+#include "thermal.h"
 #include "lab.h"
 #include "status.h"
 #include "units.h"
@@ -281,6 +283,20 @@ static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
     validate(c, &s, &k, st == SUNMC_OK, unit, res);
+    /* at each operating temperature, the same calibration (thermal.h) */
+    for (int i = 0; i < thermal_n_temps(c); i++) {
+        double T = thermal_temp_c(c, i);
+        if (T == c->cal_temp_c) {
+            unit_result_store_temp(res, i, res);
+            continue;
+        }
+        unit_result at;
+        psd_sensor sT;
+        memset(&at, 0, sizeof at);
+        psd_sensor_at_temp(c, &s, T, &sT);
+        validate(c, &sT, &k, st == SUNMC_OK, unit, &at);
+        unit_result_store_temp(res, i, &at);
+    }
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
@@ -460,6 +476,7 @@ const sensor_family psd_family = {
     .workspace_bytes = psd_ws_bytes,
     .workspace_free = psd_ws_free,
     .unit_run = psd_unit_run,
+    .thermal = 1,
     .grid = &psd_grid_hooks,
     .curve = &psd_curve_hooks,
     .lab = &psd_lab,
