@@ -396,6 +396,42 @@ static void test_psd_at_temp(void **state)
     assert_near(t.dark[1], 0.03, 0);
 }
 
+/* `curve` at the first operating temperature, end to end: an ideal fine
+ * code whose only change is the spacer's expansion (dial fixed) reads
+ * (dH / 2H) sin 2 alpha more at 60 C than at the lab's (reading - truth),
+ * to the next order; at the lab's temperature the same curve, to the byte. */
+static void test_curve_closed_form(void **state)
+{
+    (void)state;
+    static char dir[128];
+    char cmd[2048], out[4096];
+    assert_int_equal(test_private_dir(dir, sizeof dir, "thermal_curve"), 0);
+    const char *base = "curve configs/ess_type_a.ini --only dH_um=0 --set noise.row_current_pct=0 "
+                       "--set design.harmonics=given --set design.a3_ratio=0 --set "
+                       "design.a5_ratio=0 --set validation.beta_deg=0 --set "
+                       "environment.mask_cte_ppm_k=0 --quiet";
+    snprintf(cmd, sizeof cmd,
+             "%s %s --out %s/lab >/dev/null && %s %s --set environment.operating_temp_c=20 "
+             "--out %s/lab20 >/dev/null && %s %s --set environment.operating_temp_c=60 --out "
+             "%s/hot | grep -c 'validated at 60 C' && cmp %s/lab/curve.tsv %s/lab20/curve.tsv",
+             test_sunmc(), base, dir, test_sunmc(), base, dir, test_sunmc(), base, dir, dir, dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    double e = 23.1e-6 * 40; /* dH / H */
+    snprintf(cmd, sizeof cmd,
+             "paste %s/lab/curve.tsv %s/hot/curve.tsv | awk -F'\t' 'NR > 1 { a = $1 * %.17g; "
+             "cf = 0.5 * %.17g * sin(2 * a) / %.17g; m = $8 - $3 - cf; if (m < 0) m = -m; "
+             "if (m > mx) mx = m; if (cf > cm) cm = cf; n++ } END { printf \"%%d %%.9g %%.9g\", "
+             "n, mx, cm }'",
+             dir, dir, RAD_PER_DEG, e, RAD_PER_DEG);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    int n;
+    double mx, cm;
+    assert_int_equal(sscanf(out, "%d %lf %lf", &n, &mx, &cm), 3);
+    assert_true(n > 900);
+    assert_true(mx < 2 * e * e * DEG_PER_RAD);        /* the next order */
+    assert_true(cm > 0.026 && cm < 0.0266);            /* at 45 deg: e / 2 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -409,6 +445,7 @@ int main(void)
         cmocka_unit_test(test_budget_sees_cte),
         cmocka_unit_test(test_unit_cte_adds),
         cmocka_unit_test(test_psd_at_temp),
+        cmocka_unit_test(test_curve_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,6 +6,7 @@
 #include "output.h"
 #include "report.h"
 #include "status.h"
+#include "thermal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -228,6 +229,9 @@ static void curve_print(const curve_run *r, const char *only, long unit)
         printf("%s alone, every other tolerance 0 (unit %ld's noise in the campaign)", only, unit);
     else
         printf("unit %ld, seed %ld", unit, r->c->seed);
+    if (thermal_n_temps(r->c) > 0)
+        printf("; calibrated at %g C, validated at %g C (the first operating temperature)",
+               r->c->cal_temp_c, thermal_temp_c(r->c, 0));
     printf("%s\n", r->fit_ok ? "" : "  -- its fit FAILED: no after-compensation curve");
     printf("%-10s %-6s | %9s %9s %9s | %9s %9s %9s | %s\n", fam->curve->axis_names[1], "angle",
            "RMS", "", "", "max |err|", "", "", "points");

@@ -1,6 +1,8 @@
 /* dss_curve.c - one DSS unit's error maps (the family's curve hooks). */
 #include "dss_curve.h"
 #include "dss_prior.h"
+#include "dss_thermal.h"
+#include "thermal.h"
 #include "rotation.h"
 #include "dss_unit.h"
 #include "status.h"
@@ -86,6 +88,12 @@ static int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     int st = dss_calibrate(cw, c->max_iterations, &w->cal, &fr);
     w->fit_ok = st == SUNMC_OK;
     *fit_ok = w->fit_ok;
+    /* the curve at the first operating temperature, when there are any */
+    if (thermal_n_temps(c) > 0) {
+        dss_deviations at;
+        dss_deviations_at_temp(c, &dev, thermal_temp_c(c, 0), &at);
+        dss_unit_build(c, &at, &w->u);
+    }
     return SUNMC_OK;
 }
 

@@ -1,6 +1,8 @@
 /* ess_curve.c - one ESS unit's error curves (the family's curve hooks). */
 #include "ess_curve.h"
 #include "ess_prior.h"
+#include "ess_thermal.h"
+#include "thermal.h"
 #include "ess_unit.h"
 #include "status.h"
 #include "units.h"
@@ -92,6 +94,12 @@ static int ess_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
                            c->max_iterations, &w->m, &fr);
     w->fit_ok = st == SUNMC_OK;
     *fit_ok = w->fit_ok;
+    /* the curve at the first operating temperature, when there are any */
+    if (thermal_n_temps(c) > 0) {
+        ess_deviations at;
+        ess_deviations_at_temp(c, &dev, thermal_temp_c(c, 0), &at);
+        ess_unit_build(c, &at, &w->u);
+    }
     return SUNMC_OK;
 }
 

@@ -348,6 +348,11 @@ static int psd_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     fit_result fr;
     *fit_ok = psd_unit_fit(c, cv->ws->fw, &d, cv->ws->poly_work, &cv->k, &fr) == SUNMC_OK;
     psd_cal_nominal(&cv->nominal, &pc->design);
+    /* the curve at the first operating temperature, when there are any */
+    if (thermal_n_temps(c) > 0) {
+        psd_sensor lab = cv->s;
+        psd_sensor_at_temp(c, &lab, thermal_temp_c(c, 0), &cv->s);
+    }
     return SUNMC_OK;
 }
 
