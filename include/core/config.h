@@ -188,14 +188,30 @@ extern const size_t config_section_count;
 int config_check_grid(double lo, double hi, double step, double fov, const char *what, char *err,
                       size_t errlen);
 
-/* A physical quantity q = design + scale * d, d any draw of tolerance t
- * (tolerance_range), must stay above floor (strict: q > floor, else q >=
- * floor).  SUNMC_EINPUT otherwise, with a message naming both keys
- * (design_key, tol_key), the quantity (e.g. "the slit-to-dial height H +
- * dH", in unit) and the extreme value the draws reach. */
-int config_check_physical(const char *quantity, const char *unit, double design,
-                          const char *design_key, const tolerance *t, double truncation_sigmas,
-                          const char *tol_key, double scale, double floor, int strict, char *err,
+/* A physical quantity q = design + scale * d, d any draw of a tolerance,
+ * that must stay above floor (strict: q > floor, else q >= floor): one
+ * row of a family's table of impossible sensors.  Offsets are into the
+ * family's config (sunmc_config.fam); the tolerance's draws are
+ * tolerance_range's. */
+#define CONFIG_PHYSICAL_NONE ((size_t)-1)
+typedef struct {
+    const char *quantity;  /* "the slit-to-dial height H + dH" */
+    const char *unit;      /* of the quantity: "mm", or "" */
+    const char *design_key; /* "design.H_mm", or a text naming a fixed value */
+    size_t design_offset;  /* its double, or CONFIG_PHYSICAL_NONE: design_fixed */
+    double design_fixed;
+    const char *tol_key;   /* "tolerance.dH_um" */
+    size_t tol_offset;     /* its `tolerance` */
+    double scale;          /* tolerance unit -> quantity unit ... */
+    size_t scale_offset;   /* ... times the double here (CONFIG_PHYSICAL_NONE: 1) */
+    double floor;
+    int strict;
+} config_physical;
+
+/* Check each row of list (ended by a NULL quantity) against c; the first
+ * that fails gives SUNMC_EINPUT with a message naming both keys, the
+ * quantity and the extreme value the draws reach. */
+int config_check_physical(const sunmc_config *c, const config_physical *list, char *err,
                           size_t errlen);
 
 /* Where each key's value came from, for `sunmc config` and messages. */

@@ -178,23 +178,45 @@ int config_check_grid(double lo, double hi, double step, double fov, const char 
     return SUNMC_OK;
 }
 
-int config_check_physical(const char *quantity, const char *unit, double design,
-                          const char *design_key, const tolerance *t, double truncation_sigmas,
-                          const char *tol_key, double scale, double floor, int strict, char *err,
-                          size_t errlen)
+static double fam_double(const sunmc_config *c, size_t offset)
 {
+    double v;
+    memcpy(&v, c->fam.bytes + offset, sizeof v);
+    return v;
+}
+
+static int check_one_physical(const sunmc_config *c, const config_physical *p, char *err,
+                              size_t errlen)
+{
+    const tolerance *t = (const tolerance *)(const void *)(c->fam.bytes + p->tol_offset);
+    double design = p->design_offset == CONFIG_PHYSICAL_NONE ? p->design_fixed
+                                                             : fam_double(c, p->design_offset);
+    double scale = p->scale * (p->scale_offset == CONFIG_PHYSICAL_NONE
+                                   ? 1.0
+                                   : fam_double(c, p->scale_offset));
     double lo, hi;
-    tolerance_range(t, truncation_sigmas, &lo, &hi);
+    tolerance_range(t, c->truncation_sigmas, &lo, &hi);
     double q = design + scale * lo;
-    if (strict ? q > floor : q >= floor)
+    if (p->strict ? q > p->floor : q >= p->floor)
         return SUNMC_OK;
     char range[96];
-    tolerance_range_text(t, truncation_sigmas, range, sizeof range);
-    const char *sp = unit[0] ? " " : "";
+    tolerance_range_text(t, c->truncation_sigmas, range, sizeof range);
+    const char *sp = p->unit[0] ? " " : "";
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
                       "%s = %g (%s) can make %s %s %g%s%s: with %s = %g the draws reach %g%s%s; "
                       "lower the tolerance or change the design value%s",
-                      tol_key, t->value, range, quantity, strict ? "<=" : "<", floor, sp, unit,
-                      design_key, design, q, sp, unit,
+                      p->tol_key, t->value, range, p->quantity, p->strict ? "<=" : "<", p->floor,
+                      sp, p->unit, p->design_key, design, q, sp, p->unit,
                       t->dist == DIST_NORMAL ? ", or bound the draws (truncnormal)" : "");
+}
+
+int config_check_physical(const sunmc_config *c, const config_physical *list, char *err,
+                          size_t errlen)
+{
+    for (const config_physical *p = list; p->quantity; p++) {
+        int s = check_one_physical(c, p, err, errlen);
+        if (s != SUNMC_OK)
+            return s;
+    }
+    return SUNMC_OK;
 }

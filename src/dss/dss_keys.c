@@ -20,6 +20,7 @@
 #include <stddef.h>
 
 #define OFF(field) offsetof(dss_config, field)
+#define NONE CONFIG_PHYSICAL_NONE
 _Static_assert(sizeof(dss_config) <= sizeof(family_config), "dss_config must fit family_config");
 
 const config_key dss_keys[] = {
@@ -145,6 +146,16 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
                       nb, nb, n, phys ? "physical" : "polynomial", np);
 }
 
+static const config_physical dss_physical[] = {
+    {"the pinhole height h + dh", "mm", "design.h_mm", OFF(design.h_mm), 0, "tolerance.dh_px",
+     OFF(tol.dh_px), MM_PER_UM, OFF(design.pixel_um), 0, 1},
+    {"the cover-glass thickness", "mm", "design.glass_thickness_mm",
+     OFF(design.glass_thickness_mm), 0, "tolerance.glass_thickness_um",
+     OFF(tol.glass_thickness_um), MM_PER_UM, NONE, 0, 0},
+    {"the cover-glass index", "", "design.glass_index", OFF(design.glass_index), 0,
+     "tolerance.glass_index", OFF(tol.glass_index), 1, NONE, 1, 0},
+    {NULL}};
+
 /* Draws that would build an impossible sensor: the pinhole at or below the
  * detector, a negative glass thickness, glass touching the pinhole, an
  * index below 1. */
@@ -153,17 +164,7 @@ static int physical_check(const sunmc_config *c, char *err, size_t errlen)
     const dss_config *d = dss_cfg(c);
     const dss_design *g = &d->design;
     double ts = c->truncation_sigmas, pixel_mm = g->pixel_um * MM_PER_UM;
-    int s = config_check_physical("the pinhole height h + dh", "mm", g->h_mm, "design.h_mm",
-                                  &d->tol.dh_px, ts, "tolerance.dh_px", pixel_mm, 0, 1, err,
-                                  errlen);
-    if (s == SUNMC_OK)
-        s = config_check_physical("the cover-glass thickness", "mm", g->glass_thickness_mm,
-                                  "design.glass_thickness_mm", &d->tol.glass_thickness_um, ts,
-                                  "tolerance.glass_thickness_um", MM_PER_UM, 0, 0, err, errlen);
-    if (s == SUNMC_OK)
-        s = config_check_physical("the cover-glass index", "", g->glass_index,
-                                  "design.glass_index", &d->tol.glass_index, ts,
-                                  "tolerance.glass_index", 1, 1, 0, err, errlen);
+    int s = config_check_physical(c, dss_physical, err, errlen);
     if (s != SUNMC_OK)
         return s;
     /* The gap between the glass and the pinhole: lowest pinhole, thickest glass. */

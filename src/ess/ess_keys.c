@@ -15,6 +15,7 @@
 #include <stddef.h>
 
 #define OFF(field) offsetof(ess_config, field)
+#define NONE CONFIG_PHYSICAL_NONE
 _Static_assert(sizeof(ess_config) <= sizeof(family_config), "ess_config must fit family_config");
 
 const config_key ess_keys[] = {
@@ -132,23 +133,18 @@ const config_default ess_defaults[] = {
 
 /* Draws that would build an impossible sensor: a slit at or below the dial,
  * a negative slit width, a dead or inverted photocell. */
+static const config_physical ess_physical[] = {
+    {"the slit-to-dial height H + dH", "mm", "design.H_mm", OFF(design.H_mm), 0,
+     "tolerance.dH_um", OFF(tol.dH_um), MM_PER_UM, NONE, 0, 1},
+    {"the slit width", "um", "design.slit_width_um", OFF(design.slit_width_um), 0,
+     "tolerance.slit_width_um", OFF(tol.slit_width_um), 1, NONE, 0, 0},
+    {"the fine-row photocell gain 1 + gain_pct/100", "%", "the nominal gain (100%)", NONE, 100,
+     "tolerance.gain_pct", OFF(tol.gain_pct), 1, NONE, 0, 1},
+    {NULL}};
+
 static int physical_check(const sunmc_config *c, char *err, size_t errlen)
 {
-    const ess_config *e = ess_cfg(c);
-    const ess_design *d = &e->design;
-    double ts = c->truncation_sigmas;
-    int s = config_check_physical("the slit-to-dial height H + dH", "mm", d->H_mm, "design.H_mm",
-                                  &e->tol.dH_um, ts, "tolerance.dH_um", MM_PER_UM, 0, 1, err,
-                                  errlen);
-    if (s == SUNMC_OK)
-        s = config_check_physical("the slit width", "um", d->slit_width_um,
-                                  "design.slit_width_um", &e->tol.slit_width_um, ts,
-                                  "tolerance.slit_width_um", 1, 0, 0, err, errlen);
-    if (s == SUNMC_OK)
-        s = config_check_physical("the fine-row photocell gain 1 + gain_pct/100", "%", 100,
-                                  "the nominal gain (100%)", &e->tol.gain_pct, ts,
-                                  "tolerance.gain_pct", 1, 0, 1, err, errlen);
-    return s;
+    return config_check_physical(c, ess_physical, err, errlen);
 }
 
 /* Every report band must hold validation points (|alpha| of the grid). */

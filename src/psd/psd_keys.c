@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #define OFF(field) offsetof(psd_config, field)
+#define NONE CONFIG_PHYSICAL_NONE
 _Static_assert(sizeof(psd_config) <= sizeof(family_config), "psd_config must fit family_config");
 
 const config_key psd_keys[] = {
@@ -123,19 +124,19 @@ const config_default psd_defaults[] = {
     {"campaign", "search_steps_deg", "1, 2, 2.5, 4, 5, 10"},
     {NULL}};
 
+static const config_physical psd_physical[] = {
+    {"the aperture height h + dh", "mm", "design.h_mm", OFF(design.h_mm), 0, "tolerance.dh_um",
+     OFF(tol.dh_um), MM_PER_UM, NONE, 0, 1},
+    {"the aperture diameter", "um", "design.aperture_um", OFF(design.aperture_um), 0,
+     "tolerance.aperture_um", OFF(tol.aperture_um), 1, NONE, 0, 1},
+    {NULL}};
+
 /* The aperture must stay above the detector (and above the glass) at the
  * tolerances' extreme draws. */
 static int physical_check(const sunmc_config *c, char *err, size_t errlen)
 {
     const psd_config *p = psd_cfg(c);
-    double ts = c->truncation_sigmas;
-    int s = config_check_physical("the aperture height h + dh", "mm", p->design.h_mm,
-                                  "design.h_mm", &p->tol.dh_um, ts, "tolerance.dh_um", MM_PER_UM,
-                                  0, 1, err, errlen);
-    if (s == SUNMC_OK)
-        s = config_check_physical("the aperture diameter", "um", p->design.aperture_um,
-                                  "design.aperture_um", &p->tol.aperture_um, ts,
-                                  "tolerance.aperture_um", 1, 0, 1, err, errlen);
+    int s = config_check_physical(c, psd_physical, err, errlen);
     if (s == SUNMC_OK && !(p->design.glass_thickness_mm < p->design.h_mm))
         s = sunmc_fail(err, errlen, SUNMC_EINPUT,
                        "design.glass_thickness_mm = %g must be below design.h_mm = %g",
