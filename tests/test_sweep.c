@@ -89,6 +89,13 @@ static void parse_range(void **state)
         SUNMC_OK);
     assert_int_equal(ax.n, 3);
     assert_near(ax.v[2], 3, 1e-12);
+    /* Values of many digits run as given, only the sum's rounding cut:
+     * 4.1235 + 2 x 0.0005 is 4.1245 exactly, never 4.12. */
+    assert_int_equal(sweep_axis_parse("design.H_mm=4.1235:4.1245:0.0005", sensor_family_find("ess"),
+                                      &ax, err, sizeof err),
+                     SUNMC_OK);
+    assert_int_equal(ax.n, 3);
+    assert_true(ax.v[1] == 4.124 && ax.v[2] == 4.1245);
 }
 
 static void parse_errors(void **state)
