@@ -38,6 +38,7 @@ enum dist_kind { DIST_FIXED = 0, DIST_UNIFORM, DIST_NORMAL, DIST_TRUNCNORMAL };
 typedef struct {
     double value;  /* in the unit of its key's name */
     int dist;      /* enum dist_kind */
+    double lot;    /* share of the variance common to a lot (NAME_lot, 0..1) */
 } tolerance;
 
 typedef struct {
@@ -117,6 +118,7 @@ typedef struct {
     long seed;
     int threads;
     long block_units;                   /* run --until: units per block */
+    long lot_size;                      /* units per lot (tolerance NAME_lot) */
 
     /* [report] */
     band_list bands_deg;
@@ -172,8 +174,10 @@ extern const size_t config_key_count;
 extern const char *const config_sections[];
 extern const size_t config_section_count;
 
-/* A tolerance is two keys of its family: its magnitude and its distribution;
- * off is the offset of its `tolerance` in the family's config. */
+/* A tolerance is three keys of its family: its magnitude, its distribution
+ * and the share of its variance common to the units of a lot (run.lot_size
+ * units in unit order, deviation.h); off is the offset of its `tolerance`
+ * in the family's config. */
 #define CONFIG_DIST_CHOICES "fixed|uniform|normal|truncnormal"
 #define CONFIG_TOLERANCE_KEYS(off, name, unit, defv, defdist, maxv, help)                         \
     {"tolerance", name, KEY_DOUBLE, unit, defv, 0, maxv, NULL,                                   \
@@ -181,7 +185,11 @@ extern const size_t config_section_count;
     {"tolerance", name "_dist", KEY_ENUM, "", defdist, 0, 0, CONFIG_DIST_CHOICES,               \
      (off) + offsetof(tolerance, dist),                                                           \
      "distribution of " name ": fixed (the value), uniform (+-value), normal "                   \
-     "(sigma = value), truncnormal (sigma = value, cut at truncation_sigmas)"}
+     "(sigma = value), truncnormal (sigma = value, cut at truncation_sigmas)"},                  \
+    {"tolerance", name "_lot", KEY_DOUBLE, "", "0", 0, 1, NULL, (off) + offsetof(tolerance, lot), \
+     "share of " name "'s variance common to the units of one lot (run.lot_size units): the "  \
+     "correlation of two units of a lot; its distribution is unchanged (Gaussian copula); "      \
+     "0 = every unit drawn alone"}
 
 /* Check a grid lo..hi in steps of step against the field of view +-fov
  * (deg); what names it in the message ("campaign.alpha"). */

@@ -10,6 +10,13 @@
  * N(0, value^2) redrawn until within +-truncation_sigmas*value. */
 double tolerance_draw(const tolerance *t, double truncation_sigmas, rng_stream *r);
 
+/* The draw of tolerance t whose standard normal score is z (the Gaussian
+ * copula: P(draw <= x) = Phi(z) for the distribution's CDF), in the unit of
+ * its key: fixed -> value; uniform -> value (2 Phi(z) - 1); normal ->
+ * value z; truncnormal -> value Phi^-1(Phi(-c) + (Phi(c) - Phi(-c)) Phi(z)),
+ * c = truncation_sigmas.  A standard normal z gives t's distribution. */
+double tolerance_from_normal(const tolerance *t, double truncation_sigmas, double z);
+
 /* How far a normal (untruncated) tolerance is taken to reach when a config
  * is checked for physically impossible draws: 6 sigma (a draw beyond it has
  * probability 2e-9, one in 500 million units). */

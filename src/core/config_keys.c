@@ -135,6 +135,9 @@ const config_key config_keys[] = {
      "random seed; unit u's draws depend only on (seed, u)"},
     {"run", "threads", KEY_INT, "", "0", 0, 1024, NULL, OFF(threads),
      "OpenMP threads, 0 = all cores; results do not depend on it"},
+    {"run", "lot_size", KEY_LONG, "", "100", 1, 100000000, NULL, OFF(lot_size),
+     "units per production lot: units u and v share a lot when u / lot_size = v / lot_size "
+     "(integer division); a tolerance's NAME_lot share of its variance is common to its lot"},
     {"run", "block_units", KEY_LONG, "", "256", 1, 1000000, NULL, OFF(block_units),
      "units per block, each written and checkpointed as it ends; `run --until` checks between blocks"},
 

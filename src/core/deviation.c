@@ -6,6 +6,24 @@
 
 #include <math.h>
 
+/* A tolerance with a lot share rho: score z = sqrt(rho) z_lot + sqrt(1 -
+ * rho) z_unit, z_lot from the lot's stream (seed, unit / lot_size), z_unit
+ * from the unit's; z is standard normal, so the draw keeps t's
+ * distribution, and two units of a lot correlate by rho (their scores). */
+static void draw_with_lot(const tolerance *t, const sunmc_config *c, uint64_t seed, long unit,
+                          uint32_t stream, rng_stream *r, int count, double *out)
+{
+    rng_stream rl;
+    uint32_t lid = RNG_STREAM_LOT + stream;
+    long lot_size = c->lot_size > 0 ? c->lot_size : 1;
+    rng_stream_init(&rl, unit_stream_seed(c, seed, lid), (uint64_t)(unit / lot_size), lid);
+    double a = sqrt(t->lot), b = sqrt(1.0 - t->lot);
+    for (int i = 0; i < count; i++) {
+        double z = a * rng_normal(&rl) + b * rng_normal(r);
+        out[i] = tolerance_from_normal(t, c->truncation_sigmas, z);
+    }
+}
+
 void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c, uint64_t seed,
                        long unit, void *dev)
 {
@@ -15,6 +33,10 @@ void deviations_sample(const deviation_spec *list, int n, const sunmc_config *c,
         rng_stream r;
         uint32_t id = RNG_STREAM_TOLERANCE + list[e].stream;
         rng_stream_init(&r, unit_stream_seed(c, seed, id), (uint64_t)unit, id);
+        if (t->lot > 0 && t->dist != DIST_FIXED) {
+            draw_with_lot(t, c, seed, unit, list[e].stream, &r, list[e].count, out);
+            continue;
+        }
         for (int i = 0; i < list[e].count; i++)
             out[i] = tolerance_draw(t, c->truncation_sigmas, &r);
     }

@@ -1,6 +1,7 @@
 /* tolerance.c - the four tolerance distributions. */
 #include "tolerance.h"
 
+#include <gsl/gsl_cdf.h>
 #include <math.h>
 #include <stdio.h>
 
@@ -24,6 +25,25 @@ double tolerance_draw(const tolerance *t, double truncation_sigmas, rng_stream *
                 return t->value * z;
         }
         return 0.0;
+    }
+    return 0.0;
+}
+
+double tolerance_from_normal(const tolerance *t, double truncation_sigmas, double z)
+{
+    switch (t->dist) {
+    case DIST_FIXED:
+        return t->value;
+    case DIST_UNIFORM:
+        return t->value * (2.0 * gsl_cdf_ugaussian_P(z) - 1.0);
+    case DIST_NORMAL:
+        return t->value * z;
+    case DIST_TRUNCNORMAL: {
+        double lo = gsl_cdf_ugaussian_P(-truncation_sigmas);
+        double hi = gsl_cdf_ugaussian_P(truncation_sigmas);
+        double x = gsl_cdf_ugaussian_Pinv(lo + (hi - lo) * gsl_cdf_ugaussian_P(z));
+        return t->value * fmax(-truncation_sigmas, fmin(truncation_sigmas, x));
+    }
     }
     return 0.0;
 }
