@@ -178,11 +178,11 @@ $(1)/obj/%.o: src/%.c $(1)/obj/%.d $(BUILD)/mpi.flag $(4)
 	$(2) $(3) $$(DEPFLAGS) $$(call layer_inc,$$<) -c $$< -o $$@
 
 $(1)/libsunmc.a: $$(LIB_SRC:src/%.c=$(1)/obj/%.o)
-	ar rcs $$@ $$^
+	rm -f $$@ && ar rcs $$@ $$^
 
 # The commands without main(), so that tests can run them in process.
 $(1)/libsunmc_cli.a: $$(CLI_LIB_SRC:src/%.c=$(1)/obj/%.o)
-	ar rcs $$@ $$^
+	rm -f $$@ && ar rcs $$@ $$^
 endef
 
 define BUILD_RULES

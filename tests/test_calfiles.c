@@ -25,7 +25,7 @@
  *   errors after calibration of the same unit. */
 #include "test_tsv.h"
 
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "rotation.h"
 #include "params_io.h"
 #include "units.h"

@@ -4,15 +4,15 @@
  * (recovered, and as good as an independent least-squares fit), warnings
  * (alias, correlation, non-convergence), refusals and cross-validation.
  * The command line is in test_calibrate_cli.c, the DSS's propagated sigma
- * in test_dss_calfit.c. */
+ * in test_dss_labfit.c. */
 #include "test_util.h"
 
 #include "calreport.h"
 #include "config.h"
 #include "csv.h"
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "rotation.h"
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "fit.h"
@@ -544,7 +544,7 @@ static cv_expectation cv_expect(const gsl_matrix *in, const gsl_vector *bin,
 }
 
 /* The expected cross-validation, by beta line (one fold per line, as
- * ess_calfit's), of data from m on the noise-free campaign grid, raw noise
+ * ess_labfit's), of data from m on the noise-free campaign grid, raw noise
  * sigma_rad. */
 static cv_expectation cv_expect_beta_lines(const ess_calib_workspace *grid, const indep_truth *m,
                                            double sigma_rad, int draws)
@@ -606,11 +606,11 @@ static void test_independent_model_recovered(void **state)
     double chi = 0, cv_in2 = 0, cv_out2 = 0;
     int nchi = 0;
     static calreport rep;
-    ess_calfit_result res;
+    ess_labfit_result res;
     char err[SUNMC_ERRLEN];
     for (int r = 0; r < reps; r++) {
         ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, sigma, 0, 1000 + (uint64_t)r);
-        assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+        assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
         assert_true(rep.fit_ok);
         assert_int_equal(rep.dof, (int)cw->n - ESS_NP);
         for (int j = 0; j < ESS_NP; j++) {
@@ -700,9 +700,9 @@ static void test_as_good_as_independent_least_squares(void **state)
     const double sigma = 4 * RAD_PER_ARCSEC, enc = 2 * RAD_PER_ARCSEC;
     ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, sigma, enc, 4242);
     static calreport rep;
-    ess_calfit_result res;
+    ess_labfit_result res;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
     assert_true(rep.fit_ok);
     double rms_sunmc = validation_rms(&m, &res.m, comp_sunmc, sigma, 99);
 
@@ -752,11 +752,11 @@ static void test_weight_equals_repeated_rows(void **state)
         }
     }
     static calreport rep;
-    ess_calfit_result rw, rd;
+    ess_labfit_result rw, rd;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &rw, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &rw, &rep, err, sizeof err), SUNMC_OK);
     assert_true(rep.fit_ok);
-    assert_int_equal(ess_calfit_run(&st.cfg, dup, NULL, &rd, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, dup, NULL, &rd, &rep, err, sizeof err), SUNMC_OK);
     assert_true(rep.fit_ok);
     double worst = 0;
     for (int j = 0; j < rw.m.np; j++) {
@@ -784,9 +784,9 @@ static void test_alias_warning(void **state)
         indep_truth m = truth_default(0);
         ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 5);
         static calreport rep;
-        ess_calfit_result res;
+        ess_labfit_result res;
         char err[SUNMC_ERRLEN];
-        assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+        assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
         int want = atoi(steps[s][1]), got = 0;
         assert_int_equal(cw->alias.n_weak, want);
         for (int w = 0; w < rep.nw; w++)
@@ -846,9 +846,9 @@ static void test_nonconvergence_warning(void **state)
     indep_truth m = truth_default(0);
     ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 6);
     static calreport rep;
-    ess_calfit_result res;
+    ess_labfit_result res;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
     assert_false(rep.fit_ok);
     assert_int_equal(rep.fit.status, GSL_EMAXITER);
     int found = 0;
@@ -875,9 +875,9 @@ static void test_refuses_n_le_p(void **state)
     cw->raw_rad[2] += 3 * RAD_PER_DEG; /* gross: dropped */
     cw->weight[4] = 0;                 /* dropped by the lab */
     static calreport rep;
-    ess_calfit_result res;
+    ess_labfit_result res;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, line, &res, &rep, err, sizeof err),
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, line, &res, &rep, err, sizeof err),
                      SUNMC_EINPUT);
     assert_non_null(strstr(err, "only 8 usable data rows"));
     assert_int_equal(res.n_gross, 1);
@@ -895,9 +895,9 @@ static void test_single_beta_line_has_no_cross_validation(void **state)
     m.iz = 0; /* invisible with one beta line */
     ess_calib_workspace *cw = indep_campaign(&st.cfg, &m, RAD_PER_ARCSEC, 0, 8);
     static calreport rep;
-    ess_calfit_result res;
+    ess_labfit_result res;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
     assert_int_equal(rep.n_folds, 0);
     assert_non_null(strstr(rep.cv_note, "1 beta line"));
     ess_calib_free(cw);

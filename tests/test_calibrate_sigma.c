@@ -7,7 +7,7 @@
  * residual column. */
 #include "test_tsv.h"
 
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_model.h"
 #include "params_io.h"
 #include "units.h"

@@ -6,7 +6,7 @@
 
 #include "config.h"
 #include "calreport.h"
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "dss_calib.h"
 #include "dss_model.h"
 #include "rotation.h"
@@ -467,7 +467,7 @@ static void test_polynomial_standard_errors(void **state)
     dss_calibration cal;
     static calreport rep;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(dss_calfit_run(&c, cw, &cal, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(dss_labfit_run(&c, cw, &cal, &rep, err, sizeof err), SUNMC_OK);
     assert_true(rep.fit_ok);
     int nt = cal.poly.n_terms;
     assert_int_equal(rep.np, 2 * nt);

@@ -13,7 +13,7 @@
 
 #include "config.h"
 #include "dss_config.h"
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "dss_calib.h"
 #include "dss_model.h"
 #include "params_io.h"

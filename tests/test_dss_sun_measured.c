@@ -10,7 +10,7 @@
 
 #include "calreport.h"
 #include "config.h"
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "dss_calib.h"
 #include "dss_model.h"
 #include "dss_sensor.h"

@@ -7,7 +7,7 @@
 #include "test_measured.h"
 
 #include "config.h"
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_calib.h"
 #include "ess_config.h"
 #include "ess_model.h"
@@ -214,7 +214,7 @@ static void params_round_trip(void **state)
     fit_result fr;
     assert_int_equal(ess_calibrate(cw, THETA0_RAD, truth.roll_rad, 0.2, 100, &fit, &fr),
                      SUNMC_OK);
-    ess_calfit_result res = {.m = fit};
+    ess_labfit_result res = {.m = fit};
     static params_file p;
     params_init(&p);
     snprintf(p.path, sizeof p.path, "%s", "sun_y_params.ini");
@@ -247,11 +247,11 @@ static void calfit_maps_covariance(void **state)
                           "calibration.sun_y_measured_arcsec=34",
                           "calibration.roll_measured_arcsec=12"};
     load_config(&st, sets, 4);
-    static ess_calfit_result res;
+    static ess_labfit_result res;
     static calreport rep;
     static params_file p;
     char err[SUNMC_ERRLEN];
-    assert_int_equal(ess_calfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
+    assert_int_equal(ess_labfit_run(&st.cfg, cw, NULL, &res, &rep, err, sizeof err), SUNMC_OK);
     assert_int_equal(rep.np, ESS_NP_EXT - 1);
     assert_int_equal(rep.dof, (int)cw->n - (ESS_NP_EXT - 1));
     for (int j = 0; j < ESS_NP_EXT; j++)

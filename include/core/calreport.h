@@ -3,7 +3,7 @@
  * numbers, warnings (each with its reason and what to do), residual RMS and
  * predicted after-calibration accuracy per band, and cross-validation.
  *
- * The family's calibration code (ess_calfit.h, ...) fills a calreport;
+ * The family's calibration code (ess_labfit.h, ...) fills a calreport;
  * calreport_print writes it for a person.
  *
  * Units: parameter values and standard errors are in the unit of the

@@ -10,6 +10,7 @@
 #define SUNMC_FAMILY_H
 
 #include "config.h"
+#include "bands.h"
 #include "deviation.h"
 #include "rng.h"
 
@@ -192,20 +193,6 @@ typedef struct sensor_family {
     const struct family_lab *lab;
 } sensor_family;
 
-/* Sum of squared errors per report band, for one unit and one angle. */
-typedef struct {
-    double sum2[CONFIG_BANDS_MAX];
-    long n[CONFIG_BANDS_MAX];
-} band_acc;
-
-void band_acc_reset(band_acc *b);
-/* Add error err at |angle| = abs_deg to every band that holds abs_deg. */
-void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err);
-/* RMS per band times scale into out[bands->n]; NaN for an empty band. */
-void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
-/* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */
-void band_max_add(double *max, const band_list *bands, double abs_deg, double v);
-
 /* Fill r's RMS before/after of measured angle `angle` from the unit's
  * accumulators (times scale, the rms unit per radian); after is NaN in every
  * band when the unit's fit failed. */
@@ -234,18 +221,5 @@ void unit_profile_enable(int on);
 double unit_clock(void);
 /* Add the time since *t to phase `phase` of r; *t becomes now. */
 void unit_phase_end(unit_result *r, int phase, double *t);
-
-/* Every report band must lie in the field of view (lo < fov_deg) and hold
- * at least one point of the validation grid: acc holds the count per band
- * of the grid's |angle| values (band_acc_add with any error), max_abs_deg
- * the largest of them.  SUNMC_EINPUT otherwise, naming report.bands_deg, the
- * band, fov_key and the grid's keys (grid_keys), since a band without a
- * point would give a row of NaN and a yield of 0 for every unit. */
-int band_check_coverage(const band_list *bands, const band_acc *acc, double max_abs_deg,
-                        double fov_deg, const char *fov_key, const char *angle,
-                        const char *grid_keys, char *err, size_t errlen);
-
-/* Count of alpha grid points from lo to hi in steps (with offset from lo). */
-long grid_count(double lo, double hi, double step, double offset);
 
 #endif

@@ -40,7 +40,7 @@ typedef struct {
     void *sink_ctx;
     mc_progress_fn progress; /* may be NULL; done counts from first */
     void *progress_ctx;
-    /* Split the blocks across the MPI ranks (par.h): every rank calls
+    /* Split the blocks across the MPI ranks (ranks.h): every rank calls
      * mc_stream with the same plan; block k is run by rank k mod R and
      * rank 0 receives every block in unit order and alone calls the sink
      * (the others' sink is never called); its stop ends every rank.  The

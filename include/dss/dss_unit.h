@@ -4,7 +4,7 @@
  *
  * For `sunmc simulate / calibrate / compensate` and `curve`:
  *   dss_deviations_sample + dss_unit_build     a unit (or fill the deviations)
- *   dss_unit_campaign, dss_unit_validation     its readings and the truth
+ *   dss_unit_campaign, dss_unit_read_validation     its readings and the truth
  *   dss_calib_alloc + dss_calibrate            the fit (dss_calib.h)
  *   dss_compensate                             spot -> (alpha, beta)
  *   dss_sensor_read + dss_sensor_angles        one raw reading anywhere
@@ -74,7 +74,7 @@ void dss_val_free(dss_val_readings *v);
 
 /* The validation readings of unit `unit`, fresh centroid noise from stream
  * RNG_STREAM_VAL_NOISE of (seed, unit) (two normals per point, spot or not). */
-void dss_unit_validation(const sunmc_config *c, const dss_unit *u, long unit,
+void dss_unit_read_validation(const sunmc_config *c, const dss_unit *u, long unit,
                          dss_val_readings *v);
 
 /* One campaign point as the lab records it (dss_campaign_batch). */

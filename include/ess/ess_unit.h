@@ -108,7 +108,7 @@ void ess_val_free(ess_val_readings *v);
 
 /* The validation readings of unit `unit` with fresh row noise (stream
  * RNG_STREAM_VAL_NOISE of (seed, unit)). */
-void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
+void ess_unit_read_validation(const sunmc_config *c, const ess_unit *u, long unit,
                          ess_val_readings *v);
 
 /* Draw the 4 fine-row current noises (units of a1) from stream r. */

@@ -1,7 +1,7 @@
 /* status.h - return codes shared by every sunmc module.
  *
  * Modules never print and never exit (the one exception: under MPI, a rank
- * whose peer is lost aborts the job through par_abort, since no status can
+ * whose peer is lost aborts the job through ranks_abort, since no status can
  * reach rank 0 then): they return one of these codes and,
  * where a caller-provided buffer is given, write a one-line message naming
  * what was wrong (file, line and key for input errors).  Only main() turns a

@@ -2,7 +2,7 @@
  * shared by the commands. */
 #include "cli.h"
 #include "output.h"
-#include "par.h"
+#include "ranks.h"
 #include "status.h"
 
 #include <errno.h>
@@ -160,8 +160,8 @@ double cli_progress_end(cli_progress *p, long units, int threads)
             fprintf(stderr, "\r%100s\r", "");
         fprintf(stderr, "sunmc: %ld units in %.2f s (%.0f units/s, %d threads", units, dt,
                 units / fmax(dt, 1e-9), threads);
-        if (par_size() > 1)
-            fprintf(stderr, " on each of %d MPI ranks", par_size());
+        if (ranks_size() > 1)
+            fprintf(stderr, " on each of %d MPI ranks", ranks_size());
         fprintf(stderr, ")\n");
     }
     return dt;

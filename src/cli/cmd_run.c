@@ -3,7 +3,7 @@
 #include "memory.h"
 #include "montecarlo.h"
 #include "output.h"
-#include "par.h"
+#include "ranks.h"
 #include "report.h"
 #include "checkpoint.h"
 #include "runner.h"
@@ -254,7 +254,7 @@ static int job_setup(run_job *j, int argc, char **argv)
     j->first = j->o.end >= 0 ? j->o.first : 0;
     j->end = j->o.end >= 0 ? j->o.end : c->units;
     j->threads = cli_threads(&j->o, c);
-    if (par_rank() != 0) { /* under mpirun: rank 0 alone prints and writes */
+    if (ranks_rank() != 0) { /* under mpirun: rank 0 alone prints and writes */
         j->o.out = NULL;
         j->o.quiet = 1;
         j->o.profile = 0;
@@ -381,7 +381,7 @@ static int job_execute(run_job *j, long *done)
     }
     /* Under mpirun every rank starts where rank 0's checkpoint ends. */
     long start = j->first + j->replayed, go = !stop;
-    if (par_bcast_long(&start) != SUNMC_OK || par_bcast_long(&go) != SUNMC_OK)
+    if (ranks_bcast_long(&start) != SUNMC_OK || ranks_bcast_long(&go) != SUNMC_OK)
         return 1;
     j->r.ckpt = j->has_ckpt ? &j->ckpt : NULL;
     j->r.distribute = 1;
@@ -457,7 +457,7 @@ int cmd_run(int argc, char **argv)
     /* Every rank reads the same input, so a bad one stops them all; rank 0
      * alone opens the files, and its failure must stop the others. */
     long all_open = opened;
-    if (setup_ok && par_bcast_long(&all_open) == SUNMC_OK && !all_open && opened) {
+    if (setup_ok && ranks_bcast_long(&all_open) == SUNMC_OK && !all_open && opened) {
         rc = 1;
         cli_run_files_abort(&j->rf);
         run_sink_free(&j->r);
@@ -468,7 +468,7 @@ int cmd_run(int argc, char **argv)
         double t0 = unit_clock();
         long done = 0;
         rc = job_execute(j, &done);
-        if (rc == 0 && par_rank() == 0)
+        if (rc == 0 && ranks_rank() == 0)
             rc = job_finish(j, done, unit_clock() - t0);
         else
             cli_run_files_abort(&j->rf);

@@ -1,7 +1,7 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
  * satellite sun sensors.  Dispatches to one command per file (cmd_*.c). */
 #include "cli.h"
-#include "par.h"
+#include "ranks.h"
 #include "status.h"
 #include "suggest.h"
 #include "vmath.h"
@@ -71,7 +71,7 @@ static int dispatch(int argc, char **argv)
     if (strcmp(cmd, "--version") == 0) {
         printf("sunmc %s\n", SUNMC_VERSION);
 #ifdef SUNMC_MPI
-        printf("built with MPI: %s\n", par_library());
+        printf("built with MPI: %s\n", ranks_library());
 #endif
         return 0;
     }
@@ -219,14 +219,14 @@ int main(int argc, char **argv)
     int xrc = isa_reexec(argc, argv);
     if (xrc)
         return xrc;
-    if (par_init(&argc, &argv, err, sizeof err) != SUNMC_OK) {
+    if (ranks_init(&argc, &argv, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
     }
     int rc = check_thread_stack();
-    if (rc == 0 && (par_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0)))
+    if (rc == 0 && (ranks_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0)))
         rc = dispatch(argc, argv);
     rc = check_stdout(argc, argv, rc);
-    par_finalize();
+    ranks_finalize();
     return rc;
 }

@@ -1,6 +1,6 @@
 /* montecarlo.c - the parallel loop over units, whole or in blocks. */
 #include "montecarlo.h"
-#include "par.h"
+#include "ranks.h"
 #include "status.h"
 
 #include <omp.h>
@@ -118,8 +118,8 @@ static void round_collect(mc_shared *s, mc_round *rd, long round)
         const unit_result *blk = rd->buf;
         if (r > 0) {
             int rs = SUNMC_OK;
-            if (par_recv(&rs, sizeof rs, r, MC_TAG_STATUS) != SUNMC_OK ||
-                par_recv(rd->rbuf, (size_t)n * sizeof *rd->rbuf, r, MC_TAG_DATA) != SUNMC_OK)
+            if (ranks_recv(&rs, sizeof rs, r, MC_TAG_STATUS) != SUNMC_OK ||
+                ranks_recv(rd->rbuf, (size_t)n * sizeof *rd->rbuf, r, MC_TAG_DATA) != SUNMC_OK)
                 rs = SUNMC_EIO;
             if (rs != SUNMC_OK && s->status == SUNMC_OK)
                 s->status = sunmc_fail(s->err, s->errlen, rs, "rank %d: units %ld:%ld failed", r,
@@ -145,9 +145,9 @@ static void round_send(mc_shared *s, mc_round *rd, long round)
     if (b0 >= rd->p->end)
         return;
     int st = s->status;
-    if (par_send(&st, sizeof st, 0, MC_TAG_STATUS) != SUNMC_OK ||
-        par_send(rd->buf, (size_t)block_len(rd, b0) * sizeof *rd->buf, 0, MC_TAG_DATA) != SUNMC_OK)
-        par_abort(1);
+    if (ranks_send(&st, sizeof st, 0, MC_TAG_STATUS) != SUNMC_OK ||
+        ranks_send(rd->buf, (size_t)block_len(rd, b0) * sizeof *rd->buf, 0, MC_TAG_DATA) != SUNMC_OK)
+        ranks_abort(1);
 }
 
 static void stream_rounds(mc_shared *s, mc_round *rd)
@@ -165,8 +165,8 @@ static void stream_rounds(mc_shared *s, mc_round *rd)
                 round_collect(s, rd, round);
             else
                 round_send(s, rd, round);
-            if (rd->ranks > 1 && par_bcast_long(&rd->go_on) != SUNMC_OK)
-                par_abort(1);
+            if (rd->ranks > 1 && ranks_bcast_long(&rd->go_on) != SUNMC_OK)
+                ranks_abort(1);
         }
 #pragma omp barrier
         if (!rd->go_on)
@@ -181,8 +181,8 @@ int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p,
 {
     mc_round rd = {p, p->block_units > 0 ? p->block_units : 1, 1, 0, NULL, NULL, 0, 0, 0};
     if (p->distribute) {
-        rd.ranks = par_size();
-        rd.me = par_rank();
+        rd.ranks = ranks_size();
+        rd.me = ranks_rank();
     }
     long span = p->end - p->first;
     size_t len = (size_t)(span < rd.bsize ? (span > 0 ? span : 1) : rd.bsize);

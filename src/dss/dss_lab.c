@@ -1,7 +1,7 @@
 /* dss_lab.c - the DSS's lab hooks (lab.h): `simulate` writes a unit's
  * campaign, truth and validation readings; `calibrate` fits rotary-table
- * data (dss_calfit.h); `compensate` applies params.ini. */
-#include "dss_calfit.h"
+ * data (dss_labfit.h); `compensate` applies params.ini. */
+#include "dss_labfit.h"
 #include "dss_lab.h"
 #include "dss_unit.h"
 #include "family.h"
@@ -61,7 +61,7 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     double **v = s->col;
     s->n_spot = dss_unit_campaign(c, &u, unit, v[C_B1], v[C_B2], v[C_X], v[C_Y], v[C_WEIGHT],
                                   v[C_TRUTH_A], v[C_TRUTH_B]);
-    dss_unit_validation(c, &u, unit, &s->val);
+    dss_unit_read_validation(c, &u, unit, &s->val);
     for (size_t i = 0; i < s->val.n; i++)
         s->n_val += s->val.seen[i];
     *out = s;
@@ -278,7 +278,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         k->cw->y_px[i] = d->v[3][i];
         k->cw->weight[i] = d->v[4][i];
     }
-    int st = dss_calfit_run(c, k->cw, &k->cal, rep, err, errlen);
+    int st = dss_labfit_run(c, k->cw, &k->cal, rep, err, errlen);
     if (st != SUNMC_OK) {
         cal_free(k);
         return st;
@@ -296,7 +296,7 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
 static int write_residuals(const void *p, FILE *f)
 {
     const dss_cal *k = p;
-    return dss_calfit_write_residuals(f, k->cw, k->line, &k->cal);
+    return dss_labfit_write_residuals(f, k->cw, k->line, &k->cal);
 }
 
 /* ---- compensate ---- */

@@ -217,7 +217,7 @@ void dss_val_free(dss_val_readings *v)
     memset(v, 0, sizeof *v);
 }
 
-void dss_unit_validation(const sunmc_config *c, const dss_unit *u, long unit,
+void dss_unit_read_validation(const sunmc_config *c, const dss_unit *u, long unit,
                          dss_val_readings *v)
 {
     const dss_config *dc = dss_cfg(c);
@@ -298,7 +298,7 @@ static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, doubl
 /* Score the unit's validation readings r (RMS before and after), and the
  * same points without centroid noise (the systematic part of the after
  * RMS; the S-curve bias, a property of the detector, stays in). */
-static void dss_unit_validate(const sunmc_config *c, const dss_unit *u,
+static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
                               const dss_calibration *cal, const dss_val_readings *r,
                               unit_result *res)
 {
@@ -357,8 +357,8 @@ static void dss_validate_temps(const sunmc_config *c, const dss_deviations *dev,
         dss_unit u;
         dss_deviations_at_temp(c, dev, T, &dev_t);
         dss_unit_build(c, &dev_t, &u);
-        dss_unit_validation(c, &u, unit, &w->val);
-        dss_unit_validate(c, &u, cal, &w->val, &at);
+        dss_unit_read_validation(c, &u, unit, &w->val);
+        dss_unit_score_validation(c, &u, cal, &w->val, &at);
         unit_result_store_temp(res, t, &at);
     }
 }
@@ -401,8 +401,8 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
-    dss_unit_validation(c, &u, unit, &w->val);
-    dss_unit_validate(c, &u, &cal, &w->val, res);
+    dss_unit_read_validation(c, &u, unit, &w->val);
+    dss_unit_score_validation(c, &u, &cal, &w->val, res);
     dss_validate_temps(c, &dev, unit, &cal, w, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;

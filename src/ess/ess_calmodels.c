@@ -12,7 +12,7 @@
  * held-out error when the difference exceeds COMPARE_SE_FACTOR standard
  * errors, else the one with fewer parameters (the paper's).
  */
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_prior.h"
 #include "status.h"
 #include "units.h"
@@ -116,7 +116,7 @@ static void recommend(calreport_models *cm, const double *const e2[2], size_t n)
              kind_names[cm->best], fabs(mean) / cm->diff_se_arcsec2, advice);
 }
 
-int ess_calfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep,
+int ess_labfit_compare(const sunmc_config *c, const ess_calib_workspace *cw, calreport *rep,
                        char *err, size_t errlen)
 {
     calreport_models *cm = &rep->models;

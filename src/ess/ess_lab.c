@@ -1,7 +1,7 @@
 /* ess_lab.c - the ESS's lab hooks (lab.h): `simulate` writes a unit's
  * campaign, truth and validation readings; `calibrate` fits turntable data
- * (ess_calfit.h); `compensate` applies params.ini. */
-#include "ess_calfit.h"
+ * (ess_labfit.h); `compensate` applies params.ini. */
+#include "ess_labfit.h"
 #include "ess_lab.h"
 #include "ess_prior.h"
 #include "ess_unit.h"
@@ -56,7 +56,7 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     s->sun_y_meas_arcsec = ess_sun_y_measured_arcsec(c, (uint64_t)c->seed, unit, &s->dev);
     ess_unit_build(c, &s->dev, &u);
     ess_unit_campaign(c, &u, unit, s->cw, s->truth, &s->gross);
-    ess_unit_validation(c, &u, unit, &s->val);
+    ess_unit_read_validation(c, &u, unit, &s->val);
     for (size_t i = 0; i < s->val.n; i++) {
         s->n_val_unseen += s->val.status[i] == ESS_READING_UNSEEN;
         s->n_val_gross += s->val.status[i] == ESS_READING_GROSS;
@@ -228,7 +228,7 @@ static int cal_unit_read(const sunmc_config *c, const void *unit, const double *
 typedef struct {
     ess_calib_workspace *cw;
     const int *line;
-    ess_calfit_result res;
+    ess_labfit_result res;
     calreport_models models; /* for models.tsv */
 } ess_cal;
 
@@ -267,7 +267,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         k->cw->raw_rad[i] = d->v[2][i] * RAD_PER_DEG;
         k->cw->weight[i] = d->v[3][i];
     }
-    int st = ess_calfit_run(c, k->cw, k->line, &k->res, rep, err, errlen);
+    int st = ess_labfit_run(c, k->cw, k->line, &k->res, rep, err, errlen);
     if (st != SUNMC_OK) {
         cal_free(k);
         return st;
@@ -287,7 +287,7 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
 static int write_residuals(const void *p, FILE *f)
 {
     const ess_cal *k = p;
-    return ess_calfit_write_residuals(f, k->cw, k->line, &k->res.m);
+    return ess_labfit_write_residuals(f, k->cw, k->line, &k->res.m);
 }
 
 static const char *const extra_files[] = {"field.tsv", "models.tsv", NULL};
@@ -305,7 +305,7 @@ static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
         amin = fmin(amin, k->cw->alpha_rad[i] * DEG_PER_RAD);
         amax = fmax(amax, k->cw->alpha_rad[i] * DEG_PER_RAD);
     }
-    return ess_calfit_write_field(f, &k->res, amin, amax);
+    return ess_labfit_write_field(f, &k->res, amin, amax);
 }
 
 /* ---- compensate ---- */

@@ -133,7 +133,7 @@ void ess_val_free(ess_val_readings *v)
     memset(v, 0, sizeof *v);
 }
 
-void ess_unit_validation(const sunmc_config *c, const ess_unit *u, long unit,
+void ess_unit_read_validation(const sunmc_config *c, const ess_unit *u, long unit,
                          ess_val_readings *v)
 {
     const ess_config *ec = ess_cfg(c);
@@ -293,7 +293,7 @@ static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size
 /* Score the unit's validation readings v (RMS before and after), and the
  * same points without reading noise (the systematic part of the after
  * RMS); gross errors are counted and left out. */
-static void ess_unit_validate(const sunmc_config *c, const ess_unit *u, const ess_model *m,
+static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, const ess_model *m,
                               const ess_val_readings *v, unit_result *res)
 {
     band_acc before, after, after_sys;
@@ -351,8 +351,8 @@ static void ess_validate_temps(const sunmc_config *c, const ess_deviations *dev,
         ess_unit u;
         ess_deviations_at_temp(c, dev, T, &dev_t);
         ess_unit_build(c, &dev_t, &u);
-        ess_unit_validation(c, &u, unit, &w->val);
-        ess_unit_validate(c, &u, m, &w->val, &at);
+        ess_unit_read_validation(c, &u, unit, &w->val);
+        ess_unit_score_validation(c, &u, m, &w->val, &at);
         unit_result_store_temp(res, t, &at);
     }
 }
@@ -392,8 +392,8 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
-    ess_unit_validation(c, &u, unit, &w->val);
-    ess_unit_validate(c, &u, &m, &w->val, res);
+    ess_unit_read_validation(c, &u, unit, &w->val);
+    ess_unit_score_validation(c, &u, &m, &w->val, res);
     ess_validate_temps(c, &dev, unit, &m, w, res);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;

@@ -6,9 +6,9 @@
  * cannot invert are counted, not fatal. */
 #include "fuzz_util.h"
 
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "dss_calib.h"
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_model.h"
 #include "params_io.h"
 #include "status.h"

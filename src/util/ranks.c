@@ -1,6 +1,6 @@
-/* par.c - MPI ranks when built with MPI and launched by mpirun; one rank
- * otherwise (see par.h). */
-#include "par.h"
+/* ranks.c - MPI ranks when built with MPI and launched by mpirun; one rank
+ * otherwise (see ranks.h). */
+#include "ranks.h"
 #include "status.h"
 
 #include <stdio.h>
@@ -26,7 +26,7 @@ static int launched(void)
     return 0;
 }
 
-int par_init(int *argc, char ***argv, char *err, size_t errlen)
+int ranks_init(int *argc, char ***argv, char *err, size_t errlen)
 {
     if (!launched())
         return SUNMC_OK;
@@ -44,24 +44,24 @@ int par_init(int *argc, char ***argv, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
-void par_finalize(void)
+void ranks_finalize(void)
 {
     if (par_on)
         MPI_Finalize();
     par_on = 0;
 }
 
-int par_rank(void)
+int ranks_rank(void)
 {
     return par_me;
 }
 
-int par_size(void)
+int ranks_size(void)
 {
     return par_n;
 }
 
-const char *par_library(void)
+const char *ranks_library(void)
 {
     static char v[MPI_MAX_LIBRARY_VERSION_STRING];
     int len = 0;
@@ -73,14 +73,14 @@ const char *par_library(void)
     return v;
 }
 
-int par_send(const void *buf, size_t bytes, int peer, int tag)
+int ranks_send(const void *buf, size_t bytes, int peer, int tag)
 {
     return MPI_Send(buf, (int)bytes, MPI_BYTE, peer, tag, MPI_COMM_WORLD) == MPI_SUCCESS
                ? SUNMC_OK
                : SUNMC_EIO;
 }
 
-int par_recv(void *buf, size_t bytes, int peer, int tag)
+int ranks_recv(void *buf, size_t bytes, int peer, int tag)
 {
     return MPI_Recv(buf, (int)bytes, MPI_BYTE, peer, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) ==
                    MPI_SUCCESS
@@ -88,14 +88,14 @@ int par_recv(void *buf, size_t bytes, int peer, int tag)
                : SUNMC_EIO;
 }
 
-int par_bcast_long(long *v)
+int ranks_bcast_long(long *v)
 {
     if (!par_on)
         return SUNMC_OK;
     return MPI_Bcast(v, 1, MPI_LONG, 0, MPI_COMM_WORLD) == MPI_SUCCESS ? SUNMC_OK : SUNMC_EIO;
 }
 
-void par_abort(int code)
+void ranks_abort(int code)
 {
     if (par_on)
         MPI_Abort(MPI_COMM_WORLD, code);
@@ -104,7 +104,7 @@ void par_abort(int code)
 
 #else /* one rank */
 
-int par_init(int *argc, char ***argv, char *err, size_t errlen)
+int ranks_init(int *argc, char ***argv, char *err, size_t errlen)
 {
     (void)argc;
     (void)argv;
@@ -113,26 +113,26 @@ int par_init(int *argc, char ***argv, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
-void par_finalize(void)
+void ranks_finalize(void)
 {
 }
 
-int par_rank(void)
+int ranks_rank(void)
 {
     return 0;
 }
 
-int par_size(void)
+int ranks_size(void)
 {
     return 1;
 }
 
-const char *par_library(void)
+const char *ranks_library(void)
 {
     return "no MPI";
 }
 
-int par_send(const void *buf, size_t bytes, int peer, int tag)
+int ranks_send(const void *buf, size_t bytes, int peer, int tag)
 {
     (void)buf;
     (void)bytes;
@@ -141,18 +141,18 @@ int par_send(const void *buf, size_t bytes, int peer, int tag)
     return SUNMC_EIO;
 }
 
-int par_recv(void *buf, size_t bytes, int peer, int tag)
+int ranks_recv(void *buf, size_t bytes, int peer, int tag)
 {
-    return par_send(buf, bytes, peer, tag);
+    return ranks_send(buf, bytes, peer, tag);
 }
 
-int par_bcast_long(long *v)
+int ranks_bcast_long(long *v)
 {
     (void)v;
     return SUNMC_OK;
 }
 
-void par_abort(int code)
+void ranks_abort(int code)
 {
     exit(code);
 }

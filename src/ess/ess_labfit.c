@@ -1,7 +1,7 @@
-/* ess_calfit.c - `sunmc calibrate` of an ESS: the Monte Carlo's fit
+/* ess_labfit.c - `sunmc calibrate` of an ESS: the Monte Carlo's fit
  * (ess_calibrate) plus uncertainty, residuals, cross-validation and
  * params.ini. */
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_prior.h"
 #include "ess_unit.h"
 #include "family.h"
@@ -60,7 +60,7 @@ void ess_compensate_gradient(const ess_model *m, double alpha_rad, double h[ESS_
         h[j] = -draw_dp[j] / draw_dalpha;
 }
 
-double ess_calfit_sigma(const ess_model *m, const double cov[ESS_NP_MAX][ESS_NP_MAX],
+double ess_labfit_sigma(const ess_model *m, const double cov[ESS_NP_MAX][ESS_NP_MAX],
                         double alpha_rad)
 {
     double h[ESS_NP_MAX], v = 0;
@@ -89,7 +89,7 @@ int ess_angle_error(const ess_model *m, double alpha_rad, double beta_rad, doubl
 }
 
 static void gross_check(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
-                        ess_calfit_result *res, calreport *rep)
+                        ess_labfit_result *res, calreport *rep)
 {
     const ess_config *ec = ess_cfg(c);
     double half_period = ess_half_period_rad(c);
@@ -244,7 +244,7 @@ static void cross_validate(const sunmc_config *c, ess_calib_workspace *cw, calre
 /* Residual per band (angle domain), propagated sigma across the field, and
  * the predicted after-calibration RMS. */
 static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
-                       const ess_calfit_result *res, calreport *rep, int *n_uncomp)
+                       const ess_labfit_result *res, calreport *rep, int *n_uncomp)
 {
     const band_list *bands = &c->bands_deg;
     band_acc resid, cal;
@@ -274,7 +274,7 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
                              : 0;
     for (long j = 0; j < na; j++) {
         double a_deg = amin * DEG_PER_RAD + (double)j * ESS_FIELD_STEP_DEG;
-        double s = ess_calfit_sigma(&res->m, res->cov, a_deg * RAD_PER_DEG);
+        double s = ess_labfit_sigma(&res->m, res->cov, a_deg * RAD_PER_DEG);
         band_acc_add(&cal, bands, fabs(a_deg), s);
         band_max_add(rep->cal_sigma_max[0], bands, fabs(a_deg), s * ARCSEC_PER_RAD);
     }
@@ -294,7 +294,7 @@ static void band_stats(const sunmc_config *c, const ess_calib_workspace *cw,
  * (of the fitted parameters: a measured sun tilt is not one), and the
  * scaled covariance res->cov (model order; 0 for a fixed parameter). */
 static void parameters(const ess_calib_workspace *cw, const calib_prior *prior,
-                       ess_calfit_result *res, calreport *rep)
+                       ess_labfit_result *res, calreport *rep)
 {
     /* Residual variance with the degrees of freedom the data leave: the
      * regularised (aliased) directions are fixed by their priors. */
@@ -368,16 +368,16 @@ static void ess_check_correlations(calreport *rep)
                                            (int)(sizeof causes / sizeof *causes));
 }
 
-const char *ess_calfit_model_name(int kind)
+const char *ess_labfit_model_name(int kind)
 {
     return kind == ESS_MODEL_EXTENDED ? ESS_CALFIT_MODEL_EXT : ESS_CALFIT_MODEL;
 }
 
-int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
-                   ess_calfit_result *res, calreport *rep, char *err, size_t errlen)
+int ess_labfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
+                   ess_labfit_result *res, calreport *rep, char *err, size_t errlen)
 {
     const ess_config *ec = ess_cfg(c);
-    calreport_init(rep, "ess", ess_calfit_model_name(cw->kind));
+    calreport_init(rep, "ess", ess_labfit_model_name(cw->kind));
     memset(res, 0, sizeof *res);
     double theta0 = ec->design.theta0_deg * RAD_PER_DEG;
     double roll = ec->roll_measured_arcsec * RAD_PER_ARCSEC;
@@ -434,10 +434,10 @@ int ess_calfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        "data",
                        "%d readings could not be compensated with the fitted model", n_uncomp);
     cross_validate(c, cw, rep, theta0, roll);
-    return ess_calfit_compare(c, cw, rep, err, errlen);
+    return ess_labfit_compare(c, cw, rep, err, errlen);
 }
 
-int ess_calfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int *line,
+int ess_labfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int *line,
                                const ess_model *m)
 {
     fprintf(f, "line\talpha_deg\tbeta_deg\toutput_deg\tweight\tresidual_arcsec\t"
@@ -455,7 +455,7 @@ int ess_calfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
 
-int ess_calfit_write_field(FILE *f, const ess_calfit_result *res, double alpha_min_deg,
+int ess_labfit_write_field(FILE *f, const ess_labfit_result *res, double alpha_min_deg,
                            double alpha_max_deg)
 {
     fprintf(f, "alpha_deg\tsigma_arcsec\n");
@@ -463,7 +463,7 @@ int ess_calfit_write_field(FILE *f, const ess_calfit_result *res, double alpha_m
     for (long j = 0; j < na; j++) {
         double a = alpha_min_deg + (double)j * ESS_FIELD_STEP_DEG;
         fprintf(f, "%.6g\t%.6g\n", a,
-                ess_calfit_sigma(&res->m, res->cov, a * RAD_PER_DEG) * ARCSEC_PER_RAD);
+                ess_labfit_sigma(&res->m, res->cov, a * RAD_PER_DEG) * ARCSEC_PER_RAD);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
@@ -472,7 +472,7 @@ static const char *const par_units[ESS_NP_MAX] = {
     "1", "1", "1", "deg", "deg", "arcsec", "arcsec", "arcsec", "deg",
     "deg", "deg", "deg", "deg", "deg", "deg", "deg", "deg", "deg"};
 
-int ess_params_fill(params_file *p, const ess_calfit_result *res, const calreport *rep,
+int ess_params_fill(params_file *p, const ess_labfit_result *res, const calreport *rep,
                     double theta0_deg)
 {
     int st = params_set_double(p, "design", "theta0_deg", theta0_deg, "fine-code period");

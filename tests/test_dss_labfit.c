@@ -1,13 +1,13 @@
-/* test_dss_calfit.c - `sunmc calibrate`'s DSS report: the propagated
+/* test_dss_labfit.c - `sunmc calibrate`'s DSS report: the propagated
  * sigma (implicit-function derivative) against finite differences. */
 #include "test_util.h"
 
 #include "calreport.h"
 #include "config.h"
 #include "csv.h"
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "rotation.h"
-#include "ess_calfit.h"
+#include "ess_labfit.h"
 #include "ess_unit.h"
 #include "family.h"
 #include "status.h"
@@ -29,7 +29,7 @@ static int setup(void **state)
 /* ---- DSS: propagated sigma, simulate -> calibrate -> compensate, and an
  * independent pinhole + flat-glass model ---- */
 
-/* dss_calfit_sigma (implicit-function derivative) against a derivative of
+/* dss_labfit_sigma (implicit-function derivative) against a derivative of
  * the compensated angles taken by perturbing each parameter, re-preparing
  * the model and inverting the same spot (dss_model_compensate). */
 static void test_dss_sigma_matches_finite_differences(void **state)
@@ -54,7 +54,7 @@ static void test_dss_sigma_matches_finite_differences(void **state)
     const double bs[][2] = {{0, 0}, {0.3, -0.2}, {-0.7, 0.5}, {0.9, 0.1}};
     for (int t = 0; t < 4; t++) {
         double sg[2], spot[2];
-        assert_int_equal(dss_calfit_sigma(&m, cov, idx, nf, bs[t][0], bs[t][1], sg), SUNMC_OK);
+        assert_int_equal(dss_labfit_sigma(&m, cov, idx, nf, bs[t][0], bs[t][1], sg), SUNMC_OK);
         assert_int_equal(dss_model_spot(&m, bs[t][0], bs[t][1], spot, NULL), SUNMC_OK);
         double v[2] = {0, 0};
         for (int k = 0; k < nf; k++) {

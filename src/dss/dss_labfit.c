@@ -1,6 +1,6 @@
-/* dss_calfit.c - `sunmc calibrate` of a DSS: dss_calibrate plus the
+/* dss_labfit.c - `sunmc calibrate` of a DSS: dss_calibrate plus the
  * report and params.ini. */
-#include "dss_calfit.h"
+#include "dss_labfit.h"
 #include "dss_prior.h"
 #include "dss_sensor.h"
 #include "rotation.h"
@@ -21,7 +21,7 @@
  * the rounding error (~eps / h) ~1e-10. */
 #define DSS_SIGMA_DB_RAD 1e-6
 
-int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
+int dss_labfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
                      double b1, double b2, double sigma_rad[2])
 {
     double spot[2], J[2][DSS_NP], sp[2][2][2], tr[2][2][2];
@@ -362,7 +362,7 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
             continue;
         if (cal->kind == DSS_MODEL_POLYNOMIAL)
             poly_sigma(cw, cal->poly.n_terms, cov_s, i, sg);
-        else if (dss_calfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
+        else if (dss_labfit_sigma(&cal->phys, cov_s, cw->free_idx, cw->n_free, cw->b1_rad[i],
                                   cw->b2_rad[i], sg) != SUNMC_OK)
             continue;
         dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
@@ -387,7 +387,7 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
     }
 }
 
-int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
+int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
                    calreport *rep, char *err, size_t errlen)
 {
     int phys = cw->kind == DSS_MODEL_PHYSICAL;
@@ -440,7 +440,7 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     return SUNMC_OK;
 }
 
-int dss_calfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
+int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
                                const dss_calibration *cal)
 {
     fprintf(f, "line\tb1_deg\tb2_deg\tx_px\ty_px\tweight\talpha_deg\tbeta_deg\t"

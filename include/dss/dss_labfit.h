@@ -1,4 +1,4 @@
-/* dss_calfit.h - calibrating a real DSS from rotary-table data (`sunmc
+/* dss_labfit.h - calibrating a real DSS from rotary-table data (`sunmc
  * calibrate` of a DSS): the fit is dss_calibrate (dss_calib.h), the
  * Monte Carlo's code path; this adds the report (standard errors and
  * correlations of the physical model, residual per angle and band,
@@ -8,8 +8,8 @@
  * table's truth angles (table_truth), arcsec, banded on the field angle
  * atan(hypot(tan alpha, tan beta)) as in the Monte Carlo.
  */
-#ifndef SUNMC_DSS_CALFIT_H
-#define SUNMC_DSS_CALFIT_H
+#ifndef SUNMC_DSS_LABFIT_H
+#define SUNMC_DSS_LABFIT_H
 
 #include "calreport.h"
 #include "dss_config.h"
@@ -26,7 +26,7 @@
  * and fill cal and rep.  SUNMC_EINPUT (message in err) when the usable
  * readings do not outnumber the parameters; a failed fit is not an error
  * (rep->fit_ok = 0, with a warning). */
-int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
+int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
                    calreport *rep, char *err, size_t errlen);
 
 /* Propagated calibration uncertainty at table angles (b1, b2) rad: the
@@ -38,11 +38,11 @@ int dss_calfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
  * implicit function theorem: the model's analytic d spot / d p and a
  * central-difference 2 x 2 d spot / d b and d (alpha, beta) / d b.
  * SUNMC_EDOM when the spot cannot be formed or the map is singular there. */
-int dss_calfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
+int dss_labfit_sigma(const dss_model *m, const double *cov, const int *free_idx, int n_free,
                      double b1, double b2, double sigma_rad[2]);
 
 /* TSV: each reading with its compensated angles and errors (arcsec). */
-int dss_calfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
+int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
                                const dss_calibration *cal);
 
 /* params.ini content of a calibration ([model] section). */

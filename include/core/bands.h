@@ -1,0 +1,38 @@
+/* bands.h - the angle grids and the report bands (report.bands_deg) a
+ * family scores its units in: per-band sums of squared errors, their RMS,
+ * and the check that every band holds points of the validation grid. */
+#ifndef SUNMC_BANDS_H
+#define SUNMC_BANDS_H
+
+#include "config.h"
+
+#include <stddef.h>
+
+/* Sum of squared errors per report band, for one unit and one angle. */
+typedef struct {
+    double sum2[CONFIG_BANDS_MAX];
+    long n[CONFIG_BANDS_MAX];
+} band_acc;
+
+void band_acc_reset(band_acc *b);
+/* Add error err at |angle| = abs_deg to every band that holds abs_deg. */
+void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err);
+/* RMS per band times scale into out[bands->n]; NaN for an empty band. */
+void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
+/* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */
+void band_max_add(double *max, const band_list *bands, double abs_deg, double v);
+
+/* Every report band must lie in the field of view (lo < fov_deg) and hold
+ * at least one point of the validation grid: acc holds the count per band
+ * of the grid's |angle| values (band_acc_add with any error), max_abs_deg
+ * the largest of them.  SUNMC_EINPUT otherwise, naming report.bands_deg, the
+ * band, fov_key and the grid's keys (grid_keys), since a band without a
+ * point would give a row of NaN and a yield of 0 for every unit. */
+int band_check_coverage(const band_list *bands, const band_acc *acc, double max_abs_deg,
+                        double fov_deg, const char *fov_key, const char *angle,
+                        const char *grid_keys, char *err, size_t errlen);
+
+/* Count of alpha grid points from lo to hi in steps (with offset from lo). */
+long grid_count(double lo, double hi, double step, double offset);
+
+#endif
