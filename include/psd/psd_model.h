@@ -9,8 +9,10 @@
  * their ratios (x, y) (psd_ratios), which do not depend on the sun's
  * intensity; the model predicts them from the geometry, and compensation
  * inverts that by Newton's method in (tan alpha, tan beta) of the table
- * top.  Residuals of the fit are the ratio differences divided by the
- * ratios' nominal sensitivity (ratio per unit of tan), i.e. about radians.
+ * top.  The fit has two stages (psd_phys_fit): the four channels with each
+ * reading's light projected out (psd_fitchan.c), then the ratios, whose
+ * residuals are the ratio differences divided by the ratios' nominal
+ * sensitivity (ratio per unit of tan), i.e. about radians.
  *
  * Polynomial model (psd_poly.c): the field's method: the ratios of the raw
  * channels (no dark correction), and tan(alpha), tan(beta) of the truth
