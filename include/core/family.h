@@ -127,6 +127,7 @@ typedef struct sensor_family {
     const char *description;        /* for sensor.family's help: "encoded sun sensor" */
     const char *rms_unit;           /* unit of every RMS: "deg" or "arcsec" */
     double arcsec_per_rms_unit;     /* to compare with report.spec_arcsec */
+    int rms_decimals;               /* shown in tables (report_decimals); 0: by rms_unit */
 
     /* ---- Configuration.  The family's own keys (offsets into its config,
      * which lives in sunmc_config.fam and is read through the family's

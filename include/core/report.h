@@ -53,6 +53,14 @@ typedef struct {
     stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci, worse_ci;
 } summary_row;
 
+/* Decimals a family's RMS values are shown with in tables: its
+ * rms_decimals (ESS 4: 0.0001 deg = 0.36 arcsec); when it sets none, 4
+ * for degrees and 2 for any other unit. */
+int report_decimals(const struct sensor_family *fam);
+
+/* The confidence label of c's intervals, "[95% CI]", into buf. */
+void report_ci_label(const sunmc_config *c, char *buf, size_t len);
+
 /* Decimals that show a fraction frac in percent (at least min_decimals, at
  * most 6) so that a failure is never rounded away: 0.9995 is "99.95", not
  * "100.0"; a yield above 0 never shows as "0.0". */

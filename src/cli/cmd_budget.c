@@ -236,7 +236,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
     char band[32];
     report_band_label(c, b->band, band, sizeof band);
     const char *u = fam->rms_unit;
-    int prec = strcmp(u, "deg") == 0 ? 4 : 2;
+    int prec = report_decimals(fam);
     printf("\n%s (%s): error budget, %ld units per run (%ld with a fit in every run), seed %ld;"
            " %s in band %s deg\n",
            c->product, fam->name, b->units, b->paired_units, c->seed, fam->angle_names[b->angle],
@@ -248,7 +248,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            100 * b->all.yield_ci.lo, dy, 100 * b->all.yield_ci.hi, prec, b->no_tolerance.before_mean,
            prec, b->no_tolerance.after_mean);
     char h[64];
-    snprintf(h, sizeof h, "share of the mean square [%g%% CI]", 100 * c->confidence);
+    char ci[32];
+    report_ci_label(c, ci, sizeof ci);
+    snprintf(h, sizeof h, "share of the mean square %s", ci);
     printf("%-4s %-29s %8s %-6s | %19s | %-53s | %s\n", "rank", "source", "today", "unit",
            "mean RMS alone", h, "inverse limit [CI]");
     printf("%-4s %-29s %8s %-6s | %9s %9s | %-26s %-26s | yield %.0f%%, spec %g\"\n", "", "", "",

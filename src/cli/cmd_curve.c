@@ -223,7 +223,7 @@ static void curve_print(const curve_run *r, const char *only, long unit)
 {
     const sensor_family *fam = r->fam;
     const char *u = fam->rms_unit;
-    int prec = strcmp(u, "deg") == 0 ? 4 : 2, na = r->na;
+    int prec = report_decimals(fam), na = r->na;
     printf("\n%s (%s): ", r->c->product, fam->name);
     if (only)
         printf("%s alone, every other tolerance 0 (unit %ld's noise in the campaign)", only, unit);

@@ -101,7 +101,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
 {
     char band[32];
     report_band_label(c, s->band, band, sizeof band);
-    int prec = strcmp(fam->rms_unit, "deg") == 0 ? 4 : 2;
+    int prec = report_decimals(fam);
     printf("\n%s (%s): Sobol indices of the unit RMS, %s in band %s deg; N = %ld units (%ld with "
            "a fit in every run), seeds %ld / %ld\n",
            c->product, fam->name, fam->angle_names[s->angle], band, s->units, s->paired_units,
@@ -110,7 +110,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
            s->mean_before, prec, sqrt(s->var_before), fam->rms_unit, prec, s->mean_after, prec,
            sqrt(s->var_after), fam->rms_unit);
     char h[64];
-    snprintf(h, sizeof h, "[%g%% CI]", 100 * c->confidence);
+    report_ci_label(c, h, sizeof h);
     printf("%-20s %-9s | %-22s %-22s | %-22s %-22s\n", "source", "kind", "S1 before", "ST before",
            "S1 after", "ST after");
     printf("%-20s %-9s | %-22s %-22s | %-22s %-22s\n", "", "", h, h, h, h);

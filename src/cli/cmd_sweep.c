@@ -82,7 +82,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
                         int n_axes, long n_points, const summary_row *rows, int n_rows)
 {
     const char *u = fam->rms_unit;
-    int prec = strcmp(u, "deg") == 0 ? 4 : 2, w[SWEEP_NUM_COLS];
+    int prec = report_decimals(fam), w[SWEEP_NUM_COLS];
     num_widths(rows, n_points * n_rows, prec, w);
     /* run.units / run.seed on an axis: the header says so, not the base's */
     int vary_units = 0, vary_seed = 0;

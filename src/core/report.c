@@ -13,6 +13,18 @@
 
 #define REPORT_PERCENTILE 0.95
 
+int report_decimals(const sensor_family *fam)
+{
+    if (fam->rms_decimals > 0)
+        return fam->rms_decimals;
+    return strcmp(fam->rms_unit, "deg") == 0 ? 4 : 2;
+}
+
+void report_ci_label(const sunmc_config *c, char *buf, size_t len)
+{
+    snprintf(buf, len, "[%g%% CI]", 100.0 * c->confidence);
+}
+
 int report_percent_decimals(double frac, int min_decimals)
 {
     int d = min_decimals;
@@ -451,7 +463,7 @@ static void print_table1(FILE *f, const sunmc_config *c, const sensor_family *fa
                          const summary_row *rows, int n, int prec, table_col *cols)
 {
     char h[TABLE_CELL], pct[24];
-    snprintf(pct, sizeof pct, "[%g%% CI]", 100.0 * c->confidence);
+    report_ci_label(c, pct, sizeof pct);
     label_columns(c, fam, rows, n, cols);
     snprintf(h, sizeof h, "max [%s]", fam->rms_unit);
     set_head(&cols[2], "RMS after", h, 1);
@@ -489,11 +501,13 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
                            offsetof(summary_row, rms_after_mean_ci),
                            offsetof(summary_row, rms_after_sys_mean_ci)};
     char h[TABLE_CELL];
-    snprintf(h, sizeof h, "[%s] [%g%% CI]", fam->rms_unit, 100.0 * c->confidence);
+    char level[32];
+    report_ci_label(c, level, sizeof level);
+    snprintf(h, sizeof h, "[%s] %s", fam->rms_unit, level);
     label_columns(c, fam, rows, n, cols);
     for (int k = 0; k < 3; k++)
         set_head(&cols[2 + k], heads[k], h, k == 0);
-    snprintf(h, sizeof h, "[%g%% CI]", 100.0 * c->confidence);
+    report_ci_label(c, h, sizeof h);
     set_head(&cols[5], "yield", h, 1);
     set_head(&cols[6], "made worse", h, 1);
     int d[3];
@@ -549,7 +563,7 @@ static void print_thermal(FILE *f, const sunmc_config *c, const sensor_family *f
     int n = report_n_rows(c, fam);
     char h[TABLE_CELL], pct[24], range[64];
     range_label(c, range, sizeof range);
-    snprintf(pct, sizeof pct, "[%g%% CI]", 100.0 * c->confidence);
+    report_ci_label(c, pct, sizeof pct);
     fprintf(f, "\nvalidation at the operating temperatures (environment.operating_temp_c), "
                "calibrated at %g C;\nworst = each unit's worst RMS over %s, passing only where "
                "it passes at every temperature:\n",
@@ -680,7 +694,7 @@ void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam
 {
     int n = report_n_lab_rows(c, fam);
     const char *u = fam->rms_unit;
-    const int prec = strcmp(u, "deg") == 0 ? 4 : 2;
+    const int prec = report_decimals(fam);
     static table_col cols[TABLE_COLS]; /* large; the report prints from one thread */
     char model[256];
     fam->model_label(c, model, sizeof model);

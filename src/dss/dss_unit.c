@@ -449,6 +449,7 @@ const sensor_family dss_family = {
     .alias_term = NULL,
     .rms_unit = "arcsec",
     .arcsec_per_rms_unit = 1.0,
+    .rms_decimals = 2,
     .model_label = dss_model_label,
     .n_angles = dss_n_angles,
     .angle_names = dss_angle_names,

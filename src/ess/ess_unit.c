@@ -408,6 +408,7 @@ const sensor_family ess_family = {
     .alias_term = "the fine-code term",
     .rms_unit = "deg",
     .arcsec_per_rms_unit = ARCSEC_PER_DEG,
+    .rms_decimals = 4,
     .model_label = ess_model_label,
     .n_angles = ess_n_angles,
     .angle_names = ess_angle_names,

@@ -465,6 +465,7 @@ const sensor_family psd_family = {
     .description = "four-channel analog sun sensor: lateral PSD or quadrant photodiode",
     .rms_unit = "arcsec",
     .arcsec_per_rms_unit = 1.0,
+    .rms_decimals = 2,
     .keys = psd_keys,
     .defaults = psd_defaults,
     .validate = psd_validate,
