@@ -44,4 +44,14 @@ double unit_primary_after(const sunmc_config *c, const unit_result *r, int a, in
  * r's slot t: its RMS before and after, every angle and band. */
 void unit_result_store_temp(unit_result *r, int t, const unit_result *at);
 
+/* Validate a calibrated unit at each operating temperature of c into r's
+ * per-temperature results: a temperature equal to the lab's takes r's
+ * own; any other calls validate_at(c, temp_c, ctx, at) on a zeroed
+ * result carrying r's fit status (the family rebuilds its unit at that
+ * temperature, reads and scores its validation). */
+typedef void (*thermal_validate_fn)(const sunmc_config *c, double temp_c, void *ctx,
+                                    unit_result *at);
+void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validate_fn validate_at,
+                          void *ctx);
+
 #endif

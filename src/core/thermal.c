@@ -60,3 +60,21 @@ void unit_result_store_temp(unit_result *r, int t, const unit_result *at)
     memcpy(r->rms_before_t[t], at->rms_before, sizeof r->rms_before_t[t]);
     memcpy(r->rms_after_t[t], at->rms_after, sizeof r->rms_after_t[t]);
 }
+
+void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validate_fn validate_at,
+                          void *ctx)
+{
+    int n = thermal_n_temps(c);
+    for (int t = 0; t < n; t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c) {
+            unit_result_store_temp(r, t, r);
+            continue;
+        }
+        unit_result at;
+        memset(&at, 0, sizeof at);
+        at.fit_status = r->fit_status;
+        validate_at(c, T, ctx, &at);
+        unit_result_store_temp(r, t, &at);
+    }
+}

@@ -338,29 +338,24 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
     }
 }
 
-/* The unit of deviations dev validated at each operating temperature into
- * res's rms_*_t (a temperature equal to the lab's: the lab's result). */
-static void dss_validate_temps(const sunmc_config *c, const dss_deviations *dev, long unit,
-                               const dss_calibration *cal, dss_ws *w, unit_result *res)
+/* The calibrated unit at one operating temperature (thermal_validate_all):
+ * its deviations at temp_c, rebuilt, its validation read and scored. */
+typedef struct {
+    const dss_deviations *dev;
+    long unit;
+    const dss_calibration *cal;
+    dss_ws *w;
+} dss_temp_ctx;
+
+static void dss_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
 {
-    int n = thermal_n_temps(c);
-    for (int t = 0; t < n; t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c) {
-            unit_result_store_temp(res, t, res);
-            continue;
-        }
-        unit_result at;
-        memset(&at, 0, sizeof at);
-        at.fit_status = res->fit_status;
-        dss_deviations dev_t;
-        dss_unit u;
-        dss_deviations_at_temp(c, dev, T, &dev_t);
-        dss_unit_build(c, &dev_t, &u);
-        dss_unit_read_validation(c, &u, unit, &w->val);
-        dss_unit_score_validation(c, &u, cal, &w->val, &at);
-        unit_result_store_temp(res, t, &at);
-    }
+    const dss_temp_ctx *k = ctx;
+    dss_deviations dev_t;
+    dss_unit u;
+    dss_deviations_at_temp(c, k->dev, temp_c, &dev_t);
+    dss_unit_build(c, &dev_t, &u);
+    dss_unit_read_validation(c, &u, k->unit, &k->w->val);
+    dss_unit_score_validation(c, &u, k->cal, &k->w->val, at);
 }
 
 static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
@@ -403,7 +398,8 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
      * operating temperature (thermal.h) with the same calibration */
     dss_unit_read_validation(c, &u, unit, &w->val);
     dss_unit_score_validation(c, &u, &cal, &w->val, res);
-    dss_validate_temps(c, &dev, unit, &cal, w, res);
+    dss_temp_ctx tc = {&dev, unit, &cal, w};
+    thermal_validate_all(c, res, dss_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }

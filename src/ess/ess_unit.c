@@ -332,29 +332,24 @@ static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, 
     unit_result_set_sys(res, 0, &after_sys, &c->bands_deg, DEG_PER_RAD);
 }
 
-/* The unit of deviations dev validated at each operating temperature into
- * res's rms_*_t (a temperature equal to the lab's: the lab's result). */
-static void ess_validate_temps(const sunmc_config *c, const ess_deviations *dev, long unit,
-                               const ess_model *m, ess_ws *w, unit_result *res)
+/* The calibrated unit at one operating temperature (thermal_validate_all):
+ * its deviations at temp_c, rebuilt, its validation read and scored. */
+typedef struct {
+    const ess_deviations *dev;
+    long unit;
+    const ess_model *m;
+    ess_ws *w;
+} ess_temp_ctx;
+
+static void ess_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
 {
-    int n = thermal_n_temps(c);
-    for (int t = 0; t < n; t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c) {
-            unit_result_store_temp(res, t, res);
-            continue;
-        }
-        unit_result at;
-        memset(&at, 0, sizeof at);
-        at.fit_status = res->fit_status;
-        ess_deviations dev_t;
-        ess_unit u;
-        ess_deviations_at_temp(c, dev, T, &dev_t);
-        ess_unit_build(c, &dev_t, &u);
-        ess_unit_read_validation(c, &u, unit, &w->val);
-        ess_unit_score_validation(c, &u, m, &w->val, &at);
-        unit_result_store_temp(res, t, &at);
-    }
+    const ess_temp_ctx *k = ctx;
+    ess_deviations dev_t;
+    ess_unit u;
+    ess_deviations_at_temp(c, k->dev, temp_c, &dev_t);
+    ess_unit_build(c, &dev_t, &u);
+    ess_unit_read_validation(c, &u, k->unit, &k->w->val);
+    ess_unit_score_validation(c, &u, k->m, &k->w->val, at);
 }
 
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
@@ -394,7 +389,8 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
      * operating temperature (thermal.h) with the same calibration */
     ess_unit_read_validation(c, &u, unit, &w->val);
     ess_unit_score_validation(c, &u, &m, &w->val, res);
-    ess_validate_temps(c, &dev, unit, &m, w, res);
+    ess_temp_ctx tc = {&dev, unit, &m, w};
+    thermal_validate_all(c, res, ess_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
