@@ -26,6 +26,7 @@ typedef struct {
     int onboard_refraction;  /* enum dss_onboard_refraction (dss_onboard.h) */
     int mount;               /* enum dss_mount: campaign.mount, the lab's procedure, carried
                               * with the design so every model of the unit knows it */
+    int principal_point;     /* enum dss_principal_point: how dx, dy enter the sensor */
 } dss_design;
 
 /* The values of campaign.mount (dss_sensor.h): aligned = the DSS paper's
@@ -38,6 +39,13 @@ enum dss_mount { DSS_MOUNT_ALIGNED = 0, DSS_MOUNT_AS_MOUNTED = 1 };
  * sun_b2; campaign.mount = as_mounted) fitted with the rest, or fixed at a
  * measurement. */
 enum dss_sun_mode { DSS_SUN_FITTED = 0, DSS_SUN_MEASURED = 1 };
+
+/* The values of design.principal_point: physical = the pinhole sits at
+ * (dx, dy) from where the on-board formula assumes it; paper_eq6 = the DSS
+ * paper's eq. 5-6 taken literally: the pinhole is where assumed, the sun at
+ * the table's zero arrives along S_b0 = (dx, dy, -h) and is rotated with
+ * the table, and the on-board formula (eq. 9-10) subtracts (dx, dy). */
+enum dss_principal_point { DSS_PP_PHYSICAL = 0, DSS_PP_PAPER_EQ6 = 1 };
 
 /* The values of design.onboard_refraction. */
 enum dss_onboard_refraction { DSS_ONBOARD_CORRECTED = 0, DSS_ONBOARD_IGNORED = 1 };

@@ -26,6 +26,8 @@ typedef struct {
     double pixel_mm;
     double glass_t_mm;  /* 0: the glass is ignored (design.onboard_refraction) */
     double glass_n;
+    double x0_px, y0_px; /* the spot taken as the origin: 0 but for
+                          * design.principal_point = paper_eq6 (eq. 9-10) */
 } dss_onboard;
 
 /* The on-board formula of design d (its onboard_refraction setting). */

@@ -115,7 +115,10 @@ typedef struct {
     int mount;                 /* enum dss_mount */
     mat3 M;                    /* table top -> sensor frame */
     double v0[3];              /* sun in the table base frame: M^T e_z (aligned) or
-                                * R(sun_b1, sun_b2) e_z (as_mounted) */
+                                * R(sun_b1, sun_b2) e_z (as_mounted): the truth */
+    double v_sun[3];           /* the sun the spots see: v0, but for
+                                * design.principal_point = paper_eq6 the ray
+                                * S_b0 = (dx, dy, -h) at the table's zero */
     double spot_px;            /* spot diameter */
     double disc_c_rad2;        /* the sun's disc: dss_disc_coefficient (0: a point sun) */
     int s_curve;               /* 1: apply the S-curve bias */

@@ -53,6 +53,12 @@ const config_key dss_keys[] = {
      OFF(design.onboard_refraction),
      "on-board formula: corrected = exact inverse of the nominal geometry, cover glass "
      "included; ignored = the DSS paper's eq. 9-10 (its Fig. 5 refraction error stays)"},
+    {"design", "principal_point", KEY_ENUM, "", "physical", 0, 0, "physical|paper_eq6",
+     OFF(design.principal_point),
+     "how tolerance.dx_px, dy_px enter: physical = the pinhole displaced from where the "
+     "on-board formula assumes it; paper_eq6 = the DSS paper's eq. 5-6 literally, the sun at "
+     "the table's zero along S_b0 = (dx, dy, -h), rotated with the table, and eq. 9-10 "
+     "subtracting (dx, dy): no error at the centre (docs/dss.md)"},
 
     /* [tolerance]: one pair of keys per line of DSS_DEVIATIONS */
     DSS_DEVIATIONS(DEVIATION_X_KEYS)

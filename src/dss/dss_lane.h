@@ -15,11 +15,11 @@
 
 /* ---- the physical sensor ---- */
 
-/* The sun in the sensor frame at true table angles: u = M R(b) v0. */
+/* The sun in the sensor frame at true table angles: u = M R(b) v_sun. */
 VM_INLINE geo_v3 dss_lane_sun(const dss_sensor *s, double b1, double b2)
 {
     return geo_mul(s->M, geo_table_mul(geo_table_of(b1, b2),
-                                                 geo_v3_of(s->v0)));
+                                                 geo_v3_of(s->v_sun)));
 }
 
 /* S-curve biases (px) of a spot at (x_px, y_px) from a pixel centre: sin(2

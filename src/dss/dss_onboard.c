@@ -16,6 +16,7 @@ void dss_onboard_init(dss_onboard *o, const dss_design *d)
     o->pixel_mm = d->pixel_um * MM_PER_UM;
     o->glass_t_mm = d->onboard_refraction == DSS_ONBOARD_CORRECTED ? d->glass_thickness_mm : 0.0;
     o->glass_n = d->glass_index;
+    o->x0_px = o->y0_px = 0.0;
 }
 
 VM_KERNEL void dss_onboard_chunk(const dss_onboard *o, size_t k, const double *x_px,
@@ -25,8 +26,8 @@ VM_KERNEL void dss_onboard_chunk(const dss_onboard *o, size_t k, const double *x
     long failed[DSS_CHUNK] = {0};
     size_t kp = vm_pad(k);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
-        x[i] = x_px[i] * o->pixel_mm;
-        y[i] = y_px[i] * o->pixel_mm;
+        x[i] = (x_px[i] - o->x0_px) * o->pixel_mm;
+        y[i] = (y_px[i] - o->y0_px) * o->pixel_mm;
         r[i] = hypot(x[i], y[i]);
         th[i] = 0.0;
     }

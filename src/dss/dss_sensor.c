@@ -58,6 +58,37 @@ double dss_disc_coefficient(double sun_disc_deg, double limb_darkening)
     return R * R * (15.0 - 7.0 * u) / (40.0 * (3.0 - u));
 }
 
+/* The DSS paper's eq. 5-6 taken literally (design.principal_point =
+ * paper_eq6): the pinhole sits where the on-board formula assumes it, the
+ * sun at the table's zero arrives along S_b0 = (dx, dy, -h) in the sensor
+ * frame (its spot at (dx, dy)), the table rotates that ray, and eq. 9-10
+ * measure the spot from (dx, dy).  w = the sun whose spot at the built
+ * pinhole and glass is (dx, dy) (the exact inverse, dss_onboard_angles);
+ * the sun the spots see is v0 turned by the rotation taking e_z to w
+ * (Rodrigues, k = e_z x w: u' = c u + k x u + k (k.u) / (1 + c), c = w_z),
+ * so v_sun = M^T u' with u0 = M v0. */
+static void dss_sensor_paper_eq6(dss_sensor *s, const dss_deviations *dev)
+{
+    dss_onboard o = {s->pinhole_mm[2], s->pixel_mm, s->glass_t_mm, s->glass_n, 0.0, 0.0};
+    double a = 0.0, b = 0.0, w[3], u[3], k[3], v[3];
+    (void)dss_onboard_angles(&o, dev->dx_px, dev->dy_px, &a, &b); /* small: always found */
+    sun_vector_of(a, b, w);
+    mat3_vec(s->M, s->v0, u);
+    k[0] = -w[1];
+    k[1] = w[0];
+    k[2] = 0.0;
+    double c = w[2], ku = k[0] * u[0] + k[1] * u[1];
+    v[0] = c * u[0] + (k[1] * u[2] - k[2] * u[1]) + k[0] * ku / (1.0 + c);
+    v[1] = c * u[1] + (k[2] * u[0] - k[0] * u[2]) + k[1] * ku / (1.0 + c);
+    v[2] = c * u[2] + (k[0] * u[1] - k[1] * u[0]);
+    mat3 Mt;
+    mat3_transpose(s->M, Mt);
+    mat3_vec(Mt, v, s->v_sun);
+    s->pinhole_mm[0] = s->pinhole_mm[1] = 0.0;
+    s->onboard.x0_px = dev->dx_px;
+    s->onboard.y0_px = dev->dy_px;
+}
+
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)
 {
     memset(s, 0, sizeof *s);
@@ -75,6 +106,9 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     s->mount = d->mount;
     dss_sun_direction(d->mount, s->M, dev->sun_b1_arcsec * RAD_PER_ARCSEC,
                       dev->sun_b2_arcsec * RAD_PER_ARCSEC, s->v0);
+    memcpy(s->v_sun, s->v0, sizeof s->v_sun);
+    if (d->principal_point == DSS_PP_PAPER_EQ6)
+        dss_sensor_paper_eq6(s, dev);
     s->spot_px = d->pinhole_um / d->pixel_um;
     s->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     s->s_curve = s_curve;
