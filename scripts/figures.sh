@@ -12,7 +12,7 @@
 #   ess_table2_step_A.png, ess_table2_step_B.png  campaign step sweep     (Table 2)
 #   ess_budget_A.png, ess_yield_A.png, ess_hist_A.png  budget, yield, improvement
 # DSS paper (Wei et al.), when the dss family offers curves:
-#   dss_fig2_dh.png, dss_fig3_dx.png, dss_fig3_dy.png, dss_fig4_c1..c3.png,
+#   dss_fig2_dh.png, dss_fig3_dx.png, dss_fig3_dy.png (physical), dss_fig3_d[xy]_paper.png (paper_eq6), dss_fig4_c1..c3.png,
 #   dss_fig5_refraction.png, dss_unit3_after.png   error maps over (alpha, beta)
 #
 # Figs. 3, 5-7 isolate one geometric error as the paper's section 3 does: every
@@ -107,15 +107,25 @@ say "dss_fig2_dh.png (dh = 0.2 px)"
 if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh $q >/dev/null 2>&1; then
   gnuplot -e "run='$data/dss_fig2_dh'; cut=1; out='$out/dss_fig2_dh.png'; \
     title=\"DSS paper Fig. 2: error caused by dh = 0.2 pixel alone (alpha error depends on alpha only)\\nit rises to about 42 arcsec near 47 deg and falls beyond: the line cuts show the shape\"" scripts/map.gp
-  for s in dx_px=0.1:fig3_dx:3 dy_px=0.1:fig3_dy:3 c1_arcsec=10:fig4_c1:4 c2_arcsec=10:fig4_c2:4 c3_arcsec=10:fig4_c3:4; do
+  # Fig. 3 both ways (design.principal_point): physical = the pinhole
+  # displaced, sunmc's default; paper_eq6 = the paper's eq. 5-6 literally.
+  # Fig. 4 with campaign.mount = aligned, the paper's eq. 6.
+  for s in dx_px=0.1:fig3_dx:3 dy_px=0.1:fig3_dy:3 dx_px=0.1:fig3_dx_paper:3 dy_px=0.1:fig3_dy_paper:3 \
+           c1_arcsec=10:fig4_c1:4 c2_arcsec=10:fig4_c2:4 c3_arcsec=10:fig4_c3:4; do
     kv=${s%%:*}; rest=${s#*:}; name=dss_${rest%%:*}; fig=${rest##*:}
     say "$name.png ($kv)"
-    note=
-    case $kv in
-      dx_px*) note="\\nsunmc (paper eqs. 9-10): dx moves alpha (beta under 0.5 arcsec), largest at the centre; the paper's Fig. 3 shows it in both" ;;
-      dy_px*) note="\\nsunmc (paper eqs. 9-10): dy moves beta (alpha under 0.5 arcsec), largest at the centre, where the paper says it is smallest there" ;;
+    note=; extra=
+    case $name in
+      *dx_paper) extra="--set design.principal_point=paper_eq6 --set campaign.mount=aligned"
+        note="\\npaper_eq6 (the paper's eq. 5-6 literally: S_b0 = (dx, dy, -h) rotated with the table): nil at the centre, alpha and beta both err" ;;
+      *dy_paper) extra="--set design.principal_point=paper_eq6 --set campaign.mount=aligned"
+        note="\\npaper_eq6 (the paper's eq. 5-6 literally: S_b0 = (dx, dy, -h) rotated with the table): beta only, nil at the centre" ;;
+      *fig3_dx) note="\\nphysical (sunmc's default: the pinhole displaced): dx moves alpha (beta under 0.5 arcsec), largest at the centre" ;;
+      *fig3_dy) note="\\nphysical (sunmc's default: the pinhole displaced): dy moves beta (alpha under 0.5 arcsec), largest at the centre" ;;
+      *fig4_*) extra="--set campaign.mount=aligned"
+        note="\\ncampaign.mount = aligned (the paper's eq. 6: the sun normal to the detector at table zero): nil at the centre" ;;
     esac
-    "$SUNMC" curve $D --only $kv $grid --out $data/$name $q >/dev/null
+    "$SUNMC" curve $D --only $kv $extra $grid --out $data/$name $q >/dev/null
     gnuplot -e "run='$data/$name'; out='$out/$name.png'; title=\"DSS paper Fig. $fig: error caused by $kv alone$note\"" scripts/map.gp
   done
   # Fig. 5, refraction: the on-board formula ignores the cover glass, so the
