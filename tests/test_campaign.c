@@ -8,13 +8,6 @@
 #include "registry.h"
 #include "status.h"
 
-static void build(config_state *st, const char *path, const char *const *sets, int n)
-{
-    char err[SUNMC_ERRLEN];
-    if (config_build(st, path, sets, n, err, sizeof err) != SUNMC_OK)
-        fail_msg("%s", err);
-}
-
 /* Four positions by hand: (0,0) (1,0) (1,10) (3,10), two lines. */
 static void cost_by_hand(void **state)
 {
@@ -22,7 +15,7 @@ static void cost_by_hand(void **state)
     const char *sets[] = {"campaign.dwell_s=2", "campaign.point_settle_s=0.5",
                           "campaign.line_settle_s=7", "campaign.slew_deg_per_s=4",
                           "campaign.repeats=3"};
-    build(&st, "configs/ess_type_a.ini", sets, 5);
+    test_build(&st, "configs/ess_type_a.ini", sets, 5);
     const double a0[] = {0, 1, 1, 3}, a1[] = {0, 0, 10, 10};
     campaign_info ci;
     campaign_cost(&st.cfg, a0, a1, 4, 1.0, &ci);
@@ -57,7 +50,7 @@ static void ess_campaign_of(const char *path)
 {
     config_state st;
     const char *family[] = {"sensor.family=ess"};
-    build(&st, path, path ? NULL : family, path ? 0 : 1);
+    test_build(&st, path, path ? NULL : family, path ? 0 : 1);
     campaign_info ci;
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
@@ -93,7 +86,7 @@ static void ess_default_campaign(void **state)
     char err[SUNMC_ERRLEN], text[512];
     /* Lines at +-20: validation beta +-25 lies 5 deg beyond, on axis 1. */
     const char *close[] = {"campaign.beta_deg=-20,0,20"};
-    build(&st, "configs/ess_type_a.ini", close, 1);
+    test_build(&st, "configs/ess_type_a.ini", close, 1);
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
     assert_near(ci.outside_deg[0], 0, 0);
     assert_near(ci.outside_deg[1], 5, 1e-12);
@@ -106,7 +99,7 @@ static void ess_default_campaign(void **state)
      * 0.7 scan from -50 stops at -50 + 142 x 0.7 = 49.4; the validation
      * reaches 61.94 (and -61.95, 11.95 below -50): 12.54 beyond. */
     const char *narrow[] = {"campaign.alpha_min_deg=-50", "campaign.alpha_max_deg=50"};
-    build(&st, "configs/ess_type_a.ini", narrow, 2);
+    test_build(&st, "configs/ess_type_a.ini", narrow, 2);
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
     assert_near(ci.cal_hi[0], 49.4, 1e-9);
     assert_near(ci.outside_deg[0], 61.94 - 49.4, 1e-9);
@@ -123,7 +116,7 @@ static void dss_campaign(void **state)
                           "campaign.b_step_deg=5", "validation.b_min_deg=-10",
                           "validation.b_max_deg=10", "validation.b_offset_deg=0",
                           "report.bands_deg=0:15"};
-    build(&st, "configs/dss.ini", sets, 7);
+    test_build(&st, "configs/dss.ini", sets, 7);
     campaign_info ci;
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
@@ -146,7 +139,7 @@ static void dss_default_campaign(void **state)
 {
     config_state st;
     const char *family[] = {"sensor.family=dss"};
-    build(&st, NULL, family, 1);
+    test_build(&st, NULL, family, 1);
     campaign_info ci;
     char err[SUNMC_ERRLEN];
     assert_int_equal(campaign_describe(&st.cfg, &ci, err, sizeof err), SUNMC_OK);
@@ -174,8 +167,8 @@ static void expect_shipped_defaults(const char *path, const char *family, int mi
     char set[64];
     snprintf(set, sizeof set, "sensor.family=%s", family);
     const char *sets[] = {set};
-    build(&def, NULL, sets, 1);
-    build(&shipped, path, NULL, 0);
+    test_build(&def, NULL, sets, 1);
+    test_build(&shipped, path, NULL, 0);
     static const config_key *keys[CONFIG_KEYS_MAX];
     static const sensor_family *owners[CONFIG_KEYS_MAX];
     size_t n = config_list_keys(def.cfg.family, keys, owners, CONFIG_KEYS_MAX);

@@ -7,9 +7,7 @@
 
 static void build(config_state *st, const char *const *sets, int n)
 {
-    char err[SUNMC_ERRLEN];
-    if (config_build(st, "configs/ess_type_a.ini", sets, n, err, sizeof err) != SUNMC_OK)
-        fail_msg("%s", err);
+    test_build(st, "configs/ess_type_a.ini", sets, n);
 }
 
 /* 2 steps x (1 line + 2..3 lines x 2 extents) x 1 repeat + the input. */

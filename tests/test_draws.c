@@ -22,13 +22,6 @@
 
 #define Z 4.5
 
-static void build(config_state *st, const char *path, const char *const *sets, int n)
-{
-    char err[SUNMC_ERRLEN];
-    if (config_build(st, path, sets, n, err, sizeof err) != SUNMC_OK)
-        fail_msg("config: %s", err);
-}
-
 typedef struct {
     double mean, sd, min, max, neg; /* neg: fraction below 0 */
 } moments;
@@ -179,7 +172,7 @@ static void build_normal(config_state *st, const char *path, const char *const *
         setp[i] = sets[i];
     for (int i = 0; i < n_extra; i++)
         setp[2 * n + i] = extra[i];
-    build(st, path, setp, 2 * n + n_extra);
+    test_build(st, path, setp, 2 * n + n_extra);
 }
 
 static void ess_deviations_independent(void **state)
@@ -276,7 +269,7 @@ static void ess_campaign_noise(void **state)
                           "campaign.alpha_step_deg=1", "campaign.beta_deg=0, 10",
                           "noise.encoder_arcsec=2", "calibration.roll_sigma_arcsec=5"};
     config_state st;
-    build(&st, "configs/ess_type_a.ini", sets, 6);
+    test_build(&st, "configs/ess_type_a.ini", sets, 6);
     const sunmc_config *c = &st.cfg;
     size_t n = ess_campaign_size(c);
     assert_int_equal((int)n, 14);
@@ -326,7 +319,7 @@ static void ess_row_noise_sigma(void **state)
     (void)state;
     const char *sets[] = {"noise.row_current_pct=1.5"};
     config_state st;
-    build(&st, "configs/ess_type_a.ini", sets, 1);
+    test_build(&st, "configs/ess_type_a.ini", sets, 1);
     static double x[ESS_FINE_ROWS][ND / 4];
     rng_stream r;
     rng_stream_init(&r, 9, 0, RNG_STREAM_VAL_NOISE);
@@ -353,7 +346,7 @@ static void ess_repeats_averaged(void **state)
     const char *sets[] = {"noise.row_current_pct=0", "noise.encoder_arcsec=0",
                           "campaign.repeats=3"};
     config_state st;
-    build(&st, "configs/ess_type_a.ini", sets, 3);
+    test_build(&st, "configs/ess_type_a.ini", sets, 3);
     ess_deviations d;
     ess_unit u;
     ess_deviations_sample(&st.cfg, 5, 2, &d);
@@ -393,9 +386,9 @@ static void dss_campaign_noise(void **state)
                          "noise.encoder_arcsec=3", "campaign.repeats=2",
                          "tolerance.sun_b1_arcsec=0", "tolerance.sun_b2_arcsec=0"};
     config_state q, s, e;
-    build(&q, "configs/dss.ini", quiet, 8);
-    build(&s, "configs/dss.ini", noisy, 8);
-    build(&e, "configs/dss.ini", enc, 8);
+    test_build(&q, "configs/dss.ini", quiet, 8);
+    test_build(&s, "configs/dss.ini", noisy, 8);
+    test_build(&e, "configs/dss.ini", enc, 8);
     size_t n = dss_campaign_size(&q.cfg);
     assert_int_equal((int)n, 25);
     static double nx[NC], ny[NC], nx1[NC], eb1[NC], eb2[NC];
@@ -450,7 +443,7 @@ static void dss_campaign_validation_independent(void **state)
                           "campaign.b_step_deg=10", "noise.centroid_px=0.05",
                           "noise.encoder_arcsec=0", "campaign.repeats=1"};
     config_state st;
-    build(&st, "configs/dss.ini", sets, 6);
+    test_build(&st, "configs/dss.ini", sets, 6);
     const sunmc_config *c = &st.cfg;
     enum { K = 4 };
     static double cn[2 * K][NC], vn[2 * K][NC];

@@ -11,13 +11,6 @@
 #include "sensitivity.h"
 #include "status.h"
 
-static void build(config_state *st, const char *path, const char *const *sets, int n)
-{
-    char err[SUNMC_ERRLEN];
-    if (config_build(st, path, sets, n, err, sizeof err) != SUNMC_OK)
-        fail_msg("config: %s", err);
-}
-
 /* One band, 0:62 (the budget's row is band 0 of the one angle). */
 static const char *const small_sets[] = {"campaign.alpha_step_deg=0.4", "campaign.beta_deg=0",
                                          "validation.alpha_step_deg=1.3",
@@ -28,7 +21,7 @@ static void inputs_of_each_family(void **state)
     config_state st;
     char err[SUNMC_ERRLEN];
     sens_result *s = calloc(1, sizeof *s);
-    build(&st, "configs/ess_type_a.ini", NULL, 0);
+    test_build(&st, "configs/ess_type_a.ini", NULL, 0);
     assert_int_equal(sens_sources(&st.cfg, s, err, sizeof err), SUNMC_OK);
     assert_int_equal(s->n, 12 + 3); /* every tolerance (uniform), three noise streams */
     assert_string_equal(s->src[0].name, "dH_um");
@@ -41,12 +34,12 @@ static void inputs_of_each_family(void **state)
     config_state_free(&st);
     /* a fixed tolerance does not vary; a noise stream at 0 is no input */
     const char *sets[] = {"tolerance.dH_um_dist=fixed", "calibration.roll_sigma_arcsec=0"};
-    build(&st, "configs/ess_type_a.ini", sets, 2);
+    test_build(&st, "configs/ess_type_a.ini", sets, 2);
     assert_int_equal(sens_sources(&st.cfg, s, err, sizeof err), SUNMC_OK);
     assert_int_equal(s->n, 11 + 2);
     assert_string_equal(s->src[0].name, "dd_um");
     config_state_free(&st);
-    build(&st, "configs/dss.ini", NULL, 0);
+    test_build(&st, "configs/dss.ini", NULL, 0);
     assert_int_equal(sens_sources(&st.cfg, s, err, sizeof err), SUNMC_OK);
     assert_string_equal(s->src[s->n - 2].name, "campaign_noise");
     assert_string_equal(s->src[s->n - 1].name, "validation_noise");
@@ -59,7 +52,7 @@ static void inputs_of_each_family(void **state)
 static void pick_freeze_draws(void **state)
 {
     config_state st;
-    build(&st, "configs/ess_type_a.ini", NULL, 0);
+    test_build(&st, "configs/ess_type_a.ini", NULL, 0);
     sunmc_config a = st.cfg, b = st.cfg, ab = st.cfg;
     b.seed = a.seed ^ SENS_SEED_B_XOR;
     ab.pick.seed = b.seed;
@@ -103,7 +96,7 @@ static void single_input(void **state)
                           "tolerance.install_z_arcsec=0", "tolerance.sun_x_arcsec=0",
                           "tolerance.sun_y_arcsec=0"};
     config_state st;
-    build(&st, "configs/ess_type_a.ini", sets, (int)(sizeof sets / sizeof sets[0]));
+    test_build(&st, "configs/ess_type_a.ini", sets, (int)(sizeof sets / sizeof sets[0]));
     sens_result *s = calloc(1, sizeof *s);
     char err[SUNMC_ERRLEN];
     assert_int_equal(sens_run(&st.cfg, 100, 1, NULL, NULL, s, err, sizeof err), SUNMC_OK);
@@ -134,7 +127,7 @@ static int misses(double lo, double hi, double lo_bound, double hi_bound, double
 static void type_a_indices_and_threads(void **state)
 {
     config_state st;
-    build(&st, "configs/ess_type_a.ini", small_sets, 4);
+    test_build(&st, "configs/ess_type_a.ini", small_sets, 4);
     sens_result *s1 = calloc(1, sizeof *s1), *s2 = calloc(1, sizeof *s2);
     char err[SUNMC_ERRLEN];
     assert_int_equal(sens_run(&st.cfg, 48, 1, NULL, NULL, s1, err, sizeof err), SUNMC_OK);
@@ -218,7 +211,7 @@ static void errors_and_output(void **state)
                           "tolerance.etch_um=0", "tolerance.install_x_arcsec=0",
                           "tolerance.install_y_arcsec=0", "tolerance.install_z_arcsec=0",
                           "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0"};
-    build(&st, "configs/ess_type_a.ini", none, (int)(sizeof none / sizeof none[0]));
+    test_build(&st, "configs/ess_type_a.ini", none, (int)(sizeof none / sizeof none[0]));
     sens_result *s = calloc(1, sizeof *s);
     char err[SUNMC_ERRLEN];
     assert_int_equal(sens_run(&st.cfg, 10, 1, NULL, NULL, s, err, sizeof err), SUNMC_EINPUT);

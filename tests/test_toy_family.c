@@ -47,10 +47,7 @@ static int teardown(void **state)
 
 static void build(config_state *st, const char *const *sets, int n)
 {
-    char err[SUNMC_ERRLEN];
-    int s = config_build(st, ini, sets, n, err, sizeof err);
-    if (s != SUNMC_OK)
-        fail_msg("%s", err);
+    test_build(st, ini, sets, n);
 }
 
 static void expect_error(const char *path, const char *set, const char *needle)

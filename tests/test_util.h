@@ -123,6 +123,16 @@ static inline int test_write_file(const char *path, const char *text)
     return fclose(f);
 }
 
+/* Build st from the config file at path (NULL: defaults) and sets[n]
+ * ("section.key=value", as --set), failing the test with the message if it
+ * is refused.  Free with config_state_free. */
+static inline void test_build(config_state *st, const char *path, const char *const *sets, int n)
+{
+    char err[SUNMC_ERRLEN];
+    if (config_build(st, path, sets, n, err, sizeof err) != SUNMC_OK)
+        fail_msg("config: %s", err);
+}
+
 /* The default config of a family ("ess", "dss"), as the command line builds
  * it (sensor.family set, nothing else). */
 static inline sunmc_config test_family_config(const char *family)
