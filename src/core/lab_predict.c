@@ -16,7 +16,8 @@ struct lab_predictor {
     int n_units;
     size_t stride;
     unsigned char *units;
-    double margin[LAB_MAX_COLUMNS];
+    int n_out;                      /* output columns: between the inputs and "weight" */
+    double margin[LAB_MAX_COLUMNS]; /* the family's, per output */
 };
 
 static void *unit_at(const lab_predictor *p, int k)
@@ -54,6 +55,11 @@ lab_predictor *lab_predict_alloc(const family_lab *lab, const sunmc_config *c, c
     }
     p->lab = lab;
     p->c = c;
+    while (lab->cal_columns[lab->cal_n_inputs + p->n_out] &&
+           strcmp(lab->cal_columns[lab->cal_n_inputs + p->n_out], "weight") != 0)
+        p->n_out++;
+    for (int j = 0; j < p->n_out; j++)
+        p->margin[j] = lab->cal_predict_margin[j];
     lab->cal_unit_build(c, values, unit_at(p, 0));
     int k0 = 0;
     for (int e = 0; e < n; e++) {
@@ -75,15 +81,12 @@ lab_predictor *lab_predict_alloc(const family_lab *lab, const sunmc_config *c, c
 int lab_predict(const lab_predictor *p, const double *in_deg, double *out, double *allowed)
 {
     const family_lab *lab = p->lab;
-    int no = 0;
-    while (lab->cal_columns[lab->cal_n_inputs + no] &&
-           strcmp(lab->cal_columns[lab->cal_n_inputs + no], "weight") != 0)
-        no++;
+    int no = p->n_out;
     int st = lab->cal_unit_read(p->c, unit_at(p, 0), in_deg, out);
     if (st != SUNMC_OK)
         return st;
     for (int j = 0; j < no; j++)
-        allowed[j] = lab->cal_predict_margin[j];
+        allowed[j] = p->margin[j];
     double o[LAB_MAX_COLUMNS];
     for (int e = 0; e < p->c->family->n_deviations; e++) {
         double worst[LAB_MAX_COLUMNS] = {0};
