@@ -84,17 +84,29 @@ layer_inc = $(LAYER_INC_$(word 2,$(subst /, ,$(1))))
 LAYERS   := util core $(FAMILIES)
 MAIN_SRC := $(wildcard src/cli/*.c)
 LIB_SRC  := $(foreach l,$(LAYERS),$(wildcard src/$(l)/*.c))
-TEST_SRC := $(wildcard tests/test_*.c)
+# The suites: tests/unit/<layer or family>/, tests/cli/ (commands end to
+# end), tests/oracle/ (physics against independent derivations and the
+# papers), found wherever they sit; a suite's binary is build/tests/<name>,
+# so two suites may not share a name.
+TEST_SRC := $(wildcard tests/test_*.c tests/*/test_*.c tests/*/*/test_*.c)
+TEST_NAMES := $(notdir $(TEST_SRC:.c=))
+ifneq ($(words $(TEST_NAMES)),$(words $(sort $(TEST_NAMES))))
+$(error two test suites share a name: $(sort $(foreach n,$(TEST_NAMES),$(if $(filter-out 1,$(words $(filter $(n),$(TEST_NAMES)))),$(n)))))
+endif
+vpath test_%.c $(sort $(dir $(TEST_SRC)))
+# A suite that moved leaves its old path in the compiler's .d file of an
+# earlier build: that path is no longer a prerequisite to look for.
+tests/test_%.c: ;
 
 # Test-only code linked into every test (the toy family), and the commands
 # without main() so that tests can run them in process.
-TEST_HELP_SRC := $(filter-out $(TEST_SRC),$(wildcard tests/*.c))
+TEST_HELP_SRC := $(filter-out tests/test_%,$(wildcard tests/*.c))
 CLI_LIB_SRC := $(filter-out src/cli/main.c,$(MAIN_SRC))
 
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/obj/%.o)
-TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tobj/%.o)
+TEST_OBJ := $(TEST_NAMES:%=$(BUILD)/tobj/%.o)
 TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(BUILD)/tobj/%.o)
-TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+TEST_BIN := $(TEST_NAMES:%=$(BUILD)/tests/%)
 # The suites `make test-fast` and `make mutate` run: all but the mutation
 # script's own test.  The golden comparison is among them (issue 29): a number
 # only tests/golden/ records (a budget.tsv column, a params.ini digit) is still
@@ -105,9 +117,9 @@ FAST_TEST_BIN := $(filter-out $(BUILD)/tests/test_mutate,$(TEST_BIN))
 ASAN     := $(BUILD)/asan
 ASAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 ASAN_OBJ := $(LIB_SRC:src/%.c=$(ASAN)/obj/%.o)
-ASAN_TEST_OBJ := $(TEST_SRC:tests/%.c=$(ASAN)/tobj/%.o)
+ASAN_TEST_OBJ := $(TEST_NAMES:%=$(ASAN)/tobj/%.o)
 ASAN_TEST_HELP_OBJ := $(TEST_HELP_SRC:tests/%.c=$(ASAN)/tobj/%.o)
-ASAN_TEST_BIN := $(TEST_SRC:tests/%.c=$(ASAN)/tests/%)
+ASAN_TEST_BIN := $(TEST_NAMES:%=$(ASAN)/tests/%)
 
 # Each object depends on the headers it includes (compiler-written .d files),
 # so a header change recompiles only its includers; an object without its .d
@@ -190,6 +202,10 @@ $(call LIB_RULES,$(1),$$(CC),$(2),$(3))
 
 $(1)/sunmc: $$(MAIN_SRC:src/%.c=$(1)/obj/%.o) $(1)/libsunmc.a
 	$$(CC) $(2) -o $$@ $$^ $$(ALL_LDLIBS)
+
+$(1)/tobj/test_%.o: test_%.c $(1)/tobj/test_%.d $(BUILD)/mpi.flag
+	@mkdir -p $$(dir $$@)
+	$$(CC) $(2) $$(DEPFLAGS) $$(TEST_INC) -c $$< -o $$@
 
 $(1)/tobj/%.o: tests/%.c $(1)/tobj/%.d $(BUILD)/mpi.flag
 	@mkdir -p $$(dir $$@)
@@ -341,7 +357,7 @@ install: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 	install -m 644 man/sunmc.1 $(DESTDIR)$(PREFIX)/share/man/man1/sunmc.1
 	install -m 644 scripts/sunmc-completion.bash $(DESTDIR)$(PREFIX)/share/bash-completion/completions/sunmc
 
-# The man page is made from the binary's --help texts (tests/test_man.c checks it).
+# The man page is made from the binary's --help texts (tests/cli/test_help_man.c checks it).
 man: $(BUILD)/sunmc
 	bash scripts/gen-man.sh $(BUILD)/sunmc > man/sunmc.1
 

@@ -2,7 +2,7 @@
 # gen-man.sh SUNMC - write the sunmc(1) man page on stdout, built from the
 # binary's own --help texts (commands, options, every family's config keys),
 # so the page says what --help says.  `make man` writes man/sunmc.1 with it;
-# tests/test_man.c checks that the checked-in page is in step.
+# tests/cli/test_help_man.c checks that the checked-in page is in step.
 set -eu
 bin=${1:?usage: gen-man.sh SUNMC}
 # Escape troff: backslashes, and a leading '.' or '\'' on a line.

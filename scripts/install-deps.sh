@@ -5,7 +5,7 @@
 set -euo pipefail
 
 # python3-scipy, python3-yaml: scripts/psd-import.py reads the public four-channel
-# sun-sensor data (.mat, .yaml); tests/test_psd_lab.c writes a synthetic .mat with scipy.
+# sun-sensor data (.mat, .yaml); tests/unit/psd/test_psd_lab.c writes a synthetic .mat with scipy.
 PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev gnuplot-nox python3 python3-scipy python3-yaml"
 # MPI=1 (make MPI=1, make test-mpi): Debian's MPICH as well (README,
 # "Running on a cluster", says why MPICH).

@@ -4,7 +4,7 @@
  *
  * The toy sensor reads one angle: reading = alpha (1 + scale) + offset +
  * bow alpha^2 + noise, alpha on a turntable from -span to +span.  The bow
- * (default 0) is the tolerance test_toy_tolerance adds "by one line plus
+ * (default 0) is the tolerance test_deviations_toy_tolerance adds "by one line plus
  * its physics" and follows into sampling, curve, budget and the lab
  * prediction.  Calibration fits the
  * straight line reading = p0 + p1 alpha by least squares; compensation

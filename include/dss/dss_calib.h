@@ -12,7 +12,7 @@
  * calibration.fit_glass_index = off), the mount c1-c3 and, as mounted, the
  * sun simulator's sun_b1, sun_b2.  Identifiability, from the Jacobian at
  * the nominal unit over the default campaign (b1, b2 in -60..60 deg step
- * 5, 581 seen readings; columns normalised; tests/test_dss_calib.c
+ * 5, 581 seen readings; columns normalised; tests/unit/dss/test_dss_calib.c
  * recomputes it):
  *
  *     singular value  direction (largest components)

@@ -12,7 +12,7 @@
  *  - the slit moves with the slit plate and the dial alike (no relative
  *    shift to first order), the etching rule was set at H.
  * With dH = H a dT alone the error is -(dH / 2H) sin(2 alpha) (ESS paper
- * eq. of the height error; test_thermal).  Photocell responsivity and dark
+ * eq. of the height error; test_thermal_derivations).  Photocell responsivity and dark
  * current are not modelled (the fine code is a ratio of its rows; their
  * common change cancels, their mismatch is not in the paper's model). */
 #ifndef SUNMC_ESS_THERMAL_H
