@@ -262,12 +262,12 @@ test-asan: $(ASAN)/sunmc $(ASAN_TEST_BIN)
 	@mkdir -p $(ASAN)
 	@ASAN_OPTIONS=detect_leaks=1 SUNMC=$(ASAN)/sunmc bash tests/run-suite.sh $(ASAN_TEST_BIN) | tee $(ASAN)/test-asan.log
 
-# Mutation testing (scripts/mutate.sh, tests/mutants.txt): each mutant is
+# Mutation testing (scripts/dev/mutate.sh, tests/mutants.txt): each mutant is
 # applied to a copy of the tree, built incrementally there (mutate-build) and
 # the suites listed by mutate-tests are run.  Not part of `make test`.
 #   make mutate [MUTANTS=FILE] [ONLY=REGEX]
 mutate:
-	bash scripts/mutate.sh $(if $(MUTANTS),--list $(MUTANTS)) $(if $(ONLY),--only '$(ONLY)')
+	bash scripts/dev/mutate.sh $(if $(MUTANTS),--list $(MUTANTS)) $(if $(ONLY),--only '$(ONLY)')
 
 mutate-build: $(BUILD)/sunmc $(FAST_TEST_BIN)
 
@@ -343,7 +343,7 @@ fuzz: fuzz-build
 	done; echo "fuzz: every harness ran clean"
 
 bench: $(BUILD)/sunmc
-	bash scripts/bench.sh $(BUILD)/sunmc
+	bash scripts/dev/bench.sh $(BUILD)/sunmc
 
 install: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/sunmc/configs $(DESTDIR)$(PREFIX)/share/sunmc/scripts
@@ -359,7 +359,7 @@ install: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 
 # The man page is made from the binary's --help texts (tests/cli/test_help_man.c checks it).
 man: $(BUILD)/sunmc
-	bash scripts/gen-man.sh $(BUILD)/sunmc > man/sunmc.1
+	bash scripts/dev/gen-man.sh $(BUILD)/sunmc > man/sunmc.1
 
 clean:
 	rm -rf $(BUILD)

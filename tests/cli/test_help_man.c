@@ -1,5 +1,5 @@
 /* test_help_man.c - the man page and the bash completion say what --help says:
- * man/sunmc.1 is what scripts/gen-man.sh makes from the binary (run
+ * man/sunmc.1 is what scripts/dev/gen-man.sh makes from the binary (run
  * `make man` after changing a help text), and completion offers the
  * commands, a command's options and the config keys. */
 #include "test_util.h"
@@ -10,7 +10,7 @@ static void test_man_page_in_step_with_help(void **state)
 {
     const char *fresh = test_tmp("sunmc.1");
     char cmd[1024];
-    snprintf(cmd, sizeof cmd, "bash scripts/gen-man.sh %s > %s && cmp %s man/sunmc.1",
+    snprintf(cmd, sizeof cmd, "bash scripts/dev/gen-man.sh %s > %s && cmp %s man/sunmc.1",
              test_sunmc(), fresh, fresh);
     if (test_run(cmd, out, sizeof out) != 0)
         fail_msg("man/sunmc.1 is out of step with --help: run `make man` (%s)", out);

@@ -1,4 +1,4 @@
-/* test_mutate.c - scripts/mutate.sh on a toy tree (one C file, one test):
+/* test_mutate.c - scripts/dev/mutate.sh on a toy tree (one C file, one test):
  * a mutant the test catches, one marked equivalent, one that survives, one
  * whose text is not in the file; the verdicts, the per-module table, the
  * score and the exit status.  Runs in about a second: it builds the toy,
@@ -68,7 +68,7 @@ static int teardown(void **state)
 static int run_mutate(const char *list, const char *extra, char *out, size_t len)
 {
     char cmd[512];
-    snprintf(cmd, sizeof cmd, "bash scripts/mutate.sh --tree %s --list %s/%s %s", root, root, list,
+    snprintf(cmd, sizeof cmd, "bash scripts/dev/mutate.sh --tree %s --list %s/%s %s", root, root, list,
              extra);
     return test_run(cmd, out, len);
 }

@@ -6,7 +6,7 @@
 # validation, in ms per unit and in % of the unit) from `run --profile`.
 # Speed is measured here, never asserted in a test; on a shared machine run
 # it twice and compare, and read the CPU column (wall figures and the
-# speed-up need an idle machine).  Usage: scripts/bench.sh [build/sunmc] [UNITS]
+# speed-up need an idle machine).  Usage: scripts/dev/bench.sh [build/sunmc] [UNITS]
 set -euo pipefail
 SUNMC=${1:-build/sunmc}
 UNITS=${2:-1000}

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # mutate.sh - mutation testing: does the test suite notice a wrong number?
 #
-#   scripts/mutate.sh [--list FILE] [--only REGEX] [--tree DIR] [--timeout SECONDS] [--keep]
+#   scripts/dev/mutate.sh [--list FILE] [--only REGEX] [--tree DIR] [--timeout SECONDS] [--keep]
 #                     [--check]
 #
 # Applies each mutant of FILE (default tests/mutants.txt; format in its
@@ -42,7 +42,7 @@ while [ $# -gt 0 ]; do
     *) echo "mutate.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
-[ -n "$tree" ] || tree=$(cd "$(dirname "$0")/.." && pwd)
+[ -n "$tree" ] || tree=$(cd "$(dirname "$0")/../.." && pwd)
 tree=$(cd "$tree" && pwd) || exit 2
 [ -n "$list" ] || list=$tree/tests/mutants.txt
 [ -f "$list" ] || { echo "mutate.sh: $list: no such mutant list" >&2; exit 2; }
