@@ -342,7 +342,12 @@ fuzz: fuzz-build
 	  test $$st -eq 0 || { echo "fuzz $$n: FAILED (see $(FUZZ)/$$n.log)"; exit 1; }; \
 	done; echo "fuzz: every harness ran clean"
 
-bench: $(BUILD)/sunmc
+# The transcendental floor (scripts/dev/bench-floor.c): the vector math calls of one
+# ESS type A unit before issue 27, and nothing else, in the kernels' flags.
+$(BUILD)/bench-floor: scripts/dev/bench-floor.c include/util/vmath.h
+	$(CC) $(ALL_CFLAGS) $(KERNEL_CFLAGS) $(LAYER_INC_util) -o $@ $< -lm
+
+bench: $(BUILD)/sunmc $(BUILD)/bench-floor
 	bash scripts/dev/bench.sh $(BUILD)/sunmc
 
 install: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
