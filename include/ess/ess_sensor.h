@@ -82,6 +82,12 @@ typedef struct {
     double coarse_cells;      /* 2^n_coarse */
     double coarse_origin_rad; /* lower edge of cell 0: -cells/2 x resolution */
     double coarse_x_mm[ESS_MAX_COARSE_ROWS];
+    /* 1 when every coarse row's dial tangent lies within half a cell of
+     * fine row 0's (tilt and etching small): the batch then reads each
+     * coarse row by comparing its tangent with the tangents of the two
+     * edges of fine row 0's cell instead of an arctangent (ess_sensor.c) */
+    int coarse_by_compare;
+    double coarse_tan_res; /* tan(coarse_res_rad) */
     double fine_x_mm[ESS_FINE_ROWS];
     double gain[ESS_FINE_ROWS];       /* 1 + gain error */
     double etch_mm[ESS_FINE_ROWS];    /* etching position error */

@@ -45,14 +45,24 @@ typedef struct {
 void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
                            const double *a_rad, const double *b_rad, ess_campaign_point *out);
 
-/* n validation readings at table angles a, b (rad) with fresh row noise
- * from r: raw output (0 when unseen), the same reading without its noise
- * (raw0_rad, NULL: not wanted; the bits of ess_unit_read without noise),
- * true incidence and status (enum ess_reading_status), vectorised
- * (ess_readings.c). */
+/* The cosines and sines of n table angles a, b (rad): a table of a run,
+ * the same for every unit (the validation grid's), made once per
+ * workspace; arrays of vm_pad(n) doubles.  ess_table_trig_fill computes
+ * them in the vector loop the readings use, so a reading from the table
+ * is the bits of one computed on the spot. */
+typedef struct {
+    double *ca, *sa, *cb, *sb;
+} ess_table_trig;
+void ess_table_trig_fill(size_t n, const double *a_rad, const double *b_rad, ess_table_trig *t);
+
+/* n validation readings at the table angles whose cosines and sines are
+ * trig (ess_table_trig_fill) with fresh row noise from r: raw output (0
+ * when unseen), the same reading without its noise (raw0_rad, NULL: not
+ * wanted; the bits of ess_unit_read without noise), true incidence and
+ * status (enum ess_reading_status), vectorised (ess_readings.c). */
 void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
-                          const double *a_rad, const double *b_rad, double *raw_rad,
-                          double *raw0_rad, double *truth_rad, int *status);
+                          const ess_table_trig *trig, double *raw_rad, double *raw0_rad,
+                          double *truth_rad, int *status);
 
 /* Number of campaign points of config c (alphas x betas). */
 size_t ess_campaign_size(const sunmc_config *c);
@@ -97,12 +107,15 @@ typedef struct {
     size_t n;
     double *alpha_rad, *beta_rad, *raw_rad, *raw0_rad, *truth_rad;
     int *status;
+    ess_table_trig trig; /* of alpha_rad, beta_rad: made once by ess_val_alloc */
 } ess_val_readings;
 
 /* Number of validation grid points of config c (alphas x betas). */
 size_t ess_validation_size(const sunmc_config *c);
 
-/* Arrays for c's validation grid; SUNMC_ENOMEM.  Free with ess_val_free. */
+/* Arrays for c's validation grid, its angles and their cosines and sines
+ * filled in (they are the same for every unit); SUNMC_ENOMEM.  Free with
+ * ess_val_free. */
 int ess_val_alloc(const sunmc_config *c, ess_val_readings *v);
 void ess_val_free(ess_val_readings *v);
 

@@ -94,19 +94,39 @@ VM_INLINE double ess_lane_bit(double k, double scale_m /* 2^-m */)
     return q - 2.0 * floor(0.5 * q);
 }
 
-/* Row j reads dial angle psi: its cell k (clamped to the dial), whose Gray
- * code's bit m = n-1-j is this row's bit; two_m = 2^m. */
-VM_INLINE ess_lane_coarse ess_lane_coarse_row(const ess_sensor *s, double two_m, double psi_rad,
-                                              ess_lane_coarse acc)
+/* The cell (clamped to the dial) holding dial angle psi. */
+VM_INLINE double ess_lane_coarse_cell(const ess_sensor *s, double psi_rad)
 {
     double ncell = s->coarse_cells;
     double k = floor((psi_rad - s->coarse_origin_rad) / s->coarse_res_rad);
     k = vm_select(k < 0.0, 0.0, k);
-    k = vm_select(k > ncell - 1.0, ncell - 1.0, k);
+    return vm_select(k > ncell - 1.0, ncell - 1.0, k);
+}
+
+/* Row j reads cell k: the bit m = n-1-j of k's Gray code is this row's
+ * bit; two_m = 2^m. */
+VM_INLINE ess_lane_coarse ess_lane_coarse_bit(double two_m, double k, ess_lane_coarse acc)
+{
     double g = fabs(ess_lane_bit(k, 1.0 / two_m) - ess_lane_bit(k, 0.5 / two_m));
     acc.parity = fabs(acc.parity - g);
     acc.cell += acc.parity * two_m;
     return acc;
+}
+
+/* Row j reads dial angle psi: its cell (ess_lane_coarse_cell) and bit. */
+VM_INLINE ess_lane_coarse ess_lane_coarse_row(const ess_sensor *s, double two_m, double psi_rad,
+                                              ess_lane_coarse acc)
+{
+    return ess_lane_coarse_bit(two_m, ess_lane_coarse_cell(s, psi_rad), acc);
+}
+
+/* The cell of a row whose dial tangent is t, given a cell k0 within one
+ * of it and the tangents lo, hi of k0's edges (-inf, +inf at the dial's
+ * ends): the row's angle against the cell edges, compared as tangents
+ * (atan rises), so no arctangent. */
+VM_INLINE double ess_lane_coarse_near(double k0, double lo, double hi, double t)
+{
+    return k0 - vm_select(t < lo, 1.0, 0.0) + vm_select(t >= hi, 1.0, 0.0);
 }
 
 /* 2^(n-1-j) for coarse row j. */

@@ -33,28 +33,68 @@ static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
     }
 }
 
-/* k <= ESS_CHUNK readings at true table angles a, b (padded arrays): the
- * sun in the sensor frame (R_install rot_x(a) rot_y(-b) v_sun), its true
- * incidence, and the sensor's output with and (raw0 != NULL) without the
- * noise. */
-VM_KERNEL static void read_chunk(const ess_unit *u, size_t k, const double *a, const double *b,
-                                 const double *const noise[ESS_FINE_ROWS], double *raw,
-                                 double *raw0, double *truth, int *status)
+/* k <= ESS_CHUNK readings at true table angles whose cosines and sines
+ * are ca, sa (alpha) and cb, sb (beta) (padded arrays): the sun in the
+ * sensor frame (R_install rot_x(a) rot_y(-b) v_sun), its true incidence,
+ * and the sensor's output with and (raw0 != NULL) without the noise. */
+VM_KERNEL static void read_chunk_trig(const ess_unit *u, size_t k, const double *ca,
+                                      const double *sa, const double *cb, const double *sb,
+                                      const double *const noise[ESS_FINE_ROWS], double *raw,
+                                      double *raw0, double *truth, int *status)
 {
     _Alignas(VM_ALIGN) double sx[ESS_CHUNK], sy[ESS_CHUNK], sz[ESS_CHUNK];
     const double(*R)[3] = (const double(*)[3])u->R_install, *v = u->v_sun;
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
-        double ca = cos(a[i]), sa = sin(a[i]), cb = cos(b[i]), sb = sin(b[i]);
         /* w = rot_x(a) rot_y(-b) v, as mat3_mul and mat3_vec (rotation.h) */
-        double w0 = cb * v[0] + 0.0 * v[1] + sb * v[2];
-        double w1 = -(sa * sb) * v[0] + ca * v[1] + sa * cb * v[2];
-        double w2 = -(ca * sb) * v[0] + -sa * v[1] + ca * cb * v[2];
+        double w0 = cb[i] * v[0] + 0.0 * v[1] + sb[i] * v[2];
+        double w1 = -(sa[i] * sb[i]) * v[0] + ca[i] * v[1] + sa[i] * cb[i] * v[2];
+        double w2 = -(ca[i] * sb[i]) * v[0] + -sa[i] * v[1] + ca[i] * cb[i] * v[2];
         sx[i] = R[0][0] * w0 + R[0][1] * w1 + R[0][2] * w2;
         sy[i] = R[1][0] * w0 + R[1][1] * w1 + R[1][2] * w2;
         sz[i] = R[2][0] * w0 + R[2][1] * w1 + R[2][2] * w2;
         truth[i] = atan2(sy[i], sz[i]);
     }
     ess_sensor_output_chunk(&u->sensor, k, sx, sy, sz, noise, raw, raw0, status);
+}
+
+/* The cosines and sines of n <= ESS_CHUNK padded angles. */
+VM_KERNEL static void trig_chunk(size_t n, const double *a, const double *b, double *ca,
+                                 double *sa, double *cb, double *sb)
+{
+    VM_SIMD for (size_t i = 0; i < vm_pad(n); i++) {
+        ca[i] = cos(a[i]);
+        sa[i] = sin(a[i]);
+        cb[i] = cos(b[i]);
+        sb[i] = sin(b[i]);
+    }
+}
+
+/* read_chunk_trig at true table angles a, b (padded arrays). */
+static void read_chunk(const ess_unit *u, size_t k, const double *a, const double *b,
+                       const double *const noise[ESS_FINE_ROWS], double *raw, double *raw0,
+                       double *truth, int *status)
+{
+    _Alignas(VM_ALIGN) double ca[ESS_CHUNK], sa[ESS_CHUNK], cb[ESS_CHUNK], sb[ESS_CHUNK];
+    trig_chunk(k, a, b, ca, sa, cb, sb);
+    read_chunk_trig(u, k, ca, sa, cb, sb, noise, raw, raw0, truth, status);
+}
+
+void ess_table_trig_fill(size_t n, const double *a_rad, const double *b_rad, ess_table_trig *t)
+{
+    for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
+        size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
+        _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], ca[ESS_CHUNK], sa[ESS_CHUNK];
+        _Alignas(VM_ALIGN) double cb[ESS_CHUNK], sb[ESS_CHUNK];
+        memcpy(a, a_rad + i0, k * sizeof *a);
+        memcpy(b, b_rad + i0, k * sizeof *b);
+        pad_lanes(a, k);
+        pad_lanes(b, k);
+        trig_chunk(k, a, b, ca, sa, cb, sb);
+        memcpy(t->ca + i0, ca, k * sizeof *ca);
+        memcpy(t->sa + i0, sa, k * sizeof *sa);
+        memcpy(t->cb + i0, cb, k * sizeof *cb);
+        memcpy(t->sb + i0, sb, k * sizeof *sb);
+    }
 }
 
 int ess_unit_read(const ess_unit *u, double alpha_rad, double beta_rad,
@@ -172,26 +212,31 @@ void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r,
 }
 
 void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
-                          const double *a_rad, const double *b_rad, double *raw_rad,
-                          double *raw0_rad, double *truth_rad, int *status)
+                          const ess_table_trig *trig, double *raw_rad, double *raw0_rad,
+                          double *truth_rad, int *status)
 {
     const ess_config *ec = ess_cfg(c);
     double sigma = ec->noise.row_current_pct * FRACTION_PER_PCT;
     double half_period = ess_half_period_rad(c);
     double z[ESS_FINE_ROWS * ESS_CHUNK];
-    _Alignas(VM_ALIGN) double a[ESS_CHUNK], b[ESS_CHUNK], raw[ESS_CHUNK], truth[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double ca[ESS_CHUNK], sa[ESS_CHUNK], cb[ESS_CHUNK], sb[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double raw[ESS_CHUNK], truth[ESS_CHUNK];
     _Alignas(VM_ALIGN) double raw0[ESS_CHUNK], nz[ESS_FINE_ROWS][ESS_CHUNK];
     const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
     int st[ESS_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
         size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
         rng_normal_fill(r, z, ESS_FINE_ROWS * k);
-        memcpy(a, a_rad + i0, k * sizeof *a);
-        memcpy(b, b_rad + i0, k * sizeof *b);
-        pad_lanes(a, k);
-        pad_lanes(b, k);
+        memcpy(ca, trig->ca + i0, k * sizeof *ca);
+        memcpy(sa, trig->sa + i0, k * sizeof *sa);
+        memcpy(cb, trig->cb + i0, k * sizeof *cb);
+        memcpy(sb, trig->sb + i0, k * sizeof *sb);
+        pad_lanes(ca, k);
+        pad_lanes(sa, k);
+        pad_lanes(cb, k);
+        pad_lanes(sb, k);
         noise_lanes(sigma, z, ESS_FINE_ROWS, k, nz);
-        read_chunk(u, k, a, b, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
+        read_chunk_trig(u, k, ca, sa, cb, sb, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
         for (size_t i = 0; i < k; i++) {
             raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
             if (raw0_rad)

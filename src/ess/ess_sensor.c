@@ -58,6 +58,17 @@ double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit
     return d->sun_y_arcsec + ec->sun_y_sigma_arcsec * rng_normal(&r);
 }
 
+/* The largest difference between a coarse row's dial tangent and fine row
+ * 0's (ess_lane_eta: the tilt's share and fine row 0's etching), a bound
+ * on the difference of their dial angles (atan' <= 1). */
+static double coarse_spread(const ess_sensor *s)
+{
+    double dx = 0.0;
+    for (int j = 0; j < s->n_coarse; j++)
+        dx = fmax(dx, fabs(s->fine_x_mm[0] - s->coarse_x_mm[j]));
+    return (dx * fabs(s->tan_dphi) + fabs(s->etch_mm[0])) / s->H_mm;
+}
+
 void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev)
 {
     memset(s, 0, sizeof *s);
@@ -77,6 +88,8 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
         s->gain[m] = 1.0 + dev->gain_pct[m] * FRACTION_PER_PCT;
         s->etch_mm[m] = dev->etch_um[m] * MM_PER_UM;
     }
+    s->coarse_by_compare = coarse_spread(s) < 0.5 * s->coarse_res_rad;
+    s->coarse_tan_res = tan(s->coarse_res_rad);
     s->harmonics_given = d->harmonics == 1;
     s->given_ratio[0] = 1.0;
     s->given_ratio[1] = d->a3_ratio;
@@ -92,6 +105,56 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     ess_finecode_init(s);
 }
 
+/* The Gray-decoding state (parity, cell) of kp lanes after every coarse
+ * row, each row's dial angle an arctangent of its tangent. */
+VM_KERNEL static void coarse_by_atan(const ess_sensor *s, size_t kp, const double *u,
+                                     const double *v, double *parity, double *cell)
+{
+    for (int j = 0; j < s->n_coarse; j++) {
+        double xj = s->coarse_x_mm[j], two_m = ess_lane_row_bit(s, j);
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double psi = atan(ess_lane_eta(s, xj, u[i], v[i]) / s->H_mm);
+            ess_lane_coarse acc = {parity[i], cell[i]};
+            acc = ess_lane_coarse_row(s, two_m, psi, acc);
+            parity[i] = acc.parity;
+            cell[i] = acc.cell;
+        }
+    }
+}
+
+/* The same without an arctangent (s->coarse_by_compare): every row's cell
+ * is fine row 0's (dial angle psi0) or a neighbour, told apart by
+ * comparing the row's tangent with those of the cell's edges: one
+ * tangent a reading (the upper edge's by the addition formula) instead of
+ * an arctangent a row.  Only a row within an ulp or so of a cell edge can
+ * read the other cell than its arctangent would, and then either cell is
+ * within half a fine period of the angle: the output is the same. */
+VM_KERNEL static void coarse_by_compare(const ess_sensor *s, size_t kp, const double *u,
+                                        const double *v, const double *psi0, double *parity,
+                                        double *cell)
+{
+    _Alignas(VM_ALIGN) double k0[ESS_CHUNK], lo[ESS_CHUNK], hi[ESS_CHUNK];
+    double last = s->coarse_cells - 1.0, tr = s->coarse_tan_res;
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double k = ess_lane_coarse_cell(s, psi0[i]);
+        double a = s->coarse_origin_rad + k * s->coarse_res_rad, b = a + s->coarse_res_rad;
+        k0[i] = k;
+        double ta = tan(a), tb = (ta + tr) / (1.0 - ta * tr); /* tan(a + res) */
+        lo[i] = vm_select(k < 0.5 || a <= -M_PI_2, -HUGE_VAL, ta);
+        hi[i] = vm_select(k > last - 0.5 || b >= M_PI_2, HUGE_VAL, tb);
+    }
+    for (int j = 0; j < s->n_coarse; j++) {
+        double xj = s->coarse_x_mm[j], two_m = ess_lane_row_bit(s, j);
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double t = ess_lane_eta(s, xj, u[i], v[i]) / s->H_mm;
+            ess_lane_coarse acc = {parity[i], cell[i]};
+            acc = ess_lane_coarse_bit(two_m, ess_lane_coarse_near(k0[i], lo[i], hi[i], t), acc);
+            parity[i] = acc.parity;
+            cell[i] = acc.cell;
+        }
+    }
+}
+
 /* The readings of lanes [0, k) of a chunk: fine rows, harmonics,
  * currents and phase per lane in one vector loop, then the coarse rows one
  * row at a time, then the Gray decoding and combination per lane.  The
@@ -104,6 +167,7 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
                                       double *out0_rad, int *status)
 {
     _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], phase[ESS_CHUNK], phase0[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double psi0[ESS_CHUNK];
     if (k > ESS_CHUNK)
         return SUNMC_EINPUT;
     size_t kp = vm_pad(k);
@@ -120,6 +184,7 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         /* the slit's share of the harmonics changes with cos^2(psi): over
          * the few micrometres between rows that is below 1e-9, so one
          * evaluation at the first row serves the four */
+        psi0[i] = p0;
         ess_lane_harm h = ess_lane_harmonics(s, p0);
         double c0 = ess_lane_current(s, 0, h, p0, z, 0.0), c1 = ess_lane_current(s, 1, h, p1, z, 0.0);
         double c2 = ess_lane_current(s, 2, h, p2, z, 0.0), c3 = ess_lane_current(s, 3, h, p3, z, 0.0);
@@ -127,16 +192,10 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
     }
     _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
-    for (int j = 0; j < s->n_coarse; j++) {
-        double xj = s->coarse_x_mm[j], two_m = ess_lane_row_bit(s, j);
-        VM_SIMD for (size_t i = 0; i < kp; i++) {
-            double psi = atan(ess_lane_eta(s, xj, u[i], v[i]) / s->H_mm);
-            ess_lane_coarse acc = {parity[i], cell[i]};
-            acc = ess_lane_coarse_row(s, two_m, psi, acc);
-            parity[i] = acc.parity;
-            cell[i] = acc.cell;
-        }
-    }
+    if (s->coarse_by_compare)
+        coarse_by_compare(s, kp, u, v, psi0, parity, cell);
+    else
+        coarse_by_atan(s, kp, u, v, parity, cell);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         ess_lane_coarse acc = {parity[i], cell[i]};
         out_rad[i] = ess_lane_combine(ess_lane_coarse_angle(s, acc), phase[i], s->theta0_rad);

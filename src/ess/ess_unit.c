@@ -10,6 +10,7 @@
 #include "family.h"
 #include "status.h"
 #include "units.h"
+#include "vmath.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -108,18 +109,34 @@ size_t ess_validation_size(const sunmc_config *c)
 
 int ess_val_alloc(const sunmc_config *c, ess_val_readings *v)
 {
+    const ess_config *ec = ess_cfg(c);
     size_t n = ess_validation_size(c);
+    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                         ec->val_alpha_offset_deg);
     v->n = n;
-    v->alpha_rad = malloc((n + 1) * sizeof(double));
-    v->beta_rad = malloc((n + 1) * sizeof(double));
+    v->alpha_rad = vm_alloc(n);
+    v->beta_rad = vm_alloc(n);
     v->raw_rad = malloc((n + 1) * sizeof(double));
     v->raw0_rad = malloc((n + 1) * sizeof(double));
     v->truth_rad = malloc((n + 1) * sizeof(double));
     v->status = malloc((n + 1) * sizeof(int));
-    if (v->alpha_rad && v->beta_rad && v->raw_rad && v->raw0_rad && v->truth_rad && v->status)
-        return SUNMC_OK;
-    ess_val_free(v);
-    return SUNMC_ENOMEM;
+    v->trig.ca = vm_alloc(n);
+    v->trig.sa = vm_alloc(n);
+    v->trig.cb = vm_alloc(n);
+    v->trig.sb = vm_alloc(n);
+    if (!(v->alpha_rad && v->beta_rad && v->raw_rad && v->raw0_rad && v->truth_rad && v->status &&
+          v->trig.ca && v->trig.sa && v->trig.cb && v->trig.sb)) {
+        ess_val_free(v);
+        return SUNMC_ENOMEM;
+    }
+    for (size_t i = 0; i < n; i++) {
+        v->alpha_rad[i] = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
+                           (double)(i % (size_t)na) * ec->val_alpha_step_deg) *
+                          RAD_PER_DEG;
+        v->beta_rad[i] = ec->val_beta_deg.v[i / (size_t)na] * RAD_PER_DEG;
+    }
+    ess_table_trig_fill(n, v->alpha_rad, v->beta_rad, &v->trig);
+    return SUNMC_OK;
 }
 
 void ess_val_free(ess_val_readings *v)
@@ -130,25 +147,20 @@ void ess_val_free(ess_val_readings *v)
     free(v->raw0_rad);
     free(v->truth_rad);
     free(v->status);
+    free(v->trig.ca);
+    free(v->trig.sa);
+    free(v->trig.cb);
+    free(v->trig.sb);
     memset(v, 0, sizeof *v);
 }
 
 void ess_unit_read_validation(const sunmc_config *c, const ess_unit *u, long unit,
                          ess_val_readings *v)
 {
-    const ess_config *ec = ess_cfg(c);
-    long na = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
-                         ec->val_alpha_offset_deg);
-    for (size_t i = 0; i < v->n; i++) {
-        v->alpha_rad[i] = (ec->val_alpha_min_deg + ec->val_alpha_offset_deg +
-                           (double)(i % (size_t)na) * ec->val_alpha_step_deg) *
-                          RAD_PER_DEG;
-        v->beta_rad[i] = ec->val_beta_deg.v[i / (size_t)na] * RAD_PER_DEG;
-    }
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
-    ess_validation_batch(c, u, &r, v->n, v->alpha_rad, v->beta_rad, v->raw_rad, v->raw0_rad,
-                         v->truth_rad, v->status);
+    ess_validation_batch(c, u, &r, v->n, &v->trig, v->raw_rad, v->raw0_rad, v->truth_rad,
+                         v->status);
 }
 
 void ess_model_report(const ess_model *m, double out[ESS_N_PAR_MAX])
