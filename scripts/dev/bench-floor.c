@@ -13,7 +13,7 @@
  * within +-2, logs of uniforms).
  *
  * Usage: bench-floor [UNITS]  (default 1000); prints the units and a
- * checksum so that the calls cannot be optimised away.  scripts/bench.sh
+ * checksum so that the calls cannot be optimised away.  scripts/dev/bench.sh
  * divides sunmc's one-thread CPU time per unit by this one's. */
 #include "vmath.h"
 
