@@ -6,6 +6,7 @@
 #   make mutate     apply each mutant of tests/mutants.txt to a copy of the tree, run test-fast
 #   make plots RUN=DIR   draw every figure a run directory holds
 #   make figures    regenerate the papers' figures into build/figures/
+#   make claims     check the papers' claims, rewrite docs/claims.md
 #   make install PREFIX=/usr/local DESTDIR=
 #   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
 # User CFLAGS/LDFLAGS are added to ours.
@@ -135,7 +136,7 @@ $(ALL_DEP): ;
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures bench \
+.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps
 
 all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
@@ -291,6 +292,10 @@ plots: $(BUILD)/sunmc
 
 figures: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
+
+# `make claims` checks the papers' claims row by row and rewrites docs/claims.md.
+claims: $(BUILD)/sunmc
+	SUNMC=$(BUILD)/sunmc bash scripts/claims.sh
 
 # Fuzzing (tests/fuzz/: libFuzzer harnesses for the INI config, --set lists,
 # the CSV reader, params.ini + compensate and the command line's argument
