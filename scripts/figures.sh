@@ -6,6 +6,7 @@
 #   ess_fig3_dH.png      error caused by dH = +-2 um alone, type A        (Fig. 3)
 #   ess_fig5_dd.png      error caused by dd = +-1 um alone                (Fig. 5)
 #   ess_fig6_dphi.png    error caused by dphi = +-0.01 deg alone          (Fig. 6)
+#   ess_fig6_dphi_pivot.png  the same, the tilt pivoting at the fine rows (Fig. 6)
 #   ess_fig7_dphi_0p5.png  the same sampled every 0.5 deg: the 1-deg period (Fig. 7)
 #   ess_fig11a_typeB.png one type-B unit before/after, every beta         (Fig. 11a)
 #   ess_fig11b_typeB.png the same unit, two representative betas          (Fig. 11b)
@@ -35,12 +36,13 @@ B=configs/ess_type_b.ini
 ideal="--set design.harmonics=given --set design.a3_ratio=0 --set design.a5_ratio=0"
 fine="--set validation.alpha_offset_deg=0 --set validation.beta_deg=0"
 
-pair() { # NAME KEY VALUE STEP_DEG TITLE
+pair() { # NAME KEY VALUE STEP_DEG TITLE [--set ...]
   local name=$1 key=$2 v=$3 step=$4 title=$5
+  shift 5
   say "$name.png ($key = +-$v)"
-  "$SUNMC" curve $A --only "$key=$v" $ideal $fine --set validation.alpha_step_deg=$step \
+  "$SUNMC" curve $A --only "$key=$v" $ideal $fine --set validation.alpha_step_deg=$step "$@" \
     --out $data/${name}_plus $q >/dev/null
-  "$SUNMC" curve $A --only "$key=-$v" $ideal $fine --set validation.alpha_step_deg=$step \
+  "$SUNMC" curve $A --only "$key=-$v" $ideal $fine --set validation.alpha_step_deg=$step "$@" \
     --out $data/${name}_minus $q >/dev/null
   gnuplot -e "run='$data/${name}_plus'; run2='$data/${name}_minus'; what='source'; \
     label='$key = +$v, '; label2='$key = -$v, '; title=\"$title\"; out='$out/$name.png'" \
@@ -48,7 +50,9 @@ pair() { # NAME KEY VALUE STEP_DEG TITLE
 }
 pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm)\\nsunmc: peak 0.0139 deg at 45 deg = dH/2H, not the paper's > 0.015 deg"
 pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A)\\nsunmc: -(dd/H) cos^2(alpha), largest at 0 deg, where the paper says it grows"
-pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A)\\na band, not a curve: the tilt couples with the row read (and beta): 1-deg period, Fig. 7"
+pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A, beta = 0), sunmc's pivot x = 0\\nthe mean: the fine rows (0.6-2.4 mm) read 1.5 mm x tan(dphi) off; the band: their alternation (1-deg period, Fig. 7)"
+pair ess_fig6_dphi_pivot dphi_deg 0.01 0.05 "ESS paper Fig. 6 with the tilt pivot at the fine rows' centre (design.tilt_pivot_mm = 1.5; type A, beta = 0)\\nonly the rows' alternation is left: under 0.005 deg as the paper says, but falling with incidence (any pivot: docs/ess.md)" \
+  --set design.tilt_pivot_mm=1.5
 pair ess_fig7_dphi_0p5 dphi_deg 0.01 0.5 "ESS paper Fig. 7: dphi = +-0.01 deg sampled every 0.5 deg: a 1-deg period"
 say "ess_fig7_dphi_0p5_zoom.png (0 to 10 deg)"
 gnuplot -e "run='$data/ess_fig7_dphi_0p5_plus'; run2='$data/ess_fig7_dphi_0p5_minus'; what='source'; xmin=0; xmax=10; \

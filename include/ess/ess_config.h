@@ -18,6 +18,7 @@ typedef struct {
     double coarse_resolution_deg; /* coarse-code cell width */
     double_list coarse_rows_x_mm; /* x position of each coarse row */
     double_list fine_rows_x_mm;   /* x position of the 4 fine rows */
+    double tilt_pivot_mm;         /* x about which the slit's tilt dphi turns */
     double slit_width_um;         /* entrance slit width */
     double dial_duty;             /* transparent fraction of a fine period */
     double sun_diameter_deg;      /* angular diameter of the sun */

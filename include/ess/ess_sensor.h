@@ -81,6 +81,8 @@ typedef struct {
     int n_coarse;
     double coarse_cells;      /* 2^n_coarse */
     double coarse_origin_rad; /* lower edge of cell 0: -cells/2 x resolution */
+    /* Row positions across the rows, measured from the slit's tilt pivot
+     * (design.tilt_pivot_mm): the lever arm of dphi. */
     double coarse_x_mm[ESS_MAX_COARSE_ROWS];
     /* 1 when every coarse row's dial tangent lies within half a cell of
      * fine row 0's (tilt and etching small): the batch then reads each

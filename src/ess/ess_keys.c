@@ -35,6 +35,11 @@ const config_key ess_keys[] = {
     {"design", "fine_rows_x_mm", KEY_LIST, "mm", "0.6, 1.2, 1.8, 2.4", -20, 20, NULL,
      OFF(design.fine_rows_x_mm),
      "x position of the 4 fine rows F1..F4 (quarter-period steps)"},
+    {"design", "tilt_pivot_mm", KEY_DOUBLE, "mm", "0", -20, 20, NULL,
+     OFF(design.tilt_pivot_mm),
+     "x position about which the slit's tilt dphi turns: each row reads (x_row - pivot) "
+     "tan(dphi) off; 0 = the dial's centre line (the slit's middle), 1.5 = the fine rows' "
+     "centre, where the tilt leaves only their alternation (docs/ess.md)"},
     {"design", "slit_width_um", KEY_DOUBLE, "um", "20", 0, 500, NULL, OFF(design.slit_width_um),
      "entrance slit width; with the sun's diameter it sets the fine-code harmonics (derived "
      "mode); chosen so type A's error before compensation has the paper's size"},

@@ -82,9 +82,9 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->coarse_cells = (double)(1ULL << s->n_coarse);
     s->coarse_origin_rad = -0.5 * s->coarse_cells * s->coarse_res_rad;
     for (int j = 0; j < s->n_coarse; j++)
-        s->coarse_x_mm[j] = d->coarse_rows_x_mm.v[j];
+        s->coarse_x_mm[j] = d->coarse_rows_x_mm.v[j] - d->tilt_pivot_mm;
     for (int m = 0; m < ESS_FINE_ROWS; m++) {
-        s->fine_x_mm[m] = d->fine_rows_x_mm.v[m];
+        s->fine_x_mm[m] = d->fine_rows_x_mm.v[m] - d->tilt_pivot_mm;
         s->gain[m] = 1.0 + dev->gain_pct[m] * FRACTION_PER_PCT;
         s->etch_mm[m] = dev->etch_um[m] * MM_PER_UM;
     }

@@ -1,6 +1,8 @@
 /* ess_slit.c - where the slit image crosses a code row (see ess_sensor.h).
  *
- * The slit is the line p(l) = (l cos dphi, dd + l sin dphi, H + dH).  A ray
+ * x is measured from the slit's tilt pivot (design.tilt_pivot_mm; the
+ * sensor stores each row's x so).  The slit is the line
+ * p(l) = (l cos dphi, dd + l sin dphi, H + dH).  A ray
  * through p travelling along -s meets the dial (z = 0) at
  * (l cos dphi - Hr u, dd + l sin dphi - Hr v), u = s_x/s_z, v = s_y/s_z.
  * At the row x = x_r: l cos dphi = x_r + Hr u, and the dial coordinate,

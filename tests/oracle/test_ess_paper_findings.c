@@ -86,6 +86,35 @@ static void test_tilt_geometry(void **state)
         }
 }
 
+/* The tilt's pivot (design.tilt_pivot_mm = p): a row at x reads
+ * eta = H tan a - (x - p + H tan b / cos a) tan dphi.  With the four fine
+ * rows at one x0 the reading is atan(eta / H) (independent derivation, as
+ * for dd); at the pivot itself and b = 0 the tilt does nothing. */
+static void test_tilt_pivot_closed_form(void **state)
+{
+    const double pivots[] = {0.0, 1.5, 1.8, -2.0};
+    for (size_t k = 0; k < sizeof pivots / sizeof pivots[0]; k++) {
+        sunmc_config c = no_harmonics();
+        ess_config *ec = ess_cfg(&c);
+        double x0 = 1.8, p = pivots[k], H = ec->design.H_mm, tp = tan(0.3 * RAD_PER_DEG);
+        for (int m = 0; m < 4; m++)
+            ec->design.fine_rows_x_mm.v[m] = x0;
+        ec->design.tilt_pivot_mm = p;
+        ess_deviations dev = {0};
+        dev.dphi_deg = 0.3;
+        ess_sensor s;
+        build(&c, &dev, &s);
+        for (double a = -60; a <= 60; a += 7.5)
+            for (double b = -30; b <= 30; b += 15) {
+                double ar = a * RAD_PER_DEG, u = tan(b * RAD_PER_DEG) / cos(ar);
+                double expect = atan(tan(ar) - (x0 - p + H * u) * tp / H) * DEG_PER_RAD;
+                assert_near(output_deg(&s, a, b), expect, 1e-9);
+                if (p == x0 && b == 0)
+                    assert_near(output_deg(&s, a, b), a, 1e-9);
+            }
+    }
+}
+
 /* A third harmonic alone gives eq. 7's error (with eq. 8's sign):
  * eps = -theta0/(2 pi) atan(r sin 4x / (1 + r cos 4x)), x = 2 pi alpha/theta0. */
 static void test_third_harmonic_eq7(void **state)
@@ -317,6 +346,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dH_closed_form),       cmocka_unit_test(test_dd_closed_form),
         cmocka_unit_test(test_tilt_geometry),        cmocka_unit_test(test_third_harmonic_eq7),
+        cmocka_unit_test(test_tilt_pivot_closed_form),
         cmocka_unit_test(test_derived_harmonics),    cmocka_unit_test(test_coarse_gray),
         cmocka_unit_test(test_paper_dH_dd_dphi_sizes), cmocka_unit_test(test_tilt_period_1deg),
         cmocka_unit_test(test_gain_errors),          cmocka_unit_test(test_deviation_sampling),
