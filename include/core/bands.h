@@ -5,6 +5,7 @@
 #define SUNMC_BANDS_H
 
 #include "config.h"
+#include "vmath.h"
 
 #include <stddef.h>
 
@@ -15,8 +16,32 @@ typedef struct {
 } band_acc;
 
 void band_acc_reset(band_acc *b);
-/* Add error err at |angle| = abs_deg to every band that holds abs_deg. */
-void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err);
+
+/* Slack so that a band or grid end hit exactly in decimal is not lost to
+ * rounding. */
+#define BAND_EPS 1e-9
+
+/* 1 when band i holds abs_deg: (lo, hi], the first band from 0 [0, hi]. */
+static inline int band_holds(const band_list *bands, int i, double abs_deg)
+{
+    return (abs_deg <= bands->hi[i] + BAND_EPS) &
+           ((bands->lo[i] == 0.0) | (abs_deg > bands->lo[i] + BAND_EPS));
+}
+
+/* Add error err at |angle| = abs_deg to every band that holds abs_deg,
+ * without a branch (a reading's bands are as unpredictable as its angle):
+ * the other bands add +0 (vm_keep, so a NaN error there adds nothing),
+ * which leaves their sums' bits as they were.  Inline: called for every
+ * validation reading. */
+static inline void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err)
+{
+    double e2 = err * err;
+    for (int i = 0; i < bands->n; i++) {
+        int in = band_holds(bands, i, abs_deg);
+        b->sum2[i] += vm_keep(in, e2);
+        b->n[i] += in;
+    }
+}
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
 /* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */

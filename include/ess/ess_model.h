@@ -149,6 +149,15 @@ int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad);
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
                                double *alpha_rad, int *status);
 
+/* ess_model_compensate_batch of n raws and of raw0, the same readings
+ * without their noise: the paper model starts each raw0's iteration from
+ * its raw's solution moved by (raw0 - raw) / g' (a step or two instead of
+ * four), to the same tolerance (the bits may differ from raw0 alone in
+ * the last place).  Returns SUNMC_EDOM if any reading of either failed. */
+int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *raw_rad,
+                                    const double *raw0_rad, double *alpha_rad,
+                                    double *alpha0_rad, int *status, int *status0);
+
 /* Paper-style k (rad, >= 0) and t (rad) from ks, kc. */
 void ess_model_kt(const ess_model *m, double *k_rad, double *t_rad);
 

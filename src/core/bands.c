@@ -6,8 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-/* Slack so that a grid end hit exactly in decimal is not lost to rounding. */
-#define GRID_EPS 1e-9
+#define GRID_EPS BAND_EPS
 
 long grid_count(double lo, double hi, double step, double offset)
 {
@@ -20,22 +19,6 @@ long grid_count(double lo, double hi, double step, double offset)
 void band_acc_reset(band_acc *b)
 {
     memset(b, 0, sizeof *b);
-}
-
-static int in_band(const band_list *bands, int i, double abs_deg)
-{
-    if (bands->lo[i] == 0.0)
-        return abs_deg <= bands->hi[i] + GRID_EPS;
-    return abs_deg > bands->lo[i] + GRID_EPS && abs_deg <= bands->hi[i] + GRID_EPS;
-}
-
-void band_acc_add(band_acc *b, const band_list *bands, double abs_deg, double err)
-{
-    for (int i = 0; i < bands->n; i++)
-        if (in_band(bands, i, abs_deg)) {
-            b->sum2[i] += err * err;
-            b->n[i]++;
-        }
 }
 
 int band_check_coverage(const band_list *bands, const band_acc *acc, double max_abs_deg,
@@ -67,6 +50,6 @@ void band_acc_rms(const band_acc *b, const band_list *bands, double scale, doubl
 void band_max_add(double *max, const band_list *bands, double abs_deg, double v)
 {
     for (int i = 0; i < bands->n; i++)
-        if (in_band(bands, i, abs_deg))
+        if (band_holds(bands, i, abs_deg))
             max[i] = fmax(max[i], v);
 }

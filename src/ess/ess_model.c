@@ -267,20 +267,46 @@ static double finecode_bisect(double ks, double kc, double w, double raw)
     return root_bisect_increasing(finecode_g, &e, raw - 2.0 * k, raw + 2.0 * k);
 }
 
-/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes): every lane
- * iterates until its own step is below COMP_TOL_RAD, exactly as one
- * reading alone would; a lane still moving after COMP_MAX_ITER steps is
- * solved by bisection (finecode_bisect); then eq. 13.  status[i]: SUNMC_OK
- * or SUNMC_EDOM (a raw that is not a number, or eq. 13 undefined). */
-VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
-                                       double *alpha, int *status)
+/* Halley's error after a step dx is about K dx^3, K = |g'''| / (6 g') +
+ * (g'' / (2 g'))^2 <= w^3 k / (6 (1 - w k)) + (w^2 k / (2 (1 - w k)))^2
+ * (g' >= 1 - w k, |g''| <= w^2 k, |g'''| <= w^3 k): a lane whose last step
+ * makes that bound (times COMP_SAFETY) smaller than COMP_TOL_RAD is done,
+ * with no further step to show it.  Infinite when w k >= 1 (the caller
+ * refuses that). */
+#define COMP_SAFETY 1e3
+static double halley_bound(double w, double k)
 {
-    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK];
+    double slope = 1.0 - w * k;
+    if (!(slope > 0.0))
+        return HUGE_VAL;
+    double b = w * w * k / (2.0 * slope);
+    return COMP_SAFETY * (w * w * w * k / (6.0 * slope) + b * b);
+}
+
+/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes),
+ * each lane from x0[i] (NULL: from its raw): every lane iterates until its
+ * own step is below COMP_TOL_RAD or Halley's error bound after it is
+ * (halley_bound), exactly as one reading alone would; a lane still moving
+ * after COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then
+ * eq. 13.  status[i]: SUNMC_OK or SUNMC_EDOM (a raw that is not a number,
+ * or eq. 13 undefined).  xd and slope (NULL: not wanted) get each lane's
+ * alpha_d and g' at its last iterate (d alpha_d / d raw = 1 / g'), for a
+ * start near another raw (warm_start). */
+VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
+                                       const double *x0, double *alpha, int *status,
+                                       double *xd, double *slope)
+{
+    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK], fpl[ESS_COMP_CHUNK];
     _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
     const double *p = m->p;
     double ks = p[ESS_P_KS], kc = p[ESS_P_KC], w = m->omega;
+    double bound = halley_bound(w, hypot(ks, kc));
     size_t kp = vm_pad(k);
     ess_lane_comp_start(k, raw, x, r, active);
+    for (size_t i = 0; x0 && i < kp; i++)
+        x[i] = x0[i < k ? i : 0];
+    for (size_t i = 0; i < kp; i++)
+        fpl[i] = 1.0;
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
@@ -290,9 +316,11 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
             double fp = 1.0 - w * (ks * cs - kc * sn);
             double fpp = w * w * (ks * sn + kc * cs);
             /* Halley's step: cubic convergence from the same sin and cos */
-            double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp);
+            double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp), adx = fabs(dx);
             x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
-            active[i] = active[i] & (long)!(fabs(dx) < COMP_TOL_RAD);
+            fpl[i] = vm_select(active[i] != 0, fp, fpl[i]);
+            active[i] = active[i] &
+                        (long)!(adx < COMP_TOL_RAD || bound * adx * adx * adx < COMP_TOL_RAD);
         }
         for (size_t i = 0; i < kp; i++)
             left += active[i];
@@ -302,7 +330,23 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
             x[i] = finecode_bisect(ks, kc, w, r[i]);
             active[i] = 0;
         }
+    for (size_t i = 0; xd && i < k; i++) {
+        xd[i] = x[i];
+        slope[i] = fpl[i];
+    }
     ess_lane_comp_eq13(m, k, x, active, alpha, status);
+}
+
+/* Where the fine-code inverse of raws raw0 near raws raw (alpha_d xd,
+ * slope g' there) starts: x0 = xd + (raw0 - raw) / g', one Newton step
+ * from xd, off by about g'' / (2 g') (raw0 - raw)^2. */
+static void warm_start(size_t k, const double *raw, const double *raw0, const double *xd,
+                       const double *slope, double *x0)
+{
+    for (size_t i = 0; i < k; i++) {
+        double x = xd[i] + (raw0[i] - raw[i]) / slope[i];
+        x0[i] = isfinite(x) ? x : raw0[i];
+    }
 }
 
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
@@ -320,9 +364,37 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
         if (ext)
             ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         else
-            compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
+            compensate_chunk(m, k, raw_rad + i0, NULL, alpha_rad + i0, status + i0, NULL, NULL);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
+                st = SUNMC_EDOM;
+    }
+    return st;
+}
+
+int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *raw_rad,
+                                    const double *raw0_rad, double *alpha_rad,
+                                    double *alpha0_rad, int *status, int *status0)
+{
+    if (m->kind == ESS_MODEL_EXTENDED) {
+        int st = ess_model_compensate_batch(m, n, raw_rad, alpha_rad, status);
+        int st0 = ess_model_compensate_batch(m, n, raw0_rad, alpha0_rad, status0);
+        return st != SUNMC_OK ? st : st0;
+    }
+    if (m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
+        for (size_t i = 0; i < n; i++)
+            status[i] = status0[i] = SUNMC_EDOM;
+        return SUNMC_EDOM;
+    }
+    int st = SUNMC_OK;
+    for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
+        size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
+        double xd[ESS_COMP_CHUNK], slope[ESS_COMP_CHUNK], x0[ESS_COMP_CHUNK];
+        compensate_chunk(m, k, raw_rad + i0, NULL, alpha_rad + i0, status + i0, xd, slope);
+        warm_start(k, raw_rad + i0, raw0_rad + i0, xd, slope, x0);
+        compensate_chunk(m, k, raw0_rad + i0, x0, alpha0_rad + i0, status0 + i0, NULL, NULL);
+        for (size_t i = 0; i < k; i++)
+            if (status[i0 + i] != SUNMC_OK || status0[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;
     }
     return st;

@@ -143,12 +143,33 @@ VM_KERNEL static void coarse_by_compare(const ess_sensor *s, size_t kp, const do
         lo[i] = vm_select(k < 0.5 || a <= -M_PI_2, -HUGE_VAL, ta);
         hi[i] = vm_select(k > last - 0.5 || b >= M_PI_2, HUGE_VAL, tb);
     }
+    /* each row's offset from k0 (-1, 0 or 1); while every row of every
+     * lane has the same one, the Gray code decodes to k0 + that offset */
+    _Alignas(VM_ALIGN) double d[ESS_MAX_COARSE_ROWS][ESS_CHUNK], off[ESS_CHUNK] = {0};
     for (int j = 0; j < s->n_coarse; j++) {
-        double xj = s->coarse_x_mm[j], two_m = ess_lane_row_bit(s, j);
+        double xj = s->coarse_x_mm[j];
+        double *restrict dj = d[j];
+        const double *restrict d0 = d[0];
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             double t = ess_lane_eta(s, xj, u[i], v[i]) / s->H_mm;
+            dj[i] = ess_lane_coarse_near(0.0, lo[i], hi[i], t);
+        }
+        VM_SIMD for (size_t i = 0; i < kp; i++)
+            off[i] += fabs(dj[i] - d0[i]);
+    }
+    int agree = 1;
+    for (size_t i = 0; i < kp; i++)
+        agree &= off[i] == 0.0;
+    if (agree) {
+        VM_SIMD for (size_t i = 0; i < kp; i++)
+            cell[i] = k0[i] + d[0][i];
+        return;
+    }
+    for (int j = 0; j < s->n_coarse; j++) {
+        double two_m = ess_lane_row_bit(s, j);
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
             ess_lane_coarse acc = {parity[i], cell[i]};
-            acc = ess_lane_coarse_bit(two_m, ess_lane_coarse_near(k0[i], lo[i], hi[i], t), acc);
+            acc = ess_lane_coarse_bit(two_m, k0[i] + d[j][i], acc);
             parity[i] = acc.parity;
             cell[i] = acc.cell;
         }

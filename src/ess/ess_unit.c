@@ -298,8 +298,8 @@ typedef struct {
 static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size_t i0, size_t k,
                              ess_val_chunk *w)
 {
-    ess_model_compensate_batch(m, k, v->raw_rad + i0, w->comp, w->st_comp);
-    ess_model_compensate_batch(m, k, v->raw0_rad + i0, w->comp0, w->st_comp0);
+    ess_model_compensate_pair_batch(m, k, v->raw_rad + i0, v->raw0_rad + i0, w->comp, w->comp0,
+                                    w->st_comp, w->st_comp0);
 }
 
 /* Score the unit's validation readings v (RMS before and after), and the
