@@ -73,6 +73,13 @@ enum config_yield_interval {
     CONFIG_YIELD_CLOPPER_PEARSON_LOWER = 2
 };
 
+/* run.sampling (the key's enum order). */
+enum config_sampling {
+    CONFIG_SAMPLING_RANDOM = 0,
+    CONFIG_SAMPLING_LHS = 1,
+    CONFIG_SAMPLING_SOBOL = 2
+};
+
 /* calibration.priors (the key's enum order). */
 enum config_priors { CONFIG_PRIORS_OFF = 0, CONFIG_PRIORS_TOLERANCES = 1 };
 
@@ -119,6 +126,8 @@ typedef struct {
     int threads;
     long block_units;                   /* run --until: units per block */
     long lot_size;                      /* units per lot (tolerance NAME_lot) */
+    int sampling;                       /* enum config_sampling: the tolerance draws' design */
+    long sampling_block;                /* units per randomised design block (sampling.h) */
 
     /* [report] */
     band_list bands_deg;

@@ -5,6 +5,7 @@
 #include "memory.h"
 #include "montecarlo.h"
 #include "report.h"
+#include "stats_blocks.h"
 #include "status.h"
 
 #include <math.h>
@@ -141,6 +142,8 @@ typedef struct {
     long units;
     int runs;
     double *sq;
+    long *block;      /* the sampling block of each kept unit (NULL: random sampling) */
+    long block_units; /* run.sampling_block */
 } budget_squares;
 
 static double *squares(budget_squares *q, int run, int after)
@@ -148,10 +151,13 @@ static double *squares(budget_squares *q, int run, int after)
     return q->sq + (size_t)(2 * run + after) * (size_t)q->units;
 }
 
-static void set_share(budget_share *s, const double *x, const double *a, size_t n, double conf)
+/* Under a sampling design (block != NULL) the interval from the block
+ * totals (stats_blocks.h). */
+static void set_share(budget_share *s, const double *x, const double *a, const long *block,
+                      size_t n, double conf)
 {
     char err[SUNMC_ERRLEN];
-    if (stats_ratio_t(x, a, n, conf, &s->v, &s->ci, err, sizeof err) != SUNMC_OK)
+    if (stats_blocks_ratio_t(x, a, block, n, conf, &s->v, &s->ci, err, sizeof err) != SUNMC_OK)
         s->ci.lo = s->ci.hi = NAN; /* a config outside the key table's range */
     s->significant = s->ci.lo > 0 || s->ci.hi < 0;
 }
@@ -170,6 +176,8 @@ static long pair_units(budget_squares *q)
         for (int r = 0; r < 2 * q->runs; r++)
             q->sq[(size_t)r * (size_t)q->units + (size_t)k] =
                 q->sq[(size_t)r * (size_t)q->units + (size_t)u];
+        if (q->block)
+            q->block[k] = u / q->block_units;
         k++;
     }
     return k;
@@ -186,7 +194,8 @@ static int shares(const sunmc_config *c, budget_result *b, budget_squares *q, lo
     const double *all = squares(q, 0, after), *floor = squares(q, 1, after);
     for (long u = 0; u < n; u++)
         rest[u] = all[u] - floor[u];
-    set_share(after ? &b->floor_after : &b->floor_before, floor, all, (size_t)n, c->confidence);
+    set_share(after ? &b->floor_after : &b->floor_before, floor, all, q->block, (size_t)n,
+              c->confidence);
     for (int i = 0; i < b->n; i++) {
         const double *alone = squares(q, 2 + i, after);
         for (long u = 0; u < n; u++) {
@@ -194,10 +203,11 @@ static int shares(const sunmc_config *c, budget_result *b, budget_squares *q, lo
             rest[u] -= x[u];
         }
         budget_source *s = &b->src[i];
-        set_share(after ? &s->share_after : &s->share_before, x, all, (size_t)n, c->confidence);
+        set_share(after ? &s->share_after : &s->share_before, x, all, q->block, (size_t)n,
+                  c->confidence);
     }
-    set_share(after ? &b->interaction_after : &b->interaction_before, rest, all, (size_t)n,
-              c->confidence);
+    set_share(after ? &b->interaction_after : &b->interaction_before, rest, all, q->block,
+              (size_t)n, c->confidence);
     free(x);
     return SUNMC_OK;
 }
@@ -274,7 +284,7 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     if (rc)
         return rc;
     b->units = units;
-    budget_squares q = {units, 2 + b->n, NULL};
+    budget_squares q = {units, 2 + b->n, NULL, NULL, c->sampling_block};
     /* Before any work: each run's units held whole, and the squares of
      * every run kept for the paired shares. */
     double squares = (double)(2 * q.runs) * (double)units * sizeof *q.sq;
@@ -286,6 +296,11 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     if (rc)
         return rc;
     q.sq = malloc((size_t)(2 * q.runs) * (size_t)(units > 0 ? units : 1) * sizeof *q.sq);
+    if (q.sq && c->sampling != CONFIG_SAMPLING_RANDOM &&
+        !(q.block = malloc((size_t)(units > 0 ? units : 1) * sizeof *q.block))) {
+        free(q.sq);
+        q.sq = NULL;
+    }
     if (!q.sq)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units x %d runs",
                           units, q.runs);
@@ -297,6 +312,7 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
         rank_sources(b);
     }
     free(q.sq);
+    free(q.block);
     if (rc || !with_limits)
         return rc;
     for (int i = 0; i < b->n; i++) {

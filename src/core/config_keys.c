@@ -7,6 +7,7 @@
  * folder (its *_keys.c), reached through the registry; a family
  * may give its own default for a shared key (sensor_family.defaults).
  */
+#include "sampling.h"
 #include "config.h"
 #include "status.h"
 #include "tolerance.h"
@@ -138,6 +139,14 @@ const config_key config_keys[] = {
     {"run", "lot_size", KEY_LONG, "", "100", 1, 100000000, NULL, OFF(lot_size),
      "units per production lot: units u and v share a lot when u / lot_size = v / lot_size "
      "(integer division); a tolerance's NAME_lot share of its variance is common to its lot"},
+    {"run", "sampling", KEY_ENUM, "", "random", 0, 0, "random|lhs|sobol", OFF(sampling),
+     "design of the tolerance draws (noise stays random): random (independent units), lhs "
+     "(Latin hypercube) or sobol (digitally shifted Sobol' points), each randomised anew per "
+     "block of run.sampling_block units; intervals come from the block totals "
+     "(docs/statistics.md)"},
+    {"run", "sampling_block", KEY_LONG, "", "64", 2, SAMPLING_BLOCK_MAX, NULL, OFF(sampling_block),
+     "`run.sampling = lhs | sobol`: units per randomised design (a power of 2 keeps a Sobol' "
+     "block a net); fewer units per block give more blocks, so a surer interval"},
     {"run", "block_units", KEY_LONG, "", "256", 1, 1000000, NULL, OFF(block_units),
      "units per block, each written and checkpointed as it ends; `run --until` checks between blocks"},
 

@@ -1,6 +1,8 @@
 /* report.c - statistics over units and the TSV / table writers. */
 #include "report.h"
 #include "campaign.h"
+#include "sampling.h"
+#include "stats_blocks.h"
 #include "thermal.h"
 #include "status.h"
 
@@ -78,7 +80,11 @@ typedef struct {
     long worse;          /* units whose RMS after exceeds their RMS before */
     double imp_max, imp_min;
     double *after_v;     /* after values, arrival order until sorted */
+    double *block_v;     /* their sampling blocks (a design only, sampling.h) */
     size_t cap;
+    /* a sampling design's block totals (sampling.h): the means' and the
+     * yield's intervals come from them (stats_blocks.h) */
+    stats_blocks b_before, b_after, b_sys, b_ratio, b_pass;
 } band_cell;
 
 struct report_acc {
@@ -109,8 +115,14 @@ report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
         return NULL;
     }
     for (int i = 0; i < a->na * a->nb * n_sets(c); i++) {
-        a->cell[i].imp_max = -INFINITY;
-        a->cell[i].imp_min = INFINITY;
+        band_cell *s = &a->cell[i];
+        s->imp_max = -INFINITY;
+        s->imp_min = INFINITY;
+        stats_blocks_init(&s->b_before);
+        stats_blocks_init(&s->b_after);
+        stats_blocks_init(&s->b_sys);
+        stats_blocks_init(&s->b_ratio);
+        stats_blocks_init(&s->b_pass);
     }
     return a;
 }
@@ -119,8 +131,10 @@ void report_acc_free(report_acc *a)
 {
     if (!a)
         return;
-    for (int i = 0; i < a->na * a->nb * n_sets(a->c); i++)
+    for (int i = 0; i < a->na * a->nb * n_sets(a->c); i++) {
         free(a->cell[i].after_v);
+        free(a->cell[i].block_v);
+    }
     free(a);
 }
 
@@ -129,24 +143,56 @@ long report_acc_units(const report_acc *a)
     return a->n;
 }
 
-/* One unit's RMS before, after and its systematic part (NaN: none) in a
- * cell; a unit without a fit only counts in the yield's denominator. */
-static int cell_add(band_cell *s, int fit_ok, double bef, double aft, double sys, double spec)
+/* Room for one more after value (and its block under a design). */
+static int cell_grow(band_cell *s, long block)
 {
+    if ((size_t)s->after.n < s->cap)
+        return SUNMC_OK;
+    size_t cap = s->cap ? s->cap + s->cap / 2 : 256;
+    double *v = realloc(s->after_v, cap * sizeof *v);
+    if (!v)
+        return SUNMC_ENOMEM;
+    s->after_v = v;
+    if (block >= 0) {
+        double *b = realloc(s->block_v, cap * sizeof *b);
+        if (!b)
+            return SUNMC_ENOMEM;
+        s->block_v = b;
+    }
+    s->cap = cap;
+    return SUNMC_OK;
+}
+
+/* A design's block totals of one unit (block >= 0; sampling.h). */
+static void cell_add_blocks(band_cell *s, long block, double bef, double aft, double sys)
+{
+    stats_blocks_add(&s->b_before, block, bef);
+    stats_blocks_add(&s->b_after, block, aft);
+    stats_blocks_add(&s->b_ratio, block, bef / aft);
+    if (isfinite(sys))
+        stats_blocks_add(&s->b_sys, block, sys);
+    s->block_v[s->after.n] = (double)block;
+}
+
+/* One unit's RMS before, after and its systematic part (NaN: none) in a
+ * cell, the unit in sampling block `block` (-1: independent units); a unit
+ * without a fit only counts in the yield's denominator (a fail). */
+static int cell_add(band_cell *s, long block, int fit_ok, double bef, double aft, double sys,
+                    double spec)
+{
+    int usable = fit_ok && isfinite(bef) && isfinite(aft);
+    if (block >= 0)
+        stats_blocks_add(&s->b_pass, block, usable && aft <= spec ? 1.0 : 0.0);
     if (!fit_ok)
         return SUNMC_OK;
-    if (!isfinite(bef) || !isfinite(aft)) {
+    if (!usable) {
         s->no_reading++;
         return SUNMC_OK;
     }
-    if ((size_t)s->after.n == s->cap) {
-        size_t cap = s->cap ? s->cap + s->cap / 2 : 256;
-        double *v = realloc(s->after_v, cap * sizeof *v);
-        if (!v)
-            return SUNMC_ENOMEM;
-        s->after_v = v;
-        s->cap = cap;
-    }
+    if (cell_grow(s, block) != SUNMC_OK)
+        return SUNMC_ENOMEM;
+    if (block >= 0)
+        cell_add_blocks(s, block, bef, aft, sys);
     s->after_v[s->after.n] = aft;
     stats_moments_add(&s->before, bef);
     stats_moments_add(&s->after, aft);
@@ -164,11 +210,12 @@ static int cell_add(band_cell *s, int fit_ok, double bef, double aft, double sys
 static int thermal_add(report_acc *acc, const unit_result *ur, int a, int b)
 {
     int ok = ur->fit_status == UNIT_FIT_OK, nab = acc->na * acc->nb, i = a * acc->nb + b;
+    long blk = sampling_block_of(acc->c, ur->unit);
     for (int t = 0; t < acc->nt; t++)
-        if (cell_add(&acc->cell[(1 + t) * nab + i], ok, ur->rms_before_t[t][a][b],
+        if (cell_add(&acc->cell[(1 + t) * nab + i], blk, ok, ur->rms_before_t[t][a][b],
                      ur->rms_after_t[t][a][b], NAN, acc->spec) != SUNMC_OK)
             return SUNMC_ENOMEM;
-    return cell_add(&acc->cell[(1 + acc->nt) * nab + i], ok,
+    return cell_add(&acc->cell[(1 + acc->nt) * nab + i], blk, ok,
                     thermal_worst(ur->rms_before_t, acc->nt, a, b),
                     thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN, acc->spec);
 }
@@ -183,7 +230,8 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
         acc->failed += ur->fit_status != UNIT_FIT_OK;
         for (int a = 0; a < acc->na; a++)
             for (int b = 0; b < acc->nb; b++)
-                if (cell_add(&acc->cell[a * acc->nb + b], ur->fit_status == UNIT_FIT_OK,
+                if (cell_add(&acc->cell[a * acc->nb + b], sampling_block_of(acc->c, ur->unit),
+                             ur->fit_status == UNIT_FIT_OK,
                              ur->rms_before[a][b], ur->rms_after[a][b], ur->rms_after_sys[a][b],
                              acc->spec) != SUNMC_OK ||
                     (acc->nt > 0 && thermal_add(acc, ur, a, b) != SUNMC_OK))
@@ -224,8 +272,35 @@ const char *report_yield_interval_name(const sunmc_config *c)
     return names[c->yield_interval >= 0 && c->yield_interval < 3 ? c->yield_interval : 0];
 }
 
-static void cell_statistics(band_cell *s, long n, double conf, int method, int quantiles,
-                            summary_row *r)
+/* Under a sampling design (sampling.h) the intervals from the block
+ * totals (stats_blocks.h): the means' Student t over the blocks; the
+ * yield's by its method at the effective count n / deff when the blocks
+ * vary more than independent units would (deff > 1; never narrower than
+ * independent units); p95's by Woodruff's method. */
+static void cell_design_intervals(band_cell *s, long n, double level, int method, int quantiles,
+                                  summary_row *r)
+{
+    char err[SUNMC_ERRLEN];
+    stats_blocks_t(&s->b_before, r->rms_before_mean, level, &r->rms_before_mean_ci, err, sizeof err);
+    stats_blocks_t(&s->b_after, r->rms_after_mean, level, &r->rms_after_mean_ci, err, sizeof err);
+    stats_blocks_t(&s->b_sys, r->rms_after_sys_mean, level, &r->rms_after_sys_mean_ci, err,
+                   sizeof err);
+    stats_blocks_t(&s->b_ratio, r->improvement_mean, level, &r->improvement_mean_ci, err,
+                   sizeof err);
+    double deff = n > 0 ? stats_blocks_deff(&s->b_pass, r->yield, n) : 1.0;
+    if (deff > 1.0) {
+        long n_eff = (long)floor((double)n / deff);
+        n_eff = n_eff < 1 ? 1 : n_eff;
+        yield_interval(method, lround(r->yield * (double)n_eff), n_eff, level, &r->yield_ci);
+    }
+    size_t k = (size_t)s->after.n;
+    if (k > 0 && quantiles)
+        stats_blocks_quantile_ci(s->after_v, s->block_v, k, REPORT_PERCENTILE, level,
+                                 &r->rms_after_p95_ci, err, sizeof err);
+}
+
+static void cell_statistics(band_cell *s, long n, double conf, int method, int design,
+                            int quantiles, summary_row *r)
 {
     char err[SUNMC_ERRLEN];
     int has_level = conf > 0.0 && conf < 1.0;
@@ -245,7 +320,10 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int q
     r->rms_after_max = r->rms_after_min = r->rms_after_p95 = NAN;
     r->improvement_max = r->improvement_min = NAN;
     if (k > 0 && quantiles) {
-        gsl_sort(s->after_v, 1, k);
+        if (design)
+            gsl_sort2(s->after_v, 1, s->block_v, 1, k);
+        else
+            gsl_sort(s->after_v, 1, k);
         r->rms_after_min = s->after_v[0];
         r->rms_after_max = s->after_v[k - 1];
         r->rms_after_p95 = stats_quantile_sorted(s->after_v, k, REPORT_PERCENTILE);
@@ -254,6 +332,8 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int q
         r->improvement_max = s->imp_max;
         r->improvement_min = s->imp_min;
     }
+    if (design)
+        cell_design_intervals(s, n, level, method, quantiles, r);
     if (!has_level) {
         stats_interval none = {NAN, NAN};
         r->rms_before_mean_ci = r->rms_after_mean_ci = r->rms_after_sys_mean_ci = none;
@@ -285,7 +365,8 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
         r->extrapolation_deg = acc->campaign.known ? acc->campaign.extrapolation_deg : NAN;
         r->stat_units = s->after.n;
         r->no_reading_units = s->no_reading;
-        cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval, 1, r);
+        cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval,
+                        acc->c->sampling != CONFIG_SAMPLING_RANDOM, 1, r);
     }
 }
 
@@ -336,7 +417,8 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band)
     for (int a = 0; a < acc->na; a++) {
         summary_row r;
         cell_statistics(&acc->cell[a * acc->nb + band], acc->n, acc->c->confidence,
-                        acc->c->yield_interval, quantiles, &r);
+                        acc->c->yield_interval, acc->c->sampling != CONFIG_SAMPLING_RANDOM,
+                        quantiles, &r);
         const stats_interval *ci = (const stats_interval *)((const char *)&r + report_stats[stat].ci);
         double half = 0.5 * (ci->hi - ci->lo);
         if (!(half >= 0))
@@ -650,9 +732,28 @@ static void warn_no_reading(FILE *f, const sunmc_config *c, const sensor_family 
 
 /* Loud warnings about a result that is doubtful as a whole: calibration
  * that makes units worse, a campaign most units cannot resolve. */
+/* Under a sampling design: how the intervals come about, and a warning
+ * when too few blocks leave the means without one. */
+static void print_design(FILE *f, const sunmc_config *c, long units)
+{
+    static const char *const names[] = {"random", "Latin hypercube", "Sobol' (digitally shifted)"};
+    if (c->sampling == CONFIG_SAMPLING_RANDOM)
+        return;
+    fprintf(f,
+            "Tolerance draws: %s design in blocks of %ld units (run.sampling); the means'\n"
+            "intervals are Student t over the block totals, the yield's and p95's never "
+            "narrower than for independent units (docs/statistics.md).\n",
+            names[c->sampling], c->sampling_block);
+    if (units <= c->sampling_block)
+        fprintf(f, "WARNING: %ld units in design blocks of %ld: with one block the means have\n"
+                   "no interval ('-'); run at least %ld units, or lower run.sampling_block.\n",
+                units, c->sampling_block, 2 * c->sampling_block);
+}
+
 static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *fam,
                            const summary_row *rows, int n)
 {
+    print_design(f, c, rows[0].units);
     warn_no_reading(f, c, fam, rows, n);
     for (int i = 0; i < n; i++)
         if (rows[i].stat_units == 0) {
