@@ -1,4 +1,4 @@
-/* test_sampling.c - issue 28, item 2: run.sampling = random | lhs | sobol
+/* test_sample_designs.c - issue 28, item 2: run.sampling = random | lhs | sobol
  * for the tolerance draws (sampling.h).  Checked: each design block
  * stratifies every coordinate (one unit per 1/B of the range: Latin
  * hypercube by construction, Sobol' as a (t, m, s)-net); every unit's draw
@@ -28,7 +28,7 @@
 #define REPLICATES 20
 #define MIN_COVERED 18
 
-static char dir[] = "/tmp/sunmc_test_sampling_XXXXXX";
+static char dir[] = "/tmp/sunmc_test_sample_designs_XXXXXX";
 static char ini[300];
 
 static int setup(void **state)
