@@ -29,7 +29,10 @@ label(k, s, t, u, sig) = (k eq 'floor' ? 'FLOOR (design, no noise)' : k eq 'inte
 issig(s) = s eq 'yes'
 isfloor(k) = k eq 'floor'
 
-set title sprintf("error budget: %s in band %s deg, %s units per run; bars: %g%% intervals; floor + sources + interaction = 100%%", field(col('angle'), 2), field(col('band'), 2), field(col('units'), 2), 100 * level)
+# the product (config.ini's sensor.product) and its units, for the title
+prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
+prod = strlen(prod) > 0 ? prod : run
+set title sprintf(prod.": error budget of the %s error in band %s deg, %s units per run; bars: %g%% intervals; floor + sources + interaction = 100%%", field(col('angle'), 2), field(col('band'), 2), field(col('units'), 2), 100 * level)
 set ylabel 'share of the mean-square error [%]'
 set xtics rotate by 90 right nomirror
 set bmargin maxlen * 0.44 + 2

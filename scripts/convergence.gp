@@ -38,7 +38,12 @@ running = sprintf("< awk -F'\\t' -v z=%.10g -v spec=%.10g 'NR>1 {n++; ok=($%d==\
 final_mean = real(system(sprintf("awk -F'\\t' 'NR>1 && $%d==\"ok\" && $%d!=\"nan\" {k++; s+=$%d} END {print s/k}' '%s'", cs, c, c, file)))
 final_yield = real(system(sprintf("awk -F'\\t' 'NR>1 {n++; if ($%d==\"ok\" && $%d!=\"nan\" && $%d<=%.10g) p++} END {print p/n}' '%s'", cs, c, c, spec, file)))
 set datafile separator whitespace
-set multiplot layout 2,1 title sprintf('convergence: %s, |%s| %s deg, %g%% confidence bands (%s)', angle, angle, band, 100 * level, run)
+# the product (config.ini's sensor.product) and its units, for the title
+prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
+prod = strlen(prod) > 0 ? prod : run
+# what a band bins: the ESS its angle's magnitude, the DSS the field angle
+bandvar = sfield(scol('family')) eq 'dss' ? 'field angle' : '|'.angle.'|'
+set multiplot layout 2,1 title sprintf("%s: mean RMS after calibration and yield as the units accrue\n%s error, band %s %s deg; %g%% confidence bands", prod, angle, bandvar, band, 100 * level)
 set grid
 set key top right box opaque
 set xlabel 'units'

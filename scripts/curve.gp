@@ -32,7 +32,14 @@ series = system(sprintf("awk -F'\\t' 'NR>1 && NF && !s[$2]++ {printf \"%%s \", $
 n = words(series)
 if (!exists("label")) label = ''
 if (!exists("label2")) label2 = ''
-if (!exists("title")) title = system(sprintf("head -1 '%s/config.ini'", run))[3:]
+# distinct colours, none pale (yellow and light blue are hard to tell apart on white)
+array pal[8] = ['#0072b2', '#d55e00', '#009e73', '#cc79a7', '#000000', '#e69f00', '#56b4e9', '#8c564b']
+do for [i=1:8] { set linetype i lc rgb pal[i] }
+set linetype cycle 8
+cfg1 = system(sprintf("head -1 '%s/config.ini'", run))[3:]
+only = strstrt(cfg1, '--only') > 0
+whatline = what eq 'source' ? 'the error the deviation adds to the nominal design (error_source: what the paper calls the error caused by it)' : what eq 'before' ? 'error before calibration' : what eq 'after' ? 'error after the own calibration of the unit' : ''
+if (!exists("title")) title = cfg1.(strlen(whatline) > 0 ? "\n".whatline : '')
 set title title
 set xlabel word(hdr, 1).' (table angle)'
 set ylabel sprintf('error [%s]', eunit)
@@ -63,12 +70,14 @@ if (what eq 'both') {
   stats file skip 1 using (column(ca)**2) nooutput
   raall = sqrt(STATS_mean)
   set multiplot layout 2, 1 title title
-  set lmargin at screen 0.08
+  set lmargin at screen 0.11
   set rmargin at screen 0.70
   set title sprintf('before compensation: RMS %.3g %s over all lines', rball, eunit)
   unset xlabel
   plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:cb with lines lw 1 lc i title sprintf('%s%s = %s: RMS %.3g', label, word(hdr, 2), word(series, i), rb[i])
-  set title sprintf('after compensation: RMS %.3g %s over all lines (%.1f times smaller)', raall, eunit, rball / raall)
+  # an --only unit is calibrated on unit 0's campaign noise: what is left
+  # after is that noise through the fit, not the deviation
+  set title sprintf('after compensation: RMS %.3g %s over all lines (%.1f times smaller)%s', raall, eunit, rball / raall, only ? "\nwhat is left is unit 0's campaign noise through the fit (--only keeps the config's noise)" : '')
   set xlabel word(hdr, 1).' (table angle)'
   plot for [i=1:n] file skip 1 every :::blk(i)::blk(i) using 1:ca with lines lw 1.5 lc i title sprintf('%s%s = %s: RMS %.3g', label, word(hdr, 2), word(series, i), ra[i])
   unset multiplot

@@ -18,14 +18,22 @@ col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
 ch = col('hours'); cy = col('yield'); cl = col('yield_ci_lo'); cu = col('yield_ci_hi')
 cv = col('verdict'); cp = col('pareto'); cb = col('best'); ci = col('input')
 rows(cond) = sprintf("< awk -F'\\t' 'NR>1 && (%s)' '%s'", cond, file)
-set title 'campaign design: yield against turntable time (error bars: confidence interval)'
+# the product and the yield target from the run's config.ini
+cfgv(k) = system(sprintf("awk '/^%s = / {sub(/^%s = /, \"\"); sub(/  #.*$/, \"\"); v = $0} END {print v}' '%s/config.ini' 2>/dev/null", k, k, run))
+prod = cfgv('product')
+target = cfgv('yield_target')
+target = strlen(target) > 0 ? real(target) : 0.95
+set title sprintf("%s: campaign design, the yield of each candidate campaign against its turntable time\n(error bars: confidence interval; dashed: the yield target %g %%)", strlen(prod) > 0 ? prod : run, 100 * target)
 set xlabel 'turntable time [h]'
 set ylabel 'yield (widest band)'
 set grid
-set key outside right top
+set key below horizontal maxcols 3
 set yrange [*:1.01]
+# the chosen campaign, when design chose one (too few units: none, all undecided)
+nbest = int(system(sprintf("awk -F'\\t' 'NR>1 && $%d==1' '%s' | wc -l", cb, file)))
+BEST = nbest > 0 ? sprintf(", rows(\"$%d==1\") using ch:cy:cl:cu with yerrorbars pt 9 ps 2 lc rgb 'red' title 'chosen (best.ini)'", cb) : ""
+set arrow from graph 0, first target to graph 1, first target nohead lw 2 dt 2 lc rgb '#d62728'
 plot rows(sprintf("$%d!=\"aliased\" && $%d==0 && $%d==0", cv, cp, ci)) using ch:cy:cl:cu with yerrorbars pt 7 ps 0.6 lc rgb '#9090c0' title 'candidate', \
      rows(sprintf("$%d==1", cp)) using ch:cy with linespoints lw 2 pt 7 lc rgb '#1060c0' title 'Pareto front', \
      rows(sprintf("$%d==\"aliased\"", cv)) using ch:cy with points pt 2 ps 1.2 lc rgb 'grey' title 'aliased step (never chosen)', \
-     rows(sprintf("$%d==1", ci)) using ch:cy:cl:cu with yerrorbars pt 5 ps 1.5 lc rgb 'black' title 'input campaign', \
-     rows(sprintf("$%d==1", cb)) using ch:cy:cl:cu with yerrorbars pt 9 ps 2 lc rgb 'red' title 'chosen (best.ini)'
+     rows(sprintf("$%d==1", ci)) using ch:cy:cl:cu with yerrorbars pt 5 ps 1.5 lc rgb 'black' title 'input campaign' @BEST

@@ -9,7 +9,8 @@
 #   ess_fig6_dphi_pivot.png  the same, the tilt pivoting at the fine rows (Fig. 6)
 #   ess_fig7_dphi_0p5.png  the same sampled every 0.5 deg: the 1-deg period (Fig. 7)
 #   ess_fig11a_typeB.png one type-B unit before/after, every beta         (Fig. 11a)
-#   ess_fig11b_typeB.png the same unit, two representative betas          (Fig. 11b)
+#   ess_fig11a_typeB_zoom.png  the same over alpha 0-6 deg: the ripple as lines
+#   ess_fig11b_typeB.png the same unit, two representative betas, 40-50 deg (Fig. 11b)
 #   ess_table2_step_A.png, ess_table2_step_B.png  campaign step sweep     (Table 2)
 #   ess_budget_A.png, ess_yield_A.png, ess_hist_A.png  budget, yield, improvement
 # DSS paper (Wei et al.), when the dss family offers curves:
@@ -50,8 +51,8 @@ pair() { # NAME KEY VALUE STEP_DEG TITLE [--set ...]
 }
 pair ess_fig3_dH dH_um 2 0.05 "ESS paper Fig. 3: error caused by dH = +-2 um (type A, H = 4.124 mm)\\nsunmc: peak 0.0139 deg at 45 deg = dH/2H, not the paper's > 0.015 deg"
 pair ess_fig5_dd dd_um 1 0.05 "ESS paper Fig. 5: error caused by the slit offset dd = +-1 um (type A)\\nsunmc: -(dd/H) cos^2(alpha), largest at 0 deg, where the paper says it grows"
-pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: error caused by the slit tilt dphi = +-0.01 deg (type A, beta = 0), sunmc's pivot x = 0\\nthe mean: the fine rows (0.6-2.4 mm) read 1.5 mm x tan(dphi) off; the band: their alternation (1-deg period, Fig. 7)"
-pair ess_fig6_dphi_pivot dphi_deg 0.01 0.05 "ESS paper Fig. 6 with the tilt pivot at the fine rows' centre (design.tilt_pivot_mm = 1.5; type A, beta = 0)\\nonly the rows' alternation is left: under 0.005 deg as the paper says, but falling with incidence (any pivot: docs/ess.md)" \
+pair ess_fig6_dphi dphi_deg 0.01 0.05 "ESS paper Fig. 6: slit tilt dphi = +-0.01 deg, type A, beta = 0, tilt pivot x = 0 (default)\\nmean: fine rows (0.6-2.4 mm) read 1.5 mm tan(dphi) off; band: their alternation"
+pair ess_fig6_dphi_pivot dphi_deg 0.01 0.05 "ESS paper Fig. 6, tilt pivot at the fine rows' centre (tilt_pivot_mm = 1.5), beta = 0\\nonly their alternation is left: < 0.005 deg as the paper says, falling with incidence" \
   --set design.tilt_pivot_mm=1.5
 pair ess_fig7_dphi_0p5 dphi_deg 0.01 0.5 "ESS paper Fig. 7: dphi = +-0.01 deg sampled every 0.5 deg: a 1-deg period"
 say "ess_fig7_dphi_0p5_zoom.png (0 to 10 deg)"
@@ -77,10 +78,14 @@ say "ess_fig11a_typeB.png (unit $U, six beta, a3/a1 = -0.24)"
 "$SUNMC" curve $B --unit $U $paper --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
   --set "validation.beta_deg=-25,-15,-5,5,15,25" --out $data/ess_fig11a $q >/dev/null
 gnuplot -e "run='$data/ess_fig11a'; title=\"$f11\"; out='$out/ess_fig11a_typeB.png'" scripts/curve.gp
+# Over 124 deg the 0.5-deg ripple fills the band solid: 6 deg of it show it as lines.
+say "ess_fig11a_typeB_zoom.png (alpha 0 to 6 deg)"
+gnuplot -e "run='$data/ess_fig11a'; xmin=0; xmax=6; out='$out/ess_fig11a_typeB_zoom.png'; \
+  title=\"ESS paper Fig. 11(a) zoomed on alpha 0 to 6 deg: the 0.5-deg fine-code ripple of each beta line\\nbefore: the ripple and the structural error; after: what eq. 9's single term leaves (a3/a1 = -0.24, docs/papers.md)\"" scripts/curve.gp
 say "ess_fig11b_typeB.png (unit $U, two beta, a3/a1 = -0.24)"
 "$SUNMC" curve $B --unit $U $paper --set validation.alpha_step_deg=0.05 --set validation.alpha_offset_deg=0 \
   --set "validation.beta_deg=-25,25" --out $data/ess_fig11b $q >/dev/null
-gnuplot -e "run='$data/ess_fig11b'; title=\"ESS paper Fig. 11(b): type-B unit $U, two representative beta\\nsunmc: given a3/a1 = -0.24 for a unit of the paper's size (see README)\"; \
+gnuplot -e "run='$data/ess_fig11b'; xmin=40; xmax=50; title=\"ESS paper Fig. 11(b): type-B unit $U, two representative beta, alpha 40 to 50 deg (the ripple as lines)\\nsunmc: given a3/a1 = -0.24 for a unit of the paper's size (docs/papers.md)\"; \
   out='$out/ess_fig11b_typeB.png'" scripts/curve.gp
 
 # Table 2: the campaign's alpha step (common random numbers).
@@ -90,7 +95,7 @@ for t in A B; do
   "$SUNMC" sweep $cfg --vary campaign.alpha_step_deg=1,0.8,0.7,0.5,0.3,0.25,0.2 --units $UNITS \
     --out $data/ess_table2_$t $q >/dev/null
   gnuplot -e "run='$data/ess_table2_$t'; out='$out/ess_table2_step_$t.png'; \
-    note=\"Paper Table 2. sunmc: crosses = steps that alias the fine-code ripple;\\nthe fit takes it for an offset, unit gets worse (paper: 1, 0.25 deg work)\"" scripts/sweep.gp
+    note=\"ESS paper Table 2 (black: the paper, validated on its calibration grid); sunmc validated off the grid:\\ncrosses = steps that alias the 0.5-deg fine-code term, worse between the campaign points (docs/ess.md)\"" scripts/sweep.gp
 done
 
 # Budget, yield and improvement histogram of type A.
@@ -142,7 +147,7 @@ if [ -f $D ] && "$SUNMC" curve $D --only dh_px=0.2 $grid --out $data/dss_fig2_dh
   say "dss_unit3_after.png (one unit after calibration)"
   "$SUNMC" curve $D --unit 3 $grid --out $data/dss_unit3 $q >/dev/null
   gnuplot -e "run='$data/dss_unit3'; what='after'; out='$out/dss_unit3_after.png'; \
-    title=\"DSS unit 3 after its calibration (residual about 1 arcsec)\\nthe moire is the pixel S-curve (period one pixel, not modelled by the calibration) sampled on the 2-deg grid: a real residual, aliased by the grid\"" scripts/map.gp
+    title=\"DSS unit 3 after its own calibration, noiseless validation readings (each panel's range in its title)\\nthe moire is the pixel S-curve (period one pixel, not modelled by the calibration) sampled on the 2-deg grid: a real residual, aliased by the grid\"" scripts/map.gp
 else
   echo "figures.sh: the dss family draws no curves yet: DSS Figs. 2-5 skipped" >&2
 fi

@@ -33,7 +33,11 @@ if (!exists("binwidth")) {
   binwidth = range / binwidth > 60 ? range / 60 : range / binwidth < 5 && range > 0 ? range / 5 : binwidth
 }
 bin(x) = binwidth * (floor(x / binwidth) + 0.5)
-set title sprintf('times of accuracy improvement, %s / %s (%d units)', bname, aname, STATS_records)
+# the product (config.ini's sensor.product) and its units, for the title
+prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
+prod = strlen(prod) > 0 ? prod : run
+desc = system(sprintf("echo '%s' | sed -E 's/^rms_after_([a-z]+)_([0-9.]+)_([0-9.]+)_.*$/\\1 in band |\\1| \\2:\\3 deg/'", aname))
+set title sprintf("%s, %d units: times of accuracy improvement\n(RMS before / RMS after calibration), %s", prod, STATS_records, desc)
 set xlabel 'RMS before / RMS after calibration [times]'
 set ylabel 'units'
 set style fill solid 0.6 border -1

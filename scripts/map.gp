@@ -3,10 +3,14 @@
 # 'total' columns are left out), pm3d colour map.
 #   what='source' (default) | 'before' | 'after'
 #   cut=1         add a row of line cuts under the maps: an alpha error along
-#                 beta = 0 against alpha, a beta error along alpha = 0 against
-#                 beta (the shape a colour map hides)
-# All panels share one symmetric colour scale (side by side they compare);
-# a panel that is identically zero says so in its title.
+#                 the beta grid line nearest 0 against alpha, a beta error
+#                 along the alpha line nearest 0 against beta (the shape a
+#                 colour map hides); any grid, offset or not
+#   scale='shared' one symmetric colour scale for every panel (they compare
+#                 side by side); default: each panel its own symmetric scale,
+#                 so a small error next to a large one is not one flat colour
+# Each panel's title names the angle, what is drawn and its range; a panel
+# that is identically zero says so.
 #   gnuplot -e "run='runs/dh'" scripts/map.gp   [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/curve.tsv'
@@ -26,7 +30,13 @@ set output out
 set termoption noenhanced
 set datafile separator "\t"
 if (!exists("title")) title = system(sprintf("head -1 '%s/config.ini'", run))[3:]
-# one colour scale for every panel: the largest |error| of any of them
+if (!exists("scale")) scale = 'panel'
+# readable panel names: error_source_alpha_arcsec -> alpha error, source alone [arcsec]
+whatname(w) = w eq 'source' ? 'the source alone' : (w eq 'before' ? 'before calibration' : 'after calibration')
+unitof(s) = s[strstrt(s, '_arcsec') ? strstrt(s, '_arcsec') + 1 : strlen(s) + 1:]
+angof(s) = s[strlen(p) + 1:strlen(s) - strlen(unitof(s)) - 1]
+nice(s) = sprintf('%s error, %s [%s]', angof(s), whatname(what), unitof(s))
+# the largest |error| of any panel (the shared scale, and the cuts' y range)
 m = 0
 do for [i=1:words(hdr)] {
   if (ok(i)) {
@@ -42,15 +52,18 @@ set pm3d map corners2color c1
 # fall shows as bands that come back instead of one saturated colour
 set palette defined (-1 '#000033', -0.75 '#1f4fa8', -0.5 '#4f9ad6', -0.25 '#b7d7ee', 0 '#f7f7f7', 0.25 '#fcc5a5', 0.5 '#ec7a53', 0.75 '#c0262d', 1 '#330000')
 set palette maxcolors 20
-set cbrange [-m:m]
-set xlabel word(hdr, 1)
-set ylabel word(hdr, 2)
+set xlabel 'alpha [deg]'
+set ylabel 'beta [deg]'
+set cblabel 'arcsec'
 set multiplot layout 1 + cut, npanel title title
 do for [i=1:words(hdr)] {
   if (ok(i)) {
     stats file skip 1 using i nooutput
     zero = abs(STATS_min) < 1e-9 * m && abs(STATS_max) < 1e-9 * m
-    set title word(hdr, i).(zero ? ': identically zero' : sprintf(': %.4g to %.4g', STATS_min, STATS_max))
+    mi = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)
+    mi = (scale eq 'shared' || mi <= 0) ? m : mi
+    set cbrange [-mi:mi]
+    set title nice(word(hdr, i)).(zero ? ': identically zero' : sprintf(': %.4g to %.4g', STATS_min, STATS_max))
     set size ratio -1
     splot file skip 1 using 1:2:i with pm3d notitle
   }
@@ -60,14 +73,17 @@ if (cut) {
   set grid
   set xzeroaxis
   set yrange [-m:m]
+  # the grid line nearest 0 of column k (0 itself when the grid has it)
+  near0(k) = system(sprintf("awk -F'\\t' 'NR>1 && NF {a = $%d < 0 ? -$%d : $%d; if (n++ == 0 || a < b) {b = a; v = $%d}} END {print v}' '%s'", k, k, k, k, file))
   do for [i=1:words(hdr)] {
     if (ok(i)) {
       isb = strstrt(word(hdr, i), '_beta_') > 0
-      set title sprintf('line cut: %s along %s = 0', word(hdr, i), isb ? word(hdr, 1) : word(hdr, 2))
-      set xlabel isb ? word(hdr, 2) : word(hdr, 1)
-      set ylabel word(hdr, i)
       k = isb ? 1 : 2
-      plot sprintf("< awk -F'\\t' 'NR>1 && NF && $%d == 0' '%s'", k, file) using (column(isb ? 2 : 1)):i with linespoints pt 7 ps 0.5 lw 2 lc rgb '#b2182b' notitle
+      v0 = near0(k)
+      set title sprintf('line cut at %s = %s deg: %s error [%s]', isb ? 'alpha' : 'beta', v0, angof(word(hdr, i)), unitof(word(hdr, i)))
+      set xlabel isb ? 'beta [deg]' : 'alpha [deg]'
+      set ylabel 'arcsec'
+      plot sprintf("< awk -F'\\t' 'NR>1 && NF && $%d == %s' '%s'", k, v0, file) using (column(isb ? 2 : 1)):i with linespoints pt 7 ps 0.5 lw 2 lc rgb '#b2182b' notitle
     }
   }
 }

@@ -6,6 +6,8 @@
 #   sensitivity.tsv (sunmc sensitivity)  -> sensitivity.png
 #   curve.tsv   (sunmc curve)            -> curve.png + curve_source.png (one measured
 #                                           angle: ESS) or map_{before,after,source}.png
+#   residuals.tsv (sunmc calibrate, ESS or DSS) -> calib.png (residuals; ESS: field.tsv's
+#                                           predicted sigma too)
 # Pass "svg" as the second argument for SVG instead of PNG.
 set -eu
 run=${1:?usage: plots.sh RUN_DIR [svg]}
@@ -30,6 +32,13 @@ if [ -f "$run/curve.tsv" ]; then
     for w in before after source; do gp -e "what='$w'" "$dir/map.gp"; done
   fi
   drew=1
+fi
+if [ -f "$run/residuals.tsv" ]; then
+  if head -1 "$run/residuals.tsv" | tr '\t' '\n' | grep -qx 'residual_arcsec\|alpha_error_arcsec'; then
+    gp "$dir/calib.gp"; drew=1
+  else
+    echo "plots.sh: $run/residuals.tsv: no figure for this family's calibration" >&2
+  fi
 fi
 [ "$drew" -eq 1 ] || { echo "plots.sh: nothing to draw in $run" >&2; exit 2; }
 ls "$run"/*.png "$run"/*.svg 2>/dev/null || true

@@ -14,7 +14,7 @@ if (!exists("run")) run = '.'
 file = run.'/sweep.tsv'
 if (!exists("svg")) svg = 0
 if (!exists("out")) out = run.(svg ? '/sweep.svg' : '/sweep.png')
-if (svg) { set terminal svg size 900,600 dynamic font 'Sans,12' } else { set terminal pngcairo size 900,600 font 'Sans,11' }
+if (svg) { set terminal svg size 900,680 dynamic font 'Sans,12' } else { set terminal pngcairo size 900,680 font 'Sans,11' }
 set output out
 set termoption noenhanced
 set datafile separator "\t"
@@ -56,12 +56,15 @@ UA = ua(caft, cal, cah); UB = ua(cbef, cbl, cbh)
 n_alias = int(system(sprintf("awk -F'\\t' 'NR>1 && $%d==1' '%s' | wc -l", cali, file)))
 
 set title sprintf("%s: sweep of %s (error bars: %g%% confidence)", field(col('product'), 2), word(hdr, 1), 100 * level).(exists("note") ? "\n".note : "")
-set xlabel word(hdr, 1).' (unit in the key name)'
+# the varied key with its unit: campaign.alpha_step_deg -> campaign.alpha_step [deg]
+kunit(k) = system(sprintf("echo '%s' | sed -nE 's/.*_(deg|arcsec|um|mm|px|pct|h|s|ppm_k|c)$/\\1/p'", k))
+xunit = kunit(word(hdr, 1))
+set xlabel strlen(xunit) > 0 ? sprintf('%s [%s]', word(hdr, 1)[1:strlen(word(hdr, 1)) - strlen(xunit) - 1], xunit) : word(hdr, 1)
 set ylabel sprintf('mean RMS error of %s [%s]', angle, unit)
 set grid
 set key outside below horizontal maxcols 3 width -4   # below: the plot and its title keep the full width
 set yrange [0:*]
-if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 }
+if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 } else { set offsets graph 0.04, graph 0.04, 0, 0 }  # no marker half-clipped at the ends
 # The ESS paper's Table 2 (one unit of each type, |alpha| <= 62 deg): drawn
 # over a sweep of campaign.alpha_step_deg of product "ESS type A" or "B",
 # against the widest band (macro @T2).
@@ -76,17 +79,23 @@ ptype = prod eq 'ESS type A' ? 'A' : prod eq 'ESS type B' ? 'B' : ''
 T2 = (nlead == 3 && word(hdr, 1) eq 'campaign.alpha_step_deg' && ptype ne '') ? \
      sprintf("$T2 using (strcol(1) eq '%s' ? $2 : NaN):4 with points pt 4 ps 2.5 lw 2 lc rgb 'black' title 'ESS paper Table 2, after (one type %s unit)', $T2 using (strcol(1) eq '%s' ? $2 : NaN):3 with points pt 12 ps 2.5 lw 2 lc rgb 'black' title 'ESS paper Table 2, before',", ptype, ptype, ptype) : ""
 # The aliased points' crosses, only when there are some (macros @AL1, @AL2).
-AL1 = n_alias > 0 ? "for [i=1:words(bands)] sela(word(bands, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
-AL2 = n_alias > 0 ? "for [i=1:words(vals)] sela2(word(vals, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i title (i == 1 ? 'aliased campaign (not joined)' : '')," : ""
+AL1 = n_alias > 0 ? "for [i=1:words(bands)] sela(word(bands, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i notitle, NaN with points pt 2 ps 2 lw 2 lc rgb 'black' title 'aliased (not joined)'," : ""
+AL2 = n_alias > 0 ? "for [i=1:words(vals)] sela2(word(vals, i)) using @UA with yerrorbars pt 2 ps 2 lw 2 lc i notitle, NaN with points pt 2 ps 2 lw 2 lc rgb 'black' title 'aliased (not joined)'," : ""
+# Points whose campaign scan stops short of the validation (extrapolation_deg
+# > 0: the compensation extrapolates there) ringed in grey (macro @EX).
+cex = col('extrapolation_deg')
+n_ex = cex > 0 ? int(system(sprintf("awk -F'\\t' 'NR>1 && $%d > 0' '%s' | wc -l", cex, file))) : 0
+exsel = pick(sprintf("$%d==\"%s\" && $%d==\"%s\" && $%d > 0", ca, angle, cb, wide, cex), 2)
+EX = n_ex > 0 ? sprintf("exsel using %s with points pt 6 ps 3.5 lw 1.5 lc rgb '#888888' title 'scan short: extrapolates',", xnum ? "2:".(caft+1) : "1:".(caft+1)) : ""
 if (nlead == 3) {
   plot for [i=1:words(bands)] sel(word(bands, i)) using @UA with yerrorlines lw 2 pt 7 lc i title 'after, '.bandvar.' '.word(bands, i).' deg', \
        for [i=1:words(bands)] selb(word(bands, i)) using @UB with yerrorlines dt 2 pt 6 lc i title 'before, '.bandvar.' '.word(bands, i).' deg', \
-       @AL1 @T2 \
+       @AL1 @EX @T2 \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s', spec, unit)
 } else {
   vals = uniq(2)
   plot for [i=1:words(vals)] sel2(word(vals, i)) using @UA with yerrorlines lw 2 pt 7 lc i title sprintf('after, %s = %s', word(hdr, 2), word(vals, i)), \
        for [i=1:words(vals)] selb2(word(vals, i)) using @UB with yerrorlines dt 2 pt 6 lc i title sprintf('before, %s = %s', word(hdr, 2), word(vals, i)), \
-       @AL2 \
+       @AL2 @EX \
        spec with lines lw 2 lc rgb 'red' dt 3 title sprintf('spec %g %s (%s %s deg)', spec, unit, bandvar, wide)
 }

@@ -29,7 +29,10 @@ firstafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && !isafter(word(hdr, 
 nb = int(system(sprintf("awk -F'\\t' 'NR>1 && !s[$%d]++' '%s' | wc -l", scol('band'), sfile)))
 c0 = firstafter + nafter - nb
 
-set title sprintf('yield: cumulative distribution of the after-calibration RMS (%s)', run)
+# the product (config.ini's sensor.product) and its units, for the title
+prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
+prod = strlen(prod) > 0 ? prod : run
+set title sprintf('%s, %d units: yield = the share of units whose RMS after calibration meets the spec', prod, int(system(sprintf("awk 'END {print NR - 1}' '%s'", file))))
 set xlabel sprintf('RMS error after calibration [%s]', unit)
 set ylabel 'fraction of units with RMS <= x'
 set yrange [0:1.02]

@@ -1,5 +1,8 @@
 /* test_plots.c - `sunmc curve` (closed form, errors) and every gnuplot
- * script on a small run: exit 0 and a non-empty PNG. */
+ * script on the output it documents (run, sweep, budget, design,
+ * sensitivity, ESS and DSS curves on and off the grid, ESS and DSS
+ * calibrate directories): exit 0, no warning, a non-empty PNG, and the
+ * texts a reader relies on (the product in the title, not a path). */
 #include "test_util.h"
 
 #define SMALL "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --quiet"
@@ -17,10 +20,34 @@ static int setup(void **state)
          "budget"},
         {"curve configs/ess_type_a.ini --unit 3", "curve"},
         {"sensitivity configs/ess_type_a.ini --units 8", "sens"},
+        {"design configs/ess_type_a.ini --units 10 --set campaign.search_steps_deg=0.7,1 "
+         "--set campaign.search_max_lines=2 --set campaign.search_screen_units=10 "
+         "--set campaign.search_max_units=10 --set report.yield_target=0.5",
+         "design"},
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
         snprintf(cmd, sizeof cmd, "%s %s --out %s " SMALL, test_sunmc(), runs[i][0],
                  test_tmp(runs[i][1]));
+        if (test_run(cmd, out, sizeof out) != 0) {
+            fprintf(stderr, "setup failed: %s\n%s\n", cmd, out);
+            return -1;
+        }
+    }
+    /* the DSS refraction map on the validation grid as shipped (offset: no
+     * line at 0), and a simulated unit calibrated as a lab would, per family */
+    const char *fmt[] = {
+        "%1$s run configs/dss.ini --units 6 --out %2$s/drun --quiet",
+        "%1$s curve configs/dss.ini --only glass_index=0 --set noise.s_curve=off "
+        "--set design.onboard_refraction=ignored --out %2$s/dmap --quiet",
+        "%1$s simulate configs/ess_type_a.ini --unit 3 --out %2$s/esim --quiet && %1$s calibrate "
+        "--config configs/ess_type_a.ini %2$s/esim/campaign.csv --out %2$s/ecal",
+        "%1$s simulate configs/dss.ini --unit 3 --out %2$s/dsim --quiet && %1$s calibrate "
+        "--config configs/dss.ini %2$s/dsim/campaign.csv --out %2$s/dcal",
+    };
+    char base[1024];
+    snprintf(base, sizeof base, "%s", test_tmp("."));
+    for (size_t i = 0; i < sizeof fmt / sizeof fmt[0]; i++) {
+        snprintf(cmd, sizeof cmd, fmt[i], test_sunmc(), base);
         if (test_run(cmd, out, sizeof out) != 0) {
             fprintf(stderr, "setup failed: %s\n%s\n", cmd, out);
             return -1;
@@ -66,6 +93,20 @@ static void curve_gp(void **state)
     check_script("curve", test_tmp("curve"), extra);
 }
 static void map_gp(void **state) { check_script("map", test_tmp("curve"), "; what='before'"); }
+/* the DSS Fig. 5 recipe of docs/studies.md: line cuts on an offset grid
+ * (nearest line to 0), each panel's own scale and the shared one */
+static void map_gp_cut_offset_grid(void **state)
+{
+    check_script("map", test_tmp("dmap"), "; what='before'; cut=1");
+    check_script("map", test_tmp("dmap"), "; what='source'; scale='shared'");
+}
+static void design_gp(void **state) { check_script("design", test_tmp("design"), ""); }
+static void convergence_gp_dss(void **state) { check_script("convergence", test_tmp("drun"), ""); }
+static void calib_gp(void **state)
+{
+    check_script("calib", test_tmp("ecal"), "");
+    check_script("calib", test_tmp("dcal"), "");
+}
 
 /* Run a shell command made from fmt and one path. */
 static int sh(const char *fmt, const char *path, char *out, size_t len)
@@ -82,6 +123,11 @@ static void plots_sh(void **state)
     assert_int_equal(sh("test -s %s/sweep.png", test_tmp("sweep2"), out, sizeof out), 0);
     assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("curve"), out, sizeof out), 0);
     assert_int_equal(sh("test -s %s/curve_source.png", test_tmp("curve"), out, sizeof out), 0);
+    /* make plots RUN=<a calibrate directory> draws its residuals */
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("ecal"), out, sizeof out), 0);
+    assert_int_equal(sh("test -s %s/calib.png", test_tmp("ecal"), out, sizeof out), 0);
+    assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("dcal"), out, sizeof out), 0);
+    assert_int_equal(sh("test -s %s/calib.png", test_tmp("dcal"), out, sizeof out), 0);
     assert_int_equal(sh("mkdir -p %s", test_tmp("empty"), out, sizeof out), 0);
     assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("empty"), out, sizeof out), 2);
     assert_int_equal(sh("bash scripts/plots.sh %s", test_tmp("missing"), out, sizeof out), 2);
@@ -96,7 +142,16 @@ static void plot_texts(void **state)
     char out[8192];
     const char *checks[] = {
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/h.svg'\" scripts/hist.gp && "
-        "grep -q 'rms_before_alpha_0_62_deg / rms_after_alpha_0_62_deg' %1$s/h.svg",
+        "grep -q 'ESS type A, 12 units: times of accuracy improvement' %1$s/h.svg && "
+        "grep -q 'alpha in band |alpha| 0:62 deg' %1$s/h.svg",
+        /* titles name the product, not the run directory */
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/c.svg'\" scripts/convergence.gp && "
+        "grep -q 'ESS type A: mean RMS after' %1$s/c.svg && grep -q 'band |alpha| 0:62' %1$s/c.svg && "
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y2.svg'\" scripts/yield.gp && "
+        "grep -q 'ESS type A, 12 units: yield' %1$s/y2.svg && ! grep -q '%1$s' %1$s/y2.svg",
+        /* the sweep's x label carries the key's unit as a unit */
+        "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s2.svg'\" scripts/sweep.gp && "
+        "grep -q 'campaign.alpha_step \\[deg\\]' %2$s/s2.svg && grep -q 'scan short: extrapolates' %2$s/s2.svg",
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y.svg'\" scripts/yield.gp && "
         "grep -q 'alpha error, band 0-62 deg: yield' %1$s/y.svg && grep -q 'yield target 95' %1$s/y.svg",
         /* the sweep's legend names what the ESS bands bin: |alpha| */
@@ -182,7 +237,9 @@ int main(void)
         cmocka_unit_test(sensitivity_gp),         cmocka_unit_test(curve_gp),
         cmocka_unit_test(map_gp),            cmocka_unit_test(plots_sh),
         cmocka_unit_test(curve_closed_form), cmocka_unit_test(curve_errors),
-        cmocka_unit_test(plot_texts),
+        cmocka_unit_test(plot_texts),        cmocka_unit_test(map_gp_cut_offset_grid),
+        cmocka_unit_test(design_gp),         cmocka_unit_test(convergence_gp_dss),
+        cmocka_unit_test(calib_gp),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
