@@ -86,6 +86,7 @@ typedef struct {
     double yield_today;             /* yield at today's value (budget_units units) */
     stats_interval yield_today_ci;
     int limit_runs;                 /* Monte Carlos the search took */
+    long limit_units;               /* unit runs it made (today's yield is the all-sources run's) */
 } budget_source;
 
 typedef struct {
@@ -98,7 +99,13 @@ typedef struct {
     budget_share floor_before, floor_after;
     budget_share interaction_before, interaction_after;
     int order[BUDGET_MAX_SOURCES];  /* src indices, rank order */
+    budget_stats today;             /* units [0, today_units) of the all-sources run */
+    long today_units;               /* report.budget_units, or 0 when more than units */
+    long unit_runs;                 /* unit runs of the all/floor/alone/no-tolerance runs */
 } budget_result;
+
+/* Unit runs the whole budget made: its runs and the inverse limits' searches. */
+long budget_unit_runs(const budget_result *b);
 
 /* Called before each Monte Carlo: what (e.g. "dH_um alone"), i of n. */
 typedef void (*budget_progress_fn)(const char *what, int i, int n, void *ctx);

@@ -273,6 +273,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            "MS_all.  ~ = the interval\nincludes 0: inside the Monte Carlo noise (more --units "
            "narrow it).\n",
            u);
+    printf("%ld unit runs (each inverse limit's yield at today's value is the all-sources run's "
+           "first %ld units).\n",
+           budget_unit_runs(b), c->budget_units);
     warn_outside(b);
 }
 

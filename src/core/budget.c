@@ -95,24 +95,14 @@ int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t er
     return SUNMC_OK;
 }
 
-int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
-                       budget_stats *out, double *sq_before, double *sq_after, char *err,
-                       size_t errlen)
+/* The statistics of row r of units' summary rows into out. */
+static int row_stats(const sunmc_config *c, const unit_result *res, long units, int angle,
+                     int band, budget_stats *out)
 {
     const sensor_family *fam = c->family;
     int nr = report_n_rows(c, fam);
-    int mst = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
-    if (mst != SUNMC_OK)
-        return mst;
-    unit_result *res = calloc((size_t)units, sizeof *res);
     summary_row *rows = calloc((size_t)nr, sizeof *rows);
-    int st = (res && rows) ? SUNMC_OK : SUNMC_ENOMEM;
-    if (st == SUNMC_ENOMEM)
-        sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
-    if (st == SUNMC_OK)
-        st = mc_run(c, fam, 0, units, threads, res, NULL, NULL, err, errlen);
-    if (st == SUNMC_OK && (st = report_summarize(c, fam, res, units, rows)) != SUNMC_OK)
-        sunmc_fail(err, errlen, st, "out of memory summarising %ld units", units);
+    int st = rows ? report_summarize(c, fam, res, units, rows) : SUNMC_ENOMEM;
     if (st == SUNMC_OK) {
         const summary_row *r = &rows[report_primary_row(c, fam, angle, band)];
         memset(out, 0, sizeof *out);
@@ -121,6 +111,33 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
         out->yield = r->yield;
         out->yield_ci = r->yield_ci;
         out->fit_failures = r->fit_failures;
+    }
+    free(rows);
+    return st;
+}
+
+/* budget_monte_carlo, and when 0 < head <= units also the statistics of
+ * units [0, head) into head_out: the run a smaller run of the same config
+ * would have made (a unit depends on (seed, unit) only). */
+static int monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
+                       budget_stats *out, double *sq_before, double *sq_after, long head,
+                       budget_stats *head_out, char *err, size_t errlen)
+{
+    const sensor_family *fam = c->family;
+    int mst = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
+    if (mst != SUNMC_OK)
+        return mst;
+    unit_result *res = calloc((size_t)units, sizeof *res);
+    int st = res ? SUNMC_OK : SUNMC_ENOMEM;
+    if (st == SUNMC_ENOMEM)
+        sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
+    if (st == SUNMC_OK)
+        st = mc_run(c, fam, 0, units, threads, res, NULL, NULL, err, errlen);
+    if (st == SUNMC_OK && ((st = row_stats(c, res, units, angle, band, out)) != SUNMC_OK ||
+                           (head > 0 && head <= units &&
+                            (st = row_stats(c, res, head, angle, band, head_out)) != SUNMC_OK)))
+        sunmc_fail(err, errlen, st, "out of memory summarising %ld units", units);
+    if (st == SUNMC_OK) {
         for (long u = 0; u < units && (sq_before || sq_after); u++) {
             double bef = unit_primary_before(c, &res[u], angle, band);
             double aft = unit_primary_after(c, &res[u], angle, band);
@@ -132,8 +149,15 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
         }
     }
     free(res);
-    free(rows);
     return st;
+}
+
+int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
+                       budget_stats *out, double *sq_before, double *sq_after, char *err,
+                       size_t errlen)
+{
+    return monte_carlo(c, units, threads, angle, band, out, sq_before, sq_after, 0, NULL, err,
+                       errlen);
 }
 
 /* Per-unit squares of the runs: all, floor, then each source alone; before
@@ -251,9 +275,13 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
     }
     if (progress)
         progress("all sources", ++run, n_runs, ctx);
-    if ((rc = budget_monte_carlo(c, q->units, threads, b->angle, b->band, &b->all,
-                                 squares(q, 0, 0), squares(q, 0, 1), err, errlen)))
+    /* the inverse limits' yield at today's values is this run's first
+     * report.budget_units units: kept, not run again for every source */
+    b->today_units = c->budget_units <= q->units ? c->budget_units : 0;
+    if ((rc = monte_carlo(c, q->units, threads, b->angle, b->band, &b->all, squares(q, 0, 0),
+                          squares(q, 0, 1), b->today_units, &b->today, err, errlen)))
         return rc;
+    b->unit_runs = (long)n_runs * q->units;
     if (progress)
         progress("floor (nominal design, no noise)", ++run, n_runs, ctx);
     if ((rc = budget_monte_carlo(&floor, q->units, threads, b->angle, b->band, &b->floor,
@@ -274,6 +302,14 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
         progress("no tolerance (design and noise)", ++run, n_runs, ctx);
     return budget_monte_carlo(&no_tol, q->units, threads, b->angle, b->band, &b->no_tolerance,
                               NULL, NULL, err, errlen);
+}
+
+long budget_unit_runs(const budget_result *b)
+{
+    long n = b->unit_runs;
+    for (int i = 0; i < b->n; i++)
+        n += b->src[i].limit_units;
+    return n;
 }
 
 int budget_run(const sunmc_config *c, long units, int threads, int with_limits,

@@ -16,15 +16,21 @@ static void note_tried(budget_source *s, double v, stats_interval y, double targ
         s->limit_ci.hi = v;
 }
 
-/* Yield with source s at value v (others as in c), budget_units units. */
+/* Yield with source s at value v (others as in c), budget_units units; at
+ * today's value the all-sources run's first units (b->today) when it
+ * holds them. */
 static int yield_at(const sunmc_config *c, const budget_result *b, budget_source *s, double v,
                     int threads, double *yield, stats_interval *ci, char *err, size_t errlen)
 {
     sunmc_config t = *c;
     budget_set_tolerance(&t, s->key, v);
-    budget_stats st;
-    int rc = budget_monte_carlo(&t, c->budget_units, threads, b->angle, b->band, &st, NULL, NULL,
+    budget_stats st = b->today;
+    int rc = SUNMC_OK;
+    if (!(v == s->tolerance && b->today_units == c->budget_units)) {
+        rc = budget_monte_carlo(&t, c->budget_units, threads, b->angle, b->band, &st, NULL, NULL,
                                 err, errlen);
+        s->limit_units += c->budget_units;
+    }
     s->limit_runs++;
     *yield = st.yield;
     if (ci)

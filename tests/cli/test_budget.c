@@ -142,6 +142,50 @@ static void inverse_limit_end_states(void **state)
     config_state_free(&st);
 }
 
+/* The inverse limits' yield at today's value is the all-sources run's
+ * first report.budget_units units (issue 27): the same yield and interval
+ * a run of those units gives, and one budget_units run fewer per source;
+ * with budget_units above the units (the limit: no head to take) every
+ * source runs its own. */
+static void today_from_all_sources_run(void **state)
+{
+    const char *sets[] = {"validation.alpha_step_deg=2.3", "campaign.beta_deg=0",
+                          "report.budget_steps=1", "report.budget_units=10",
+                          "tolerance.install_y_arcsec=0", "tolerance.install_z_arcsec=0",
+                          "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0",
+                          "tolerance.install_x_arcsec=0", "tolerance.etch_um=0"};
+    size_t ns = sizeof sets / sizeof sets[0];
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, ns, err, sizeof err), 0);
+    budget_result *b = calloc(1, sizeof *b);
+    assert_int_equal(budget_run(&st.cfg, 12, 2, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->today_units, 10);
+    budget_stats alone;
+    assert_int_equal(budget_monte_carlo(&st.cfg, 10, 1, b->angle, b->band, &alone, NULL, NULL, err,
+                                        sizeof err),
+                     SUNMC_OK);
+    long searched = 0;
+    for (int i = 0; i < b->n; i++) {
+        assert_near(b->src[i].yield_today, alone.yield, 0);
+        assert_near(b->src[i].yield_today_ci.lo, alone.yield_ci.lo, 0);
+        assert_near(b->src[i].yield_today_ci.hi, alone.yield_ci.hi, 0);
+        assert_int_equal(b->src[i].limit_units, 10L * (b->src[i].limit_runs - 1));
+        searched += b->src[i].limit_units;
+    }
+    assert_int_equal(budget_unit_runs(b), (3L + b->n) * 12 + searched);
+    config_state_free(&st);
+    /* 13 units per search run, more than the 12 of the budget's runs */
+    sets[3] = "report.budget_units=13";
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, ns, err, sizeof err), 0);
+    assert_int_equal(budget_run(&st.cfg, 12, 2, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b->today_units, 0);
+    for (int i = 0; i < b->n; i++)
+        assert_int_equal(b->src[i].limit_units, 13L * b->src[i].limit_runs);
+    free(b);
+    config_state_free(&st);
+}
+
 static void cli(void **state)
 {
     char out[16384], cmd[4096];
@@ -162,6 +206,7 @@ static void cli(void **state)
     assert_non_null(strstr(out, "inverse limit"));
     assert_non_null(strstr(out, "FLOOR"));
     assert_non_null(strstr(out, "INTERACTION"));
+    assert_non_null(strstr(out, " unit runs (each inverse limit's yield at today's value"));
     snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 15",
              dir);
     assert_int_equal(system(cmd), 0);
@@ -180,6 +225,7 @@ int main(void)
         cmocka_unit_test(no_source_is_an_error),
         cmocka_unit_test(alone_matches_closed_form),
         cmocka_unit_test(inverse_limit_end_states),
+        cmocka_unit_test(today_from_all_sources_run),
         cmocka_unit_test(cli),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
