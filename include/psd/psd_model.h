@@ -37,6 +37,9 @@ enum {
 #define PSD_NEWTON_MAX_ITER 40
 #define PSD_NEWTON_TOL 1e-13
 #define PSD_FIT_MAX_ITER 1000
+/* The ratios' fit's first damping (fit.h, mu0): from the channels' answer, or cold. */
+#define PSD_FIT_MU0_WARM 1e-7
+#define PSD_FIT_MU0_COLD 1e-3
 /* Residuals per row of the first fit stage: the four channels. */
 #define PSD_RESIDUALS_PER_ROW 4
 

@@ -57,6 +57,12 @@ typedef struct {
      * prior_w[j] (x[j] - prior_mean[j]); all weights 0 when off. */
     double *prior_mean, *prior_w;
     int prior_on;
+    /* The first iteration's damping, relative to the largest scaled
+     * diagonal of J^T J: fit_workspace_alloc sets GSL's 1e-3.  A fit that
+     * starts next to its solution (a second stage from a first stage's
+     * answer) may set it as low as the floor, 1e-7, and skip the steps that
+     * only walk the damping down; the solution is the same. */
+    double mu0;
 } fit_workspace;
 
 typedef struct {

@@ -75,22 +75,32 @@ int psd_phys_invert(const psd_phys *m, double x, double y, double ut[3])
         return SUNMC_EDOM;
     /* linear start: the spot where the ratios put it, seen through the aperture */
     double ta = -x / m->sens, tb = -y / m->sens;
+    /* Newton's method; the Jacobian (forward differences, two predictions)
+     * is kept once a step has shrunk ten times against the one before: the
+     * root is where the predicted ratios equal (x, y) whatever Jacobian
+     * leads there, and near it one prediction per step suffices. */
+    double j11 = 0, j12 = 0, j21 = 0, j22 = 0, det = 0, last = INFINITY, before = INFINITY;
     for (int it = 0; it < PSD_NEWTON_MAX_ITER; it++) {
         double fx, fy, ax, ay, bx, by;
-        if (predict_tan(m, ta, tb, &fx, &fy) != SUNMC_OK ||
-            predict_tan(m, ta + PSD_NEWTON_STEP, tb, &ax, &ay) != SUNMC_OK ||
-            predict_tan(m, ta, tb + PSD_NEWTON_STEP, &bx, &by) != SUNMC_OK)
+        if (predict_tan(m, ta, tb, &fx, &fy) != SUNMC_OK)
             return SUNMC_EDOM;
-        double j11 = (ax - fx) / PSD_NEWTON_STEP, j21 = (ay - fy) / PSD_NEWTON_STEP;
-        double j12 = (bx - fx) / PSD_NEWTON_STEP, j22 = (by - fy) / PSD_NEWTON_STEP;
-        double det = j11 * j22 - j12 * j21;
-        if (!(fabs(det) > 1e-12 * m->sens * m->sens))
-            return SUNMC_EDOM; /* saturated: the ratios no longer move */
+        if (!(last < 0.1 * before)) {
+            if (predict_tan(m, ta + PSD_NEWTON_STEP, tb, &ax, &ay) != SUNMC_OK ||
+                predict_tan(m, ta, tb + PSD_NEWTON_STEP, &bx, &by) != SUNMC_OK)
+                return SUNMC_EDOM;
+            j11 = (ax - fx) / PSD_NEWTON_STEP, j21 = (ay - fy) / PSD_NEWTON_STEP;
+            j12 = (bx - fx) / PSD_NEWTON_STEP, j22 = (by - fy) / PSD_NEWTON_STEP;
+            det = j11 * j22 - j12 * j21;
+            if (!(fabs(det) > 1e-12 * m->sens * m->sens))
+                return SUNMC_EDOM; /* saturated: the ratios no longer move */
+        }
         double ex = x - fx, ey = y - fy;
         double da = (j22 * ex - j12 * ey) / det, db = (-j21 * ex + j11 * ey) / det;
         ta += da;
         tb += db;
-        if (fabs(da) + fabs(db) < PSD_NEWTON_TOL) {
+        before = last;
+        last = fabs(da) + fabs(db);
+        if (last < PSD_NEWTON_TOL) {
             double n = sqrt(1.0 + ta * ta + tb * tb);
             ut[0] = ta / n;
             ut[1] = tb / n;
@@ -203,7 +213,8 @@ static void base_residuals(fdf_ctx *c, double *f, size_t ld)
         f[i] = 0.0;
 }
 
-/* Column of a geometry parameter: forward difference of the prediction. */
+/* Column of a geometry parameter: forward difference of the residuals (the
+ * height moves the prediction and the scale 1 / sens alike). */
 static void geometry_column(fdf_ctx *c, int j, const double *f, double *col)
 {
     psd_rows *d = c->d;
@@ -218,9 +229,10 @@ static void geometry_column(fdf_ctx *c, int j, const double *f, double *col)
             col[2 * r] = col[2 * r + 1] = 0.0;
             continue;
         }
-        double k = -row_weight(d, r) / (d->work.sens * h);
-        col[2 * r] = k * (x2 - c->xp[r]);
-        col[2 * r + 1] = k * (y2 - c->yp[r]);
+        /* the residual's own difference: the height moves the scale too */
+        double k = row_weight(d, r) / d->work.sens;
+        col[2 * r] = (k * (c->xo[r] - x2) - f[2 * r]) / h;
+        col[2 * r + 1] = (k * (c->yo[r] - y2) - f[2 * r + 1]) / h;
     }
     c->p[j] = keep;
 }
@@ -324,6 +336,7 @@ int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
     c.nfree = psd_phys_free(d->design, fit_tilt, c.free);
     if (fw->p != (size_t)c.nfree)
         return SUNMC_EFIT;
+    int warm = 0;
     if (d->fw_channels) {
         double q[PSD_NP];
         fit_result r1;
@@ -333,7 +346,11 @@ int psd_phys_fit(fit_workspace *fw, psd_rows *d, int fit_tilt, double p[PSD_NP],
             ok &= isfinite(q[j]);
         if (ok)
             memcpy(p, q, sizeof q);
+        warm = ok;
     }
+    /* from the first stage's answer the ratios' minimum is close: start
+     * with the damping at its floor (fit.h, mu0) */
+    fw->mu0 = warm ? PSD_FIT_MU0_WARM : PSD_FIT_MU0_COLD;
     memcpy(c.p, p, sizeof c.p);
     c.dark_xy = p[PSD_P_D1] + p[PSD_P_D2] - p[PSD_P_D3] - p[PSD_P_D4];
     double *buf = d->scratch, x[PSD_NP];

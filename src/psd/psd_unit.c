@@ -68,22 +68,41 @@ void psd_unit_sample(const sunmc_config *c, long unit, double dev_sign, psd_devi
         v[k] *= dev_sign;
 }
 
+/* Readings of s for the table top's sun vector ut: m with noise from r,
+ * and, when m0 is not NULL, m0 the same reading without noise (nor the
+ * lamp's flicker).  The channel noise is drawn whether the sun is seen or
+ * not, so the streams stay aligned; the lamp's draw only when it is on,
+ * so configs without it keep their streams. */
+static int read_pair(const psd_config *p, const psd_sensor *s, const double ut[3],
+                     rng_stream *r, double m[4], double m0[4])
+{
+    double u[3], z[PSD_CHANNELS] = {0, 0, 0, 0}, clean[4];
+    if (r)
+        rng_normal_fill(r, z, PSD_CHANNELS);
+    double light = r && p->lamp_pct > 0 ? 1.0 + p->lamp_pct * FRACTION_PER_PCT * rng_normal(r)
+                                        : 1.0;
+    mat3_vec(s->M, ut, u);
+    int st = psd_sensor_read_lit(s, u, light > 0 ? light : 0.0, m);
+    if (m0) {
+        if (light != 1.0)
+            st |= psd_sensor_read_lit(s, u, 1.0, clean);
+        else
+            memcpy(clean, m, sizeof clean);
+        for (int k = 0; k < PSD_CHANNELS; k++)
+            m0[k] = psd_adc(clean[k], p->adc_bits);
+    }
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k], p->adc_bits);
+    return st;
+}
+
 int psd_unit_read(const sunmc_config *c, const psd_sensor *s, double alpha, double beta,
                   rng_stream *r, double m[4])
 {
     const psd_config *p = psd_cfg(c);
-    double ut[3], u[3], z[PSD_CHANNELS];
-    for (int k = 0; k < PSD_CHANNELS; k++) /* drawn whether seen or not: streams stay aligned */
-        z[k] = r ? rng_normal(r) : 0.0;
-    /* the lamp's draw only when it is on: configs without it keep their streams */
-    double light = r && p->lamp_pct > 0 ? 1.0 + p->lamp_pct * FRACTION_PER_PCT * rng_normal(r)
-                                        : 1.0;
+    double ut[3];
     psd_table_sun(p, alpha, beta, ut);
-    mat3_vec(s->M, ut, u);
-    int st = psd_sensor_read_lit(s, u, light > 0 ? light : 0.0, m);
-    for (int k = 0; k < PSD_CHANNELS; k++)
-        m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k], p->adc_bits);
-    return st;
+    return read_pair(p, s, ut, r, m, NULL);
 }
 
 int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *poly_work,
@@ -168,7 +187,7 @@ static long campaign(const sunmc_config *c, const psd_sensor *s, long unit, psd_
         double a, b, m[4];
         psd_campaign_angles(c, i, &a, &b);
         psd_table_sun(psd_cfg(c), a, b, w->ut + 3 * i);
-        int ok = psd_unit_read(c, s, a, b, &r, m) == SUNMC_OK;
+        int ok = read_pair(psd_cfg(c), s, w->ut + 3 * i, &r, m, NULL) == SUNMC_OK;
         for (int k = 0; k < PSD_CHANNELS; k++)
             w->m[k][i] = m[k];
         w->w[i] = ok;
@@ -212,8 +231,7 @@ static void validate(const sunmc_config *c, const psd_sensor *s, const psd_cal *
         double a, b, ut[3], m[4], m0[4], e0[3], e1[3], e2[3];
         psd_validation_angles(c, i, &a, &b);
         psd_table_sun(p, a, b, ut);
-        int st = psd_unit_read(c, s, a, b, &r, m);
-        st |= psd_unit_read(c, s, a, b, NULL, m0);
+        int st = read_pair(p, s, ut, &r, m, m0);
         double field = acos(fmin(ut[2], 1.0)) * DEG_PER_RAD;
         if (st != SUNMC_OK || errors(&nominal, m, ut, e0) != SUNMC_OK ||
             (fit_ok && (errors(k, m, ut, e1) != SUNMC_OK || errors(k, m0, ut, e2) != SUNMC_OK))) {
@@ -247,6 +265,23 @@ static double fit_rms(const psd_ws *w, const psd_cal *k)
         }
     }
     return n ? sqrt(s2 / (double)n) * ARCSEC_PER_RAD : NAN;
+}
+
+/* The calibrated unit at one operating temperature (thermal_validate_all):
+ * its sensor at temp_c, the lab's calibration on its validation grid. */
+typedef struct {
+    const psd_sensor *s;
+    const psd_cal *k;
+    int fit_ok;
+    long unit;
+} psd_temp_ctx;
+
+static void psd_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
+{
+    const psd_temp_ctx *t = ctx;
+    psd_sensor sT;
+    psd_sensor_at_temp(c, t->s, temp_c, &sT);
+    validate(c, &sT, t->k, t->fit_ok, t->unit, at);
 }
 
 static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
@@ -284,19 +319,8 @@ static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     validate(c, &s, &k, st == SUNMC_OK, unit, res);
     /* at each operating temperature, the same calibration (thermal.h) */
-    for (int i = 0; i < thermal_n_temps(c); i++) {
-        double T = thermal_temp_c(c, i);
-        if (T == c->cal_temp_c) {
-            unit_result_store_temp(res, i, res);
-            continue;
-        }
-        unit_result at;
-        psd_sensor sT;
-        memset(&at, 0, sizeof at);
-        psd_sensor_at_temp(c, &s, T, &sT);
-        validate(c, &sT, &k, st == SUNMC_OK, unit, &at);
-        unit_result_store_temp(res, i, &at);
-    }
+    psd_temp_ctx tc = {.s = &s, .k = &k, .fit_ok = st == SUNMC_OK, .unit = unit};
+    thermal_validate_all(c, res, psd_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }

@@ -49,6 +49,7 @@ fit_workspace *fit_workspace_alloc(size_t n, size_t p)
     fw->n = n;
     fw->p = p;
     fw->ld = vm_pad(n);
+    fw->mu0 = FIT_MU0;
     int ok = (fw->f = vm_alloc(fw->ld)) && (fw->J = vm_alloc(fw->ld * p)) &&
              (fw->f_trial = vm_alloc(fw->ld)) && (fw->J_trial = vm_alloc(fw->ld * p));
     double **pv[] = {&fw->x,    &fw->x_trial, &fw->dx,         &fw->g,
@@ -383,7 +384,7 @@ int fit_solve(fit_workspace *fw, fit_fdf fdf, void *params, double *x, int max_i
     if (st == GSL_SUCCESS) {
         s.f2 = normal_equations(fw);
         scale_update(fw);
-        s.mu = FIT_MU0 * scaled_diagonal_max(fw);
+        s.mu = fw->mu0 * scaled_diagonal_max(fw);
         s.mu_min = FIT_MU_MIN * scaled_diagonal_max(fw);
         st = lm_drive(fw, &s, max_iter, res);
     }

@@ -11,6 +11,7 @@
  * (lengths in pixels shrink by it), the glass with its own expansion and
  * dn/dT. */
 #include "test_util.h"
+#include "test_tsv.h"
 
 #include "config.h"
 #include "dss_config.h"
@@ -217,6 +218,43 @@ static void test_run_in_orbit(void **state)
     double dlab = thermal_row_after(list, "20", "total", "0:60");
     assert_true(dlab > 0);
     assert_true(thermal_row_after(list, "30", "total", "0:60") > 2 * dlab);
+}
+
+/* An operating temperature equal to the lab's holds the lab's result, row
+ * for row of summary.tsv (every family), beside one that is not. */
+static void test_lab_temperature_slot(void **state)
+{
+    (void)state;
+    const char *cfgs[] = {"configs/ess_type_a.ini", "configs/dss.ini", "configs/psd.ini"};
+    for (size_t f = 0; f < sizeof cfgs / sizeof *cfgs; f++) {
+        char cmd[512], out[4096], path[300];
+        const char *dir = test_tmp("slot");
+        snprintf(cmd, sizeof cmd,
+                 "rm -rf %s && %s run %s --units 20 --quiet --out %s "
+                 "--set environment.operating_temp_c=20,60",
+                 dir, test_sunmc(), cfgs[f], dir);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+        snprintf(path, sizeof path, "%s/summary.tsv", dir);
+        tsv *t = tsv_load(path);
+        int cond = tsv_col(t, "condition"), after = tsv_col(t, "rms_after_mean"), compared = 0;
+        for (int r = 0; r < t->nr; r++) {
+            if (strcmp(t->cell[r][cond], "operating") || tsv_num(t, r, "temp_c") != 20)
+                continue;
+            for (int q = 0; q < t->nr; q++)
+                if (!strcmp(t->cell[q][cond], "lab") &&
+                    !strcmp(tsv_str(t, q, "angle"), tsv_str(t, r, "angle")) &&
+                    !strcmp(tsv_str(t, q, "band"), tsv_str(t, r, "band"))) {
+                    assert_true(tsv_num(t, r, "rms_after_mean") > 0);
+                    assert_string_equal(t->cell[r][after], t->cell[q][after]);
+                    assert_string_equal(tsv_str(t, r, "rms_before_mean"),
+                                        tsv_str(t, q, "rms_before_mean"));
+                    compared++;
+                }
+        }
+        if (compared < 3)
+            fail_msg("%s: %d rows at the lab's temperature compared", cfgs[f], compared);
+        tsv_free(t);
+    }
 }
 
 /* The rows over the range from made-up units, against sums written here:
@@ -440,6 +478,7 @@ int main(void)
         cmocka_unit_test(test_zero_dt_unchanged),
         cmocka_unit_test(test_dss_materials),
         cmocka_unit_test(test_run_in_orbit),
+        cmocka_unit_test(test_lab_temperature_slot),
         cmocka_unit_test(test_worst_over_range),
         cmocka_unit_test(test_temperature_list_errors),
         cmocka_unit_test(test_budget_sees_cte),
