@@ -54,7 +54,8 @@ extern const char *const dss_param_names[DSS_NP];
 
 typedef struct {
     double p[DSS_NP];
-    double pixel_mm;       /* detector pitch: the model's spots are in px */
+    double pixel_um;       /* detector pitch as configured (params.ini records it) */
+    double pixel_mm;       /* the same in mm: pixel_um * MM_PER_UM, the model's spots are in px */
     double half_px;        /* half the detector side: no reading beyond it (0: unknown) */
     int mount;             /* enum dss_mount */
     double disc_c_rad2;    /* the sun's disc (dss_disc_coefficient; 0: a point sun) */

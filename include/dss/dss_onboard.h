@@ -23,7 +23,8 @@
  * glass_t_mm = 0 this is eq. 9-10 exactly, alpha = atan(-x pixel_mm / h). */
 typedef struct {
     double h_mm;        /* pinhole height over the detector, glass included */
-    double pixel_mm;
+    double pixel_um;    /* as configured (params.ini records it) */
+    double pixel_mm;    /* pixel_um * MM_PER_UM */
     double glass_t_mm;  /* 0: the glass is ignored (design.onboard_refraction) */
     double glass_n;
     double x0_px, y0_px; /* the spot taken as the origin: 0 but for

@@ -63,6 +63,10 @@ int params_read(const char *path, params_file *p, char *err, size_t errlen);
 
 /* The entry section.key, or NULL. */
 const params_entry *params_find(const params_file *p, const char *section, const char *key);
+/* A key's earlier name: entry section.from becomes section.to, its value
+ * and line kept, when the file has from and not to.  Returns 1 when it
+ * renamed, 0 otherwise. */
+int params_rename(params_file *p, const char *section, const char *from, const char *to);
 
 /* Value of section.key as text / as a finite double.  Messages:
  * "FILE: missing key section.key" and "FILE:LINE: key section.key: 'x' is not

@@ -465,7 +465,7 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     char key[PARAMS_KEY_MAX], comment[PARAMS_COMMENT_MAX];
     if (cal->kind == DSS_MODEL_PHYSICAL) {
         const dss_model *m = &cal->phys;
-        st = params_set_double(p, "design", "pixel_mm", m->pixel_mm, "detector pitch");
+        st = params_set_double(p, "design", "pixel_um", m->pixel_um, "detector pitch");
         if (st == SUNMC_OK && m->half_px > 0)
             st = params_set_double(p, "design", "detector_px", 2 * m->half_px,
                                    "detector side: compensate marks readings beyond it nan");
@@ -504,15 +504,15 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
     if (st == SUNMC_OK)
         st = params_set_double(p, "design", "scale_rad", q->scale_rad, "angle normalisation");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "h_nom_mm", q->onboard.h_mm,
+        st = params_set_double(p, "design", "h_mm", q->onboard.h_mm,
                                "on-board formula height, glass included");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "pixel_mm", q->onboard.pixel_mm, "detector pitch");
+        st = params_set_double(p, "design", "pixel_um", q->onboard.pixel_um, "detector pitch");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "glass_t_mm", q->onboard.glass_t_mm,
+        st = params_set_double(p, "design", "glass_thickness_mm", q->onboard.glass_t_mm,
                                "on-board formula's cover glass (0: ignored)");
     if (st == SUNMC_OK)
-        st = params_set_double(p, "design", "glass_n", q->onboard.glass_n,
+        st = params_set_double(p, "design", "glass_index", q->onboard.glass_n,
                                "on-board formula's cover-glass index");
     for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
         for (int a = 0; a < 2 && st == SUNMC_OK; a++) {
@@ -535,7 +535,7 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
  * Anything else is a damaged or foreign file: compensating with it gives
  * constant or NaN angles. */
 static const params_range dss_phys_ranges[] = {
-    {"design", "pixel_mm", 0.0005, 0.1, "mm", "design.pixel_um's range"},
+    {"design", "pixel_um", 0.5, 100, "um", "design.pixel_um's range"},
     {"design", "h_mm", 0.2, 50, "mm", "design.h_mm's range"},
     {"design", "glass_thickness_mm", 0, 5, "mm", "design.glass_thickness_mm's range"},
     {"design", "glass_index", 1, 3, "", "design.glass_index's range"},
@@ -552,10 +552,10 @@ static const params_range dss_phys_ranges[] = {
     {"parameters", "fit_sun_b2_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
 };
 static const params_range dss_poly_ranges[] = {
-    {"design", "h_nom_mm", 0.2, 50, "mm", "design.h_mm's range"},
-    {"design", "pixel_mm", 0.0005, 0.1, "mm", "design.pixel_um's range"},
-    {"design", "glass_t_mm", 0, 5, "mm", "design.glass_thickness_mm's range"},
-    {"design", "glass_n", 1, 3, "", "design.glass_index's range"},
+    {"design", "h_mm", 0.2, 50, "mm", "design.h_mm's range"},
+    {"design", "pixel_um", 0.5, 100, "um", "design.pixel_um's range"},
+    {"design", "glass_thickness_mm", 0, 5, "mm", "design.glass_thickness_mm's range"},
+    {"design", "glass_index", 1, 3, "", "design.glass_index's range"},
     {"design", "scale_rad", 1e-6, 10, "rad", "the polynomial's angle scale"},
 };
 #define N_RANGES(r) ((int)(sizeof(r) / sizeof(r)[0]))
@@ -563,7 +563,7 @@ static const params_range dss_poly_ranges[] = {
  * [parameters] the named deviations. */
 static int load_physical(const params_file *p, dss_model *m, char *err, size_t errlen)
 {
-    static const char *const design_keys[] = {"pixel_mm", "h_mm", "glass_thickness_mm",
+    static const char *const design_keys[] = {"pixel_um", "h_mm", "glass_thickness_mm",
                                               "glass_index"};
     double dv[4];
     const char *mount = NULL;
@@ -581,19 +581,18 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
     /* What the inverse cannot work with: no pitch, no height, an index
      * below 1. */
     if (st == SUNMC_OK)
-        st = params_require(p, "design", "pixel_mm", dv[0] > 0, "> 0", err, errlen);
+        st = params_require(p, "design", "pixel_um", dv[0] > 0, "> 0", err, errlen);
     if (st == SUNMC_OK)
         st = params_require(p, "design", "h_mm", dv[1] > 0, "> 0", err, errlen);
     if (st == SUNMC_OK)
         st = params_require(p, "design", "glass_index", dv[3] >= 1, ">= 1", err, errlen);
     if (st != SUNMC_OK)
         return st;
-    dss_design d = {.h_mm = dv[1], .pixel_um = dv[0] * UM_PER_MM, .glass_thickness_mm = dv[2],
+    dss_design d = {.h_mm = dv[1], .pixel_um = dv[0], .glass_thickness_mm = dv[2],
                     .glass_index = dv[3],
                     .mount = strcmp(mount, "aligned") == 0 ? DSS_MOUNT_ALIGNED
                                                            : DSS_MOUNT_AS_MOUNTED};
     dss_model_init(m, &d);
-    m->pixel_mm = dv[0]; /* exactly as written */
     m->half_px = 0; /* older params.ini: no detector side, no check */
     double side = 0;
     if (params_find(p, "design", "detector_px") &&
@@ -617,7 +616,7 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
     const double *q = m->p;
     if (st == SUNMC_OK)
         st = params_require(p, "parameters", "fit_dh_px", q[DSS_P_H] > 0,
-                            "> -design.h_mm / design.pixel_mm (a pinhole above the detector)",
+                            "> -design.h_mm / design.pixel_um, in mm (a pinhole above the detector)",
                             err, errlen);
     if (st == SUNMC_OK)
         st = params_require(p, "parameters", "fit_glass_thickness_um", q[DSS_P_T] < q[DSS_P_H],
@@ -631,7 +630,7 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
     return st;
 }
 
-int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
+static int load_current(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
 {
     const char *model;
     int st = params_get_text(p, "calibration", "model", &model, err, errlen);
@@ -659,25 +658,27 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
             st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
         dss_onboard *o = &q->onboard;
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "h_nom_mm", &o->h_mm, err, errlen);
+            st = params_get_double(p, "design", "h_mm", &o->h_mm, err, errlen);
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "pixel_mm", &o->pixel_mm, err, errlen);
+            st = params_get_double(p, "design", "pixel_um", &o->pixel_um, err, errlen);
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "glass_t_mm", &o->glass_t_mm, err, errlen);
+            st = params_get_double(p, "design", "glass_thickness_mm", &o->glass_t_mm, err,
+                                   errlen);
         if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "glass_n", &o->glass_n, err, errlen);
+            st = params_get_double(p, "design", "glass_index", &o->glass_n, err, errlen);
+        o->pixel_mm = o->pixel_um * MM_PER_UM;
         if (st == SUNMC_OK)
             st = params_require(p, "design", "scale_rad", q->scale_rad > 0, "> 0", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "h_nom_mm", o->h_mm > 0, "> 0", err, errlen);
+            st = params_require(p, "design", "h_mm", o->h_mm > 0, "> 0", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "pixel_mm", o->pixel_mm > 0, "> 0", err, errlen);
+            st = params_require(p, "design", "pixel_um", o->pixel_um > 0, "> 0", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "glass_t_mm",
+            st = params_require(p, "design", "glass_thickness_mm",
                                 o->glass_t_mm >= 0 && o->glass_t_mm < o->h_mm,
-                                ">= 0 and below design.h_nom_mm", err, errlen);
+                                ">= 0 and below design.h_mm", err, errlen);
         if (st == SUNMC_OK)
-            st = params_require(p, "design", "glass_n", o->glass_n >= 1, ">= 1", err, errlen);
+            st = params_require(p, "design", "glass_index", o->glass_n >= 1, ">= 1", err, errlen);
         if (st != SUNMC_OK)
             return st;
         q->order = (int)order;
@@ -694,4 +695,36 @@ int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_
     }
     return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown dss model '%s'", p->path,
                       params_find(p, "calibration", "model")->line, model);
+}
+
+/* Files written before these keys took their config keys' names:
+ * h_nom_mm, glass_t_mm and glass_n (the polynomial's) and pixel_mm (both
+ * models, in mm) are read as h_mm, glass_thickness_mm, glass_index and
+ * pixel_um (docs/outputs.md). */
+static void rename_earlier_keys(params_file *q)
+{
+    params_rename(q, "design", "h_nom_mm", "h_mm");
+    params_rename(q, "design", "glass_t_mm", "glass_thickness_mm");
+    params_rename(q, "design", "glass_n", "glass_index");
+    if (!params_rename(q, "design", "pixel_mm", "pixel_um"))
+        return;
+    params_entry *e = (params_entry *)params_find(q, "design", "pixel_um");
+    char *end;
+    double mm = strtod(e->value, &end);
+    while (*end == ' ' || *end == '\t')
+        end++;
+    if (end != e->value && *end == '\0')
+        snprintf(e->value, sizeof e->value, "%.17g", mm * UM_PER_MM);
+}
+
+int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
+{
+    params_file *q = malloc(sizeof *q);
+    if (!q)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory reading %s", p->path);
+    *q = *p;
+    rename_earlier_keys(q);
+    int st = load_current(q, cal, err, errlen);
+    free(q);
+    return st;
 }

@@ -44,6 +44,7 @@ void dss_model_init(dss_model *m, const dss_design *d)
     m->p[DSS_P_H] = d->h_mm;
     m->p[DSS_P_T] = d->glass_thickness_mm;
     m->p[DSS_P_N] = d->glass_index;
+    m->pixel_um = d->pixel_um;
     m->pixel_mm = d->pixel_um * MM_PER_UM;
     m->half_px = 0.5 * d->detector_px;
     m->mount = d->mount;

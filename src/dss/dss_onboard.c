@@ -13,6 +13,7 @@
 void dss_onboard_init(dss_onboard *o, const dss_design *d)
 {
     o->h_mm = d->h_mm;
+    o->pixel_um = d->pixel_um;
     o->pixel_mm = d->pixel_um * MM_PER_UM;
     o->glass_t_mm = d->onboard_refraction == DSS_ONBOARD_CORRECTED ? d->glass_thickness_mm : 0.0;
     o->glass_n = d->glass_index;

@@ -69,7 +69,9 @@ double dss_disc_coefficient(double sun_disc_deg, double limb_darkening)
  * so v_sun = M^T u' with u0 = M v0. */
 static void dss_sensor_paper_eq6(dss_sensor *s, const dss_deviations *dev)
 {
-    dss_onboard o = {s->pinhole_mm[2], s->pixel_mm, s->glass_t_mm, s->glass_n, 0.0, 0.0};
+    dss_onboard o = {.h_mm = s->pinhole_mm[2], .pixel_um = s->pixel_mm * UM_PER_MM,
+                     .pixel_mm = s->pixel_mm, .glass_t_mm = s->glass_t_mm,
+                     .glass_n = s->glass_n};
     double a = 0.0, b = 0.0, w[3], u[3], k[3], v[3];
     (void)dss_onboard_angles(&o, dev->dx_px, dev->dy_px, &a, &b); /* small: always found */
     sun_vector_of(a, b, w);

@@ -52,6 +52,15 @@ const params_entry *params_find(const params_file *p, const char *section, const
     return NULL;
 }
 
+int params_rename(params_file *p, const char *section, const char *from, const char *to)
+{
+    params_entry *e = (params_entry *)params_find(p, section, from);
+    if (!e || params_find(p, section, to) || strlen(to) >= sizeof e->key)
+        return 0;
+    memcpy(e->key, to, strlen(to) + 1);
+    return 1;
+}
+
 static int copy_str(char *dst, size_t cap, const char *src)
 {
     size_t n = strlen(src);

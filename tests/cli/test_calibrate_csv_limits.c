@@ -270,8 +270,8 @@ static void poly_params(const char *order, int terms, const char *pixel, char *t
 {
     size_t used = (size_t)snprintf(text, len,
                                    "[calibration]\nsensor = dss\nmodel = dss_polynomial\n"
-                                   "[design]\norder = %s\nscale_rad = 1\nh_nom_mm = 3\n"
-                                   "pixel_mm = %s\nglass_t_mm = 0\nglass_n = 1.52\n"
+                                   "[design]\norder = %s\nscale_rad = 1\nh_mm = 3\n"
+                                   "pixel_um = %s\nglass_thickness_mm = 0\nglass_index = 1.52\n"
                                    "[parameters]\n",
                                    order, pixel);
     for (int k = 0; k < terms; k++)
@@ -288,7 +288,7 @@ static void test_dss_params_order(void **state)
         int terms, ok;
     } cases[] = {{"0", 1, 0}, {"1", 3, 1}, {"7", 36, 1}, {"8", 45, 0}, {"2.5", 10, 0}};
     for (int i = 0; i < 5; i++) {
-        poly_params(cases[i].order, cases[i].terms, "0.0055", params, sizeof params);
+        poly_params(cases[i].order, cases[i].terms, "5.5", params, sizeof params);
         int rc = compensate(params, "x_px,y_px\n100,-50\n", out, sizeof out);
         if (cases[i].ok) {
             expect_accepted(rc, out);
@@ -300,17 +300,17 @@ static void test_dss_params_order(void **state)
     }
 }
 
-/* pixel_mm, h_mm, glass_thickness_mm, mount, fit_dh_px,
+/* pixel_um, h_mm, glass_thickness_mm, mount, fit_dh_px,
  * fit_glass_thickness_um */
 static const char dss_phys_fmt[] =
-    "[calibration]\nsensor = dss\nmodel = dss_physical\n[design]\npixel_mm = %s\n"
+    "[calibration]\nsensor = dss\nmodel = dss_physical\n[design]\npixel_um = %s\n"
     "h_mm = %s\nglass_thickness_mm = %s\nglass_index = 1.52\nmount = %s\n"
     "[parameters]\nfit_dx_px = 0\nfit_dy_px = 0\nfit_dh_px = %s\nfit_glass_thickness_um = %s\n"
     "fit_c1_arcsec = 0\nfit_c2_arcsec = 0\nfit_c3_arcsec = 0\nfit_glass_index = 0\n"
     "fit_sun_b1_arcsec = 0\nfit_sun_b2_arcsec = 0\n";
 
 /* The physical model needs a pitch and a height, and the glass under the
- * pinhole: pixel_mm and h_mm > 0, the fitted height above the detector,
+ * pinhole: pixel_um and h_mm > 0, the fitted height above the detector,
  * the fitted thickness below the fitted height (a negative one, the fit's
  * extrapolation for a sensor without glass, is its business), a known
  * mount. */
@@ -320,29 +320,31 @@ static void test_dss_params_physical(void **state)
     const struct {
         const char *pixel, *h, *t, *mount, *dh, *dt, *needle;
     } cases[] = {
-        {"0.0055", "3", "0.4", "as_mounted", "0", "0", NULL},
-        {"0.0055", "3", "0.4", "aligned", "0", "0", NULL},
-        {"0.0055", "3", "0.4", "tilted", "0", "0",
+        {"5.5", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"5.5", "3", "0.4", "aligned", "0", "0", NULL},
+        {"5.5", "3", "0.4", "tilted", "0", "0",
          "p.ini:9: key design.mount must be aligned or as_mounted"},
         {"0", "3", "0.4", "as_mounted", "0", "0",
-         "p.ini:5: design.pixel_mm = 0 is out of range: allowed 0.0005 to 0.1 mm"},
-        {"0.0005", "3", "0.4", "as_mounted", "0", "0", NULL},
-        {"0.000499", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm = 0.000499 is out of range"},
-        {"-0.0055", "3", "0.4", "as_mounted", "0", "0", "design.pixel_mm = -0.0055 is out of range"},
-        {"0.0055", "0", "0", "as_mounted", "0", "0", "p.ini:6: design.h_mm = 0 is out of range"},
-        {"0.0055", "50.001", "0", "as_mounted", "0", "0", "design.h_mm = 50.001 is out of range"},
-        {"0.0055", "3", "0.4", "as_mounted", "1000.5", "0",
+         "p.ini:5: design.pixel_um = 0 is out of range: allowed 0.5 to 100 um"},
+        {"0.5", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"0.499", "3", "0.4", "as_mounted", "0", "0", "design.pixel_um = 0.499 is out of range"},
+        {"100", "3", "0.4", "as_mounted", "0", "0", NULL},
+        {"100.001", "3", "0.4", "as_mounted", "0", "0", "design.pixel_um = 100.001 is out of range"},
+        {"-5.5", "3", "0.4", "as_mounted", "0", "0", "design.pixel_um = -5.5 is out of range"},
+        {"5.5", "0", "0", "as_mounted", "0", "0", "p.ini:6: design.h_mm = 0 is out of range"},
+        {"5.5", "50.001", "0", "as_mounted", "0", "0", "design.h_mm = 50.001 is out of range"},
+        {"5.5", "3", "0.4", "as_mounted", "1000.5", "0",
          "p.ini:13: parameters.fit_dh_px = 1000.5 is out of range: allowed -1000 to 1000 px"},
-        {"0.0055", "3", "0", "as_mounted", "-545.45454545", "0", NULL}, /* h + dh = 2.5e-9 mm */
-        {"0.0055", "3", "0", "as_mounted", "-545.4545454546", "0",
-         "p.ini:13: key parameters.fit_dh_px must be > -design.h_mm / design.pixel_mm"},
-        {"0.0055", "3", "2.9", "as_mounted", "0", "100.001",
+        {"5.5", "3", "0", "as_mounted", "-545.45454545", "0", NULL}, /* h + dh = 2.5e-9 mm */
+        {"5.5", "3", "0", "as_mounted", "-545.4545454546", "0",
+         "p.ini:13: key parameters.fit_dh_px must be > -design.h_mm / design.pixel_um"},
+        {"5.5", "3", "2.9", "as_mounted", "0", "100.001",
          "p.ini:14: key parameters.fit_glass_thickness_um must be such that the glass lies "
          "under the pinhole"},
-        {"0.0055", "3", "2.9", "as_mounted", "0", "99.999", NULL},
-        {"0.0055", "3", "0.4", "as_mounted", "0", "1000.001",
+        {"5.5", "3", "2.9", "as_mounted", "0", "99.999", NULL},
+        {"5.5", "3", "0.4", "as_mounted", "0", "1000.001",
          "parameters.fit_glass_thickness_um = 1000.001 is out of range"},
-        {"0.0055", "3", "0.4", "as_mounted", "0", "-400.001", NULL},
+        {"5.5", "3", "0.4", "as_mounted", "0", "-400.001", NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         snprintf(params, sizeof params, dss_phys_fmt, cases[i].pixel, cases[i].h, cases[i].t,
@@ -355,7 +357,7 @@ static void test_dss_params_physical(void **state)
     }
     /* the nominal design through its own glass: the spot of a sun at
      * (alpha, beta) = (20, 0) deg compensates back to it */
-    snprintf(params, sizeof params, dss_phys_fmt, "0.0055", "3", "0.4", "as_mounted", "0", "0");
+    snprintf(params, sizeof params, dss_phys_fmt, "5.5", "3", "0.4", "as_mounted", "0", "0");
     double th = 20 * RAD_PER_DEG, thg = asin(sin(th) / 1.52);
     double x = -(3 * tan(th) - 0.4 * (tan(th) - tan(thg))) / 0.0055;
     char raw[128];
@@ -366,16 +368,16 @@ static void test_dss_params_physical(void **state)
     assert_near(strtod(comma + 3, NULL), 20.0, 1e-9);
 }
 
-/* The polynomial's normalisation: scale_rad, h_nom_mm, pixel_mm within
+/* The polynomial's normalisation: scale_rad, h_mm, pixel_um within
  * their ranges (0 is outside each). */
 static void test_dss_params_polynomial_design(void **state)
 {
     char params[8192], out[4096];
-    const char *keys[] = {"scale_rad = 1", "h_nom_mm = 3", "pixel_mm = 0.0055"};
-    const char *zero[] = {"scale_rad = 0", "h_nom_mm = 0", "pixel_mm = 0"};
-    const char *names[] = {"design.scale_rad", "design.h_nom_mm", "design.pixel_mm"};
+    const char *keys[] = {"scale_rad = 1", "h_mm = 3", "pixel_um = 5.5"};
+    const char *zero[] = {"scale_rad = 0", "h_mm = 0", "pixel_um = 0"};
+    const char *names[] = {"design.scale_rad", "design.h_mm", "design.pixel_um"};
     for (int i = 0; i < 3; i++) {
-        poly_params("1", 3, "0.0055", params, sizeof params);
+        poly_params("1", 3, "5.5", params, sizeof params);
         char *at = strstr(params, keys[i]);
         assert_non_null(at);
         memcpy(at, zero[i], strlen(zero[i]));
@@ -386,8 +388,8 @@ static void test_dss_params_polynomial_design(void **state)
     }
 }
 
-/* The on-board formula's glass: 0 <= glass_t_mm < h_nom_mm (0 ignores
- * it), glass_n >= 1; each limit refused just outside, accepted on it. */
+/* The on-board formula's glass: 0 <= glass_thickness_mm < h_mm (0
+ * ignores it), glass_index >= 1; each limit refused just outside, accepted on it. */
 static void test_dss_params_polynomial_glass(void **state)
 {
     char params[8192], out[4096];
@@ -395,14 +397,14 @@ static void test_dss_params_polynomial_glass(void **state)
         const char *from, *to;
         int ok;
     } cases[] = {
-        {"glass_t_mm = 0\n", "glass_t_mm = -1e-9\n", 0},
-        {"glass_t_mm = 0\n", "glass_t_mm = 2.999999\n", 1},
-        {"glass_t_mm = 0\n", "glass_t_mm = 3\n", 0},
-        {"glass_n = 1.52\n", "glass_n = 0.999999\n", 0},
-        {"glass_n = 1.52\n", "glass_n = 1\n", 1},
+        {"glass_thickness_mm = 0\n", "glass_thickness_mm = -1e-9\n", 0},
+        {"glass_thickness_mm = 0\n", "glass_thickness_mm = 2.999999\n", 1},
+        {"glass_thickness_mm = 0\n", "glass_thickness_mm = 3\n", 0},
+        {"glass_index = 1.52\n", "glass_index = 0.999999\n", 0},
+        {"glass_index = 1.52\n", "glass_index = 1\n", 1},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        poly_params("1", 3, "0.0055", params, sizeof params);
+        poly_params("1", 3, "5.5", params, sizeof params);
         char *at = strstr(params, cases[i].from);
         assert_non_null(at);
         size_t lf = strlen(cases[i].from), lt = strlen(cases[i].to);
@@ -412,9 +414,46 @@ static void test_dss_params_polynomial_glass(void **state)
         if (cases[i].ok)
             expect_accepted(rc, out);
         else
-            expect_refused(rc, out, strncmp(cases[i].to, "glass_n", 7) == 0 ? "design.glass_n"
-                                                                               : "design.glass_t_mm");
+            expect_refused(rc, out, strncmp(cases[i].to, "glass_index", 11) == 0
+                                        ? "design.glass_index"
+                                        : "design.glass_thickness_mm");
     }
+}
+
+/* Files written before params.ini's keys took their config keys' names
+ * (h_nom_mm, pixel_mm in mm, glass_t_mm, glass_n) compensate as the same
+ * file with the names of today, both models, to the digit. */
+static void test_dss_params_earlier_names(void **state)
+{
+    char now[8192], before[8192], out_now[4096], out_before[4096];
+    poly_params("2", 6, "5.5", now, sizeof now);
+    snprintf(before, sizeof before, "%s", now);
+    const char *const pairs[][2] = {{"h_mm = 3", "h_nom_mm = 3"},
+                                    {"pixel_um = 5.5", "pixel_mm = 0.0055"},
+                                    {"glass_thickness_mm = 0", "glass_t_mm = 0"},
+                                    {"glass_index = 1.52", "glass_n = 1.52"}};
+    for (int k = 0; k < 4; k++) {
+        char *at = strstr(before, pairs[k][0]);
+        assert_non_null(at);
+        size_t lf = strlen(pairs[k][0]), lt = strlen(pairs[k][1]);
+        memmove(at + lt, at + lf, strlen(at + lf) + 1);
+        memcpy(at, pairs[k][1], lt);
+    }
+    char *ca = strstr(now, "ca_1 = 0"), *cb = strstr(before, "ca_1 = 0");
+    memcpy(ca, "ca_1 = 1", 8); /* a term that moves the answer */
+    memcpy(cb, "ca_1 = 1", 8);
+    expect_accepted(compensate(now, "x_px,y_px\n100,-50\n", out_now, sizeof out_now), out_now);
+    expect_accepted(compensate(before, "x_px,y_px\n100,-50\n", out_before, sizeof out_before),
+                    out_before);
+    assert_string_equal(out_now, out_before);
+    snprintf(now, sizeof now, dss_phys_fmt, "5.5", "3", "0.4", "as_mounted", "2", "1");
+    snprintf(before, sizeof before, dss_phys_fmt, "0.0055", "3", "0.4", "as_mounted", "2", "1");
+    char *px = strstr(before, "pixel_um");
+    memcpy(px, "pixel_mm", 8);
+    expect_accepted(compensate(now, "x_px,y_px\n300,-50\n", out_now, sizeof out_now), out_now);
+    expect_accepted(compensate(before, "x_px,y_px\n300,-50\n", out_before, sizeof out_before),
+                    out_before);
+    assert_string_equal(out_now, out_before);
 }
 
 int main(void)
@@ -430,6 +469,7 @@ int main(void)
         cmocka_unit_test(test_dss_params_physical),
         cmocka_unit_test(test_dss_params_polynomial_design),
         cmocka_unit_test(test_dss_params_polynomial_glass),
+        cmocka_unit_test(test_dss_params_earlier_names),
     };
     return cmocka_run_group_tests_name("limits_csv", tests, NULL, NULL);
 }

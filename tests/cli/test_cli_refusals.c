@@ -370,7 +370,7 @@ static void test_compensate_ranges(void **state)
         {ess, "ks_deg", "0.08", "the fine-code amplitude"},
         {ess, "ks_deg", "0.01", NULL},
         {ess, "fit_install_y_arcsec", "40000", "fit_install_y_arcsec = 40000 is out of range"},
-        {dss, "pixel_mm", "0", "design.pixel_mm = 0 is out of range"},
+        {dss, "pixel_um", "0", "design.pixel_um = 0 is out of range"},
         {dss, "h_mm", "0", "design.h_mm = 0 is out of range"},
         {dss, "h_mm", "1e308", "design.h_mm = 1e308 is out of range"},
         {dss, "h_mm", "3.01", NULL},
