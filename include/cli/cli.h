@@ -65,6 +65,7 @@ int cmd_config(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_design(int argc, char **argv);
 int cmd_budget(int argc, char **argv);
+int cmd_allocate(int argc, char **argv);
 int cmd_sensitivity(int argc, char **argv);
 int cmd_curve(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);

@@ -39,6 +39,7 @@ typedef struct {
     double value;  /* in the unit of its key's name */
     int dist;      /* enum dist_kind */
     double lot;    /* share of the variance common to a lot (NAME_lot, 0..1) */
+    double cost;   /* `allocate`: what today's value costs (NAME_cost) */
 } tolerance;
 
 typedef struct {
@@ -137,6 +138,7 @@ typedef struct {
     int budget_steps;                   /* budget: bisection steps per source */
     double confidence;                  /* level of the confidence intervals */
     int yield_interval;                 /* enum config_yield_interval */
+    double cost_exponent;               /* allocate: cost of a tolerance ~ 1 / value^k */
 
     family_config fam;                  /* the family's own keys (its keys table) */
 
@@ -183,9 +185,9 @@ extern const size_t config_key_count;
 extern const char *const config_sections[];
 extern const size_t config_section_count;
 
-/* A tolerance is three keys of its family: its magnitude, its distribution
- * and the share of its variance common to the units of a lot (run.lot_size
- * units in unit order, deviation.h); off is the offset of its `tolerance`
+/* A tolerance is four keys of its family: its magnitude, its distribution,
+ * the share of its variance common to the units of a lot (run.lot_size
+ * units in unit order, deviation.h) and its cost (allocate.h); off is the offset of its `tolerance`
  * in the family's config. */
 #define CONFIG_DIST_CHOICES "fixed|uniform|normal|truncnormal"
 #define CONFIG_TOLERANCE_KEYS(off, name, unit, defv, defdist, maxv, help)                         \
@@ -198,7 +200,11 @@ extern const size_t config_section_count;
     {"tolerance", name "_lot", KEY_DOUBLE, "", "0", 0, 1, NULL, (off) + offsetof(tolerance, lot), \
      "share of " name "'s variance common to the units of one lot (run.lot_size units): the "  \
      "correlation of two units of a lot; its distribution is unchanged (Gaussian copula); "      \
-     "0 = every unit drawn alone"}
+     "0 = every unit drawn alone"},                                                              \
+    {"tolerance", name "_cost", KEY_DOUBLE, "", "1", 0, 1e9, NULL,                              \
+     (off) + offsetof(tolerance, cost),                                                           \
+     "`allocate`: what " name " at today's value costs (any unit, the same for every "         \
+     "tolerance); a value v costs NAME_cost * (today / v)^report.cost_exponent; 0 = free"}
 
 /* Check a grid lo..hi in steps of step against the field of view +-fov
  * (deg); what names it in the message ("campaign.alpha"). */

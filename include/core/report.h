@@ -70,6 +70,10 @@ int report_percent_decimals(double frac, int min_decimals);
  * with a fit, no point): no table prints nan.  Returns snprintf's count. */
 int report_format_number(char *buf, size_t len, double v, int d);
 
+/* The yield interval of pass of n independent units by c's method
+ * (report.yield_interval) at report.confidence. */
+void report_yield_ci(const sunmc_config *c, long pass, long n, stats_interval *ci);
+
 /* The yield interval's method of c (report.yield_interval), in words. */
 const char *report_yield_interval_name(const sunmc_config *c);
 

@@ -27,6 +27,7 @@ static void usage(FILE *f)
             "  sweep CONFIG       --vary KEY=LIST|START:STOP:STEP (1 or 2 axes): Monte Carlo per point\n"
             "  design CONFIG      the cheapest calibration campaign meeting the yield target\n"
             "  budget CONFIG      error budget: floor, each tolerance and noise source, inverse limits\n"
+            "  allocate CONFIG    the cheapest joint tolerances whose confirmed yield meets the target\n"
             "  sensitivity CONFIG Sobol indices (first order, total) of the unit RMS per random input\n"
             "  curve CONFIG       one unit's (--unit U) or one source's (--only KEY=V) error curves\n"
             "  simulate CONFIG    --unit U: one unit's campaign as a lab records it (CSV)\n"
@@ -80,7 +81,7 @@ static int dispatch(int argc, char **argv)
         int (*fn)(int, char **);
     } commands[] = {{"run", cmd_run},           {"config", cmd_config},
                     {"sweep", cmd_sweep},       {"budget", cmd_budget},
-                    {"design", cmd_design},
+                    {"design", cmd_design},     {"allocate", cmd_allocate},
                     {"sensitivity", cmd_sensitivity},
                     {"curve", cmd_curve},       {"simulate", cmd_simulate},
                     {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate},

@@ -171,6 +171,9 @@ const config_key config_keys[] = {
      "report.confidence) or clopper_pearson_lower (one-sided: the yield is at least the lower "
      "bound with confidence report.confidence, upper bound 1); design and budget compare the "
      "lower bound with report.yield_target"},
+    {"report", "cost_exponent", KEY_DOUBLE, "", "1", 0.1, 10, NULL, OFF(cost_exponent),
+     "`allocate`: k of the cost model, a tolerance at value v costs tolerance.NAME_cost * "
+     "(today / v)^k (halving a tolerance costs 2^k times as much)"},
 };
 
 const size_t config_key_count = sizeof config_keys / sizeof config_keys[0];

@@ -261,6 +261,11 @@ static void yield_interval(int method, long pass, long n, double conf, stats_int
     }
 }
 
+void report_yield_ci(const sunmc_config *c, long pass, long n, stats_interval *ci)
+{
+    yield_interval(c->yield_interval, pass, n, c->confidence, ci);
+}
+
 /* report.yield_interval's values, for summary.tsv. */
 static const char *const yield_interval_key[] = {"wilson", "clopper_pearson",
                                                  "clopper_pearson_lower"};
