@@ -28,6 +28,27 @@ static inline int band_holds(const band_list *bands, int i, double abs_deg)
            ((bands->lo[i] == 0.0) | (abs_deg > bands->lo[i] + BAND_EPS));
 }
 
+/* The bands holding abs_deg as bits (bit i: band i), for a reading whose
+ * errors go to several accumulators (band_acc_add_mask). */
+static inline unsigned band_mask(const band_list *bands, double abs_deg)
+{
+    unsigned m = 0;
+    for (int i = 0; i < bands->n; i++)
+        m |= (unsigned)band_holds(bands, i, abs_deg) << i;
+    return m;
+}
+
+/* band_acc_add to the bands of mask m (band_mask) of a list of n bands. */
+static inline void band_acc_add_mask(band_acc *b, int n, unsigned m, double err)
+{
+    double e2 = err * err;
+    for (int i = 0; i < n; i++) {
+        int in = (int)((m >> i) & 1u);
+        b->sum2[i] += vm_keep(in, e2);
+        b->n[i] += in;
+    }
+}
+
 /* Add error err at |angle| = abs_deg to every band that holds abs_deg,
  * without a branch (a reading's bands are as unpredictable as its angle):
  * the other bands add +0 (vm_keep, so a NaN error there adds nothing),

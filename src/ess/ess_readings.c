@@ -227,16 +227,22 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
     for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
         size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
         rng_normal_fill(r, z, ESS_FINE_ROWS * k);
-        memcpy(ca, trig->ca + i0, k * sizeof *ca);
-        memcpy(sa, trig->sa + i0, k * sizeof *sa);
-        memcpy(cb, trig->cb + i0, k * sizeof *cb);
-        memcpy(sb, trig->sb + i0, k * sizeof *sb);
-        pad_lanes(ca, k);
-        pad_lanes(sa, k);
-        pad_lanes(cb, k);
-        pad_lanes(sb, k);
+        /* a whole chunk reads the table in place; the last one, padded */
+        const double *tca = trig->ca + i0, *tsa = trig->sa + i0, *tcb = trig->cb + i0,
+                     *tsb = trig->sb + i0;
+        if (k < ESS_CHUNK) {
+            memcpy(ca, tca, k * sizeof *ca);
+            memcpy(sa, tsa, k * sizeof *sa);
+            memcpy(cb, tcb, k * sizeof *cb);
+            memcpy(sb, tsb, k * sizeof *sb);
+            pad_lanes(ca, k);
+            pad_lanes(sa, k);
+            pad_lanes(cb, k);
+            pad_lanes(sb, k);
+            tca = ca, tsa = sa, tcb = cb, tsb = sb;
+        }
         noise_lanes(sigma, z, ESS_FINE_ROWS, k, nz);
-        read_chunk_trig(u, k, ca, sa, cb, sb, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
+        read_chunk_trig(u, k, tca, tsa, tcb, tsb, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
         for (size_t i = 0; i < k; i++) {
             raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
             if (raw0_rad)

@@ -313,6 +313,7 @@ static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, 
     band_acc_reset(&after);
     band_acc_reset(&after_sys);
     double half_period = ess_half_period_rad(c);
+    int nb = c->bands_deg.n;
     ess_val_chunk w;
     for (size_t i0 = 0; i0 < v->n; i0 += ESS_CHUNK) {
         size_t k = v->n - i0 < ESS_CHUNK ? v->n - i0 : ESS_CHUNK;
@@ -326,18 +327,18 @@ static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, 
                 res->gross_val++;
                 continue;
             }
-            double abs_deg = fabs(v->truth_rad[i]) * DEG_PER_RAD;
-            band_acc_add(&before, &c->bands_deg, abs_deg, v->raw_rad[i] - v->truth_rad[i]);
+            unsigned bm = band_mask(&c->bands_deg, fabs(v->truth_rad[i]) * DEG_PER_RAD);
+            band_acc_add_mask(&before, nb, bm, v->raw_rad[i] - v->truth_rad[i]);
             if (res->fit_status != UNIT_FIT_OK)
                 continue;
             if (w.st_comp[q] != SUNMC_OK) {
                 res->fit_status = UNIT_FIT_FAILED;
                 continue;
             }
-            band_acc_add(&after, &c->bands_deg, abs_deg, w.comp[q] - v->truth_rad[i]);
+            band_acc_add_mask(&after, nb, bm, w.comp[q] - v->truth_rad[i]);
             if (!ess_is_gross(v->raw0_rad[i], v->truth_rad[i], half_period) &&
                 w.st_comp0[q] == SUNMC_OK)
-                band_acc_add(&after_sys, &c->bands_deg, abs_deg, w.comp0[q] - v->truth_rad[i]);
+                band_acc_add_mask(&after_sys, nb, bm, w.comp0[q] - v->truth_rad[i]);
         }
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
