@@ -122,15 +122,6 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band);
 int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
                      long n, summary_row *rows);
 
-/* The campaign's size and turntable hours, and a WARNING line when
- * validation angles lie beyond its span (campaign.h); nothing for a family
- * without table grids. */
-void report_print_campaign(FILE *f, const sunmc_config *c);
-
-/* Table 1 and the extra statistics with their intervals, for people. */
-void report_print_table(FILE *f, const sunmc_config *c, const sensor_family *fam,
-                        const summary_row *rows);
-
 /* summary.tsv: header then one row per angle and band; each estimate S with
  * an interval is followed by S_ci_lo and S_ci_hi.  `lead` (may be NULL)
  * prefixes extra columns: lead_names in the header, lead_values (as text,

@@ -1,6 +1,7 @@
 /* cmd_budget.c - `sunmc budget`: the tolerance budget and inverse limits. */
 #include "budget.h"
 #include "cli.h"
+#include "table.h"
 #include "output.h"
 #include "report.h"
 #include "status.h"
@@ -142,7 +143,7 @@ static int shown_significant(const budget_share *s);
 static void fmt_share(char *buf, size_t len, const budget_share *s)
 {
     if (isnan(s->v)) {
-        snprintf(buf, len, "%-26s", "-");
+        snprintf(buf, len, "-");
         return;
     }
     snprintf(buf, len, "%6.2f%% [%6.2f, %6.2f]%s", 100 * s->v, 100 * s->ci.lo, 100 * s->ci.hi,
@@ -216,19 +217,26 @@ static void fmt_limit(char *buf, size_t len, const budget_source *s)
                  s->limit / s->tolerance);
 }
 
-static void print_row(const char *rank, const char *name, const char *today, const char *unit,
-                      const budget_stats *alone, const budget_share *sb, const budget_share *sa,
-                      const char *limit, int prec)
+/* One row of the table: rank, source, today, unit | alone before, after |
+ * share before, after | inverse limit. */
+static void print_row(table *t, const char *rank, const char *name, const char *today,
+                      const char *unit, const budget_stats *alone, const budget_share *sb,
+                      const budget_share *sa, const char *limit, int prec)
 {
-    char cb[64], ca[64], rb[32] = "", ra[32] = "";
-    fmt_share(cb, sizeof cb, sb);
-    fmt_share(ca, sizeof ca, sa);
+    int r = table_row(t);
+    if (r < 0)
+        return;
+    table_set(t, r, 0, "%s", rank);
+    table_set(t, r, 1, "%s", name);
+    table_set(t, r, 2, "%s", today);
+    table_set(t, r, 3, "%s", unit);
     if (alone) {
-        snprintf(rb, sizeof rb, "%.*f", prec, alone->before_mean);
-        snprintf(ra, sizeof ra, "%.*f", prec, alone->after_mean);
+        table_set(t, r, 4, "%.*f", prec, alone->before_mean);
+        table_set(t, r, 5, "%.*f", prec, alone->after_mean);
     }
-    printf("%-4s %-29s %8s %-6s | %9s %9s | %s  %s | %s\n", rank, name, today, unit, rb, ra, cb,
-           ca, limit);
+    fmt_share(table_cell(t, r, 6), TABLE_CELL, sb);
+    fmt_share(table_cell(t, r, 7), TABLE_CELL, sa);
+    table_set(t, r, 8, "%s", limit);
 }
 
 static void print_table(const sunmc_config *c, const sensor_family *fam, const budget_result *b)
@@ -247,27 +255,37 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            prec, b->all.before_mean, prec, b->all.after_mean, u, dy, 100 * b->all.yield, dy,
            100 * b->all.yield_ci.lo, dy, 100 * b->all.yield_ci.hi, prec, b->no_tolerance.before_mean,
            prec, b->no_tolerance.after_mean);
-    char h[64];
-    char ci[32];
+    char h[64], ci[32], lim[64];
     report_ci_label(c, ci, sizeof ci);
     snprintf(h, sizeof h, "share of the mean square %s", ci);
-    printf("%-4s %-29s %8s %-6s | %19s | %-53s | %s\n", "rank", "source", "today", "unit",
-           "mean RMS alone", h, "inverse limit [CI]");
-    printf("%-4s %-29s %8s %-6s | %9s %9s | %-26s %-26s | yield %.0f%%, spec %g\"\n", "", "", "",
-           "", "before", "after", "before", "after", 100 * c->yield_target, c->spec_arcsec);
-    print_row("", "FLOOR (design, no noise)", "", "", &b->floor, &b->floor_before, &b->floor_after,
-              "", prec);
+    snprintf(lim, sizeof lim, "yield %.0f%%, spec %g\"", 100 * c->yield_target, c->spec_arcsec);
+    table *t = table_new(9);
+    if (!t)
+        return;
+    table_head(t, 0, "rank", "", TABLE_LEFT);
+    table_head(t, 1, "source", "", TABLE_LEFT);
+    table_head(t, 2, "today", "", 0);
+    table_head(t, 3, "unit", "", TABLE_LEFT);
+    table_head(t, 4, "mean RMS alone", "before", TABLE_BAR);
+    table_head(t, 5, "", "after", 0);
+    table_head(t, 6, h, "before", TABLE_BAR | TABLE_LEFT);
+    table_head(t, 7, "", "after", TABLE_LEFT);
+    table_head(t, 8, "inverse limit [CI]", lim, TABLE_BAR | TABLE_LEFT);
+    print_row(t, "", "FLOOR (design, no noise)", "", "", &b->floor, &b->floor_before,
+              &b->floor_after, "", prec);
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
-        char rank[16], today[32], lim[96];
+        char rank[16], today[32], limit[96];
         snprintf(rank, sizeof rank, "%d", s->rank);
         snprintf(today, sizeof today, "%.4g", s->tolerance);
-        fmt_limit(lim, sizeof lim, s);
-        print_row(rank, s->name, today, s->key->unit[0] ? s->key->unit : "-", &s->alone,
-                  &s->share_before, &s->share_after, lim, prec);
+        fmt_limit(limit, sizeof limit, s);
+        print_row(t, rank, s->name, today, s->key->unit[0] ? s->key->unit : "-", &s->alone,
+                  &s->share_before, &s->share_after, limit, prec);
     }
-    print_row("", "INTERACTION (rest)", "", "", NULL, &b->interaction_before,
+    print_row(t, "", "INTERACTION (rest)", "", "", NULL, &b->interaction_before,
               &b->interaction_after, "", prec);
+    table_print(stdout, t);
+    table_free(t);
     printf("RMS in %s.  Floor + sources + interaction = 100 %% of the mean square of all sources "
            "(MS_all);\na source's share is (MS of the floor with it alone - MS of the floor) / "
            "MS_all.  ~ = the interval\nincludes 0: inside the Monte Carlo noise (more --units "

@@ -1,6 +1,7 @@
 /* cmd_merge.c - `sunmc merge OUT SHARD_DIR...`: shards of one run into the
  * run's files. */
 #include "cli.h"
+#include "summary_print.h"
 #include "merge.h"
 #include "runner.h"
 #include "status.h"
@@ -116,7 +117,7 @@ static int merge_into(const char *out, const merge_shard *s, int n, const config
             m.end = s[n - 1].m.end;
             run_sink_sums(&r, &m);
             report_acc_rows(r.acc, rows);
-            report_print_table(stdout, c, c->family, rows);
+            summary_print(stdout, c, rows);
             printf("merged units %ld:%ld from %d shard%s into %s\n", m.first, m.end, n,
                    n == 1 ? "" : "s", out);
             fflush(stdout);

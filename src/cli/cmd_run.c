@@ -1,5 +1,6 @@
 /* cmd_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
 #include "cli.h"
+#include "summary_print.h"
 #include "memory.h"
 #include "montecarlo.h"
 #include "output.h"
@@ -403,7 +404,7 @@ static int job_finish(run_job *j, long done, double wall_s)
     if (j->o.profile)
         print_profile(j->r.phase_s, done, wall_s, j->threads);
     /* Table 1 first: a failed write must not cost the result. */
-    report_print_table(stdout, c, c->family, j->rows);
+    summary_print(stdout, c, j->rows);
     if (j->first != 0 || j->end != c->units)
         printf("units %ld:%ld of the run of %ld units (run.units): `sunmc merge` joins the "
                "shards of a run\n",

@@ -6,6 +6,7 @@
 #include "report.h"
 #include "status.h"
 #include "sweep.h"
+#include "table.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -45,45 +46,11 @@ static int point_config(const cli_options *o, const sweep_axis *axes, int n_axes
     return cli_exit_code(s);
 }
 
-/* Printed width of an axis' column: its name or its longest value. */
-static int axis_width(const sweep_axis *ax)
-{
-    size_t w = 24;
-    for (int i = 0; i < ax->n; i++)
-        w = strlen(ax->text[i]) > w ? strlen(ax->text[i]) : w;
-    return (int)w;
-}
-
-/* The numeric columns of the table. */
-enum { COL_BEFORE, COL_AFTER, COL_P95, COL_IMPROVE, COL_POINTS, SWEEP_NUM_COLS };
-
-/* Printed width of each numeric column over every row: its header or its
- * widest value (an improvement past 1,000 widens its column, not the row). */
-static void num_widths(const summary_row *rows, long n, int prec, int w[SWEEP_NUM_COLS])
-{
-    static const int head[SWEEP_NUM_COLS] = {10, 10, 10, 7, 7};
-    for (int k = 0; k < SWEEP_NUM_COLS; k++)
-        w[k] = head[k];
-    for (long i = 0; i < n; i++) {
-        const summary_row *s = &rows[i];
-        const double v[] = {s->rms_before_mean, s->rms_after_mean, s->rms_after_p95,
-                            s->improvement_mean};
-        for (int k = 0; k < COL_POINTS; k++) {
-            char text[64];
-            int len = report_format_number(text, sizeof text, v[k], k == COL_IMPROVE ? 2 : prec);
-            w[k] = len > w[k] ? len : w[k];
-        }
-        int len = snprintf(NULL, 0, "%ld", s->campaign_points);
-        w[COL_POINTS] = len > w[COL_POINTS] ? len : w[COL_POINTS];
-    }
-}
-
 static void print_table(const sunmc_config *c, const sensor_family *fam, const sweep_axis *axes,
                         int n_axes, long n_points, const summary_row *rows, int n_rows)
 {
     const char *u = fam->rms_unit;
-    int prec = report_decimals(fam), w[SWEEP_NUM_COLS];
-    num_widths(rows, n_points * n_rows, prec, w);
+    int prec = report_decimals(fam);
     /* run.units / run.seed on an axis: the header says so, not the base's */
     int vary_units = 0, vary_seed = 0;
     for (int i = 0; i < n_axes; i++) {
@@ -101,37 +68,50 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
         snprintf(seed, sizeof seed, "seed %ld", c->seed);
     printf("\n%s (%s): sweep of %ld points, %s, %s, spec %g arcsec\n", c->product, fam->name,
            n_points, units, seed, c->spec_arcsec);
+    static const char *const heads[] = {"angle", "band",  "before", "after",  "p95 after",
+                                        "improve", "yield", "alias", "failed", "points",
+                                        "hours",  ""};
+    enum { N_HEADS = sizeof heads / sizeof *heads };
+    table *t = table_new(n_axes + N_HEADS);
+    if (!t)
+        return;
     for (int i = 0; i < n_axes; i++)
-        printf("%-*s ", axis_width(&axes[i]), axes[i].dotted);
-    printf("%-6s %-9s %*s %*s %*s %*s %7s %6s %6s %*s %6s\n", "angle", "band", w[COL_BEFORE],
-           "before", w[COL_AFTER], "after", w[COL_P95], "p95 after", w[COL_IMPROVE], "improve",
-           "yield", "alias", "failed", w[COL_POINTS], "points", "hours");
+        table_head(t, i, axes[i].dotted, "", TABLE_LEFT);
+    for (int k = 0; k < N_HEADS; k++)
+        table_head(t, n_axes + k, heads[k], "", k < 2 || k == N_HEADS - 1 ? TABLE_LEFT : 0);
     int extrapolated = 0, missing = 0;
     for (long p = 0; p < n_points; p++) {
         const char *v[SWEEP_MAX_AXES];
         sweep_point_text(axes, n_axes, p, v);
         for (int r = 0; r < n_rows; r++) {
             const summary_row *s = &rows[p * n_rows + r];
-            char band[32];
-            report_band_label(c, s->band, band, sizeof band);
+            int row = table_row(t);
+            if (row < 0)
+                break;
             for (int i = 0; i < n_axes; i++)
-                printf("%-*s ", axis_width(&axes[i]), v[i]);
-            char t[COL_POINTS][64];
-            const double x[COL_POINTS] = {s->rms_before_mean, s->rms_after_mean,
-                                          s->rms_after_p95, s->improvement_mean};
-            for (int k = 0; k < COL_POINTS; k++) {
-                report_format_number(t[k], sizeof t[k], x[k], k == COL_IMPROVE ? 2 : prec);
+                table_set(t, row, i, "%s", v[i]);
+            char *cell = table_cell(t, row, n_axes);
+            snprintf(cell, TABLE_CELL, "%s", fam->angle_names[s->angle]);
+            report_band_label(c, s->band, table_cell(t, row, n_axes + 1), TABLE_CELL);
+            const double x[4] = {s->rms_before_mean, s->rms_after_mean, s->rms_after_p95,
+                                 s->improvement_mean};
+            for (int k = 0; k < 4; k++) {
+                report_format_number(table_cell(t, row, n_axes + 2 + k), TABLE_CELL, x[k],
+                                     k == 3 ? 2 : prec);
                 missing |= !isfinite(x[k]);
             }
-            printf("%-6s %-9s %*s %*s %*s %*s %6.*f%% %6ld %6ld %*ld %6.2f%s\n",
-                   fam->angle_names[s->angle], band, w[COL_BEFORE], t[COL_BEFORE], w[COL_AFTER],
-                   t[COL_AFTER], w[COL_P95], t[COL_P95], w[COL_IMPROVE], t[COL_IMPROVE],
-                   report_percent_decimals(s->yield, 1), 100.0 * s->yield, s->alias_units,
-                   s->fit_failures, w[COL_POINTS], s->campaign_points, s->campaign_hours,
-                   s->extrapolation_deg > 0 ? " *" : "");
+            table_set(t, row, n_axes + 6, "%.*f%%", report_percent_decimals(s->yield, 1),
+                      100.0 * s->yield);
+            table_set(t, row, n_axes + 7, "%ld", s->alias_units);
+            table_set(t, row, n_axes + 8, "%ld", s->fit_failures);
+            table_set(t, row, n_axes + 9, "%ld", s->campaign_points);
+            table_set(t, row, n_axes + 10, "%.2f", s->campaign_hours);
+            table_set(t, row, n_axes + 11, "%s", s->extrapolation_deg > 0 ? "*" : "");
             extrapolated |= s->extrapolation_deg > 0;
         }
     }
+    table_print(stdout, t);
+    table_free(t);
     printf("mean RMS in %s", u);
     if (fam->alias_term)
         printf("; alias = units whose campaign could not resolve %s", fam->alias_term);

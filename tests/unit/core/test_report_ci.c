@@ -7,6 +7,7 @@
 #include "test_util.h"
 
 #include "report.h"
+#include "summary_print.h"
 #include "status.h"
 
 static const char *const fake_angles[] = {"alpha"};
@@ -254,7 +255,7 @@ static void printed_compact(void **state)
 {
     FILE *f = tmpfile();
     assert_non_null(f);
-    report_print_table(f, &c, &fake, &r);
+    summary_print(f, &c, &r);
     rewind(f);
     char text[8192];
     size_t n = fread(text, 1, sizeof text - 1, f);

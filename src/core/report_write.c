@@ -1,0 +1,165 @@
+/* report_write.c - summary.tsv and units.tsv (report.h). */
+#include "report.h"
+#include "thermal.h"
+#include "status.h"
+
+#include <math.h>
+#include <string.h>
+
+/* report.yield_interval's values, for summary.tsv. */
+static const char *const yield_interval_key[] = {"wilson", "clopper_pearson",
+                                                 "clopper_pearson_lower"};
+
+static void summary_header(FILE *f, int n_lead, const char *const *lead_names, int thermal)
+{
+    for (int i = 0; i < n_lead; i++)
+        fprintf(f, "%s\t", lead_names[i]);
+    fprintf(f, "product\tfamily\tangle\tband\tband_lo_deg\tband_hi_deg\tunits\trms_unit\t"
+               "rms_before_mean\trms_before_mean_ci_lo\trms_before_mean_ci_hi\t"
+               "rms_after_mean\trms_after_mean_ci_lo\trms_after_mean_ci_hi\t"
+               "rms_after_sys_mean\trms_after_sys_mean_ci_lo\trms_after_sys_mean_ci_hi\t"
+               "rms_after_max\trms_after_min\t"
+               "rms_after_p95\trms_after_p95_ci_lo\trms_after_p95_ci_hi\t"
+               "improvement_mean\timprovement_mean_ci_lo\timprovement_mean_ci_hi\t"
+               "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
+               "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
+               "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
+               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval");
+    fprintf(f, "%s\n", thermal ? "\tcondition\ttemp_c" : "");
+}
+
+void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_names)
+{
+    summary_header(f, n_lead, lead_names, 0);
+}
+
+void report_write_summary_header_of(FILE *f, const sunmc_config *c, int n_lead,
+                                    const char *const *lead_names)
+{
+    summary_header(f, n_lead, lead_names, thermal_n_temps(c) > 0);
+}
+
+/* summary.tsv's condition column. */
+static const char *const condition_key[] = {"lab", "operating", "worst"};
+
+/* "S\tS_ci_lo\tS_ci_hi\t" */
+static void write_estimate(FILE *f, double v, stats_interval ci)
+{
+    fprintf(f, "%.6g\t%.6g\t%.6g\t", v, ci.lo, ci.hi);
+}
+
+void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                               const summary_row *rows, int n_lead, const char *const *lead_values)
+{
+    int n = report_n_rows(c, fam);
+    char model[256];
+    fam->model_label(c, model, sizeof model);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        char band[32];
+        report_band_label(c, r->band, band, sizeof band);
+        for (int j = 0; j < n_lead; j++)
+            fprintf(f, "%s\t", lead_values[j]);
+        fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t", c->product, fam->name,
+                fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
+                c->bands_deg.hi[r->band], r->units, fam->rms_unit);
+        write_estimate(f, r->rms_before_mean, r->rms_before_mean_ci);
+        write_estimate(f, r->rms_after_mean, r->rms_after_mean_ci);
+        write_estimate(f, r->rms_after_sys_mean, r->rms_after_sys_mean_ci);
+        fprintf(f, "%.6g\t%.6g\t", r->rms_after_max, r->rms_after_min);
+        write_estimate(f, r->rms_after_p95, r->rms_after_p95_ci);
+        write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
+        fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
+        write_estimate(f, r->yield, r->yield_ci);
+        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\t%ld\t", c->spec_arcsec,
+                r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
+                model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
+                r->no_reading_units);
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%s", r->worse, r->worse_ci.lo, r->worse_ci.hi,
+                yield_interval_key[c->yield_interval]);
+        if (thermal_n_temps(c) > 0)
+            fprintf(f, "\t%s\t%g", condition_key[r->condition], r->temp_c);
+        fputc('\n', f);
+    }
+}
+
+void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_family *fam)
+{
+    const char *dev[UNIT_MAX_DEV], *par[UNIT_MAX_PAR];
+    int nd = fam->dev_columns(c, dev, UNIT_MAX_DEV);
+    int np = fam->par_columns(c, par, UNIT_MAX_PAR);
+    int na = fam->n_angles(c), nb = c->bands_deg.n;
+    fprintf(f, "unit\tfit_status\tfit_gsl_status\tfit_iterations\talias_weak\tgross_cal\tgross_val");
+    for (int i = 0; i < nd; i++)
+        fprintf(f, "\t%s", dev[i]);
+    for (int i = 0; i < np; i++)
+        fprintf(f, "\t%s", par[i]);
+    fprintf(f, "\tfit_rms_%s", fam->rms_unit);
+    const char *which[3] = {"before", "after", "after_sys"};
+    for (int w = 0; w < 3; w++)
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a],
+                        c->bands_deg.lo[b], c->bands_deg.hi[b], fam->rms_unit);
+    /* at each operating temperature, then the worst over them (thermal.h) */
+    int nt = thermal_n_temps(c);
+    for (int t = 0; t <= nt && nt > 0; t++)
+        for (int w = 0; w < 2; w++)
+            for (int a = 0; a < na; a++)
+                for (int b = 0; b < nb; b++) {
+                    double lo = c->bands_deg.lo[b], hi = c->bands_deg.hi[b];
+                    fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a], lo, hi,
+                            fam->rms_unit);
+                    if (t < nt)
+                        fprintf(f, "_at_%gC", thermal_temp_c(c, t));
+                    else
+                        fprintf(f, "_worst");
+                }
+    fputc('\n', f);
+}
+
+void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                            const unit_result *results, long n)
+{
+    const char *names[UNIT_MAX_PAR];
+    int nd = fam->dev_columns(c, names, UNIT_MAX_DEV);
+    int np = fam->par_columns(c, names, UNIT_MAX_PAR);
+    int na = fam->n_angles(c), nb = c->bands_deg.n;
+    for (long u = 0; u < n; u++) {
+        const unit_result *r = &results[u];
+        fprintf(f, "%ld\t%s\t%d\t%d\t%d\t%d\t%d", r->unit,
+                r->fit_status == UNIT_FIT_OK ? "ok" : "failed", r->fit_gsl_status,
+                r->fit_iterations, r->alias_weak, r->gross_cal, r->gross_val);
+        for (int i = 0; i < nd; i++)
+            fprintf(f, "\t%.10g", r->dev[i]);
+        for (int i = 0; i < np; i++)
+            fprintf(f, "\t%.10g", r->par[i]);
+        fprintf(f, "\t%.6g", r->fit_rms);
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                fprintf(f, "\t%.6g", r->rms_before[a][b]);
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                fprintf(f, "\t%.6g", r->rms_after[a][b]);
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                fprintf(f, "\t%.6g", r->rms_after_sys[a][b]);
+        int nt = thermal_n_temps(c);
+        for (int t = 0; t <= nt && nt > 0; t++)
+            for (int w = 0; w < 2; w++) {
+                const double(*v)[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX] =
+                    w == 0 ? r->rms_before_t : r->rms_after_t;
+                for (int a = 0; a < na; a++)
+                    for (int b = 0; b < nb; b++)
+                        fprintf(f, "\t%.6g", t < nt ? v[t][a][b] : thermal_worst(v, nt, a, b));
+            }
+        fputc('\n', f);
+    }
+}
+
+void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const unit_result *results, long n)
+{
+    report_write_units_header(f, c, fam);
+    report_write_unit_rows(f, c, fam, results, n);
+}
