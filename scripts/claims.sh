@@ -301,7 +301,7 @@ done
 mc=$(at $R/d_c1_mounted error_source_beta_arcsec 0 0)
 need D4 "$cen < 0.1"
 row D4 "DSS Fig. 4" "installation errors of 10″: negligible at the centre, growing toward the edge" "negligible at the centre" \
-  "campaign.mount = aligned: at most $(f "$cen" 2)″ at the centre; at the edge${edge%,}; as mounted c1 adds $(f "${mc#-}" 1)″ at the centre" \
+  "campaign.mount = aligned: at most $(f "$cen" 2)″ at the centre; largest over the ±60° field${edge%,}; as mounted c1 adds $(f "${mc#-}" 1)″ at the centre" \
   "d_c1, d_c2, d_c3, d_c1_mounted" reproduced \
   "with the paper's lab (eq. 6: the table zeroed on the detector normal); as mounted the rotation is an offset everywhere"
 c d_glass curve $D --only glass_index=0 $dgrid --set noise.s_curve=off --set design.onboard_refraction=ignored
