@@ -198,6 +198,12 @@ int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn pr
     if (units < 2)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensitivity needs at least 2 units, not %ld",
                           units);
+    /* the bootstrap resamples units as independent rows; a design's units
+     * are not (sampling.h), so its intervals would be too narrow */
+    if (c->sampling != CONFIG_SAMPLING_RANDOM)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "sensitivity's bootstrap intervals need independent units: set "
+                          "run.sampling = random (a design's blocks are not independent rows)");
     s->units = units;
     s->seed = c->seed;
     s->seed_b = c->seed ^ SENS_SEED_B_XOR;
