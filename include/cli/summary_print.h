@@ -12,7 +12,7 @@
 /* The run's header (product, units, seed, spec, model, campaign), the
  * paper's Table 1 with p95, the means with their intervals, yield and
  * "made worse", the notes and warnings, and the operating temperatures'
- * table when there are any.  rows: report_n_rows(c, c->family) of them. */
+ * table when there are any.  rows: report_n_rows(c) of them. */
 void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows);
 
 /* The campaign's points, lines, readings and turntable hours, and a

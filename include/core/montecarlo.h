@@ -23,7 +23,7 @@ typedef void (*mc_progress_fn)(long done, long total, void *ctx);
 
 /* threads: 0 = OpenMP's default.  Returns SUNMC_OK, or the first error of a
  * family workspace allocation or unit run (message in err). */
-int mc_run(const sunmc_config *c, const sensor_family *fam, long first, long end, int threads,
+int mc_run(const sunmc_config *c, long first, long end, int threads,
            unit_result *results, mc_progress_fn progress, void *ctx, char *err, size_t errlen);
 
 /* Receives results[n], the next block in unit order; sets *stop = 1 to end
@@ -50,7 +50,7 @@ typedef struct {
 
 /* Run the plan's blocks in order.  *done (may be NULL) gets the number of
  * units handed to the sink (0 on ranks other than 0). */
-int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p, long *done,
+int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
               char *err, size_t errlen);
 
 #endif

@@ -81,13 +81,13 @@ const char *report_yield_interval_name(const sunmc_config *c);
  * the config has operating temperatures (thermal.h): the lab's rows first
  * (angle-major, as without them), then each temperature's, then the worst
  * over them. */
-int report_n_rows(const sunmc_config *c, const sensor_family *fam);
+int report_n_rows(const sunmc_config *c);
 /* The lab's rows: angles x bands. */
-int report_n_lab_rows(const sunmc_config *c, const sensor_family *fam);
+int report_n_lab_rows(const sunmc_config *c);
 /* Index of the row that budget, sensitivity and sweep judge by for angle
  * and band: the worst over the operating temperatures when there are any,
  * else the lab's. */
-int report_primary_row(const sunmc_config *c, const sensor_family *fam, int angle, int band);
+int report_primary_row(const sunmc_config *c, int angle, int band);
 
 /* The statistics of a stream of units, added in unit order a block at a
  * time: running moments for the means, counts, max/min, and per angle and
@@ -96,8 +96,8 @@ int report_primary_row(const sunmc_config *c, const sensor_family *fam, int angl
  * run).  report_acc_rows may be called after any block and adding go on. */
 typedef struct report_acc report_acc;
 
-/* NULL when out of memory; c and fam must outlive the accumulator. */
-report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam);
+/* NULL when out of memory; c (and its family) must outlive the accumulator. */
+report_acc *report_acc_new(const sunmc_config *c);
 /* Add results[n], the next units in unit order.  SUNMC_ENOMEM. */
 int report_acc_add(report_acc *acc, const unit_result *results, long n);
 /* Units added so far. */
@@ -119,7 +119,7 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band);
 
 /* Fill rows[report_n_rows] from results[n] (in unit order), intervals at
  * c->confidence (an accumulator over one array).  SUNMC_ENOMEM. */
-int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
+int report_summarize(const sunmc_config *c, const unit_result *results,
                      long n, summary_row *rows);
 
 /* summary.tsv: header then one row per angle and band; each estimate S with
@@ -131,15 +131,15 @@ void report_write_summary_header(FILE *f, int n_lead, const char *const *lead_na
  * after the others when c has operating temperatures (thermal.h). */
 void report_write_summary_header_of(FILE *f, const sunmc_config *c, int n_lead,
                                     const char *const *lead_names);
-void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_summary_rows(FILE *f, const sunmc_config *c,
                                const summary_row *rows, int n_lead, const char *const *lead_values);
 
 /* units.tsv: header then one row per unit; the header and the rows apart,
  * for writing the rows a block at a time. */
-void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_units(FILE *f, const sunmc_config *c,
                         const unit_result *results, long n);
-void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_family *fam);
-void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_units_header(FILE *f, const sunmc_config *c);
+void report_write_unit_rows(FILE *f, const sunmc_config *c,
                             const unit_result *results, long n);
 
 /* Band label "0:30" of band i. */

@@ -42,7 +42,7 @@ typedef struct {
 
 /* units_tsv and units_bin may be NULL (no per-unit rows, records); their
  * headers are written here. */
-int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, FILE *units_tsv,
+int run_sink_init(run_sink *r, const sunmc_config *c, FILE *units_tsv,
                   FILE *units_bin, char *err, size_t errlen);
 /* An mc_sink_fn; ctx is the run_sink. */
 int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, char *err,

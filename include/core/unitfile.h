@@ -48,7 +48,7 @@ typedef struct {
     long words; /* per record */
 } unitfile_layout;
 
-void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfile_layout *l);
+void unitfile_layout_of(const sunmc_config *c, unitfile_layout *l);
 
 /* Write the header; then records[n] (SUNMC_EIO on a write error). */
 int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t errlen);

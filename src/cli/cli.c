@@ -185,7 +185,7 @@ int cli_run_files_commit(cli_run_files *rf, const sunmc_config *c, const summary
                          const run_manifest *m, char *err, size_t errlen)
 {
     report_write_summary_header_of(rf->f[RUN_FILE_SUMMARY], c, 0, NULL);
-    report_write_summary_rows(rf->f[RUN_FILE_SUMMARY], c, c->family, rows, 0, NULL);
+    report_write_summary_rows(rf->f[RUN_FILE_SUMMARY], c, rows, 0, NULL);
     int st = manifest_write(rf->f[RUN_FILE_MANIFEST], m, err, errlen);
     rf->open = 0;
     if (st != SUNMC_OK) {

@@ -103,12 +103,12 @@ static int merge_into(const char *out, const merge_shard *s, int n, const config
                       char *err, size_t errlen)
 {
     const sunmc_config *c = &st->cfg;
-    summary_row *rows = calloc((size_t)report_n_rows(c, c->family), sizeof *rows);
+    summary_row *rows = calloc((size_t)report_n_rows(c), sizeof *rows);
     char *body = config_body(s[0].dir, s[0].m.first, s[n - 1].m.end, c->units, err, errlen);
     cli_run_files rf;
     run_sink r;
     int rc = rows && body ? cli_run_files_begin(&rf, out, err, errlen) : SUNMC_ENOMEM;
-    if (rc == SUNMC_OK && (rc = run_sink_init(&r, c, c->family, rf.f[RUN_FILE_UNITS],
+    if (rc == SUNMC_OK && (rc = run_sink_init(&r, c, rf.f[RUN_FILE_UNITS],
                                               rf.f[RUN_FILE_BIN], err, errlen)))
         cli_run_files_abort(&rf);
     if (rc == SUNMC_OK) {

@@ -78,7 +78,7 @@ int cli_monte_carlo(const sunmc_config *c, long first, long end, int threads, cl
         fprintf(stderr, "sunmc: %s\n", err);
         return cli_exit_code(st);
     }
-    if (run_sink_init(&r, c, c->family, NULL, NULL, err, sizeof err) != SUNMC_OK) {
+    if (run_sink_init(&r, c, NULL, NULL, err, sizeof err) != SUNMC_OK) {
         fprintf(stderr, "sunmc: %s\n", err);
         return 1;
     }
@@ -346,13 +346,13 @@ static int job_checkpoint(run_job *j, char *err, size_t errlen)
 static int job_open(run_job *j, char *err, size_t errlen)
 {
     const sunmc_config *c = &j->st.cfg;
-    j->rows = calloc((size_t)report_n_rows(c, c->family), sizeof *j->rows);
+    j->rows = calloc((size_t)report_n_rows(c), sizeof *j->rows);
     if (!j->rows)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
     int st = cli_run_files_begin(&j->rf, j->o.out, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    st = run_sink_init(&j->r, c, c->family, j->rf.f[RUN_FILE_UNITS], j->rf.f[RUN_FILE_BIN], err,
+    st = run_sink_init(&j->r, c, j->rf.f[RUN_FILE_UNITS], j->rf.f[RUN_FILE_BIN], err,
                        errlen);
     if (st == SUNMC_OK && j->o.out && (st = job_checkpoint(j, err, errlen)) != SUNMC_OK)
         run_sink_free(&j->r);

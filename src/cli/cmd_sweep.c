@@ -141,7 +141,7 @@ static void write_sweep_tsv(FILE *fs, const sunmc_config *c, const sensor_family
         sweep_point_label(axes, n_axes, p, label, sizeof label);
         lead[n_axes] = label;
         lead[n_axes + 1] = rows[p * n_rows].alias_units > 0 ? "1" : "0";
-        report_write_summary_rows(fs, c, fam, &rows[p * n_rows], n_axes + 2, lead);
+        report_write_summary_rows(fs, c, &rows[p * n_rows], n_axes + 2, lead);
     }
 }
 
@@ -169,15 +169,15 @@ static int point_rows(const sunmc_config *c, long first, long end, int threads, 
                       summary_row *rows)
 {
     const sensor_family *fam = c->family;
-    int n = report_n_rows(c, fam), nb = c->bands_deg.n;
+    int n = report_n_rows(c), nb = c->bands_deg.n;
     summary_row *all = calloc((size_t)n, sizeof *all);
     if (!all) {
         fprintf(stderr, "sunmc sweep: out of memory\n");
         return 1;
     }
     int rc = cli_monte_carlo(c, first, end, threads, m, all);
-    for (int i = 0; rc == 0 && i < report_n_lab_rows(c, fam); i++)
-        rows[i] = all[report_primary_row(c, fam, i / nb, i % nb)];
+    for (int i = 0; rc == 0 && i < report_n_lab_rows(c); i++)
+        rows[i] = all[report_primary_row(c, i / nb, i % nb)];
     free(all);
     return rc;
 }
@@ -274,7 +274,7 @@ int cmd_sweep(int argc, char **argv)
     }
 
     const sensor_family *fam = base.cfg.family;
-    int n_rows = report_n_lab_rows(&base.cfg, fam);
+    int n_rows = report_n_lab_rows(&base.cfg);
     summary_row *rows = calloc((size_t)(n_points * n_rows), sizeof *rows);
     if (!rows) {
         fprintf(stderr, "sunmc sweep: out of memory for %ld points\n", n_points);

@@ -181,7 +181,7 @@ static void range_label(const sunmc_config *c, char *buf, size_t len)
 static void print_thermal(FILE *f, const sunmc_config *c, const sensor_family *fam,
                           const summary_row *rows, int prec)
 {
-    int n = report_n_rows(c, fam);
+    int n = report_n_rows(c);
     table *t = table_of(8, n);
     if (!t)
         return;
@@ -222,7 +222,7 @@ static void print_thermal(FILE *f, const sunmc_config *c, const sensor_family *f
     table_free(t);
     int wb = report_widest_band(c);
     for (int a = 0; a < fam->n_angles(c); a++) {
-        const summary_row *w = &rows[report_primary_row(c, fam, a, wb)];
+        const summary_row *w = &rows[report_primary_row(c, a, wb)];
         const summary_row *l = &rows[a * c->bands_deg.n + wb];
         char band[32], yw[96], yl[96];
         report_band_label(c, wb, band, sizeof band);
@@ -333,7 +333,7 @@ static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *
 void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
 {
     const sensor_family *fam = c->family;
-    int n = report_n_lab_rows(c, fam);
+    int n = report_n_lab_rows(c);
     const char *u = fam->rms_unit;
     const int prec = report_decimals(fam);
     char model[256];

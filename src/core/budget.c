@@ -100,11 +100,11 @@ static int row_stats(const sunmc_config *c, const unit_result *res, long units, 
                      int band, budget_stats *out)
 {
     const sensor_family *fam = c->family;
-    int nr = report_n_rows(c, fam);
+    int nr = report_n_rows(c);
     summary_row *rows = calloc((size_t)nr, sizeof *rows);
-    int st = rows ? report_summarize(c, fam, res, units, rows) : SUNMC_ENOMEM;
+    int st = rows ? report_summarize(c, res, units, rows) : SUNMC_ENOMEM;
     if (st == SUNMC_OK) {
-        const summary_row *r = &rows[report_primary_row(c, fam, angle, band)];
+        const summary_row *r = &rows[report_primary_row(c, angle, band)];
         memset(out, 0, sizeof *out);
         out->before_mean = r->rms_before_mean;
         out->after_mean = r->rms_after_mean;
@@ -132,7 +132,7 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
     if (st == SUNMC_ENOMEM)
         sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
     if (st == SUNMC_OK)
-        st = mc_run(c, fam, 0, units, threads, res, NULL, NULL, err, errlen);
+        st = mc_run(c, 0, units, threads, res, NULL, NULL, err, errlen);
     if (st == SUNMC_OK && ((st = row_stats(c, res, units, angle, band, out)) != SUNMC_OK ||
                            (head > 0 && head <= units &&
                             (st = row_stats(c, res, head, angle, band, head_out)) != SUNMC_OK)))

@@ -155,7 +155,7 @@ static int run_more(design_result *d, design_candidate *k, report_acc *acc, long
                     unit_result *buf, summary_row *rows, char *err, size_t errlen)
 {
     const sensor_family *fam = k->cfg.family;
-    int s = mc_run(&k->cfg, fam, k->units, k->units + n, threads, buf, NULL, NULL, err, errlen);
+    int s = mc_run(&k->cfg, k->units, k->units + n, threads, buf, NULL, NULL, err, errlen);
     if (s == SUNMC_OK && report_acc_add(acc, buf, n) != SUNMC_OK)
         s = sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
     if (s != SUNMC_OK)
@@ -163,7 +163,7 @@ static int run_more(design_result *d, design_candidate *k, report_acc *acc, long
     k->units += n;
     d->units_run += n;
     report_acc_rows(acc, rows);
-    const summary_row *r = &rows[report_primary_row(&k->cfg, k->cfg.family, d->angle, d->band)];
+    const summary_row *r = &rows[report_primary_row(&k->cfg, d->angle, d->band)];
     k->yield = r->yield;
     k->yield_ci = r->yield_ci;
     k->after_mean = r->rms_after_mean;
@@ -233,13 +233,13 @@ int design_run(design_result *d, int threads, design_progress_fn progress, void 
     long block = c0->block_units > c0->search_screen_units ? c0->block_units
                                                            : c0->search_screen_units;
     unit_result *buf = calloc((size_t)block, sizeof *buf);
-    summary_row *rows = calloc((size_t)report_n_rows(c0, c0->family), sizeof *rows);
+    summary_row *rows = calloc((size_t)report_n_rows(c0), sizeof *rows);
     report_acc **acc = calloc((size_t)d->n, sizeof *acc);
     d->order = calloc((size_t)d->n, sizeof *d->order);
     int s = buf && rows && acc && d->order ? SUNMC_OK : SUNMC_ENOMEM;
     for (int i = 0; s == SUNMC_OK && i < d->n; i++) {
         design_candidate *k = &d->cand[i];
-        if (!(acc[i] = report_acc_new(&k->cfg, k->cfg.family)))
+        if (!(acc[i] = report_acc_new(&k->cfg)))
             s = SUNMC_ENOMEM;
         if (progress && s == SUNMC_OK)
             progress("screen", i + 1, d->n, ctx);

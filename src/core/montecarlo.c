@@ -62,9 +62,10 @@ static void *workspace(mc_shared *s)
     return ws;
 }
 
-int mc_run(const sunmc_config *c, const sensor_family *fam, long first, long end, int threads,
+int mc_run(const sunmc_config *c, long first, long end, int threads,
            unit_result *results, mc_progress_fn progress, void *ctx, char *err, size_t errlen)
 {
+    const sensor_family *fam = c->family;
     mc_shared s = {c, fam, SUNMC_OK, 0, end - first, progress, ctx, err, errlen};
     if (threads > 0)
         omp_set_num_threads(threads);
@@ -176,9 +177,10 @@ static void stream_rounds(mc_shared *s, mc_round *rd)
         s->fam->workspace_free(ws);
 }
 
-int mc_stream(const sunmc_config *c, const sensor_family *fam, const mc_plan *p, long *done,
+int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
               char *err, size_t errlen)
 {
+    const sensor_family *fam = c->family;
     mc_round rd = {p, p->block_units > 0 ? p->block_units : 1, 1, 0, NULL, NULL, 0, 0, 0};
     if (p->distribute) {
         rd.ranks = ranks_size();

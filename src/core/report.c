@@ -49,18 +49,21 @@ static int n_sets(const sunmc_config *c)
     return nt > 0 ? nt + 2 : 1;
 }
 
-int report_n_rows(const sunmc_config *c, const sensor_family *fam)
+int report_n_rows(const sunmc_config *c)
 {
+    const sensor_family *fam = c->family;
     return fam->n_angles(c) * c->bands_deg.n * n_sets(c);
 }
 
-int report_n_lab_rows(const sunmc_config *c, const sensor_family *fam)
+int report_n_lab_rows(const sunmc_config *c)
 {
+    const sensor_family *fam = c->family;
     return fam->n_angles(c) * c->bands_deg.n;
 }
 
-int report_primary_row(const sunmc_config *c, const sensor_family *fam, int angle, int band)
+int report_primary_row(const sunmc_config *c, int angle, int band)
 {
+    const sensor_family *fam = c->family;
     int nt = thermal_n_temps(c);
     int set = nt > 0 ? nt + 1 : 0;
     return (set * fam->n_angles(c) + angle) * c->bands_deg.n + band;
@@ -99,8 +102,9 @@ struct report_acc {
     band_cell cell[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
 };
 
-report_acc *report_acc_new(const sunmc_config *c, const sensor_family *fam)
+report_acc *report_acc_new(const sunmc_config *c)
 {
+    const sensor_family *fam = c->family;
     report_acc *a = calloc(1, sizeof *a);
     if (!a)
         return NULL;
@@ -430,10 +434,10 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band)
     return h;
 }
 
-int report_summarize(const sunmc_config *c, const sensor_family *fam, const unit_result *results,
+int report_summarize(const sunmc_config *c, const unit_result *results,
                      long n, summary_row *rows)
 {
-    report_acc *acc = report_acc_new(c, fam);
+    report_acc *acc = report_acc_new(c);
     int st = acc ? report_acc_add(acc, results, n) : SUNMC_ENOMEM;
     if (st == SUNMC_OK)
         report_acc_rows(acc, rows);

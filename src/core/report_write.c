@@ -48,10 +48,11 @@ static void write_estimate(FILE *f, double v, stats_interval ci)
     fprintf(f, "%.6g\t%.6g\t%.6g\t", v, ci.lo, ci.hi);
 }
 
-void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_summary_rows(FILE *f, const sunmc_config *c,
                                const summary_row *rows, int n_lead, const char *const *lead_values)
 {
-    int n = report_n_rows(c, fam);
+    const sensor_family *fam = c->family;
+    int n = report_n_rows(c);
     char model[256];
     fam->model_label(c, model, sizeof model);
     for (int i = 0; i < n; i++) {
@@ -83,8 +84,9 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c, const sensor_fami
     }
 }
 
-void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_family *fam)
+void report_write_units_header(FILE *f, const sunmc_config *c)
 {
+    const sensor_family *fam = c->family;
     const char *dev[UNIT_MAX_DEV], *par[UNIT_MAX_PAR];
     int nd = fam->dev_columns(c, dev, UNIT_MAX_DEV);
     int np = fam->par_columns(c, par, UNIT_MAX_PAR);
@@ -118,9 +120,10 @@ void report_write_units_header(FILE *f, const sunmc_config *c, const sensor_fami
     fputc('\n', f);
 }
 
-void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_unit_rows(FILE *f, const sunmc_config *c,
                             const unit_result *results, long n)
 {
+    const sensor_family *fam = c->family;
     const char *names[UNIT_MAX_PAR];
     int nd = fam->dev_columns(c, names, UNIT_MAX_DEV);
     int np = fam->par_columns(c, names, UNIT_MAX_PAR);
@@ -157,9 +160,10 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c, const sensor_family 
     }
 }
 
-void report_write_units(FILE *f, const sunmc_config *c, const sensor_family *fam,
+void report_write_units(FILE *f, const sunmc_config *c,
                         const unit_result *results, long n)
 {
-    report_write_units_header(f, c, fam);
-    report_write_unit_rows(f, c, fam, results, n);
+    const sensor_family *fam = c->family;
+    report_write_units_header(f, c);
+    report_write_unit_rows(f, c, results, n);
 }

@@ -5,21 +5,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-int run_sink_init(run_sink *r, const sunmc_config *c, const sensor_family *fam, FILE *units_tsv,
+int run_sink_init(run_sink *r, const sunmc_config *c, FILE *units_tsv,
                   FILE *units_bin, char *err, size_t errlen)
 {
+    const sensor_family *fam = c->family;
     memset(r, 0, sizeof *r);
     r->c = c;
     r->fam = fam;
     r->units_tsv = units_tsv;
     r->units_bin = units_bin;
-    unitfile_layout_of(c, fam, &r->layout);
+    unitfile_layout_of(c, &r->layout);
     unitsum_init(&r->sum, UNITSUM_LEAF_UNITS);
-    r->acc = report_acc_new(c, fam);
+    r->acc = report_acc_new(c);
     if (!r->acc)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the statistics");
     if (units_tsv)
-        report_write_units_header(units_tsv, c, fam);
+        report_write_units_header(units_tsv, c);
     if (units_bin && unitfile_write_header(units_bin, &r->layout, err, errlen) != SUNMC_OK) {
         run_sink_free(r);
         return SUNMC_EIO;
@@ -35,7 +36,7 @@ int run_sink_block(const unit_result *results, long n, void *ctx, int *stop, cha
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the statistics of %ld units",
                           report_acc_units(r->acc) + n);
     if (r->units_tsv)
-        report_write_unit_rows(r->units_tsv, r->c, r->fam, results, n);
+        report_write_unit_rows(r->units_tsv, r->c, results, n);
     /* A write error (full disk) leaves the stream in error: the output's
      * commit refuses it, and the run goes on to print its result. */
     if (r->units_bin && !ferror(r->units_bin))
@@ -76,7 +77,7 @@ int run_stream(run_sink *r, long first, long end, int threads, mc_progress_fn pr
                  .threads = threads, .sink = run_sink_block, .sink_ctx = r,
                  .progress = progress, .progress_ctx = progress_ctx,
                  .distribute = r->distribute};
-    return mc_stream(r->c, r->fam, &p, done, err, errlen);
+    return mc_stream(r->c, &p, done, err, errlen);
 }
 
 /* Check that the records r[n] read at position `at` are units at, at+1, ... */

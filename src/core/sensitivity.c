@@ -85,7 +85,7 @@ int sens_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen
 static int run_y(const sunmc_config *c, long units, int threads, const sens_result *s,
                  unit_result *res, double *yb, double *ya, char *err, size_t errlen)
 {
-    int rc = mc_run(c, c->family, 0, units, threads, res, NULL, NULL, err, errlen);
+    int rc = mc_run(c, 0, units, threads, res, NULL, NULL, err, errlen);
     if (rc)
         return rc;
     for (long u = 0; u < units; u++) {

@@ -14,8 +14,9 @@
 #define UNITFILE_ORDER 0x0102030405060708ULL
 #define UNITFILE_INT_WORDS 7
 
-void unitfile_layout_of(const sunmc_config *c, const sensor_family *fam, unitfile_layout *l)
+void unitfile_layout_of(const sunmc_config *c, unitfile_layout *l)
 {
+    const sensor_family *fam = c->family;
     const char *names[UNIT_MAX_PAR];
     l->nd = fam->dev_columns(c, names, UNIT_MAX_DEV);
     l->np = fam->par_columns(c, names, UNIT_MAX_PAR);

@@ -60,7 +60,7 @@ static budget_source limit_with_passing(long k, double *today)
     assert_int_equal(n, 100);
     unit_result *res = calloc((size_t)n, sizeof *res);
     double *aft = calloc((size_t)n, sizeof *aft);
-    assert_int_equal(mc_run(c, c->family, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
     for (long u = 0; u < n; u++) {
         assert_int_equal(res[u].fit_status, UNIT_FIT_OK);
         aft[u] = res[u].rms_after[b->angle][b->band];

@@ -37,7 +37,7 @@ static recomputed recompute(const sunmc_config *c, long n, int angle, int band)
     const sensor_family *fam = c->family;
     unit_result *res = calloc((size_t)n, sizeof *res);
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(c, fam, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, n, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
     recomputed r;
     memset(&r, 0, sizeof r);
     long k = 0, pass = 0;

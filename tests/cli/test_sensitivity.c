@@ -148,7 +148,7 @@ static void type_a_indices_and_threads(void **state)
         const sunmc_config *cs[3] = {&a, &b, &ab};
         static unit_result res[3][48];
         for (int r = 0; r < 3; r++)
-            assert_int_equal(mc_run(cs[r], cs[r]->family, 0, 48, 1, res[r], NULL, NULL, err,
+            assert_int_equal(mc_run(cs[r], 0, 48, 1, res[r], NULL, NULL, err,
                                     sizeof err),
                              SUNMC_OK);
         double m = 0, v = 0, sq = 0;

@@ -201,7 +201,7 @@ static void units_file_round_trip(void **state)
 {
     sunmc_config c = test_family_config("dss");
     unitfile_layout l;
-    unitfile_layout_of(&c, c.family, &l);
+    unitfile_layout_of(&c, &l);
     unit_result in[3], back[3];
     memset(in, 0, sizeof in);
     for (int u = 0; u < 3; u++) {
@@ -237,7 +237,7 @@ static void units_file_round_trip(void **state)
     /* another layout (the ESS's) is refused with both named */
     sunmc_config e = test_family_config("ess");
     unitfile_layout le;
-    unitfile_layout_of(&e, e.family, &le);
+    unitfile_layout_of(&e, &le);
     f = fopen(path, "rb");
     assert_int_equal(unitfile_read_header(f, path, &le, err, sizeof err), SUNMC_EINPUT);
     assert_non_null(strstr(err, "this config's have"));

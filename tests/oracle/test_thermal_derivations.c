@@ -273,7 +273,7 @@ static void test_worst_over_range(void **state)
     c.op_temps_c = (double_list){2, {-30, 60}};
     assert_int_equal(thermal_n_temps(&c), 2);
     const sensor_family *fam = c.family;
-    int nb = c.bands_deg.n, nr = report_n_rows(&c, fam);
+    int nb = c.bands_deg.n, nr = report_n_rows(&c);
     assert_int_equal(nr, 4 * nb);
     double spec = c.spec_arcsec / fam->arcsec_per_rms_unit;
     enum { NU = 5 };
@@ -293,8 +293,8 @@ static void test_worst_over_range(void **state)
         }
     }
     summary_row rows[4 * CONFIG_BANDS_MAX];
-    assert_int_equal(report_summarize(&c, fam, res, NU, rows), SUNMC_OK);
-    const summary_row *w = &rows[report_primary_row(&c, fam, 0, 0)];
+    assert_int_equal(report_summarize(&c, res, NU, rows), SUNMC_OK);
+    const summary_row *w = &rows[report_primary_row(&c, 0, 0)];
     assert_int_equal(w->condition, REPORT_WORST);
     assert_true(isnan(w->temp_c));
     assert_near(w->yield, 2.0 / NU, 1e-15); /* units 0 and 2 */
@@ -312,8 +312,8 @@ static void test_worst_over_range(void **state)
     /* the lab's temperature alone: no operating temperature, the lab's rows */
     c.op_temps_c = (double_list){1, {c.cal_temp_c}};
     assert_int_equal(thermal_n_temps(&c), 0);
-    assert_int_equal(report_n_rows(&c, fam), nb);
-    assert_int_equal(report_primary_row(&c, fam, 0, 2), 2);
+    assert_int_equal(report_n_rows(&c), nb);
+    assert_int_equal(report_primary_row(&c, 0, 2), 2);
     assert_near(unit_primary_after(&c, &res[1], 0, 0), 0.1 * spec, 0);
 }
 

@@ -208,12 +208,13 @@ static void mc_every_unit_once(void **state)
     (void)state;
     sunmc_config c;
     memset(&c, 0, sizeof c);
+    c.family = &counting;
     unit_result res[MC_UNITS];
     char err[SUNMC_ERRLEN] = "";
     for (int threads = 1; threads <= 2; threads++) {
         reset_counts();
         memset(res, 0xff, sizeof res);
-        assert_int_equal(mc_run(&c, &counting, 7, MC_UNITS, threads, res, count_progress, NULL,
+        assert_int_equal(mc_run(&c, 7, MC_UNITS, threads, res, count_progress, NULL,
                                 err, sizeof err),
                          SUNMC_OK);
         for (int u = 0; u < MC_UNITS + 10; u++)
@@ -235,12 +236,13 @@ static void mc_failures(void **state)
     (void)state;
     sunmc_config c;
     memset(&c, 0, sizeof c);
+    c.family = &counting;
     unit_result res[MC_UNITS];
     char err[SUNMC_ERRLEN] = "";
     /* a unit whose simulation fails: the run fails and names it */
     reset_counts();
     fail_unit = 12;
-    assert_int_equal(mc_run(&c, &counting, 0, MC_UNITS, 1, res, NULL, NULL, err, sizeof err),
+    assert_int_equal(mc_run(&c, 0, MC_UNITS, 1, res, NULL, NULL, err, sizeof err),
                      SUNMC_EINPUT);
     assert_non_null(strstr(err, "unit 12"));
     assert_int_equal(runs[12], 1);
@@ -250,7 +252,7 @@ static void mc_failures(void **state)
         reset_counts();
         fail_workspace = 1;
         err[0] = '\0';
-        assert_int_equal(mc_run(&c, &counting, 0, MC_UNITS, threads, res, NULL, NULL, err,
+        assert_int_equal(mc_run(&c, 0, MC_UNITS, threads, res, NULL, NULL, err,
                                 sizeof err),
                          SUNMC_ENOMEM);
         assert_non_null(strstr(err, "no room for the workspace"));

@@ -64,8 +64,8 @@ static void sampling_draws_it(void **state)
     enum { N = 200 };
     unit_result *ra = calloc(N, sizeof *ra), *rb = calloc(N, sizeof *rb);
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(&a.cfg, a.cfg.family, 0, N, 1, ra, NULL, NULL, err, sizeof err), 0);
-    assert_int_equal(mc_run(&b.cfg, b.cfg.family, 0, N, 1, rb, NULL, NULL, err, sizeof err), 0);
+    assert_int_equal(mc_run(&a.cfg, 0, N, 1, ra, NULL, NULL, err, sizeof err), 0);
+    assert_int_equal(mc_run(&b.cfg, 0, N, 1, rb, NULL, NULL, err, sizeof err), 0);
     int k = bow_column(&b.cfg);
     double lo = INFINITY, hi = -INFINITY, s = 0, s2 = 0;
     for (int u = 0; u < N; u++) {

@@ -164,7 +164,7 @@ static void run_in_core(void **state)
     const sunmc_config *c = &st.cfg;
     unit_result r[3];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(c, c->family, 0, 3, 2, r, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, 3, 2, r, NULL, NULL, err, sizeof err), SUNMC_OK);
     for (int u = 0; u < 3; u++) {
         assert_near(r[u].dev[0], SCALE_PCT, 0);
         assert_near(r[u].dev[1], OFFSET_ARCSEC, 0);
@@ -205,11 +205,11 @@ static void stream_in_blocks(void **state)
     const sunmc_config *c = &st.cfg;
     unit_result whole[10];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(c, c->family, 3, 13, 2, whole, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 3, 13, 2, whole, NULL, NULL, err, sizeof err), SUNMC_OK);
     block_log *l = calloc(1, sizeof *l);
     mc_plan p = {3, 13, c->block_units, 2, log_block, l, NULL, NULL, 0};
     long done = 0;
-    assert_int_equal(mc_stream(c, c->family, &p, &done, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_stream(c, &p, &done, err, sizeof err), SUNMC_OK);
     assert_int_equal(done, 10);
     assert_int_equal(l->blocks, 3);
     for (long u = 0; u < 10; u++)
@@ -217,7 +217,7 @@ static void stream_in_blocks(void **state)
     assert_memory_equal(l->all, whole, sizeof whole);
     memset(l, 0, sizeof *l);
     l->stop_after = 2;
-    assert_int_equal(mc_stream(c, c->family, &p, &done, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_stream(c, &p, &done, err, sizeof err), SUNMC_OK);
     assert_int_equal(done, 8);
     assert_int_equal(l->n, 8);
     free(l);
@@ -234,11 +234,11 @@ static void statistics_in_blocks(void **state)
     const sunmc_config *c = &st.cfg;
     unit_result r[9];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(c, c->family, 0, 9, 1, r, NULL, NULL, err, sizeof err), SUNMC_OK);
-    int nr = report_n_rows(c, c->family);
+    assert_int_equal(mc_run(c, 0, 9, 1, r, NULL, NULL, err, sizeof err), SUNMC_OK);
+    int nr = report_n_rows(c);
     summary_row whole[CONFIG_BANDS_MAX], parts[CONFIG_BANDS_MAX];
-    assert_int_equal(report_summarize(c, c->family, r, 9, whole), SUNMC_OK);
-    report_acc *acc = report_acc_new(c, c->family);
+    assert_int_equal(report_summarize(c, r, 9, whole), SUNMC_OK);
+    report_acc *acc = report_acc_new(c);
     assert_int_equal(report_acc_add(acc, r, 4), SUNMC_OK);
     report_acc_rows(acc, parts);
     assert_int_equal(parts[0].units, 4);
@@ -265,7 +265,7 @@ static void sweep_in_core(void **state)
     for (long p = 0; p < 2; p++) {
         assert_int_equal(sweep_apply(&st, &ax, 1, p, err, sizeof err), SUNMC_OK);
         unit_result r;
-        assert_int_equal(mc_run(&st.cfg, st.cfg.family, 0, 1, 1, &r, NULL, NULL, err, sizeof err),
+        assert_int_equal(mc_run(&st.cfg, 0, 1, 1, &r, NULL, NULL, err, sizeof err),
                          SUNMC_OK);
         double want = before_closed_form(&st.cfg, 0, 40, SCALE_PCT, ax.v[p]);
         assert_near(r.rms_before[0][2], want, 1e-9 * want);

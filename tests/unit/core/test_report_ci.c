@@ -106,7 +106,7 @@ static int summarize(void **state)
 {
     make_config(&c);
     make_results(res);
-    return report_summarize(&c, &fake, res, NU, &r) == SUNMC_OK ? 0 : -1;
+    return report_summarize(&c, res, NU, &r) == SUNMC_OK ? 0 : -1;
 }
 
 static void hand_made_intervals(void **state)
@@ -165,7 +165,7 @@ static void p95_ranks_at_100(void **state)
         big[u].rms_after_sys[0][0] = 0.0005;
     }
     summary_row rb;
-    assert_int_equal(report_summarize(&c, &fake, big, 100, &rb), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, big, 100, &rb), SUNMC_OK);
     /* Bin(100, 0.95): P(K <= 90) = 0.0282 > 0.025 >= P(K <= 89) = 0.0115
      * -> l = 90; P(K <= 98) = 0.9629 < 0.975 <= P(K <= 99) = 0.9941 -> u = 100.
      * (Checked against the brute-force sum in test_stats_ci.) */
@@ -184,21 +184,21 @@ static void no_level_and_no_units(void **state)
     sunmc_config c0 = c;
     c0.confidence = 0;
     summary_row r0;
-    assert_int_equal(report_summarize(&c0, &fake, res, NU, &r0), SUNMC_OK);
+    assert_int_equal(report_summarize(&c0, res, NU, &r0), SUNMC_OK);
     assert_true(r0.rms_after_mean > 0 && r0.yield > 0);
     assert_true(isnan(r0.rms_after_mean_ci.lo) && isnan(r0.yield_ci.hi));
     assert_true(isnan(r0.rms_after_p95_ci.lo) && isnan(r0.improvement_mean_ci.lo));
-    assert_int_equal(report_summarize(&c, &fake, res, 0, &r0), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, res, 0, &r0), SUNMC_OK);
     assert_true(isnan(r0.rms_after_mean) && isnan(r0.rms_after_mean_ci.lo));
     assert_true(isnan(r0.yield) && isnan(r0.yield_ci.lo) && isnan(r0.rms_after_sys_mean));
     /* One unit: a mean, no interval. */
-    assert_int_equal(report_summarize(&c, &fake, res, 1, &r0), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, res, 1, &r0), SUNMC_OK);
     assert_near(r0.rms_after_mean, 0.010, 0);
     assert_true(isnan(r0.rms_after_mean_ci.lo));
     /* A higher level widens the interval. */
     summary_row r99;
     c0.confidence = 0.99;
-    assert_int_equal(report_summarize(&c0, &fake, res, NU, &r99), SUNMC_OK);
+    assert_int_equal(report_summarize(&c0, res, NU, &r99), SUNMC_OK);
     assert_true(r99.rms_after_mean_ci.hi - r99.rms_after_mean_ci.lo >
                 r.rms_after_mean_ci.hi - r.rms_after_mean_ci.lo);
     assert_true(r99.yield_ci.lo < r.yield_ci.lo);
@@ -211,7 +211,7 @@ static void summary_columns(void **state)
     FILE *f = tmpfile();
     assert_non_null(f);
     report_write_summary_header(f, 0, NULL);
-    report_write_summary_rows(f, &c, &fake, &r, 0, NULL);
+    report_write_summary_rows(f, &c, &r, 0, NULL);
     rewind(f);
     char hl[4096], vl[4096], *h[64], *v[64];
     int nh = read_row(f, 1, hl, vl, sizeof hl, h, v);

@@ -179,20 +179,20 @@ static void split_independent(void **state)
     const sunmc_config *c = &st.cfg;
     static unit_result one[N], two[N], parts[N];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(c, c->family, 0, N, 1, one, NULL, NULL, err, sizeof err), SUNMC_OK);
-    assert_int_equal(mc_run(c, c->family, 0, N, 2, two, NULL, NULL, err, sizeof err), SUNMC_OK);
-    assert_int_equal(mc_run(c, c->family, M, N, 2, parts + M, NULL, NULL, err, sizeof err),
+    assert_int_equal(mc_run(c, 0, N, 1, one, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, N, 2, two, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, M, N, 2, parts + M, NULL, NULL, err, sizeof err),
                      SUNMC_OK);
-    assert_int_equal(mc_run(c, c->family, 0, M, 1, parts, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, M, 1, parts, NULL, NULL, err, sizeof err), SUNMC_OK);
     assert_memory_equal(one, two, sizeof one);
     assert_memory_equal(one, parts, sizeof one);
     summary_row whole[CONFIG_BANDS_MAX], acc_rows[CONFIG_BANDS_MAX];
-    assert_int_equal(report_summarize(c, c->family, one, N, whole), SUNMC_OK);
-    report_acc *acc = report_acc_new(c, c->family);
+    assert_int_equal(report_summarize(c, one, N, whole), SUNMC_OK);
+    report_acc *acc = report_acc_new(c);
     assert_int_equal(report_acc_add(acc, one, 77), SUNMC_OK);
     assert_int_equal(report_acc_add(acc, one + 77, N - 77), SUNMC_OK);
     report_acc_rows(acc, acc_rows);
-    assert_memory_equal(whole, acc_rows, (size_t)report_n_rows(c, c->family) * sizeof *whole);
+    assert_memory_equal(whole, acc_rows, (size_t)report_n_rows(c) * sizeof *whole);
     report_acc_free(acc);
     config_state_free(&st);
 }
@@ -225,8 +225,8 @@ static void estimate_run(const sunmc_config *c, long n, summary_row *r)
     unit_result *res = calloc((size_t)n, sizeof *res);
     char err[SUNMC_ERRLEN];
     assert_non_null(res);
-    assert_int_equal(mc_run(c, c->family, 0, n, 0, res, NULL, NULL, err, sizeof err), SUNMC_OK);
-    assert_int_equal(report_summarize(c, c->family, res, n, r), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, n, 0, res, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(report_summarize(c, res, n, r), SUNMC_OK);
     free(res);
 }
 

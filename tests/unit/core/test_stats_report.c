@@ -122,7 +122,7 @@ static int summarize(void **state)
     (void)state;
     make_config(&c);
     make_results(res);
-    return report_summarize(&c, &fake, res, NU, rows) == SUNMC_OK ? 0 : -1;
+    return report_summarize(&c, res, NU, rows) == SUNMC_OK ? 0 : -1;
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -180,7 +180,7 @@ static expect expected(const unit_result *r, int n, int a, int b, double spec)
 static void hand_made_band(void **state)
 {
     (void)state;
-    assert_int_equal(report_n_rows(&c, &fake), 2 * NB);
+    assert_int_equal(report_n_rows(&c), 2 * NB);
     const summary_row *r = &rows[0];
     assert_int_equal(r->angle, 0);
     assert_int_equal(r->band, 0);
@@ -245,12 +245,12 @@ static void empty_and_all_failed(void **state)
     (void)state;
     for (int u = 0; u < NU; u++)
         res[u].fit_status = UNIT_FIT_FAILED;
-    assert_int_equal(report_summarize(&c, &fake, res, NU, rows), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, res, NU, rows), SUNMC_OK);
     assert_int_equal(rows[0].fit_failures, NU);
     assert_true(isnan(rows[0].rms_after_mean) && isnan(rows[0].rms_after_max));
     assert_true(isnan(rows[0].rms_after_p95) && isnan(rows[0].improvement_min));
     assert_near(rows[0].yield, 0.0, 0);
-    assert_int_equal(report_summarize(&c, &fake, res, 0, rows), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, res, 0, rows), SUNMC_OK);
     assert_int_equal(rows[0].units, 0);
     assert_true(isnan(rows[0].yield) && isnan(rows[0].rms_before_mean));
 }
@@ -266,7 +266,7 @@ static void spec_in_family_unit(void **state)
                 res[u].rms_before[a][b] = 1.0;
                 res[u].rms_after[a][b] = (u == 0 ? 53.99 : 54.01) / 3600.0;
             }
-    assert_int_equal(report_summarize(&c, &fake, res, 2, rows), SUNMC_OK);
+    assert_int_equal(report_summarize(&c, res, 2, rows), SUNMC_OK);
     for (int i = 0; i < 2 * NB; i++)
         assert_near(rows[i].yield, 0.5, 0);
     /* The 95th percentile of two values: 0.95 of the way from the first. */
@@ -316,7 +316,7 @@ static void summary_tsv_columns(void **state)
     const char *lead[1] = {"campaign.alpha_step_deg"};
     const char *const lead_v[1] = {"0.2525"};
     report_write_summary_header(f, 1, lead);
-    report_write_summary_rows(f, &c, &fake, rows, 1, lead_v);
+    report_write_summary_rows(f, &c, rows, 1, lead_v);
     rewind(f);
     char hline[4096], line[4096];
     char *h[64], *v[64];
@@ -430,7 +430,7 @@ static void units_tsv_columns(void **state)
     (void)state;
     FILE *f = tmpfile();
     assert_non_null(f);
-    report_write_units(f, &c, &fake, res, NU);
+    report_write_units(f, &c, res, NU);
     rewind(f);
     char hline[8192], line[8192];
     char *h[128], *v[128];
