@@ -168,7 +168,6 @@ static int parse_axes(const cli_options *o, const config_state *base, sweep_axis
 static int point_rows(const sunmc_config *c, long first, long end, int threads, cli_meter *m,
                       summary_row *rows)
 {
-    const sensor_family *fam = c->family;
     int n = report_n_rows(c), nb = c->bands_deg.n;
     summary_row *all = calloc((size_t)n, sizeof *all);
     if (!all) {

@@ -99,7 +99,6 @@ int budget_sources(const sunmc_config *c, budget_result *b, char *err, size_t er
 static int row_stats(const sunmc_config *c, const unit_result *res, long units, int angle,
                      int band, budget_stats *out)
 {
-    const sensor_family *fam = c->family;
     int nr = report_n_rows(c);
     summary_row *rows = calloc((size_t)nr, sizeof *rows);
     int st = rows ? report_summarize(c, res, units, rows) : SUNMC_ENOMEM;
@@ -123,7 +122,6 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
                        budget_stats *out, double *sq_before, double *sq_after, long head,
                        budget_stats *head_out, char *err, size_t errlen)
 {
-    const sensor_family *fam = c->family;
     int mst = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
     if (mst != SUNMC_OK)
         return mst;

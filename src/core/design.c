@@ -154,7 +154,6 @@ int design_space(const sunmc_config *c, design_result *d, char *err, size_t errl
 static int run_more(design_result *d, design_candidate *k, report_acc *acc, long n, int threads,
                     unit_result *buf, summary_row *rows, char *err, size_t errlen)
 {
-    const sensor_family *fam = k->cfg.family;
     int s = mc_run(&k->cfg, k->units, k->units + n, threads, buf, NULL, NULL, err, errlen);
     if (s == SUNMC_OK && report_acc_add(acc, buf, n) != SUNMC_OK)
         s = sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");

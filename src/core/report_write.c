@@ -163,7 +163,6 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c,
 void report_write_units(FILE *f, const sunmc_config *c,
                         const unit_result *results, long n)
 {
-    const sensor_family *fam = c->family;
     report_write_units_header(f, c);
     report_write_unit_rows(f, c, results, n);
 }
