@@ -32,8 +32,13 @@ CC := mpicc
 MPI_CFLAGS := -DSUNMC_MPI
 endif
 
-PKG_CFLAGS := $(shell pkg-config --cflags gsl 2>/dev/null)
-PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null)
+# HDF5 (run --format hdf5, src/util/h5out.c): Debian's libhdf5-dev names its
+# pkg-config file hdf5 (Debian 13) or hdf5-serial (Debian 12).
+HDF5_PC    := $(firstword $(foreach p,hdf5 hdf5-serial,$(shell pkg-config --exists $(p) 2>/dev/null && echo $(p))))
+HDF5_CFLAGS := $(if $(HDF5_PC),$(shell pkg-config --cflags $(HDF5_PC)),-I/usr/include/hdf5/serial)
+HDF5_LIBS  := $(if $(HDF5_PC),$(shell pkg-config --libs $(HDF5_PC)),-L/usr/lib/$(shell uname -m)-linux-gnu/hdf5/serial -lhdf5)
+PKG_CFLAGS := $(shell pkg-config --cflags gsl 2>/dev/null) $(HDF5_CFLAGS)
+PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null) $(HDF5_LIBS)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 
 OPT ?= -O2
@@ -144,7 +149,9 @@ all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 # Install system packages only when something is missing.
 deps:
 	@if ! pkg-config --exists gsl cmocka 2>/dev/null || \
-	    [ ! -f /usr/include/Random123/philox.h ] || ! command -v gnuplot >/dev/null 2>&1 || \
+	    [ ! -f /usr/include/Random123/philox.h ] || \
+	    { [ ! -f /usr/include/hdf5/serial/hdf5.h ] && [ ! -f /usr/include/hdf5.h ]; } || \
+	    ! /usr/bin/python3 -c 'import h5py' >/dev/null 2>&1 || ! command -v gnuplot >/dev/null 2>&1 || \
 	    ! command -v cc >/dev/null 2>&1 || ! /usr/bin/python3 -c 'import scipy.io' >/dev/null 2>&1; then \
 	  echo "sunmc: installing missing system packages (scripts/install-deps.sh)"; \
 	  MPI=$(MPI) bash scripts/install-deps.sh; \

@@ -6,7 +6,9 @@ set -euo pipefail
 
 # python3-scipy, python3-yaml: scripts/psd-import.py reads the public four-channel
 # sun-sensor data (.mat, .yaml); tests/unit/psd/test_psd_lab.c writes a synthetic .mat with scipy.
-PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev gnuplot-nox python3 python3-scipy python3-yaml"
+# libhdf5-dev: run --format hdf5 (src/util/h5out.c); python3-h5py: its test and
+# docs/examples/load_h5.py read the file back.
+PACKAGES="build-essential pkg-config libgsl-dev libcmocka-dev librandom123-dev gnuplot-nox python3 python3-scipy python3-yaml libhdf5-dev python3-h5py"
 # MPI=1 (make MPI=1, make test-mpi): Debian's MPICH as well (README,
 # "Running on a cluster", says why MPICH).
 if [ "${MPI:-0}" = 1 ]; then

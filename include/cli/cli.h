@@ -40,6 +40,7 @@ typedef struct {
     long shard_k, shard_n;            /* run --shard K/N; shard_n = 0: none */
     int resume;                       /* run --resume */
     const char *isa;                  /* run --isa baseline|avx2 (else SUNMC_ISA) */
+    const char *format;               /* run --format tsv|hdf5 (NULL: tsv) */
     const char *duplicates;           /* calibrate --duplicates average|refuse|keep */
 } cli_options;
 
@@ -102,6 +103,7 @@ typedef struct {
     out_set os;
     FILE *f[RUN_FILES];
     int open;
+    int hdf5; /* run --format hdf5: results.h5 as well, from the tables (h5out.h) */
 } cli_run_files;
 int cli_run_files_begin(cli_run_files *rf, const char *out, char *err, size_t errlen);
 int cli_run_files_commit(cli_run_files *rf, const sunmc_config *c, const summary_row *rows,

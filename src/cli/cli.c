@@ -1,6 +1,7 @@
 /* cli.c - option parsing, config building, progress and exit codes
  * shared by the commands. */
 #include "cli.h"
+#include "h5out.h"
 #include "output.h"
 #include "ranks.h"
 #include "status.h"
@@ -181,12 +182,41 @@ int cli_run_files_begin(cli_run_files *rf, const char *out, char *err, size_t er
     return status;
 }
 
+/* --format hdf5: results.h5 in the set, from the tables just written (the
+ * set lists it, so the marker names it; its stream stays unwritten). */
+static int run_files_h5(cli_run_files *rf, const sunmc_config *c, const run_manifest *m,
+                        char *err, size_t errlen)
+{
+    for (int k = 0; k < RUN_FILES; k++)
+        if (fflush(rf->f[k]) != 0)
+            return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error (%s)", rf->os.dir,
+                              strerror(errno));
+    FILE *hf;
+    int st = out_open(&rf->os, H5OUT_NAME, &hf, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    char p[4][OUT_PATH_MAX + 32];
+    static const char *const names[4] = {H5OUT_NAME, "units.tsv", "summary.tsv", "config.ini"};
+    for (int k = 0; k < 4; k++)
+        snprintf(p[k], sizeof p[k], "%s/%s", rf->os.tmpdir, names[k]);
+    h5out_meta meta = {m->family, c->product, m->seed, c->units, m->first, m->end};
+    st = h5out_write(p[0], p[1], p[2], p[3], &meta, err, errlen);
+    if (st != SUNMC_OK) {
+        char e2[SUNMC_ERRLEN];
+        snprintf(e2, sizeof e2, "%s", err);
+        return sunmc_fail(err, errlen, st, "%s/%s: %s", rf->os.dir, H5OUT_NAME, e2);
+    }
+    return SUNMC_OK;
+}
+
 int cli_run_files_commit(cli_run_files *rf, const sunmc_config *c, const summary_row *rows,
                          const run_manifest *m, char *err, size_t errlen)
 {
     report_write_summary_header_of(rf->f[RUN_FILE_SUMMARY], c, 0, NULL);
     report_write_summary_rows(rf->f[RUN_FILE_SUMMARY], c, rows, 0, NULL);
     int st = manifest_write(rf->f[RUN_FILE_MANIFEST], m, err, errlen);
+    if (st == SUNMC_OK && rf->hdf5)
+        st = run_files_h5(rf, c, m, err, errlen);
     rf->open = 0;
     if (st != SUNMC_OK) {
         out_abort(&rf->os);

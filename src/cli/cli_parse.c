@@ -238,6 +238,8 @@ static int set_option(cli_options *o, const char *command, const char *name, con
         o->config = v;
     } else if (strcmp(name, "isa") == 0) {
         o->isa = v;
+    } else if (strcmp(name, "format") == 0) {
+        o->format = v;
     } else if (strcmp(name, "duplicates") == 0) {
         o->duplicates = v;
     } else {

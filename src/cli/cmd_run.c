@@ -22,10 +22,13 @@ static const char run_help[] =
     "usage: sunmc run CONFIG [--units N|FIRST:END] [--seed S] [--threads T]\n"
     "                 [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet] [--profile]\n"
     "                 [--until STAT:HALFWIDTH] [--shard K/N] [--resume] [--isa baseline|avx2]\n"
+    "                 [--format tsv|hdf5]\n"
     "Simulates each unit's tolerances, its turntable calibration campaign and fit, validates\n"
     "it on a grid it was not calibrated on, and prints Table 1 (ESS paper) per band.\n"
     "--out DIR writes summary.tsv, units.tsv, config.ini, manifest.ini and units.bin (the\n"
-    "per-unit results at full precision, for `sunmc merge`), all or nothing.\n"
+    "per-unit results at full precision, for `sunmc merge`), all or nothing; with\n"
+    "--format hdf5 also results.h5 (the units and summary tables as datasets, the config as\n"
+    "attributes; docs/outputs.md).  Not with --shard (merge writes TSV only).\n"
     "--shard K/N runs the K-th (0..N-1) of N near-equal parts of the units, for merge.\n"
     "With --out, completed blocks are checkpointed beside DIR (.NAME.resume/); after an\n"
     "interruption (Ctrl-C, SIGTERM, kill -9, power cut) the same command with --resume\n"
@@ -234,16 +237,44 @@ static int check_isa(const char *want)
     return EXIT_BAD_INPUT;
 }
 
+/* --format tsv|hdf5.  hdf5 writes DIR/results.h5 beside the TSV files, so
+ * it needs --out; a shard is refused: shards are joined by `sunmc merge`,
+ * which reads units.bin and writes TSV only (run the whole, or convert
+ * nothing half-way). */
+static int check_format(const cli_options *o)
+{
+    const char *f = o->format;
+    if (!f || strcmp(f, "tsv") == 0)
+        return 0;
+    if (strcmp(f, "hdf5") != 0) {
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(f, "tsv hdf5", hint, sizeof hint);
+        fprintf(stderr, "sunmc run: --format %s: one of tsv, hdf5%s\n", f, hint);
+        return EXIT_BAD_INPUT;
+    }
+    if (!o->out) {
+        fprintf(stderr, "sunmc run: --format hdf5 writes DIR/results.h5: it needs --out DIR\n");
+        return EXIT_BAD_INPUT;
+    }
+    if (o->shard_n > 0) {
+        fprintf(stderr, "sunmc run: --format hdf5 with --shard: shards are joined by `sunmc "
+                        "merge`, which writes TSV only; run the shards without --format hdf5\n");
+        return EXIT_BAD_INPUT;
+    }
+    return 0;
+}
+
 /* Options, config, unit range and --until; prints errors, returns an exit code. */
 static int job_setup(run_job *j, int argc, char **argv)
 {
     int rc = cli_parse(argc, argv, 2, "run",
-                       "CONFIG units seed threads set out quiet profile until shard resume isa",
+                       "CONFIG units seed threads set out quiet profile until shard resume isa "
+                       "format",
                        &j->o);
     if (rc)
         return rc;
     cli_resume_command(argc, argv, j->resume_cmd, sizeof j->resume_cmd);
-    if ((rc = check_isa(j->o.isa)))
+    if ((rc = check_isa(j->o.isa)) || (rc = check_format(&j->o)))
         return rc;
     if (j->o.resume && !j->o.out) {
         fprintf(stderr, "sunmc run: --resume needs the --out DIR of the interrupted run\n");
@@ -352,6 +383,7 @@ static int job_open(run_job *j, char *err, size_t errlen)
     int st = cli_run_files_begin(&j->rf, j->o.out, err, errlen);
     if (st != SUNMC_OK)
         return st;
+    j->rf.hdf5 = j->o.format && strcmp(j->o.format, "hdf5") == 0;
     st = run_sink_init(&j->r, c, j->rf.f[RUN_FILE_UNITS], j->rf.f[RUN_FILE_BIN], err,
                        errlen);
     if (st == SUNMC_OK && j->o.out && (st = job_checkpoint(j, err, errlen)) != SUNMC_OK)
