@@ -33,6 +33,9 @@ _sunmc() {
     --out)
         COMPREPLY=($(compgen -d -- "$cur"))
         return ;;
+    --format)
+        COMPREPLY=($(compgen -W "tsv hdf5" -- "$cur"))
+        return ;;
     esac
     if [[ $cur == -* ]]; then
         local opts
