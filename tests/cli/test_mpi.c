@@ -83,6 +83,19 @@ static void until_stops_every_rank(void **state)
     ranks_equal_threads(2, "--units 600 --until rms_after_mean:0.00025", "until");
 }
 
+/* --format hdf5 under mpirun: rank 0 writes results.h5 from the tables,
+ * the same bytes as a threads-only run (issue 28.5). */
+static void ranks_write_hdf5(void **state)
+{
+    if (!mpi_present())
+        return;
+    ranks_equal_threads(2, "--units 100 --format hdf5", "h5");
+    char cmd[1024], out[256];
+    snprintf(cmd, sizeof cmd, "cmp %s/h5_t2/results.h5 %s/h5_mpi/results.h5", dir, dir);
+    if (test_run(cmd, out, sizeof out) != 0)
+        fail_msg("results.h5 differs between 2 ranks and 2 threads: %s", out);
+}
+
 /* A resume under mpirun: a run whose files hit the file-size limit keeps
  * the blocks its checkpoint could hold; 2 ranks resume it from there. */
 static void ranks_resume_a_checkpoint(void **state)
@@ -113,6 +126,7 @@ int main(void)
         cmocka_unit_test(three_ranks_short_last_round),
         cmocka_unit_test(until_stops_every_rank),
         cmocka_unit_test(ranks_resume_a_checkpoint),
+        cmocka_unit_test(ranks_write_hdf5),
     };
     return cmocka_run_group_tests_name("mpi", tests, setup, NULL);
 }
