@@ -11,8 +11,9 @@
  * inverts that by Newton's method in (tan alpha, tan beta) of the table
  * top.  The fit has two stages (psd_phys_fit): the four channels with each
  * reading's light projected out (psd_fitchan.c), then the ratios, whose
- * residuals are the ratio differences divided by the ratios' nominal
- * sensitivity (ratio per unit of tan), i.e. about radians.
+ * residuals are the ratio differences divided by the sensitivity (ratio
+ * per unit of tan) of the fitted height, i.e. about radians of that sensor;
+ * the Jacobian carries the height's change of that scale.
  *
  * Polynomial model (psd_poly.c): the field's method: the ratios of the raw
  * channels (no dark correction), and tan(alpha), tan(beta) of the truth

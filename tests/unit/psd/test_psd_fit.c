@@ -18,6 +18,7 @@
 #include "fit.h"
 #include "psd_model.h"
 #include "psd_sensor.h"
+#include "rotation.h"
 #include "status.h"
 #include "units.h"
 
@@ -42,15 +43,6 @@ static psd_design tetra_design(void)
     d.signal_fs = 0.6;
     d.dark_fs = 0.02;
     return d;
-}
-
-static void unit_vec(double a_deg, double b_deg, double u[3])
-{
-    double tx = tan(a_deg * RAD_PER_DEG), ty = tan(b_deg * RAD_PER_DEG);
-    double n = sqrt(1 + tx * tx + ty * ty);
-    u[0] = tx / n;
-    u[1] = ty / n;
-    u[2] = 1 / n;
 }
 
 typedef struct {
@@ -78,7 +70,8 @@ static void campaign_make(campaign *cp, double k, double noise_fs)
     psd_sensor_build(&cp->d, &dev, &s);
     for (int r = 0; r < N; r++) {
         double mm[4];
-        unit_vec(-20 + 5 * (r % NA), -20 + 10 * (r / NA), cp->ut + 3 * r);
+        sun_vector_of((-20 + 5 * (r % NA)) * RAD_PER_DEG, (-20 + 10 * (r / NA)) * RAD_PER_DEG,
+                      cp->ut + 3 * r);
         assert_int_equal(psd_sensor_read(&s, cp->ut + 3 * r, mm), SUNMC_OK);
         for (int q = 0; q < 4; q++)
             cp->m[q][r] = mm[q] + noise_fs * sin(7.3 * r + 1.9 * q + 11.0 * k);
@@ -222,7 +215,7 @@ static void inversion_matches_full_newton(void **state)
     for (double a = -40; a <= 40; a += 3.7)
         for (double b = -40; b <= 40; b += 4.1) {
             double u[3], x, y, back[3], ta, tb;
-            unit_vec(a, b, u);
+            sun_vector_of(a * RAD_PER_DEG, b * RAD_PER_DEG, u);
             if (psd_phys_predicted(&m, u, &x, &y) != SUNMC_OK)
                 continue;
             int st = psd_phys_invert(&m, x, y, back);

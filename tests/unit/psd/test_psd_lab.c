@@ -6,6 +6,7 @@
  * three public formats (.mat written here with scipy, the CSV and the
  * YAML by hand) and refuses what it cannot read. */
 #include "test_util.h"
+#include "test_tsv.h"
 
 #include "csv.h"
 
@@ -322,6 +323,32 @@ static void importer_refusals(void **state)
     assert_null(f); /* nothing written */
 }
 
+/* The systematic part of the after-RMS (validation read without noise)
+ * against the after-RMS itself, in every row of summary.tsv: below it with
+ * the shipped channel noise, equal to it with none. */
+static void systematic_part_is_noise_free(void **state)
+{
+    const char *noise[] = {"", "--set noise.channel_pct=0"};
+    for (int k = 0; k < 2; k++) {
+        char cmd[512], out[4096], path[300];
+        const char *sdir = test_tmp("sys");
+        snprintf(cmd, sizeof cmd, "rm -rf %s && %s run configs/psd.ini --units 20 --quiet --out %s %s",
+                 sdir, test_sunmc(), sdir, noise[k]);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+        snprintf(path, sizeof path, "%s/summary.tsv", sdir);
+        tsv *t = tsv_load(path);
+        assert_true(t->nr >= 3);
+        for (int r = 0; r < t->nr; r++) {
+            double sys = tsv_num(t, r, "rms_after_sys_mean"), aft = tsv_num(t, r, "rms_after_mean");
+            if (k == 0 && !(sys < 0.8 * aft))
+                fail_msg("row %d: systematic part %g not below the after-RMS %g", r, sys, aft);
+            if (k == 1)
+                assert_near(sys, aft, 1e-9 * aft);
+        }
+        tsv_free(t);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -333,6 +360,7 @@ int main(void)
         cmocka_unit_test(repeats_are_not_information),
         cmocka_unit_test(threads_do_not_change_units),
         cmocka_unit_test(curve_of_one_unit),
+        cmocka_unit_test(systematic_part_is_noise_free),
         cmocka_unit_test(import_aeroztark_mat),
         cmocka_unit_test(import_kenscl_csv),
         cmocka_unit_test(import_14og_yaml),
