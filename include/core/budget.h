@@ -125,6 +125,11 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
                        budget_stats *out, double *sq_before, double *sq_after, char *err,
                        size_t errlen);
 
+/* The unit runs a Monte Carlo of `units` units of c makes: 1 when no
+ * random input of c varies (sens_random_inputs: every unit is the same
+ * unit, run once and copied), else units. */
+long budget_units_run(const sunmc_config *c, long units);
+
 /* Set source `key`'s value in cfg (unit of the key). */
 void budget_set_tolerance(sunmc_config *cfg, const config_key *key, double value);
 

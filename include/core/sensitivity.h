@@ -62,6 +62,11 @@ typedef void (*sens_progress_fn)(const char *what, int i, int n, void *ctx);
  * family declares no random inputs or none varies. */
 int sens_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen);
 
+/* How many random inputs of c vary (sens_sources' count; -1 out of
+ * memory).  0: every unit of c is the same unit (every tolerance 0 or
+ * fixed, every noise 0), which budget's floor run uses to run one. */
+int sens_random_inputs(const sunmc_config *c);
+
 /* Sobol indices of c's inputs over N = units units.  threads: 0 = OpenMP
  * default; progress may be NULL. */
 int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,

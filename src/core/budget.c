@@ -5,6 +5,7 @@
 #include "memory.h"
 #include "montecarlo.h"
 #include "report.h"
+#include "sensitivity.h"
 #include "stats_blocks.h"
 #include "status.h"
 
@@ -115,6 +116,11 @@ static int row_stats(const sunmc_config *c, const unit_result *res, long units, 
     return st;
 }
 
+long budget_units_run(const sunmc_config *c, long units)
+{
+    return units > 1 && sens_random_inputs(c) == 0 ? 1 : units;
+}
+
 /* budget_monte_carlo, and when 0 < head <= units also the statistics of
  * units [0, head) into head_out: the run a smaller run of the same config
  * would have made (a unit depends on (seed, unit) only). */
@@ -129,8 +135,13 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
     int st = res ? SUNMC_OK : SUNMC_ENOMEM;
     if (st == SUNMC_ENOMEM)
         sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
+    long run = budget_units_run(c, units);
     if (st == SUNMC_OK)
-        st = mc_run(c, 0, units, threads, res, NULL, NULL, err, errlen);
+        st = mc_run(c, 0, run, threads, res, NULL, NULL, err, errlen);
+    for (long u = run; st == SUNMC_OK && u < units; u++) {
+        res[u] = res[0]; /* the same unit: no random input varies */
+        res[u].unit = u;
+    }
     if (st == SUNMC_OK && ((st = row_stats(c, res, units, angle, band, out)) != SUNMC_OK ||
                            (head > 0 && head <= units &&
                             (st = row_stats(c, res, head, angle, band, head_out)) != SUNMC_OK)))
@@ -279,12 +290,13 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
     if ((rc = monte_carlo(c, q->units, threads, b->angle, b->band, &b->all, squares(q, 0, 0),
                           squares(q, 0, 1), b->today_units, &b->today, err, errlen)))
         return rc;
-    b->unit_runs = (long)n_runs * q->units;
+    b->unit_runs = q->units;
     if (progress)
         progress("floor (nominal design, no noise)", ++run, n_runs, ctx);
     if ((rc = budget_monte_carlo(&floor, q->units, threads, b->angle, b->band, &b->floor,
                                  squares(q, 1, 0), squares(q, 1, 1), err, errlen)))
         return rc;
+    b->unit_runs += budget_units_run(&floor, q->units);
     for (int i = 0; i < b->n; i++) {
         budget_source *s = &b->src[i];
         sunmc_config t = floor;
@@ -295,9 +307,11 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
         if ((rc = budget_monte_carlo(&t, q->units, threads, b->angle, b->band, &s->alone,
                                      squares(q, 2 + i, 0), squares(q, 2 + i, 1), err, errlen)))
             return rc;
+        b->unit_runs += budget_units_run(&t, q->units);
     }
     if (progress)
         progress("no tolerance (design and noise)", ++run, n_runs, ctx);
+    b->unit_runs += budget_units_run(&no_tol, q->units);
     return budget_monte_carlo(&no_tol, q->units, threads, b->angle, b->band, &b->no_tolerance,
                               NULL, NULL, err, errlen);
 }

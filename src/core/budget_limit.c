@@ -29,7 +29,7 @@ static int yield_at(const sunmc_config *c, const budget_result *b, budget_source
     if (!(v == s->tolerance && b->today_units == c->budget_units)) {
         rc = budget_monte_carlo(&t, c->budget_units, threads, b->angle, b->band, &st, NULL, NULL,
                                 err, errlen);
-        s->limit_units += c->budget_units;
+        s->limit_units += budget_units_run(&t, c->budget_units);
     }
     s->limit_runs++;
     *yield = st.yield;

@@ -81,6 +81,18 @@ int sens_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen
     return SUNMC_OK;
 }
 
+int sens_random_inputs(const sunmc_config *c)
+{
+    sens_result *s = malloc(sizeof *s);
+    char err[SUNMC_ERRLEN];
+    if (!s)
+        return -1;
+    (void)sens_sources(c, s, err, sizeof err); /* its count, also when it refuses */
+    int n = s->n;
+    free(s);
+    return n;
+}
+
 /* Y before and after of config c over units [0, units): NaN without a fit. */
 static int run_y(const sunmc_config *c, long units, int threads, const sens_result *s,
                  unit_result *res, double *yb, double *ya, char *err, size_t errlen)

@@ -7,6 +7,8 @@
 #include "budget.h"
 #include "config.h"
 #include "family.h"
+#include "montecarlo.h"
+#include "sensitivity.h"
 #include "status.h"
 #include "units.h"
 
@@ -173,7 +175,8 @@ static void today_from_all_sources_run(void **state)
         assert_int_equal(b->src[i].limit_units, 10L * (b->src[i].limit_runs - 1));
         searched += b->src[i].limit_units;
     }
-    assert_int_equal(budget_unit_runs(b), (3L + b->n) * 12 + searched);
+    /* the floor (no random input) is one unit run, copied */
+    assert_int_equal(budget_unit_runs(b), (2L + b->n) * 12 + 1 + searched);
     config_state_free(&st);
     /* 13 units per search run, more than the 12 of the budget's runs */
     sets[3] = "report.budget_units=13";
@@ -184,6 +187,48 @@ static void today_from_all_sources_run(void **state)
         assert_int_equal(b->src[i].limit_units, 13L * b->src[i].limit_runs);
     free(b);
     config_state_free(&st);
+}
+
+/* The floor run computes one unit and copies it (budget_units_run): right
+ * only when every unit of the floor config is the same unit.  Each shipped
+ * family's floor (every budget source 0) run in full over 5 units: every
+ * unit's RMS and fitted parameters equal unit 0's, and the config has no
+ * random input while today's has. */
+static void floor_units_are_one_unit(void **state)
+{
+    const char *cfgs[] = {"configs/ess_type_a.ini", "configs/dss.ini", "configs/psd.ini"};
+    const char *sets[] = {"validation.alpha_step_deg=2.3"};
+    for (size_t f = 0; f < sizeof cfgs / sizeof cfgs[0]; f++) {
+        config_state st;
+        char err[SUNMC_ERRLEN];
+        assert_int_equal(config_build(&st, cfgs[f], sets, f == 0, err, sizeof err), 0);
+        budget_result *b = calloc(1, sizeof *b);
+        assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_OK);
+        sunmc_config floor = st.cfg;
+        assert_true(sens_random_inputs(&floor) > 0);
+        assert_int_equal(budget_units_run(&floor, 7), 7);
+        for (int i = 0; i < b->n; i++)
+            budget_set_tolerance(&floor, b->src[i].key, 0.0);
+        assert_int_equal(sens_random_inputs(&floor), 0);
+        assert_int_equal(budget_units_run(&floor, 7), 1);
+        assert_int_equal(budget_units_run(&floor, 1), 1);
+        unit_result res[5];
+        assert_int_equal(mc_run(&floor, 0, 5, 1, res, NULL, NULL, err, sizeof err), SUNMC_OK);
+        for (int u = 1; u < 5; u++) {
+            assert_int_equal(res[u].fit_status, res[0].fit_status);
+            assert_memory_equal(res[u].rms_before, res[0].rms_before, sizeof res[0].rms_before);
+            assert_memory_equal(res[u].rms_after, res[0].rms_after, sizeof res[0].rms_after);
+            for (int k = 0; k < UNIT_MAX_PAR; k++)
+                assert_true(res[u].par[k] == res[0].par[k]); /* -0 == 0 */
+        }
+        budget_stats copied;
+        assert_int_equal(budget_monte_carlo(&floor, 5, 1, b->angle, b->band, &copied, NULL,
+                                            NULL, err, sizeof err),
+                         SUNMC_OK);
+        assert_near(copied.after_mean, res[0].rms_after[b->angle][b->band], 0);
+        free(b);
+        config_state_free(&st);
+    }
 }
 
 static void cli(void **state)
@@ -226,6 +271,7 @@ int main(void)
         cmocka_unit_test(alone_matches_closed_form),
         cmocka_unit_test(inverse_limit_end_states),
         cmocka_unit_test(today_from_all_sources_run),
+        cmocka_unit_test(floor_units_are_one_unit),
         cmocka_unit_test(cli),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
