@@ -150,6 +150,11 @@ typedef struct {
         int n;
         uint32_t stream[CONFIG_PICK_MAX];
     } pick;
+    /* Not a key: 1 when the caller reads only the RMS before and after and
+     * the yield (design, budget, sensitivity), so units skip the noise-free
+     * validation pass and leave rms_after_sys NaN; 0 in every other
+     * command. */
+    int no_systematic;
 } sunmc_config;
 
 /* One row of a key table: core's shared keys (config_keys.c) or a family's

@@ -182,6 +182,24 @@ typedef struct sensor_family {
      * an error; only a failure of the machinery returns non-zero. */
     int (*unit_run)(const sunmc_config *c, long unit, void *ws, unit_result *r);
 
+    /* ---- A unit in two halves, for runs of several configs that share
+     * its validation readings (unit_store.h); all NULL when the family
+     * does not split.  unit_read fills rd (readings_bytes(c) bytes) with
+     * what the unit's sensor reads on the validation grid, with its
+     * validation noise, at every temperature it is validated at: a
+     * function of (seed, unit) and of the keys not named in
+     * readings_ignore alone.  unit_finish makes the rest of the unit
+     * (campaign, fit, compensation, scores) from rd; unit_read then
+     * unit_finish equals unit_run bit for bit. ---- */
+    size_t (*readings_bytes)(const sunmc_config *c);
+    int (*unit_read)(const sunmc_config *c, long unit, void *ws, void *rd);
+    int (*unit_finish)(const sunmc_config *c, long unit, void *ws, const void *rd,
+                       unit_result *r);
+    /* "section" or "section.key" names of the keys the readings do not
+     * depend on (NULL-terminated): configs that differ in these alone
+     * share their readings. */
+    const char *const *readings_ignore;
+
     /* ---- Sub-tables, NULL when the family has none: its turntable grids
      * and the campaign keys `design` searches (family_grid), its error
      * curves for `curve` (family_curve), its lab commands (family_lab,
@@ -201,7 +219,8 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
                          const band_list *bands, double scale);
 
 /* Fill r's noise-free after RMS (rms_after_sys) of measured angle `angle`;
- * NaN in every band when the unit's fit failed. */
+ * NaN in every band when the unit's fit failed or after_sys is NULL (the
+ * pass skipped: c->no_systematic). */
 void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
                          const band_list *bands, double scale);
 

@@ -26,6 +26,34 @@ typedef void (*mc_progress_fn)(long done, long total, void *ctx);
 int mc_run(const sunmc_config *c, long first, long end, int threads,
            unit_result *results, mc_progress_fn progress, void *ctx, char *err, size_t errlen);
 
+/* mc_run with a store of validation readings (unit_store.h; NULL: none):
+ * a unit whose readings the store holds for a config like c is not read
+ * again, and those it reads are kept.  The results are the same bits as
+ * mc_run's. */
+struct unit_store;
+int mc_run_store(const sunmc_config *c, struct unit_store *store, long first, long end,
+                 int threads, unit_result *results, mc_progress_fn progress, void *ctx,
+                 char *err, size_t errlen);
+
+/* Receives config i's results[n] of mc_run_each, in unit order, from the
+ * thread that ran them: calls for distinct i may run at once.  A status
+ * other than SUNMC_OK ends the run (message in err). */
+typedef int (*mc_each_fn)(int i, const unit_result *results, long n, void *ctx, char *err,
+                          size_t errlen);
+
+/* Units [first, end) of each of n configs c[i]: the configs shared among
+ * the threads (dynamic, in the order given), each one's units run in order
+ * by one thread with a workspace of its own, then handed to each(i, ...).
+ * With a store (NULL: none), the units' validation readings are read into
+ * it first (c[0]'s, the units shared among the threads) and every config
+ * the store serves (unit_store_serves) is finished from them.  Results are
+ * the same bits as mc_run's of each config, in any thread count; a run of
+ * many configs on few units has one barrier, not one a config.  progress
+ * (may be NULL) counts configs done. */
+int mc_run_each(const sunmc_config *const *c, int n, struct unit_store *store, long first,
+                long end, int threads, mc_each_fn each, void *ctx, mc_progress_fn progress,
+                void *progress_ctx, char *err, size_t errlen);
+
 /* Receives results[n], the next block in unit order; sets *stop = 1 to end
  * the run after this block.  A status other than SUNMC_OK ends the run with
  * that status (message in err). */

@@ -54,4 +54,9 @@ typedef void (*thermal_validate_fn)(const sunmc_config *c, double temp_c, void *
 void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validate_fn validate_at,
                           void *ctx);
 
+/* Validations a unit reads: the lab's, then one for each operating
+ * temperature other than the lab's, in thermal_validate_all's order (the
+ * slots of a family's readings, family.h: unit_read). */
+int thermal_n_reads(const sunmc_config *c);
+
 #endif

@@ -2,6 +2,7 @@
 #include "montecarlo.h"
 #include "ranks.h"
 #include "status.h"
+#include "unit_store.h"
 
 #include <omp.h>
 #include <stdio.h>
@@ -14,6 +15,7 @@
 typedef struct {
     const sunmc_config *c;
     const sensor_family *fam;
+    unit_store *store;  /* NULL: each unit runs whole (unit_run) */
     int status;
     long done, total;
     mc_progress_fn progress;
@@ -30,6 +32,22 @@ static void mc_fail(mc_shared *s, int st, const char *msg, long u)
                           : sunmc_fail(s->err, s->errlen, st, "unit %ld: simulation failed", u);
 }
 
+/* Unit u from the store: its readings read into its slot unless the slot
+ * holds them already, then the rest of the unit (unit_store.h). */
+static int run_stored(mc_shared *s, void *ws, long u, unit_result *r)
+{
+    double t = unit_clock();
+    int held, rs = SUNMC_OK;
+    void *rd = unit_store_slot(s->store, u, &held);
+    if (!held && (rs = s->fam->unit_read(s->c, u, ws, rd)) == SUNMC_OK)
+        unit_store_fill(s->store, u);
+    double read_s = unit_clock() - t;
+    if (rs == SUNMC_OK)
+        rs = s->fam->unit_finish(s->c, u, ws, rd, r);
+    r->phase_s[UNIT_PHASE_VALIDATION] += read_s;
+    return rs;
+}
+
 /* Units [first, end) into results[u - first], shared by the calling team
  * (an orphaned `omp for`; its end is a barrier). */
 static void run_units(mc_shared *s, void *ws, long first, long end, unit_result *results)
@@ -41,7 +59,8 @@ static void run_units(mc_shared *s, void *ws, long first, long end, unit_result 
         st = s->status;
         if (!ws || st != SUNMC_OK)
             continue;
-        int rs = s->fam->unit_run(s->c, u, ws, &results[u - first]);
+        int rs = s->store ? run_stored(s, ws, u, &results[u - first])
+                          : s->fam->unit_run(s->c, u, ws, &results[u - first]);
         if (rs != SUNMC_OK)
             mc_fail(s, rs, "", u);
         long d;
@@ -65,8 +84,16 @@ static void *workspace(mc_shared *s)
 int mc_run(const sunmc_config *c, long first, long end, int threads,
            unit_result *results, mc_progress_fn progress, void *ctx, char *err, size_t errlen)
 {
+    return mc_run_store(c, NULL, first, end, threads, results, progress, ctx, err, errlen);
+}
+
+int mc_run_store(const sunmc_config *c, unit_store *store, long first, long end, int threads,
+                 unit_result *results, mc_progress_fn progress, void *ctx, char *err,
+                 size_t errlen)
+{
     const sensor_family *fam = c->family;
-    mc_shared s = {c, fam, SUNMC_OK, 0, end - first, progress, ctx, err, errlen};
+    unit_store *st = unit_store_bind(store, c, first, end) ? store : NULL;
+    mc_shared s = {c, fam, st, SUNMC_OK, 0, end - first, progress, ctx, err, errlen};
     if (threads > 0)
         omp_set_num_threads(threads);
 #pragma omp parallel
@@ -197,7 +224,7 @@ int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
                           rd.bsize);
     }
     /* Several ranks: progress per block received (rank 0 runs a part). */
-    mc_shared s = {c, fam, SUNMC_OK, 0, span, rd.ranks > 1 ? NULL : p->progress,
+    mc_shared s = {c, fam, NULL, SUNMC_OK, 0, span, rd.ranks > 1 ? NULL : p->progress,
                    p->progress_ctx, err, errlen};
     if (p->threads > 0)
         omp_set_num_threads(p->threads);

@@ -78,3 +78,11 @@ void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validat
         unit_result_store_temp(r, t, &at);
     }
 }
+
+int thermal_n_reads(const sunmc_config *c)
+{
+    int n = 1;
+    for (int t = 0; t < thermal_n_temps(c); t++)
+        n += thermal_temp_c(c, t) != c->cal_temp_c;
+    return n;
+}

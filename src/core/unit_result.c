@@ -35,7 +35,7 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
 void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
                          const band_list *bands, double scale)
 {
-    if (r->fit_status == UNIT_FIT_OK)
+    if (r->fit_status == UNIT_FIT_OK && after_sys)
         band_acc_rms(after_sys, bands, scale, r->rms_after_sys[angle]);
     else
         for (int i = 0; i < bands->n; i++)

@@ -13,6 +13,7 @@
 #include "vmath.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -233,11 +234,40 @@ static int ess_par_columns(const sunmc_config *c, const char **names, int max)
     return n;
 }
 
-/* A thread's workspace: the campaign's fit and the validation readings. */
+/* A unit's readings (family.h: unit_read): for each validation it reads
+ * (thermal_n_reads), the raw readings with and without noise, the truths
+ * and the statuses of the validation grid's n points, one block each. */
+static size_t ess_rd_block_bytes(size_t n)
+{
+    size_t st = (n * sizeof(int) + sizeof(double) - 1) / sizeof(double) * sizeof(double);
+    return 3 * n * sizeof(double) + st;
+}
+
+static size_t ess_readings_bytes(const sunmc_config *c)
+{
+    return (size_t)thermal_n_reads(c) * ess_rd_block_bytes(ess_validation_size(c));
+}
+
+/* Block k of readings rd as validation readings (the grid's angles and
+ * their trig from grid). */
+static ess_val_readings ess_rd_view(const ess_val_readings *grid, const void *rd, int k)
+{
+    ess_val_readings v = *grid;
+    unsigned char *b = (unsigned char *)(uintptr_t)rd + (size_t)k * ess_rd_block_bytes(grid->n);
+    v.raw_rad = (double *)(void *)b;
+    v.raw0_rad = v.raw_rad + grid->n;
+    v.truth_rad = v.raw0_rad + grid->n;
+    v.status = (int *)(void *)(v.truth_rad + grid->n);
+    return v;
+}
+
+/* A thread's workspace: the campaign's fit, the validation grid and one
+ * unit's readings. */
 typedef struct {
     ess_calib_workspace *cw;
     ess_val_readings val;
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
+    double *rd;        /* ess_readings_bytes */
 } ess_ws;
 
 static void ess_ws_free(void *p)
@@ -247,11 +277,12 @@ static void ess_ws_free(void *p)
         return;
     ess_calib_free(w->cw);
     ess_val_free(&w->val);
+    free(w->rd);
     free(w);
 }
 
-/* The fit's workspace and the validation arrays (5 doubles and a status a
- * point). */
+/* The fit's workspace, the validation arrays (5 doubles and a status a
+ * point) and the readings. */
 static double ess_ws_bytes(const sunmc_config *c)
 {
     size_t n = ess_campaign_size(c);
@@ -260,7 +291,8 @@ static double ess_ws_bytes(const sunmc_config *c)
                                                (double)(n + (size_t)ess_calib_prior_rows(kind))
                                          : 0.0;
     return ess_calib_bytes(n, kind) + jfull +
-           (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int));
+           (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int)) +
+           (double)ess_readings_bytes(c);
 }
 
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
@@ -274,7 +306,8 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     ess_ws *w = calloc(1, sizeof *w);
-    if (!w || !(w->cw = ess_calib_alloc_fix(n, kind, fix)) || ess_val_alloc(c, &w->val) != SUNMC_OK) {
+    if (!w || !(w->cw = ess_calib_alloc_fix(n, kind, fix)) || ess_val_alloc(c, &w->val) != SUNMC_OK ||
+        !(w->rd = malloc(ess_readings_bytes(c)))) {
         ess_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a %zu-point campaign", n);
         return NULL;
@@ -288,37 +321,40 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 }
 
 /* What the fitted model makes of k validation readings: the noisy
- * readings and the same readings without the noise (the systematic part)
- * compensated, in batches. */
+ * readings and, unless c->no_systematic, the same readings without the
+ * noise (the systematic part) compensated, in batches. */
 typedef struct {
     double comp[ESS_CHUNK], comp0[ESS_CHUNK];
     int st_comp[ESS_CHUNK], st_comp0[ESS_CHUNK];
 } ess_val_chunk;
 
 static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size_t i0, size_t k,
-                             ess_val_chunk *w)
+                             int sys, ess_val_chunk *w)
 {
-    ess_model_compensate_pair_batch(m, k, v->raw_rad + i0, v->raw0_rad + i0, w->comp, w->comp0,
-                                    w->st_comp, w->st_comp0);
+    if (sys)
+        ess_model_compensate_pair_batch(m, k, v->raw_rad + i0, v->raw0_rad + i0, w->comp,
+                                        w->comp0, w->st_comp, w->st_comp0);
+    else
+        ess_model_compensate_batch(m, k, v->raw_rad + i0, w->comp, w->st_comp);
 }
 
 /* Score the unit's validation readings v (RMS before and after), and the
  * same points without reading noise (the systematic part of the after
- * RMS); gross errors are counted and left out. */
-static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, const ess_model *m,
-                              const ess_val_readings *v, unit_result *res)
+ * RMS; NaN under c->no_systematic); gross errors are counted and left out. */
+static void ess_unit_score_validation(const sunmc_config *c, const ess_model *m,
+                                      const ess_val_readings *v, unit_result *res)
 {
     band_acc before, after, after_sys;
     band_acc_reset(&before);
     band_acc_reset(&after);
     band_acc_reset(&after_sys);
     double half_period = ess_half_period_rad(c);
-    int nb = c->bands_deg.n;
+    int nb = c->bands_deg.n, sys = !c->no_systematic;
     ess_val_chunk w;
     for (size_t i0 = 0; i0 < v->n; i0 += ESS_CHUNK) {
         size_t k = v->n - i0 < ESS_CHUNK ? v->n - i0 : ESS_CHUNK;
         if (res->fit_status == UNIT_FIT_OK)
-            compensate_chunk(m, v, i0, k, &w);
+            compensate_chunk(m, v, i0, k, sys, &w);
         for (size_t q = 0; q < k; q++) {
             size_t i = i0 + q;
             if (v->status[i] == ESS_READING_UNSEEN)
@@ -336,36 +372,58 @@ static void ess_unit_score_validation(const sunmc_config *c, const ess_unit *u, 
                 continue;
             }
             band_acc_add_mask(&after, nb, bm, w.comp[q] - v->truth_rad[i]);
-            if (!ess_is_gross(v->raw0_rad[i], v->truth_rad[i], half_period) &&
+            if (sys && !ess_is_gross(v->raw0_rad[i], v->truth_rad[i], half_period) &&
                 w.st_comp0[q] == SUNMC_OK)
                 band_acc_add_mask(&after_sys, nb, bm, w.comp0[q] - v->truth_rad[i]);
         }
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
-    unit_result_set_sys(res, 0, &after_sys, &c->bands_deg, DEG_PER_RAD);
+    unit_result_set_sys(res, 0, sys ? &after_sys : NULL, &c->bands_deg, DEG_PER_RAD);
+}
+
+/* The unit's validation readings into rd (family.h): the lab's, then at
+ * each operating temperature other than the lab's its deviations at that
+ * temperature, rebuilt (thermal_validate_all's order). */
+static int ess_unit_take_readings(const sunmc_config *c, long unit, void *ws, void *rd)
+{
+    const ess_ws *w = ws;
+    ess_deviations dev, dev_t;
+    ess_unit u;
+    ess_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    ess_unit_build(c, &dev, &u);
+    ess_val_readings v = ess_rd_view(&w->val, rd, 0);
+    ess_unit_read_validation(c, &u, unit, &v);
+    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c)
+            continue;
+        ess_deviations_at_temp(c, &dev, T, &dev_t);
+        ess_unit_build(c, &dev_t, &u);
+        v = ess_rd_view(&w->val, rd, k++);
+        ess_unit_read_validation(c, &u, unit, &v);
+    }
+    return SUNMC_OK;
 }
 
 /* The calibrated unit at one operating temperature (thermal_validate_all):
- * its deviations at temp_c, rebuilt, its validation read and scored. */
+ * the next block of its readings scored. */
 typedef struct {
-    const ess_deviations *dev;
-    long unit;
     const ess_model *m;
-    ess_ws *w;
+    const ess_ws *w;
+    const void *rd;
+    int next; /* the block of the next temperature */
 } ess_temp_ctx;
 
 static void ess_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
 {
-    const ess_temp_ctx *k = ctx;
-    ess_deviations dev_t;
-    ess_unit u;
-    ess_deviations_at_temp(c, k->dev, temp_c, &dev_t);
-    ess_unit_build(c, &dev_t, &u);
-    ess_unit_read_validation(c, &u, k->unit, &k->w->val);
-    ess_unit_score_validation(c, &u, k->m, &k->w->val, at);
+    ess_temp_ctx *k = ctx;
+    ess_val_readings v = ess_rd_view(&k->w->val, k->rd, k->next++);
+    ess_unit_score_validation(c, k->m, &v, at);
 }
 
-static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+/* Campaign, fit and the scores of the unit's readings rd (family.h). */
+static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const void *rd,
+                           unit_result *res)
 {
     const ess_config *ec = ess_cfg(c);
     ess_ws *w = ws;
@@ -400,13 +458,28 @@ static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
-    ess_unit_read_validation(c, &u, unit, &w->val);
-    ess_unit_score_validation(c, &u, &m, &w->val, res);
-    ess_temp_ctx tc = {&dev, unit, &m, w};
+    ess_val_readings v = ess_rd_view(&w->val, rd, 0);
+    ess_unit_score_validation(c, &m, &v, res);
+    ess_temp_ctx tc = {&m, w, rd, 1};
     thermal_validate_all(c, res, ess_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
+
+static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    ess_ws *w = ws;
+    double t = unit_clock();
+    ess_unit_take_readings(c, unit, ws, w->rd);
+    double read_s = unit_clock() - t;
+    ess_unit_finish(c, unit, ws, w->rd, res);
+    res->phase_s[UNIT_PHASE_VALIDATION] += read_s;
+    return SUNMC_OK;
+}
+
+/* The readings depend on neither the campaign nor its fit. */
+static const char *const ess_readings_ignore[] = {"campaign", "calibration",
+                                                  "noise.encoder_arcsec", NULL};
 
 const sensor_family ess_family = {
     .name = "ess",
@@ -432,6 +505,10 @@ const sensor_family ess_family = {
     .workspace_bytes = ess_ws_bytes,
     .workspace_free = ess_ws_free,
     .unit_run = ess_unit_run,
+    .readings_bytes = ess_readings_bytes,
+    .unit_read = ess_unit_take_readings,
+    .unit_finish = ess_unit_finish,
+    .readings_ignore = ess_readings_ignore,
     .grid = &ess_grid,       /* ess_grid.c */
     .curve = &ess_curve,     /* ess_curve.c */
     .lab = &ess_lab, /* ess_lab.c */

@@ -1,0 +1,158 @@
+/* unit_store.c - units' validation readings kept between runs of configs
+ * that share them (unit_store.h). */
+#include "unit_store.h"
+#include "family.h"
+#include "status.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Slots start on this boundary (vector loads of the family's arrays). */
+#define STORE_ALIGN 64
+/* Longest formatted key value: a full list of shortest doubles. */
+#define STORE_VALUE_TEXT (CONFIG_LIST_MAX * 32)
+
+struct unit_store {
+    sunmc_config cfg;     /* the config whose readings the slots hold */
+    long capacity;
+    size_t slot_bytes;    /* readings_bytes(cfg), rounded up to STORE_ALIGN */
+    unsigned char *data;  /* capacity slots */
+    long *unit;           /* unit whose readings slot i holds; -1: none */
+    long reads;           /* units read into a slot */
+};
+
+static int splits(const sensor_family *fam)
+{
+    return fam->readings_bytes && fam->unit_read && fam->unit_finish;
+}
+
+/* 1 when key k is one whose value the family's readings ignore. */
+static int ignored(const sensor_family *fam, const config_key *k)
+{
+    for (const char *const *n = fam->readings_ignore; n && *n; n++) {
+        size_t ls = strlen(k->section);
+        if (strcmp(*n, k->section) == 0 ||
+            (strncmp(*n, k->section, ls) == 0 && (*n)[ls] == '.' && strcmp(*n + ls + 1, k->name) == 0))
+            return 1;
+    }
+    return 0;
+}
+
+static int same_pick(const sunmc_config *a, const sunmc_config *b)
+{
+    if (a->pick.n != b->pick.n || (a->pick.n > 0 && a->pick.seed != b->pick.seed))
+        return 0;
+    for (int i = 0; i < a->pick.n; i++)
+        if (a->pick.stream[i] != b->pick.stream[i])
+            return 0;
+    return 1;
+}
+
+int unit_readings_same(const sunmc_config *a, const sunmc_config *b)
+{
+    const sensor_family *fam = a->family;
+    if (fam != b->family || !splits(fam) || !same_pick(a, b))
+        return 0;
+    const config_key *keys[CONFIG_KEYS_MAX];
+    const sensor_family *owners[CONFIG_KEYS_MAX];
+    size_t n = config_list_keys(fam, keys, owners, CONFIG_KEYS_MAX);
+    for (size_t i = 0; i < n; i++) {
+        if (ignored(fam, keys[i]))
+            continue;
+        char va[STORE_VALUE_TEXT], vb[STORE_VALUE_TEXT];
+        config_format_value(keys[i], a, va, sizeof va);
+        config_format_value(keys[i], b, vb, sizeof vb);
+        if (strcmp(va, vb) != 0)
+            return 0;
+    }
+    return 1;
+}
+
+static size_t slot_bytes(const sunmc_config *c)
+{
+    size_t b = c->family->readings_bytes(c);
+    return (b + STORE_ALIGN - 1) / STORE_ALIGN * STORE_ALIGN;
+}
+
+double unit_store_bytes(const sunmc_config *c, long capacity)
+{
+    if (!splits(c->family) || capacity <= 0)
+        return 0.0;
+    return (double)capacity * ((double)slot_bytes(c) + (double)sizeof(long));
+}
+
+int unit_store_alloc(const sunmc_config *c, long capacity, unit_store **out, char *err,
+                     size_t errlen)
+{
+    *out = NULL;
+    if (!splits(c->family) || capacity <= 0)
+        return SUNMC_OK;
+    unit_store *s = calloc(1, sizeof *s);
+    if (s) {
+        s->cfg = *c;
+        s->capacity = capacity;
+        s->slot_bytes = slot_bytes(c);
+        s->data = aligned_alloc(STORE_ALIGN, (size_t)capacity * s->slot_bytes);
+        s->unit = malloc((size_t)capacity * sizeof *s->unit);
+    }
+    if (!s || !s->data || !s->unit) {
+        unit_store_free(s);
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM,
+                          "out of memory for the validation readings of %ld units (%.0f MB)",
+                          capacity, unit_store_bytes(c, capacity) / 1e6);
+    }
+    for (long i = 0; i < capacity; i++)
+        s->unit[i] = -1;
+    *out = s;
+    return SUNMC_OK;
+}
+
+void unit_store_free(unit_store *s)
+{
+    if (!s)
+        return;
+    free(s->data);
+    free(s->unit);
+    free(s);
+}
+
+static int fits(const unit_store *s, const sunmc_config *c, long first, long end)
+{
+    return s && splits(c->family) && end - first <= s->capacity && slot_bytes(c) <= s->slot_bytes;
+}
+
+int unit_store_serves(const unit_store *s, const sunmc_config *c, long first, long end)
+{
+    return fits(s, c, first, end) && unit_readings_same(&s->cfg, c);
+}
+
+int unit_store_bind(unit_store *s, const sunmc_config *c, long first, long end)
+{
+    if (!fits(s, c, first, end))
+        return 0;
+    if (!unit_readings_same(&s->cfg, c)) {
+        s->cfg = *c;
+        for (long i = 0; i < s->capacity; i++)
+            s->unit[i] = -1;
+    }
+    return 1;
+}
+
+void *unit_store_slot(unit_store *s, long u, int *held)
+{
+    long i = u % s->capacity;
+    *held = s->unit[i] == u;
+    return s->data + (size_t)i * s->slot_bytes;
+}
+
+void unit_store_fill(unit_store *s, long u)
+{
+    s->unit[u % s->capacity] = u;
+#pragma omp atomic
+    s->reads++;
+}
+
+long unit_store_reads(const unit_store *s)
+{
+    return s ? s->reads : 0;
+}

@@ -1,0 +1,238 @@
+/* test_unit_store.c - a unit's validation readings read once and shared
+ * (unit_store.h, family.h: unit_read / unit_finish): the readings of one
+ * config are the bytes another config with another campaign reads, and
+ * finishing that config's unit from them gives unit_run's bytes; which
+ * configs share readings (a campaign or encoder change does; a tolerance,
+ * the validation grid, the seed or a pick-freeze does not); mc_run_store
+ * and mc_run_each give mc_run's bytes in 1 and 2 threads, reading each unit
+ * once; the range beyond the store's capacity runs without it; and the
+ * skipped systematic pass leaves the after RMS as it was. */
+#include "test_util.h"
+
+#include "family.h"
+#include "montecarlo.h"
+#include "status.h"
+#include "unit_store.h"
+
+#include <stdlib.h>
+
+#define UNITS 6
+
+/* ESS type A on a coarse validation grid (fast), plus sets. */
+static sunmc_config ess(const char *const *more, int n)
+{
+    const char *sets[8] = {"validation.alpha_step_deg=1.3", "run.seed=5"};
+    for (int i = 0; i < n && i < 6; i++)
+        sets[2 + i] = more[i];
+    config_state st;
+    test_build(&st, "configs/ess_type_a.ini", sets, 2 + n);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    return c;
+}
+
+static void *ws_of(const sunmc_config *c)
+{
+    char err[SUNMC_ERRLEN];
+    void *ws = c->family->workspace_alloc(c, err, sizeof err);
+    if (!ws)
+        fail_msg("%s", err);
+    return ws;
+}
+
+/* Readings of config a finish config b's units to unit_run's bytes, and
+ * are the bytes b reads itself. */
+static void check_shared(const sunmc_config *a, const sunmc_config *b)
+{
+    const sensor_family *fam = a->family;
+    assert_true(unit_readings_same(a, b));
+    size_t nb = fam->readings_bytes(a);
+    assert_int_equal(nb, fam->readings_bytes(b));
+    unsigned char *ra = malloc(nb), *rb = malloc(nb);
+    void *wa = ws_of(a), *wb = ws_of(b);
+    for (long u = 0; u < UNITS; u++) {
+        unit_result fresh, shared;
+        assert_int_equal(fam->unit_read(a, u, wa, ra), SUNMC_OK);
+        assert_int_equal(fam->unit_read(b, u, wb, rb), SUNMC_OK);
+        assert_memory_equal(ra, rb, nb);
+        assert_int_equal(fam->unit_run(b, u, wb, &fresh), SUNMC_OK);
+        assert_int_equal(fam->unit_finish(b, u, wb, ra, &shared), SUNMC_OK);
+        assert_memory_equal(&fresh, &shared, sizeof fresh);
+        assert_true(isfinite(fresh.rms_after[0][0]));
+    }
+    fam->workspace_free(wa);
+    fam->workspace_free(wb);
+    free(ra);
+    free(rb);
+}
+
+static void readings_ignore_the_campaign(void **state)
+{
+    (void)state;
+    sunmc_config a = ess(NULL, 0);
+    const char *other[] = {"campaign.alpha_step_deg=0.3", "campaign.beta_deg=-40, 40",
+                           "campaign.repeats=2", "noise.encoder_arcsec=3",
+                           "calibration.roll_sigma_arcsec=20"};
+    sunmc_config b = ess(other, 5);
+    check_shared(&a, &b);
+    /* at three operating temperatures, one the lab's (20 C): the lab's
+     * block and one for each of the other two */
+    const char *hot[] = {"environment.operating_temp_c=-20, 20, 60"};
+    const char *hot_b[] = {"environment.operating_temp_c=-20, 20, 60",
+                           "campaign.alpha_step_deg=0.3"};
+    a = ess(hot, 1);
+    b = ess(hot_b, 2);
+    sunmc_config lab = ess(NULL, 0);
+    assert_int_equal(a.family->readings_bytes(&a), 3 * lab.family->readings_bytes(&lab));
+    check_shared(&a, &b);
+}
+
+static void readings_differ(void **state)
+{
+    (void)state;
+    sunmc_config a = ess(NULL, 0);
+    const char *diff[][1] = {{"tolerance.dH_um=30"},
+                             {"validation.alpha_step_deg=1.1"},
+                             {"run.seed=6"},
+                             {"noise.row_current_pct=2"},
+                             {"environment.operating_temp_c=60"}};
+    for (size_t i = 0; i < sizeof diff / sizeof diff[0]; i++) {
+        sunmc_config b = ess(diff[i], 1);
+        assert_false(unit_readings_same(&a, &b));
+    }
+    sunmc_config b = a;
+    b.pick.n = 1;
+    b.pick.seed = 9;
+    b.pick.stream[0] = 1;
+    assert_false(unit_readings_same(&a, &b));
+    b.no_systematic = 1; /* what the units skip, not what they read */
+    b.pick = a.pick;
+    assert_true(unit_readings_same(&a, &b));
+    /* a family that does not split its units shares nothing */
+    sunmc_config d = test_family_config("dss");
+    if (!d.family->unit_read) {
+        assert_false(unit_readings_same(&d, &d));
+        unit_store *s = NULL;
+        char err[SUNMC_ERRLEN];
+        assert_int_equal(unit_store_alloc(&d, 8, &s, err, sizeof err), SUNMC_OK);
+        assert_null(s);
+    }
+}
+
+/* mc_run_store and mc_run_each give mc_run's bytes, reading each unit once
+ * for configs that share readings. */
+static void runs_with_a_store(void **state)
+{
+    (void)state;
+    const char *more[] = {"campaign.alpha_step_deg=0.6", "campaign.beta_deg=-30, 30"};
+    sunmc_config c[2] = {ess(NULL, 0), ess(more, 2)};
+    unit_result plain[2][UNITS], got[UNITS];
+    char err[SUNMC_ERRLEN];
+    for (int i = 0; i < 2; i++)
+        assert_int_equal(mc_run(&c[i], 0, UNITS, 1, plain[i], NULL, NULL, err, sizeof err),
+                         SUNMC_OK);
+    for (int threads = 1; threads <= 2; threads++) {
+        unit_store *s;
+        assert_int_equal(unit_store_alloc(&c[0], UNITS, &s, err, sizeof err), SUNMC_OK);
+        assert_non_null(s);
+        for (int i = 0; i < 2; i++) {
+            assert_int_equal(mc_run_store(&c[i], s, 0, UNITS, threads, got, NULL, NULL, err,
+                                          sizeof err), SUNMC_OK);
+            assert_memory_equal(got, plain[i], sizeof got);
+            assert_int_equal(unit_store_reads(s), UNITS); /* read once, for both */
+        }
+        /* a range wider than the store runs without it */
+        unit_result wide[UNITS + 1];
+        assert_int_equal(mc_run_store(&c[1], s, 0, UNITS + 1, threads, wide, NULL, NULL, err,
+                                      sizeof err), SUNMC_OK);
+        assert_memory_equal(wide, plain[1], sizeof plain[1]);
+        assert_int_equal(unit_store_reads(s), UNITS);
+        /* other readings empty the store and are read afresh */
+        const char *seed[] = {"run.seed=6"};
+        sunmc_config o = ess(seed, 1);
+        assert_int_equal(mc_run_store(&o, s, 0, 2, threads, got, NULL, NULL, err, sizeof err),
+                         SUNMC_OK);
+        assert_int_equal(unit_store_reads(s), UNITS + 2);
+        assert_int_equal(mc_run_store(&c[0], s, 0, 2, threads, got, NULL, NULL, err, sizeof err),
+                         SUNMC_OK);
+        assert_memory_equal(got, plain[0], 2 * sizeof *got);
+        assert_int_equal(unit_store_reads(s), UNITS + 4);
+        unit_store_free(s);
+    }
+}
+
+typedef struct {
+    unit_result res[2][UNITS];
+    int calls[2];
+} each_ctx;
+
+static int each_sink(int i, const unit_result *r, long n, void *ctx, char *err, size_t errlen)
+{
+    each_ctx *e = ctx;
+    assert_int_equal(n, UNITS);
+    memcpy(e->res[i], r, (size_t)n * sizeof *r);
+    e->calls[i]++;
+    return SUNMC_OK;
+}
+
+static void run_each_config(void **state)
+{
+    (void)state;
+    const char *more[] = {"campaign.alpha_step_deg=0.6", "campaign.beta_deg=-30, 30"};
+    sunmc_config c[2] = {ess(NULL, 0), ess(more, 2)};
+    const sunmc_config *cp[2] = {&c[0], &c[1]};
+    unit_result plain[2][UNITS];
+    char err[SUNMC_ERRLEN];
+    for (int i = 0; i < 2; i++)
+        assert_int_equal(mc_run(&c[i], 0, UNITS, 1, plain[i], NULL, NULL, err, sizeof err),
+                         SUNMC_OK);
+    for (int threads = 1; threads <= 2; threads++)
+        for (int with_store = 0; with_store <= 1; with_store++) {
+            unit_store *s = NULL;
+            if (with_store)
+                assert_int_equal(unit_store_alloc(&c[0], UNITS, &s, err, sizeof err), SUNMC_OK);
+            each_ctx *e = calloc(1, sizeof *e);
+            assert_int_equal(mc_run_each(cp, 2, s, 0, UNITS, threads, each_sink, e, NULL, NULL,
+                                         err, sizeof err),
+                             SUNMC_OK);
+            for (int i = 0; i < 2; i++) {
+                assert_int_equal(e->calls[i], 1);
+                assert_memory_equal(e->res[i], plain[i], sizeof plain[i]);
+            }
+            assert_int_equal(unit_store_reads(s), with_store ? UNITS : 0);
+            free(e);
+            unit_store_free(s);
+        }
+}
+
+/* Without the systematic pass: the same RMS before and after, the
+ * systematic part NaN (it is finite with the pass). */
+static void no_systematic_pass(void **state)
+{
+    (void)state;
+    sunmc_config c = ess(NULL, 0), q = c;
+    q.no_systematic = 1;
+    unit_result full[UNITS], quick[UNITS];
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(mc_run(&c, 0, UNITS, 1, full, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(&q, 0, UNITS, 1, quick, NULL, NULL, err, sizeof err), SUNMC_OK);
+    for (int u = 0; u < UNITS; u++)
+        for (int b = 0; b < c.bands_deg.n; b++) {
+            assert_true(full[u].rms_before[0][b] == quick[u].rms_before[0][b]);
+            assert_true(full[u].rms_after[0][b] == quick[u].rms_after[0][b]);
+            assert_true(isfinite(full[u].rms_after_sys[0][b]));
+            assert_true(isnan(quick[u].rms_after_sys[0][b]));
+        }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(readings_ignore_the_campaign),
+        cmocka_unit_test(readings_differ),
+        cmocka_unit_test(runs_with_a_store),
+        cmocka_unit_test(run_each_config),
+        cmocka_unit_test(no_systematic_pass),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
