@@ -70,6 +70,11 @@ typedef struct {
     int *order;                 /* n indices: hours, then yield descending */
     int best;                   /* index of the chosen candidate, -1 when none passed */
     long units_run;             /* units over all candidates */
+    /* of which finished from validation readings already read for another
+     * candidate (unit_store.h; 0 when the family does not split its units
+     * or reuse is off) */
+    long units_reused;
+    int no_reuse;               /* set before design_run: read every unit afresh */
     int n_extrapolating;        /* candidates not tried: they extrapolate too far */
     int angle, band;            /* the yield's report row */
 } design_result;

@@ -7,6 +7,7 @@
 #include "report.h"
 #include "shortest.h"
 #include "status.h"
+#include "unit_store.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -89,6 +90,7 @@ static int add_candidate(design_result *d, const sunmc_config *base, const char 
     k->points = ci.points;
     k->hours = ci.known ? ci.hours : NAN;
     k->extrapolation_deg = ci.known ? ci.extrapolation_deg : NAN;
+    k->cfg.no_systematic = 1; /* the design reads no systematic part */
     k->yield = k->after_mean = NAN;
     k->yield_ci = k->after_ci = (stats_interval){NAN, NAN};
     d->n++;
@@ -149,16 +151,19 @@ int design_space(const sunmc_config *c, design_result *d, char *err, size_t errl
     return SUNMC_OK;
 }
 
-/* Run candidate k on its next n units (common random numbers: units
- * [k->units, k->units + n) of the same seed) and refresh its statistics. */
-static int run_more(design_result *d, design_candidate *k, report_acc *acc, long n, int threads,
-                    unit_result *buf, summary_row *rows, char *err, size_t errlen)
+/* What the runs of a design share: the block's results, the rows, and
+ * the units' validation readings (every candidate reads the same). */
+typedef struct {
+    unit_result *buf;
+    summary_row *rows;
+    unit_store *store;
+    int threads;
+} design_work;
+
+/* Candidate k has run n more units, added to acc: its statistics. */
+static void took(design_result *d, design_candidate *k, report_acc *acc, long n,
+                 summary_row *rows)
 {
-    int s = mc_run(&k->cfg, k->units, k->units + n, threads, buf, NULL, NULL, err, errlen);
-    if (s == SUNMC_OK && report_acc_add(acc, buf, n) != SUNMC_OK)
-        s = sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
-    if (s != SUNMC_OK)
-        return s;
     k->units += n;
     d->units_run += n;
     report_acc_rows(acc, rows);
@@ -169,7 +174,72 @@ static int run_more(design_result *d, design_candidate *k, report_acc *acc, long
     k->after_ci = r->rms_after_mean_ci;
     k->alias_units = r->alias_units;
     k->fit_failures = r->fit_failures;
+}
+
+/* Run candidate k on its next n units (common random numbers: units
+ * [k->units, k->units + n) of the same seed) and refresh its statistics. */
+static int run_more(design_result *d, design_candidate *k, report_acc *acc, long n,
+                    design_work *w, char *err, size_t errlen)
+{
+    int s = mc_run_store(&k->cfg, w->store, k->units, k->units + n, w->threads, w->buf, NULL,
+                         NULL, err, errlen);
+    if (s == SUNMC_OK && report_acc_add(acc, w->buf, n) != SUNMC_OK)
+        s = sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
+    if (s == SUNMC_OK)
+        took(d, k, acc, n, w->rows);
+    return s;
+}
+
+/* The screen: every candidate on the same first units, a candidate to a
+ * thread (mc_run_each), each one's results into its accumulator. */
+typedef struct {
+    report_acc **acc;
+    design_progress_fn progress;
+    void *ctx;
+} screen_ctx;
+
+static int screen_sink(int i, const unit_result *res, long n, void *ctx, char *err, size_t errlen)
+{
+    screen_ctx *sc = ctx;
+    if (report_acc_add(sc->acc[i], res, n) != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "design: out of memory");
     return SUNMC_OK;
+}
+
+static void screen_progress(long done, long total, void *ctx)
+{
+    const screen_ctx *sc = ctx;
+    sc->progress("screen", (int)done, (int)total, sc->ctx);
+}
+
+static int screen(design_result *d, report_acc **acc, design_work *w, design_progress_fn progress,
+                  void *ctx, char *err, size_t errlen)
+{
+    long n = d->cand[0].cfg.search_screen_units;
+    const sunmc_config **cfg = calloc((size_t)d->n, sizeof *cfg);
+    int s = cfg ? SUNMC_OK : SUNMC_ENOMEM;
+    for (int i = 0; s == SUNMC_OK && i < d->n; i++) {
+        cfg[i] = &d->cand[i].cfg;
+        if (!(acc[i] = report_acc_new(cfg[i])))
+            s = SUNMC_ENOMEM;
+    }
+    screen_ctx sc = {acc, progress, ctx};
+    if (s == SUNMC_OK)
+        s = mc_run_each(cfg, d->n, w->store, 0, n, w->threads, screen_sink, &sc,
+                        progress ? screen_progress : NULL, &sc, err, errlen);
+    free(cfg);
+    for (int i = 0; s == SUNMC_OK && i < d->n; i++) {
+        design_candidate *k = &d->cand[i];
+        took(d, k, acc[i], n, w->rows);
+        k->verdict = k->alias_units > 0                         ? DESIGN_ALIASED
+                     : k->yield_ci.hi < k->cfg.yield_target     ? DESIGN_SCREENED_OUT
+                                                                : DESIGN_NOT_SETTLED;
+        if (k->verdict != DESIGN_NOT_SETTLED && !k->is_input) {
+            report_acc_free(acc[i]);
+            acc[i] = NULL;
+        }
+    }
+    return s;
 }
 
 static const design_result *sort_ctx;
@@ -200,8 +270,8 @@ static void mark_pareto(design_result *d)
 }
 
 /* Settle candidate k in blocks: pass, fail or undecided. */
-static int settle(design_result *d, design_candidate *k, report_acc *acc, int threads,
-                  unit_result *buf, summary_row *rows, char *err, size_t errlen)
+static int settle(design_result *d, design_candidate *k, report_acc *acc, design_work *w,
+                  char *err, size_t errlen)
 {
     const sunmc_config *c = &k->cfg;
     for (;;) {
@@ -219,7 +289,7 @@ static int settle(design_result *d, design_candidate *k, report_acc *acc, int th
         }
         long n = c->block_units;
         n = k->units + n > c->search_max_units ? c->search_max_units - k->units : n;
-        int s = run_more(d, k, acc, n, threads, buf, rows, err, errlen);
+        int s = run_more(d, k, acc, n, w, err, errlen);
         if (s != SUNMC_OK)
             return s;
     }
@@ -231,27 +301,15 @@ int design_run(design_result *d, int threads, design_progress_fn progress, void 
     const sunmc_config *c0 = &d->cand[0].cfg;
     long block = c0->block_units > c0->search_screen_units ? c0->block_units
                                                            : c0->search_screen_units;
-    unit_result *buf = calloc((size_t)block, sizeof *buf);
-    summary_row *rows = calloc((size_t)report_n_rows(c0), sizeof *rows);
+    design_work w = {calloc((size_t)block, sizeof *w.buf),
+                     calloc((size_t)report_n_rows(c0), sizeof *w.rows), NULL, threads};
     report_acc **acc = calloc((size_t)d->n, sizeof *acc);
     d->order = calloc((size_t)d->n, sizeof *d->order);
-    int s = buf && rows && acc && d->order ? SUNMC_OK : SUNMC_ENOMEM;
-    for (int i = 0; s == SUNMC_OK && i < d->n; i++) {
-        design_candidate *k = &d->cand[i];
-        if (!(acc[i] = report_acc_new(&k->cfg)))
-            s = SUNMC_ENOMEM;
-        if (progress && s == SUNMC_OK)
-            progress("screen", i + 1, d->n, ctx);
-        if (s == SUNMC_OK)
-            s = run_more(d, k, acc[i], c0->search_screen_units, threads, buf, rows, err, errlen);
-        k->verdict = k->alias_units > 0                         ? DESIGN_ALIASED
-                     : k->yield_ci.hi < k->cfg.yield_target     ? DESIGN_SCREENED_OUT
-                                                                : DESIGN_NOT_SETTLED;
-        if (k->verdict != DESIGN_NOT_SETTLED && !k->is_input) {
-            report_acc_free(acc[i]);
-            acc[i] = NULL;
-        }
-    }
+    int s = w.buf && w.rows && acc && d->order ? SUNMC_OK : SUNMC_ENOMEM;
+    if (s == SUNMC_OK && !d->no_reuse)
+        s = unit_store_alloc(c0, block, &w.store, err, errlen);
+    if (s == SUNMC_OK)
+        s = screen(d, acc, &w, progress, ctx, err, errlen);
     for (int i = 0; i < d->n; i++)
         d->order[i] = i;
     sort_ctx = d;
@@ -265,7 +323,7 @@ int design_run(design_result *d, int threads, design_progress_fn progress, void 
             continue;
         if (progress)
             progress("settle", j + 1, d->n, ctx);
-        s = settle(d, k, acc[d->order[j]], threads, buf, rows, err, errlen);
+        s = settle(d, k, acc[d->order[j]], &w, err, errlen);
         passed += s == SUNMC_OK && k->verdict == DESIGN_PASS;
     }
     if (s == SUNMC_OK) {
@@ -277,11 +335,13 @@ int design_run(design_result *d, int threads, design_progress_fn progress, void 
     }
     if (s == SUNMC_ENOMEM)
         sunmc_fail(err, errlen, s, "design: out of memory");
+    d->units_reused = w.store ? d->units_run - unit_store_reads(w.store) : 0;
+    unit_store_free(w.store);
     for (int i = 0; acc && i < d->n; i++)
         report_acc_free(acc[i]);
     free(acc);
-    free(buf);
-    free(rows);
+    free(w.buf);
+    free(w.rows);
     return s;
 }
 

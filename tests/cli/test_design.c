@@ -141,6 +141,63 @@ static void design_lines_lab_resolution(void **state)
     assert_false(test_file_has(tsv, "13.333"));
 }
 
+/* One design of the small space above, reusing the readings or not, in
+ * `threads` threads. */
+static void design_of(design_result *d, int no_reuse, int threads)
+{
+    config_state st;
+    const char *sets[] = {"campaign.alpha_step_deg=0.2", "campaign.search_steps_deg=0.5, 0.3",
+                          "campaign.search_max_lines=3", "campaign.search_beta_step_deg=15",
+                          "campaign.search_beta_max_deg=30", "campaign.search_repeats=1, 2",
+                          "campaign.search_screen_units=12", "campaign.search_max_units=36",
+                          "campaign.search_shortlist=2", "run.block_units=24",
+                          "validation.alpha_step_deg=1.3", "report.yield_target=0.9"};
+    build(&st, sets, sizeof sets / sizeof sets[0]);
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(design_space(&st.cfg, d, err, sizeof err), SUNMC_OK);
+    d->no_reuse = no_reuse;
+    if (design_run(d, threads, NULL, NULL, err, sizeof err) != SUNMC_OK)
+        fail_msg("design: %s", err);
+    config_state_free(&st);
+}
+
+/* Reading each unit's validation once for every candidate changes
+ * nothing: the same verdicts, statistics, Pareto set and choice as reading
+ * it afresh for each, in 1 and 2 threads.  The store holds a block (24
+ * units): the screen's 12 units and the settle's block of 24 are each read
+ * once, the rest of the unit runs reuse the readings. */
+static void design_reuse_changes_nothing(void **state)
+{
+    design_result fresh, reuse;
+    design_of(&fresh, 1, 1);
+    assert_int_equal(fresh.units_reused, 0);
+    for (int threads = 1; threads <= 2; threads++) {
+        design_of(&reuse, 0, threads);
+        assert_int_equal(reuse.n, fresh.n);
+        assert_int_equal(reuse.best, fresh.best);
+        assert_true(reuse.best >= 0);
+        assert_int_equal(reuse.units_run, fresh.units_run);
+        long most = 0;
+        for (int i = 0; i < reuse.n; i++) {
+            const design_candidate *a = &fresh.cand[i], *b = &reuse.cand[i];
+            assert_int_equal(a->verdict, b->verdict);
+            assert_int_equal(a->pareto, b->pareto);
+            assert_int_equal(a->units, b->units);
+            assert_int_equal(a->alias_units, b->alias_units);
+            assert_int_equal(a->fit_failures, b->fit_failures);
+            assert_memory_equal(&a->yield, &b->yield, sizeof a->yield);
+            assert_memory_equal(&a->yield_ci, &b->yield_ci, sizeof a->yield_ci);
+            assert_memory_equal(&a->after_mean, &b->after_mean, sizeof a->after_mean);
+            assert_memory_equal(&a->after_ci, &b->after_ci, sizeof a->after_ci);
+            most = b->units > most ? b->units : most;
+        }
+        assert_true(most > 12); /* something settled */
+        assert_int_equal(reuse.units_run - reuse.units_reused, most);
+        design_free(&reuse);
+    }
+    design_free(&fresh);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -149,6 +206,7 @@ int main(void)
         cmocka_unit_test(design_refusals),
         cmocka_unit_test(design_extended_model_aliases),
         cmocka_unit_test(design_lines_lab_resolution),
+        cmocka_unit_test(design_reuse_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
