@@ -17,6 +17,12 @@ void dss_table_truth_batch(size_t k, const double *b1, const double *b2, double 
 void dss_truth_batch(int mount, const double v_sun[3], size_t k, const double *b1,
                      const double *b2, double *alpha, double *beta);
 
+/* The same with the angles' cosines and sines given (c1 = cos b1, s1 = sin
+ * b1, c2 = cos b2, s2 = sin b2; padded arrays): the same bits. */
+void dss_truth_batch_trig(int mount, const double v_sun[3], size_t k, const double *b1,
+                          const double *b2, const double *c1, const double *s1,
+                          const double *c2, const double *s2, double *alpha, double *beta);
+
 /* Field angle (deg) of the directions with angles (alpha0, beta0) rad:
  * atan(hypot(tan alpha0, tan beta0)). */
 void dss_field_chunk(size_t k, const double *alpha0, const double *beta0, double *field_deg);
@@ -25,5 +31,16 @@ void dss_field_chunk(size_t k, const double *alpha0, const double *beta0, double
  * (alpha0, beta0): angle_between of their sun_vector_of. */
 void dss_total_error_chunk(size_t k, const double *alpha, const double *beta,
                            const double *alpha0, const double *beta0, double *total);
+
+/* The truth's side of both, made once for several scorings of the same
+ * points: the unit vector (vx, vy, vz) of (alpha0, beta0) (sun_vector_of)
+ * and its field angle (deg), the same bits as dss_field_chunk; then the
+ * total angle error of (alpha, beta) against that vector, the same bits as
+ * dss_total_error_chunk. */
+void dss_truth_vector_chunk(size_t k, const double *alpha0, const double *beta0, double *vx,
+                            double *vy, double *vz, double *field_deg);
+void dss_total_error_vec_chunk(size_t k, const double *alpha, const double *beta,
+                               const double *vx, const double *vy, const double *vz,
+                               double *total);
 
 #endif

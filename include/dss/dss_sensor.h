@@ -133,6 +133,15 @@ double dss_disc_coefficient(double sun_disc_deg, double limb_darkening);
 /* Build the sensor from design d, deviations dev and s_curve (0 or 1). */
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve);
 
+/* The same with the S-curve amplitudes given (dss_scurve_amplitudes of
+ * dss_spot_px(d), which depend on the design only: a run makes them once);
+ * amp_px NULL makes them. */
+void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviations *dev,
+                         int s_curve, const double *amp_px);
+
+/* The spot's diameter (px) of design d: pinhole over pixel. */
+double dss_spot_px(const dss_design *d);
+
 /* The sun simulator's direction (unit) in the table base frame for mount
  * mode `mount` and mount rotation M: M^T e_z (aligned) or R(sun_b1,
  * sun_b2) e_z (as_mounted; angles in rad). */

@@ -26,6 +26,9 @@ typedef struct {
 
 /* Build a unit of config c with deviations dev. */
 void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u);
+/* The same with the S-curve amplitudes given (dss_sensor_init_amp). */
+void dss_unit_build_amp(const sunmc_config *c, const dss_deviations *dev, const double *amp_px,
+                        dss_unit *u);
 
 /* Readings in c's campaign: the b1 x b2 grid (campaign.b_min_deg ..
  * b_max_deg, step b_step_deg, both axes), b1 varying slowest. */
@@ -63,12 +66,15 @@ typedef struct {
     size_t n;
     double *b1_rad, *b2_rad, *x_px, *y_px, *x0_px, *y0_px, *truth_alpha_rad, *truth_beta_rad;
     int *seen;
+    double *trig[4]; /* cos b1, sin b1, cos b2, sin b2 of the grid, made once (dss_val_alloc) */
 } dss_val_readings;
 
 /* Number of validation grid points of config c (b1 x b2). */
 size_t dss_validation_size(const sunmc_config *c);
 
-/* Arrays for c's validation grid; SUNMC_ENOMEM.  Free with dss_val_free. */
+/* Arrays for c's validation grid, its table angles and their cosines and
+ * sines filled (the same for every unit); SUNMC_ENOMEM.  Free with
+ * dss_val_free. */
 int dss_val_alloc(const sunmc_config *c, dss_val_readings *v);
 void dss_val_free(dss_val_readings *v);
 
@@ -105,6 +111,17 @@ typedef struct {
  * bits. */
 void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
                           const double *b1_rad, const double *b2_rad, dss_validation_point *out);
+
+/* trig = {cos b1, sin b1, cos b2, sin b2} of n table angle pairs, the
+ * arrays of vm_pad(n) values (vmath.h) as the kernels make them. */
+void dss_trig_fill(size_t n, const double *b1_rad, const double *b2_rad, double *const trig[4]);
+
+/* The same with the table angles' cosines and sines given: trig = {cos
+ * b1, sin b1, cos b2, sin b2}, arrays of n (a per-run table, as
+ * dss_val_alloc keeps); the same bits as dss_validation_batch. */
+void dss_validation_batch_trig(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
+                               const double *b1_rad, const double *b2_rad,
+                               const double *const trig[4], dss_validation_point *out);
 
 /* The field angle (deg) of sun angles alpha, beta (rad): the angle from the
  * boresight, atan(hypot(tan alpha, tan beta)); the report's bands bin on it. */

@@ -29,11 +29,18 @@ typedef struct {
     double r00, r01, r02, r10, r11, r12, r20, r21, r22;
 } geo_table;
 
-VM_INLINE geo_table geo_table_of(double b1, double b2)
+VM_INLINE geo_table geo_table_trig(double cx, double sx, double cy, double sy)
 {
-    double cx = cos(b1), sx = sin(b1), cy = cos(b2), sy = sin(b2);
     geo_table t = {cy, sy * sx, -sy * cx, 0.0, cx, sx, sy, -(cy * sx), cy * cx};
     return t;
+}
+
+/* The same from the angles; geo_table_trig of their cosines and sines
+ * (cx = cos b1, sx = sin b1, cy = cos b2, sy = sin b2) where a table of
+ * them is kept. */
+VM_INLINE geo_table geo_table_of(double b1, double b2)
+{
+    return geo_table_trig(cos(b1), sin(b1), cos(b2), sin(b2));
 }
 
 VM_INLINE geo_v3 geo_table_mul(geo_table t, geo_v3 v)

@@ -16,10 +16,14 @@
 /* ---- the physical sensor ---- */
 
 /* The sun in the sensor frame at true table angles: u = M R(b) v_sun. */
+VM_INLINE geo_v3 dss_lane_sun_at(const dss_sensor *s, geo_table R)
+{
+    return geo_mul(s->M, geo_table_mul(R, geo_v3_of(s->v_sun)));
+}
+
 VM_INLINE geo_v3 dss_lane_sun(const dss_sensor *s, double b1, double b2)
 {
-    return geo_mul(s->M, geo_table_mul(geo_table_of(b1, b2),
-                                                 geo_v3_of(s->v_sun)));
+    return dss_lane_sun_at(s, geo_table_of(b1, b2));
 }
 
 /* S-curve biases (px) of a spot at (x_px, y_px) from a pixel centre: sin(2
@@ -103,12 +107,18 @@ typedef struct {
     double alpha, beta;
 } dss_lane_ab;
 
-VM_INLINE dss_lane_ab dss_lane_truth(int mount, geo_v3 v, double b1, double b2)
+/* For a mount mode known outside the loop (so that only its own calls are
+ * made): as mounted, the angles of w = R v; aligned, eq. 3-4. */
+VM_INLINE dss_lane_ab dss_lane_truth_mounted(geo_table R, geo_v3 v)
 {
-    geo_v3 w = geo_table_mul(geo_table_of(b1, b2), v);
-    int mounted = mount != DSS_MOUNT_ALIGNED;
-    dss_lane_ab o = {vm_select(mounted, atan2(w.x, w.z), -b2),
-                     vm_select(mounted, atan2(w.y, w.z), dss_lane_truth_beta(b1, b2))};
+    geo_v3 w = geo_table_mul(R, v);
+    dss_lane_ab o = {atan2(w.x, w.z), atan2(w.y, w.z)};
+    return o;
+}
+
+VM_INLINE dss_lane_ab dss_lane_truth_aligned(double b1, double b2)
+{
+    dss_lane_ab o = {-b2, dss_lane_truth_beta(b1, b2)};
     return o;
 }
 
@@ -207,14 +217,32 @@ typedef struct {
     int ok;
 } dss_lane_angles;
 
-VM_INLINE dss_lane_angles dss_lane_model_angles(const dss_model *m, double dx, double dy,
-                                                double r, double th, double v_phi)
+/* w = M^T u of the sun at field angle theta (sin s_th, cos c_th) and
+ * azimuth (dx, dy) / r. */
+VM_INLINE geo_v3 dss_lane_model_w(const dss_model *m, double dx, double dy, double r, double s_th,
+                                  double c_th)
 {
-    double s = sin(th);
     int off = r > 0.0;
     double rr = vm_select(off, r, 1.0);
-    geo_v3 u = {vm_keep(off, dx / rr * s), vm_keep(off, dy / rr * s), vm_select(off, cos(th), 1.0)};
-    geo_v3 w = geo_mul_t(m->M, u);
+    geo_v3 u = {vm_keep(off, dx / rr * s_th), vm_keep(off, dy / rr * s_th),
+                vm_select(off, c_th, 1.0)};
+    return geo_mul_t(m->M, u);
+}
+
+/* As mounted: w's angles. */
+VM_INLINE dss_lane_angles dss_lane_angles_mounted(geo_v3 w)
+{
+    dss_lane_angles o;
+    o.ok = w.z > 0.0;
+    o.alpha = atan2(w.x, w.z);
+    o.beta = atan2(w.y, w.z);
+    return o;
+}
+
+/* Aligned: the table solved for R(b) v0 = w, the truth angles of that b;
+ * v_phi = atan2(v0_y, v0_z). */
+VM_INLINE dss_lane_angles dss_lane_angles_aligned(const dss_model *m, geo_v3 w, double v_phi)
+{
     /* Rx(b1) v = Ry(-b2) w; Rx keeps the x component */
     double rho = hypot(w.x, w.z);
     dss_lane_angles o;
@@ -225,10 +253,8 @@ VM_INLINE dss_lane_angles dss_lane_model_angles(const dss_model *m, double dx, d
     double q1 = 0.0 * w.x + 1.0 * w.y + 0.0 * w.z;
     double q2 = sn * w.x + 0.0 * w.y + c * w.z;
     double b1 = atan2(q1, q2) - v_phi;
-    int mounted = m->mount != DSS_MOUNT_ALIGNED;
-    o.ok = (mounted & (w.z > 0.0)) | ((!mounted) & o.ok);
-    o.alpha = vm_select(mounted, atan2(w.x, w.z), -b2);
-    o.beta = vm_select(mounted, atan2(w.y, w.z), dss_lane_truth_beta(b1, b2));
+    o.alpha = -b2;
+    o.beta = dss_lane_truth_beta(b1, b2);
     return o;
 }
 

@@ -111,6 +111,34 @@ VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, 
 
 #define DSS_DISC_PASSES 2
 
+/* The calibrated angles of kp spots at field angles th and azimuths (dx,
+ * dy) / r: w = M^T u, then w's angles as mounted or the table solved for
+ * w when aligned (dss_lane.h); the mount mode is chosen outside the loop,
+ * so only its own calls are made.  ok[i] is 1.0 or 0.0. */
+VM_KERNEL static void angles_chunk(const dss_model *m, size_t kp, const double *dx,
+                                   const double *dy, const double *r, const double *th,
+                                   double *a, double *b, double *ok)
+{
+    if (m->mount != DSS_MOUNT_ALIGNED) {
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], sin(th[i]), cos(th[i]));
+            dss_lane_angles o = dss_lane_angles_mounted(w);
+            a[i] = o.alpha;
+            b[i] = o.beta;
+            ok[i] = vm_select(o.ok, 1.0, 0.0);
+        }
+        return;
+    }
+    double v_phi = atan2(m->v0[1], m->v0[2]);
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], sin(th[i]), cos(th[i]));
+        dss_lane_angles o = dss_lane_angles_aligned(m, w, v_phi);
+        a[i] = o.alpha;
+        b[i] = o.beta;
+        ok[i] = vm_select(o.ok, 1.0, 0.0);
+    }
+}
+
 /* Compensation of k <= DSS_CHUNK spots at once (padded lanes): every lane
  * iterates until its own Newton step is below OPTICS_FIELD_TOL_RAD, exactly
  * as one spot alone would; then the table solve.  status[i]: SUNMC_OK or
@@ -123,7 +151,6 @@ VM_KERNEL static void compensate_chunk(const dss_model *m, size_t k, const doubl
     _Alignas(VM_ALIGN) double a[DSS_CHUNK], b[DSS_CHUNK], ok[DSS_CHUNK];
     long active[DSS_CHUNK];
     double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N];
-    double v_phi = atan2(m->v0[1], m->v0[2]);
     size_t kp = vm_pad(k);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         dx[i] = m->p[DSS_P_X0] - x_px[i] * m->pixel_mm;
@@ -143,12 +170,7 @@ VM_KERNEL static void compensate_chunk(const dss_model *m, size_t k, const doubl
         }
         dss_field_angle_chunk(k, rf, H, t, n, th, active);
     }
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        dss_lane_angles o = dss_lane_model_angles(m, dx[i], dy[i], r[i], th[i], v_phi);
-        a[i] = o.alpha;
-        b[i] = o.beta;
-        ok[i] = vm_select(o.ok, 1.0, 0.0);
-    }
+    angles_chunk(m, kp, dx, dy, r, th, a, b, ok);
     for (size_t i = 0; i < k; i++) {
         status[i] = active[i] == 0 && ok[i] != 0.0 ? SUNMC_OK : SUNMC_EDOM;
         alpha[i] = a[i];

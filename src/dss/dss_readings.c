@@ -25,13 +25,48 @@ static void pad_lanes(double *x, size_t k)
         x[i] = x[0];
 }
 
-/* Noiseless spots (px) and whether each is seen, for k <= DSS_CHUNK true
- * table positions (padded arrays); seen[i] is 1.0 or 0.0. */
-VM_KERNEL static void read_chunk(const dss_sensor *s, size_t k, const double *b1, const double *b2,
-                                 double *x_px, double *y_px, double *seen)
+/* The cosines and sines of a chunk's table angles b1, b2 (padded arrays):
+ * what read_chunk and the truth take. */
+typedef struct {
+    _Alignas(VM_ALIGN) double c1[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double s1[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double c2[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double s2[DSS_CHUNK];
+} dss_trig;
+
+/* The cosines and sines of k <= DSS_CHUNK table angle pairs. */
+VM_KERNEL static void trig_chunk(size_t k, const double *b1, const double *b2, dss_trig *t)
 {
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
-        dss_lane_spot sp = dss_lane_sensor_spot(s, dss_lane_sun(s, b1[i], b2[i]));
+        t->c1[i] = cos(b1[i]);
+        t->s1[i] = sin(b1[i]);
+        t->c2[i] = cos(b2[i]);
+        t->s2[i] = sin(b2[i]);
+    }
+}
+
+VM_KERNEL void dss_trig_fill(size_t n, const double *b1_rad, const double *b2_rad,
+                             double *const trig[4])
+{
+    double *restrict c1 = trig[0], *restrict s1 = trig[1];
+    double *restrict c2 = trig[2], *restrict s2 = trig[3];
+    VM_SIMD for (size_t i = 0; i < vm_pad(n); i++) {
+        c1[i] = cos(b1_rad[i]);
+        s1[i] = sin(b1_rad[i]);
+        c2[i] = cos(b2_rad[i]);
+        s2[i] = sin(b2_rad[i]);
+    }
+}
+
+/* Noiseless spots (px) and whether each is seen, for k <= DSS_CHUNK true
+ * table positions given by their cosines and sines (padded arrays);
+ * seen[i] is 1.0 or 0.0. */
+VM_KERNEL static void read_chunk(const dss_sensor *s, size_t k, const dss_trig *t, double *x_px,
+                                 double *y_px, double *seen)
+{
+    VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
+        geo_table R = geo_table_trig(t->c1[i], t->s1[i], t->c2[i], t->s2[i]);
+        dss_lane_spot sp = dss_lane_sensor_spot(s, dss_lane_sun_at(s, R));
         x_px[i] = sp.x;
         y_px[i] = sp.y;
         seen[i] = vm_select(sp.ok, 1.0, 0.0);
@@ -42,11 +77,13 @@ int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double nois
                     double *x_px, double *y_px)
 {
     _Alignas(VM_ALIGN) double a[VM_PAD], b[VM_PAD], x[VM_PAD], y[VM_PAD], seen[VM_PAD];
+    dss_trig t;
     a[0] = b1;
     b[0] = b2;
     pad_lanes(a, 1);
     pad_lanes(b, 1);
-    read_chunk(s, 1, a, b, x, y, seen);
+    trig_chunk(1, a, b, &t);
+    read_chunk(s, 1, &t, x, y, seen);
     if (seen[0] == 0.0)
         return SUNMC_EDOM;
     *x_px = noise_px ? x[0] + noise_px[0] : x[0];
@@ -67,6 +104,7 @@ static void campaign_chunk(const sunmc_config *c, const dss_unit *u, rng_stream 
     double z[DSS_DRAWS_MAX];
     _Alignas(VM_ALIGN) double bt1[DSS_CHUNK], bt2[DSS_CHUNK], x[DSS_CHUNK], y[DSS_CHUNK];
     _Alignas(VM_ALIGN) double seen[DSS_CHUNK];
+    dss_trig t;
     rng_normal_fill(r, z, np * per);
     for (size_t i = 0; i < np; i++) {
         bt1[i] = out[i].b1_true_rad = b1_rad[i] + enc * z[i * per];
@@ -74,7 +112,8 @@ static void campaign_chunk(const sunmc_config *c, const dss_unit *u, rng_stream 
     }
     pad_lanes(bt1, np);
     pad_lanes(bt2, np);
-    read_chunk(&u->sensor, np, bt1, bt2, x, y, seen);
+    trig_chunk(np, bt1, bt2, &t);
+    read_chunk(&u->sensor, np, &t, x, y, seen);
     for (size_t i = 0; i < np; i++) {
         double sx = 0.0, sy = 0.0;
         for (size_t rep = 0; rep < reps; rep++) {
@@ -128,31 +167,65 @@ void dss_campaign_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r,
                        out + i0);
 }
 
-void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
-                          const double *b1_rad, const double *b2_rad, dss_validation_point *out)
+/* Validation points [0, k) of one chunk, k <= DSS_CHUNK, their table
+ * angles' cosines and sines in t (padded). */
+static void validation_chunk(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t k,
+                             const double *b1_rad, const double *b2_rad, const dss_trig *t,
+                             dss_validation_point *out)
 {
     double sigma = dss_cfg(c)->noise.centroid_px;
     double z[2 * DSS_CHUNK];
     _Alignas(VM_ALIGN) double p[DSS_CHUNK], q[DSS_CHUNK], x[DSS_CHUNK], y[DSS_CHUNK];
     _Alignas(VM_ALIGN) double seen[DSS_CHUNK], a0[DSS_CHUNK], b0[DSS_CHUNK];
+    rng_normal_fill(r, z, 2 * k);
+    memcpy(p, b1_rad, k * sizeof *p);
+    memcpy(q, b2_rad, k * sizeof *q);
+    pad_lanes(p, k);
+    pad_lanes(q, k);
+    read_chunk(&u->sensor, k, t, x, y, seen);
+    dss_truth_batch_trig(u->sensor.mount, u->sensor.v0, k, p, q, t->c1, t->s1, t->c2, t->s2, a0,
+                         b0);
+    for (size_t i = 0; i < k; i++) {
+        dss_validation_point *o = &out[i];
+        o->seen = seen[i] != 0.0;
+        o->x0_px = x[i];
+        o->y0_px = y[i];
+        o->x_px = x[i] + sigma * z[2 * i];
+        o->y_px = y[i] + sigma * z[2 * i + 1];
+        o->alpha0_rad = a0[i];
+        o->beta0_rad = b0[i];
+    }
+}
+
+void dss_validation_batch(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
+                          const double *b1_rad, const double *b2_rad, dss_validation_point *out)
+{
+    _Alignas(VM_ALIGN) double p[DSS_CHUNK], q[DSS_CHUNK];
+    dss_trig t;
     for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
         size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
-        rng_normal_fill(r, z, 2 * k);
         memcpy(p, b1_rad + i0, k * sizeof *p);
         memcpy(q, b2_rad + i0, k * sizeof *q);
         pad_lanes(p, k);
         pad_lanes(q, k);
-        read_chunk(&u->sensor, k, p, q, x, y, seen);
-        dss_truth_batch(u->sensor.mount, u->sensor.v0, k, p, q, a0, b0);
-        for (size_t i = 0; i < k; i++) {
-            dss_validation_point *o = &out[i0 + i];
-            o->seen = seen[i] != 0.0;
-            o->x0_px = x[i];
-            o->y0_px = y[i];
-            o->x_px = x[i] + sigma * z[2 * i];
-            o->y_px = y[i] + sigma * z[2 * i + 1];
-            o->alpha0_rad = a0[i];
-            o->beta0_rad = b0[i];
+        trig_chunk(k, p, q, &t);
+        validation_chunk(c, u, r, k, b1_rad + i0, b2_rad + i0, &t, out + i0);
+    }
+}
+
+void dss_validation_batch_trig(const sunmc_config *c, const dss_unit *u, rng_stream *r, size_t n,
+                               const double *b1_rad, const double *b2_rad,
+                               const double *const trig[4], dss_validation_point *out)
+{
+    dss_trig t;
+    double *const dst[4] = {t.c1, t.s1, t.c2, t.s2};
+    const double *const *src = trig;
+    for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
+        size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
+        for (int a = 0; a < 4; a++) {
+            memcpy(dst[a], src[a] + i0, k * sizeof *dst[a]);
+            pad_lanes(dst[a], k);
         }
+        validation_chunk(c, u, r, k, b1_rad + i0, b2_rad + i0, &t, out + i0);
     }
 }

@@ -91,7 +91,18 @@ static void dss_sensor_paper_eq6(dss_sensor *s, const dss_deviations *dev)
     s->onboard.y0_px = dev->dy_px;
 }
 
+double dss_spot_px(const dss_design *d)
+{
+    return d->pinhole_um / d->pixel_um;
+}
+
 void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *dev, int s_curve)
+{
+    dss_sensor_init_amp(s, d, dev, s_curve, NULL);
+}
+
+void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviations *dev,
+                         int s_curve, const double *amp_px)
 {
     memset(s, 0, sizeof *s);
     dss_onboard_init(&s->onboard, d);
@@ -111,10 +122,13 @@ void dss_sensor_init(dss_sensor *s, const dss_design *d, const dss_deviations *d
     memcpy(s->v_sun, s->v0, sizeof s->v_sun);
     if (d->principal_point == DSS_PP_PAPER_EQ6)
         dss_sensor_paper_eq6(s, dev);
-    s->spot_px = d->pinhole_um / d->pixel_um;
+    s->spot_px = dss_spot_px(d);
     s->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     s->s_curve = s_curve;
-    dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
+    if (amp_px)
+        memcpy(s->scurve_amp_px, amp_px, sizeof s->scurve_amp_px);
+    else
+        dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
 }
 
 void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, double v[3])

@@ -35,9 +35,15 @@ static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
 
 void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u)
 {
+    dss_unit_build_amp(c, dev, NULL, u);
+}
+
+void dss_unit_build_amp(const sunmc_config *c, const dss_deviations *dev, const double *amp_px,
+                        dss_unit *u)
+{
     const dss_config *dc = dss_cfg(c);
     u->dev = *dev;
-    dss_sensor_init(&u->sensor, &dc->design, dev, dc->noise.s_curve);
+    dss_sensor_init_amp(&u->sensor, &dc->design, dev, dc->noise.s_curve, amp_px);
 }
 
 static long cal_axis_count(const sunmc_config *c)
@@ -129,6 +135,7 @@ typedef struct {
     dss_calib_workspace *cw;
     dss_val_readings val;
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
+    double amp_px[DSS_SCURVE_HARMONICS]; /* the design's S-curve, made once */
 } dss_ws;
 
 static void dss_ws_free(void *p)
@@ -165,6 +172,7 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
+    dss_scurve_amplitudes(dss_spot_px(&dc->design), w->amp_px);
     if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
         dss_ws_free(w);
         return NULL;
@@ -191,6 +199,21 @@ size_t dss_validation_size(const sunmc_config *c)
     return n * n;
 }
 
+/* The validation grid's table angles (b1 varying slowest) and their
+ * cosines and sines. */
+static void val_grid_fill(const sunmc_config *c, dss_val_readings *v)
+{
+    const dss_config *dc = dss_cfg(c);
+    size_t nb = (size_t)val_axis_count(c);
+    for (size_t i = 0; i < v->n; i++) {
+        v->b1_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                        (double)(i / nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+        v->b2_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
+                        (double)(i % nb) * dc->val_b_step_deg) * RAD_PER_DEG;
+    }
+    dss_trig_fill(v->n, v->b1_rad, v->b2_rad, v->trig);
+}
+
 int dss_val_alloc(const sunmc_config *c, dss_val_readings *v)
 {
     size_t n = dss_validation_size(c);
@@ -200,9 +223,13 @@ int dss_val_alloc(const sunmc_config *c, dss_val_readings *v)
                          &v->truth_alpha_rad, &v->truth_beta_rad};
     int ok = (v->seen = malloc((n + 1) * sizeof(int))) != NULL;
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
-        ok &= (*arrays[k] = malloc((n + 1) * sizeof(double))) != NULL;
-    if (ok)
+        ok &= (*arrays[k] = vm_alloc(n + 1)) != NULL;
+    for (int k = 0; k < 4; k++)
+        ok &= (v->trig[k] = vm_alloc(n + 1)) != NULL;
+    if (ok) {
+        val_grid_fill(c, v);
         return SUNMC_OK;
+    }
     dss_val_free(v);
     return SUNMC_ENOMEM;
 }
@@ -213,6 +240,8 @@ void dss_val_free(dss_val_readings *v)
                         v->truth_alpha_rad, v->truth_beta_rad};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
         free(arrays[k]);
+    for (int k = 0; k < 4; k++)
+        free(v->trig[k]);
     free(v->seen);
     memset(v, 0, sizeof *v);
 }
@@ -220,20 +249,14 @@ void dss_val_free(dss_val_readings *v)
 void dss_unit_read_validation(const sunmc_config *c, const dss_unit *u, long unit,
                          dss_val_readings *v)
 {
-    const dss_config *dc = dss_cfg(c);
-    size_t nb = (size_t)val_axis_count(c);
-    for (size_t i = 0; i < v->n; i++) {
-        v->b1_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
-                        (double)(i / nb) * dc->val_b_step_deg) * RAD_PER_DEG;
-        v->b2_rad[i] = (dc->val_b_min_deg + dc->val_b_offset_deg +
-                        (double)(i % nb) * dc->val_b_step_deg) * RAD_PER_DEG;
-    }
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     for (size_t i0 = 0; i0 < v->n; i0 += DSS_CHUNK) {
         dss_validation_point p[DSS_CHUNK];
         size_t k = v->n - i0 < DSS_CHUNK ? v->n - i0 : DSS_CHUNK;
-        dss_validation_batch(c, u, &r, k, v->b1_rad + i0, v->b2_rad + i0, p);
+        const double *trig[4] = {v->trig[0] + i0, v->trig[1] + i0, v->trig[2] + i0,
+                                 v->trig[3] + i0};
+        dss_validation_batch_trig(c, u, &r, k, v->b1_rad + i0, v->b2_rad + i0, trig, p);
         for (size_t q = 0; q < k; q++) {
             size_t i = i0 + q;
             v->x_px[i] = p[q].x_px;
@@ -254,6 +277,7 @@ void dss_unit_read_validation(const sunmc_config *c, const dss_unit *u, long uni
 typedef struct {
     _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK], x0[DSS_CHUNK], y0[DSS_CHUNK];
     double a0[DSS_CHUNK], b0[DSS_CHUNK], field[DSS_CHUNK];
+    double vx[DSS_CHUNK], vy[DSS_CHUNK], vz[DSS_CHUNK]; /* the truth's unit vector */
     double am[DSS_CHUNK], bm[DSS_CHUNK], tm[DSS_CHUNK];  /* before calibration */
     double ac[DSS_CHUNK], bc[DSS_CHUNK], tc[DSS_CHUNK];  /* after */
     double as[DSS_CHUNK], bs[DSS_CHUNK], ts[DSS_CHUNK];  /* after, without noise */
@@ -276,14 +300,14 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
     }
     const dss_sensor *s = &u->sensor;
     dss_onboard_chunk(&s->onboard, k, v->x, v->y, v->am, v->bm, v->st_m);
-    dss_field_chunk(k, v->a0, v->b0, v->field);
-    dss_total_error_chunk(k, v->am, v->bm, v->a0, v->b0, v->tm);
+    dss_truth_vector_chunk(k, v->a0, v->b0, v->vx, v->vy, v->vz, v->field);
+    dss_total_error_vec_chunk(k, v->am, v->bm, v->vx, v->vy, v->vz, v->tm);
     if (!fit_ok)
         return;
     dss_compensate_batch(cal, vm_pad(k), v->x, v->y, v->ac, v->bc, v->st_c);
-    dss_total_error_chunk(k, v->ac, v->bc, v->a0, v->b0, v->tc);
+    dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
     dss_compensate_batch(cal, vm_pad(k), v->x0, v->y0, v->as, v->bs, v->st_s);
-    dss_total_error_chunk(k, v->as, v->bs, v->a0, v->b0, v->ts);
+    dss_total_error_vec_chunk(k, v->as, v->bs, v->vx, v->vy, v->vz, v->ts);
 }
 
 /* Add one validation reading's errors (rad) to the accumulators. */
@@ -353,7 +377,7 @@ static void dss_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
     dss_deviations dev_t;
     dss_unit u;
     dss_deviations_at_temp(c, k->dev, temp_c, &dev_t);
-    dss_unit_build(c, &dev_t, &u);
+    dss_unit_build_amp(c, &dev_t, k->w->amp_px, &u);
     dss_unit_read_validation(c, &u, k->unit, &k->w->val);
     dss_unit_score_validation(c, &u, k->cal, &k->w->val, at);
 }
@@ -366,7 +390,7 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     dss_deviations dev;
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
-    dss_unit_build(c, &dev, &u);
+    dss_unit_build_amp(c, &dev, w->amp_px, &u);
 
     memset(res, 0, sizeof *res);
     res->unit = unit;
