@@ -30,6 +30,8 @@ typedef struct {
     uint32_t ctr[4];
     uint32_t buf[4];
     int left; /* words left in buf */
+    double spare;  /* the second normal of the last pair, if has_spare */
+    int has_spare;
 } rng_stream;
 
 /* Start stream `stream` of unit `unit` for `seed`. */
@@ -38,8 +40,9 @@ void rng_stream_init(rng_stream *r, uint64_t seed, uint64_t unit, uint32_t strea
 /* Uniform double in the open interval (0, 1), 53 random bits. */
 double rng_uniform(rng_stream *r);
 
-/* Standard normal deviate (Box-Muller, no cached second value so the k-th
- * draw of a stream is always the same). */
+/* Standard normal deviate (Box-Muller: both normals of a pair, the
+ * second kept in the stream as its spare; the k-th normal of a stream is
+ * the same however the draws are split into calls). */
 double rng_normal(rng_stream *r);
 
 /* The next n normal deviates of r into out: the same values as n calls of

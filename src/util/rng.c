@@ -17,6 +17,8 @@ void rng_stream_init(rng_stream *r, uint64_t seed, uint64_t unit, uint32_t strea
     r->ctr[2] = stream;
     r->ctr[3] = 0;
     r->left = 0;
+    r->spare = 0.0;
+    r->has_spare = 0;
 }
 
 static uint32_t next_word(rng_stream *r)
@@ -130,10 +132,13 @@ static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4], size_t n
     philox_blocks_generic(key, ctr, nb, w);
 }
 
-/* Box-Muller on k <= NORMAL_CHUNK normals from their words: normal i
- * takes words w[0..3][i] (two uniforms as rng_uniform makes them: 27 + 26
- * bits, (m + 0.5) / 2^53, exact in doubles), padded to VM_PAD lanes. */
-VM_KERNEL static void box_muller(size_t k, const uint32_t w[4][NORMAL_CHUNK], double *out)
+/* Box-Muller on k <= NORMAL_CHUNK blocks' words: block i's words
+ * w[0..3][i] make two uniforms as rng_uniform makes them (27 + 26 bits,
+ * (m + 0.5) / 2^53, exact in doubles), u1 from words 0 and 1, u2 from 2
+ * and 3, and both normals of the pair, r cos(2 pi u2) into c[i] and
+ * r sin(2 pi u2) into s[i] (r = sqrt(-2 ln u1)), padded to VM_PAD lanes. */
+VM_KERNEL static void box_muller(size_t k, const uint32_t w[4][NORMAL_CHUNK], double *restrict c,
+                                 double *restrict s)
 {
     const uint32_t *w0 = w[0], *w1 = w[1], *w2 = w[2], *w3 = w[3];
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
@@ -141,7 +146,9 @@ VM_KERNEL static void box_muller(size_t k, const uint32_t w[4][NORMAL_CHUNK], do
                      0.5) * 0x1.0p-53;
         double u2 = ((double)(int32_t)(w2[i] >> 5) * 0x1.0p26 + (double)(int32_t)(w3[i] >> 6) +
                      0.5) * 0x1.0p-53;
-        out[i] = sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2);
+        double radius = sqrt(-2.0 * log(u1)), angle = 2.0 * M_PI * u2;
+        c[i] = radius * cos(angle);
+        s[i] = radius * sin(angle);
     }
 }
 
@@ -168,17 +175,35 @@ static void next_words(rng_stream *r, size_t k, uint32_t w[4][NORMAL_CHUNK])
     r->ctr[3] += (uint32_t)k;
 }
 
+/* Normals come in pairs, both of one block's Box-Muller: normal 2 j of
+ * the pairs drawn from a point of the stream is block j's cosine, 2 j + 1
+ * its sine.  A fill of odd length keeps the last sine as the stream's
+ * spare, which the next normal returns, so a sequence of normals is the
+ * same however it is split into fills (uniforms in between take the
+ * words after the last block and leave the spare alone). */
 void rng_normal_fill(rng_stream *r, double *out, size_t n)
 {
     _Alignas(VM_ALIGN) uint32_t w[4][NORMAL_CHUNK];
-    _Alignas(VM_ALIGN) double z[NORMAL_CHUNK];
-    for (size_t done = 0; done < n;) {
-        size_t k = n - done < NORMAL_CHUNK ? n - done : NORMAL_CHUNK;
+    _Alignas(VM_ALIGN) double c[NORMAL_CHUNK], s[NORMAL_CHUNK];
+    size_t done = 0;
+    if (n > 0 && r->has_spare) {
+        out[done++] = r->spare;
+        r->has_spare = 0;
+    }
+    while (done < n) {
+        size_t pairs = (n - done + 1) / 2;
+        size_t k = pairs < NORMAL_CHUNK ? pairs : NORMAL_CHUNK;
         next_words(r, k, w);
-        box_muller(k, w, z);
-        for (size_t i = 0; i < k; i++)
-            out[done + i] = z[i];
-        done += k;
+        box_muller(k, w, c, s);
+        for (size_t i = 0; i < k; i++) {
+            out[done++] = c[i];
+            if (done == n) {
+                r->spare = s[i];
+                r->has_spare = 1;
+                break;
+            }
+            out[done++] = s[i];
+        }
     }
 }
 

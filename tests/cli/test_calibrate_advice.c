@@ -145,8 +145,9 @@ static void test_ess_default_campaign_advice(void **state)
     assert_null(strstr(out, "roll_measured_arcsec is left"));
 }
 
-/* A campaign of alpha >= 0 only: holding a beta line out triples the
- * error, and the report says so.  At 0.8 deg over 0..62 (the shipped 0.7
+/* A campaign of alpha >= 0 only: holding a beta line out multiplies the
+ * error (4.2 times with the noise drawn before issue 27's stream change,
+ * 9.6 with today's), and the report says so.  At 0.8 deg over 0..62 (the shipped 0.7
  * deg over 0..61.95 gives 3.1 times, too close to the 3x threshold for a
  * test of the warning). */
 static void test_ess_half_campaign_crossval_flagged(void **state)
@@ -156,8 +157,8 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
                   "--set campaign.alpha_min_deg=0 --set campaign.alpha_max_deg=62 "
                   "--set campaign.alpha_step_deg=0.8",
                   out, sizeof out);
-    assert_non_null(strstr(out, "the held-out error 105.71 arcsec is 4.2 times the in-sample "
-                                "25.09 (above 3x)"));
+    assert_non_null(strstr(out, "the held-out error 235.62 arcsec is 9.6 times the in-sample "
+                                "24.64 (above 3x)"));
     /* the report to a file: its warnings on stderr too */
     assert_int_equal(test_sunmc_in(test_tmp("ess_half"),
                                    "calibrate --config configs/ess_type_a.ini --set "
@@ -166,7 +167,7 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
                                    "2> $D/err.txt; cat $D/err.txt",
                                    out, sizeof out),
                      0);
-    assert_non_null(strstr(out, "sunmc calibrate: WARNING: the held-out error 105.71 arcsec"));
+    assert_non_null(strstr(out, "sunmc calibrate: WARNING: the held-out error 235.62 arcsec"));
 }
 
 /* The DSS's default campaign: height, glass thickness and index, once,

@@ -147,8 +147,12 @@ static void narrow_campaign_schur(void **state)
     assert_int_equal(dss_calibrate(cx, 200, &fixed, &fr), SUNMC_OK);
     assert_int_equal(fit_covariance(cx->fw), SUNMC_OK);
     assert_int_equal(cx->n_free, nf - 2);
+    /* to 1e-8: both fits stop where a step would lower the cost by < 1e-12,
+     * and along the narrow campaign's weak directions (dx, c1) that leaves
+     * them ~1e-9 apart (1.2e-9 mm in dx with the noise of issue 27's
+     * stream), a millionth of those parameters' standard errors */
     for (int k = 0; k < DSS_NP; k++)
-        assert_near(fixed.phys.p[k], full.phys.p[k], 1e-9 * fmax(1.0, fabs(full.phys.p[k])));
+        assert_near(fixed.phys.p[k], full.phys.p[k], 1e-8 * fmax(1.0, fabs(full.phys.p[k])));
     const gsl_matrix *C = cf->fw->covar, *X = cx->fw->covar;
     size_t s1 = (size_t)nf - 2, s2 = (size_t)nf - 1;
     double a = gsl_matrix_get(C, s1, s1), b = gsl_matrix_get(C, s1, s2),

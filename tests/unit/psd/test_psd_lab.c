@@ -174,7 +174,10 @@ static void threads_do_not_change_units(void **state)
 }
 
 /* `sunmc curve`: one unit's noiseless errors over the validation grid, far
- * smaller after the calibration than before. */
+ * smaller after the calibration than before: 5 times at least (the RMS
+ * ratio after / before is 0.01 to 0.15 over units 1 to 8, set by each
+ * unit's campaign noise; unit 1's was 0.086 with the noise drawn before
+ * issue 27's stream change, 0.135 with today's). */
 static void curve_of_one_unit(void **state)
 {
     char out[65536], path[1024];
@@ -200,7 +203,7 @@ static void curve_of_one_unit(void **state)
     }
     fclose(f);
     assert_int_equal(n, 72);
-    assert_true(sqrt(sa / n) < 0.1 * sqrt(sb / n));
+    assert_true(sqrt(sa / n) < 0.2 * sqrt(sb / n));
 }
 
 /* ---- importers ---- */

@@ -40,12 +40,25 @@ static void test_streams_independent_of_order(void **state)
     assert_true(rng_uniform(&a) != rng_uniform(&b));
 }
 
+/* Box-Muller's normal i from a stream's uniforms: pair i / 2 takes two,
+ * the even normal is the cosine, the odd one the sine. */
+static void box_muller_of_uniforms(rng_stream *u, int n, double *z)
+{
+    for (int i = 0; i < n; i += 2) {
+        double u1 = rng_uniform(u), u2 = rng_uniform(u);
+        z[i] = sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2);
+        if (i + 1 < n)
+            z[i + 1] = sqrt(-2.0 * log(u1)) * sin(2.0 * M_PI * u2);
+    }
+}
+
 /* rng_normal_fill gives exactly the draws of as many rng_normal calls, in
- * any split of the sequence (every draw takes the same vector code). */
+ * any split of the sequence (odd parts leave the pair's sine as the
+ * stream's spare; every draw takes the same vector code). */
 static void test_normal_fill_equals_single_draws(void **state)
 {
     enum { N = 301 };
-    double one[N], all[N], parts[N];
+    double one[N], all[N], parts[N], ref[N];
     rng_stream a, b, c;
     rng_stream_init(&a, 9, 4, 0x200);
     rng_stream_init(&b, 9, 4, 0x200);
@@ -55,30 +68,64 @@ static void test_normal_fill_equals_single_draws(void **state)
     rng_normal_fill(&b, all, N);
     rng_normal_fill(&c, parts, 5);
     rng_normal_fill(&c, parts + 5, 130);
-    rng_normal_fill(&c, parts + 135, N - 135);
+    rng_normal_fill(&c, parts + 135, 1);
+    rng_normal_fill(&c, parts + 136, 0);
+    rng_normal_fill(&c, parts + 136, N - 136);
     assert_memory_equal(one, all, sizeof one);
     assert_memory_equal(one, parts, sizeof one);
-    /* Box-Muller of the stream's uniforms, to the last few bits */
+    /* Box-Muller of the stream's uniforms, both of each pair, to the last
+     * few bits */
     rng_stream u;
     rng_stream_init(&u, 9, 4, 0x200);
-    for (int i = 0; i < N; i++) {
-        double u1 = rng_uniform(&u), u2 = rng_uniform(&u);
-        assert_near(one[i], sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2), 1e-14);
-    }
+    box_muller_of_uniforms(&u, N, ref);
+    for (int i = 0; i < N; i++)
+        assert_near(one[i], ref[i], 1e-14);
     /* a stream left mid-block by a uniform: the fill takes the same words,
-     * and leaves the stream where single draws would */
+     * and leaves the stream where single draws would; a uniform between
+     * the two normals of a pair takes the words after the pair's */
     rng_stream d, e;
     rng_stream_init(&d, 9, 5, 0x201);
     rng_stream_init(&e, 9, 5, 0x201);
     assert_true(rng_uniform(&d) == rng_uniform(&e));
     rng_normal_fill(&d, all, 37);
-    for (int i = 0; i < 37; i++) {
-        double u1 = rng_uniform(&e), u2 = rng_uniform(&e);
-        assert_near(all[i], sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2), 1e-14);
+    box_muller_of_uniforms(&e, 38, ref);
+    for (int i = 0; i < 37; i++)
+        assert_near(all[i], ref[i], 1e-14);
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    assert_near(rng_normal(&d), ref[37], 1e-14);
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    assert_true(rng_uniform(&d) == rng_uniform(&e));
+}
+
+/* The two normals of a pair are independent standard normals: their
+ * squares sum to twice an Exp(1) (P(z0^2 + z1^2 > 2 t) = e^-t), and
+ * they do not correlate, nor do their squares. */
+static void test_normal_pairs_independent(void **state)
+{
+    enum { N = 200000 };
+    rng_stream r;
+    rng_stream_init(&r, 3, 1, 0x200);
+    double s01 = 0, s00 = 0, s11 = 0, q01 = 0, q0 = 0, q1 = 0;
+    int over = 0;
+    for (int i = 0; i < N; i++) {
+        double z[2];
+        rng_normal_fill(&r, z, 2);
+        s00 += z[0] * z[0];
+        s11 += z[1] * z[1];
+        s01 += z[0] * z[1];
+        q01 += z[0] * z[0] * z[1] * z[1];
+        q0 += z[0] * z[0];
+        q1 += z[1] * z[1];
+        over += z[0] * z[0] + z[1] * z[1] > 2.0;
     }
-    assert_true(rng_uniform(&d) == rng_uniform(&e));
-    assert_true(rng_uniform(&d) == rng_uniform(&e));
-    assert_true(rng_uniform(&d) == rng_uniform(&e));
+    /* sd of a mean of N products of independent normals: 1 / sqrt(N) = 0.0022 */
+    assert_near(s01 / N, 0, 0.01);
+    assert_near(s00 / N, 1, 0.01);
+    assert_near(s11 / N, 1, 0.01);
+    /* E z0^2 z1^2 = 1 for independent ones (sd of the mean 3 / sqrt(N)) */
+    assert_near(q01 / N - (q0 / N) * (q1 / N), 0, 0.03);
+    /* e^-1 = 0.3679, sd of the fraction 0.0011 */
+    assert_near((double)over / N, exp(-1.0), 0.005);
 }
 
 /* Moments of 200000 draws (fixed seed: deterministic). */
@@ -173,6 +220,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_philox_known_answer), cmocka_unit_test(test_streams_independent_of_order),
         cmocka_unit_test(test_normal_fill_equals_single_draws),
+        cmocka_unit_test(test_normal_pairs_independent),
         cmocka_unit_test(test_moments),             cmocka_unit_test(test_tolerance_distributions),
         cmocka_unit_test(test_rotations),
     };
