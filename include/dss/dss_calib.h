@@ -91,6 +91,14 @@ int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double 
 void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_px,
                           const double *y_px, double *alpha, double *beta, int *status);
 
+/* The same for n noisy spots (x, y) and the same spots without their noise
+ * (x0, y0) (dss_model_compensate_pair_batch: the noise-free inversions
+ * start from the noisy ones' solutions). */
+void dss_compensate_pair_batch(const dss_calibration *cal, size_t n, const double *x_px,
+                               const double *y_px, const double *x0_px, const double *y0_px,
+                               double *alpha, double *beta, int *status, double *alpha0,
+                               double *beta0, int *status0);
+
 /* The truth (rad) a calibration assigns to recorded table angles (b1, b2)
  * rad: the physical model's (dss_model_truth, its fitted sun simulator when
  * as_mounted); eq. 3-4 for the polynomial, which assumes a perfect sun

@@ -122,11 +122,30 @@ void dss_model_batch(const dss_model *m, const dss_table *t, const double *x_px,
 int dss_model_compensate_batch(const dss_model *m, size_t n, const double *x_px,
                                const double *y_px, double *alpha, double *beta, int *status);
 
-/* The same for k <= DSS_CHUNK radial distances at once, by
- * Newton on arrays (vectorised, dss_model_batch.c: each lane iterates as
- * one alone would): theta[i], failed[i] = 1 where it did not converge.
- * Arrays of vm_pad(k) values (vmath.h), r_mm's pads any valid numbers. */
-void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm, double n,
-                           double *theta, long *failed);
+/* The same for the noisy spots (x, y) and the same spots without their
+ * noise (x0, y0): each noise-free spot's inversion starts from its noisy
+ * twin's solution (dss_field_sine_chunk's start), so its angles may differ
+ * from dss_model_compensate's in the last bits (the root is the same). */
+int dss_model_compensate_pair_batch(const dss_model *m, size_t n, const double *x_px,
+                                    const double *y_px, const double *x0_px,
+                                    const double *y0_px, double *alpha, double *beta,
+                                    int *status, double *alpha0, double *beta0, int *status0);
+
+/* The tangent of the field angle of k <= DSS_CHUNK spots at radial
+ * distances r_mm from the pinhole's foot: the root of gain(theta)
+ * f(theta) = r with f the glass formula (optics.h) and gain the sun disc's
+ * (dss_sensor.h; disc_c = dss_disc_coefficient, 0: none), by Newton in the
+ * tangent (dss_lane_tan_step: a square root and two divisions a step),
+ * each lane stopping once its error bound is below DSS_TAN_TOL of its
+ * tangent.  start (may be NULL: the paraxial angle) gives each lane's first
+ * tangent, a value outside [0, tan OPTICS_FIELD_THETA_MAX_RAD] taking the
+ * paraxial one.  tangent[i] (NaN where r is not finite), slope[i] = F' at
+ * the last step (slope may be NULL), failed[i] = 1 where it did not
+ * converge within OPTICS_FIELD_MAX_ITER steps.  Arrays of vm_pad(k) values
+ * (vmath.h), r_mm's pads any valid numbers.  Returns the steps the chunk
+ * took (its slowest lane's). */
+int dss_field_tan_chunk(size_t k, const double *r_mm, double H_mm, double t_mm, double n,
+                         double disc_c, const double *start, double *tangent, double *slope,
+                         long *failed);
 
 #endif

@@ -35,6 +35,20 @@ void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_
     }
 }
 
+void dss_compensate_pair_batch(const dss_calibration *cal, size_t n, const double *x_px,
+                               const double *y_px, const double *x0_px, const double *y0_px,
+                               double *alpha, double *beta, int *status, double *alpha0,
+                               double *beta0, int *status0)
+{
+    if (cal->kind != DSS_MODEL_POLYNOMIAL) {
+        dss_model_compensate_pair_batch(&cal->phys, n, x_px, y_px, x0_px, y0_px, alpha, beta,
+                                        status, alpha0, beta0, status0);
+        return;
+    }
+    dss_compensate_batch(cal, n, x_px, y_px, alpha, beta, status);
+    dss_compensate_batch(cal, n, x0_px, y0_px, alpha0, beta0, status0);
+}
+
 int dss_calib_free_params(const dss_design *d, int fit_index, int fix_sun, int free_idx[DSS_NP])
 {
     fix_sun |= d->mount == DSS_MOUNT_ALIGNED;

@@ -66,6 +66,64 @@ VM_INLINE double dss_lane_disc_gain(double c, double s2, double uz, double H, do
     return 1.0 + c * d / q;
 }
 
+/* The field angle's inversion in its tangent T (one square root and two
+ * divisions a step; no sine, cosine or arctangent): a spot at r from the
+ * pinhole's foot has
+ *   F(T) = gain f - r = T Q + C E P - r = 0,
+ * with the glass formula f = T Q (optics.h) written in T, g = sqrt(n^2 +
+ * (n^2 - 1) T^2) (= sqrt(n^2 - sin^2) / cos), A = H - t:
+ *   Q = A + t / g,   f' = A + t n^2 / g^3,
+ * and the sun disc's gain = 1 + C d / q (dss_lane_disc_gain, C =
+ * dss_disc_coefficient, 0 for a point sun) as f gain = T Q + C E P with
+ *   E = T (1 + T^2),   P = 2 A + t ((1 - 2 n^2) / g^3 + 3 n^2 / g^5)
+ * (d / q = (1 + T^2) P / Q), g' = (n^2 - 1) T / g and so
+ *   P' = -3 t (n^2 - 1) T ((1 - 2 n^2) / g^5 + 5 n^2 / g^7).
+ * One Newton step from T: the next T (clamped to [0, T_max]), the step,
+ * F' and done = the next iterate's error, |F''| step^2 / (2 F') (Newton's
+ * bound with F'' at T; F'' is odd in T, so the bound is relative),
+ * is below DSS_TAN_TOL / 2 of T -- trusted only for a step that stays
+ * inside the clamp and is below DSS_TAN_STEP_MAX (1 + T), where F'' hardly
+ * changes over it. */
+#define DSS_TAN_TOL 1e-17
+#define DSS_TAN_STEP_MAX 1e-4
+typedef struct {
+    double T, step, slope;
+    int done;
+} dss_lane_tan;
+
+VM_INLINE dss_lane_tan dss_lane_tan_step(double r, double A, double t, double n, double C,
+                                         double T_max, double T)
+{
+    double n2 = n * n, m2 = n2 - 1.0, T2 = T * T, a = 1.0 - 2.0 * n2;
+    double ig = 1.0 / sqrt(n2 + m2 * T2), ig2 = ig * ig;
+    double ig3 = ig2 * ig, ig5 = ig3 * ig2, ig7 = ig5 * ig2, ig9 = ig7 * ig2;
+    double P = 2.0 * A + t * (a * ig3 + 3.0 * n2 * ig5);
+    double Pt = -3.0 * t * m2 * (a * ig5 + 5.0 * n2 * ig7); /* P' / T */
+    double P2 = Pt + 3.0 * t * m2 * m2 * T2 * (5.0 * a * ig7 + 35.0 * n2 * ig9);
+    double E = T * (1.0 + T2), E1 = 1.0 + 3.0 * T2;
+    double F = T * (A + t * ig) + C * E * P - r;
+    double F1 = A + t * n2 * ig3 + C * (E1 * P + E * T * Pt);
+    double F2 = -3.0 * t * n2 * m2 * T * ig5 + C * (6.0 * T * P + 2.0 * E1 * T * Pt + E * P2);
+    dss_lane_tan o;
+    o.slope = F1;
+    o.step = F / F1;
+    double next = T - o.step;
+    int inside = (next >= 0.0) & (next <= T_max);
+    o.done = inside & (fabs(o.step) <= DSS_TAN_STEP_MAX * (1.0 + T)) &
+             (fabs(F2) * o.step * o.step <= DSS_TAN_TOL * F1 * T);
+    next = vm_select(next < 0.0, 0.0, next);
+    o.T = vm_select(next > T_max, T_max, next);
+    return o;
+}
+
+/* The start: the pinhole-only angle with the glass's paraxial height,
+ * clamped to T_max. */
+VM_INLINE double dss_lane_tan_start(double r, double H, double t, double n, double T_max)
+{
+    double T = r / (H - t + t / n);
+    return vm_select(T > T_max, T_max, T);
+}
+
 /* The plane-parallel glass may sit anywhere under the pinhole (optics.h);
  * it is traced lying on the detector. */
 #define DSS_GLASS_GAP_MM 0.0
@@ -217,8 +275,9 @@ typedef struct {
     int ok;
 } dss_lane_angles;
 
-/* w = M^T u of the sun at field angle theta (sin s_th, cos c_th) and
- * azimuth (dx, dy) / r. */
+/* w = M^T u of the sun at field angle theta and azimuth (dx, dy) / r,
+ * u = (dx / r s_th, dy / r s_th, c_th): sin and cos of theta, or any
+ * positive multiple of them (tan theta and 1). */
 VM_INLINE geo_v3 dss_lane_model_w(const dss_model *m, double dx, double dy, double r, double s_th,
                                   double c_th)
 {

@@ -73,55 +73,104 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
     }
 }
 
-VM_KERNEL void dss_field_angle_chunk(size_t k, const double *r_mm, double H_mm, double t_mm,
-                                     double n, double *theta, long *failed)
+VM_KERNEL int dss_field_tan_chunk(size_t k, const double *r_mm, double H_mm, double t_mm,
+                                   double n, double disc_c, const double *start, double *tangent,
+                                   double *slope, long *failed)
 {
     /* A lane without a finite distance (a spot the campaign did not see is
      * NaN) fails at once, as it would after OPTICS_FIELD_MAX_ITER steps, and
-     * iterates on 0 meanwhile: it neither holds its chunk for the whole
-     * budget nor sends the vector sine and cosine to their slow path. */
-    _Alignas(VM_ALIGN) double th[DSS_CHUNK], r[DSS_CHUNK];
+     * iterates on 0 meanwhile: it does not hold its chunk for the whole
+     * budget. */
+    _Alignas(VM_ALIGN) double T[DSS_CHUNK], r[DSS_CHUNK], sl[DSS_CHUNK];
     _Alignas(VM_ALIGN) long active[DSS_CHUNK], bad[DSS_CHUNK];
+    double A = H_mm - t_mm, T_max = tan(OPTICS_FIELD_THETA_MAX_RAD);
     size_t kp = vm_pad(k);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         bad[i] = (long)!(fabs(r_mm[i]) <= DBL_MAX);
         r[i] = vm_keep(!bad[i], r_mm[i]);
-        th[i] = optics_lane_field_start(r[i], H_mm, t_mm, n);
+        T[i] = dss_lane_tan_start(r[i], H_mm, t_mm, n, T_max);
+        sl[i] = 0.0;
         active[i] = !bad[i];
+    }
+    /* a loop of its own: a masked load from a NULL start would fault or
+     * trap to microcode on some CPUs */
+    if (start) {
+        VM_SIMD for (size_t i = 0; i < kp; i++)
+            T[i] = vm_select((start[i] >= 0.0) & (start[i] <= T_max), start[i], T[i]);
     }
     long left = 0;
     for (size_t i = 0; i < kp; i++)
         left += active[i];
-    for (int it = 0; it < OPTICS_FIELD_MAX_ITER && left > 0; it++) {
+    int it;
+    for (it = 0; it < OPTICS_FIELD_MAX_ITER && left > 0; it++) {
         left = 0;
         VM_SIMD for (size_t i = 0; i < kp; i++) {
-            double step;
-            double next = optics_lane_field_step(r[i], H_mm, t_mm, n, th[i], &step);
-            th[i] = vm_select(active[i] != 0, next, th[i]);
-            active[i] = active[i] & (long)!(fabs(step) < OPTICS_FIELD_TOL_RAD);
+            dss_lane_tan o = dss_lane_tan_step(r[i], A, t_mm, n, disc_c, T_max, T[i]);
+            T[i] = vm_select(active[i] != 0, o.T, T[i]);
+            sl[i] = vm_select(active[i] != 0, o.slope, sl[i]);
+            active[i] = active[i] & (long)!o.done;
         }
         for (size_t i = 0; i < kp; i++)
             left += active[i];
     }
     for (size_t i = 0; i < kp; i++) {
-        theta[i] = bad[i] ? NAN : th[i];
+        tangent[i] = bad[i] ? NAN : T[i];
+        if (slope)
+            slope[i] = sl[i];
         failed[i] = active[i] | bad[i];
     }
+    return it;
 }
 
-#define DSS_DISC_PASSES 2
+/* One chunk's compensation lanes: the spot from the pinhole's foot (mm),
+ * the field angle's tangent, F' there (dss_lane_tan) and whether it failed. */
+typedef struct {
+    _Alignas(VM_ALIGN) double dx[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double dy[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double r[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double T[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double slope[DSS_CHUNK];
+    long failed[DSS_CHUNK];
+} comp_lanes;
 
-/* The calibrated angles of kp spots at field angles th and azimuths (dx,
- * dy) / r: w = M^T u, then w's angles as mounted or the table solved for
- * w when aligned (dss_lane.h); the mount mode is chosen outside the loop,
- * so only its own calls are made.  ok[i] is 1.0 or 0.0. */
+/* The field angles of k <= DSS_CHUNK spots (padded lanes), the sun's disc
+ * in the model's r = gain(theta) f(theta); from warm's solution moved by
+ * (r - r_warm) / F' when warm is given (the same spot without its noise:
+ * one or two steps instead of four or five). */
+VM_KERNEL static void comp_solve(const dss_model *m, size_t k, const double *x_px,
+                                 const double *y_px, const comp_lanes *warm, comp_lanes *L)
+{
+    _Alignas(VM_ALIGN) double start[DSS_CHUNK];
+    double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N];
+    size_t kp = vm_pad(k);
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        L->dx[i] = m->p[DSS_P_X0] - x_px[i] * m->pixel_mm;
+        L->dy[i] = m->p[DSS_P_Y0] - y_px[i] * m->pixel_mm;
+        L->r[i] = hypot(L->dx[i], L->dy[i]);
+    }
+    if (warm) {
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double sl = vm_select(warm->slope[i] > 0.0, warm->slope[i], 1.0);
+            start[i] = warm->T[i] + (L->r[i] - warm->r[i]) / sl;
+        }
+    }
+    dss_field_tan_chunk(k, L->r, H, t, n, m->disc_c_rad2, warm ? start : NULL, L->T, L->slope,
+                        L->failed);
+}
+
+/* The calibrated angles of kp spots at field angles of tangent T and
+ * azimuths (dx, dy) / r: w = M^T u, then w's angles as mounted (atan2,
+ * which takes u at any positive scale: u = (dx / r T, dy / r T, 1)) or the
+ * table solved for w when aligned (u of unit length); the mount mode is
+ * chosen outside the loop, so only its own calls are made.  ok[i] is 1.0
+ * or 0.0. */
 VM_KERNEL static void angles_chunk(const dss_model *m, size_t kp, const double *dx,
-                                   const double *dy, const double *r, const double *th,
+                                   const double *dy, const double *r, const double *T,
                                    double *a, double *b, double *ok)
 {
     if (m->mount != DSS_MOUNT_ALIGNED) {
         VM_SIMD for (size_t i = 0; i < kp; i++) {
-            geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], sin(th[i]), cos(th[i]));
+            geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], T[i], 1.0);
             dss_lane_angles o = dss_lane_angles_mounted(w);
             a[i] = o.alpha;
             b[i] = o.beta;
@@ -131,7 +180,8 @@ VM_KERNEL static void angles_chunk(const dss_model *m, size_t kp, const double *
     }
     double v_phi = atan2(m->v0[1], m->v0[2]);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
-        geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], sin(th[i]), cos(th[i]));
+        double c = 1.0 / sqrt(1.0 + T[i] * T[i]);
+        geo_v3 w = dss_lane_model_w(m, dx[i], dy[i], r[i], T[i] * c, c);
         dss_lane_angles o = dss_lane_angles_aligned(m, w, v_phi);
         a[i] = o.alpha;
         b[i] = o.beta;
@@ -139,62 +189,75 @@ VM_KERNEL static void angles_chunk(const dss_model *m, size_t kp, const double *
     }
 }
 
-/* Compensation of k <= DSS_CHUNK spots at once (padded lanes): every lane
- * iterates until its own Newton step is below OPTICS_FIELD_TOL_RAD, exactly
- * as one spot alone would; then the table solve.  status[i]: SUNMC_OK or
- * SUNMC_EDOM. */
-VM_KERNEL static void compensate_chunk(const dss_model *m, size_t k, const double *x_px,
-                                       const double *y_px, double *alpha, double *beta,
-                                       int *status)
+/* The calibrated angles of solved lanes L; status[i] SUNMC_OK or SUNMC_EDOM. */
+static void comp_finish(const dss_model *m, size_t k, const comp_lanes *L, double *alpha,
+                        double *beta, int *status)
 {
-    _Alignas(VM_ALIGN) double dx[DSS_CHUNK], dy[DSS_CHUNK], r[DSS_CHUNK] = {0}, th[DSS_CHUNK];
     _Alignas(VM_ALIGN) double a[DSS_CHUNK], b[DSS_CHUNK], ok[DSS_CHUNK];
-    long active[DSS_CHUNK];
-    double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N];
-    size_t kp = vm_pad(k);
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        dx[i] = m->p[DSS_P_X0] - x_px[i] * m->pixel_mm;
-        dy[i] = m->p[DSS_P_Y0] - y_px[i] * m->pixel_mm;
-        r[i] = hypot(dx[i], dy[i]);
-    }
-    dss_field_angle_chunk(k, r, H, t, n, th, active);
-    /* the sun's disc: r = gain(theta) f(theta); solved again on r / gain of
-     * the last theta: the gain's slope (~1e-4 / rad) times the first
-     * theta's error (the bias, ~5e-6 rad) leaves ~3e-10 rad, the second
-     * pass ~1e-14 */
-    for (int pass = 0; pass < DSS_DISC_PASSES && m->disc_c_rad2 != 0.0; pass++) {
-        _Alignas(VM_ALIGN) double rf[DSS_CHUNK];
-        VM_SIMD for (size_t i = 0; i < kp; i++) {
-            double s = sin(th[i]), c = cos(th[i]);
-            rf[i] = r[i] / dss_lane_disc_gain(m->disc_c_rad2, s * s, c, H, t, n);
-        }
-        dss_field_angle_chunk(k, rf, H, t, n, th, active);
-    }
-    angles_chunk(m, kp, dx, dy, r, th, a, b, ok);
+    angles_chunk(m, vm_pad(k), L->dx, L->dy, L->r, L->T, a, b, ok);
     for (size_t i = 0; i < k; i++) {
-        status[i] = active[i] == 0 && ok[i] != 0.0 ? SUNMC_OK : SUNMC_EDOM;
+        status[i] = L->failed[i] == 0 && ok[i] != 0.0 ? SUNMC_OK : SUNMC_EDOM;
         alpha[i] = a[i];
         beta[i] = b[i];
     }
+}
+
+/* Copies of spots [i0, i0 + k) into padded chunk arrays (pads repeat lane 0). */
+static void load_chunk(const double *x_px, const double *y_px, size_t i0, size_t k, double *x,
+                       double *y)
+{
+    memcpy(x, x_px + i0, k * sizeof *x);
+    memcpy(y, y_px + i0, k * sizeof *y);
+    for (size_t i = k; i < vm_pad(k); i++) {
+        x[i] = x[0];
+        y[i] = y[0];
+    }
+}
+
+static int any_failed(const int *status, size_t k)
+{
+    int st = SUNMC_OK;
+    for (size_t i = 0; i < k; i++)
+        if (status[i] != SUNMC_OK)
+            st = SUNMC_EDOM;
+    return st;
 }
 
 int dss_model_compensate_batch(const dss_model *m, size_t n, const double *x_px,
                                const double *y_px, double *alpha, double *beta, int *status)
 {
     _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK];
+    comp_lanes L;
     int st = SUNMC_OK;
     for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
         size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
-        memcpy(x, x_px + i0, k * sizeof *x);
-        memcpy(y, y_px + i0, k * sizeof *y);
-        for (size_t i = k; i < vm_pad(k); i++) {
-            x[i] = x[0];
-            y[i] = y[0];
-        }
-        compensate_chunk(m, k, x, y, alpha + i0, beta + i0, status + i0);
-        for (size_t i = 0; i < k; i++)
-            if (status[i0 + i] != SUNMC_OK)
-                st = SUNMC_EDOM;
+        load_chunk(x_px, y_px, i0, k, x, y);
+        comp_solve(m, k, x, y, NULL, &L);
+        comp_finish(m, k, &L, alpha + i0, beta + i0, status + i0);
+        if (any_failed(status + i0, k) != SUNMC_OK)
+            st = SUNMC_EDOM;
+    }
+    return st;
+}
+
+int dss_model_compensate_pair_batch(const dss_model *m, size_t n, const double *x_px,
+                                    const double *y_px, const double *x0_px,
+                                    const double *y0_px, double *alpha, double *beta,
+                                    int *status, double *alpha0, double *beta0, int *status0)
+{
+    _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK];
+    comp_lanes L, L0;
+    int st = SUNMC_OK;
+    for (size_t i0 = 0; i0 < n; i0 += DSS_CHUNK) {
+        size_t k = n - i0 < DSS_CHUNK ? n - i0 : DSS_CHUNK;
+        load_chunk(x_px, y_px, i0, k, x, y);
+        comp_solve(m, k, x, y, NULL, &L);
+        comp_finish(m, k, &L, alpha + i0, beta + i0, status + i0);
+        load_chunk(x0_px, y0_px, i0, k, x, y);
+        comp_solve(m, k, x, y, &L, &L0);
+        comp_finish(m, k, &L0, alpha0 + i0, beta0 + i0, status0 + i0);
+        if (any_failed(status + i0, k) != SUNMC_OK || any_failed(status0 + i0, k) != SUNMC_OK)
+            st = SUNMC_EDOM;
     }
     return st;
 }

@@ -23,23 +23,23 @@ void dss_onboard_init(dss_onboard *o, const dss_design *d)
 VM_KERNEL void dss_onboard_chunk(const dss_onboard *o, size_t k, const double *x_px,
                                  const double *y_px, double *alpha, double *beta, int *status)
 {
-    _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK], r[DSS_CHUNK], th[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double x[DSS_CHUNK], y[DSS_CHUNK], r[DSS_CHUNK], T[DSS_CHUNK];
     long failed[DSS_CHUNK] = {0};
     size_t kp = vm_pad(k);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         x[i] = (x_px[i] - o->x0_px) * o->pixel_mm;
         y[i] = (y_px[i] - o->y0_px) * o->pixel_mm;
         r[i] = hypot(x[i], y[i]);
-        th[i] = 0.0;
+        T[i] = 0.0;
     }
     int glass = o->glass_t_mm > 0.0;
     if (glass)
-        dss_field_angle_chunk(k, r, o->h_mm, o->glass_t_mm, o->glass_n, th, failed);
+        dss_field_tan_chunk(k, r, o->h_mm, o->glass_t_mm, o->glass_n, 0.0, NULL, T, NULL,
+                            failed);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         /* k = tan(theta) / r: 1 / h without glass (eq. 9-10) and at r = 0 */
         double rr = vm_select(r[i] > 0.0, r[i], 1.0);
-        double kr = vm_select(glass & (r[i] > 0.0), tan(th[i]) / rr,
-                              1.0 / o->h_mm);
+        double kr = vm_select(glass & (r[i] > 0.0), T[i] / rr, 1.0 / o->h_mm);
         alpha[i] = atan(-x[i] * kr);
         beta[i] = atan(-y[i] * kr);
     }

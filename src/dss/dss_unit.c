@@ -304,9 +304,9 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
     dss_total_error_vec_chunk(k, v->am, v->bm, v->vx, v->vy, v->vz, v->tm);
     if (!fit_ok)
         return;
-    dss_compensate_batch(cal, vm_pad(k), v->x, v->y, v->ac, v->bc, v->st_c);
+    dss_compensate_pair_batch(cal, vm_pad(k), v->x, v->y, v->x0, v->y0, v->ac, v->bc, v->st_c,
+                              v->as, v->bs, v->st_s);
     dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
-    dss_compensate_batch(cal, vm_pad(k), v->x0, v->y0, v->as, v->bs, v->st_s);
     dss_total_error_vec_chunk(k, v->as, v->bs, v->vx, v->vy, v->vz, v->ts);
 }
 

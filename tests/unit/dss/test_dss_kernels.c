@@ -1,10 +1,15 @@
 /* test_dss_kernels.c - the DSS unit's fast kernels (issue 27) against the
  * straightforward forms they replace: per-run tables and shared truth
  * vectors give the same bits; the tangent-space field-angle inversion
- * returns the angle a forward trace put in. */
+ * returns the angle the angle-form formulas put in; the warm-started
+ * noise-free compensation lands on the truth; the fit started at the
+ * damping floor lands on GSL's start's solution in fewer steps. */
 #include "test_util.h"
 
+#include "dss_calib.h"
 #include "dss_model.h"
+#include "optics.h"
+#include "optics_lane.h"
 #include "dss_score.h"
 #include "dss_sensor.h"
 #include "dss_unit.h"
@@ -137,6 +142,142 @@ static void test_sensor_amp_same(void **state)
     config_state_free(&st);
 }
 
+
+/* r of field angle th (rad) by the angle-form formulas of dss_sensor.h and
+ * optics.h (not the tangent form the kernel is written in): the glass
+ * formula f = (H - t) tan th + t sin th / sqrt(n^2 - sin^2 th) times the
+ * sun disc's gain 1 + C d / q, f / s = (H - t) / c + t / g and
+ * d = 2 (H - t) / c^3 + t ((1 - 2 n^2) / g^3 + 3 c^2 n^2 / g^5). */
+static double forward_r(double th, double H, double t, double n, double C)
+{
+    double s = sin(th), c = cos(th), g = sqrt(n * n - s * s);
+    double q = (H - t) / c + t / g;
+    double d = 2.0 * (H - t) / (c * c * c) +
+               t * ((1.0 - 2.0 * n * n) / (g * g * g) + 3.0 * c * c * n * n / pow(g, 5.0));
+    return s * q * (1.0 + C * d / q);
+}
+
+/* The tangent-space inversion returns the angle the forward formula was
+ * given, to 1e-14 rad, up to 80 deg, with and without glass and sun
+ * disc; in at most 4 steps up to 60 deg from the paraxial start, and in at
+ * most 2 from a start 1e-5 off (the warm start of the noise-free pass). */
+static void test_field_tan_inverse(void **state)
+{
+    const double set[][4] = {{3.0, 0.4, 1.52, 0.0}, {3.0, 0.4, 1.52, 7.6e-5},
+                             {2.0, 0.8, 1.8, 2e-5}, {3.0, 0.0, 1.5, 7.6e-5},
+                             {3.0, 0.4, 1.0, 0.0}};
+    _Alignas(VM_ALIGN) double r[64], th[64], T[64], sl[64], start[64];
+    long failed[64];
+    for (size_t k = 0; k < sizeof set / sizeof set[0]; k++) {
+        double H = set[k][0], t = set[k][1], n = set[k][2], C = set[k][3];
+        for (int part = 0; part < 2; part++) {
+            double top = part ? 80.0 : 60.0;
+            for (size_t i = 0; i < vm_pad(NK); i++) {
+                th[i] = top * RAD_PER_DEG * (double)(i % NK + 1) / (double)NK;
+                r[i] = forward_r(th[i], H, t, n, C);
+            }
+            int steps = dss_field_tan_chunk(NK, r, H, t, n, C, NULL, T, sl, failed);
+            if (!part)
+                assert_true(steps <= 4);
+            for (size_t i = 0; i < vm_pad(NK); i++) {
+                assert_int_equal(failed[i], 0);
+                assert_near(atan(T[i]), th[i], 1e-14);
+                start[i] = T[i] * (1.0 + 1e-5) + 1e-5;
+                assert_true(sl[i] >= H - t);
+            }
+            assert_true(dss_field_tan_chunk(NK, r, H, t, n, C, start, T, NULL, failed) <= 2);
+            for (size_t i = 0; i < NK; i++)
+                assert_near(atan(T[i]), th[i], 1e-14);
+        }
+    }
+}
+
+/* Without the disc it agrees with the scalar Newton in the angle
+ * (optics_field_angle); a start outside [0, tan 1.5] is replaced by the
+ * paraxial one; a distance that is not finite fails at once with NaN; one
+ * beyond the clamp fails. */
+static void test_field_tan_edges(void **state)
+{
+    _Alignas(VM_ALIGN) double r[64], T[64], start[64];
+    long failed[64];
+    for (size_t i = 0; i < vm_pad(NK); i++) {
+        r[i] = 5.0 * (double)(i % NK) / (double)NK;
+        start[i] = (i % 2) ? -1.0 : 1e9;
+    }
+    dss_field_tan_chunk(NK, r, 3.0, 0.4, 1.52, 0.0, start, T, NULL, failed);
+    for (size_t i = 0; i < NK; i++) {
+        double ref;
+        assert_int_equal(optics_field_angle(r[i], 3.0, 0.4, 1.52, &ref), SUNMC_OK);
+        assert_int_equal(failed[i], 0);
+        assert_near(atan(T[i]), ref, 1e-14);
+    }
+    assert_true(T[0] == 0.0); /* r = 0: on the axis, exactly */
+    r[3] = NAN;
+    r[5] = INFINITY;
+    r[7] = 1e6;
+    int steps = dss_field_tan_chunk(NK, r, 3.0, 0.4, 1.52, 0.0, NULL, T, NULL, failed);
+    assert_true(isnan(T[3]) && isnan(T[5]));
+    assert_int_equal(failed[3], 1);
+    assert_int_equal(failed[5], 1);
+    assert_int_equal(failed[7], 1);
+    assert_int_equal(failed[8], 0);
+    assert_int_equal(steps, OPTICS_FIELD_MAX_ITER);
+}
+
+/* A model with every parameter off nominal, as a fit leaves it. */
+static void off_model(dss_model *m, int mount, double disc_c)
+{
+    config_state st;
+    test_build(&st, "configs/dss.ini", NULL, 0);
+    dss_design d = dss_cfg(&st.cfg)->design;
+    d.mount = mount;
+    dss_model_init(m, &d);
+    const double v[DSS_NP] = {0.3, -0.2, 0.5, 8.0, 9.0, -7.0, 6.0, 0.004, 12.0, -9.0};
+    for (int j = 0; j < DSS_NP; j++)
+        dss_param_set(m, j, v[j]);
+    m->disc_c_rad2 = disc_c;
+    dss_model_prepare(m);
+    config_state_free(&st);
+}
+
+/* The pair compensation: its noisy spots give the bits dss_model_compensate
+ * gives; the noise-free ones, started from their noisy twins, give the
+ * model's truth to 1e-13 rad (both mounts, with and without the disc). */
+static void test_compensate_pair(void **state)
+{
+    enum { N = 2 * DSS_CHUNK + 5 };
+    static double x[N], y[N], x0[N], y0[N], b1[N], b2[N];
+    static double a[N], b[N], a0[N], b0[N];
+    static int st[N], st0[N];
+    for (int mount = DSS_MOUNT_ALIGNED; mount <= DSS_MOUNT_AS_MOUNTED; mount++)
+        for (int disc = 0; disc < 2; disc++) {
+            dss_model m;
+            off_model(&m, mount, disc ? dss_disc_coefficient(2.0, 0.6) : 0.0);
+            for (size_t i = 0; i < N; i++) {
+                double sp[2];
+                b1[i] = (-55.0 + 110.0 * (double)((i * 7) % N) / N) * RAD_PER_DEG;
+                b2[i] = (-55.0 + 110.0 * (double)((i * 13) % N) / N) * RAD_PER_DEG;
+                assert_int_equal(dss_model_spot(&m, b1[i], b2[i], sp, NULL), SUNMC_OK);
+                x0[i] = sp[0];
+                y0[i] = sp[1];
+                x[i] = sp[0] + 0.01 * sin(3.0 * (double)i);
+                y[i] = sp[1] - 0.01 * cos(5.0 * (double)i);
+            }
+            assert_int_equal(dss_model_compensate_pair_batch(&m, N, x, y, x0, y0, a, b, st, a0,
+                                                             b0, st0),
+                             SUNMC_OK);
+            for (size_t i = 0; i < N; i++) {
+                double as, bs, at, bt;
+                assert_int_equal(dss_model_compensate(&m, x[i], y[i], &as, &bs), SUNMC_OK);
+                assert_true(as == a[i] && bs == b[i]);
+                dss_model_truth(&m, b1[i], b2[i], &at, &bt);
+                assert_near(a0[i], at, 1e-13);
+                assert_near(b0[i], bt, 1e-13);
+                assert_true(fabs(a[i] - at) > 1e-9); /* the noise is seen */
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -144,6 +285,9 @@ int main(void)
         cmocka_unit_test(test_validation_trig_same_bits),
         cmocka_unit_test(test_truth_vector_same_bits),
         cmocka_unit_test(test_sensor_amp_same),
+        cmocka_unit_test(test_field_tan_inverse),
+        cmocka_unit_test(test_field_tan_edges),
+        cmocka_unit_test(test_compensate_pair),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
