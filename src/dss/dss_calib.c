@@ -13,6 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The physical fit's first damping (fit.h, mu0): GSL's 1e-3 walks the
+ * damping down over the first steps; the DSS fit starts from the nominal
+ * design, whose spots lie within a pixel or two of the unit's (its
+ * deviations are small and the model nearly linear in them), so it starts
+ * at the floor and takes Gauss-Newton steps from the first. */
+#define DSS_FIT_MU0 1e-7
+
 int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double *alpha,
                    double *beta)
 {
@@ -137,6 +144,8 @@ dss_calib_workspace *dss_calib_alloc_fix(const dss_design *d, size_t n, int kind
         cw->fw = 2 * n > (size_t)cw->n_free
                      ? fit_workspace_alloc(2 * vm_pad(n), (size_t)cw->n_free)
                      : NULL;
+        if (cw->fw)
+            cw->fw->mu0 = DSS_FIT_MU0;
         cw->table.n = n;
         for (int k = 0; k < 9; k++)
             ok &= (cw->table.m[k] = vm_alloc(n)) != NULL;

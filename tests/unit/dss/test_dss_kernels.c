@@ -278,6 +278,46 @@ static void test_compensate_pair(void **state)
         }
 }
 
+/* The physical fit from the nominal design at the damping floor (the DSS
+ * fit's mu0) reaches GSL's start's solution in fewer steps: the same
+ * parameters to 1e-5 (px, um, arcsec; 1e-8 in the index) and cost to
+ * 1e-9 of it, in at most 3 iterations where GSL's start takes at least 4. */
+static void test_fit_floor_start(void **state)
+{
+    config_state st;
+    test_build(&st, "configs/dss.ini", NULL, 0);
+    const sunmc_config *c = &st.cfg;
+    const dss_config *dc = dss_cfg(c);
+    size_t n = dss_campaign_size(c);
+    dss_calib_workspace *cw = dss_calib_alloc_config(dc, n);
+    assert_non_null(cw);
+    for (long unit = 0; unit < 6; unit++) {
+        dss_deviations d;
+        dss_unit u;
+        dss_deviations_sample(c, (uint64_t)c->seed, unit, &d);
+        dss_unit_build(c, &d, &u);
+        dss_unit_campaign(c, &u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight,
+                          NULL, NULL);
+        dss_calibration cal[2];
+        fit_result fr[2];
+        const double mu0[2] = {cw->fw->mu0, 1e-3};
+        for (int k = 0; k < 2; k++) {
+            cw->fw->mu0 = mu0[k];
+            assert_int_equal(dss_calibrate(cw, c->max_iterations, &cal[k], &fr[k]), SUNMC_OK);
+        }
+        cw->fw->mu0 = mu0[0];
+        assert_true(mu0[0] <= 1e-7);
+        assert_true(fr[0].iterations <= 3);
+        assert_true(fr[1].iterations >= 4);
+        assert_near(fr[0].chisq, fr[1].chisq, 1e-9 * fr[1].chisq);
+        for (int j = 0; j < DSS_NP; j++)
+            assert_near(dss_param_value(&cal[0].phys, j), dss_param_value(&cal[1].phys, j),
+                        j == DSS_P_N ? 1e-8 : 1e-5);
+    }
+    dss_calib_free(cw);
+    config_state_free(&st);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -288,6 +328,7 @@ int main(void)
         cmocka_unit_test(test_field_tan_inverse),
         cmocka_unit_test(test_field_tan_edges),
         cmocka_unit_test(test_compensate_pair),
+        cmocka_unit_test(test_fit_floor_start),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
