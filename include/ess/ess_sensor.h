@@ -70,6 +70,12 @@ void ess_deviations_sample(const sunmc_config *c, uint64_t seed, long unit, ess_
 double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit,
                                  const ess_deviations *d);
 
+/* The fine rows' shortcut's range (fine_by_series): the dial tangents'
+ * differences, and the phase turn they make (ess_lane.h's series are
+ * exact to double precision within these). */
+#define ESS_FINE_SERIES_TAN 1e-2
+#define ESS_FINE_SERIES_PHASE 0.25
+
 /* One built sensor, ready to read: lengths in mm, angles in radians. */
 typedef struct {
     double H_mm;        /* design height: the etching rule */
@@ -93,6 +99,14 @@ typedef struct {
     double fine_x_mm[ESS_FINE_ROWS];
     double gain[ESS_FINE_ROWS];       /* 1 + gain error */
     double etch_mm[ESS_FINE_ROWS];    /* etching position error */
+    /* Fine row m's dial tangent less row 0's, the same for every sun
+     * direction: -((x_m - x_0) tan(dphi) + etch_m - etch_0) / H. */
+    double fine_dt[ESS_FINE_ROWS];
+    /* 1 when every |fine_dt| <= ESS_FINE_SERIES_TAN and 2 pi / theta0
+     * times it <= ESS_FINE_SERIES_PHASE: the batch then makes rows 1-3's
+     * currents from row 0's arctangent, cosine and sine by series
+     * (ess_lane_current_from0) instead of their own (ess_sensor.c) */
+    int fine_by_series;
     int harmonics_given;
     double given_ratio[ESS_HARMONICS];/* 1, a3/a1, a5/a1 when given */
     double slit_width_mm;             /* actual slit width */

@@ -43,10 +43,10 @@ typedef struct {
     double c1, c3, c5;
 } ess_lane_harm;
 
-VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
+/* The same from cos^2(psi) (the batch has it as 1 / (1 + tan^2 psi)). */
+VM_INLINE ess_lane_harm ess_lane_harmonics_cos2(const ess_sensor *s, double cos2_psi)
 {
-    double cos_psi = cos(psi_rad);
-    double slit_ang = s->slit_width_mm * cos_psi * cos_psi / s->H_mm;
+    double slit_ang = s->slit_width_mm * cos2_psi / s->H_mm;
     int given = s->harmonics_given;
     ess_lane_sinc135 q = ess_lane_sinc_pi135(slit_ang / s->theta0_rad);
     ess_lane_harm h;
@@ -56,20 +56,77 @@ VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
     return h;
 }
 
-/* Current of fine row m (0..3) at dial angle psi_rad with harmonics h,
- * illumination illum and additive noise: cos 3x and cos 5x from cos x and
- * sin x (Chebyshev: cos 3x = cos x (4 cos^2 x - 3), sin 3x = sin x (3 -
- * 4 sin^2 x), cos 5x = cos x (16 cos^4 x - 20 cos^2 x + 5)), the third
- * harmonic's phase as its cosine and sine (ess_sensor). */
-VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, double psi_rad,
-                                  double illum, double noise)
+VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
 {
-    double x = 2.0 * M_PI * psi_rad / s->theta0_rad - m * M_PI / 2.0;
-    double c = cos(x), sn = sin(x), c2 = c * c;
+    double cos_psi = cos(psi_rad);
+    return ess_lane_harmonics_cos2(s, cos_psi * cos_psi);
+}
+
+/* Current of fine row m with harmonics h, illumination illum and additive
+ * noise, from the cosine c and sine sn of its phase x = 2 pi psi / theta0
+ * - m pi / 2: cos 3x and cos 5x from them (Chebyshev: cos 3x = cos x (4
+ * cos^2 x - 3), sin 3x = sin x (3 - 4 sin^2 x), cos 5x = cos x (16 cos^4 x
+ * - 20 cos^2 x + 5)), the third harmonic's phase as its cosine and sine
+ * (ess_sensor). */
+VM_INLINE double ess_lane_current_cs(const ess_sensor *s, int m, ess_lane_harm h, double c,
+                                     double sn, double illum, double noise)
+{
+    double c2 = c * c;
     double c3 = c * (4.0 * c2 - 3.0), s3 = sn * (3.0 - 4.0 * sn * sn);
     double c5 = c * ((16.0 * c2 - 20.0) * c2 + 5.0);
     double sum = h.c1 * c + h.c3 * (c3 * s->harmonic_cos - s3 * s->harmonic_sin) + h.c5 * c5;
     return illum * s->gain[m] * (s->dc_ratio - sum) + noise;
+}
+
+/* Current of fine row m (0..3) at dial angle psi_rad. */
+VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, double psi_rad,
+                                  double illum, double noise)
+{
+    double x = 2.0 * M_PI * psi_rad / s->theta0_rad - m * M_PI / 2.0;
+    return ess_lane_current_cs(s, m, h, cos(x), sin(x), illum, noise);
+}
+
+/* atan(e) for |e| <= ESS_FINE_SERIES_TAN (1e-2): its series to e^9 / 9,
+ * the first term left out below 1e-22 |e|. */
+VM_INLINE double ess_lane_atan_small(double e)
+{
+    double e2 = e * e;
+    return e + e * e2 * (-1.0 / 3.0 + e2 * (1.0 / 5.0 + e2 * (-1.0 / 7.0 + e2 * (1.0 / 9.0))));
+}
+
+/* cos(x + d), sin(x + d) from c = cos x, sn = sin x for |d| <=
+ * ESS_FINE_SERIES_PHASE (0.25): sin d and cos d - 1 by their series (to
+ * d^11 and d^12; the first terms left out are below 3e-18 and 4e-20). */
+typedef struct {
+    double c, s;
+} ess_lane_cs;
+
+VM_INLINE ess_lane_cs ess_lane_turn(double c, double sn, double d)
+{
+    double d2 = d * d;
+    double sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 *
+                     (1.0 - d2 / 72.0 * (1.0 - d2 / 110.0)))));
+    double cm1 = -d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 *
+                     (1.0 - d2 / 90.0 * (1.0 - d2 / 132.0)))));
+    ess_lane_cs o = {c + (c * cm1 - sn * sd), sn + (sn * cm1 + c * sd)};
+    return o;
+}
+
+/* Fine row m's current (m = 1..3) from row 0's dial tangent t0 and the
+ * cosine and sine of row 0's phase: row m's tangent is t0 + dt (dt =
+ * s->fine_dt[m], the same for every sun direction: ess_lane_eta is linear
+ * in x), so its dial angle is psi0 + atan(dt / (1 + t0 (t0 + dt))) and its
+ * phase row 0's turned by 2 pi / theta0 times that, less m quarter turns
+ * (exact: the cosine and sine swap and change sign). */
+VM_INLINE double ess_lane_current_from0(const ess_sensor *s, int m, ess_lane_harm h, double t0,
+                                        double c0, double s0, double illum)
+{
+    double dt = s->fine_dt[m];
+    double d = 2.0 * M_PI / s->theta0_rad * ess_lane_atan_small(dt / (1.0 + t0 * (t0 + dt)));
+    ess_lane_cs r = ess_lane_turn(c0, s0, d);
+    double c = m == 1 ? r.s : m == 2 ? -r.c : -r.s;
+    double sn = m == 1 ? -r.c : m == 2 ? -r.s : r.c;
+    return ess_lane_current_cs(s, m, h, c, sn, illum, 0.0);
 }
 
 /* Fine-code phase in [0, 2 pi) from the four currents (ESS paper Fig. 8). */

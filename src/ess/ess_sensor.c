@@ -89,6 +89,16 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
         s->etch_mm[m] = dev->etch_um[m] * MM_PER_UM;
     }
     s->coarse_by_compare = coarse_spread(s) < 0.5 * s->coarse_res_rad;
+    s->fine_by_series = 1;
+    for (int m = 0; m < ESS_FINE_ROWS; m++) {
+        s->fine_dt[m] = -((s->fine_x_mm[m] - s->fine_x_mm[0]) * s->tan_dphi +
+                          (s->etch_mm[m] - s->etch_mm[0])) / s->H_mm;
+        /* |atan(dt / (1 + t0 (t0 + dt)))| <= |dt| / (1 - dt^2 / 4): the
+         * factor's margin is within the limits' last digit */
+        double a = fabs(s->fine_dt[m]) * (1.0 + 1e-4);
+        s->fine_by_series &= a <= ESS_FINE_SERIES_TAN &&
+                             2.0 * M_PI / s->theta0_rad * a <= ESS_FINE_SERIES_PHASE;
+    }
     s->coarse_tan_res = tan(s->coarse_res_rad);
     s->harmonics_given = d->harmonics == 1;
     s->given_ratio[0] = 1.0;
@@ -176,29 +186,19 @@ VM_KERNEL static void coarse_by_compare(const ess_sensor *s, size_t kp, const do
     }
 }
 
-/* The readings of lanes [0, k) of a chunk: fine rows, harmonics,
- * currents and phase per lane in one vector loop, then the coarse rows one
- * row at a time, then the Gray decoding and combination per lane.  The
+/* Fine rows' phases (noisy and noiseless) and row 0's dial angle of kp
+ * lanes, each row from its own arctangent, cosine and sine.  The
  * noiseless reading shares everything but the noise's add: its currents
- * are the noisy ones' before it (x + 0 = x: the bits of a reading with
- * zero noise). */
-VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx,
-                                      const double *sy, const double *sz,
-                                      const double *const noise[ESS_FINE_ROWS], double *out_rad,
-                                      double *out0_rad, int *status)
+ * are the noisy ones' before it (x + 0 = x). */
+VM_KERNEL static void fine_by_atan(const ess_sensor *s, size_t kp, const double *u,
+                                   const double *v, const double *z,
+                                   const double *const noise[ESS_FINE_ROWS], double *psi0,
+                                   double *phase, double *phase0)
 {
-    _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], phase[ESS_CHUNK], phase0[ESS_CHUNK];
-    _Alignas(VM_ALIGN) double psi0[ESS_CHUNK];
-    if (k > ESS_CHUNK)
-        return SUNMC_EINPUT;
-    size_t kp = vm_pad(k);
     const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
     VM_SIMD for (size_t i = 0; i < kp; i++) {
-        /* a lane at grazing incidence is computed with s_z = 1 and dropped */
-        double z = vm_select(sz[i] > ESS_MIN_COS_INCIDENCE, sz[i], 1.0);
-        u[i] = sx[i] / z;
-        v[i] = sy[i] / z;
-        double p0 = atan((ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm);
+        double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm;
+        double p0 = atan(t0);
         double p1 = atan((ess_lane_eta(s, s->fine_x_mm[1], u[i], v[i]) - s->etch_mm[1]) / s->H_mm);
         double p2 = atan((ess_lane_eta(s, s->fine_x_mm[2], u[i], v[i]) - s->etch_mm[2]) / s->H_mm);
         double p3 = atan((ess_lane_eta(s, s->fine_x_mm[3], u[i], v[i]) - s->etch_mm[3]) / s->H_mm);
@@ -206,12 +206,61 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
          * the few micrometres between rows that is below 1e-9, so one
          * evaluation at the first row serves the four */
         psi0[i] = p0;
-        ess_lane_harm h = ess_lane_harmonics(s, p0);
-        double c0 = ess_lane_current(s, 0, h, p0, z, 0.0), c1 = ess_lane_current(s, 1, h, p1, z, 0.0);
-        double c2 = ess_lane_current(s, 2, h, p2, z, 0.0), c3 = ess_lane_current(s, 3, h, p3, z, 0.0);
+        ess_lane_harm h = ess_lane_harmonics_cos2(s, 1.0 / (1.0 + t0 * t0));
+        double c0 = ess_lane_current(s, 0, h, p0, z[i], 0.0), c1 = ess_lane_current(s, 1, h, p1, z[i], 0.0);
+        double c2 = ess_lane_current(s, 2, h, p2, z[i], 0.0), c3 = ess_lane_current(s, 3, h, p3, z[i], 0.0);
         phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
         phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
     }
+}
+
+/* The same with rows 1-3 from row 0 (s->fine_by_series): one arctangent,
+ * cosine and sine a reading instead of four each. */
+VM_KERNEL static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
+                                     const double *v, const double *z,
+                                     const double *const noise[ESS_FINE_ROWS], double *psi0,
+                                     double *phase, double *phase0)
+{
+    const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm;
+        double p0 = atan(t0), x0 = 2.0 * M_PI * p0 / s->theta0_rad;
+        double cx = cos(x0), sx = sin(x0);
+        psi0[i] = p0;
+        ess_lane_harm h = ess_lane_harmonics_cos2(s, 1.0 / (1.0 + t0 * t0));
+        double c0 = ess_lane_current_cs(s, 0, h, cx, sx, z[i], 0.0);
+        double c1 = ess_lane_current_from0(s, 1, h, t0, cx, sx, z[i]);
+        double c2 = ess_lane_current_from0(s, 2, h, t0, cx, sx, z[i]);
+        double c3 = ess_lane_current_from0(s, 3, h, t0, cx, sx, z[i]);
+        phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
+        phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
+    }
+}
+
+/* The readings of lanes [0, k) of a chunk: the fine rows' phases per lane
+ * in one vector loop (fine_by_series or fine_by_atan), then the coarse
+ * rows one row at a time, then the Gray decoding and combination per
+ * lane. */
+VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx,
+                                      const double *sy, const double *sz,
+                                      const double *const noise[ESS_FINE_ROWS], double *out_rad,
+                                      double *out0_rad, int *status)
+{
+    _Alignas(VM_ALIGN) double u[ESS_CHUNK], v[ESS_CHUNK], z[ESS_CHUNK], phase[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double psi0[ESS_CHUNK], phase0[ESS_CHUNK];
+    if (k > ESS_CHUNK)
+        return SUNMC_EINPUT;
+    size_t kp = vm_pad(k);
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        /* a lane at grazing incidence is computed with s_z = 1 and dropped */
+        z[i] = vm_select(sz[i] > ESS_MIN_COS_INCIDENCE, sz[i], 1.0);
+        u[i] = sx[i] / z[i];
+        v[i] = sy[i] / z[i];
+    }
+    if (s->fine_by_series)
+        fine_by_series(s, kp, u, v, z, noise, psi0, phase, phase0);
+    else
+        fine_by_atan(s, kp, u, v, z, noise, psi0, phase, phase0);
     _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
     if (s->coarse_by_compare)
         coarse_by_compare(s, kp, u, v, psi0, parity, cell);

@@ -1,7 +1,8 @@
 /* test_ess_kernel.c - the ESS unit kernel's shortcuts (issue 27) give the
  * bits of the plain computation: coarse rows read by comparing tangents
  * instead of arctangents, and the validation grid's cosines and sines
- * made once per run instead of once per reading. */
+ * made once per run instead of once per reading; fine rows 1-3 made
+ * from row 0 by series give its readings to 5e-15 rad. */
 #include "test_util.h"
 
 #include "config.h"
@@ -99,6 +100,111 @@ static void test_coarse_compare_limit(void **state)
     assert_true(fabs(out - 33.3) < 0.5 * ec->design.theta0_deg);
 }
 
+/* The ESS defaults with the tilt and etching tolerances five-fold (still
+ * within the fine rows' series). */
+static sunmc_config five_fold_config(void)
+{
+    const char *sets[] = {"sensor.family=ess", "tolerance.dphi_deg=0.05", "tolerance.etch_um=1",
+                          "tolerance.gain_pct=5"};
+    char err[SUNMC_ERRLEN];
+    config_state st;
+    if (config_build(&st, NULL, sets, 4, err, sizeof err) != SUNMC_OK)
+        fail_msg("%s", err);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    return c;
+}
+
+/* A noisy reading (row noise noise_frac of the currents). */
+static double read_noisy_rad(const ess_sensor *s, double alpha_deg, double beta_deg,
+                             const double noise[ESS_FINE_ROWS])
+{
+    double a = alpha_deg * RAD_PER_DEG, b = beta_deg * RAD_PER_DEG;
+    double sv[3] = {sin(b), cos(b) * sin(a), cos(b) * cos(a)};
+    double out = NAN;
+    assert_int_equal(ess_sensor_output(s, sv, noise, &out), SUNMC_OK);
+    return out;
+}
+
+/* Fine rows 1-3 from row 0 (fine_dt, series): every reading, noisy or
+ * not, within 5e-15 rad (1e-9 arcsec) of the one made of each row's own
+ * arctangent, cosine and sine, over sampled units and the whole dial
+ * (cell and period edges crossed many times); the series path was the
+ * one taken. */
+static void test_fine_series_matches_atan(void **state)
+{
+    sunmc_config c = five_fold_config();
+    ess_config *ec = ess_cfg(&c);
+    int series = 0;
+    double worst = 0;
+    const double noise[ESS_FINE_ROWS] = {1e-3, -2e-3, 5e-4, 1.5e-3};
+    for (long unit = 0; unit < 30; unit++) {
+        ess_deviations dev;
+        ess_deviations_sample(&c, 11, unit, &dev);
+        ess_sensor s, t;
+        ess_sensor_init(&s, &ec->design, &dev);
+        series += s.fine_by_series;
+        t = s;
+        t.fine_by_series = 0;
+        for (double a = -61.99; a <= 62; a += 0.0931)
+            for (double b = -40; b <= 40; b += 20) {
+                double x = read_rad(&s, a, b) - read_rad(&t, a, b);
+                double y = read_noisy_rad(&s, a, b, noise) - read_noisy_rad(&t, a, b, noise);
+                worst = fmax(worst, fmax(fabs(x), fabs(y)));
+                if (fabs(x) > 5e-15 || fabs(y) > 5e-15)
+                    fail_msg("unit %ld alpha %.4f beta %g: series - atan %.3g, noisy %.3g", unit,
+                             a, b, x, y);
+            }
+    }
+    assert_int_equal(series, 30);
+    print_message("fine rows by series: largest difference %.3g rad\n", worst);
+}
+
+/* The series are taken while the rows' tangents differ by at most
+ * ESS_FINE_SERIES_TAN and turn the phase by at most ESS_FINE_SERIES_PHASE,
+ * and not beyond: fine row 3's etching error at the phase limit (2 deg
+ * periods: the tighter one), just below and just above; and on a 20-deg
+ * period the tangents' limit binds. */
+static void test_fine_series_limit(void **state)
+{
+    sunmc_config c = base_config();
+    ess_config *ec = ess_cfg(&c);
+    double margin = 1.0 + 1e-4; /* ess_sensor_init's */
+    double lim_um = ESS_FINE_SERIES_PHASE * ec->design.theta0_deg * RAD_PER_DEG / (2 * M_PI) *
+                    ec->design.H_mm / MM_PER_UM / margin;
+    assert_true(lim_um / ec->design.H_mm * MM_PER_UM < ESS_FINE_SERIES_TAN);
+    ess_deviations dev = {0};
+    ess_sensor s;
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 1);
+    dev.etch_um[3] = lim_um * (1 - 1e-9);
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 1);
+    assert_near(s.fine_dt[3], -lim_um * (1 - 1e-9) * MM_PER_UM / ec->design.H_mm, 1e-18);
+    dev.etch_um[3] = -lim_um * (1 + 1e-9);
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 0);
+    /* beyond it the rows' own arctangents read the dial as before */
+    double out = read_rad(&s, 33.3, 0) * DEG_PER_RAD;
+    assert_true(fabs(out - 33.3) < 0.1 * ec->design.theta0_deg);
+    /* a tilt: row m's tangent differs by (x_m - x_0) tan(dphi) / H */
+    memset(&dev, 0, sizeof dev);
+    dev.dphi_deg = 0.01;
+    ess_sensor_init(&s, &ec->design, &dev);
+    double dx = ec->design.fine_rows_x_mm.v[2] - ec->design.fine_rows_x_mm.v[0];
+    assert_near(s.fine_dt[2], -dx * tan(0.01 * RAD_PER_DEG) / ec->design.H_mm, 1e-18);
+    /* a long period: the tangents' limit */
+    ec->design.theta0_deg = 20;
+    double tan_um = ESS_FINE_SERIES_TAN * ec->design.H_mm / MM_PER_UM / margin;
+    memset(&dev, 0, sizeof dev);
+    dev.etch_um[1] = tan_um * (1 - 1e-9);
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 1);
+    dev.etch_um[1] = tan_um * (1 + 1e-9);
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 0);
+}
+
 /* The validation grid's table (ess_val_alloc): the angles of the grid and
  * their cosines and sines; a unit's noise-free validation reading from it
  * is the bits of ess_unit_read at the same angles (cosines on the spot). */
@@ -137,6 +243,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_coarse_compare_matches_atan),
         cmocka_unit_test(test_coarse_compare_limit),
+        cmocka_unit_test(test_fine_series_matches_atan),
+        cmocka_unit_test(test_fine_series_limit),
         cmocka_unit_test(test_validation_trig_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
