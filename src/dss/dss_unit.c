@@ -16,6 +16,7 @@
 #include "vmath.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -130,12 +131,44 @@ static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
     return DSS_N_DEV;
 }
 
-/* A thread's workspace: the campaign's fit and the validation readings. */
+/* A unit's readings (family.h: unit_read): for each validation it reads
+ * (thermal_n_reads), the spots with and without noise, the truths and the
+ * seen flags of the validation grid's n points, one block each. */
+static size_t dss_rd_block_bytes(size_t n)
+{
+    size_t seen = (n * sizeof(int) + sizeof(double) - 1) / sizeof(double) * sizeof(double);
+    return 6 * n * sizeof(double) + seen;
+}
+
+static size_t dss_readings_bytes(const sunmc_config *c)
+{
+    return (size_t)thermal_n_reads(c) * dss_rd_block_bytes(dss_validation_size(c));
+}
+
+/* Block k of readings rd as validation readings (the table angles of
+ * grid). */
+static dss_val_readings dss_rd_view(const dss_val_readings *grid, const void *rd, int k)
+{
+    dss_val_readings v = *grid;
+    double *b = (double *)(uintptr_t)rd + (size_t)k * (dss_rd_block_bytes(grid->n) / sizeof(double));
+    v.x_px = b;
+    v.y_px = b + grid->n;
+    v.x0_px = b + 2 * grid->n;
+    v.y0_px = b + 3 * grid->n;
+    v.truth_alpha_rad = b + 4 * grid->n;
+    v.truth_beta_rad = b + 5 * grid->n;
+    v.seen = (int *)(void *)(b + 6 * grid->n);
+    return v;
+}
+
+/* A thread's workspace: the campaign's fit, the validation grid and one
+ * unit's readings. */
 typedef struct {
     dss_calib_workspace *cw;
     dss_val_readings val;
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
     double amp_px[DSS_SCURVE_HARMONICS]; /* the design's S-curve, made once */
+    double *rd;        /* dss_readings_bytes */
 } dss_ws;
 
 static void dss_ws_free(void *p)
@@ -145,16 +178,18 @@ static void dss_ws_free(void *p)
         return;
     dss_calib_free(w->cw);
     dss_val_free(&w->val);
+    free(w->rd);
     free(w);
 }
 
-/* The fit's workspace and the validation arrays (8 doubles and a flag a
- * point). */
+/* The fit's workspace, the validation arrays (8 doubles and a flag a
+ * point) and the readings. */
 static double dss_ws_bytes(const sunmc_config *c)
 {
     const dss_config *dc = dss_cfg(c);
     return dss_calib_bytes(dss_campaign_size(c), dc->cal_model, dc->poly_order) +
-           (double)dss_validation_size(c) * (8.0 * sizeof(double) + sizeof(int));
+           (double)dss_validation_size(c) * (8.0 * sizeof(double) + sizeof(int)) +
+           (double)dss_readings_bytes(c);
 }
 
 static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
@@ -164,7 +199,8 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     dss_ws *w = calloc(1, sizeof *w);
     if (w)
         w->cw = dss_calib_alloc_config(dc, n);
-    if (!w || !w->cw || dss_val_alloc(c, &w->val) != SUNMC_OK) {
+    if (!w || !w->cw || dss_val_alloc(c, &w->val) != SUNMC_OK ||
+        !(w->rd = malloc(dss_readings_bytes(c)))) {
         dss_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM,
                    "cannot set up the DSS calibration for a %zu-point campaign (out of memory, "
@@ -285,7 +321,7 @@ typedef struct {
 } dss_val_chunk;
 
 static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
-                             const dss_val_readings *r, size_t i0, size_t k, int fit_ok,
+                             const dss_val_readings *r, size_t i0, size_t k, int fit_ok, int sys,
                              dss_val_chunk *v)
 {
     for (size_t i = 0; i < vm_pad(k); i++) {
@@ -304,6 +340,11 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
     dss_total_error_vec_chunk(k, v->am, v->bm, v->vx, v->vy, v->vz, v->tm);
     if (!fit_ok)
         return;
+    if (!sys) {
+        dss_compensate_batch(cal, vm_pad(k), v->x, v->y, v->ac, v->bc, v->st_c);
+        dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
+        return;
+    }
     dss_compensate_pair_batch(cal, vm_pad(k), v->x, v->y, v->x0, v->y0, v->ac, v->bc, v->st_c,
                               v->as, v->bs, v->st_s);
     dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
@@ -321,7 +362,8 @@ static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, doubl
 
 /* Score the unit's validation readings r (RMS before and after), and the
  * same points without centroid noise (the systematic part of the after
- * RMS; the S-curve bias, a property of the detector, stays in). */
+ * RMS; the S-curve bias, a property of the detector, stays in; NaN under
+ * c->no_systematic). */
 static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
                               const dss_calibration *cal, const dss_val_readings *r,
                               unit_result *res)
@@ -333,9 +375,10 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
         band_acc_reset(&after_sys[a]);
     }
     dss_val_chunk v;
+    int sys = !c->no_systematic;
     for (size_t i0 = 0; i0 < r->n; i0 += DSS_CHUNK) {
         size_t k = r->n - i0 < DSS_CHUNK ? r->n - i0 : DSS_CHUNK;
-        validation_chunk(u, cal, r, i0, k, res->fit_status == UNIT_FIT_OK, &v);
+        validation_chunk(u, cal, r, i0, k, res->fit_status == UNIT_FIT_OK, sys, &v);
         for (size_t q = 0; q < k; q++) {
             if (!v.seen[q])
                 continue;
@@ -351,38 +394,66 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
             }
             add_errors(after, &c->bands_deg, v.field[q], v.ac[q], v.bc[q], v.a0[q], v.b0[q],
                        v.tc[q]);
-            if (v.st_s[q] == SUNMC_OK)
+            if (sys && v.st_s[q] == SUNMC_OK)
                 add_errors(after_sys, &c->bands_deg, v.field[q], v.as[q], v.bs[q], v.a0[q],
                            v.b0[q], v.ts[q]);
         }
     }
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
-        unit_result_set_sys(res, a, &after_sys[a], &c->bands_deg, ARCSEC_PER_RAD);
+        unit_result_set_sys(res, a, sys ? &after_sys[a] : NULL, &c->bands_deg, ARCSEC_PER_RAD);
     }
 }
 
+/* The unit's validation readings into rd (family.h): the lab's, then at
+ * each operating temperature other than the lab's its deviations at that
+ * temperature, rebuilt (thermal_validate_all's order). */
+static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, void *rd)
+{
+    dss_ws *w = ws;
+    dss_deviations dev, dev_t;
+    dss_unit u;
+    dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
+    dss_unit_build_amp(c, &dev, w->amp_px, &u);
+    dss_val_readings v = dss_rd_view(&w->val, rd, 0);
+    dss_unit_read_validation(c, &u, unit, &v);
+    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c)
+            continue;
+        dss_deviations_at_temp(c, &dev, T, &dev_t);
+        dss_unit_build_amp(c, &dev_t, w->amp_px, &u);
+        v = dss_rd_view(&w->val, rd, k++);
+        dss_unit_read_validation(c, &u, unit, &v);
+    }
+    return SUNMC_OK;
+}
+
 /* The calibrated unit at one operating temperature (thermal_validate_all):
- * its deviations at temp_c, rebuilt, its validation read and scored. */
+ * its deviations at temp_c, rebuilt, the next block of its readings
+ * scored. */
 typedef struct {
     const dss_deviations *dev;
-    long unit;
     const dss_calibration *cal;
-    dss_ws *w;
+    const dss_ws *w;
+    const void *rd;
+    int next; /* the block of the next temperature */
 } dss_temp_ctx;
 
 static void dss_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
 {
-    const dss_temp_ctx *k = ctx;
+    dss_temp_ctx *k = ctx;
     dss_deviations dev_t;
     dss_unit u;
     dss_deviations_at_temp(c, k->dev, temp_c, &dev_t);
     dss_unit_build_amp(c, &dev_t, k->w->amp_px, &u);
-    dss_unit_read_validation(c, &u, k->unit, &k->w->val);
-    dss_unit_score_validation(c, &u, k->cal, &k->w->val, at);
+    dss_val_readings v = dss_rd_view(&k->w->val, k->rd, k->next++);
+    dss_unit_score_validation(c, &u, k->cal, &v, at);
 }
 
-static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+/* Campaign, fit and the scores of the unit's readings rd (family.h). */
+static int dss_unit_finish(const sunmc_config *c, long unit, void *ws, const void *rd,
+                           unit_result *res)
 {
     dss_ws *w = ws;
     dss_calib_workspace *cw = w->cw;
@@ -420,13 +491,31 @@ static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
 
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
-    dss_unit_read_validation(c, &u, unit, &w->val);
-    dss_unit_score_validation(c, &u, &cal, &w->val, res);
-    dss_temp_ctx tc = {&dev, unit, &cal, w};
+    dss_val_readings v = dss_rd_view(&w->val, rd, 0);
+    dss_unit_score_validation(c, &u, &cal, &v, res);
+    dss_temp_ctx tc = {&dev, &cal, w, rd, 1};
     thermal_validate_all(c, res, dss_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
+
+static int dss_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    dss_ws *w = ws;
+    double t = unit_clock();
+    dss_unit_take_readings(c, unit, ws, w->rd);
+    double read_s = unit_clock() - t;
+    dss_unit_finish(c, unit, ws, w->rd, res);
+    res->phase_s[UNIT_PHASE_VALIDATION] += read_s;
+    return SUNMC_OK;
+}
+
+/* The readings depend on neither the campaign's grid and repeats nor the
+ * fit (the sun simulator's measurement, calibration.sun_*, is drawn apart);
+ * campaign.mount sets the sensor's mount, which they do depend on. */
+static const char *const dss_readings_ignore[] = {
+    "campaign.b_min_deg", "campaign.b_max_deg", "campaign.b_step_deg", "campaign.repeats",
+    "calibration", "noise.encoder_arcsec", NULL};
 
 static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
 {
@@ -484,6 +573,10 @@ const sensor_family dss_family = {
     .workspace_bytes = dss_ws_bytes,
     .workspace_free = dss_ws_free,
     .unit_run = dss_unit_run,
+    .readings_bytes = dss_readings_bytes,
+    .unit_read = dss_unit_take_readings,
+    .unit_finish = dss_unit_finish,
+    .readings_ignore = dss_readings_ignore,
     .grid = &dss_grid,       /* dss_grid.c */
     .curve = &dss_curve,     /* dss_curve.c */
     .lab = &dss_lab, /* dss_lab.c */

@@ -13,6 +13,7 @@
 #include "montecarlo.h"
 #include "status.h"
 #include "unit_store.h"
+#include "toy_family.h"
 
 #include <stdlib.h>
 
@@ -108,14 +109,42 @@ static void readings_differ(void **state)
     b.no_systematic = 1; /* what the units skip, not what they read */
     b.pick = a.pick;
     assert_true(unit_readings_same(&a, &b));
-    /* a family that does not split its units shares nothing */
-    sunmc_config d = test_family_config("dss");
-    if (!d.family->unit_read) {
-        assert_false(unit_readings_same(&d, &d));
-        unit_store *s = NULL;
-        char err[SUNMC_ERRLEN];
-        assert_int_equal(unit_store_alloc(&d, 8, &s, err, sizeof err), SUNMC_OK);
-        assert_null(s);
+    /* a family that does not split its units shares nothing and has no
+     * store: the toy */
+    sunmc_config t = a;
+    t.family = &toy_family;
+    assert_false(unit_readings_same(&t, &t));
+    unit_store *s = NULL;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(unit_store_alloc(&t, 8, &s, err, sizeof err), SUNMC_OK);
+    assert_null(s);
+    assert_true(unit_store_bytes(&t, 8) == 0);
+    assert_false(unit_store_bind(NULL, &a, 0, 1));
+}
+
+/* The DSS: its campaign's grid and repeats and its fit leave the readings
+ * as they are; the mount (a campaign key) and the centroid noise do not. */
+static void dss_readings(void **state)
+{
+    (void)state;
+    const char *base[] = {"validation.b_step_deg=9"};
+    const char *other[] = {"validation.b_step_deg=9", "campaign.b_step_deg=8",
+                           "campaign.repeats=2", "calibration.model=polynomial",
+                           "noise.encoder_arcsec=4"};
+    config_state st;
+    test_build(&st, "configs/dss.ini", base, 1);
+    sunmc_config a = st.cfg;
+    config_state_free(&st);
+    test_build(&st, "configs/dss.ini", other, 5);
+    sunmc_config b = st.cfg;
+    config_state_free(&st);
+    check_shared(&a, &b);
+    const char *diff[][2] = {{"validation.b_step_deg=9", "campaign.mount=aligned"},
+                             {"validation.b_step_deg=9", "noise.centroid_px=0.2"}};
+    for (int i = 0; i < 2; i++) {
+        test_build(&st, "configs/dss.ini", diff[i], 2);
+        assert_false(unit_readings_same(&a, &st.cfg));
+        config_state_free(&st);
     }
 }
 
@@ -161,9 +190,11 @@ static void runs_with_a_store(void **state)
     }
 }
 
+#define EACH 3
+
 typedef struct {
-    unit_result res[2][UNITS];
-    int calls[2];
+    unit_result res[EACH][UNITS];
+    int calls[EACH];
 } each_ctx;
 
 static int each_sink(int i, const unit_result *r, long n, void *ctx, char *err, size_t errlen)
@@ -175,15 +206,18 @@ static int each_sink(int i, const unit_result *r, long n, void *ctx, char *err, 
     return SUNMC_OK;
 }
 
+/* Three configs, the third with other readings (another seed): each
+ * config's results are mc_run's, the store read once for the first two. */
 static void run_each_config(void **state)
 {
     (void)state;
     const char *more[] = {"campaign.alpha_step_deg=0.6", "campaign.beta_deg=-30, 30"};
-    sunmc_config c[2] = {ess(NULL, 0), ess(more, 2)};
-    const sunmc_config *cp[2] = {&c[0], &c[1]};
-    unit_result plain[2][UNITS];
+    const char *seed[] = {"run.seed=6"};
+    sunmc_config c[EACH] = {ess(NULL, 0), ess(more, 2), ess(seed, 1)};
+    const sunmc_config *cp[EACH] = {&c[0], &c[1], &c[2]};
+    unit_result plain[EACH][UNITS];
     char err[SUNMC_ERRLEN];
-    for (int i = 0; i < 2; i++)
+    for (int i = 0; i < EACH; i++)
         assert_int_equal(mc_run(&c[i], 0, UNITS, 1, plain[i], NULL, NULL, err, sizeof err),
                          SUNMC_OK);
     for (int threads = 1; threads <= 2; threads++)
@@ -192,10 +226,10 @@ static void run_each_config(void **state)
             if (with_store)
                 assert_int_equal(unit_store_alloc(&c[0], UNITS, &s, err, sizeof err), SUNMC_OK);
             each_ctx *e = calloc(1, sizeof *e);
-            assert_int_equal(mc_run_each(cp, 2, s, 0, UNITS, threads, each_sink, e, NULL, NULL,
-                                         err, sizeof err),
+            assert_int_equal(mc_run_each(cp, EACH, s, 0, UNITS, threads, each_sink, e, NULL,
+                                         NULL, err, sizeof err),
                              SUNMC_OK);
-            for (int i = 0; i < 2; i++) {
+            for (int i = 0; i < EACH; i++) {
                 assert_int_equal(e->calls[i], 1);
                 assert_memory_equal(e->res[i], plain[i], sizeof plain[i]);
             }
@@ -230,6 +264,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(readings_ignore_the_campaign),
         cmocka_unit_test(readings_differ),
+        cmocka_unit_test(dss_readings),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
         cmocka_unit_test(no_systematic_pass),
