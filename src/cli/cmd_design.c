@@ -124,8 +124,10 @@ static void print_shortlist(const design_result *d, double secs)
     for (int v = 0; v < DESIGN_VERDICTS; v++)
         printf("%s %d %s", v ? "," : "", count[v], design_verdict_names[v]);
     printf(".\n%d more not tried: they validate beyond campaign.search_max_extrapolation_deg = "
-           "%g deg outside their span.\n%ld units in %.1f s.\n",
-           d->n_extrapolating, c->search_max_extrapolation_deg, d->units_run, secs);
+           "%g deg outside their span.\n%ld unit runs (%ld of them on validation readings read "
+           "for another candidate) in %.1f s.\n",
+           d->n_extrapolating, c->search_max_extrapolation_deg, d->units_run, d->units_reused,
+           secs);
     if (d->best < 0)
         printf("WARNING: no candidate met the target; widen the space (--space) or relax "
                "the spec\n");
