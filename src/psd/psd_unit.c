@@ -128,7 +128,21 @@ typedef struct {
     long n;
     double *m[PSD_CHANNELS], *ut, *w, *scratch, *poly_work;
     fit_workspace *fw, *fw_channels;
+    double *rd; /* one unit's readings (psd_readings_bytes) */
 } psd_ws;
+
+/* A unit's readings (family.h: unit_read): for each validation it reads
+ * (thermal_n_reads), each grid point's PSD_RD_POINT doubles: the table
+ * top's sun vector, the reading with and without noise, the nominal
+ * design's errors, the field angle and a flag (1: no reading or no
+ * nominal angles there, a gross point). */
+enum { RD_UT = 0, RD_M = 3, RD_M0 = 7, RD_E0 = 11, RD_FIELD = 14, RD_BAD = 15, PSD_RD_POINT };
+
+static size_t psd_readings_bytes(const sunmc_config *c)
+{
+    return (size_t)thermal_n_reads(c) * (size_t)psd_validation_points(c) * PSD_RD_POINT *
+           sizeof(double);
+}
 
 static void psd_ws_free(void *ws)
 {
@@ -136,6 +150,7 @@ static void psd_ws_free(void *ws)
     if (!w)
         return;
     free(w->m[0]);
+    free(w->rd);
     fit_workspace_free(w->fw);
     fit_workspace_free(w->fw_channels);
     free(w);
@@ -154,8 +169,9 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         w->fw = fit_workspace_alloc(2 * (size_t)n, (size_t)psd_phys_free(&psd_cfg(c)->design, psd_cfg(c)->fit_tilt, fr));
         w->fw_channels = fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * (size_t)n,
                                              (size_t)psd_phys_free_channels(psd_cfg(c)->fit_tilt));
+        w->rd = malloc(psd_readings_bytes(c));
     }
-    if (!w || !w->m[0] || !w->fw || !w->fw_channels) {
+    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd) {
         psd_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
         return NULL;
@@ -174,7 +190,8 @@ static double psd_ws_bytes(const sunmc_config *c)
     long n = psd_campaign_rows(c);
     return ((double)n * 16 + PSD_POLY_WORK) * sizeof(double) +
            fit_workspace_bytes(2 * (size_t)n, PSD_NP) +
-           fit_workspace_bytes(PSD_RESIDUALS_PER_ROW * (size_t)n, PSD_NP);
+           fit_workspace_bytes(PSD_RESIDUALS_PER_ROW * (size_t)n, PSD_NP) +
+           (double)psd_readings_bytes(c);
 }
 
 /* The campaign of sensor s into w's rows; returns the rows seen. */
@@ -210,39 +227,53 @@ static int errors(const psd_cal *k, const double m[4], const double ut[3], doubl
     return SUNMC_OK;
 }
 
-/* The validation grid: errors before (the nominal design's reading), after
- * and after without noise, per angle and band; gross: points not read. */
-static void validate(const sunmc_config *c, const psd_sensor *s, const psd_cal *k, int fit_ok,
-                     long unit, unit_result *res)
+/* Sensor s's readings on the validation grid into rd (PSD_RD_POINT a
+ * point), noise from the unit's validation stream. */
+static void read_validation(const sunmc_config *c, const psd_sensor *s, long unit, double *rd)
 {
     const psd_config *p = psd_cfg(c);
     psd_cal nominal;
     psd_cal_nominal(&nominal, &p->design);
+    rng_stream r;
+    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    long nv = psd_validation_points(c);
+    for (long i = 0; i < nv; i++) {
+        double a, b, *x = rd + (size_t)i * PSD_RD_POINT;
+        psd_validation_angles(c, i, &a, &b);
+        psd_table_sun(p, a, b, x + RD_UT);
+        int st = read_pair(p, s, x + RD_UT, &r, x + RD_M, x + RD_M0);
+        x[RD_FIELD] = acos(fmin(x[RD_UT + 2], 1.0)) * DEG_PER_RAD;
+        x[RD_BAD] = st != SUNMC_OK || errors(&nominal, x + RD_M, x + RD_UT, x + RD_E0) != SUNMC_OK;
+    }
+}
+
+/* The validation grid's readings rd: errors before (the nominal design's
+ * reading), after and after without noise, per angle and band; gross:
+ * points not read, or whose angles a calibration cannot give. */
+static void validate(const sunmc_config *c, const psd_cal *k, int fit_ok, const double *rd,
+                     unit_result *res)
+{
     band_acc bef[PSD_N_ANGLES], aft[PSD_N_ANGLES], sys[PSD_N_ANGLES];
     for (int a = 0; a < PSD_N_ANGLES; a++) {
         band_acc_reset(&bef[a]);
         band_acc_reset(&aft[a]);
         band_acc_reset(&sys[a]);
     }
-    rng_stream r;
-    unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
     long nv = psd_validation_points(c);
     for (long i = 0; i < nv; i++) {
-        double a, b, ut[3], m[4], m0[4], e0[3], e1[3], e2[3];
-        psd_validation_angles(c, i, &a, &b);
-        psd_table_sun(p, a, b, ut);
-        int st = read_pair(p, s, ut, &r, m, m0);
-        double field = acos(fmin(ut[2], 1.0)) * DEG_PER_RAD;
-        if (st != SUNMC_OK || errors(&nominal, m, ut, e0) != SUNMC_OK ||
-            (fit_ok && (errors(k, m, ut, e1) != SUNMC_OK || errors(k, m0, ut, e2) != SUNMC_OK))) {
+        const double *x = rd + (size_t)i * PSD_RD_POINT;
+        double e1[3], e2[3];
+        if (x[RD_BAD] != 0 ||
+            (fit_ok && (errors(k, x + RD_M, x + RD_UT, e1) != SUNMC_OK ||
+                        errors(k, x + RD_M0, x + RD_UT, e2) != SUNMC_OK))) {
             res->gross_val++;
             continue;
         }
         for (int q = 0; q < PSD_N_ANGLES; q++) {
-            band_acc_add(&bef[q], &c->bands_deg, field, e0[q]);
+            band_acc_add(&bef[q], &c->bands_deg, x[RD_FIELD], x[RD_E0 + q]);
             if (fit_ok) {
-                band_acc_add(&aft[q], &c->bands_deg, field, e1[q]);
-                band_acc_add(&sys[q], &c->bands_deg, field, e2[q]);
+                band_acc_add(&aft[q], &c->bands_deg, x[RD_FIELD], e1[q]);
+                band_acc_add(&sys[q], &c->bands_deg, x[RD_FIELD], e2[q]);
             }
         }
     }
@@ -267,24 +298,47 @@ static double fit_rms(const psd_ws *w, const psd_cal *k)
     return n ? sqrt(s2 / (double)n) * ARCSEC_PER_RAD : NAN;
 }
 
+/* The unit's validation readings into rd (family.h): the lab's, then at
+ * each operating temperature other than the lab's its sensor at that
+ * temperature (thermal_validate_all's order). */
+static int psd_unit_take_readings(const sunmc_config *c, long unit, void *ws, void *rd)
+{
+    const psd_config *p = psd_cfg(c);
+    psd_deviations dev;
+    psd_sensor s, sT;
+    psd_unit_sample(c, unit, 1.0, &dev);
+    psd_sensor_build(&p->design, &dev, &s);
+    size_t block = (size_t)psd_validation_points(c) * PSD_RD_POINT;
+    read_validation(c, &s, unit, rd);
+    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
+        double T = thermal_temp_c(c, t);
+        if (T == c->cal_temp_c)
+            continue;
+        psd_sensor_at_temp(c, &s, T, &sT);
+        read_validation(c, &sT, unit, (double *)rd + (size_t)k++ * block);
+    }
+    return SUNMC_OK;
+}
+
 /* The calibrated unit at one operating temperature (thermal_validate_all):
- * its sensor at temp_c, the lab's calibration on its validation grid. */
+ * the lab's calibration on the next block of its readings. */
 typedef struct {
-    const psd_sensor *s;
     const psd_cal *k;
     int fit_ok;
-    long unit;
+    const double *rd;
+    int next; /* the block of the next temperature */
 } psd_temp_ctx;
 
 static void psd_validate_at(const sunmc_config *c, double temp_c, void *ctx, unit_result *at)
 {
-    const psd_temp_ctx *t = ctx;
-    psd_sensor sT;
-    psd_sensor_at_temp(c, t->s, temp_c, &sT);
-    validate(c, &sT, t->k, t->fit_ok, t->unit, at);
+    psd_temp_ctx *t = ctx;
+    size_t block = (size_t)psd_validation_points(c) * PSD_RD_POINT;
+    validate(c, t->k, t->fit_ok, t->rd + (size_t)t->next++ * block, at);
 }
 
-static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+/* Campaign, fit and the scores of the unit's readings rd (family.h). */
+static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const void *rd,
+                           unit_result *res)
 {
     psd_ws *w = ws;
     const psd_config *p = psd_cfg(c);
@@ -317,13 +371,31 @@ static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     res->fit_rms = st == SUNMC_OK ? fit_rms(w, &k) : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    validate(c, &s, &k, st == SUNMC_OK, unit, res);
+    validate(c, &k, st == SUNMC_OK, rd, res);
     /* at each operating temperature, the same calibration (thermal.h) */
-    psd_temp_ctx tc = {.s = &s, .k = &k, .fit_ok = st == SUNMC_OK, .unit = unit};
+    psd_temp_ctx tc = {.k = &k, .fit_ok = st == SUNMC_OK, .rd = rd, .next = 1};
     thermal_validate_all(c, res, psd_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
 }
+
+static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    psd_ws *w = ws;
+    double t = unit_clock();
+    psd_unit_take_readings(c, unit, ws, w->rd);
+    double read_s = unit_clock() - t;
+    psd_unit_finish(c, unit, ws, w->rd, res);
+    res->phase_s[UNIT_PHASE_VALIDATION] += read_s;
+    return SUNMC_OK;
+}
+
+/* The readings depend on neither the campaign's grid and repeats nor the
+ * fit; the table's order and signs (campaign keys) move the validation's
+ * sun too. */
+static const char *const psd_readings_ignore[] = {
+    "campaign.alpha_max_deg", "campaign.alpha_step_deg", "campaign.beta_deg", "campaign.repeats",
+    "calibration", "noise.encoder_arcsec", NULL};
 
 /* ---- error curves (`sunmc curve`): one unit, noiseless readings ---- */
 
@@ -506,6 +578,10 @@ const sensor_family psd_family = {
     .workspace_bytes = psd_ws_bytes,
     .workspace_free = psd_ws_free,
     .unit_run = psd_unit_run,
+    .readings_bytes = psd_readings_bytes,
+    .unit_read = psd_unit_take_readings,
+    .unit_finish = psd_unit_finish,
+    .readings_ignore = psd_readings_ignore,
     .thermal = 1,
     .grid = &psd_grid_hooks,
     .curve = &psd_curve_hooks,

@@ -3,7 +3,8 @@
  * config are the bytes another config with another campaign reads, and
  * finishing that config's unit from them gives unit_run's bytes; which
  * configs share readings (a campaign or encoder change does; a tolerance,
- * the validation grid, the seed or a pick-freeze does not); mc_run_store
+ * the validation grid, the seed, a pick-freeze, the DSS's mount or the
+ * PSD's table order does not), for ESS, DSS and PSD; mc_run_store
  * and mc_run_each give mc_run's bytes in 1 and 2 threads, reading each unit
  * once; the range beyond the store's capacity runs without it; and the
  * skipped systematic pass leaves the after RMS as it was. */
@@ -148,6 +149,27 @@ static void dss_readings(void **state)
     }
 }
 
+/* The PSD: its campaign's grid and repeats and its fit leave the readings
+ * as they are; the table's order (a campaign key) does not. */
+static void psd_readings(void **state)
+{
+    (void)state;
+    const char *other[] = {"campaign.alpha_step_deg=4", "campaign.repeats=2",
+                           "calibration.model=polynomial"};
+    const char *order[] = {"campaign.table_order=alpha_outer"};
+    config_state st;
+    test_build(&st, "configs/psd.ini", NULL, 0);
+    sunmc_config a = st.cfg;
+    config_state_free(&st);
+    test_build(&st, "configs/psd.ini", other, 3);
+    sunmc_config b = st.cfg;
+    config_state_free(&st);
+    check_shared(&a, &b);
+    test_build(&st, "configs/psd.ini", order, 1);
+    assert_false(unit_readings_same(&a, &st.cfg));
+    config_state_free(&st);
+}
+
 /* mc_run_store and mc_run_each give mc_run's bytes, reading each unit once
  * for configs that share readings. */
 static void runs_with_a_store(void **state)
@@ -265,6 +287,7 @@ int main(void)
         cmocka_unit_test(readings_ignore_the_campaign),
         cmocka_unit_test(readings_differ),
         cmocka_unit_test(dss_readings),
+        cmocka_unit_test(psd_readings),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
         cmocka_unit_test(no_systematic_pass),
