@@ -145,11 +145,12 @@ void toy_sample(const sunmc_config *c, long unit, toy_deviations *d)
     deviations_sample(toy_deviation_list, TOY_N_TOL, c, (uint64_t)c->seed, unit, d);
 }
 
-/* The thread's workspace: one grid's alphas and readings. */
+/* The thread's workspace: one grid's alphas and readings, and one unit's
+ * validation readings. */
 static void *toy_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     long n = toy_cal_count(c) > toy_val_count(c) ? toy_cal_count(c) : toy_val_count(c);
-    double *w = malloc(2 * (size_t)n * sizeof *w);
+    double *w = malloc((2 * (size_t)n + (size_t)toy_val_count(c)) * sizeof *w);
     if (!w)
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
     return w;
@@ -157,9 +158,26 @@ static void *toy_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 
 static void toy_ws_free(void *ws) { free(ws); }
 
-static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+/* The toy's readings (family.h: unit_read): the validation walk's
+ * readings, one double a grid point. */
+static size_t toy_readings_bytes(const sunmc_config *c)
+{
+    return (size_t)toy_val_count(c) * sizeof(double);
+}
+
+static int toy_unit_read(const sunmc_config *c, long unit, void *ws, void *rd)
 {
     toy_deviations d;
+    toy_sample(c, unit, &d);
+    toy_validation(c, &d, unit, ws, rd);
+    return SUNMC_OK;
+}
+
+static int toy_unit_finish(const sunmc_config *c, long unit, void *ws, const void *rd,
+                           unit_result *res)
+{
+    toy_deviations d;
+    const double *yv = rd;
     double p[2], *a = ws, *y = a + (toy_cal_count(c) > toy_val_count(c) ? toy_cal_count(c)
                                                                             : toy_val_count(c));
     toy_sample(c, unit, &d);
@@ -175,14 +193,27 @@ static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result 
     band_acc before, after;
     band_acc_reset(&before);
     band_acc_reset(&after);
-    toy_validation(c, &d, unit, a, y);
     for (long i = 0; i < toy_val_count(c); i++) {
-        band_acc_add(&before, &c->bands_deg, fabs(a[i]) * DEG_PER_RAD, y[i] - a[i]);
-        band_acc_add(&after, &c->bands_deg, fabs(a[i]) * DEG_PER_RAD, (y[i] - p[0]) / p[1] - a[i]);
+        double ai = toy_val_alpha_deg(c, i) * RAD_PER_DEG;
+        band_acc_add(&before, &c->bands_deg, fabs(ai) * DEG_PER_RAD, yv[i] - ai);
+        band_acc_add(&after, &c->bands_deg, fabs(ai) * DEG_PER_RAD, (yv[i] - p[0]) / p[1] - ai);
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, ARCSEC_PER_RAD);
     return SUNMC_OK;
 }
+
+/* A unit: its readings into the workspace's second half, then the rest. */
+static int toy_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
+{
+    long n = toy_cal_count(c) > toy_val_count(c) ? toy_cal_count(c) : toy_val_count(c);
+    double *rd = (double *)ws + 2 * n;
+    toy_unit_read(c, unit, ws, rd);
+    return toy_unit_finish(c, unit, ws, rd, res);
+}
+
+/* The readings depend on the validation's step, the span, the tolerances,
+ * the reading noise and the seed, not on the campaign's step. */
+static const char *const toy_readings_ignore[] = {"campaign", NULL};
 
 /* ---- curve: one unit's error over the validation grid (axis 1 has one
  * value, the toy has no second axis). ---- */
@@ -263,6 +294,10 @@ const sensor_family toy_family = {
     .workspace_alloc = toy_ws_alloc,
     .workspace_free = toy_ws_free,
     .unit_run = toy_unit_run,
+    .readings_bytes = toy_readings_bytes,
+    .unit_read = toy_unit_read,
+    .unit_finish = toy_unit_finish,
+    .readings_ignore = toy_readings_ignore,
     .deviations = toy_deviation_list,
     .n_deviations = TOY_N_TOL,
     .curve = &toy_curve,

@@ -4,7 +4,7 @@
  * finishing that config's unit from them gives unit_run's bytes; which
  * configs share readings (a campaign or encoder change does; a tolerance,
  * the validation grid, the seed, a pick-freeze, the DSS's mount or the
- * PSD's table order does not), for ESS, DSS and PSD; mc_run_store
+ * PSD's table order does not), for ESS, DSS, PSD and the toy; mc_run_store
  * and mc_run_each give mc_run's bytes in 1 and 2 threads, reading each unit
  * once; the range beyond the store's capacity runs without it; and the
  * skipped systematic pass leaves the after RMS as it was. */
@@ -14,6 +14,7 @@
 #include "montecarlo.h"
 #include "status.h"
 #include "unit_store.h"
+#include "registry.h"
 #include "toy_family.h"
 
 #include <stdlib.h>
@@ -111,9 +112,12 @@ static void readings_differ(void **state)
     b.pick = a.pick;
     assert_true(unit_readings_same(&a, &b));
     /* a family that does not split its units shares nothing and has no
-     * store: the toy */
+     * store: the toy without its halves */
+    static sensor_family whole;
+    whole = toy_family;
+    whole.unit_read = NULL;
     sunmc_config t = a;
-    t.family = &toy_family;
+    t.family = &whole;
     assert_false(unit_readings_same(&t, &t));
     unit_store *s = NULL;
     char err[SUNMC_ERRLEN];
@@ -166,6 +170,27 @@ static void psd_readings(void **state)
     config_state_free(&st);
     check_shared(&a, &b);
     test_build(&st, "configs/psd.ini", order, 1);
+    assert_false(unit_readings_same(&a, &st.cfg));
+    config_state_free(&st);
+}
+
+/* The toy, with reading noise: its readings do not depend on its
+ * campaign's step, and a store serves a run of either. */
+static void toy_readings(void **state)
+{
+    (void)state;
+    const char *sa[] = {"sensor.family=toy", "noise.reading_arcsec=3"};
+    const char *sb[] = {"sensor.family=toy", "noise.reading_arcsec=3", "campaign.step_deg=2.5"};
+    const char *sc[] = {"sensor.family=toy", "noise.reading_arcsec=3", "validation.step_deg=4"};
+    config_state st;
+    test_build(&st, NULL, sa, 2);
+    sunmc_config a = st.cfg;
+    config_state_free(&st);
+    test_build(&st, NULL, sb, 3);
+    sunmc_config b = st.cfg;
+    config_state_free(&st);
+    check_shared(&a, &b);
+    test_build(&st, NULL, sc, 3);
     assert_false(unit_readings_same(&a, &st.cfg));
     config_state_free(&st);
 }
@@ -281,6 +306,12 @@ static void no_systematic_pass(void **state)
         }
 }
 
+static int setup(void **state)
+{
+    (void)state;
+    return sensor_family_register(&toy_family) == 0 ? 0 : -1;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -288,9 +319,10 @@ int main(void)
         cmocka_unit_test(readings_differ),
         cmocka_unit_test(dss_readings),
         cmocka_unit_test(psd_readings),
+        cmocka_unit_test(toy_readings),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
         cmocka_unit_test(no_systematic_pass),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, setup, NULL);
 }
