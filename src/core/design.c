@@ -295,6 +295,19 @@ static int settle(design_result *d, design_candidate *k, report_acc *acc, design
     }
 }
 
+/* Units of readings the design keeps: a block, or the screen's units
+ * when a block's would take more than DESIGN_STORE_MAX_BYTES (many
+ * operating temperatures), or none. */
+#define DESIGN_STORE_MAX_BYTES 256e6
+static long store_units(const sunmc_config *c, long block)
+{
+    if (unit_store_bytes(c, block) <= DESIGN_STORE_MAX_BYTES)
+        return block;
+    if (unit_store_bytes(c, c->search_screen_units) <= DESIGN_STORE_MAX_BYTES)
+        return c->search_screen_units;
+    return 0;
+}
+
 int design_run(design_result *d, int threads, design_progress_fn progress, void *ctx, char *err,
                size_t errlen)
 {
@@ -307,7 +320,7 @@ int design_run(design_result *d, int threads, design_progress_fn progress, void 
     d->order = calloc((size_t)d->n, sizeof *d->order);
     int s = w.buf && w.rows && acc && d->order ? SUNMC_OK : SUNMC_ENOMEM;
     if (s == SUNMC_OK && !d->no_reuse)
-        s = unit_store_alloc(c0, block, &w.store, err, errlen);
+        s = unit_store_alloc(c0, store_units(c0, block), &w.store, err, errlen);
     if (s == SUNMC_OK)
         s = screen(d, acc, &w, progress, ctx, err, errlen);
     for (int i = 0; i < d->n; i++)

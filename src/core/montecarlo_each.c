@@ -5,6 +5,7 @@
 #include "unit_store.h"
 
 #include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 /* Shared state of the parallel region. */
