@@ -287,23 +287,35 @@ static void run_each_config(void **state)
 }
 
 /* Without the systematic pass: the same RMS before and after, the
- * systematic part NaN (it is finite with the pass). */
-static void no_systematic_pass(void **state)
+ * systematic part NaN (it is finite with the pass); ESS and DSS. */
+static void no_sys_check(const sunmc_config *c, int angles)
 {
-    (void)state;
-    sunmc_config c = ess(NULL, 0), q = c;
+    sunmc_config q = *c;
     q.no_systematic = 1;
     unit_result full[UNITS], quick[UNITS];
     char err[SUNMC_ERRLEN];
-    assert_int_equal(mc_run(&c, 0, UNITS, 1, full, NULL, NULL, err, sizeof err), SUNMC_OK);
+    assert_int_equal(mc_run(c, 0, UNITS, 1, full, NULL, NULL, err, sizeof err), SUNMC_OK);
     assert_int_equal(mc_run(&q, 0, UNITS, 1, quick, NULL, NULL, err, sizeof err), SUNMC_OK);
     for (int u = 0; u < UNITS; u++)
-        for (int b = 0; b < c.bands_deg.n; b++) {
-            assert_true(full[u].rms_before[0][b] == quick[u].rms_before[0][b]);
-            assert_true(full[u].rms_after[0][b] == quick[u].rms_after[0][b]);
-            assert_true(isfinite(full[u].rms_after_sys[0][b]));
-            assert_true(isnan(quick[u].rms_after_sys[0][b]));
-        }
+        for (int a = 0; a < angles; a++)
+            for (int b = 0; b < c->bands_deg.n; b++) {
+                assert_true(full[u].rms_before[a][b] == quick[u].rms_before[a][b]);
+                assert_true(full[u].rms_after[a][b] == quick[u].rms_after[a][b]);
+                assert_true(isfinite(full[u].rms_after_sys[a][b]));
+                assert_true(isnan(quick[u].rms_after_sys[a][b]));
+            }
+}
+
+static void no_systematic_pass(void **state)
+{
+    (void)state;
+    sunmc_config c = ess(NULL, 0);
+    no_sys_check(&c, 1);
+    const char *coarse[] = {"validation.b_step_deg=9"};
+    config_state st;
+    test_build(&st, "configs/dss.ini", coarse, 1);
+    no_sys_check(&st.cfg, 3);
+    config_state_free(&st);
 }
 
 static int setup(void **state)
