@@ -136,8 +136,10 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
     if (st == SUNMC_ENOMEM)
         sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
     long run = budget_units_run(c, units);
+    sunmc_config t = *c;
+    t.no_systematic = 1; /* the budget reads no systematic part */
     if (st == SUNMC_OK)
-        st = mc_run(c, 0, run, threads, res, NULL, NULL, err, errlen);
+        st = mc_run(&t, 0, run, threads, res, NULL, NULL, err, errlen);
     for (long u = run; st == SUNMC_OK && u < units; u++) {
         res[u] = res[0]; /* the same unit: no random input varies */
         res[u].unit = u;

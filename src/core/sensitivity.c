@@ -182,6 +182,7 @@ static int sens_runs(const sunmc_config *c, long units, int threads, sens_progre
         sunmc_config t = *c;
         char what[2 * CONFIG_STR_MAX];
         t.pick.n = 0;
+        t.no_systematic = 1; /* the indices read no systematic part */
         if (j == 1)
             t.seed = s->seed_b;
         if (j >= 2) {
