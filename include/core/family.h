@@ -71,6 +71,11 @@ typedef struct {
      * measurement only some modes make): when 0 it is no input, whatever
      * its keys say */
     int (*active)(const sunmc_config *c);
+    /* 1 when only the calibration campaign draws from the stream (never
+     * the validation readings): configs whose pick-freeze differs only in
+     * such streams share their readings (unit_store.h).  0, the safe
+     * default: the readings may draw from it. */
+    int campaign_only;
 } family_noise;
 
 /* The turntable grids, for a campaign's cost and span (campaign.h), and

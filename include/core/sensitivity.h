@@ -30,6 +30,9 @@
 #include "stats.h"
 
 #define SENS_MAX_SOURCES 48
+/* Most bytes of validation readings kept for the runs that share A's
+ * (unit_store.h); above it they are read again (the same bits). */
+#define SENS_STORE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 #define SENS_SEED_B_XOR 0x5DEECE66DL /* sample B's seed: run.seed XOR this */
 #define SENS_BOOTSTRAP 1000          /* bootstrap resamples of the indices */
 #define SENS_BOOT_SEED 2010u         /* their fixed seed */
@@ -48,6 +51,7 @@ typedef struct {
     int angle, band;                /* the report row (as the budget's) */
     long units;                     /* N, rows of A and of B */
     long paired_units;              /* rows with a fit in every run */
+    long reused_units;              /* unit runs finished from stored readings */
     long seed, seed_b;
     int n;
     sens_source src[SENS_MAX_SOURCES];

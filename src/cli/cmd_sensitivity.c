@@ -132,8 +132,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
            sum[0], sum[1]);
     printf("Sorted by ST after calibration.  S1: the share of the unit-to-unit variance of the "
            "RMS the input\nexplains alone; ST: with its interactions.  Intervals: bootstrap over "
-           "the units (%d resamples).  %ld unit runs: (%d inputs + 2) x %ld.\n",
-           SENS_BOOTSTRAP, (long)(s->n + 2) * s->units, s->n, s->units);
+           "the units (%d resamples).\n%ld unit runs: (%d inputs + 2) x %ld; %ld of them finished "
+           "from sample A's validation\nreadings (the inputs only the campaign draws from).\n",
+           SENS_BOOTSTRAP, (long)(s->n + 2) * s->units, s->n, s->units, s->reused_units);
 }
 
 static int write_out(const cli_options *o, const config_state *st, const sens_result *s,

@@ -5,6 +5,7 @@
 #include "budget.h"
 #include "montecarlo.h"
 #include "status.h"
+#include "unit_store.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -93,11 +94,14 @@ int sens_random_inputs(const sunmc_config *c)
     return n;
 }
 
-/* Y before and after of config c over units [0, units): NaN without a fit. */
-static int run_y(const sunmc_config *c, long units, int threads, const sens_result *s,
-                 unit_result *res, double *yb, double *ya, char *err, size_t errlen)
+/* Y before and after of config c over units [0, units): NaN without a
+ * fit.  store (NULL: none) keeps or serves the units' validation readings
+ * (unit_store.h). */
+static int run_y(const sunmc_config *c, unit_store *store, long units, int threads,
+                 const sens_result *s, unit_result *res, double *yb, double *ya, char *err,
+                 size_t errlen)
 {
-    int rc = mc_run(c, 0, units, threads, res, NULL, NULL, err, errlen);
+    int rc = mc_run_store(c, store, 0, units, threads, res, NULL, NULL, err, errlen);
     if (rc)
         return rc;
     for (long u = 0; u < units; u++) {
@@ -169,35 +173,84 @@ static int indices(const sunmc_config *c, sens_result *s, const double *y, long 
     return rc;
 }
 
+/* Run j's config: A (j = 0), B (j = 1), A with input j - 2's stream from B. */
+static void run_config(const sunmc_config *c, const sens_result *s, int j, sunmc_config *t)
+{
+    *t = *c;
+    t->pick.n = 0;
+    t->no_systematic = 1; /* the indices read no systematic part */
+    if (j == 1)
+        t->seed = s->seed_b;
+    if (j >= 2) {
+        t->pick.seed = s->seed_b;
+        t->pick.n = 1;
+        t->pick.stream[0] = s->src[j - 2].stream;
+    }
+}
+
+/* The order of the runs: A; the A_B^i that read A's validation (input i is
+ * a stream only the campaign draws from, unit_readings_same), served from
+ * a store of A's readings (shared[j] = 1); then B and the others. */
+static void run_order(const sunmc_config *t, int cols, int *order, unsigned char *shared)
+{
+    int k = 0;
+    order[k++] = 0;
+    shared[0] = 1;
+    for (int pass = 0; pass < 2; pass++)
+        for (int j = 1; j < cols; j++) {
+            int same = j >= 2 && unit_readings_same(&t[0], &t[j]);
+            if (same == (pass == 0)) {
+                order[k++] = j;
+                shared[j] = (unsigned char)same;
+            }
+        }
+}
+
+/* A store of the units' readings when it is worth its memory (at most
+ * SENS_STORE_MAX_BYTES); NULL without one (the same bits, read again). */
+static int sens_store(const sunmc_config *c, long units, unit_store **store, char *err,
+                      size_t errlen)
+{
+    *store = NULL;
+    double bytes = unit_store_bytes(c, units);
+    if (!(bytes > 0) || bytes > SENS_STORE_MAX_BYTES)
+        return SUNMC_OK;
+    return unit_store_alloc(c, units, store, err, errlen);
+}
+
 /* The d + 2 Monte Carlos: A, B, then A with each input's stream from B.
  * Column j of y (units values) is run j's before, column cols + j its after. */
 static int sens_runs(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
                      void *ctx, sens_result *s, double *y, char *err, size_t errlen)
 {
+    int cols = s->n + 2, rc = SUNMC_OK, order[SENS_MAX_SOURCES + 2];
+    unsigned char shared[SENS_MAX_SOURCES + 2] = {0};
     unit_result *res = calloc((size_t)units, sizeof *res);
-    if (!res)
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", units);
-    int cols = s->n + 2, rc = SUNMC_OK;
-    for (int j = 0; j < cols && rc == SUNMC_OK; j++) {
-        sunmc_config t = *c;
+    sunmc_config *t = malloc((size_t)cols * sizeof *t);
+    unit_store *store = NULL;
+    if (!res || !t)
+        rc = sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", units);
+    for (int j = 0; rc == SUNMC_OK && j < cols; j++)
+        run_config(c, s, j, &t[j]);
+    if (rc == SUNMC_OK && (rc = sens_store(c, units, &store, err, errlen)) == SUNMC_OK)
+        run_order(t, cols, order, shared);
+    for (int k = 0; k < cols && rc == SUNMC_OK; k++) {
+        int j = order[k];
         char what[2 * CONFIG_STR_MAX];
-        t.pick.n = 0;
-        t.no_systematic = 1; /* the indices read no systematic part */
-        if (j == 1)
-            t.seed = s->seed_b;
-        if (j >= 2) {
-            t.pick.seed = s->seed_b;
-            t.pick.n = 1;
-            t.pick.stream[0] = s->src[j - 2].stream;
-        }
         snprintf(what, sizeof what, "%s", j == 0 ? "sample A" : j == 1 ? "sample B" : "");
         if (j >= 2)
             snprintf(what, sizeof what, "A with %s from B", s->src[j - 2].name);
         if (progress)
-            progress(what, j + 1, cols, ctx);
-        rc = run_y(&t, units, threads, s, res, y + (size_t)j * (size_t)units,
-                   y + (size_t)(cols + j) * (size_t)units, err, errlen);
+            progress(what, k + 1, cols, ctx);
+        long reads = unit_store_reads(store);
+        rc = run_y(&t[j], shared[j] ? store : NULL, units, threads, s, res,
+                   y + (size_t)j * (size_t)units, y + (size_t)(cols + j) * (size_t)units, err,
+                   errlen);
+        if (j > 0 && shared[j] && store)
+            s->reused_units += units - (unit_store_reads(store) - reads);
     }
+    unit_store_free(store);
+    free(t);
     free(res);
     return rc;
 }

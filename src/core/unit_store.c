@@ -2,6 +2,7 @@
  * that share them (unit_store.h). */
 #include "unit_store.h"
 #include "family.h"
+#include "rng.h"
 #include "status.h"
 
 #include <stdlib.h>
@@ -38,12 +39,45 @@ static int ignored(const sensor_family *fam, const config_key *k)
     return 0;
 }
 
+/* 1 when the readings of fam's units never draw from stream id: a noise
+ * stream of the campaign alone (family_noise.campaign_only), or the stream
+ * of a tolerance whose key the readings ignore. */
+static int stream_unread(const sensor_family *fam, uint32_t id)
+{
+    for (const family_noise *nz = fam->noise; nz && nz->name; nz++)
+        if (nz->stream == id)
+            return nz->campaign_only;
+    for (int e = 0; e < fam->n_deviations; e++) {
+        const deviation_spec *d = &fam->deviations[e];
+        if (RNG_STREAM_TOLERANCE + d->stream != id)
+            continue;
+        const config_key *k = config_find_in(fam, "tolerance", d->name);
+        return k && ignored(fam, k);
+    }
+    return 0;
+}
+
+/* The pick-freeze streams of c that its readings draw from into out (in
+ * c's order); their count. */
+static int read_picks(const sunmc_config *c, uint32_t *out)
+{
+    int n = 0;
+    for (int i = 0; i < c->pick.n; i++)
+        if (!stream_unread(c->family, c->pick.stream[i]))
+            out[n++] = c->pick.stream[i];
+    return n;
+}
+
+/* The same streams of the readings taken from the same pick seed: a pick
+ * of a stream only the campaign draws from changes no reading. */
 static int same_pick(const sunmc_config *a, const sunmc_config *b)
 {
-    if (a->pick.n != b->pick.n || (a->pick.n > 0 && a->pick.seed != b->pick.seed))
+    uint32_t sa[CONFIG_PICK_MAX], sb[CONFIG_PICK_MAX];
+    int na = read_picks(a, sa), nb = read_picks(b, sb);
+    if (na != nb || (na > 0 && a->pick.seed != b->pick.seed))
         return 0;
-    for (int i = 0; i < a->pick.n; i++)
-        if (a->pick.stream[i] != b->pick.stream[i])
+    for (int i = 0; i < na; i++)
+        if (sa[i] != sb[i])
             return 0;
     return 1;
 }

@@ -543,10 +543,10 @@ static int dss_sun_measured(const sunmc_config *c)
     return dc->sun_mode == DSS_SUN_MEASURED && dc->design.mount == DSS_MOUNT_AS_MOUNTED;
 }
 static const family_noise dss_random_noise[] = {
-    {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys, NULL},
-    {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys, NULL},
-    {"sun_measurement", RNG_STREAM_SUN_B, dss_sun_keys, dss_sun_measured},
-    {NULL, 0, NULL, NULL}};
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, dss_cal_noise_keys, NULL, 1},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, dss_val_noise_keys, NULL, 0},
+    {"sun_measurement", RNG_STREAM_SUN_B, dss_sun_keys, dss_sun_measured, 1},
+    {NULL, 0, NULL, NULL, 0}};
 
 const sensor_family dss_family = {
     .name = "dss",

@@ -197,11 +197,11 @@ static int ess_sun_y_measured(const sunmc_config *c)
     return ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED;
 }
 static const family_noise ess_random_noise[] = {
-    {"campaign_noise", RNG_STREAM_CAL_NOISE, ess_cal_noise_keys, NULL},
-    {"validation_noise", RNG_STREAM_VAL_NOISE, ess_val_noise_keys, NULL},
-    {"roll_measurement", RNG_STREAM_ALIGNMENT, ess_roll_keys, NULL},
-    {"sun_y_measurement", RNG_STREAM_SUN_Y, ess_sun_y_keys, ess_sun_y_measured},
-    {NULL, 0, NULL, NULL}};
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, ess_cal_noise_keys, NULL, 1},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, ess_val_noise_keys, NULL, 0},
+    {"roll_measurement", RNG_STREAM_ALIGNMENT, ess_roll_keys, NULL, 1},
+    {"sun_y_measurement", RNG_STREAM_SUN_Y, ess_sun_y_keys, ess_sun_y_measured, 1},
+    {NULL, 0, NULL, NULL, 0}};
 
 static int ess_n_angles(const sunmc_config *c) { return 1; }
 

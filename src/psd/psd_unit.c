@@ -536,9 +536,9 @@ static const char *const psd_table_axes[] = {"alpha", "beta"};
 static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
 static const char *const psd_val_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
 static const family_noise psd_noise[] = {
-    {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL},
-    {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL},
-    {NULL, 0, NULL, NULL}};
+    {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL, 1},
+    {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL, 0},
+    {NULL, 0, NULL, NULL, 0}};
 
 static const family_grid psd_grid_hooks = {
     .points = psd_table_grid,

@@ -134,6 +134,8 @@ static void type_a_indices_and_threads(void **state)
     assert_int_equal(sens_run(&st.cfg, 48, 2, NULL, NULL, s2, err, sizeof err), SUNMC_OK);
     assert_memory_equal(s1, s2, sizeof *s1);
     assert_int_equal(s1->n, 15);
+    /* campaign_noise and roll_measurement finished from A's readings */
+    assert_int_equal(s1->reused_units, 2 * 48);
     /* Two inputs' total index after calibration recomputed here from three
      * Monte Carlos: A (run.seed), B (the other seed), A with the input's
      * stream from B; Jansen's formula over the variance of A and B. */

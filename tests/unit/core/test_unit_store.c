@@ -12,7 +12,9 @@
 
 #include "family.h"
 #include "montecarlo.h"
+#include "rng.h"
 #include "status.h"
+#include <string.h>
 #include "unit_store.h"
 #include "registry.h"
 #include "toy_family.h"
@@ -193,6 +195,35 @@ static void toy_readings(void **state)
     test_build(&st, NULL, sc, 3);
     assert_false(unit_readings_same(&a, &st.cfg));
     config_state_free(&st);
+/* A pick-freeze of a stream only the campaign draws from (campaign noise,
+ * the roll measurement: family_noise.campaign_only) reads the same bytes
+ * as no pick; one of the validation noise or of a tolerance does not. */
+static void picks_of_campaign_streams(void **state)
+{
+    (void)state;
+    sunmc_config a = ess(NULL, 0), b = a;
+    b.pick.n = 1;
+    b.pick.seed = 9;
+    b.pick.stream[0] = RNG_STREAM_CAL_NOISE;
+    check_shared(&a, &b);
+    b.pick.stream[0] = RNG_STREAM_ALIGNMENT;
+    check_shared(&a, &b);
+    b.pick.stream[0] = RNG_STREAM_VAL_NOISE;
+    assert_false(unit_readings_same(&a, &b));
+    uint32_t dh = 0;
+    for (int e = 0; e < a.family->n_deviations; e++)
+        if (strcmp(a.family->deviations[e].name, "dH_um") == 0)
+            dh = RNG_STREAM_TOLERANCE + a.family->deviations[e].stream;
+    assert_true(dh != 0);
+    b.pick.stream[0] = dh;
+    assert_false(unit_readings_same(&a, &b));
+    /* the streams the readings draw from, compared with their seed */
+    sunmc_config c = b;
+    c.pick.n = 2;
+    c.pick.stream[1] = RNG_STREAM_CAL_NOISE;
+    assert_true(unit_readings_same(&b, &c));
+    c.pick.seed = 10;
+    assert_false(unit_readings_same(&b, &c));
 }
 
 /* mc_run_store and mc_run_each give mc_run's bytes, reading each unit once
@@ -332,6 +363,7 @@ int main(void)
         cmocka_unit_test(dss_readings),
         cmocka_unit_test(psd_readings),
         cmocka_unit_test(toy_readings),
+        cmocka_unit_test(picks_of_campaign_streams),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
         cmocka_unit_test(no_systematic_pass),
