@@ -195,6 +195,8 @@ static void toy_readings(void **state)
     test_build(&st, NULL, sc, 3);
     assert_false(unit_readings_same(&a, &st.cfg));
     config_state_free(&st);
+}
+
 /* A pick-freeze of a stream only the campaign draws from (campaign noise,
  * the roll measurement: family_noise.campaign_only) reads the same bytes
  * as no pick; one of the validation noise or of a tolerance does not. */
