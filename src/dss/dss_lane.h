@@ -217,7 +217,10 @@ VM_INLINE double dss_lane_ds(const dss_model *m, int k, geo_table R, geo_v3 dsdu
     return dsdu.x * t3.x + dsdu.y * t3.y + dsdu.z * t3.z;
 }
 
-VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, int want_j)
+/* disc: 1 (the sun disc on), 0 (off: its gain is 1, not computed) or -1
+ * (either: computed and selected). */
+VM_INLINE dss_lane_model dss_lane_model_spot_as(const dss_model *m, geo_table R, int want_j,
+                                                int disc)
 {
     geo_v3 w = geo_table_mul(R, geo_v3_of(m->v0));
     geo_v3 u = geo_mul(m->M, w);
@@ -228,8 +231,11 @@ VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, in
     /* the sun's disc scales the spot's distance from the pinhole's foot;
      * the Jacobian takes the gain as constant (its derivatives are ~1e-5 of
      * the terms kept) */
-    double k = dss_lane_disc_gain(m->disc_c_rad2, u.x * u.x + u.y * u.y, u.z, H, t, n);
-    k = vm_select(m->disc_c_rad2 != 0.0, k, 1.0);
+    double k = 1.0;
+    if (disc) {
+        k = dss_lane_disc_gain(m->disc_c_rad2, u.x * u.x + u.y * u.y, u.z, H, t, n);
+        k = vm_select(m->disc_c_rad2 != 0.0, k, 1.0);
+    }
     double q = g.q * k;
     double inv_pix = 1.0 / m->pixel_mm;
     e.x = (m->p[DSS_P_X0] - u.x * q) * inv_pix;
@@ -263,6 +269,11 @@ VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, in
     e.jx.s2 = dss_lane_ds(m, 4, R, dx);
     e.jy.s2 = dss_lane_ds(m, 4, R, dy);
     return e;
+}
+
+VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, int want_j)
+{
+    return dss_lane_model_spot_as(m, R, want_j, -1);
 }
 
 /* The calibrated angles of a spot whose field angle th and azimuth

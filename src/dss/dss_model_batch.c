@@ -32,9 +32,10 @@ VM_KERNEL void dss_table_fill(dss_table *t, const double *b1_rad, const double *
     }
 }
 
-VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const double *x_px,
-                               const double *y_px, const double *sw, double *f,
-                               double *const col[DSS_NP])
+/* dss_model_batch's loop, disc a constant (dss_lane_model_spot_as). */
+VM_INLINE void model_batch_loop(const dss_model *m, const dss_table *t, const double *x_px,
+                                const double *y_px, const double *sw, double *f,
+                                double *const col[DSS_NP], int disc)
 {
     const double *restrict m0 = t->m[0], *restrict m1 = t->m[1], *restrict m2 = t->m[2];
     const double *restrict m3 = t->m[3], *restrict m4 = t->m[4], *restrict m5 = t->m[5];
@@ -44,7 +45,7 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
     double *js1 = col[DSS_P_S1], *js2 = col[DSS_P_S2];
     VM_SIMD for (size_t i = 0; i < vm_pad(t->n); i++) {
         geo_table R = {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]};
-        dss_lane_model e = dss_lane_model_spot(m, R, 1);
+        dss_lane_model e = dss_lane_model_spot_as(m, R, 1, disc);
         /* a dropped or unmodelled point gives 0, whatever the model says there */
         double w = sw[i];
         int use = (w > 0.0) & e.ok;
@@ -71,6 +72,16 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
         js2[2 * i] = vm_keep(use, w * e.jx.s2);
         js2[2 * i + 1] = vm_keep(use, w * e.jy.s2);
     }
+}
+
+VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const double *x_px,
+                               const double *y_px, const double *sw, double *f,
+                               double *const col[DSS_NP])
+{
+    if (m->disc_c_rad2 != 0.0)
+        model_batch_loop(m, t, x_px, y_px, sw, f, col, 1);
+    else
+        model_batch_loop(m, t, x_px, y_px, sw, f, col, 0);
 }
 
 VM_KERNEL int dss_field_tan_chunk(size_t k, const double *r_mm, double H_mm, double t_mm,

@@ -351,13 +351,84 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
     dss_total_error_vec_chunk(k, v->as, v->bs, v->vx, v->vy, v->vz, v->ts);
 }
 
-/* Add one validation reading's errors (rad) to the accumulators. */
-static void add_errors(band_acc acc[DSS_N_ANGLES], const band_list *bands, double field_deg,
-                       double a, double b, double a0, double b0, double total)
+/* Which readings of a chunk each set of accumulators takes, as one
+ * reading at a time would: before = seen with on-board angles (beyond 86
+ * deg no spot falls on any detector of the config); after = those while
+ * the fit is good and compensates them (the first that it cannot fails
+ * the unit's fit and ends the after sums); after_sys = after's whose
+ * noise-free twin compensates (none without the systematic pass, sys 0). */
+static void chunk_uses(const dss_val_chunk *v, size_t k, int sys, unit_result *res, int *use_b,
+                       int *use_a, int *use_s)
 {
-    band_acc_add(&acc[ANGLE_ALPHA], bands, field_deg, a - a0);
-    band_acc_add(&acc[ANGLE_BETA], bands, field_deg, b - b0);
-    band_acc_add(&acc[ANGLE_TOTAL], bands, field_deg, total);
+    for (size_t q = 0; q < k; q++) {
+        use_b[q] = v->seen[q] && v->st_m[q] == SUNMC_OK;
+        use_a[q] = use_s[q] = 0;
+        if (!use_b[q] || res->fit_status != UNIT_FIT_OK)
+            continue;
+        if (v->st_c[q] != SUNMC_OK) {
+            res->fit_status = UNIT_FIT_FAILED;
+            continue;
+        }
+        use_a[q] = 1;
+        use_s[q] = sys && v->st_s[q] == SUNMC_OK;
+    }
+}
+
+/* sum2[i] += e2[q] for the readings q < k whose mask m[q] holds band i <
+ * nb, in reading order (band_acc_add's sums: vm_keep's +0 elsewhere). */
+static void add_bands(double *sum2, int nb, size_t k, const unsigned *m, const double *e2)
+{
+    for (int i = 0; i < nb; i++) {
+        double s = sum2[i];
+        for (size_t q = 0; q < k; q++)
+            s += vm_keep((int)((m[q] >> i) & 1u), e2[q]);
+        sum2[i] = s;
+    }
+}
+
+/* The same for three bands (the shipped lists), the sums in registers and
+ * their three chains interleaved. */
+static void add_bands3(double *sum2, size_t k, const unsigned *m, const double *e2)
+{
+    double s0 = sum2[0], s1 = sum2[1], s2 = sum2[2];
+    for (size_t q = 0; q < k; q++) {
+        s0 += vm_keep((int)(m[q] & 1u), e2[q]);
+        s1 += vm_keep((int)((m[q] >> 1) & 1u), e2[q]);
+        s2 += vm_keep((int)((m[q] >> 2) & 1u), e2[q]);
+    }
+    sum2[0] = s0;
+    sum2[1] = s1;
+    sum2[2] = s2;
+}
+
+/* Add the errors (rad) of readings q < k with use[q] to acc (alpha a - a0,
+ * beta b - b0, total t) in the bands of mask[q], as band_acc_add would
+ * one reading at a time. */
+static void add_chunk(band_acc acc[DSS_N_ANGLES], int nb, size_t k, const unsigned *mask,
+                      const int *use, const double *a, const double *b, const double *a0,
+                      const double *b0, const double *t)
+{
+    unsigned m[DSS_CHUNK];
+    double e2[DSS_N_ANGLES][DSS_CHUNK];
+    long n[CONFIG_BANDS_MAX] = {0};
+    for (size_t q = 0; q < k; q++) {
+        m[q] = use[q] ? mask[q] : 0u;
+        for (int i = 0; i < nb; i++)
+            n[i] += (m[q] >> i) & 1u;
+    }
+    for (size_t q = 0; q < k; q++) {
+        e2[ANGLE_ALPHA][q] = (a[q] - a0[q]) * (a[q] - a0[q]);
+        e2[ANGLE_BETA][q] = (b[q] - b0[q]) * (b[q] - b0[q]);
+        e2[ANGLE_TOTAL][q] = t[q] * t[q];
+    }
+    for (int ang = 0; ang < DSS_N_ANGLES; ang++) {
+        if (nb == 3)
+            add_bands3(acc[ang].sum2, k, m, e2[ang]);
+        else
+            add_bands(acc[ang].sum2, nb, k, m, e2[ang]);
+        for (int i = 0; i < nb; i++)
+            acc[ang].n[i] += n[i];
+    }
 }
 
 /* Score the unit's validation readings r (RMS before and after), and the
@@ -376,28 +447,21 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
     }
     dss_val_chunk v;
     int sys = !c->no_systematic;
+    int nb = c->bands_deg.n, use_b[DSS_CHUNK], use_a[DSS_CHUNK], use_s[DSS_CHUNK];
+    unsigned mask[DSS_CHUNK];
     for (size_t i0 = 0; i0 < r->n; i0 += DSS_CHUNK) {
         size_t k = r->n - i0 < DSS_CHUNK ? r->n - i0 : DSS_CHUNK;
-        validation_chunk(u, cal, r, i0, k, res->fit_status == UNIT_FIT_OK, sys, &v);
-        for (size_t q = 0; q < k; q++) {
-            if (!v.seen[q])
-                continue;
-            if (v.st_m[q] != SUNMC_OK)
-                continue; /* beyond 86 deg: no spot on any detector of the config */
-            add_errors(before, &c->bands_deg, v.field[q], v.am[q], v.bm[q], v.a0[q], v.b0[q],
-                       v.tm[q]);
-            if (res->fit_status != UNIT_FIT_OK)
-                continue;
-            if (v.st_c[q] != SUNMC_OK) {
-                res->fit_status = UNIT_FIT_FAILED;
-                continue;
-            }
-            add_errors(after, &c->bands_deg, v.field[q], v.ac[q], v.bc[q], v.a0[q], v.b0[q],
-                       v.tc[q]);
-            if (sys && v.st_s[q] == SUNMC_OK)
-                add_errors(after_sys, &c->bands_deg, v.field[q], v.as[q], v.bs[q], v.a0[q],
-                           v.b0[q], v.ts[q]);
-        }
+        int fit_ok = res->fit_status == UNIT_FIT_OK;
+        validation_chunk(u, cal, r, i0, k, fit_ok, sys, &v);
+        for (size_t q = 0; q < k; q++)
+            mask[q] = band_mask(&c->bands_deg, v.field[q]);
+        chunk_uses(&v, k, sys, res, use_b, use_a, use_s);
+        add_chunk(before, nb, k, mask, use_b, v.am, v.bm, v.a0, v.b0, v.tm);
+        if (!fit_ok)
+            continue;
+        add_chunk(after, nb, k, mask, use_a, v.ac, v.bc, v.a0, v.b0, v.tc);
+        if (sys)
+            add_chunk(after_sys, nb, k, mask, use_s, v.as, v.bs, v.a0, v.b0, v.ts);
     }
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);

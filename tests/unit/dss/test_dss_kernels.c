@@ -14,6 +14,7 @@
 #include "dss_sensor.h"
 #include "dss_unit.h"
 #include "family.h"
+#include "registry.h"
 #include "rng.h"
 #include "units.h"
 #include "vmath.h"
@@ -318,6 +319,57 @@ static void test_fit_floor_start(void **state)
     config_state_free(&st);
 }
 
+/* One unit scored with report bands `bands`: its RMS before, after and
+ * systematic in the band at index `at` (all three angles). */
+static void score_band(const char *bands, int at, double out[3][3])
+{
+    config_state st;
+    char set[128], err[SUNMC_ERRLEN];
+    snprintf(set, sizeof set, "report.bands_deg=%s", bands);
+    const char *sets[] = {set, "validation.b_step_deg=6"};
+    test_build(&st, "configs/dss.ini", sets, 2);
+    const sensor_family *fam = sensor_family_find("dss");
+    assert_non_null(fam);
+    void *ws = fam->workspace_alloc(&st.cfg, err, sizeof err);
+    assert_non_null(ws);
+    static unit_result res;
+    assert_int_equal(fam->unit_run(&st.cfg, 3, ws, &res), SUNMC_OK);
+    assert_int_equal(res.fit_status, UNIT_FIT_OK);
+    for (int a = 0; a < 3; a++) {
+        out[a][0] = res.rms_before[a][at];
+        out[a][1] = res.rms_after[a][at];
+        out[a][2] = res.rms_after_sys[a][at];
+    }
+    fam->workspace_free(ws);
+    config_state_free(&st);
+}
+
+/* The band sums go a chunk at a time (three bands in registers, any other
+ * count by a loop): a band's RMS is the same bits whichever bands are
+ * listed with it, and the bands nest as sums of squares do. */
+static void test_band_sums_same_bits(void **state)
+{
+    double one[3][3], three[3][3], four[3][3];
+    score_band("0:60", 0, one);
+    score_band("0:20, 20:40, 0:60", 2, three);
+    score_band("0:10, 10:30, 30:60, 0:60", 3, four);
+    assert_true(memcmp(one, three, sizeof one) == 0);
+    assert_true(memcmp(one, four, sizeof one) == 0);
+    /* 0:60 is the union of 0:10, 10:30 and 30:60: its mean square lies
+     * between theirs */
+    double part[3][3][3];
+    for (int b = 0; b < 3; b++)
+        score_band("0:10, 10:30, 30:60, 0:60", b, part[b]);
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++) {
+            double lo = fmin(part[0][a][k], fmin(part[1][a][k], part[2][a][k]));
+            double hi = fmax(part[0][a][k], fmax(part[1][a][k], part[2][a][k]));
+            assert_true(one[a][k] > 0.0 && isfinite(one[a][k]));
+            assert_true(one[a][k] >= lo * (1.0 - 1e-12) && one[a][k] <= hi * (1.0 + 1e-12));
+            assert_true(lo < hi);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -329,6 +381,7 @@ int main(void)
         cmocka_unit_test(test_field_tan_edges),
         cmocka_unit_test(test_compensate_pair),
         cmocka_unit_test(test_fit_floor_start),
+        cmocka_unit_test(test_band_sums_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
