@@ -47,6 +47,9 @@
 #include <stddef.h>
 
 #define BUDGET_MAX_SOURCES 32
+/* Most bytes of validation readings the floor and alone runs keep for the
+ * runs that share them (unit_store.h); above it they are read again. */
+#define BUDGET_STORE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 #define BUDGET_EXPAND 4.0   /* bracket growth factor while the yield still holds */
 
 enum budget_limit_status {
@@ -87,6 +90,7 @@ typedef struct {
     stats_interval yield_today_ci;
     int limit_runs;                 /* Monte Carlos the search took */
     long limit_units;               /* unit runs it made (today's yield is the all-sources run's) */
+    long limit_reused;              /* of those, finished from the all-sources run's readings */
 } budget_source;
 
 typedef struct {
@@ -102,10 +106,20 @@ typedef struct {
     budget_stats today;             /* units [0, today_units) of the all-sources run */
     long today_units;               /* report.budget_units, or 0 when more than units */
     long unit_runs;                 /* unit runs of the all/floor/alone/no-tolerance runs */
+    long reused_units;              /* of those and the searches', finished from stored
+                                     * validation readings (unit_store.h) */
+    /* During budget_run: the all-sources run's readings of units
+     * [0, today_units), for the searches of the sources they do not read;
+     * NULL outside it */
+    struct unit_store *today_store;
 } budget_result;
 
 /* Unit runs the whole budget made: its runs and the inverse limits' searches. */
 long budget_unit_runs(const budget_result *b);
+
+/* Of those, the unit runs finished from stored validation readings of
+ * another run (unit_store.h) instead of reading their own. */
+long budget_reused_units(const budget_result *b);
 
 /* Called before each Monte Carlo: what (e.g. "dH_um alone"), i of n. */
 typedef void (*budget_progress_fn)(const char *what, int i, int n, void *ctx);
@@ -129,6 +143,14 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
  * random input of c varies (sens_random_inputs: every unit is the same
  * unit, run once and copied), else units. */
 long budget_units_run(const sunmc_config *c, long units);
+
+/* budget_monte_carlo of c over its report.budget_units units in b's row,
+ * those units' validation readings taken from the all-sources run's
+ * (b->today_store) when c reads them the same (unit_readings_same: c differs
+ * from it in keys the readings ignore); *reused: the unit runs finished
+ * from them. */
+int budget_monte_carlo_today(const sunmc_config *c, const budget_result *b, budget_stats *out,
+                             int threads, long *reused, char *err, size_t errlen);
 
 /* Set source `key`'s value in cfg (unit of the key). */
 void budget_set_tolerance(sunmc_config *cfg, const config_key *key, double value);

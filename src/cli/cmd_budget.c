@@ -292,8 +292,9 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            "narrow it).\n",
            u);
     printf("%ld unit runs (each inverse limit's yield at today's value is the all-sources run's "
-           "first %ld units).\n",
-           budget_unit_runs(b), c->budget_units);
+           "first %ld units;\nthe floor is one unit, copied); %ld of them finished from another "
+           "run's validation readings.\n",
+           budget_unit_runs(b), c->budget_units, budget_reused_units(b));
     warn_outside(b);
 }
 

@@ -8,6 +8,7 @@
 #include "sensitivity.h"
 #include "stats_blocks.h"
 #include "status.h"
+#include "unit_store.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -121,12 +122,38 @@ long budget_units_run(const sunmc_config *c, long units)
     return units > 1 && sens_random_inputs(c) == 0 ? 1 : units;
 }
 
-/* budget_monte_carlo, and when 0 < head <= units also the statistics of
- * units [0, head) into head_out: the run a smaller run of the same config
- * would have made (a unit depends on (seed, unit) only). */
+/* The units [0, units) of c into res (no systematic pass: the budget reads
+ * none).  Units [0, head) go through store `head_store` and the rest
+ * through `store` (either NULL: none; unit_store.h); a config without a
+ * random input runs unit 0 and copies it. */
+static int run_units(const sunmc_config *c, long units, int threads, unit_store *head_store,
+                     long head, unit_store *store, unit_result *res, char *err, size_t errlen)
+{
+    long run = budget_units_run(c, units);
+    sunmc_config t = *c;
+    t.no_systematic = 1;
+    head = head_store && head <= run ? head : 0;
+    int st = head > 0 ? mc_run_store(&t, head_store, 0, head, threads, res, NULL, NULL, err,
+                                     errlen)
+                      : SUNMC_OK;
+    if (st == SUNMC_OK && head < run)
+        st = mc_run_store(&t, store, head, run, threads, res + head, NULL, NULL, err, errlen);
+    for (long u = run; st == SUNMC_OK && u < units; u++) {
+        res[u] = res[0]; /* the same unit: no random input varies */
+        res[u].unit = u;
+    }
+    return st;
+}
+
+/* One budget Monte Carlo of c over units [0, units) (see run_units for
+ * the stores): its statistics into out, each unit's squares into
+ * sq_before / sq_after (may be NULL), and when 0 < head <= units also the
+ * statistics of units [0, head) into head_out: the run a smaller run of
+ * the same config would have made (a unit depends on (seed, unit) only). */
 static int monte_carlo(const sunmc_config *c, long units, int threads, int angle, int band,
-                       budget_stats *out, double *sq_before, double *sq_after, long head,
-                       budget_stats *head_out, char *err, size_t errlen)
+                       unit_store *head_store, unit_store *store, budget_stats *out,
+                       double *sq_before, double *sq_after, long head, budget_stats *head_out,
+                       char *err, size_t errlen)
 {
     int mst = memory_check_run(c, 0, units, threads, 1, 0, err, errlen);
     if (mst != SUNMC_OK)
@@ -135,15 +162,8 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
     int st = res ? SUNMC_OK : SUNMC_ENOMEM;
     if (st == SUNMC_ENOMEM)
         sunmc_fail(err, errlen, st, "out of memory for %ld units", units);
-    long run = budget_units_run(c, units);
-    sunmc_config t = *c;
-    t.no_systematic = 1; /* the budget reads no systematic part */
     if (st == SUNMC_OK)
-        st = mc_run(&t, 0, run, threads, res, NULL, NULL, err, errlen);
-    for (long u = run; st == SUNMC_OK && u < units; u++) {
-        res[u] = res[0]; /* the same unit: no random input varies */
-        res[u].unit = u;
-    }
+        st = run_units(c, units, threads, head_store, head, store, res, err, errlen);
     if (st == SUNMC_OK && ((st = row_stats(c, res, units, angle, band, out)) != SUNMC_OK ||
                            (head > 0 && head <= units &&
                             (st = row_stats(c, res, head, angle, band, head_out)) != SUNMC_OK)))
@@ -167,8 +187,22 @@ int budget_monte_carlo(const sunmc_config *c, long units, int threads, int angle
                        budget_stats *out, double *sq_before, double *sq_after, char *err,
                        size_t errlen)
 {
-    return monte_carlo(c, units, threads, angle, band, out, sq_before, sq_after, 0, NULL, err,
-                       errlen);
+    return monte_carlo(c, units, threads, angle, band, NULL, NULL, out, sq_before, sq_after, 0,
+                       NULL, err, errlen);
+}
+
+int budget_monte_carlo_today(const sunmc_config *c, const budget_result *b, budget_stats *out,
+                             int threads, long *reused, char *err, size_t errlen)
+{
+    unit_store *store = unit_store_serves(b->today_store, c, 0, c->budget_units)
+                            ? b->today_store
+                            : NULL;
+    long reads = unit_store_reads(store);
+    int rc = monte_carlo(c, c->budget_units, threads, b->angle, b->band, NULL, store, out, NULL,
+                         NULL, 0, NULL, err, errlen);
+    *reused = store ? budget_units_run(c, c->budget_units) - (unit_store_reads(store) - reads)
+                    : 0;
+    return rc;
 }
 
 /* Per-unit squares of the runs: all, floor, then each source alone; before
@@ -272,50 +306,121 @@ static void rank_sources(budget_result *b)
         b->src[b->order[i]].rank = i + 1;
 }
 
-/* The Monte Carlo runs: all, floor, each source alone, no tolerance. */
-static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
-                       budget_progress_fn progress, void *ctx, char *err, size_t errlen)
+/* The runs after "all sources" (index r of the squares: 1 the floor, 2 + i
+ * source i alone; n + 2 no tolerance), their configs and names. */
+typedef struct {
+    sunmc_config cfg[BUDGET_MAX_SOURCES + 2];
+    char what[BUDGET_MAX_SOURCES + 2][2 * CONFIG_STR_MAX];
+    int order[BUDGET_MAX_SOURCES + 2]; /* the order they run in */
+    int n;
+} budget_plan;
+
+static void plan_runs(const sunmc_config *c, const budget_result *b, budget_plan *p)
 {
-    int n_runs = 3 + b->n, run = 0, rc;
-    char what[2 * CONFIG_STR_MAX];
     sunmc_config floor = *c, no_tol = *c;
     for (int i = 0; i < b->n; i++) {
         budget_set_tolerance(&floor, b->src[i].key, 0.0);
         if (b->src[i].kind == BUDGET_TOLERANCE)
             budget_set_tolerance(&no_tol, b->src[i].key, 0.0);
     }
+    p->n = b->n + 2;
+    p->cfg[0] = floor;
+    snprintf(p->what[0], sizeof p->what[0], "floor (nominal design, no noise)");
+    for (int i = 0; i < b->n; i++) {
+        p->cfg[1 + i] = floor;
+        budget_set_tolerance(&p->cfg[1 + i], b->src[i].key, b->src[i].tolerance);
+        snprintf(p->what[1 + i], sizeof p->what[1 + i], "%s alone", b->src[i].name);
+    }
+    p->cfg[b->n + 1] = no_tol;
+    snprintf(p->what[b->n + 1], sizeof p->what[b->n + 1], "no tolerance (design and noise)");
+    /* each run followed by the later ones that read the same validation
+     * (unit_readings_same): one store serves them in turn */
+    unsigned char done[BUDGET_MAX_SOURCES + 2] = {0};
+    int k = 0;
+    for (int i = 0; i < p->n; i++) {
+        if (done[i])
+            continue;
+        p->order[k++] = i;
+        for (int j = i + 1; j < p->n; j++)
+            if (!done[j] && unit_readings_same(&p->cfg[i], &p->cfg[j])) {
+                p->order[k++] = j;
+                done[j] = 1;
+            }
+    }
+}
+
+/* A store of `units` units' readings when it is worth its memory (at most
+ * BUDGET_STORE_MAX_BYTES); NULL without one (the same bits, read again). */
+static int budget_store(const sunmc_config *c, long units, unit_store **store, char *err,
+                        size_t errlen)
+{
+    *store = NULL;
+    double bytes = unit_store_bytes(c, units);
+    if (!(bytes > 0) || bytes > BUDGET_STORE_MAX_BYTES)
+        return SUNMC_OK;
+    return unit_store_alloc(c, units, store, err, errlen);
+}
+
+/* The floor, each source alone and no tolerance, in plan order through one
+ * store; b->unit_runs and b->reused_units count them. */
+static int planned_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
+                        int run, budget_progress_fn progress, void *ctx, char *err,
+                        size_t errlen)
+{
+    budget_plan *p = malloc(sizeof *p);
+    unit_store *store = NULL;
+    int rc = p ? budget_store(c, q->units, &store, err, errlen)
+               : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the budget's runs");
+    if (rc == SUNMC_OK)
+        plan_runs(c, b, p);
+    for (int k = 0; rc == SUNMC_OK && k < p->n; k++) {
+        int r = p->order[k];
+        budget_stats *out = r == 0 ? &b->floor : r <= b->n ? &b->src[r - 1].alone
+                                                           : &b->no_tolerance;
+        int keep = r <= b->n; /* the squares of the floor and the alone runs */
+        if (progress)
+            progress(p->what[r], ++run, b->n + 3, ctx);
+        long reads = unit_store_reads(store), made = budget_units_run(&p->cfg[r], q->units);
+        rc = monte_carlo(&p->cfg[r], q->units, threads, b->angle, b->band, NULL, store, out,
+                         keep ? squares(q, 1 + r, 0) : NULL, keep ? squares(q, 1 + r, 1) : NULL,
+                         0, NULL, err, errlen);
+        b->unit_runs += made;
+        if (store && k > 0 && unit_readings_same(&p->cfg[p->order[k - 1]], &p->cfg[r]))
+            b->reused_units += made - (unit_store_reads(store) - reads);
+    }
+    unit_store_free(store);
+    free(p);
+    return rc;
+}
+
+/* The Monte Carlo runs: all, then floor, each source alone, no tolerance. */
+static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
+                       budget_progress_fn progress, void *ctx, char *err, size_t errlen)
+{
+    int rc;
     if (progress)
-        progress("all sources", ++run, n_runs, ctx);
+        progress("all sources", 1, 3 + b->n, ctx);
     /* the inverse limits' yield at today's values is this run's first
-     * report.budget_units units: kept, not run again for every source */
+     * report.budget_units units: kept, not run again for every source, and
+     * their readings kept for the searches of a source they do not read */
     b->today_units = c->budget_units <= q->units ? c->budget_units : 0;
-    if ((rc = monte_carlo(c, q->units, threads, b->angle, b->band, &b->all, squares(q, 0, 0),
-                          squares(q, 0, 1), b->today_units, &b->today, err, errlen)))
+    if (b->today_units > 0 &&
+        (rc = unit_store_alloc(c, b->today_units, &b->today_store, err, errlen)))
+        return rc;
+    if ((rc = monte_carlo(c, q->units, threads, b->angle, b->band, b->today_store, NULL, &b->all,
+                          squares(q, 0, 0), squares(q, 0, 1), b->today_units, &b->today, err,
+                          errlen)))
         return rc;
     b->unit_runs = q->units;
-    if (progress)
-        progress("floor (nominal design, no noise)", ++run, n_runs, ctx);
-    if ((rc = budget_monte_carlo(&floor, q->units, threads, b->angle, b->band, &b->floor,
-                                 squares(q, 1, 0), squares(q, 1, 1), err, errlen)))
-        return rc;
-    b->unit_runs += budget_units_run(&floor, q->units);
-    for (int i = 0; i < b->n; i++) {
-        budget_source *s = &b->src[i];
-        sunmc_config t = floor;
-        budget_set_tolerance(&t, s->key, s->tolerance);
-        snprintf(what, sizeof what, "%s alone", s->name);
-        if (progress)
-            progress(what, ++run, n_runs, ctx);
-        if ((rc = budget_monte_carlo(&t, q->units, threads, b->angle, b->band, &s->alone,
-                                     squares(q, 2 + i, 0), squares(q, 2 + i, 1), err, errlen)))
-            return rc;
-        b->unit_runs += budget_units_run(&t, q->units);
-    }
-    if (progress)
-        progress("no tolerance (design and noise)", ++run, n_runs, ctx);
-    b->unit_runs += budget_units_run(&no_tol, q->units);
-    return budget_monte_carlo(&no_tol, q->units, threads, b->angle, b->band, &b->no_tolerance,
-                              NULL, NULL, err, errlen);
+    return planned_runs(c, b, q, threads, 1, progress, ctx, err, errlen);
+}
+
+long budget_reused_units(const budget_result *b)
+{
+    long n = b->reused_units;
+    for (int i = 0; i < b->n; i++)
+        n += b->src[i].limit_reused;
+    return n;
 }
 
 long budget_unit_runs(const budget_result *b)
@@ -363,15 +468,19 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     }
     free(q.sq);
     free(q.block);
-    if (rc || !with_limits)
+    if (rc || !with_limits) {
+        unit_store_free(b->today_store);
+        b->today_store = NULL;
         return rc;
-    for (int i = 0; i < b->n; i++) {
+    }
+    for (int i = 0; rc == SUNMC_OK && i < b->n; i++) {
         char what[2 * CONFIG_STR_MAX];
         snprintf(what, sizeof what, "%s inverse limit", b->src[i].name);
         if (progress)
             progress(what, i + 1, b->n, ctx);
-        if ((rc = budget_inverse_limit(c, b, &b->src[i], threads, err, errlen)))
-            return rc;
+        rc = budget_inverse_limit(c, b, &b->src[i], threads, err, errlen);
     }
-    return SUNMC_OK;
+    unit_store_free(b->today_store);
+    b->today_store = NULL;
+    return rc;
 }

@@ -27,8 +27,9 @@ static int yield_at(const sunmc_config *c, const budget_result *b, budget_source
     budget_stats st = b->today;
     int rc = SUNMC_OK;
     if (!(v == s->tolerance && b->today_units == c->budget_units)) {
-        rc = budget_monte_carlo(&t, c->budget_units, threads, b->angle, b->band, &st, NULL, NULL,
-                                err, errlen);
+        long reused = 0;
+        rc = budget_monte_carlo_today(&t, b, &st, threads, &reused, err, errlen);
+        s->limit_reused += reused;
         s->limit_units += budget_units_run(&t, c->budget_units);
     }
     s->limit_runs++;

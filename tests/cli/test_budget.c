@@ -12,6 +12,8 @@
 #include "status.h"
 #include "units.h"
 
+#include <string.h>
+
 /* Small, noiseless, ideal-fine-code ESS: the error of dH alone is then
  * exactly atan((1 + dH/H) tan a) - a (the slit image lands at (H+dH) tan a on
  * a dial etched by eta = H tan). */
@@ -177,6 +179,30 @@ static void today_from_all_sources_run(void **state)
     }
     /* the floor (no random input) is one unit run, copied */
     assert_int_equal(budget_unit_runs(b), (2L + b->n) * 12 + 1 + searched);
+    /* Finished from stored readings: the encoder and roll noise alone read
+     * the floor's validation (1 unit stored by the floor's run, then 12),
+     * no tolerance reads the row-current noise alone's (12); each search
+     * of the encoder and roll noise reads the all-sources run's units. */
+    long expect = 1 + 12 + 12;
+    for (int i = 0; i < b->n; i++) {
+        const char *nm = b->src[i].name;
+        int campaign = strcmp(nm, "noise.encoder_arcsec") == 0 ||
+                       strcmp(nm, "calibration.roll_sigma_arcsec") == 0;
+        assert_int_equal(b->src[i].limit_reused, campaign ? b->src[i].limit_units : 0);
+        expect += b->src[i].limit_reused;
+        if (!campaign)
+            continue;
+        /* and give the bits of a run that reads its own */
+        sunmc_config t = st.cfg;
+        for (int j = 0; j < b->n; j++)
+            budget_set_tolerance(&t, b->src[j].key, j == i ? b->src[j].tolerance : 0.0);
+        budget_stats own;
+        assert_int_equal(budget_monte_carlo(&t, 12, 2, b->angle, b->band, &own, NULL, NULL, err,
+                                            sizeof err),
+                         SUNMC_OK);
+        assert_memory_equal(&own, &b->src[i].alone, sizeof own);
+    }
+    assert_int_equal(budget_reused_units(b), expect);
     config_state_free(&st);
     /* 13 units per search run, more than the 12 of the budget's runs */
     sets[3] = "report.budget_units=13";
