@@ -107,6 +107,7 @@ typedef struct {
      * currents from row 0's arctangent, cosine and sine by series
      * (ess_lane_current_from0) instead of their own (ess_sensor.c) */
     int fine_by_series;
+    double fine_turn; /* 2 pi / theta0: phase per radian of dial angle */
     int harmonics_given;
     double given_ratio[ESS_HARMONICS];/* 1, a3/a1, a5/a1 when given */
     double slit_width_mm;             /* actual slit width */

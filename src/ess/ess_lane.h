@@ -8,6 +8,7 @@
 #define SUNMC_ESS_LANE_H
 
 #include "ess_sensor.h"
+#include "ess_series.h"
 #include "vmath.h"
 
 /* Below this |z|, sinc(z) = 1 to double precision. */
@@ -86,43 +87,22 @@ VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, d
     return ess_lane_current_cs(s, m, h, cos(x), sin(x), illum, noise);
 }
 
-/* atan(e) for |e| <= ESS_FINE_SERIES_TAN (1e-2): its series to e^9 / 9,
- * the first term left out below 1e-22 |e|. */
-VM_INLINE double ess_lane_atan_small(double e)
-{
-    double e2 = e * e;
-    return e + e * e2 * (-1.0 / 3.0 + e2 * (1.0 / 5.0 + e2 * (-1.0 / 7.0 + e2 * (1.0 / 9.0))));
-}
-
-/* cos(x + d), sin(x + d) from c = cos x, sn = sin x for |d| <=
- * ESS_FINE_SERIES_PHASE (0.25): sin d and cos d - 1 by their series (to
- * d^11 and d^12; the first terms left out are below 3e-18 and 4e-20). */
-typedef struct {
-    double c, s;
-} ess_lane_cs;
-
-VM_INLINE ess_lane_cs ess_lane_turn(double c, double sn, double d)
-{
-    double d2 = d * d;
-    double sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 *
-                     (1.0 - d2 / 72.0 * (1.0 - d2 / 110.0)))));
-    double cm1 = -d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 *
-                     (1.0 - d2 / 90.0 * (1.0 - d2 / 132.0)))));
-    ess_lane_cs o = {c + (c * cm1 - sn * sd), sn + (sn * cm1 + c * sd)};
-    return o;
-}
-
-/* Fine row m's current (m = 1..3) from row 0's dial tangent t0 and the
- * cosine and sine of row 0's phase: row m's tangent is t0 + dt (dt =
- * s->fine_dt[m], the same for every sun direction: ess_lane_eta is linear
- * in x), so its dial angle is psi0 + atan(dt / (1 + t0 (t0 + dt))) and its
- * phase row 0's turned by 2 pi / theta0 times that, less m quarter turns
- * (exact: the cosine and sine swap and change sign). */
+/* Fine row m's current (m = 1..3) from row 0's dial tangent t0, q = 1 /
+ * (1 + t0^2) and the cosine and sine of row 0's phase: row m's tangent is
+ * t0 + dt (dt = s->fine_dt[m], the same for every sun direction:
+ * ess_lane_eta is linear in x), so its dial angle is psi0 + atan(e), e =
+ * dt / (1 + t0 (t0 + dt)) = a / (1 + t0 a) with a = dt q (|t0 a| <= |dt|
+ * / 2 <= 5e-3: 1 / (1 + t0 a) by its series to the 7th power, the rest
+ * below 4e-19), and its phase row 0's turned by 2 pi / theta0 times
+ * that, less m quarter turns (exact: the cosine and sine swap and change
+ * sign).  No division: they are the loop's dearest operations. */
 VM_INLINE double ess_lane_current_from0(const ess_sensor *s, int m, ess_lane_harm h, double t0,
-                                        double c0, double s0, double illum)
+                                        double q, double c0, double s0, double illum)
 {
-    double dt = s->fine_dt[m];
-    double d = 2.0 * M_PI / s->theta0_rad * ess_lane_atan_small(dt / (1.0 + t0 * (t0 + dt)));
+    double a = s->fine_dt[m] * q, nb = -t0 * a;
+    double g = 1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb *
+               (1.0 + nb))))));
+    double d = s->fine_turn * ess_lane_atan_small(a * g);
     ess_lane_cs r = ess_lane_turn(c0, s0, d);
     double c = m == 1 ? r.s : m == 2 ? -r.c : -r.s;
     double sn = m == 1 ? -r.c : m == 2 ? -r.s : r.c;

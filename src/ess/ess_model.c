@@ -283,38 +283,73 @@ static double halley_bound(double w, double k)
     return COMP_SAFETY * (w * w * w * k / (6.0 * slope) + b * b);
 }
 
-/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes),
- * each lane from x0[i] (NULL: from its raw): every lane iterates until its
- * own step is below COMP_TOL_RAD or Halley's error bound after it is
- * (halley_bound), exactly as one reading alone would; a lane still moving
- * after COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then
- * eq. 13.  status[i]: SUNMC_OK or SUNMC_EDOM (a raw that is not a number,
- * or eq. 13 undefined).  xd and slope (NULL: not wanted) get each lane's
- * alpha_d and g' at its last iterate (d alpha_d / d raw = 1 / g'), for a
- * start near another raw (warm_start). */
-VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
-                                       const double *x0, double *alpha, int *status,
-                                       double *xd, double *slope)
+/* One pass's lanes, kept for a pass over the same readings without their
+ * noise (compensate_pair): its raws, alpha_d and g' at the last iterate,
+ * where sin(w x) and cos(w x) were last taken (xe, sn, cs), eq. 13's tan
+ * alpha_d (td), argument (y) and result. */
+typedef struct {
+    _Alignas(VM_ALIGN) double r[ESS_COMP_CHUNK], x[ESS_COMP_CHUNK], slope[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) double xe[ESS_COMP_CHUNK], sn[ESS_COMP_CHUNK], cs[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) double td[ESS_COMP_CHUNK], y[ESS_COMP_CHUNK], alpha[ESS_COMP_CHUNK];
+} comp_lanes;
+
+/* A turn of w (x - xe) the series take (ess_lane_turn_wide); a lane
+ * turned further takes libm's sine and cosine on its own. */
+#define COMP_TURN_MAX 1.0
+/* The tangent's and arctangent's steps eq. 13 takes by series from a
+ * nearby pass (comp_eq13_near); a lane beyond them, libm on its own. */
+#define COMP_NEAR_MAX 1e-2
+
+/* sin(w x), cos(w x) of kp lanes into sn, cs: fresh from libmvec, else
+ * turned from their values at xe (ess_lane_turn_wide); xe = x after.
+ * Each lane's bits depend on its own values only. */
+VM_INLINE void comp_trig(size_t kp, double w, const double *x, double *xe, double *sn,
+                         double *cs, int fresh)
 {
-    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK], fpl[ESS_COMP_CHUNK];
-    _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
-    const double *p = m->p;
-    double ks = p[ESS_P_KS], kc = p[ESS_P_KC], w = m->omega;
-    double bound = halley_bound(w, hypot(ks, kc));
-    size_t kp = vm_pad(k);
-    ess_lane_comp_start(k, raw, x, r, active);
-    for (size_t i = 0; x0 && i < kp; i++)
-        x[i] = x0[i < k ? i : 0];
+    _Alignas(VM_ALIGN) double d[ESS_COMP_CHUNK];
+    if (fresh) {
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double wa = w * x[i];
+            sn[i] = sin(wa);
+            cs[i] = cos(wa);
+            xe[i] = x[i];
+        }
+        return;
+    }
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        d[i] = w * (x[i] - xe[i]);
+        ess_lane_cs t = ess_lane_turn_wide(cs[i], sn[i], d[i]);
+        sn[i] = t.s;
+        cs[i] = t.c;
+        xe[i] = x[i];
+    }
     for (size_t i = 0; i < kp; i++)
-        fpl[i] = 1.0;
+        if (fabs(d[i]) > COMP_TURN_MAX) {
+            sn[i] = sin(w * x[i]);
+            cs[i] = cos(w * x[i]);
+        }
+}
+
+/* Halley's method on kp lanes from x (lanes with active set): every lane
+ * iterates until its own step is below COMP_TOL_RAD or Halley's error
+ * bound after it is (halley_bound), exactly as one reading alone would.
+ * The first sine and cosine from libmvec unless near (the lanes' values
+ * at xe then), the rest turned from the last (comp_trig).  fpl gets each
+ * lane's g' at its last iterate. */
+VM_INLINE void halley_steps(const ess_model *m, size_t kp, const double *r, double *x,
+                            long *active, double *xe, double *sn, double *cs, double *fpl,
+                            int near)
+{
+    double ks = m->p[ESS_P_KS], kc = m->p[ESS_P_KC], w = m->omega;
+    double bound = halley_bound(w, hypot(ks, kc));
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
+        comp_trig(kp, w, x, xe, sn, cs, it == 0 && !near);
         VM_SIMD for (size_t i = 0; i < kp; i++) {
-            double wa = w * x[i], sn = sin(wa), cs = cos(wa);
-            double f = x[i] - ks * sn - kc * cs - r[i];
-            double fp = 1.0 - w * (ks * cs - kc * sn);
-            double fpp = w * w * (ks * sn + kc * cs);
+            double f = x[i] - ks * sn[i] - kc * cs[i] - r[i];
+            double fp = 1.0 - w * (ks * cs[i] - kc * sn[i]);
+            double fpp = w * w * (ks * sn[i] + kc * cs[i]);
             /* Halley's step: cubic convergence from the same sin and cos */
             double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp), adx = fabs(dx);
             x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
@@ -325,27 +360,105 @@ VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const doubl
         for (size_t i = 0; i < kp; i++)
             left += active[i];
     }
-    for (size_t i = 0; i < k; i++)
-        if (active[i] && isfinite(r[i])) {
-            x[i] = finecode_bisect(ks, kc, w, r[i]);
-            active[i] = 0;
-        }
-    for (size_t i = 0; xd && i < k; i++) {
-        xd[i] = x[i];
-        slope[i] = fpl[i];
-    }
-    ess_lane_comp_eq13(m, k, x, active, alpha, status);
 }
 
-/* Where the fine-code inverse of raws raw0 near raws raw (alpha_d xd,
- * slope g' there) starts: x0 = xd + (raw0 - raw) / g', one Newton step
- * from xd, off by about g'' / (2 g') (raw0 - raw)^2. */
-static void warm_start(size_t k, const double *raw, const double *raw0, const double *xd,
-                       const double *slope, double *x0)
+/* Eq. 13 on kp lanes, keeping tan alpha_d, the arctangent's argument and
+ * alpha in keep (ess_lane_comp_eq13's formula). */
+VM_INLINE void comp_eq13_keep(const ess_model *m, size_t kp, const double *x, long *active,
+                              comp_lanes *keep)
 {
+    const double *p = m->p;
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double td = tan(x[i]);
+        double den = p[ESS_P_C] * td - p[ESS_P_A];
+        keep->td[i] = td;
+        keep->y[i] = (p[ESS_P_B] - td) / den;
+        keep->alpha[i] = atan(keep->y[i]);
+        active[i] = active[i] | (long)(den == 0.0);
+    }
+}
+
+/* Eq. 13 on kp lanes near a pass's (near): tan alpha_d by the addition
+ * formula from near's with tan(h), h = alpha_d - near's, by its series
+ * (|h| <= COMP_NEAR_MAX: to h^9, the rest below 1e-23), and the
+ * arctangent as near's plus atan((y - y') / (1 + y y')) by its series
+ * (ess_lane_atan_small); a lane beyond either range (or across alpha = 90
+ * deg, 1 + y y' <= 0) by libm's tan and atan on its own. */
+VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, long *active,
+                              const comp_lanes *near, double *alpha)
+{
+    const double *p = m->p;
+    _Alignas(VM_ALIGN) long far[ESS_COMP_CHUNK];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double h = x[i] - near->x[i], th = ess_lane_tan_small(h);
+        double td = (near->td[i] + th) / (1.0 - near->td[i] * th);
+        double den = p[ESS_P_C] * td - p[ESS_P_A];
+        double y = (p[ESS_P_B] - td) / den, q = 1.0 + y * near->y[i];
+        double e = (y - near->y[i]) / q;
+        alpha[i] = near->alpha[i] + ess_lane_atan_small(e);
+        far[i] = (long)!(fabs(h) <= COMP_NEAR_MAX && fabs(e) <= COMP_NEAR_MAX && q > 0.0);
+        active[i] = active[i] | (long)(den == 0.0);
+    }
+    for (size_t i = 0; i < kp; i++)
+        if (far[i]) {
+            double td = tan(x[i]), den = p[ESS_P_C] * td - p[ESS_P_A];
+            alpha[i] = atan((p[ESS_P_B] - td) / den);
+        }
+}
+
+/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes):
+ * from each raw, or (near != NULL) from near's solution for the same
+ * readings with noise, moved by (raw - near's raw) / g' (one Newton
+ * step), its sines and cosines turned from near's; a lane still moving
+ * after COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then
+ * eq. 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
+ * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
+ * gets the lanes for a pass near this one. */
+VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
+                                       const comp_lanes *near, comp_lanes *keep, double *alpha,
+                                       int *status)
+{
+    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK], fpl[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) double xe[ESS_COMP_CHUNK], sn[ESS_COMP_CHUNK], cs[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) double out[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
+    size_t kp = vm_pad(k);
+    ess_lane_comp_start(k, raw, x, r, active);
+    for (size_t i = 0; i < kp; i++) {
+        fpl[i] = 1.0;
+        if (near) {
+            double x0 = near->x[i] + (r[i] - near->r[i]) / near->slope[i];
+            x[i] = isfinite(x0) ? x0 : r[i];
+            xe[i] = near->xe[i];
+            sn[i] = near->sn[i];
+            cs[i] = near->cs[i];
+        }
+    }
+    halley_steps(m, kp, r, x, active, xe, sn, cs, fpl, near != NULL);
+    for (size_t i = 0; i < k; i++)
+        if (active[i] && isfinite(r[i])) {
+            x[i] = finecode_bisect(m->p[ESS_P_KS], m->p[ESS_P_KC], m->omega, r[i]);
+            active[i] = 0;
+        }
+    if (!keep && !near) {
+        ess_lane_comp_eq13(m, k, x, active, alpha, status);
+        return;
+    }
+    if (keep) {
+        memcpy(keep->r, r, sizeof r);
+        memcpy(keep->x, x, sizeof x);
+        memcpy(keep->slope, fpl, sizeof fpl);
+        memcpy(keep->xe, xe, sizeof xe);
+        memcpy(keep->sn, sn, sizeof sn);
+        memcpy(keep->cs, cs, sizeof cs);
+        comp_eq13_keep(m, kp, x, active, keep);
+        memcpy(out, keep->alpha, sizeof out);
+    } else {
+        comp_eq13_near(m, kp, x, active, near, out);
+    }
     for (size_t i = 0; i < k; i++) {
-        double x = xd[i] + (raw0[i] - raw[i]) / slope[i];
-        x0[i] = isfinite(x) ? x : raw0[i];
+        status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
+        alpha[i] = out[i];
     }
 }
 
@@ -364,7 +477,7 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
         if (ext)
             ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         else
-            compensate_chunk(m, k, raw_rad + i0, NULL, alpha_rad + i0, status + i0, NULL, NULL);
+            compensate_chunk(m, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;
@@ -387,12 +500,11 @@ int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *
         return SUNMC_EDOM;
     }
     int st = SUNMC_OK;
+    comp_lanes lanes;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        double xd[ESS_COMP_CHUNK], slope[ESS_COMP_CHUNK], x0[ESS_COMP_CHUNK];
-        compensate_chunk(m, k, raw_rad + i0, NULL, alpha_rad + i0, status + i0, xd, slope);
-        warm_start(k, raw_rad + i0, raw0_rad + i0, xd, slope, x0);
-        compensate_chunk(m, k, raw0_rad + i0, x0, alpha0_rad + i0, status0 + i0, NULL, NULL);
+        compensate_chunk(m, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
+        compensate_chunk(m, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0, status0 + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK || status0[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;

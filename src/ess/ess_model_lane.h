@@ -9,6 +9,7 @@
 #define SUNMC_ESS_MODEL_LANE_H
 
 #include "ess_model.h"
+#include "ess_series.h"
 #include "status.h"
 #include "vmath.h"
 

@@ -90,6 +90,7 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     }
     s->coarse_by_compare = coarse_spread(s) < 0.5 * s->coarse_res_rad;
     s->fine_by_series = 1;
+    s->fine_turn = 2.0 * M_PI / s->theta0_rad;
     for (int m = 0; m < ESS_FINE_ROWS; m++) {
         s->fine_dt[m] = -((s->fine_x_mm[m] - s->fine_x_mm[0]) * s->tan_dphi +
                           (s->etch_mm[m] - s->etch_mm[0])) / s->H_mm;
@@ -224,14 +225,14 @@ VM_KERNEL static void fine_by_series(const ess_sensor *s, size_t kp, const doubl
     const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm;
-        double p0 = atan(t0), x0 = 2.0 * M_PI * p0 / s->theta0_rad;
+        double p0 = atan(t0), x0 = 2.0 * M_PI * p0 / s->theta0_rad, q = 1.0 / (1.0 + t0 * t0);
         double cx = cos(x0), sx = sin(x0);
         psi0[i] = p0;
-        ess_lane_harm h = ess_lane_harmonics_cos2(s, 1.0 / (1.0 + t0 * t0));
+        ess_lane_harm h = ess_lane_harmonics_cos2(s, q);
         double c0 = ess_lane_current_cs(s, 0, h, cx, sx, z[i], 0.0);
-        double c1 = ess_lane_current_from0(s, 1, h, t0, cx, sx, z[i]);
-        double c2 = ess_lane_current_from0(s, 2, h, t0, cx, sx, z[i]);
-        double c3 = ess_lane_current_from0(s, 3, h, t0, cx, sx, z[i]);
+        double c1 = ess_lane_current_from0(s, 1, h, t0, q, cx, sx, z[i]);
+        double c2 = ess_lane_current_from0(s, 2, h, t0, q, cx, sx, z[i]);
+        double c3 = ess_lane_current_from0(s, 3, h, t0, q, cx, sx, z[i]);
         phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
         phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
     }

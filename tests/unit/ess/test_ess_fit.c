@@ -74,6 +74,50 @@ static void test_compensate_inverts(void **state)
     assert_int_equal(ess_model_compensate(&m, 0.1, &out), SUNMC_EDOM);
 }
 
+/* The pair compensation (a noisy raw and the same reading without noise):
+ * the noiseless one starts from the noisy one's solution, its sines,
+ * cosines, tangent and arctangent turned from the noisy one's by series;
+ * every alpha is the one ess_model_compensate_batch gives the raw alone,
+ * to 1e-15 rad / (1 - w k) (a few ulp of alpha_d moved by g's rounding
+ * over its slope, which is >= 1 - w k: the arithmetic's own limit), for
+ * noise from 1e-7 rad to beyond the series' ranges
+ * (0.3 rad: libm's calls, lane by lane) and for a fine-code term whose
+ * first Halley step turns w x by more than a radian (w k = 0.9). */
+static void test_compensate_pair_matches_single(void **state)
+{
+    enum { N = 997 };
+    static double raw[N], raw0[N], a[N], a0[N], s[N], s0[N];
+    int st[N], st0[N], sts[N], sts0[N];
+    const double noise[] = {1e-7, 1e-5, 1e-4, 1e-3, 3e-2, 0.3};
+    const double k_rad[] = {3.6e-4, 0.9 / (2 * M_PI / (THETA0_RAD / 4))};
+    double worst = 0;
+    for (size_t q = 0; q < sizeof k_rad / sizeof *k_rad; q++)
+        for (size_t j = 0; j < sizeof noise / sizeof *noise; j++) {
+            ess_model m;
+            truth_model(&m, 0);
+            m.p[ESS_P_KS] = 0.8 * k_rad[q];
+            m.p[ESS_P_KC] = -0.6 * k_rad[q];
+            double tol = 1e-15 / (1.0 - m.omega * k_rad[q]);
+            for (int i = 0; i < N; i++) {
+                raw0[i] = (-61.9 + 123.8 * i / (N - 1)) * RAD_PER_DEG;
+                raw[i] = raw0[i] + noise[j] * sin(7.3 * i); /* +- noise, any sign */
+            }
+            assert_int_equal(
+                ess_model_compensate_pair_batch(&m, N, raw, raw0, a, a0, st, st0), SUNMC_OK);
+            assert_int_equal(ess_model_compensate_batch(&m, N, raw, s, sts), SUNMC_OK);
+            assert_int_equal(ess_model_compensate_batch(&m, N, raw0, s0, sts0), SUNMC_OK);
+            for (int i = 0; i < N; i++) {
+                assert_int_equal(st[i], SUNMC_OK);
+                assert_int_equal(st0[i], SUNMC_OK);
+                worst = fmax(worst, fmax(fabs(a[i] - s[i]), fabs(a0[i] - s0[i])));
+                if (fabs(a[i] - s[i]) > tol || fabs(a0[i] - s0[i]) > tol)
+                    fail_msg("k %g noise %g raw %d: pair %.17g %.17g, alone %.17g %.17g",
+                             k_rad[q], noise[j], i, a[i], a0[i], s[i], s0[i]);
+            }
+        }
+    print_message("pair against alone: largest difference %.3g rad\n", worst);
+}
+
 /* Eq. 12 with a = d, b = -c is tan(alpha + delta): check that identity, the
  * reason the roll must be fixed rather than fitted. */
 static void test_rotation_degeneracy(void **state)
@@ -227,6 +271,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_jacobian),           cmocka_unit_test(test_compensate_inverts),
+        cmocka_unit_test(test_compensate_pair_matches_single),
         cmocka_unit_test(test_rotation_degeneracy), cmocka_unit_test(test_alias_detector),
         cmocka_unit_test(test_fit_round_trip),     cmocka_unit_test(test_fit_aliased_stays_sane),
         cmocka_unit_test(test_fit_ignores_dropped_points),
