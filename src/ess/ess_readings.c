@@ -33,6 +33,17 @@ static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
     }
 }
 
+/* n normals of r into z, or n zeros when the caller scales every one of
+ * them by 0 (drawn = 0): a stream only that noise draws from then goes
+ * unread, and the readings are the bits the scaled draws give. */
+static void normals_or_zeros(rng_stream *r, double *z, size_t n, int drawn)
+{
+    if (drawn)
+        rng_normal_fill(r, z, n);
+    else
+        memset(z, 0, n * sizeof *z);
+}
+
 /* k <= ESS_CHUNK readings at true table angles whose cosines and sines
  * are ca, sa (alpha) and cb, sb (beta) (padded arrays): the sun in the
  * sensor frame (R_install rot_x(a) rot_y(-b) v_sun), its true incidence,
@@ -132,7 +143,7 @@ static void campaign_chunk(const sunmc_config *c, const ess_unit *u, rng_stream 
     _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
     const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
     int status[ESS_CHUNK];
-    rng_normal_fill(r, z, np * per);
+    normals_or_zeros(r, z, np * per, enc > 0 || sigma > 0);
     for (size_t i = 0; i < np; i++) {
         at[i] = out[i].a_true_rad = a_rad[i] + enc * z[i * per];
         bt[i] = out[i].b_true_rad = b_rad[i] + enc * z[i * per + 1];
@@ -168,7 +179,7 @@ static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *
     _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][ESS_CHUNK];
     const double *noise[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
     int status[ESS_CHUNK];
-    rng_normal_fill(r, z, 2);
+    normals_or_zeros(r, z, 2, enc > 0 || sigma > 0);
     out->a_true_rad = a_rad + enc * z[0];
     out->b_true_rad = b_rad + enc * z[1];
     out->sum_rad = 0.0;
@@ -180,7 +191,7 @@ static void campaign_long(const sunmc_config *c, const ess_unit *u, rng_stream *
     for (int rep0 = 0; rep0 < c->cal_repeats; rep0 += ESS_CHUNK) {
         size_t g = (size_t)(c->cal_repeats - rep0) < ESS_CHUNK ? (size_t)(c->cal_repeats - rep0)
                                                                  : ESS_CHUNK;
-        rng_normal_fill(r, z, ESS_FINE_ROWS * g);
+        normals_or_zeros(r, z, ESS_FINE_ROWS * g, enc > 0 || sigma > 0);
         noise_lanes(sigma, z, ESS_FINE_ROWS, g, nz);
         read_chunk(u, g, at, bt, noise, raw, NULL, truth, status);
         for (size_t i = 0; i < g; i++) {
@@ -226,7 +237,7 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
     int st[ESS_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += ESS_CHUNK) {
         size_t k = n - i0 < ESS_CHUNK ? n - i0 : ESS_CHUNK;
-        rng_normal_fill(r, z, ESS_FINE_ROWS * k);
+        normals_or_zeros(r, z, ESS_FINE_ROWS * k, sigma > 0);
         /* a whole chunk reads the table in place; the last one, padded */
         const double *tca = trig->ca + i0, *tsa = trig->sa + i0, *tcb = trig->cb + i0,
                      *tsb = trig->sb + i0;

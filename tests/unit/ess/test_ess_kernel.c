@@ -8,6 +8,7 @@
 #include "config.h"
 #include "ess_sensor.h"
 #include "ess_unit.h"
+#include "rng.h"
 #include "status.h"
 #include "units.h"
 
@@ -208,6 +209,58 @@ static void test_fine_series_limit(void **state)
 /* The validation grid's table (ess_val_alloc): the angles of the grid and
  * their cosines and sines; a unit's noise-free validation reading from it
  * is the bits of ess_unit_read at the same angles (cosines on the spot). */
+/* A noise at 0 draws nothing from its stream (ess_readings.c), and the
+ * readings are those the draws scaled by 0 give: with the row noise at 0
+ * and the encoder's at 3", a campaign point's true table angles still
+ * carry the encoder errors, the stream's first two normals; with both at
+ * 0 they are the recorded angles and every reading is the noise-free one;
+ * a validation without row noise reads raw = raw0. */
+static void test_zero_noise_draws_nothing(void **state)
+{
+    const char *sets[] = {"sensor.family=ess", "noise.row_current_pct=0",
+                          "noise.encoder_arcsec=3"};
+    char err[SUNMC_ERRLEN];
+    config_state st;
+    assert_int_equal(config_build(&st, NULL, sets, 3, err, sizeof err), SUNMC_OK);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    ess_deviations dev;
+    ess_deviations_sample(&c, 7, 3, &dev);
+    ess_unit u;
+    ess_unit_build(&c, &dev, &u);
+    double a[3] = {0.1, -0.4, 0.7}, b[3] = {0.0, 0.2, -0.3}, z[2];
+    ess_campaign_point p[3], q[3];
+    rng_stream r;
+    rng_stream_init(&r, 11, 3, RNG_STREAM_CAL_NOISE);
+    ess_campaign_batch(&c, &u, &r, 3, a, b, p);
+    rng_stream_init(&r, 11, 3, RNG_STREAM_CAL_NOISE);
+    rng_normal_fill(&r, z, 2);
+    double enc = 3 * RAD_PER_ARCSEC;
+    assert_true(p[0].a_true_rad == a[0] + enc * z[0]);
+    assert_true(p[0].b_true_rad == b[0] + enc * z[1]);
+    c.encoder_arcsec = 0;
+    rng_stream_init(&r, 11, 3, RNG_STREAM_CAL_NOISE);
+    ess_campaign_batch(&c, &u, &r, 3, a, b, q);
+    for (int i = 0; i < 3; i++) {
+        assert_true(q[i].a_true_rad == a[i] && q[i].b_true_rad == b[i]);
+        double raw = NAN, truth = NAN;
+        double quiet[ESS_FINE_ROWS] = {0, 0, 0, 0};
+        if (q[i].seen) {
+            assert_int_equal(ess_unit_read(&u, a[i], b[i], quiet, &raw, &truth), SUNMC_OK);
+            assert_true(q[i].raw_rad == raw);
+        }
+    }
+    double ta[4] = {0.05, -0.2, 0.3, 0.9}, tb[4] = {0, 0.1, -0.1, 0.2};
+    double ca[8], sa[8], cb[8], sb[8], raw[4], raw0[4], truth[4];
+    int status[4];
+    ess_table_trig t = {ca, sa, cb, sb};
+    ess_table_trig_fill(4, ta, tb, &t);
+    rng_stream_init(&r, 11, 3, RNG_STREAM_VAL_NOISE);
+    ess_validation_batch(&c, &u, &r, 4, &t, raw, raw0, truth, status);
+    for (int i = 0; i < 4; i++)
+        assert_true(raw[i] == raw0[i]);
+}
+
 static void test_validation_trig_table(void **state)
 {
     sunmc_config c = base_config();
@@ -246,6 +299,7 @@ int main(void)
         cmocka_unit_test(test_fine_series_matches_atan),
         cmocka_unit_test(test_fine_series_limit),
         cmocka_unit_test(test_validation_trig_table),
+        cmocka_unit_test(test_zero_noise_draws_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
