@@ -414,7 +414,7 @@ VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, lo
  * eq. 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
  * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
  * gets the lanes for a pass near this one. */
-VM_KERNEL static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
+VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
                                        const comp_lanes *near, comp_lanes *keep, double *alpha,
                                        int *status)
 {

@@ -217,7 +217,7 @@ VM_KERNEL static void fine_by_atan(const ess_sensor *s, size_t kp, const double 
 
 /* The same with rows 1-3 from row 0 (s->fine_by_series): one arctangent,
  * cosine and sine a reading instead of four each. */
-VM_KERNEL static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
+VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
                                      const double *v, const double *z,
                                      const double *const noise[ESS_FINE_ROWS], double *psi0,
                                      double *phase, double *phase0)
