@@ -94,16 +94,11 @@ int sens_random_inputs(const sunmc_config *c)
     return n;
 }
 
-/* Y before and after of config c over units [0, units): NaN without a
- * fit.  store (NULL: none) keeps or serves the units' validation readings
- * (unit_store.h). */
-static int run_y(const sunmc_config *c, unit_store *store, long units, int threads,
-                 const sens_result *s, unit_result *res, double *yb, double *ya, char *err,
-                 size_t errlen)
+/* Y before and after of config c's units res[0, units): NaN without a
+ * fit. */
+static void y_of(const sunmc_config *c, const sens_result *s, const unit_result *res,
+                 long units, double *yb, double *ya)
 {
-    int rc = mc_run_store(c, store, 0, units, threads, res, NULL, NULL, err, errlen);
-    if (rc)
-        return rc;
     for (long u = 0; u < units; u++) {
         double b = unit_primary_before(c, &res[u], s->angle, s->band);
         double a = unit_primary_after(c, &res[u], s->angle, s->band);
@@ -111,7 +106,6 @@ static int run_y(const sunmc_config *c, unit_store *store, long units, int threa
         yb[u] = ok ? b : NAN;
         ya[u] = ok ? a : NAN;
     }
-    return SUNMC_OK;
 }
 
 /* Keep the rows finite in every run (A, B, each A_B^i), compacting each of
@@ -218,40 +212,64 @@ static int sens_store(const sunmc_config *c, long units, unit_store **store, cha
     return unit_store_alloc(c, units, store, err, errlen);
 }
 
-/* The d + 2 Monte Carlos: A, B, then A with each input's stream from B.
- * Column j of y (units values) is run j's before, column cols + j its after. */
+/* Where mc_run_each's results go: run order[i]'s column of y. */
+typedef struct {
+    const sens_result *s;
+    const sunmc_config *t;
+    const int *order;
+    long units;
+    int cols;
+    double *y;
+    sens_progress_fn progress;
+    void *ctx;
+} sens_sink;
+
+static int sens_each(int i, const unit_result *res, long n, void *ctx, char *err, size_t errlen)
+{
+    const sens_sink *k = ctx;
+    int j = k->order[i];
+    y_of(&k->t[j], k->s, res, n, k->y + (size_t)j * (size_t)k->units,
+         k->y + (size_t)(k->cols + j) * (size_t)k->units);
+    return SUNMC_OK;
+}
+
+static void sens_done(long done, long total, void *ctx)
+{
+    const sens_sink *k = ctx;
+    k->progress("Monte Carlo runs", (int)done, (int)total, k->ctx);
+}
+
+/* The d + 2 Monte Carlos: A, B, then A with each input's stream from B,
+ * a run to a thread (mc_run_each: the runs share no barrier); A's
+ * validation readings read first into a store that finishes the runs
+ * reading the same.  Column j of y (units values) is run j's before,
+ * column cols + j its after. */
 static int sens_runs(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
                      void *ctx, sens_result *s, double *y, char *err, size_t errlen)
 {
     int cols = s->n + 2, rc = SUNMC_OK, order[SENS_MAX_SOURCES + 2];
     unsigned char shared[SENS_MAX_SOURCES + 2] = {0};
-    unit_result *res = calloc((size_t)units, sizeof *res);
     sunmc_config *t = malloc((size_t)cols * sizeof *t);
+    const sunmc_config *in_order[SENS_MAX_SOURCES + 2];
     unit_store *store = NULL;
-    if (!res || !t)
-        rc = sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", units);
-    for (int j = 0; rc == SUNMC_OK && j < cols; j++)
+    if (!t)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %d runs", cols);
+    for (int j = 0; j < cols; j++)
         run_config(c, s, j, &t[j]);
-    if (rc == SUNMC_OK && (rc = sens_store(c, units, &store, err, errlen)) == SUNMC_OK)
+    if ((rc = sens_store(c, units, &store, err, errlen)) == SUNMC_OK) {
         run_order(t, cols, order, shared);
-    for (int k = 0; k < cols && rc == SUNMC_OK; k++) {
-        int j = order[k];
-        char what[2 * CONFIG_STR_MAX];
-        snprintf(what, sizeof what, "%s", j == 0 ? "sample A" : j == 1 ? "sample B" : "");
-        if (j >= 2)
-            snprintf(what, sizeof what, "A with %s from B", s->src[j - 2].name);
+        for (int k = 0; k < cols; k++) {
+            in_order[k] = &t[order[k]];
+            s->reused_units += store && order[k] > 0 && shared[order[k]] ? units : 0;
+        }
         if (progress)
-            progress(what, k + 1, cols, ctx);
-        long reads = unit_store_reads(store);
-        rc = run_y(&t[j], shared[j] ? store : NULL, units, threads, s, res,
-                   y + (size_t)j * (size_t)units, y + (size_t)(cols + j) * (size_t)units, err,
-                   errlen);
-        if (j > 0 && shared[j] && store)
-            s->reused_units += units - (unit_store_reads(store) - reads);
+            progress("Monte Carlo runs", 1, cols, ctx);
+        sens_sink sink = {s, t, order, units, cols, y, progress, ctx};
+        rc = mc_run_each(in_order, cols, store, 0, units, threads, sens_each, &sink,
+                         progress ? sens_done : NULL, &sink, err, errlen);
     }
     unit_store_free(store);
     free(t);
-    free(res);
     return rc;
 }
 
