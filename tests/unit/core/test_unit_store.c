@@ -256,16 +256,24 @@ static void runs_with_a_store(void **state)
                                       sizeof err), SUNMC_OK);
         assert_memory_equal(wide, plain[1], sizeof plain[1]);
         assert_int_equal(unit_store_reads(s), UNITS);
+        /* the next units take the same slots: read, not the slots' old units */
+        unit_result want[UNITS];
+        assert_int_equal(mc_run(&c[1], UNITS, 2 * UNITS, 1, want, NULL, NULL, err, sizeof err),
+                         SUNMC_OK);
+        assert_int_equal(mc_run_store(&c[1], s, UNITS, 2 * UNITS, threads, got, NULL, NULL, err,
+                                      sizeof err), SUNMC_OK);
+        assert_memory_equal(got, want, sizeof got);
+        assert_int_equal(unit_store_reads(s), 2 * UNITS);
         /* other readings empty the store and are read afresh */
         const char *seed[] = {"run.seed=6"};
         sunmc_config o = ess(seed, 1);
         assert_int_equal(mc_run_store(&o, s, 0, 2, threads, got, NULL, NULL, err, sizeof err),
                          SUNMC_OK);
-        assert_int_equal(unit_store_reads(s), UNITS + 2);
+        assert_int_equal(unit_store_reads(s), 2 * UNITS + 2);
         assert_int_equal(mc_run_store(&c[0], s, 0, 2, threads, got, NULL, NULL, err, sizeof err),
                          SUNMC_OK);
         assert_memory_equal(got, plain[0], 2 * sizeof *got);
-        assert_int_equal(unit_store_reads(s), UNITS + 4);
+        assert_int_equal(unit_store_reads(s), 2 * UNITS + 4);
         unit_store_free(s);
     }
 }
@@ -351,6 +359,35 @@ static void no_systematic_pass(void **state)
     config_state_free(&st);
 }
 
+/* Each operating temperature is scored on its own block of readings: at
+ * the lab's 20 C the lab's RMS before, at -20 and 60 C other ones (the
+ * unit's deviations move with temperature), for every family that splits. */
+static void temperatures_read_their_own(void **state)
+{
+    (void)state;
+    const char *files[] = {"configs/ess_type_a.ini", "configs/dss.ini", "configs/psd.ini"};
+    const char *grid[] = {"validation.alpha_step_deg=1.3", "validation.b_step_deg=9",
+                          "validation.alpha_step_deg=2.3"};
+    for (int f = 0; f < 3; f++) {
+        const char *sets[] = {grid[f], "environment.operating_temp_c=-20, 20, 60"};
+        config_state st;
+        test_build(&st, files[f], sets, 2);
+        unit_result r[2];
+        char err[SUNMC_ERRLEN];
+        assert_int_equal(mc_run(&st.cfg, 0, 2, 1, r, NULL, NULL, err, sizeof err), SUNMC_OK);
+        int a = st.cfg.family->n_angles(&st.cfg) - 1, b = st.cfg.bands_deg.n - 1;
+        for (int u = 0; u < 2; u++) {
+            double lab = r[u].rms_before[a][b];
+            assert_true(isfinite(lab));
+            assert_true(r[u].rms_before_t[1][a][b] == lab);
+            assert_true(r[u].rms_before_t[0][a][b] != lab);
+            assert_true(r[u].rms_before_t[2][a][b] != lab);
+            assert_true(r[u].rms_before_t[0][a][b] != r[u].rms_before_t[2][a][b]);
+        }
+        config_state_free(&st);
+    }
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -366,6 +403,7 @@ int main(void)
         cmocka_unit_test(psd_readings),
         cmocka_unit_test(toy_readings),
         cmocka_unit_test(picks_of_campaign_streams),
+        cmocka_unit_test(temperatures_read_their_own),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
         cmocka_unit_test(no_systematic_pass),
