@@ -11,6 +11,7 @@
 #include "unit_store.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -415,6 +416,42 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
     return planned_runs(c, b, q, threads, 1, progress, ctx, err, errlen);
 }
 
+/* Every source's inverse limit, a source to a thread: each search is a
+ * chain of small runs (report.budget_units units) whose next value depends
+ * on the last, so the searches, not their units, are what the threads
+ * share (one parallel region instead of a region per run, each ending with
+ * a thread waiting).  A search's result does not depend on the thread that
+ * made it; the first failure's message goes to err. */
+static int inverse_limits(const sunmc_config *c, budget_result *b, int threads,
+                          budget_progress_fn progress, void *ctx, char *err, size_t errlen)
+{
+    int rc = SUNMC_OK, done = 0;
+    if (threads > 0)
+        omp_set_num_threads(threads);
+#pragma omp parallel
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (int i = 0; i < b->n; i++) {
+            char terr[SUNMC_ERRLEN] = "", what[2 * CONFIG_STR_MAX];
+            int failed;
+#pragma omp atomic read
+            failed = rc;
+            if (failed)
+                continue;
+            int st = budget_inverse_limit(c, b, &b->src[i], 1, terr, sizeof terr);
+#pragma omp critical(budget_limits)
+            {
+                if (st != SUNMC_OK && rc == SUNMC_OK)
+                    rc = sunmc_fail(err, errlen, st, "%s", terr);
+                snprintf(what, sizeof what, "%s inverse limit", b->src[i].name);
+                if (progress)
+                    progress(what, ++done, b->n, ctx);
+            }
+        }
+    }
+    return rc;
+}
+
 long budget_reused_units(const budget_result *b)
 {
     long n = b->reused_units;
@@ -473,13 +510,7 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
         b->today_store = NULL;
         return rc;
     }
-    for (int i = 0; rc == SUNMC_OK && i < b->n; i++) {
-        char what[2 * CONFIG_STR_MAX];
-        snprintf(what, sizeof what, "%s inverse limit", b->src[i].name);
-        if (progress)
-            progress(what, i + 1, b->n, ctx);
-        rc = budget_inverse_limit(c, b, &b->src[i], threads, err, errlen);
-    }
+    rc = inverse_limits(c, b, threads, progress, ctx, err, errlen);
     unit_store_free(b->today_store);
     b->today_store = NULL;
     return rc;

@@ -215,6 +215,32 @@ static void today_from_all_sources_run(void **state)
     config_state_free(&st);
 }
 
+/* The searches run a source to a thread: their results are the same in
+ * 1 and 2 threads, source by source (every field of every source). */
+static void limits_independent_of_threads(void **state)
+{
+    const char *sets[] = {"validation.alpha_step_deg=2.3", "campaign.beta_deg=0",
+                          "report.budget_steps=2", "report.budget_units=10",
+                          "tolerance.install_y_arcsec=0", "tolerance.install_z_arcsec=0"};
+    config_state st;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, 6, err, sizeof err), 0);
+    budget_result *b1 = calloc(1, sizeof *b1), *b2 = calloc(1, sizeof *b2);
+    assert_int_equal(budget_run(&st.cfg, 12, 1, 1, NULL, NULL, b1, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, 12, 2, 1, NULL, NULL, b2, err, sizeof err), SUNMC_OK);
+    assert_int_equal(b1->n, b2->n);
+    long runs = 0;
+    for (int i = 0; i < b1->n; i++) {
+        assert_memory_equal(&b1->src[i], &b2->src[i], sizeof b1->src[i]);
+        runs += b1->src[i].limit_runs;
+    }
+    assert_true(runs > b1->n); /* searches were made */
+    assert_int_equal(budget_unit_runs(b1), budget_unit_runs(b2));
+    free(b1);
+    free(b2);
+    config_state_free(&st);
+}
+
 /* The floor run computes one unit and copies it (budget_units_run): right
  * only when every unit of the floor config is the same unit.  Each shipped
  * family's floor (every budget source 0) run in full over 5 units: every
@@ -298,6 +324,7 @@ int main(void)
         cmocka_unit_test(inverse_limit_end_states),
         cmocka_unit_test(today_from_all_sources_run),
         cmocka_unit_test(floor_units_are_one_unit),
+        cmocka_unit_test(limits_independent_of_threads),
         cmocka_unit_test(cli),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
