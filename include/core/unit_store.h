@@ -34,6 +34,12 @@ int unit_store_alloc(const sunmc_config *c, long capacity, unit_store **out, cha
                      size_t errlen);
 void unit_store_free(unit_store *s);
 
+/* unit_store_alloc when the store takes at most max_bytes
+ * (unit_store_bytes); otherwise SUNMC_OK and *out NULL: the runs then
+ * read their readings again, the same bits at a store's memory saved. */
+int unit_store_alloc_upto(const sunmc_config *c, long capacity, double max_bytes,
+                          unit_store **out, char *err, size_t errlen);
+
 /* Bytes unit_store_alloc takes for capacity units of c (0: no store). */
 double unit_store_bytes(const sunmc_config *c, long capacity);
 

@@ -350,18 +350,6 @@ static void plan_runs(const sunmc_config *c, const budget_result *b, budget_plan
     }
 }
 
-/* A store of `units` units' readings when it is worth its memory (at most
- * BUDGET_STORE_MAX_BYTES); NULL without one (the same bits, read again). */
-static int budget_store(const sunmc_config *c, long units, unit_store **store, char *err,
-                        size_t errlen)
-{
-    *store = NULL;
-    double bytes = unit_store_bytes(c, units);
-    if (!(bytes > 0) || bytes > BUDGET_STORE_MAX_BYTES)
-        return SUNMC_OK;
-    return unit_store_alloc(c, units, store, err, errlen);
-}
-
 /* The floor, each source alone and no tolerance, in plan order through one
  * store; b->unit_runs and b->reused_units count them. */
 static int planned_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
@@ -370,7 +358,8 @@ static int planned_runs(const sunmc_config *c, budget_result *b, budget_squares 
 {
     budget_plan *p = malloc(sizeof *p);
     unit_store *store = NULL;
-    int rc = p ? budget_store(c, q->units, &store, err, errlen)
+    int rc = p ? unit_store_alloc_upto(c, q->units, BUDGET_STORE_MAX_BYTES, &store, err,
+                                       errlen)
                : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the budget's runs");
     if (rc == SUNMC_OK)
         plan_runs(c, b, p);

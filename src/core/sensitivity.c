@@ -200,18 +200,6 @@ static void run_order(const sunmc_config *t, int cols, int *order, unsigned char
         }
 }
 
-/* A store of the units' readings when it is worth its memory (at most
- * SENS_STORE_MAX_BYTES); NULL without one (the same bits, read again). */
-static int sens_store(const sunmc_config *c, long units, unit_store **store, char *err,
-                      size_t errlen)
-{
-    *store = NULL;
-    double bytes = unit_store_bytes(c, units);
-    if (!(bytes > 0) || bytes > SENS_STORE_MAX_BYTES)
-        return SUNMC_OK;
-    return unit_store_alloc(c, units, store, err, errlen);
-}
-
 /* Where mc_run_each's results go: run order[i]'s column of y. */
 typedef struct {
     const sens_result *s;
@@ -256,7 +244,8 @@ static int sens_runs(const sunmc_config *c, long units, int threads, sens_progre
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %d runs", cols);
     for (int j = 0; j < cols; j++)
         run_config(c, s, j, &t[j]);
-    if ((rc = sens_store(c, units, &store, err, errlen)) == SUNMC_OK) {
+    rc = unit_store_alloc_upto(c, units, SENS_STORE_MAX_BYTES, &store, err, errlen);
+    if (rc == SUNMC_OK) {
         run_order(t, cols, order, shared);
         for (int k = 0; k < cols; k++) {
             in_order[k] = &t[order[k]];

@@ -141,6 +141,16 @@ int unit_store_alloc(const sunmc_config *c, long capacity, unit_store **out, cha
     return SUNMC_OK;
 }
 
+int unit_store_alloc_upto(const sunmc_config *c, long capacity, double max_bytes,
+                          unit_store **out, char *err, size_t errlen)
+{
+    *out = NULL;
+    double bytes = unit_store_bytes(c, capacity);
+    if (!(bytes > 0) || bytes > max_bytes)
+        return SUNMC_OK;
+    return unit_store_alloc(c, capacity, out, err, errlen);
+}
+
 void unit_store_free(unit_store *s)
 {
     if (!s)

@@ -228,6 +228,24 @@ static void picks_of_campaign_streams(void **state)
     assert_false(unit_readings_same(&b, &c));
 }
 
+/* unit_store_alloc_upto: a store at its byte limit is made, one byte
+ * over it is not (and that is no error). */
+static void store_upto_limit(void **state)
+{
+    (void)state;
+    sunmc_config a = ess(NULL, 0);
+    double bytes = unit_store_bytes(&a, 5);
+    assert_true(bytes > 0);
+    unit_store *s = NULL;
+    char err[SUNMC_ERRLEN];
+    assert_int_equal(unit_store_alloc_upto(&a, 5, bytes, &s, err, sizeof err), SUNMC_OK);
+    assert_non_null(s);
+    unit_store_free(s);
+    s = (unit_store *)&a; /* overwritten with NULL */
+    assert_int_equal(unit_store_alloc_upto(&a, 5, bytes - 1, &s, err, sizeof err), SUNMC_OK);
+    assert_null(s);
+}
+
 /* mc_run_store and mc_run_each give mc_run's bytes, reading each unit once
  * for configs that share readings. */
 static void runs_with_a_store(void **state)
@@ -403,6 +421,7 @@ int main(void)
         cmocka_unit_test(psd_readings),
         cmocka_unit_test(toy_readings),
         cmocka_unit_test(picks_of_campaign_streams),
+        cmocka_unit_test(store_upto_limit),
         cmocka_unit_test(temperatures_read_their_own),
         cmocka_unit_test(runs_with_a_store),
         cmocka_unit_test(run_each_config),
