@@ -223,6 +223,14 @@ typedef struct sensor_family {
 void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
                          const band_list *bands, double scale);
 
+/* Unit `unit` of a family that splits its units (unit_read, unit_finish)
+ * into r: its validation readings read into rd first unless held (rd holds
+ * them already), then the rest of the unit; the reading's time goes to r's
+ * validation phase.  A family's unit_run and mc_run_store both run a unit
+ * this way. */
+int unit_read_finish(const sunmc_config *c, long unit, void *ws, void *rd, int held,
+                     unit_result *r);
+
 /* Fill r's noise-free after RMS (rms_after_sys) of measured angle `angle`;
  * NaN in every band when the unit's fit failed or after_sys is NULL (the
  * pass skipped: c->no_systematic). */

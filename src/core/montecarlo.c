@@ -36,15 +36,11 @@ static void mc_fail(mc_shared *s, int st, const char *msg, long u)
  * holds them already, then the rest of the unit (unit_store.h). */
 static int run_stored(mc_shared *s, void *ws, long u, unit_result *r)
 {
-    double t = unit_clock();
-    int held, rs = SUNMC_OK;
+    int held;
     void *rd = unit_store_slot(s->store, u, &held);
-    if (!held && (rs = s->fam->unit_read(s->c, u, ws, rd)) == SUNMC_OK)
+    int rs = unit_read_finish(s->c, u, ws, rd, held, r);
+    if (!held && rs == SUNMC_OK)
         unit_store_fill(s->store, u);
-    double read_s = unit_clock() - t;
-    if (rs == SUNMC_OK)
-        rs = s->fam->unit_finish(s->c, u, ws, rd, r);
-    r->phase_s[UNIT_PHASE_VALIDATION] += read_s;
     return rs;
 }
 

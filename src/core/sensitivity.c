@@ -182,29 +182,10 @@ static void run_config(const sunmc_config *c, const sens_result *s, int j, sunmc
     }
 }
 
-/* The order of the runs: A; the A_B^i that read A's validation (input i is
- * a stream only the campaign draws from, unit_readings_same), served from
- * a store of A's readings (shared[j] = 1); then B and the others. */
-static void run_order(const sunmc_config *t, int cols, int *order, unsigned char *shared)
-{
-    int k = 0;
-    order[k++] = 0;
-    shared[0] = 1;
-    for (int pass = 0; pass < 2; pass++)
-        for (int j = 1; j < cols; j++) {
-            int same = j >= 2 && unit_readings_same(&t[0], &t[j]);
-            if (same == (pass == 0)) {
-                order[k++] = j;
-                shared[j] = (unsigned char)same;
-            }
-        }
-}
-
-/* Where mc_run_each's results go: run order[i]'s column of y. */
+/* Where mc_run_each's results go: run j's column of y. */
 typedef struct {
     const sens_result *s;
     const sunmc_config *t;
-    const int *order;
     long units;
     int cols;
     double *y;
@@ -212,10 +193,9 @@ typedef struct {
     void *ctx;
 } sens_sink;
 
-static int sens_each(int i, const unit_result *res, long n, void *ctx, char *err, size_t errlen)
+static int sens_each(int j, const unit_result *res, long n, void *ctx, char *err, size_t errlen)
 {
     const sens_sink *k = ctx;
-    int j = k->order[i];
     y_of(&k->t[j], k->s, res, n, k->y + (size_t)j * (size_t)k->units,
          k->y + (size_t)(k->cols + j) * (size_t)k->units);
     return SUNMC_OK;
@@ -230,31 +210,30 @@ static void sens_done(long done, long total, void *ctx)
 /* The d + 2 Monte Carlos: A, B, then A with each input's stream from B,
  * a run to a thread (mc_run_each: the runs share no barrier); A's
  * validation readings read first into a store that finishes the runs
- * reading the same.  Column j of y (units values) is run j's before,
+ * reading the same (A, and the A_B^i of an input only the campaign draws
+ * from: unit_readings_same).  Column j of y (units values) is run j's before,
  * column cols + j its after. */
 static int sens_runs(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
                      void *ctx, sens_result *s, double *y, char *err, size_t errlen)
 {
-    int cols = s->n + 2, rc = SUNMC_OK, order[SENS_MAX_SOURCES + 2];
-    unsigned char shared[SENS_MAX_SOURCES + 2] = {0};
+    int cols = s->n + 2, rc = SUNMC_OK;
     sunmc_config *t = malloc((size_t)cols * sizeof *t);
-    const sunmc_config *in_order[SENS_MAX_SOURCES + 2];
+    const sunmc_config *runs[SENS_MAX_SOURCES + 2];
     unit_store *store = NULL;
     if (!t)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %d runs", cols);
-    for (int j = 0; j < cols; j++)
+    for (int j = 0; j < cols; j++) {
         run_config(c, s, j, &t[j]);
+        runs[j] = &t[j];
+    }
     rc = unit_store_alloc_upto(c, units, SENS_STORE_MAX_BYTES, &store, err, errlen);
     if (rc == SUNMC_OK) {
-        run_order(t, cols, order, shared);
-        for (int k = 0; k < cols; k++) {
-            in_order[k] = &t[order[k]];
-            s->reused_units += store && order[k] > 0 && shared[order[k]] ? units : 0;
-        }
+        for (int j = 1; store && j < cols; j++)
+            s->reused_units += unit_readings_same(&t[0], &t[j]) ? units : 0;
         if (progress)
             progress("Monte Carlo runs", 1, cols, ctx);
-        sens_sink sink = {s, t, order, units, cols, y, progress, ctx};
-        rc = mc_run_each(in_order, cols, store, 0, units, threads, sens_each, &sink,
+        sens_sink sink = {s, t, units, cols, y, progress, ctx};
+        rc = mc_run_each(runs, cols, store, 0, units, threads, sens_each, &sink,
                          progress ? sens_done : NULL, &sink, err, errlen);
     }
     unit_store_free(store);

@@ -67,3 +67,15 @@ void unit_phase_end(unit_result *r, int phase, double *t)
     r->phase_s[phase] += now - *t;
     *t = now;
 }
+
+int unit_read_finish(const sunmc_config *c, long unit, void *ws, void *rd, int held,
+                     unit_result *r)
+{
+    double t = unit_clock();
+    int rs = held ? SUNMC_OK : c->family->unit_read(c, unit, ws, rd);
+    double read_s = unit_clock() - t;
+    if (rs == SUNMC_OK)
+        rs = c->family->unit_finish(c, unit, ws, rd, r);
+    r->phase_s[UNIT_PHASE_VALIDATION] += read_s;
+    return rs;
+}

@@ -469,12 +469,7 @@ static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
 static int ess_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     ess_ws *w = ws;
-    double t = unit_clock();
-    ess_unit_take_readings(c, unit, ws, w->rd);
-    double read_s = unit_clock() - t;
-    ess_unit_finish(c, unit, ws, w->rd, res);
-    res->phase_s[UNIT_PHASE_VALIDATION] += read_s;
-    return SUNMC_OK;
+    return unit_read_finish(c, unit, ws, w->rd, 0, res);
 }
 
 /* The readings depend on neither the campaign nor its fit. */

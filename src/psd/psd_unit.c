@@ -382,12 +382,7 @@ static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
 static int psd_unit_run(const sunmc_config *c, long unit, void *ws, unit_result *res)
 {
     psd_ws *w = ws;
-    double t = unit_clock();
-    psd_unit_take_readings(c, unit, ws, w->rd);
-    double read_s = unit_clock() - t;
-    psd_unit_finish(c, unit, ws, w->rd, res);
-    res->phase_s[UNIT_PHASE_VALIDATION] += read_s;
-    return SUNMC_OK;
+    return unit_read_finish(c, unit, ws, w->rd, 0, res);
 }
 
 /* The readings depend on neither the campaign's grid and repeats nor the
