@@ -60,7 +60,7 @@ ALL_LDLIBS := $(PKG_LIBS) -lm -fopenmp $(LDFLAGS)
 # sincos call).  None changes a result: IEEE rounding, NaN compares and
 # isfinite work here as everywhere else.
 KERNEL_SRC := src/util/rng.c src/util/fit.c src/ess/ess_model.c src/ess/ess_model_ext.c src/ess/ess_calib.c \
-              src/ess/ess_sensor.c src/ess/ess_readings.c src/dss/dss_readings.c \
+              src/ess/ess_sensor.c src/ess/ess_readings.c src/ess/ess_score.c src/dss/dss_readings.c \
               src/dss/dss_model_batch.c src/dss/dss_score.c src/dss/dss_onboard.c
 KERNEL_CFLAGS := -DSUNMC_VMATH -fno-math-errno -fno-trapping-math -fno-builtin-sin -fno-builtin-cos
 # KERNEL_ISA=baseline builds the kernels for the baseline only (no AVX2

@@ -63,6 +63,19 @@ static inline void band_acc_add(band_acc *b, const band_list *bands, double abs_
         b->n[i] += in;
     }
 }
+
+/* band_acc_add_mask for readings q < k at once: squared error e2[q] to the
+ * bands of mask m[q] (0: to none), in reading order, so the sums have the
+ * bits k calls of band_acc_add_mask give; the sums stay in registers
+ * (three bands, the shipped lists, unrolled), not in memory. */
+void band_acc_add_chunk(band_acc *b, int nb, size_t k, const unsigned *m, const double *e2);
+
+/* The same for three accumulators at once (acc[j] takes masks m[j] and
+ * squared errors e2[j]): the same bits, the nine chains of adds of three
+ * bands interleaved. */
+void band_acc_add_chunk3(band_acc *const acc[3], int nb, size_t k, const unsigned *const m[3],
+                         const double *const e2[3]);
+
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
 /* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */

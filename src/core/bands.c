@@ -41,6 +41,78 @@ int band_check_coverage(const band_list *bands, const band_acc *acc, double max_
     return SUNMC_OK;
 }
 
+/* One accumulator's three band sums and counts, in registers. */
+typedef struct {
+    double s0, s1, s2;
+    long n0, n1, n2;
+} sums3;
+
+static inline sums3 sums3_load(const band_acc *b)
+{
+    sums3 a = {b->sum2[0], b->sum2[1], b->sum2[2], 0, 0, 0};
+    return a;
+}
+
+static inline sums3 sums3_add(sums3 a, unsigned mq, double e2)
+{
+    a.s0 += vm_keep((int)(mq & 1u), e2);
+    a.s1 += vm_keep((int)((mq >> 1) & 1u), e2);
+    a.s2 += vm_keep((int)((mq >> 2) & 1u), e2);
+    a.n0 += mq & 1u;
+    a.n1 += (mq >> 1) & 1u;
+    a.n2 += (mq >> 2) & 1u;
+    return a;
+}
+
+static inline void sums3_store(sums3 a, band_acc *b)
+{
+    b->sum2[0] = a.s0, b->sum2[1] = a.s1, b->sum2[2] = a.s2;
+    b->n[0] += a.n0, b->n[1] += a.n1, b->n[2] += a.n2;
+}
+
+void band_acc_add_chunk(band_acc *b, int nb, size_t k, const unsigned *m, const double *e2)
+{
+    if (nb == 3) {
+        sums3 a = sums3_load(b);
+        for (size_t q = 0; q < k; q++)
+            a = sums3_add(a, m[q], e2[q]);
+        sums3_store(a, b);
+        return;
+    }
+    for (int i = 0; i < nb; i++) {
+        double s = b->sum2[i];
+        long n = 0;
+        for (size_t q = 0; q < k; q++) {
+            unsigned in = (m[q] >> i) & 1u;
+            s += vm_keep((int)in, e2[q]);
+            n += in;
+        }
+        b->sum2[i] = s;
+        b->n[i] += n;
+    }
+}
+
+void band_acc_add_chunk3(band_acc *const acc[3], int nb, size_t k, const unsigned *const m[3],
+                         const double *const e2[3])
+{
+    if (nb != 3) {
+        for (int j = 0; j < 3; j++)
+            band_acc_add_chunk(acc[j], nb, k, m[j], e2[j]);
+        return;
+    }
+    sums3 a = sums3_load(acc[0]), b = sums3_load(acc[1]), c = sums3_load(acc[2]);
+    const unsigned *ma = m[0], *mb = m[1], *mc = m[2];
+    const double *ea = e2[0], *eb = e2[1], *ec = e2[2];
+    for (size_t q = 0; q < k; q++) {
+        a = sums3_add(a, ma[q], ea[q]);
+        b = sums3_add(b, mb[q], eb[q]);
+        c = sums3_add(c, mc[q], ec[q]);
+    }
+    sums3_store(a, acc[0]);
+    sums3_store(b, acc[1]);
+    sums3_store(c, acc[2]);
+}
+
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out)
 {
     for (int i = 0; i < bands->n; i++)

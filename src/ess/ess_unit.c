@@ -1,6 +1,7 @@
 /* ess_unit.c - the ESS family: sample -> physical sensor -> turntable
  * campaign -> fit -> validation, for one unit. */
 #include "ess_unit.h"
+#include "ess_score.h"
 #include "ess_thermal.h"
 #include "thermal.h"
 #include "ess_curve.h"
@@ -320,67 +321,6 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     return w;
 }
 
-/* What the fitted model makes of k validation readings: the noisy
- * readings and, unless c->no_systematic, the same readings without the
- * noise (the systematic part) compensated, in batches. */
-typedef struct {
-    double comp[ESS_CHUNK], comp0[ESS_CHUNK];
-    int st_comp[ESS_CHUNK], st_comp0[ESS_CHUNK];
-} ess_val_chunk;
-
-static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size_t i0, size_t k,
-                             int sys, ess_val_chunk *w)
-{
-    if (sys)
-        ess_model_compensate_pair_batch(m, k, v->raw_rad + i0, v->raw0_rad + i0, w->comp,
-                                        w->comp0, w->st_comp, w->st_comp0);
-    else
-        ess_model_compensate_batch(m, k, v->raw_rad + i0, w->comp, w->st_comp);
-}
-
-/* Score the unit's validation readings v (RMS before and after), and the
- * same points without reading noise (the systematic part of the after
- * RMS; NaN under c->no_systematic); gross errors are counted and left out. */
-static void ess_unit_score_validation(const sunmc_config *c, const ess_model *m,
-                                      const ess_val_readings *v, unit_result *res)
-{
-    band_acc before, after, after_sys;
-    band_acc_reset(&before);
-    band_acc_reset(&after);
-    band_acc_reset(&after_sys);
-    double half_period = ess_half_period_rad(c);
-    int nb = c->bands_deg.n, sys = !c->no_systematic;
-    ess_val_chunk w;
-    for (size_t i0 = 0; i0 < v->n; i0 += ESS_CHUNK) {
-        size_t k = v->n - i0 < ESS_CHUNK ? v->n - i0 : ESS_CHUNK;
-        if (res->fit_status == UNIT_FIT_OK)
-            compensate_chunk(m, v, i0, k, sys, &w);
-        for (size_t q = 0; q < k; q++) {
-            size_t i = i0 + q;
-            if (v->status[i] == ESS_READING_UNSEEN)
-                continue;
-            if (v->status[i] == ESS_READING_GROSS) {
-                res->gross_val++;
-                continue;
-            }
-            unsigned bm = band_mask(&c->bands_deg, fabs(v->truth_rad[i]) * DEG_PER_RAD);
-            band_acc_add_mask(&before, nb, bm, v->raw_rad[i] - v->truth_rad[i]);
-            if (res->fit_status != UNIT_FIT_OK)
-                continue;
-            if (w.st_comp[q] != SUNMC_OK) {
-                res->fit_status = UNIT_FIT_FAILED;
-                continue;
-            }
-            band_acc_add_mask(&after, nb, bm, w.comp[q] - v->truth_rad[i]);
-            if (sys && !ess_is_gross(v->raw0_rad[i], v->truth_rad[i], half_period) &&
-                w.st_comp0[q] == SUNMC_OK)
-                band_acc_add_mask(&after_sys, nb, bm, w.comp0[q] - v->truth_rad[i]);
-        }
-    }
-    unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
-    unit_result_set_sys(res, 0, sys ? &after_sys : NULL, &c->bands_deg, DEG_PER_RAD);
-}
-
 /* The unit's validation readings into rd (family.h): the lab's, then at
  * each operating temperature other than the lab's its deviations at that
  * temperature, rebuilt (thermal_validate_all's order). */
@@ -418,7 +358,7 @@ static void ess_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
 {
     ess_temp_ctx *k = ctx;
     ess_val_readings v = ess_rd_view(&k->w->val, k->rd, k->next++);
-    ess_unit_score_validation(c, k->m, &v, at);
+    ess_score_validation(c, k->m, &v, at);
 }
 
 /* Campaign, fit and the scores of the unit's readings rd (family.h). */
@@ -459,7 +399,7 @@ static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
-    ess_unit_score_validation(c, &m, &v, res);
+    ess_score_validation(c, &m, &v, res);
     ess_temp_ctx tc = {&m, w, rd, 1};
     thermal_validate_all(c, res, ess_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
