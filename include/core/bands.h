@@ -70,11 +70,11 @@ static inline void band_acc_add(band_acc *b, const band_list *bands, double abs_
  * (three bands, the shipped lists, unrolled), not in memory. */
 void band_acc_add_chunk(band_acc *b, int nb, size_t k, const unsigned *m, const double *e2);
 
-/* The same for three accumulators at once (acc[j] takes masks m[j] and
- * squared errors e2[j]): the same bits, the nine chains of adds of three
- * bands interleaved. */
-void band_acc_add_chunk3(band_acc *const acc[3], int nb, size_t k, const unsigned *const m[3],
-                         const double *const e2[3]);
+/* The same for na accumulators at once (acc[j] takes masks m[j] and
+ * squared errors e2[j], j < na): the same bits; for two or three
+ * accumulators of three bands their chains of adds interleaved. */
+void band_acc_add_chunks(int na, band_acc *const acc[], int nb, size_t k,
+                         const unsigned *const m[], const double *const e2[]);
 
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);

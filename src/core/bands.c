@@ -92,25 +92,35 @@ void band_acc_add_chunk(band_acc *b, int nb, size_t k, const unsigned *m, const 
     }
 }
 
-void band_acc_add_chunk3(band_acc *const acc[3], int nb, size_t k, const unsigned *const m[3],
-                         const double *const e2[3])
+void band_acc_add_chunks(int na, band_acc *const acc[], int nb, size_t k,
+                         const unsigned *const m[], const double *const e2[])
 {
-    if (nb != 3) {
-        for (int j = 0; j < 3; j++)
+    if (nb != 3 || na < 2 || na > 3) {
+        for (int j = 0; j < na; j++)
             band_acc_add_chunk(acc[j], nb, k, m[j], e2[j]);
         return;
     }
-    sums3 a = sums3_load(acc[0]), b = sums3_load(acc[1]), c = sums3_load(acc[2]);
-    const unsigned *ma = m[0], *mb = m[1], *mc = m[2];
-    const double *ea = e2[0], *eb = e2[1], *ec = e2[2];
-    for (size_t q = 0; q < k; q++) {
-        a = sums3_add(a, ma[q], ea[q]);
-        b = sums3_add(b, mb[q], eb[q]);
-        c = sums3_add(c, mc[q], ec[q]);
+    sums3 a = sums3_load(acc[0]), b = sums3_load(acc[1]);
+    const unsigned *ma = m[0], *mb = m[1];
+    const double *ea = e2[0], *eb = e2[1];
+    if (na == 2) {
+        for (size_t q = 0; q < k; q++) {
+            a = sums3_add(a, ma[q], ea[q]);
+            b = sums3_add(b, mb[q], eb[q]);
+        }
+    } else {
+        sums3 c = sums3_load(acc[2]);
+        const unsigned *mc = m[2];
+        const double *ec = e2[2];
+        for (size_t q = 0; q < k; q++) {
+            a = sums3_add(a, ma[q], ea[q]);
+            b = sums3_add(b, mb[q], eb[q]);
+            c = sums3_add(c, mc[q], ec[q]);
+        }
+        sums3_store(c, acc[2]);
     }
     sums3_store(a, acc[0]);
     sums3_store(b, acc[1]);
-    sums3_store(c, acc[2]);
 }
 
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out)

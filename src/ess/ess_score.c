@@ -118,13 +118,9 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_v
             continue;
         }
         chunk_errors(k, w.comp, v->truth_rad + i0, o.ea);
-        if (!sys) {
-            band_acc_add_chunk(&before, nb, k, o.mb, o.eb);
-            band_acc_add_chunk(&after, nb, k, o.ma, o.ea);
-            continue;
-        }
-        chunk_errors(k, w.comp0, v->truth_rad + i0, o.es);
-        band_acc_add_chunk3(acc, nb, k, m3, e3);
+        if (sys)
+            chunk_errors(k, w.comp0, v->truth_rad + i0, o.es);
+        band_acc_add_chunks(2 + sys, acc, nb, k, m3, e3);
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
     unit_result_set_sys(res, 0, sys ? &after_sys : NULL, &c->bands_deg, DEG_PER_RAD);
