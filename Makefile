@@ -37,8 +37,16 @@ endif
 HDF5_PC    := $(firstword $(foreach p,hdf5 hdf5-serial,$(shell pkg-config --exists $(p) 2>/dev/null && echo $(p))))
 HDF5_CFLAGS := $(if $(HDF5_PC),$(shell pkg-config --cflags $(HDF5_PC)),-I/usr/include/hdf5/serial)
 HDF5_LIBS  := $(if $(HDF5_PC),$(shell pkg-config --libs $(HDF5_PC)),-L/usr/lib/$(shell uname -m)-linux-gnu/hdf5/serial -lhdf5)
+# The library is not linked but loaded by `run --format hdf5` (dlopen,
+# h5out.c): linked, it and its thirty-odd dependencies cost every sunmc
+# process about 12 ms of CPU at start-up.  h5out.c is told its soname (read
+# off the library the link would take), or the library's path.
+HDF5_LIBDIRS := $(patsubst -L%,%,$(filter -L%,$(HDF5_LIBS))) /usr/lib/$(shell uname -m)-linux-gnu
+HDF5_SO    := $(firstword $(wildcard $(addsuffix /lib$(patsubst -l%,%,$(firstword $(filter -lhdf5%,$(HDF5_LIBS)))).so,$(HDF5_LIBDIRS))))
+HDF5_SONAME := $(if $(HDF5_SO),$(shell objdump -p $(HDF5_SO) 2>/dev/null | awk '/SONAME/ { print $$2 }'))
+HDF5_LIB   := $(or $(HDF5_SONAME),$(HDF5_SO),libhdf5_serial.so)
 PKG_CFLAGS := $(shell pkg-config --cflags gsl 2>/dev/null) $(HDF5_CFLAGS)
-PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null) $(HDF5_LIBS)
+PKG_LIBS   := $(shell pkg-config --libs gsl 2>/dev/null) -ldl
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 
 OPT ?= -O2
@@ -229,6 +237,8 @@ $(eval $(call BUILD_RULES,$(ASAN),$$(ALL_CFLAGS) $$(ASAN_FLAGS)))
 
 $(KERNEL_SRC:src/%.c=$(BUILD)/obj/%.o) $(KERNEL_SRC:src/%.c=$(ASAN)/obj/%.o): \
     ALL_CFLAGS += $(KERNEL_CFLAGS)
+$(BUILD)/obj/util/h5out.o $(ASAN)/obj/util/h5out.o: ALL_CFLAGS += -DSUNMC_HDF5_LIB='"$(HDF5_LIB)"'
+
 
 # sunmc-baseline: the same program with the kernels (and vmath.o's build
 # id) built for the baseline only.  `sunmc run --isa baseline` and

@@ -36,6 +36,14 @@ typedef struct {
 /* A number the tool could not form, in a TSV cell (nan in the file). */
 #define H5OUT_MISSING "-"
 
+/* Load the HDF5 library (dlopen: sunmc does not link it, which would slow
+ * every process's start; its name is the build's, or the environment's
+ * SUNMC_HDF5_LIB).  SUNMC_EINPUT when it cannot be loaded or lacks a
+ * function h5out needs, err saying which and how to install it.  Called
+ * by h5out_write; a run asking for results.h5 calls it before its units,
+ * so a missing library refuses the run and writes nothing. */
+int h5out_load(char *err, size_t errlen);
+
 int h5out_write(const char *path, const char *units_tsv, const char *summary_tsv,
                 const char *config_ini, const h5out_meta *meta, char *err, size_t errlen);
 

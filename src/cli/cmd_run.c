@@ -1,5 +1,6 @@
 /* cmd_run.c - `sunmc run` (the Monte Carlo and Table 1) and `sunmc config`. */
 #include "cli.h"
+#include "h5out.h"
 #include "summary_print.h"
 #include "memory.h"
 #include "montecarlo.h"
@@ -238,7 +239,7 @@ static int check_isa(const char *want)
 }
 
 /* --format tsv|hdf5.  hdf5 writes DIR/results.h5 beside the TSV files, so
- * it needs --out; a shard is refused: shards are joined by `sunmc merge`,
+ * it needs --out and the HDF5 library (h5out_load); a shard is refused: shards are joined by `sunmc merge`,
  * which reads units.bin and writes TSV only (run the whole, or convert
  * nothing half-way). */
 static int check_format(const cli_options *o)
@@ -259,6 +260,13 @@ static int check_format(const cli_options *o)
     if (o->shard_n > 0) {
         fprintf(stderr, "sunmc run: --format hdf5 with --shard: shards are joined by `sunmc "
                         "merge`, which writes TSV only; run the shards without --format hdf5\n");
+        return EXIT_BAD_INPUT;
+    }
+    /* the library is loaded now, so a machine without it refuses the run
+     * before any unit (exit 2, nothing written) */
+    char err[SUNMC_ERRLEN];
+    if (h5out_load(err, sizeof err) != SUNMC_OK) {
+        fprintf(stderr, "sunmc run: %s\n", err);
         return EXIT_BAD_INPUT;
     }
     return 0;

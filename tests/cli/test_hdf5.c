@@ -2,7 +2,8 @@
  * DIR/results.h5 beside the TSV files: byte-identical at 1 and 2 threads; the
  * documented loader (docs/examples/load_h5.py, h5py) reads columns equal to
  * units.tsv's and summary.tsv's printed values and the config as attributes;
- * bad --format values and the refused combinations exit 2 writing nothing;
+ * bad --format values, the refused combinations and a missing HDF5 library
+ * exit 2 writing nothing;
  * h5out's own error paths (missing table, ragged row) and its typing rules
  * (int64, float64, "-" as nan, text). */
 #include "test_util.h"
@@ -119,6 +120,33 @@ static void test_format_refusals(void **state)
     assert_non_null(strstr(out, "it needs --out DIR"));
 }
 
+/* The HDF5 library is loaded, not linked (h5out_load): a machine without it
+ * (or a library that is not HDF5) refuses --format hdf5 before any unit,
+ * exit 2, nothing written, saying how to install it; tsv runs need none. */
+static void test_library_missing_refused(void **state)
+{
+    char out[16384], cmd[4096];
+    static const char *const libs[] = {"libsunmc-no-such-hdf5.so.1", "libm.so.6"};
+    static const char *const says[] = {"needs the HDF5 library (libsunmc-no-such-hdf5.so.1)",
+                                       "libm.so.6 is not an HDF5 library sunmc can use (no "};
+    for (int k = 0; k < 2; k++) {
+        snprintf(cmd, sizeof cmd, "SUNMC_HDF5_LIB=%s %s run " E " --units 4 " TINY
+                 " --format hdf5 --out %s/nolib", libs[k], test_sunmc(), dir);
+        assert_int_equal(test_run(cmd, out, sizeof out), 2);
+        assert_non_null(strstr(out, says[k]));
+        assert_true(k > 0 || strstr(out, "scripts/install-deps.sh"));
+        snprintf(cmd, sizeof cmd, "test ! -e %s/nolib && test ! -e %s/.nolib.resume", dir, dir);
+        assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    }
+    snprintf(cmd, sizeof cmd, "SUNMC_HDF5_LIB=libsunmc-no-such-hdf5.so.1 %s run " E
+             " --units 4 " TINY " --format tsv --out %s/tsvonly", test_sunmc(), dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    /* and the binary does not link it: no HDF5 among its libraries */
+    snprintf(cmd, sizeof cmd, "ldd %s | grep -c hdf5", test_sunmc());
+    test_run(cmd, out, sizeof out);
+    assert_int_equal(atoi(out), 0);
+}
+
 static const h5out_meta meta = {"ess", "P", 7, 3, 0, 3};
 
 /* h5out alone: the typing rules, read back with h5py. */
@@ -179,6 +207,7 @@ int main(void)
         cmocka_unit_test(test_threads_identical_and_loader_matches_tsv),
         cmocka_unit_test(test_tsv_default_unchanged),
         cmocka_unit_test(test_format_refusals),
+        cmocka_unit_test(test_library_missing_refused),
         cmocka_unit_test(test_h5out_types),
         cmocka_unit_test(test_h5out_errors),
     };
