@@ -302,7 +302,8 @@ typedef struct {
 
 /* sin(w x), cos(w x) of kp lanes into sn, cs: fresh from libmvec, else
  * turned from their values at xe (ess_lane_turn_wide); xe = x after.
- * Each lane's bits depend on its own values only. */
+ * Each lane's bits depend on its own values only; the lanes beyond the
+ * series' range are looked for only when the vector loop saw one. */
 VM_INLINE void comp_trig(size_t kp, double w, const double *x, double *xe, double *sn,
                          double *cs, int fresh)
 {
@@ -316,32 +317,34 @@ VM_INLINE void comp_trig(size_t kp, double w, const double *x, double *xe, doubl
         }
         return;
     }
+    long far = 0;
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         d[i] = w * (x[i] - xe[i]);
         ess_lane_cs t = ess_lane_turn_wide(cs[i], sn[i], d[i]);
         sn[i] = t.s;
         cs[i] = t.c;
         xe[i] = x[i];
+        far |= fabs(d[i]) > COMP_TURN_MAX ? 1 : 0;
     }
-    for (size_t i = 0; i < kp; i++)
-        if (fabs(d[i]) > COMP_TURN_MAX) {
-            sn[i] = sin(w * x[i]);
-            cs[i] = cos(w * x[i]);
-        }
+    if (far)
+        for (size_t i = 0; i < kp; i++)
+            if (fabs(d[i]) > COMP_TURN_MAX) {
+                sn[i] = sin(w * x[i]);
+                cs[i] = cos(w * x[i]);
+            }
 }
 
 /* Halley's method on kp lanes from x (lanes with active set): every lane
  * iterates until its own step is below COMP_TOL_RAD or Halley's error
- * bound after it is (halley_bound), exactly as one reading alone would.
- * The first sine and cosine from libmvec unless near (the lanes' values
- * at xe then), the rest turned from the last (comp_trig).  fpl gets each
- * lane's g' at its last iterate. */
-VM_INLINE void halley_steps(const ess_model *m, size_t kp, const double *r, double *x,
-                            long *active, double *xe, double *sn, double *cs, double *fpl,
-                            int near)
+ * bound after it is (bound = halley_bound), exactly as one reading alone
+ * would.  The first sine and cosine from libmvec unless near (the lanes'
+ * values at xe then), the rest turned from the last (comp_trig).  fpl gets
+ * each lane's g' at its last iterate.  Returns the lanes still active. */
+VM_INLINE long halley_steps(const ess_model *m, double bound, size_t kp, const double *r,
+                            double *x, long *active, double *xe, double *sn, double *cs,
+                            double *fpl, int near)
 {
     double ks = m->p[ESS_P_KS], kc = m->p[ESS_P_KC], w = m->omega;
-    double bound = halley_bound(w, hypot(ks, kc));
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
@@ -354,12 +357,11 @@ VM_INLINE void halley_steps(const ess_model *m, size_t kp, const double *r, doub
             double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp), adx = fabs(dx);
             x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
             fpl[i] = vm_select(active[i] != 0, fp, fpl[i]);
-            active[i] = active[i] &
-                        (long)!(adx < COMP_TOL_RAD || bound * adx * adx * adx < COMP_TOL_RAD);
-        }
-        for (size_t i = 0; i < kp; i++)
+            active[i] = adx < COMP_TOL_RAD || bound * adx * adx * adx < COMP_TOL_RAD ? 0 : active[i];
             left += active[i];
+        }
     }
+    return left;
 }
 
 /* Eq. 13 on kp lanes, keeping tan alpha_d, the arctangent's argument and
@@ -374,7 +376,7 @@ VM_INLINE void comp_eq13_keep(const ess_model *m, size_t kp, const double *x, lo
         keep->td[i] = td;
         keep->y[i] = (p[ESS_P_B] - td) / den;
         keep->alpha[i] = atan(keep->y[i]);
-        active[i] = active[i] | (long)(den == 0.0);
+        active[i] = den == 0.0 ? 1 : active[i];
     }
 }
 
@@ -389,6 +391,7 @@ VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, lo
 {
     const double *p = m->p;
     _Alignas(VM_ALIGN) long far[ESS_COMP_CHUNK];
+    long any_far = 0;
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double h = x[i] - near->x[i], th = ess_lane_tan_small(h);
         double td = (near->td[i] + th) / (1.0 - near->td[i] * th);
@@ -396,46 +399,58 @@ VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, lo
         double y = (p[ESS_P_B] - td) / den, q = 1.0 + y * near->y[i];
         double e = (y - near->y[i]) / q;
         alpha[i] = near->alpha[i] + ess_lane_atan_small(e);
-        far[i] = (long)!(fabs(h) <= COMP_NEAR_MAX && fabs(e) <= COMP_NEAR_MAX && q > 0.0);
-        active[i] = active[i] | (long)(den == 0.0);
+        long in = q > 0.0 ? 1 : 0;
+        in = fabs(h) <= COMP_NEAR_MAX ? in : 0;
+        far[i] = fabs(e) <= COMP_NEAR_MAX ? 1 - in : 1;
+        any_far |= far[i];
+        active[i] = den == 0.0 ? 1 : active[i];
     }
-    for (size_t i = 0; i < kp; i++)
+    for (size_t i = 0; any_far && i < kp; i++)
         if (far[i]) {
             double td = tan(x[i]), den = p[ESS_P_C] * td - p[ESS_P_A];
             alpha[i] = atan((p[ESS_P_B] - td) / den);
         }
 }
 
-/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes):
- * from each raw, or (near != NULL) from near's solution for the same
- * readings with noise, moved by (raw - near's raw) / g' (one Newton
- * step), its sines and cosines turned from near's; a lane still moving
- * after COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then
- * eq. 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
- * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
- * gets the lanes for a pass near this one. */
-VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, size_t k, const double *raw,
-                                       const comp_lanes *near, comp_lanes *keep, double *alpha,
-                                       int *status)
+/* The lanes' start near a pass over the same readings with noise: near's
+ * solution moved by (raw - near's raw) / g' (one Newton step; the raw
+ * where that is not a number), its sines and cosines where near took
+ * them last. */
+VM_INLINE void comp_warm_start(size_t kp, const comp_lanes *near, comp_lanes *l)
 {
-    _Alignas(VM_ALIGN) double x[ESS_COMP_CHUNK], r[ESS_COMP_CHUNK], fpl[ESS_COMP_CHUNK];
-    _Alignas(VM_ALIGN) double xe[ESS_COMP_CHUNK], sn[ESS_COMP_CHUNK], cs[ESS_COMP_CHUNK];
-    _Alignas(VM_ALIGN) double out[ESS_COMP_CHUNK];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double x0 = near->x[i] + (l->r[i] - near->r[i]) / near->slope[i];
+        l->x[i] = vm_select(isfinite(x0), x0, l->r[i]);
+        l->xe[i] = near->xe[i];
+        l->sn[i] = near->sn[i];
+        l->cs[i] = near->cs[i];
+    }
+}
+
+/* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes),
+ * bound = halley_bound of the model: from each raw, or (near != NULL)
+ * from near's solution (comp_warm_start); a lane still moving after
+ * COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then eq.
+ * 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
+ * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
+ * gets the lanes for a pass near this one; the iteration works in it. */
+VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double bound, size_t k,
+                                                    const double *raw, const comp_lanes *near,
+                                                    comp_lanes *keep, double *alpha, int *status)
+{
+    comp_lanes own;
+    comp_lanes *l = keep ? keep : &own;
+    double *x = l->x, *r = l->r;
     _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
     size_t kp = vm_pad(k);
     ess_lane_comp_start(k, raw, x, r, active);
-    for (size_t i = 0; i < kp; i++) {
-        fpl[i] = 1.0;
-        if (near) {
-            double x0 = near->x[i] + (r[i] - near->r[i]) / near->slope[i];
-            x[i] = isfinite(x0) ? x0 : r[i];
-            xe[i] = near->xe[i];
-            sn[i] = near->sn[i];
-            cs[i] = near->cs[i];
-        }
-    }
-    halley_steps(m, kp, r, x, active, xe, sn, cs, fpl, near != NULL);
-    for (size_t i = 0; i < k; i++)
+    VM_SIMD for (size_t i = 0; i < kp; i++)
+        l->slope[i] = 1.0;
+    if (near)
+        comp_warm_start(kp, near, l);
+    long left = halley_steps(m, bound, kp, r, x, active, l->xe, l->sn, l->cs, l->slope,
+                             near != NULL);
+    for (size_t i = 0; left && i < k; i++)
         if (active[i] && isfinite(r[i])) {
             x[i] = finecode_bisect(m->p[ESS_P_KS], m->p[ESS_P_KC], m->omega, r[i]);
             active[i] = 0;
@@ -444,21 +459,13 @@ VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, size_t k
         ess_lane_comp_eq13(m, k, x, active, alpha, status);
         return;
     }
-    if (keep) {
-        memcpy(keep->r, r, sizeof r);
-        memcpy(keep->x, x, sizeof x);
-        memcpy(keep->slope, fpl, sizeof fpl);
-        memcpy(keep->xe, xe, sizeof xe);
-        memcpy(keep->sn, sn, sizeof sn);
-        memcpy(keep->cs, cs, sizeof cs);
+    if (keep)
         comp_eq13_keep(m, kp, x, active, keep);
-        memcpy(out, keep->alpha, sizeof out);
-    } else {
-        comp_eq13_near(m, kp, x, active, near, out);
-    }
+    else
+        comp_eq13_near(m, kp, x, active, near, own.alpha);
     for (size_t i = 0; i < k; i++) {
         status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
-        alpha[i] = out[i];
+        alpha[i] = l->alpha[i];
     }
 }
 
@@ -471,13 +478,14 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
             status[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
     }
+    double bound = ext ? 0.0 : halley_bound(m->omega, hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]));
     int st = SUNMC_OK;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
         if (ext)
             ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         else
-            compensate_chunk(m, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
+            compensate_chunk(m, bound, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;
@@ -494,17 +502,20 @@ int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *
         int st0 = ess_model_compensate_batch(m, n, raw0_rad, alpha0_rad, status0);
         return st != SUNMC_OK ? st : st0;
     }
-    if (m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
+    double k_rad = hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]);
+    if (m->omega * k_rad >= 1.0) {
         for (size_t i = 0; i < n; i++)
             status[i] = status0[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
     }
+    double bound = halley_bound(m->omega, k_rad);
     int st = SUNMC_OK;
     comp_lanes lanes;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        compensate_chunk(m, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
-        compensate_chunk(m, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0, status0 + i0);
+        compensate_chunk(m, bound, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
+        compensate_chunk(m, bound, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0,
+                         status0 + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK || status0[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;

@@ -73,8 +73,13 @@ VM_INLINE ess_lane_mount ess_lane_mount_partials(const ess_model *m, ess_table_m
 VM_INLINE void ess_lane_comp_start(size_t k, const double *raw, double *x, double *r,
                                    long *active)
 {
-    for (size_t i = 0; i < vm_pad(k); i++) {
-        x[i] = r[i] = raw[i < k ? i : 0];
+    size_t kp = vm_pad(k);
+    for (size_t i = 0; i < k; i++)
+        r[i] = raw[i];
+    for (size_t i = k; i < kp; i++)
+        r[i] = raw[0];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        x[i] = r[i];
         active[i] = 1;
     }
 }
@@ -88,7 +93,7 @@ VM_INLINE void ess_lane_comp_eq13(const ess_model *m, size_t k, double *x, long 
         double td = tan(x[i]);
         double den = p[ESS_P_C] * td - p[ESS_P_A];
         x[i] = atan((p[ESS_P_B] - td) / den);
-        active[i] = active[i] | (long)(den == 0.0);
+        active[i] = den == 0.0 ? 1 : active[i];
     }
     for (size_t i = 0; i < k; i++) {
         status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
