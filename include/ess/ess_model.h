@@ -145,7 +145,7 @@ int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad);
 /* The same for n raws at once (vectorised; each gives the bits it gives
  * alone): alpha_rad[i], status[i] = SUNMC_OK or SUNMC_EDOM.  Returns
  * SUNMC_EDOM if any reading failed. */
-#define ESS_COMP_CHUNK 16
+#define ESS_COMP_CHUNK 64
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
                                double *alpha_rad, int *status);
 

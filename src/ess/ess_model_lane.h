@@ -13,6 +13,8 @@
 #include "status.h"
 #include "vmath.h"
 
+#include <string.h>
+
 /* A turntable matrix, element by element. */
 typedef struct {
     double m00, m01, m02, m10, m11, m12, m20, m21, m22;
@@ -74,8 +76,7 @@ VM_INLINE void ess_lane_comp_start(size_t k, const double *raw, double *x, doubl
                                    long *active)
 {
     size_t kp = vm_pad(k);
-    for (size_t i = 0; i < k; i++)
-        r[i] = raw[i];
+    memcpy(r, raw, k * sizeof *r);
     for (size_t i = k; i < kp; i++)
         r[i] = raw[0];
     VM_SIMD for (size_t i = 0; i < kp; i++) {
