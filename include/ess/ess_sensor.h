@@ -76,6 +76,10 @@ double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit
 #define ESS_FINE_SERIES_TAN 1e-2
 #define ESS_FINE_SERIES_PHASE 0.25
 
+/* The most coarse cells (2^rows) whose edge tangents a sensor tabulates
+ * (coarse_by_table): 8 rows, 6 KiB a sensor. */
+#define ESS_COARSE_TABLE_CELLS 256
+
 /* One built sensor, ready to read: lengths in mm, angles in radians. */
 typedef struct {
     double H_mm;        /* design height: the etching rule */
@@ -96,6 +100,20 @@ typedef struct {
      * edges of fine row 0's cell instead of an arctangent (ess_sensor.c) */
     int coarse_by_compare;
     double coarse_tan_res; /* tan(coarse_res_rad) */
+    /* 1 when the dial has at most ESS_COARSE_TABLE_CELLS cells: the
+     * comparison path then takes each cell's edge tangents from the
+     * tables below (made once by ess_sensor_init, the same bits as a
+     * reading made them) and reads only the two outermost coarse rows,
+     * plus the one row that tells two neighbouring cells apart where
+     * those two differ (ess_sensor.c) */
+    int coarse_by_table;
+    int coarse_row_min, coarse_row_max; /* the rows of least and greatest x */
+    /* per cell k: the tangents of its lower and upper edge (-inf, +inf
+     * at the dial's ends), and the x of the row whose Gray bit differs
+     * between cells k and k + 1 */
+    double coarse_lo_tan[ESS_COARSE_TABLE_CELLS];
+    double coarse_hi_tan[ESS_COARSE_TABLE_CELLS];
+    double coarse_step_x_mm[ESS_COARSE_TABLE_CELLS];
     double fine_x_mm[ESS_FINE_ROWS];
     double gain[ESS_FINE_ROWS];       /* 1 + gain error */
     double etch_mm[ESS_FINE_ROWS];    /* etching position error */

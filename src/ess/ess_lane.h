@@ -166,6 +166,23 @@ VM_INLINE double ess_lane_coarse_near(double k0, double lo, double hi, double t)
     return k0 - vm_select(t < lo, 1.0, 0.0) + vm_select(t >= hi, 1.0, 0.0);
 }
 
+/* The tangents of cell k's lower and upper edges (the upper one by the
+ * addition formula from tan_res = tan(s->coarse_res_rad)), -inf and +inf
+ * at the dial's ends and beyond a quarter turn. */
+typedef struct {
+    double lo, hi;
+} ess_lane_edges;
+
+VM_INLINE ess_lane_edges ess_lane_coarse_edges(const ess_sensor *s, double k, double tan_res)
+{
+    double a = s->coarse_origin_rad + k * s->coarse_res_rad, b = a + s->coarse_res_rad;
+    double ta = tan(a), tb = (ta + tan_res) / (1.0 - ta * tan_res); /* tan(a + res) */
+    ess_lane_edges e;
+    e.lo = vm_select(k < 0.5 || a <= -M_PI_2, -HUGE_VAL, ta);
+    e.hi = vm_select(k > s->coarse_cells - 1.5 || b >= M_PI_2, HUGE_VAL, tb);
+    return e;
+}
+
 /* 2^(n-1-j) for coarse row j. */
 VM_INLINE double ess_lane_row_bit(const ess_sensor *s, int j)
 {

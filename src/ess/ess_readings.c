@@ -21,16 +21,23 @@ static void pad_lanes(double *x, size_t k)
         x[i] = x[0];
 }
 
+_Static_assert(ESS_FINE_ROWS == 4, "noise_lanes: four rows a lane");
+
 /* Row noises of k lanes from normals z (lane i's four at z[stride i + m]),
  * scaled by sigma, pads repeating lane 0. */
 static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
                         double nz[ESS_FINE_ROWS][ESS_CHUNK])
 {
-    for (int m = 0; m < ESS_FINE_ROWS; m++) {
-        for (size_t i = 0; i < k; i++)
-            nz[m][i] = sigma * z[stride * i + (size_t)m];
-        pad_lanes(nz[m], k);
+    /* a lane's four at a time: one pass over z, not four strided ones */
+    for (size_t i = 0; i < k; i++) {
+        const double *zi = z + stride * i;
+        nz[0][i] = sigma * zi[0];
+        nz[1][i] = sigma * zi[1];
+        nz[2][i] = sigma * zi[2];
+        nz[3][i] = sigma * zi[3];
     }
+    for (int m = 0; m < ESS_FINE_ROWS; m++)
+        pad_lanes(nz[m], k);
 }
 
 /* n normals of r into z, or n zeros when the caller scales every one of

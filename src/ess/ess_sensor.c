@@ -69,6 +69,40 @@ static double coarse_spread(const ess_sensor *s)
     return (dx * fabs(s->tan_dphi) + fabs(s->etch_mm[0])) / s->H_mm;
 }
 
+/* The tangents of every cell's edges, as coarse_by_compare makes them a
+ * reading (the same expressions, the same vector tan of this clone: the
+ * same bits), for s->coarse_by_table. */
+VM_KERNEL static void coarse_table_fill(ess_sensor *s)
+{
+    int n = (int)s->coarse_cells;
+    double tr = s->coarse_tan_res;
+    double *restrict lo = s->coarse_lo_tan, *restrict hi = s->coarse_hi_tan;
+    VM_SIMD for (int i = 0; i < (int)vm_pad((size_t)n); i++) {
+        ess_lane_edges e = ess_lane_coarse_edges(s, (double)i, tr);
+        lo[i] = e.lo;
+        hi[i] = e.hi;
+    }
+}
+
+/* The rows of least and greatest x, and per cell k the x of the row
+ * whose Gray bit differs between k and k + 1: Gray(k) ^ Gray(k + 1) is
+ * bit t, t the trailing zeros of k + 1, read by row n - 1 - t. */
+static void coarse_rows_index(ess_sensor *s)
+{
+    int n = s->n_coarse;
+    s->coarse_row_min = s->coarse_row_max = 0;
+    for (int j = 1; j < n; j++) {
+        if (s->coarse_x_mm[j] < s->coarse_x_mm[s->coarse_row_min])
+            s->coarse_row_min = j;
+        if (s->coarse_x_mm[j] > s->coarse_x_mm[s->coarse_row_max])
+            s->coarse_row_max = j;
+    }
+    int cells = (int)s->coarse_cells;
+    for (int k = 0; k + 1 < cells; k++)
+        s->coarse_step_x_mm[k] = s->coarse_x_mm[n - 1 - __builtin_ctz((unsigned)(k + 1))];
+    s->coarse_step_x_mm[cells - 1] = s->coarse_x_mm[0]; /* no cell above: never read */
+}
+
 void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *dev)
 {
     memset(s, 0, sizeof *s);
@@ -101,6 +135,11 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
                              2.0 * M_PI / s->theta0_rad * a <= ESS_FINE_SERIES_PHASE;
     }
     s->coarse_tan_res = tan(s->coarse_res_rad);
+    s->coarse_by_table = s->n_coarse > 0 && s->coarse_cells <= ESS_COARSE_TABLE_CELLS;
+    if (s->coarse_by_table) {
+        coarse_table_fill(s);
+        coarse_rows_index(s);
+    }
     s->harmonics_given = d->harmonics == 1;
     s->given_ratio[0] = 1.0;
     s->given_ratio[1] = d->a3_ratio;
@@ -145,14 +184,13 @@ VM_KERNEL static void coarse_by_compare(const ess_sensor *s, size_t kp, const do
                                         double *cell)
 {
     _Alignas(VM_ALIGN) double k0[ESS_CHUNK], lo[ESS_CHUNK], hi[ESS_CHUNK];
-    double last = s->coarse_cells - 1.0, tr = s->coarse_tan_res;
+    double tr = s->coarse_tan_res;
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double k = ess_lane_coarse_cell(s, psi0[i]);
-        double a = s->coarse_origin_rad + k * s->coarse_res_rad, b = a + s->coarse_res_rad;
+        ess_lane_edges e = ess_lane_coarse_edges(s, k, tr);
         k0[i] = k;
-        double ta = tan(a), tb = (ta + tr) / (1.0 - ta * tr); /* tan(a + res) */
-        lo[i] = vm_select(k < 0.5 || a <= -M_PI_2, -HUGE_VAL, ta);
-        hi[i] = vm_select(k > last - 0.5 || b >= M_PI_2, HUGE_VAL, tb);
+        lo[i] = e.lo;
+        hi[i] = e.hi;
     }
     /* each row's offset from k0 (-1, 0 or 1); while every row of every
      * lane has the same one, the Gray code decodes to k0 + that offset */
@@ -187,6 +225,50 @@ VM_KERNEL static void coarse_by_compare(const ess_sensor *s, size_t kp, const do
     }
 }
 
+/* The same from the tables (s->coarse_by_table), reading two rows a
+ * reading.  A row's dial tangent, eta / H with eta = Hr v - dd - (x + Hr
+ * u) tan(dphi), is monotonic in its x in every rounding step, and so is
+ * the cell it reads (ess_lane_coarse_near): every row reads a cell
+ * between those of the rows of least and greatest x.  Where these two
+ * agree every row does, and the Gray code decodes to that cell.  Where
+ * they differ the rows read two neighbouring cells c and c + 1 (their
+ * tangents lie within half a cell of fine row 0's), whose Gray codes
+ * differ in one bit: the word the rows read is Gray(c) or Gray(c + 1),
+ * as that bit's row reads, and decodes to its cell.  The same cells as
+ * coarse_by_compare, bit for bit. */
+VM_KERNEL static void coarse_by_table(const ess_sensor *s, size_t kp, const double *u,
+                                      const double *v, const double *psi0, double *cell)
+{
+    _Alignas(VM_ALIGN) double k0[ESS_CHUNK], lo[ESS_CHUNK], hi[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double da[ESS_CHUNK], db[ESS_CHUNK], x[ESS_CHUNK];
+    double xa = s->coarse_x_mm[s->coarse_row_min], xb = s->coarse_x_mm[s->coarse_row_max];
+    VM_SIMD for (size_t i = 0; i < kp; i++)
+        k0[i] = ess_lane_coarse_cell(s, psi0[i]);
+    /* the tables' entries (GCC's generic tuning makes no vector gathers) */
+    for (size_t i = 0; i < kp; i++) {
+        int k = (int)k0[i];
+        lo[i] = s->coarse_lo_tan[k];
+        hi[i] = s->coarse_hi_tan[k];
+    }
+    double split = 0.0;
+    _Pragma("omp simd reduction(+ : split)") for (size_t i = 0; i < kp; i++) {
+        double a = ess_lane_coarse_near(0.0, lo[i], hi[i], ess_lane_eta(s, xa, u[i], v[i]) / s->H_mm);
+        double b = ess_lane_coarse_near(0.0, lo[i], hi[i], ess_lane_eta(s, xb, u[i], v[i]) / s->H_mm);
+        da[i] = a;
+        db[i] = b;
+        cell[i] = k0[i] + a;
+        split += fabs(a - b);
+    }
+    if (split == 0.0)
+        return;
+    for (size_t i = 0; i < kp; i++)
+        x[i] = s->coarse_step_x_mm[(int)(k0[i] + fmin(da[i], db[i]))];
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double d = ess_lane_coarse_near(0.0, lo[i], hi[i], ess_lane_eta(s, x[i], u[i], v[i]) / s->H_mm);
+        cell[i] = k0[i] + vm_select(da[i] == db[i], da[i], d);
+    }
+}
+
 /* Fine rows' phases (noisy and noiseless) and row 0's dial angle of kp
  * lanes, each row from its own arctangent, cosine and sine.  The
  * noiseless reading shares everything but the noise's add: its currents
@@ -216,11 +298,13 @@ VM_KERNEL static void fine_by_atan(const ess_sensor *s, size_t kp, const double 
 }
 
 /* The same with rows 1-3 from row 0 (s->fine_by_series): one arctangent,
- * cosine and sine a reading instead of four each. */
-VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
-                                     const double *v, const double *z,
-                                     const double *const noise[ESS_FINE_ROWS], double *psi0,
-                                     double *phase, double *phase0)
+ * cosine and sine a reading instead of four each; the noiseless phase
+ * only where it is wanted (want0: a constant, so each caller's loop is
+ * its own vector loop). */
+VM_INLINE void fine_by_series_loop(const ess_sensor *s, size_t kp, const double *u,
+                                   const double *v, const double *z,
+                                   const double *const noise[ESS_FINE_ROWS], double *psi0,
+                                   double *phase, double *phase0, int want0)
 {
     const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
     VM_SIMD for (size_t i = 0; i < kp; i++) {
@@ -234,8 +318,20 @@ VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp
         double c2 = ess_lane_current_from0(s, 2, h, t0, q, cx, sx, z[i]);
         double c3 = ess_lane_current_from0(s, 3, h, t0, q, cx, sx, z[i]);
         phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
-        phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
+        if (want0)
+            phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
     }
+}
+
+VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
+                                     const double *v, const double *z,
+                                     const double *const noise[ESS_FINE_ROWS], double *psi0,
+                                     double *phase, double *phase0, int want0)
+{
+    if (want0)
+        fine_by_series_loop(s, kp, u, v, z, noise, psi0, phase, phase0, 1);
+    else
+        fine_by_series_loop(s, kp, u, v, z, noise, psi0, phase, phase0, 0);
 }
 
 /* The readings of lanes [0, k) of a chunk: the fine rows' phases per lane
@@ -259,11 +355,13 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         v[i] = sy[i] / z[i];
     }
     if (s->fine_by_series)
-        fine_by_series(s, kp, u, v, z, noise, psi0, phase, phase0);
+        fine_by_series(s, kp, u, v, z, noise, psi0, phase, phase0, out0_rad != NULL);
     else
         fine_by_atan(s, kp, u, v, z, noise, psi0, phase, phase0);
     _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
-    if (s->coarse_by_compare)
+    if (s->coarse_by_compare && s->coarse_by_table)
+        coarse_by_table(s, kp, u, v, psi0, cell);
+    else if (s->coarse_by_compare)
         coarse_by_compare(s, kp, u, v, psi0, parity, cell);
     else
         coarse_by_atan(s, kp, u, v, parity, cell);

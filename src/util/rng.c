@@ -195,6 +195,16 @@ void rng_normal_fill(rng_stream *r, double *out, size_t n)
         size_t k = pairs < NORMAL_CHUNK ? pairs : NORMAL_CHUNK;
         next_words(r, k, w);
         box_muller(k, w, c, s);
+        if (2 * k <= n - done) {
+            /* every pair whole: interleaved without the end's test */
+            double *o = out + done;
+            for (size_t i = 0; i < k; i++) {
+                o[2 * i] = c[i];
+                o[2 * i + 1] = s[i];
+            }
+            done += 2 * k;
+            continue;
+        }
         for (size_t i = 0; i < k; i++) {
             out[done++] = c[i];
             if (done == n) {

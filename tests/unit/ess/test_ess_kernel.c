@@ -1,6 +1,7 @@
 /* test_ess_kernel.c - the ESS unit kernel's shortcuts (issue 27) give the
  * bits of the plain computation: coarse rows read by comparing tangents
- * instead of arctangents, and the validation grid's cosines and sines
+ * instead of arctangents (per-sensor tables of the cells' edges, two rows
+ * a reading), and the validation grid's cosines and sines
  * made once per run instead of once per reading; fine rows 1-3 made
  * from row 0 by series give its readings to 5e-15 rad. */
 #include "test_util.h"
@@ -36,32 +37,101 @@ static double read_rad(const ess_sensor *s, double alpha_deg, double beta_deg)
     return out;
 }
 
+/* The ESS defaults with the tilt and etching tolerances five-fold (still
+ * within the fine rows' series). */
+static sunmc_config five_fold_config(void)
+{
+    const char *sets[] = {"sensor.family=ess", "tolerance.dphi_deg=0.05", "tolerance.etch_um=1",
+                          "tolerance.gain_pct=5"};
+    char err[SUNMC_ERRLEN];
+    config_state st;
+    if (config_build(&st, NULL, sets, 4, err, sizeof err) != SUNMC_OK)
+        fail_msg("%s", err);
+    sunmc_config c = st.cfg;
+    config_state_free(&st);
+    return c;
+}
+
+/* Units of design d sampled from c: every reading of the comparison
+ * path from the tables (coarse_by_table: two rows a reading, a third
+ * where they differ), of the comparison path with a tangent a reading,
+ * and of the arctangent path are the same bits, on a grid finer than the
+ * cells (cell edges crossed many times, rows straddling them); the units
+ * where the comparison was taken are counted. */
+static int coarse_paths_agree(const sunmc_config *c, const ess_design *d, long units, int table,
+                              double b_step)
+{
+    int compared = 0;
+    for (long unit = 0; unit < units; unit++) {
+        ess_deviations dev;
+        ess_deviations_sample(c, 7, unit, &dev);
+        ess_sensor s, t, w;
+        ess_sensor_init(&s, d, &dev);
+        assert_int_equal(s.coarse_by_table, table);
+        compared += s.coarse_by_compare;
+        t = s;
+        t.coarse_by_table = 0;
+        w = s;
+        w.coarse_by_compare = 0;
+        for (double a = -61.99; a <= 62; a += 0.0731)
+            for (double b = -25; b <= 25; b += b_step) {
+                double x = read_rad(&s, a, b), y = read_rad(&t, a, b), z = read_rad(&w, a, b);
+                if (x != z || y != z)
+                    fail_msg("unit %ld alpha %.4f beta %g: table %.17g, compare %.17g, atan "
+                             "%.17g", unit, a, b, x, y, z);
+            }
+    }
+    return compared;
+}
+
 /* Sampled units (tolerances x 20: tilts of a few tenths of a degree,
- * etching of tens of micrometres, still within half a cell): every
- * reading of the comparison path is the arctangent path's, bit for bit,
- * on a grid finer than the cells (cell edges crossed many times). */
+ * etching of tens of micrometres, still within half a cell). */
 static void test_coarse_compare_matches_atan(void **state)
 {
     sunmc_config c = wide_config();
-    ess_config *ec = ess_cfg(&c);
-    int compared = 0;
-    for (long unit = 0; unit < 40; unit++) {
-        ess_deviations dev;
-        ess_deviations_sample(&c, 7, unit, &dev);
-        ess_sensor s, t;
-        ess_sensor_init(&s, &ec->design, &dev);
-        compared += s.coarse_by_compare;
-        t = s;
-        t.coarse_by_compare = 0;
-        for (double a = -61.99; a <= 62; a += 0.0731)
-            for (double b = -25; b <= 25; b += 25) {
-                double x = read_rad(&s, a, b), y = read_rad(&t, a, b);
-                if (x != y)
-                    fail_msg("unit %ld alpha %.4f beta %g: compare %.17g, atan %.17g", unit, a,
-                             b, x, y);
-            }
-    }
-    assert_true(compared >= 30); /* the comparison path was the one tested */
+    /* the comparison path was the one tested */
+    assert_true(coarse_paths_agree(&c, &ess_cfg(&c)->design, 40, 1, 25) >= 30);
+}
+
+/* The rows in any order across the dial: the outermost rows are found by
+ * their x, not their place in the list, and the row telling two cells
+ * apart by its Gray bit. */
+static void test_coarse_table_rows_shuffled(void **state)
+{
+    sunmc_config c = wide_config();
+    ess_design d = ess_cfg(&c)->design;
+    const double x[] = {-3.0, -4.2, -0.6, -1.8, -3.6, -1.2, -2.4};
+    assert_int_equal(d.coarse_rows_x_mm.n, 7);
+    for (int j = 0; j < 7; j++)
+        d.coarse_rows_x_mm.v[j] = x[j];
+    ess_sensor s;
+    ess_deviations dev = {0};
+    ess_sensor_init(&s, &d, &dev);
+    assert_int_equal(s.coarse_row_min, 1);
+    assert_int_equal(s.coarse_row_max, 2);
+    /* cells 3 | 4 (011 | 100) differ in bit 2: row 7 - 1 - 2; 4 | 5 in bit 0 */
+    assert_true(s.coarse_step_x_mm[3] == x[4]);
+    assert_true(s.coarse_step_x_mm[4] == x[6]);
+    assert_true(coarse_paths_agree(&c, &d, 20, 1, 25) >= 15);
+}
+
+/* The tables are made for up to ESS_COARSE_TABLE_CELLS cells (8 rows),
+ * not beyond (9 rows read each cell's tangent a reading): both give the
+ * arctangent path's bits. */
+static void test_coarse_table_limit(void **state)
+{
+    sunmc_config c = five_fold_config();
+    ess_design d = ess_cfg(&c)->design;
+    assert_int_equal(ESS_COARSE_TABLE_CELLS, 256);
+    d.coarse_rows_x_mm.n = 8;
+    d.coarse_resolution_deg = 0.5;
+    for (int j = 0; j < 8; j++)
+        d.coarse_rows_x_mm.v[j] = -4.2 + 0.5 * j;
+    assert_true(coarse_paths_agree(&c, &d, 6, 1, 50) >= 5);
+    d.coarse_rows_x_mm.n = 9;
+    d.coarse_resolution_deg = 0.25;
+    d.coarse_rows_x_mm.v[8] = -4.5;
+    assert_true(coarse_paths_agree(&c, &d, 6, 0, 50) >= 5);
 }
 
 /* The shortcut is taken while the rows' tangents lie within half a cell
@@ -99,21 +169,6 @@ static void test_coarse_compare_limit(void **state)
      * the coarse code still picks the fine period near the true angle */
     double out = read_rad(&s, 33.3, 0) * DEG_PER_RAD;
     assert_true(fabs(out - 33.3) < 0.5 * ec->design.theta0_deg);
-}
-
-/* The ESS defaults with the tilt and etching tolerances five-fold (still
- * within the fine rows' series). */
-static sunmc_config five_fold_config(void)
-{
-    const char *sets[] = {"sensor.family=ess", "tolerance.dphi_deg=0.05", "tolerance.etch_um=1",
-                          "tolerance.gain_pct=5"};
-    char err[SUNMC_ERRLEN];
-    config_state st;
-    if (config_build(&st, NULL, sets, 4, err, sizeof err) != SUNMC_OK)
-        fail_msg("%s", err);
-    sunmc_config c = st.cfg;
-    config_state_free(&st);
-    return c;
 }
 
 /* A noisy reading (row noise noise_frac of the currents). */
@@ -296,6 +351,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_coarse_compare_matches_atan),
         cmocka_unit_test(test_coarse_compare_limit),
+        cmocka_unit_test(test_coarse_table_rows_shuffled),
+        cmocka_unit_test(test_coarse_table_limit),
         cmocka_unit_test(test_fine_series_matches_atan),
         cmocka_unit_test(test_fine_series_limit),
         cmocka_unit_test(test_validation_trig_table),
