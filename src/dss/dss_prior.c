@@ -1,6 +1,7 @@
 /* dss_prior.c - the DSS physical calibration's priors from a noise-free
  * pilot (prior.h). */
 #include "dss_prior.h"
+#include "prior_cache.h"
 #include "dss_config.h"
 #include "dss_sensor.h"
 #include "dss_unit.h"
@@ -72,28 +73,50 @@ static int fits_index(const dss_calib_workspace *cw)
     return 0;
 }
 
-static int pilot(const sunmc_config *c, const dss_calib_workspace *cw, calib_prior *p, char *err,
-                 size_t errlen)
+/* The pilot's units of c0 on cw's campaign, fitted, added to p. */
+static int pilot_add(const sunmc_config *c0, const dss_calib_workspace *cw, calib_prior *p,
+                     char *err, size_t errlen)
 {
-    sunmc_config c0 = *c; /* no noise, no pick-freeze: the pilot is no random input */
-    c0.pick.n = 0;
-    c0.encoder_arcsec = 0;
-    dss_cfg(&c0)->noise.centroid_px = 0;
-    if (calib_prior_reset(p, cw->n_free) != SUNMC_OK)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->n_free);
     dss_calib_workspace *pw = dss_calib_alloc_fix(&cw->design, cw->n, cw->kind, cw->poly_order,
                                                   fits_index(cw), cw->fix_sun);
     if (!pw)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the priors' pilot");
     memcpy(pw->b1_rad, cw->b1_rad, cw->n * sizeof *cw->b1_rad);
     memcpy(pw->b2_rad, cw->b2_rad, cw->n * sizeof *cw->b2_rad);
-    uint64_t seed = prior_pilot_seed(c);
-    for (long u = 0; u < c->prior_units; u++) {
+    uint64_t seed = prior_pilot_seed(c0);
+    for (long u = 0; u < c0->prior_units; u++) {
         double x[DSS_NP];
-        if (pilot_unit(&c0, seed, u, pw, x) == SUNMC_OK)
+        if (pilot_unit(c0, seed, u, pw, x) == SUNMC_OK)
             calib_prior_add(p, x);
     }
     dss_calib_free(pw);
+    return SUNMC_OK;
+}
+
+static int pilot(const sunmc_config *c, const dss_calib_workspace *cw, calib_prior *p, char *err,
+                 size_t errlen)
+{
+    sunmc_config c0 = *c; /* no noise, no pick-freeze: the pilot is no random input */
+    memset(&c0.pick, 0, sizeof c0.pick);
+    c0.no_systematic = 0;
+    c0.encoder_arcsec = 0;
+    dss_cfg(&c0)->noise.centroid_px = 0;
+    if (calib_prior_reset(p, cw->n_free) != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->n_free);
+    /* the pilot's inputs (prior_cache.h): made once per process */
+    int layout[5] = {cw->kind, cw->poly_order, fits_index(cw), cw->fix_sun, cw->n_free};
+    const prior_key_part key[] = {{&c0, sizeof c0},
+                                  {&cw->design, sizeof cw->design},
+                                  {layout, sizeof layout},
+                                  {&cw->n, sizeof cw->n},
+                                  {cw->b1_rad, cw->n * sizeof *cw->b1_rad},
+                                  {cw->b2_rad, cw->n * sizeof *cw->b2_rad}};
+    int nk = (int)(sizeof key / sizeof *key), st = SUNMC_OK;
+    if (!prior_cache_find(key, nk, p, &st, NULL, 0)) {
+        if ((st = pilot_add(&c0, cw, p, err, errlen)) != SUNMC_OK)
+            return st;
+        prior_cache_keep(key, nk, p, SUNMC_OK, NULL);
+    }
     return calib_prior_finish(p, dss_reading_noise_px(c), err, errlen);
 }
 

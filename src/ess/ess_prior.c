@@ -1,5 +1,6 @@
 /* ess_prior.c - the ESS calibration's priors from a noise-free pilot. */
 #include "ess_prior.h"
+#include "prior_cache.h"
 #include "ess_config.h"
 #include "ess_sensor.h"
 #include "ess_unit.h"
@@ -43,27 +44,48 @@ static int pilot_unit(const sunmc_config *c0, uint64_t seed, long u, ess_calib_w
     return st;
 }
 
-int ess_prior_pilot(const sunmc_config *c, const ess_calib_workspace *cw, calib_prior *p,
-                    char *err, size_t errlen)
+/* The pilot's units of c0 on cw's campaign, fitted, added to p. */
+static int pilot_add(const sunmc_config *c0, const ess_calib_workspace *cw, calib_prior *p,
+                     char *err, size_t errlen)
 {
-    sunmc_config c0 = *c; /* no noise, no pick-freeze: the pilot is no random input */
-    c0.pick.n = 0;
-    c0.encoder_arcsec = 0;
-    ess_cfg(&c0)->noise.row_current_pct = 0;
-    if (calib_prior_reset(p, cw->np_fit) != SUNMC_OK)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->np_fit);
     ess_calib_workspace *pw = ess_calib_alloc_fix(cw->n, cw->kind, cw->fix_sun_y);
     if (!pw)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the priors' pilot");
     memcpy(pw->alpha_rad, cw->alpha_rad, cw->n * sizeof *cw->alpha_rad);
     memcpy(pw->beta_rad, cw->beta_rad, cw->n * sizeof *cw->beta_rad);
-    uint64_t seed = prior_pilot_seed(c);
-    for (long u = 0; u < c->prior_units; u++) {
+    uint64_t seed = prior_pilot_seed(c0);
+    for (long u = 0; u < c0->prior_units; u++) {
         double x[ESS_NP_MAX];
-        if (pilot_unit(&c0, seed, u, pw, x) == SUNMC_OK)
+        if (pilot_unit(c0, seed, u, pw, x) == SUNMC_OK)
             calib_prior_add(p, x);
     }
     ess_calib_free(pw);
+    return SUNMC_OK;
+}
+
+int ess_prior_pilot(const sunmc_config *c, const ess_calib_workspace *cw, calib_prior *p,
+                    char *err, size_t errlen)
+{
+    sunmc_config c0 = *c; /* no noise, no pick-freeze: the pilot is no random input */
+    memset(&c0.pick, 0, sizeof c0.pick);
+    c0.no_systematic = 0;
+    c0.encoder_arcsec = 0;
+    ess_cfg(&c0)->noise.row_current_pct = 0;
+    if (calib_prior_reset(p, cw->np_fit) != SUNMC_OK)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->np_fit);
+    /* the pilot's inputs (prior_cache.h): made once per process */
+    int layout[3] = {cw->kind, cw->fix_sun_y, cw->np_fit};
+    const prior_key_part key[] = {{&c0, sizeof c0},
+                                  {layout, sizeof layout},
+                                  {&cw->n, sizeof cw->n},
+                                  {cw->alpha_rad, cw->n * sizeof *cw->alpha_rad},
+                                  {cw->beta_rad, cw->n * sizeof *cw->beta_rad}};
+    int nk = (int)(sizeof key / sizeof *key), st = SUNMC_OK;
+    if (!prior_cache_find(key, nk, p, &st, NULL, 0)) {
+        if ((st = pilot_add(&c0, cw, p, err, errlen)) != SUNMC_OK)
+            return st;
+        prior_cache_keep(key, nk, p, SUNMC_OK, NULL);
+    }
     return calib_prior_finish(p, ess_reading_noise_arcsec(c) * RAD_PER_ARCSEC, err, errlen);
 }
 
