@@ -72,8 +72,34 @@ int sens_sources(const sunmc_config *c, sens_result *s, char *err, size_t errlen
 int sens_random_inputs(const sunmc_config *c);
 
 /* Sobol indices of c's inputs over N = units units.  threads: 0 = OpenMP
- * default; progress may be NULL. */
+ * default; progress (may be NULL) is called before each Monte Carlo ("Monte
+ * Carlo runs", i of the d + 2). */
 int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
              void *ctx, sens_result *s, char *err, size_t errlen);
+
+/* --until: which intervals must be narrow enough (after calibration, or
+ * before it: S1 or ST of every input). */
+enum sens_until_stat { SENS_UNTIL_ST = 0, SENS_UNTIL_S1, SENS_UNTIL_ST_BEFORE,
+                       SENS_UNTIL_S1_BEFORE, SENS_UNTIL_STATS };
+extern const char *const sens_until_names[SENS_UNTIL_STATS]; /* "st", "s1", ... */
+
+/* Stop when the widest interval of stat over the inputs has a half-width
+ * (half its length, in index units) at most halfwidth. */
+typedef struct {
+    int stat;         /* enum sens_until_stat */
+    double halfwidth; /* > 0 */
+    long block;       /* units added between checks (run.block_units) */
+    int met;          /* out: 1 when a check met it */
+    double reached;   /* out: the widest half-width at the last check */
+} sens_until;
+
+/* sens_run in blocks of until->block units (from 0, at most units): after
+ * each block the indices of the units so far are estimated, and the run
+ * stops once until's statistic is narrow enough.  s holds the indices of
+ * the units taken (s->units): the same bytes as sens_run of that many units.
+ * progress is called before each block ("block", i of the most blocks). */
+int sens_run_until(const sunmc_config *c, long units, sens_until *until, int threads,
+                   sens_progress_fn progress, void *ctx, sens_result *s, char *err,
+                   size_t errlen);
 
 #endif

@@ -4,6 +4,7 @@
 #include "report.h"
 #include "sensitivity.h"
 #include "status.h"
+#include "suggest.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,6 +14,7 @@
 static const char sensitivity_help[] =
     "usage: sunmc sensitivity CONFIG [--units N] [--seed S] [--threads T]\n"
     "                         [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
+    "                         [--until STAT:HALFWIDTH]\n"
     "Variance-based sensitivity: first-order (S1) and total (ST) Sobol indices of each\n"
     "unit's RMS before and after calibration (widest band of the last measured angle) for\n"
     "every random input: each tolerance > 0 that is not fixed, and each noise stream of the\n"
@@ -26,16 +28,21 @@ static const char sensitivity_help[] =
     "and A_B^(i) is A with input i's random stream from B, so N units cost (inputs + 2) N\n"
     "unit runs and the result does not depend on --threads.  Intervals (report.confidence):\n"
     "bootstrap percentile over the units, 1000 resamples, fixed seed.\n"
+    "--until STAT:HALFWIDTH runs blocks of run.block_units units (every run) until the\n"
+    "widest interval of STAT over the inputs has at most that half-width, or --units N /\n"
+    "run.units is reached; the result is that of a fixed run of the units it took.  STAT:\n"
+    "st, s1 (after calibration), st_before, s1_before; e.g. --until st:0.02.\n"
     "--out DIR writes sensitivity.tsv and config.ini (all or nothing).\n";
 
 static const char *const kind_names[] = {"tolerance", "noise"};
 
 /* Each of the core's stages (sample A, sample B, A with each input from
- * B) runs `units` units; the first call gives their count. */
+ * B; or, with --until, each block of every run) runs `per_stage` units;
+ * the first call gives their count. */
 typedef struct {
     cli_meter m;
     int quiet, started;
-    long units;
+    long per_stage;
 } sens_meter;
 
 static void progress(const char *what, int i, int n, void *ctx)
@@ -43,11 +50,57 @@ static void progress(const char *what, int i, int n, void *ctx)
     sens_meter *sm = ctx;
     if (!sm->started) {
         sm->started = 1;
-        cli_meter_start(&sm->m, "sensitivity", "units", n * sm->units, sm->quiet);
+        cli_meter_start(&sm->m, "sensitivity", "units", n * sm->per_stage, sm->quiet);
     }
     char stage[METER_STAGE_MAX];
     snprintf(stage, sizeof stage, "%s (%d/%d)", what, i, n);
-    cli_meter_stage(&sm->m, stage, (i - 1) * sm->units);
+    cli_meter_stage(&sm->m, stage, (i - 1) * sm->per_stage);
+}
+
+/* --until STAT:HALFWIDTH into u (u->block from the config); prints the
+ * error and returns an exit code. */
+static int parse_until(const char *arg, const sunmc_config *c, sens_until *u)
+{
+    char name[64];
+    const char *colon = strrchr(arg, ':');
+    size_t n = colon ? (size_t)(colon - arg) : 0;
+    char *end = NULL;
+    double h = colon ? strtod(colon + 1, &end) : NAN;
+    if (!colon || n >= sizeof name || end == colon + 1 || *end != '\0' || !(h > 0) ||
+        !isfinite(h)) {
+        fprintf(stderr, "sunmc sensitivity: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, "
+                        "e.g. st:0.02 (STAT one of st, s1, st_before, s1_before)\n", arg);
+        return EXIT_BAD_INPUT;
+    }
+    memcpy(name, arg, n);
+    name[n] = '\0';
+    memset(u, 0, sizeof *u);
+    u->stat = -1;
+    for (int k = 0; k < SENS_UNTIL_STATS; k++)
+        if (strcmp(name, sens_until_names[k]) == 0)
+            u->stat = k;
+    if (u->stat < 0) {
+        char hint[SUGGEST_NAME_MAX + 32];
+        suggest_hint(name, "st s1 st_before s1_before", hint, sizeof hint);
+        fprintf(stderr, "sunmc sensitivity: --until %s: unknown statistic '%s'%s (one of st, s1, "
+                        "st_before, s1_before)\n", arg, name, hint);
+        return EXIT_BAD_INPUT;
+    }
+    u->halfwidth = h;
+    u->block = c->block_units;
+    return 0;
+}
+
+/* Whether --until met its target and after how many units (also the note
+ * in config.ini). */
+static void until_line(char *buf, size_t len, const char *arg, const sens_until *u, long done)
+{
+    if (u->met)
+        snprintf(buf, len, "--until %s: met after %ld units (widest half-width %.3g)", arg, done,
+                 u->reached);
+    else
+        snprintf(buf, len, "--until %s: NOT met: widest half-width %.3g after all %ld units "
+                 "(--units N or run.units); run more units", arg, u->reached, done);
 }
 
 /* Sources in order of ST after calibration (largest first), stable. */
@@ -138,7 +191,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
 }
 
 static int write_out(const cli_options *o, const config_state *st, const sens_result *s,
-                     const int *order, char *err, size_t errlen)
+                     const int *order, const char *note, char *err, size_t errlen)
 {
     out_set os;
     FILE *fs, *fc;
@@ -153,6 +206,8 @@ static int write_out(const cli_options *o, const config_state *st, const sens_re
     }
     write_tsv(fs, &st->cfg, st->cfg.family, s, order);
     fprintf(fc, "# config of a sensitivity analysis, %ld units per sample\n", s->units);
+    if (note)
+        fprintf(fc, "# %s\n", note);
     config_write(fc, st);
     return out_commit(&os, err, errlen);
 }
@@ -162,7 +217,8 @@ int cmd_sensitivity(int argc, char **argv)
     if (cli_wants_help(argc, argv, sensitivity_help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "sensitivity", "CONFIG units seed threads set out quiet", &o);
+    int rc = cli_parse(argc, argv, 2, "sensitivity", "CONFIG units seed threads set out quiet until",
+                       &o);
     if (rc)
         return rc;
     if (o.end >= 0 && o.first != 0) {
@@ -174,6 +230,11 @@ int cmd_sensitivity(int argc, char **argv)
         return rc;
     const sunmc_config *c = &st.cfg;
     long units = o.end >= 0 ? o.end : c->units;
+    sens_until until;
+    if (o.until && (rc = parse_until(o.until, c, &until))) {
+        config_state_free(&st);
+        return rc;
+    }
     int threads = cli_threads(&o, c);
     sens_result *s = calloc(1, sizeof *s);
     char err[SUNMC_ERRLEN];
@@ -182,17 +243,28 @@ int cmd_sensitivity(int argc, char **argv)
     if (!s)
         snprintf(err, sizeof err, "out of memory");
     if (status == SUNMC_OK) {
-        sens_meter sm = {.quiet = o.quiet, .units = units};
-        status = sens_run(c, units, threads, progress, &sm, s, err, sizeof err);
+        sens_meter sm = {.quiet = o.quiet, .per_stage = units};
+        if (o.until) {
+            sm.per_stage = (until.block < units ? until.block : units) *
+                           (long)(sens_random_inputs(c) + 2);
+            status = sens_run_until(c, units, &until, threads, progress, &sm, s, err, sizeof err);
+        } else {
+            status = sens_run(c, units, threads, progress, &sm, s, err, sizeof err);
+        }
         if (sm.started)
             cli_meter_end(&sm.m);
     }
     if (status == SUNMC_OK) {
         order_by_st(s, order);
         print_table(c, c->family, s, order); /* before writing: a failed write must not cost it */
+        char note[256] = "";
+        if (o.until) {
+            until_line(note, sizeof note, o.until, &until, s->units);
+            printf("%s\n", note);
+        }
         fflush(stdout);
         if (o.out)
-            status = write_out(&o, &st, s, order, err, sizeof err);
+            status = write_out(&o, &st, s, order, o.until ? note : NULL, err, sizeof err);
     }
     if (status != SUNMC_OK)
         fprintf(stderr, "sunmc sensitivity: %s\n", err);

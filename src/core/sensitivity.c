@@ -182,11 +182,12 @@ static void run_config(const sunmc_config *c, const sens_result *s, int j, sunmc
     }
 }
 
-/* Where mc_run_each's results go: run j's column of y. */
+/* Where mc_run_each's results go: run j's column of y (stride units),
+ * from unit first on. */
 typedef struct {
     const sens_result *s;
     const sunmc_config *t;
-    long units;
+    long units, first;
     int cols;
     double *y;
     sens_progress_fn progress;
@@ -196,8 +197,9 @@ typedef struct {
 static int sens_each(int j, const unit_result *res, long n, void *ctx, char *err, size_t errlen)
 {
     const sens_sink *k = ctx;
-    y_of(&k->t[j], k->s, res, n, k->y + (size_t)j * (size_t)k->units,
-         k->y + (size_t)(k->cols + j) * (size_t)k->units);
+    size_t at = (size_t)k->first;
+    y_of(&k->t[j], k->s, res, n, k->y + (size_t)j * (size_t)k->units + at,
+         k->y + (size_t)(k->cols + j) * (size_t)k->units + at);
     return SUNMC_OK;
 }
 
@@ -207,42 +209,116 @@ static void sens_done(long done, long total, void *ctx)
     k->progress("Monte Carlo runs", (int)done, (int)total, k->ctx);
 }
 
-/* The d + 2 Monte Carlos: A, B, then A with each input's stream from B,
- * a run to a thread (mc_run_each: the runs share no barrier); A's
- * validation readings read first into a store that finishes the runs
- * reading the same (A, and the A_B^i of an input only the campaign draws
- * from: unit_readings_same).  Column j of y (units values) is run j's before,
- * column cols + j its after. */
-static int sens_runs(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
-                     void *ctx, sens_result *s, double *y, char *err, size_t errlen)
-{
-    int cols = s->n + 2, rc = SUNMC_OK;
-    sunmc_config *t = malloc((size_t)cols * sizeof *t);
+/* The d + 2 runs' configs: A, B, then A with each input's stream from B. */
+typedef struct {
+    int cols;
+    sunmc_config *t;
     const sunmc_config *runs[SENS_MAX_SOURCES + 2];
-    unit_store *store = NULL;
-    if (!t)
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %d runs", cols);
-    for (int j = 0; j < cols; j++) {
-        run_config(c, s, j, &t[j]);
-        runs[j] = &t[j];
+    unit_store *store; /* A's validation readings, for the runs that read the same */
+} sens_plan;
+
+static int plan_alloc(const sunmc_config *c, const sens_result *s, long capacity, sens_plan *p,
+                      char *err, size_t errlen)
+{
+    p->cols = s->n + 2;
+    p->store = NULL;
+    p->t = malloc((size_t)p->cols * sizeof *p->t);
+    if (!p->t)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %d runs", p->cols);
+    for (int j = 0; j < p->cols; j++) {
+        run_config(c, s, j, &p->t[j]);
+        p->runs[j] = &p->t[j];
     }
-    rc = unit_store_alloc_upto(c, units, SENS_STORE_MAX_BYTES, &store, err, errlen);
+    return unit_store_alloc_upto(c, capacity, SENS_STORE_MAX_BYTES, &p->store, err, errlen);
+}
+
+static void plan_free(sens_plan *p)
+{
+    unit_store_free(p->store);
+    free(p->t);
+}
+
+/* Units [first, end) of the d + 2 runs, a run to a thread (mc_run_each:
+ * the runs share no barrier); A's validation readings read first into the
+ * store, which finishes the runs reading the same (A, and the A_B^i of an
+ * input only the campaign draws from: unit_readings_same).  Column j of y
+ * (stride units) is run j's before, column cols + j its after. */
+static int sens_runs(sens_plan *p, long first, long end, long units, int threads,
+                     sens_progress_fn progress, void *ctx, sens_result *s, double *y,
+                     char *err, size_t errlen)
+{
+    for (int j = 1; p->store && j < p->cols; j++)
+        s->reused_units += unit_readings_same(&p->t[0], &p->t[j]) ? end - first : 0;
+    if (progress)
+        progress("Monte Carlo runs", 1, p->cols, ctx);
+    sens_sink sink = {s, p->t, units, first, p->cols, y, progress, ctx};
+    return mc_run_each(p->runs, p->cols, p->store, first, end, threads, sens_each, &sink,
+                       progress ? sens_done : NULL, &sink, err, errlen);
+}
+
+/* The paired rows of the first n units of y (stride units) and their
+ * indices into s. */
+static int estimate(const sunmc_config *c, sens_result *s, double *y, long units, long n,
+                    char *err, size_t errlen)
+{
+    int cols = s->n + 2;
+    /* each column to stride n (columns move down only: in place) */
+    for (int j = 1; n < units && j < 2 * cols; j++)
+        memmove(y + (size_t)j * (size_t)n, y + (size_t)j * (size_t)units,
+                (size_t)n * sizeof *y);
+    s->units = n;
+    s->paired_units = pair_rows(y, cols, n);
+    if (s->paired_units < 2)
+        return sunmc_fail(err, errlen, SUNMC_EDOM,
+                          "only %ld of %ld units have a fit in every run: no indices",
+                          s->paired_units, n);
+    int rc = indices(c, s, y, n, s->paired_units, 0, err, errlen);
+    return rc == SUNMC_OK ? indices(c, s, y, n, s->paired_units, 1, err, errlen) : rc;
+}
+
+const char *const sens_until_names[SENS_UNTIL_STATS] = {"st", "s1", "st_before", "s1_before"};
+
+/* The widest half-width of u's statistic over s's inputs. */
+static double widest(const sens_result *s, int stat)
+{
+    double w = 0;
+    for (int i = 0; i < s->n; i++) {
+        const stats_sobol_index *x =
+            stat == SENS_UNTIL_ST || stat == SENS_UNTIL_S1 ? &s->src[i].after : &s->src[i].before;
+        int st = stat == SENS_UNTIL_ST || stat == SENS_UNTIL_ST_BEFORE;
+        double h = st ? 0.5 * (x->st_hi - x->st_lo) : 0.5 * (x->s1_hi - x->s1_lo);
+        w = isnan(h) ? INFINITY : fmax(w, h);
+    }
+    return w;
+}
+
+/* The check after a block of units [0, n): the indices of a copy of y. */
+static int until_check(const sunmc_config *c, const sens_result *s, const double *y, long units,
+                       long n, sens_until *u, char *err, size_t errlen)
+{
+    int cols = s->n + 2;
+    double *cy = malloc((size_t)(2 * cols) * (size_t)n * sizeof *cy);
+    sens_result *cs = malloc(sizeof *cs);
+    int rc = cy && cs ? SUNMC_OK : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    for (int j = 0; rc == SUNMC_OK && j < 2 * cols; j++)
+        memcpy(cy + (size_t)j * (size_t)n, y + (size_t)j * (size_t)units, (size_t)n * sizeof *cy);
     if (rc == SUNMC_OK) {
-        for (int j = 1; store && j < cols; j++)
-            s->reused_units += unit_readings_same(&t[0], &t[j]) ? units : 0;
-        if (progress)
-            progress("Monte Carlo runs", 1, cols, ctx);
-        sens_sink sink = {s, t, units, cols, y, progress, ctx};
-        rc = mc_run_each(runs, cols, store, 0, units, threads, sens_each, &sink,
-                         progress ? sens_done : NULL, &sink, err, errlen);
+        *cs = *s;
+        rc = estimate(c, cs, cy, n, n, err, errlen);
     }
-    unit_store_free(store);
-    free(t);
+    if (rc == SUNMC_EDOM) /* too few fitted units so far: go on */
+        rc = SUNMC_OK, u->reached = INFINITY;
+    else if (rc == SUNMC_OK)
+        u->reached = widest(cs, u->stat);
+    u->met = rc == SUNMC_OK && u->reached <= u->halfwidth;
+    free(cy);
+    free(cs);
     return rc;
 }
 
-int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
-             void *ctx, sens_result *s, char *err, size_t errlen)
+/* Checks what sens_run and sens_run_until share; allocates y. */
+static int sens_start(const sunmc_config *c, long units, sens_result *s, double **y, char *err,
+                      size_t errlen)
 {
     int rc = sens_sources(c, s, err, errlen);
     if (rc)
@@ -260,22 +336,59 @@ int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn pr
     s->seed = c->seed;
     s->seed_b = c->seed ^ SENS_SEED_B_XOR;
     int cols = s->n + 2;
-    double *y = malloc((size_t)(2 * cols) * (size_t)units * sizeof *y);
-    if (!y)
+    *y = malloc((size_t)(2 * cols) * (size_t)units * sizeof **y);
+    if (!*y)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units x %d runs",
                           units, cols);
-    rc = sens_runs(c, units, threads, progress, ctx, s, y, err, errlen);
-    if (rc == SUNMC_OK) {
-        s->paired_units = pair_rows(y, cols, units);
-        if (s->paired_units < 2)
-            rc = sunmc_fail(err, errlen, SUNMC_EDOM,
-                            "only %ld of %ld units have a fit in every run: no indices",
-                            s->paired_units, units);
+    return SUNMC_OK;
+}
+
+int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
+             void *ctx, sens_result *s, char *err, size_t errlen)
+{
+    double *y = NULL;
+    int rc = sens_start(c, units, s, &y, err, errlen);
+    sens_plan p = {0};
+    if (rc == SUNMC_OK)
+        rc = plan_alloc(c, s, units, &p, err, errlen);
+    if (rc == SUNMC_OK)
+        rc = sens_runs(&p, 0, units, units, threads, progress, ctx, s, y, err, errlen);
+    if (rc == SUNMC_OK)
+        rc = estimate(c, s, y, units, units, err, errlen);
+    plan_free(&p);
+    free(y);
+    return rc;
+}
+
+int sens_run_until(const sunmc_config *c, long units, sens_until *until, int threads,
+                   sens_progress_fn progress, void *ctx, sens_result *s, char *err,
+                   size_t errlen)
+{
+    if (!(until->halfwidth > 0) || until->block < 1 || until->stat < 0 ||
+        until->stat >= SENS_UNTIL_STATS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--until: a half-width > 0 and blocks of "
+                                                     "at least 1 unit");
+    double *y = NULL;
+    int rc = sens_start(c, units, s, &y, err, errlen);
+    long block = until->block < units ? until->block : units, end = 0;
+    int blocks = (int)((units + block - 1) / block);
+    sens_plan p = {0};
+    until->met = 0;
+    until->reached = INFINITY;
+    if (rc == SUNMC_OK)
+        rc = plan_alloc(c, s, block, &p, err, errlen);
+    for (int b = 0; rc == SUNMC_OK && end < units && !until->met; b++) {
+        long first = end;
+        end = units - first < block ? units : first + block;
+        if (progress)
+            progress("block", b + 1, blocks, ctx);
+        rc = sens_runs(&p, first, end, units, threads, NULL, NULL, s, y, err, errlen);
+        if (rc == SUNMC_OK)
+            rc = until_check(c, s, y, units, end, until, err, errlen);
     }
     if (rc == SUNMC_OK)
-        rc = indices(c, s, y, units, s->paired_units, 0, err, errlen);
-    if (rc == SUNMC_OK)
-        rc = indices(c, s, y, units, s->paired_units, 1, err, errlen);
+        rc = estimate(c, s, y, units, end, err, errlen);
+    plan_free(&p);
     free(y);
     return rc;
 }

@@ -236,6 +236,103 @@ static void errors_and_output(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* The widest half-width of stat over s's inputs, from the definitions. */
+static double widest_of(const sens_result *s, int stat)
+{
+    double w = 0;
+    for (int i = 0; i < s->n; i++) {
+        int after = stat == SENS_UNTIL_ST || stat == SENS_UNTIL_S1;
+        const stats_sobol_index *x = after ? &s->src[i].after : &s->src[i].before;
+        double h = stat == SENS_UNTIL_ST || stat == SENS_UNTIL_ST_BEFORE ? (x->st_hi - x->st_lo) / 2
+                                                                         : (x->s1_hi - x->s1_lo) / 2;
+        w = fmax(w, h);
+    }
+    return w;
+}
+
+/* --until: blocks of 16 units; a target met at the first check stops there,
+ * one never met runs every unit (the last block partial); either way the
+ * result is the same bytes as a fixed run of the units taken; the check is
+ * "half-width <= target", on both sides of it; each statistic is its own
+ * intervals' widest half-width. */
+static void until_stops_as_a_fixed_run(void **state)
+{
+    config_state st;
+    test_build(&st, "configs/ess_type_a.ini", small_sets, 4);
+    sens_result *s = calloc(1, sizeof *s), *f = calloc(1, sizeof *f);
+    char err[SUNMC_ERRLEN];
+    sens_until u = {SENS_UNTIL_ST, 10.0, 16, 0, 0};
+    assert_int_equal(sens_run_until(&st.cfg, 40, &u, 2, NULL, NULL, s, err, sizeof err), SUNMC_OK);
+    assert_int_equal(u.met, 1);
+    assert_int_equal(s->units, 16);
+    assert_int_equal(sens_run(&st.cfg, 16, 1, NULL, NULL, f, err, sizeof err), SUNMC_OK);
+    assert_memory_equal(s, f, sizeof *s);
+    assert_true(u.reached == widest_of(f, SENS_UNTIL_ST));
+    double r16 = u.reached;
+    /* never met: all 40 (16 + 16 + 8) */
+    for (int stat = 0; stat < SENS_UNTIL_STATS; stat++) {
+        sens_until v = {stat, 1e-9, 16, 0, 0};
+        memset(s, 0, sizeof *s);
+        assert_int_equal(sens_run_until(&st.cfg, 40, &v, 1, NULL, NULL, s, err, sizeof err),
+                         SUNMC_OK);
+        assert_int_equal(v.met, 0);
+        assert_int_equal(s->units, 40);
+        if (stat == 0) {
+            memset(f, 0, sizeof *f);
+            assert_int_equal(sens_run(&st.cfg, 40, 1, NULL, NULL, f, err, sizeof err), SUNMC_OK);
+            assert_memory_equal(s, f, sizeof *s);
+        }
+        assert_true(v.reached == widest_of(s, stat));
+        assert_true(v.reached > 0 && isfinite(v.reached));
+    }
+    /* the target exactly at the first check's half-width: met there; just
+     * below it: not */
+    sens_until at = {SENS_UNTIL_ST, r16, 16, 0, 0};
+    assert_int_equal(sens_run_until(&st.cfg, 40, &at, 1, NULL, NULL, s, err, sizeof err), SUNMC_OK);
+    assert_int_equal(s->units, 16);
+    sens_until below = {SENS_UNTIL_ST, nextafter(r16, 0.0), 16, 0, 0};
+    assert_int_equal(sens_run_until(&st.cfg, 40, &below, 1, NULL, NULL, s, err, sizeof err),
+                     SUNMC_OK);
+    assert_true(s->units > 16);
+    /* refused: no half-width, no block, no such statistic */
+    sens_until bad[] = {{SENS_UNTIL_ST, 0.0, 16, 0, 0}, {SENS_UNTIL_ST, 0.1, 0, 0, 0},
+                        {SENS_UNTIL_STATS, 0.1, 16, 0, 0}, {-1, 0.1, 16, 0, 0}};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++)
+        assert_int_equal(sens_run_until(&st.cfg, 40, &bad[k], 1, NULL, NULL, s, err, sizeof err),
+                         SUNMC_EINPUT);
+    free(s);
+    free(f);
+    config_state_free(&st);
+}
+
+/* --until on the command line: refused forms exit 2 writing nothing; a run
+ * says whether it met the target, and config.ini notes it. */
+static void until_cli(void **state)
+{
+    char out[1 << 15], cmd[4096];
+    const char *dir = test_tmp("sens_until");
+    const char *bad[] = {"configs/ess_type_a.ini --until st", "configs/ess_type_a.ini --until st:0",
+                         "configs/ess_type_a.ini --until st:-0.1",
+                         "configs/ess_type_a.ini --until sT:0.1",
+                         "configs/ess_type_a.ini --until st:0.1x",
+                         "configs/ess_type_a.ini --until :0.1"};
+    test_refused("sensitivity", bad, sizeof bad / sizeof bad[0], dir);
+    snprintf(cmd, sizeof cmd, "%s sensitivity configs/ess_type_a.ini --until st_bfore:0.1 --units 4",
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 2);
+    assert_non_null(strstr(out, "(did you mean st_before?)"));
+    snprintf(cmd, sizeof cmd,
+             "%s sensitivity configs/ess_type_a.ini --units 24 --set run.block_units=8 "
+             "--set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 --until st:5 "
+             "--out %s --quiet",
+             test_sunmc(), dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "--until st:5: met after 8 units (widest half-width "));
+    snprintf(cmd, sizeof cmd, "grep -q '^# --until st:5: met after 8 units' %s/config.ini && "
+             "awk -F'\t' 'NR == 2 { exit !($16 == 8) }' %s/sensitivity.tsv", dir, dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -244,6 +341,8 @@ int main(void)
         cmocka_unit_test(single_input),
         cmocka_unit_test(type_a_indices_and_threads),
         cmocka_unit_test(errors_and_output),
+        cmocka_unit_test(until_stops_as_a_fixed_run),
+        cmocka_unit_test(until_cli),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
