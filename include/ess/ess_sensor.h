@@ -75,6 +75,9 @@ double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit
  * exact to double precision within these). */
 #define ESS_FINE_SERIES_TAN 1e-2
 #define ESS_FINE_SERIES_PHASE 0.25
+/* The noise-free phase from the noisy one (phase0_by_series): the largest
+ * tangent of the angle between the two phasors the series takes. */
+#define ESS_PHASE0_SERIES_TAN 0.25
 
 /* The most coarse cells (2^rows) whose edge tangents a sensor tabulates
  * (coarse_by_table): 8 rows, 6 KiB a sensor. */
@@ -126,6 +129,20 @@ typedef struct {
      * (ess_lane_current_from0) instead of their own (ess_sensor.c) */
     int fine_by_series;
     double fine_turn; /* 2 pi / theta0: phase per radian of dial angle */
+    /* The series path's constants (ess_lane_harmonics_q,
+     * ess_lane_combine_s): 1 / H, theta0 / (2 pi) and 1 / theta0, the
+     * slit's sinc argument per unit cos^2(psi), w / (H theta0), and the
+     * harmonics' scales dial_sun[n] / norm1 and dial_sun[n] / (n norm1)
+     * (n = 1, 3, 5), so that a reading divides once, not nine times. */
+    double inv_H;
+    double period_per_turn, inv_theta0; /* theta0 / (2 pi), 1 / theta0 */
+    double slit_z_per_cos2;
+    double harm_scale[ESS_HARMONICS], harm_scale_n[ESS_HARMONICS];
+    /* 1 (ess_sensor_init): the series path's noise-free phase is the noisy
+     * one turned by the arctangent of the noise's small angle (series,
+     * ess_lane_atan_quarter) instead of its own atan2, per lane while that
+     * tangent is within ESS_PHASE0_SERIES_TAN; 0: atan2 (tests) */
+    int phase0_by_series;
     int harmonics_given;
     double given_ratio[ESS_HARMONICS];/* 1, a3/a1, a5/a1 when given */
     double slit_width_mm;             /* actual slit width */

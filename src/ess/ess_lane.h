@@ -57,6 +57,27 @@ VM_INLINE ess_lane_harm ess_lane_harmonics_cos2(const ess_sensor *s, double cos2
     return h;
 }
 
+/* The same from q = cos^2(psi) with the sensor's scales (inv_H,
+ * slit_z_per_cos2, harm_scale, harm_scale_n: ess_sensor_init): one
+ * division (1 / (pi z)) instead of nine; within a few ulps of
+ * ess_lane_harmonics_cos2. */
+VM_INLINE ess_lane_harm ess_lane_harmonics_q(const ess_sensor *s, double q)
+{
+    double z = s->slit_z_per_cos2 * q, t = M_PI * z, r = 1.0 / t;
+    double sn = sin(t), s2 = sn * sn;
+    int given = s->harmonics_given;
+    const double *k = s->harm_scale, *kn = s->harm_scale_n;
+    double s1 = vm_select(fabs(z) < ESS_SINC_SMALL, k[0], kn[0] * (sn * r));
+    double s3 = vm_select(fabs(3 * z) < ESS_SINC_SMALL, k[1], kn[1] * (sn * (3.0 - 4.0 * s2) * r));
+    double s5 = vm_select(fabs(5 * z) < ESS_SINC_SMALL, k[2],
+                          kn[2] * (sn * ((16.0 * s2 - 20.0) * s2 + 5.0) * r));
+    ess_lane_harm h;
+    h.c1 = vm_select(given, s->given_ratio[0], s1);
+    h.c3 = vm_select(given, s->given_ratio[1], s3);
+    h.c5 = vm_select(given, s->given_ratio[2], s5);
+    return h;
+}
+
 VM_INLINE ess_lane_harm ess_lane_harmonics(const ess_sensor *s, double psi_rad)
 {
     double cos_psi = cos(psi_rad);
@@ -109,11 +130,38 @@ VM_INLINE double ess_lane_current_from0(const ess_sensor *s, int m, ess_lane_har
     return ess_lane_current_cs(s, m, h, c, sn, illum, 0.0);
 }
 
+/* The phase in [0, 2 pi) of the phasor (x, y) = (i2 - i0, i3 - i1). */
+VM_INLINE double ess_lane_phase_xy(double x, double y)
+{
+    double ph = atan2(y, x);
+    return vm_select(ph < 0, ph + 2.0 * M_PI, ph);
+}
+
 /* Fine-code phase in [0, 2 pi) from the four currents (ESS paper Fig. 8). */
 VM_INLINE double ess_lane_demodulate(double i0, double i1, double i2, double i3)
 {
-    double ph = atan2(i3 - i1, i2 - i0);
-    return vm_select(ph < 0, ph + 2.0 * M_PI, ph);
+    return ess_lane_phase_xy(i2 - i0, i3 - i1);
+}
+
+/* The phase of (x0, y0) from ph in [0, 2 pi), that of a nearby phasor
+ * (x, y): turned by the angle between them, atan(e), e = (x y0 - y x0) /
+ * (x x0 + y y0), by its series (ess_lane_atan_quarter), back into [0, 2
+ * pi).  far = 1 where |e| > ESS_PHASE0_SERIES_TAN or the phasors are a
+ * quarter turn or more apart (ph is then meaningless: the caller takes
+ * atan2), else 0. */
+typedef struct {
+    double ph, far;
+} ess_lane_phase;
+
+VM_INLINE ess_lane_phase ess_lane_phase_near(double ph, double x, double y, double x0, double y0)
+{
+    double cross = x * y0 - y * x0, dot = x * x0 + y * y0;
+    double e = cross / dot;
+    int ok = dot > 0 && fabs(e) <= ESS_PHASE0_SERIES_TAN;
+    double p = ph + ess_lane_atan_quarter(vm_keep(ok, e));
+    p = vm_select(p < 0, p + 2.0 * M_PI, p);
+    ess_lane_phase o = {vm_select(p >= 2.0 * M_PI, p - 2.0 * M_PI, p), vm_select(ok, 0.0, 1.0)};
+    return o;
 }
 
 /* The Gray-coded coarse rows (ess_coarse.c) in exact double arithmetic (a
@@ -207,6 +255,17 @@ VM_INLINE double ess_lane_combine(double coarse_rad, double fine_phase, double t
 {
     double fine = fine_phase / (2.0 * M_PI) * theta0_rad;
     return fine + theta0_rad * ess_lane_round((coarse_rad - fine) / theta0_rad);
+}
+
+/* The same with the sensor's period per turn (theta0 / (2 pi)) and 1 /
+ * theta0 (ess_sensor_init): two multiplications instead of two divisions;
+ * within an ulp of ess_lane_combine (the nearest period the same unless
+ * the coarse estimate lies within an ulp of half a period from the fine
+ * one, a gross error either way). */
+VM_INLINE double ess_lane_combine_s(const ess_sensor *s, double coarse_rad, double fine_phase)
+{
+    double fine = fine_phase * s->period_per_turn;
+    return fine + s->theta0_rad * ess_lane_round((coarse_rad - fine) * s->inv_theta0);
 }
 
 #endif

@@ -153,6 +153,15 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->harmonic_cos = cos(s->harmonic_phase_rad);
     s->harmonic_sin = sin(s->harmonic_phase_rad);
     ess_finecode_init(s);
+    s->inv_H = 1.0 / s->H_mm;
+    s->period_per_turn = s->theta0_rad / (2.0 * M_PI);
+    s->inv_theta0 = 1.0 / s->theta0_rad;
+    s->slit_z_per_cos2 = s->slit_width_mm / s->H_mm / s->theta0_rad;
+    for (int n = 0; n < ESS_HARMONICS; n++) {
+        s->harm_scale[n] = s->dial_sun[n] / s->norm1;
+        s->harm_scale_n[n] = s->harm_scale[n] / (2 * n + 1);
+    }
+    s->phase0_by_series = 1;
 }
 
 /* The Gray-decoding state (parity, cell) of kp lanes after every coarse
@@ -298,29 +307,48 @@ VM_KERNEL static void fine_by_atan(const ess_sensor *s, size_t kp, const double 
 }
 
 /* The same with rows 1-3 from row 0 (s->fine_by_series): one arctangent,
- * cosine and sine a reading instead of four each; the noiseless phase
- * only where it is wanted (want0: a constant, so each caller's loop is
- * its own vector loop). */
+ * cosine and sine a reading instead of four each, the harmonics with one
+ * division (ess_lane_harmonics_q); the noiseless phase only where it is
+ * wanted (want0: a constant, so each caller's loop is its own vector
+ * loop), from the noisy one by series (s->phase0_by_series), its own
+ * atan2 in the lanes beyond the series' range (the bits of a lane depend
+ * on its own values only). */
 VM_INLINE void fine_by_series_loop(const ess_sensor *s, size_t kp, const double *u,
                                    const double *v, const double *z,
                                    const double *const noise[ESS_FINE_ROWS], double *psi0,
                                    double *phase, double *phase0, int want0)
 {
     const double *n0 = noise[0], *n1 = noise[1], *n2 = noise[2], *n3 = noise[3];
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) / s->H_mm;
-        double p0 = atan(t0), x0 = 2.0 * M_PI * p0 / s->theta0_rad, q = 1.0 / (1.0 + t0 * t0);
+    _Alignas(VM_ALIGN) double x0s[ESS_CHUNK], y0s[ESS_CHUNK], far[ESS_CHUNK];
+    double nfar = 0.0;
+    int by_series = s->phase0_by_series;
+    _Pragma("omp simd reduction(+ : nfar)") for (size_t i = 0; i < kp; i++) {
+        double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) * s->inv_H;
+        double p0 = atan(t0), x0 = p0 * s->fine_turn, q = 1.0 / (1.0 + t0 * t0);
         double cx = cos(x0), sx = sin(x0);
         psi0[i] = p0;
-        ess_lane_harm h = ess_lane_harmonics_cos2(s, q);
+        ess_lane_harm h = ess_lane_harmonics_q(s, q);
         double c0 = ess_lane_current_cs(s, 0, h, cx, sx, z[i], 0.0);
         double c1 = ess_lane_current_from0(s, 1, h, t0, q, cx, sx, z[i]);
         double c2 = ess_lane_current_from0(s, 2, h, t0, q, cx, sx, z[i]);
         double c3 = ess_lane_current_from0(s, 3, h, t0, q, cx, sx, z[i]);
-        phase[i] = ess_lane_demodulate(c0 + n0[i], c1 + n1[i], c2 + n2[i], c3 + n3[i]);
-        if (want0)
-            phase0[i] = ess_lane_demodulate(c0, c1, c2, c3);
+        double x = (c2 + n2[i]) - (c0 + n0[i]), y = (c3 + n3[i]) - (c1 + n1[i]);
+        double ph = ess_lane_phase_xy(x, y);
+        phase[i] = ph;
+        if (want0) {
+            double xq = c2 - c0, yq = c3 - c1;
+            ess_lane_phase p = ess_lane_phase_near(ph, x, y, xq, yq);
+            double f = vm_select(by_series, p.far, 1.0);
+            x0s[i] = xq;
+            y0s[i] = yq;
+            far[i] = f;
+            phase0[i] = p.ph;
+            nfar += f;
+        }
     }
+    if (want0 && nfar > 0.0)
+        VM_SIMD for (size_t i = 0; i < kp; i++)
+            phase0[i] = vm_select(far[i] != 0.0, ess_lane_phase_xy(x0s[i], y0s[i]), phase0[i]);
 }
 
 VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp, const double *u,
@@ -367,13 +395,13 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         coarse_by_atan(s, kp, u, v, parity, cell);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         ess_lane_coarse acc = {parity[i], cell[i]};
-        out_rad[i] = ess_lane_combine(ess_lane_coarse_angle(s, acc), phase[i], s->theta0_rad);
+        out_rad[i] = ess_lane_combine_s(s, ess_lane_coarse_angle(s, acc), phase[i]);
     }
     if (out0_rad)
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             ess_lane_coarse acc = {parity[i], cell[i]};
             out0_rad[i] =
-                ess_lane_combine(ess_lane_coarse_angle(s, acc), phase0[i], s->theta0_rad);
+                ess_lane_combine_s(s, ess_lane_coarse_angle(s, acc), phase0[i]);
         }
     for (size_t i = 0; i < k; i++)
         status[i] = sz[i] > ESS_MIN_COS_INCIDENCE ? SUNMC_OK : SUNMC_EDOM;

@@ -22,6 +22,27 @@ VM_INLINE double ess_lane_atan_small(double e)
     return e + e * e2 * (-1.0 / 3.0 + e2 * (1.0 / 5.0 + e2 * (-1.0 / 7.0 + e2 * (1.0 / 9.0))));
 }
 
+/* atan(e) for |e| <= 1/4: its series to e^25 / 25, the first term left
+ * out (e^27 / 27) below 2^-53 |e| / 4.  Horner in e^2 from the small
+ * end. */
+VM_INLINE double ess_lane_atan_quarter(double e)
+{
+    double e2 = e * e;
+    double p = 1.0 / 25.0;
+    p = -1.0 / 23.0 + e2 * p;
+    p = 1.0 / 21.0 + e2 * p;
+    p = -1.0 / 19.0 + e2 * p;
+    p = 1.0 / 17.0 + e2 * p;
+    p = -1.0 / 15.0 + e2 * p;
+    p = 1.0 / 13.0 + e2 * p;
+    p = -1.0 / 11.0 + e2 * p;
+    p = 1.0 / 9.0 + e2 * p;
+    p = -1.0 / 7.0 + e2 * p;
+    p = 1.0 / 5.0 + e2 * p;
+    p = -1.0 / 3.0 + e2 * p;
+    return e + e * e2 * p;
+}
+
 /* tan(h) for |h| <= 1e-2: its series to h^9, the first term left out
  * below 1e-23 |h|. */
 VM_INLINE double ess_lane_tan_small(double h)

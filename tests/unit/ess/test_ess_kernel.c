@@ -12,6 +12,7 @@
 #include "rng.h"
 #include "status.h"
 #include "units.h"
+#include "vmath.h"
 
 static sunmc_config base_config(void) { return test_family_config("ess"); }
 
@@ -332,6 +333,7 @@ static void test_validation_trig_table(void **state)
     ess_deviations_sample(&c, 3, 5, &dev);
     ess_unit u;
     ess_unit_build(&c, &dev, &u);
+    u.sensor.phase0_by_series = 0; /* raw0 by atan2, as a reading alone */
     ess_unit_read_validation(&c, &u, 5, &v);
     for (size_t i = 0; i < v.n; i++) {
         if (v.status[i] == ESS_READING_UNSEEN)
@@ -346,6 +348,150 @@ static void test_validation_trig_table(void **state)
     ess_val_free(&v);
 }
 
+/* The series path's harmonics (ess_lane_harmonics_q: one division) for
+ * a slit whose sinc argument at normal incidence is just below and just
+ * above ESS_SINC_SMALL, and none: finite, and within 5e-15 rad of the
+ * path with each row's own calls and the plain sinc. */
+static void test_harmonics_small_slit(void **state)
+{
+    sunmc_config c = base_config();
+    ess_design d = ess_cfg(&c)->design;
+    double z_um = 1e-8 * d.H_mm * d.theta0_deg * RAD_PER_DEG / MM_PER_UM;
+    const double widths[] = {z_um * (1 - 1e-3), z_um * (1 + 1e-3), 0};
+    for (int k = 0; k < 3; k++) {
+        d.slit_width_um = widths[k];
+        ess_deviations dev = {0};
+        ess_sensor s, t;
+        ess_sensor_init(&s, &d, &dev);
+        assert_int_equal(s.fine_by_series, 1);
+        t = s;
+        t.fine_by_series = 0;
+        for (double a = -61.9; a <= 62; a += 7.7) {
+            double x = read_rad(&s, a, 10), y = read_rad(&t, a, 10);
+            assert_true(isfinite(x));
+            assert_near(x, y, 5e-15);
+        }
+    }
+}
+
+/* One reading through the batch (lane 0 of a chunk of one), with and
+ * without its noise. */
+static void read_pair(const ess_sensor *s, double alpha_deg, double beta_deg,
+                      const double noise[ESS_FINE_ROWS], double *out, double *out0)
+{
+    double a = alpha_deg * RAD_PER_DEG, b = beta_deg * RAD_PER_DEG;
+    _Alignas(VM_ALIGN) double x[VM_PAD], y[VM_PAD], z[VM_PAD], o[VM_PAD], o0[VM_PAD];
+    _Alignas(VM_ALIGN) double nz[ESS_FINE_ROWS][VM_PAD];
+    const double *np[ESS_FINE_ROWS] = {nz[0], nz[1], nz[2], nz[3]};
+    int st[VM_PAD];
+    for (int i = 0; i < VM_PAD; i++) {
+        x[i] = sin(b);
+        y[i] = cos(b) * sin(a);
+        z[i] = cos(b) * cos(a);
+        for (int m = 0; m < ESS_FINE_ROWS; m++)
+            nz[m][i] = noise[m];
+    }
+    assert_int_equal(ess_sensor_output_chunk(s, 1, x, y, z, np, o, o0, st), SUNMC_OK);
+    assert_int_equal(st[0], SUNMC_OK);
+    *out = o[0];
+    *out0 = o0[0];
+}
+
+/* The noise-free phase turned from the noisy one by series
+ * (phase0_by_series) against its own atan2: the noisy readings the same
+ * bits, the noise-free ones within 2.5e-16 rad (an ulp of the largest
+ * angles), over sampled units (tolerances five-fold), the whole dial and
+ * row noise of 1.5 % (shipped) and 10 % of the fundamental. */
+static void test_phase0_series_matches_atan2(void **state)
+{
+    sunmc_config c = five_fold_config();
+    ess_config *ec = ess_cfg(&c);
+    double worst = 0;
+    long differ = 0, n = 0;
+    rng_stream r;
+    rng_stream_init(&r, 5, 0, RNG_STREAM_VAL_NOISE);
+    for (long unit = 0; unit < 12; unit++) {
+        ess_deviations dev;
+        ess_deviations_sample(&c, 13, unit, &dev);
+        ess_sensor s, t;
+        ess_sensor_init(&s, &ec->design, &dev);
+        assert_int_equal(s.phase0_by_series, 1);
+        t = s;
+        t.phase0_by_series = 0;
+        double sigma = unit % 2 ? 0.1 : 0.015;
+        for (double a = -61.99; a <= 62; a += 0.1731)
+            for (double b = -25; b <= 25; b += 25) {
+                double nz[ESS_FINE_ROWS], x, x0, y, y0;
+                rng_normal_fill(&r, nz, ESS_FINE_ROWS);
+                for (int m = 0; m < ESS_FINE_ROWS; m++)
+                    nz[m] *= sigma;
+                read_pair(&s, a, b, nz, &x, &x0);
+                read_pair(&t, a, b, nz, &y, &y0);
+                if (x != y || !(fabs(x0 - y0) <= 2.5e-16))
+                    fail_msg("unit %ld alpha %.4f beta %g: noisy %.17g %.17g, noise-free "
+                             "series %.17g atan2 %.17g", unit, a, b, x, y, x0, y0);
+                worst = fmax(worst, fabs(x0 - y0));
+                differ += x0 != y0;
+                n++;
+            }
+    }
+    print_message("noise-free phase by series: %ld of %ld readings moved, at most %.3g rad\n",
+                  differ, n, worst);
+}
+
+/* The series is taken while the phasors' angle has a tangent within
+ * ESS_PHASE0_SERIES_TAN, and not beyond (nor a quarter turn apart): an
+ * ideal sensor within half a period of 0 (small angles, whose ulps show
+ * the phase's last bits), one row's noise set so that the tangent
+ * is just within, just beyond, well beyond the limit, and the phasor
+ * reversed.  Within: within two ulps of the fine period of atan2's (the
+ * series taken: some readings move); beyond: its bits (the series would
+ * miss by 1e-13 rad at 0.45). */
+static void test_phase0_series_limit(void **state)
+{
+    sunmc_config c = base_config();
+    ess_config *ec = ess_cfg(&c);
+    ess_deviations dev = {0};
+    ess_sensor s, t;
+    ess_sensor_init(&s, &ec->design, &dev);
+    t = s;
+    t.phase0_by_series = 0;
+    const double lim = ESS_PHASE0_SERIES_TAN;
+    const double es[] = {lim * (1 - 1e-6), -lim * (1 - 1e-6), lim * (1 + 1e-6),
+                         -lim * (1 + 1e-6), 0.45, -0.45};
+    /* two ulps of the fine period: a phase near 2 pi is a period less */
+    double ulp2 = 2 * (nextafter(s.theta0_rad, 1) - s.theta0_rad);
+    int moved = 0;
+    for (double a_deg = 0.05; a_deg < 0.9; a_deg += 0.2) {
+        /* the noise-free phasor (x0, y0) = (I2 - I0, I3 - I1) */
+        double a = a_deg * RAD_PER_DEG, psi[ESS_FINE_ROWS], cur[ESS_FINE_ROWS];
+        for (int m = 0; m < ESS_FINE_ROWS; m++)
+            psi[m] = atan((ess_slit_eta_mm(&s, s.fine_x_mm[m], 0, tan(a)) - s.etch_mm[m]) /
+                          s.H_mm);
+        ess_finecode_currents(&s, psi, cos(a), NULL, cur);
+        double x0 = cur[2] - cur[0], y0 = cur[3] - cur[1];
+        for (int k = 0; k < 6; k++) {
+            /* noise d on row 3 (y = y0 + d): e = -d x0 / (x0^2 + y0^2 + d y0) */
+            double e = es[k], d = -e * (x0 * x0 + y0 * y0) / (x0 + e * y0);
+            double nz[ESS_FINE_ROWS] = {0, 0, 0, d}, p, p0, q, q0;
+            read_pair(&s, a_deg, 0, nz, &p, &p0);
+            read_pair(&t, a_deg, 0, nz, &q, &q0);
+            assert_true(p == q);
+            if (fabs(e) < lim) {
+                assert_near(p0, q0, ulp2);
+                moved += p0 != q0;
+            } else if (p0 != q0)
+                fail_msg("alpha %g e %g: series %.17g, atan2 %.17g", a_deg, e, p0, q0);
+        }
+        /* the noisy phasor reversed: a half turn apart */
+        double nz[ESS_FINE_ROWS] = {x0, y0, -x0, -y0}, p, p0, q, q0;
+        read_pair(&s, a_deg, 0, nz, &p, &p0);
+        read_pair(&t, a_deg, 0, nz, &q, &q0);
+        assert_true(p == q && p0 == q0);
+    }
+    assert_true(moved > 0); /* within the limit the series was taken */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -356,6 +502,9 @@ int main(void)
         cmocka_unit_test(test_fine_series_matches_atan),
         cmocka_unit_test(test_fine_series_limit),
         cmocka_unit_test(test_validation_trig_table),
+        cmocka_unit_test(test_phase0_series_matches_atan2),
+        cmocka_unit_test(test_phase0_series_limit),
+        cmocka_unit_test(test_harmonics_small_slit),
         cmocka_unit_test(test_zero_noise_draws_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
