@@ -283,32 +283,46 @@ static double halley_bound(double w, double k)
     return COMP_SAFETY * (w * w * w * k / (6.0 * slope) + b * b);
 }
 
+/* The step below which a lane is done: |dx| < COMP_TOL_RAD or bound
+ * |dx|^3 < COMP_TOL_RAD, i.e. |dx| < the larger of COMP_TOL_RAD and
+ * (COMP_TOL_RAD / bound)^(1/3), one comparison a lane and step. */
+static double halley_done_step(double w, double k)
+{
+    return fmax(COMP_TOL_RAD, cbrt(COMP_TOL_RAD / halley_bound(w, k)));
+}
+
 /* One pass's lanes, kept for a pass over the same readings without their
  * noise (compensate_pair): its raws, alpha_d and g' at the last iterate,
- * where sin(w x) and cos(w x) were last taken (xe, sn, cs), eq. 13's tan
- * alpha_d (td), argument (y) and result. */
+ * where sin(w x) and cos(w x) were last taken (xe, sn, cs), tan alpha_d
+ * (td) and eq. 13's result. */
 typedef struct {
     _Alignas(VM_ALIGN) double r[ESS_COMP_CHUNK], x[ESS_COMP_CHUNK], slope[ESS_COMP_CHUNK];
     _Alignas(VM_ALIGN) double xe[ESS_COMP_CHUNK], sn[ESS_COMP_CHUNK], cs[ESS_COMP_CHUNK];
-    _Alignas(VM_ALIGN) double td[ESS_COMP_CHUNK], y[ESS_COMP_CHUNK], alpha[ESS_COMP_CHUNK];
+    _Alignas(VM_ALIGN) double td[ESS_COMP_CHUNK], alpha[ESS_COMP_CHUNK];
 } comp_lanes;
 
-/* A turn of w (x - xe) the series take (ess_lane_turn_wide); a lane
- * turned further takes libm's sine and cosine on its own. */
+/* A turn of w (x - xe) the series take: ess_lane_turn_wide on a pass's
+ * first turn, ess_lane_turn_near on the later ones (each Halley step a
+ * cube shorter: the noisy pass's second turn is below 0.011, the
+ * noise-free pass's below 0.08 for the shipped configs); a lane turned
+ * further takes libm's sine and cosine on its own. */
 #define COMP_TURN_MAX 1.0
+#define COMP_TURN_NEAR_MAX 0.1
 /* The tangent's and arctangent's steps eq. 13 takes by series from a
  * nearby pass (comp_eq13_near); a lane beyond them, libm on its own. */
 #define COMP_NEAR_MAX 1e-2
 
+enum { COMP_TRIG_FRESH, COMP_TRIG_WIDE, COMP_TRIG_NEAR };
+
 /* sin(w x), cos(w x) of kp lanes into sn, cs: fresh from libmvec, else
- * turned from their values at xe (ess_lane_turn_wide); xe = x after.
+ * turned from their values at xe (how: COMP_TRIG_*); xe = x after.
  * Each lane's bits depend on its own values only; the lanes beyond the
  * series' range are looked for only when the vector loop saw one. */
 VM_INLINE void comp_trig(size_t kp, double w, const double *x, double *xe, double *sn,
-                         double *cs, int fresh)
+                         double *cs, int how)
 {
     _Alignas(VM_ALIGN) double d[ESS_COMP_CHUNK];
-    if (fresh) {
+    if (how == COMP_TRIG_FRESH) {
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             double wa = w * x[i];
             sn[i] = sin(wa);
@@ -317,30 +331,40 @@ VM_INLINE void comp_trig(size_t kp, double w, const double *x, double *xe, doubl
         }
         return;
     }
+    double lim = how == COMP_TRIG_NEAR ? COMP_TURN_NEAR_MAX : COMP_TURN_MAX;
     long far = 0;
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        d[i] = w * (x[i] - xe[i]);
-        ess_lane_cs t = ess_lane_turn_wide(cs[i], sn[i], d[i]);
-        sn[i] = t.s;
-        cs[i] = t.c;
-        xe[i] = x[i];
-        far |= fabs(d[i]) > COMP_TURN_MAX ? 1 : 0;
-    }
+    if (how == COMP_TRIG_NEAR)
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            d[i] = w * (x[i] - xe[i]);
+            ess_lane_cs t = ess_lane_turn_near(cs[i], sn[i], d[i]);
+            sn[i] = t.s;
+            cs[i] = t.c;
+            xe[i] = x[i];
+            far |= fabs(d[i]) > lim ? 1 : 0;
+        }
+    else
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            d[i] = w * (x[i] - xe[i]);
+            ess_lane_cs t = ess_lane_turn_wide(cs[i], sn[i], d[i]);
+            sn[i] = t.s;
+            cs[i] = t.c;
+            xe[i] = x[i];
+            far |= fabs(d[i]) > lim ? 1 : 0;
+        }
     if (far)
         for (size_t i = 0; i < kp; i++)
-            if (fabs(d[i]) > COMP_TURN_MAX) {
+            if (fabs(d[i]) > lim) {
                 sn[i] = sin(w * x[i]);
                 cs[i] = cos(w * x[i]);
             }
 }
 
 /* Halley's method on kp lanes from x (lanes with active set): every lane
- * iterates until its own step is below COMP_TOL_RAD or Halley's error
- * bound after it is (bound = halley_bound), exactly as one reading alone
- * would.  The first sine and cosine from libmvec unless near (the lanes'
+ * iterates until its own step is below done (halley_done_step), exactly
+ * as one reading alone would.  The first sine and cosine from libmvec unless near (the lanes'
  * values at xe then), the rest turned from the last (comp_trig).  fpl gets
  * each lane's g' at its last iterate.  Returns the lanes still active. */
-VM_INLINE long halley_steps(const ess_model *m, double bound, size_t kp, const double *r,
+VM_INLINE long halley_steps(const ess_model *m, double done, size_t kp, const double *r,
                             double *x, long *active, double *xe, double *sn, double *cs,
                             double *fpl, int near)
 {
@@ -348,7 +372,9 @@ VM_INLINE long halley_steps(const ess_model *m, double bound, size_t kp, const d
     long left = (long)kp;
     for (int it = 0; it < COMP_MAX_ITER && left > 0; it++) {
         left = 0;
-        comp_trig(kp, w, x, xe, sn, cs, it == 0 && !near);
+        int first = near ? 0 : 1;
+        comp_trig(kp, w, x, xe, sn, cs,
+                  it < first ? COMP_TRIG_FRESH : it == first ? COMP_TRIG_WIDE : COMP_TRIG_NEAR);
         VM_SIMD for (size_t i = 0; i < kp; i++) {
             double f = x[i] - ks * sn[i] - kc * cs[i] - r[i];
             double fp = 1.0 - w * (ks * cs[i] - kc * sn[i]);
@@ -357,35 +383,19 @@ VM_INLINE long halley_steps(const ess_model *m, double bound, size_t kp, const d
             double dx = 2.0 * f * fp / (2.0 * fp * fp - f * fpp), adx = fabs(dx);
             x[i] = vm_select(active[i] != 0, x[i] - dx, x[i]);
             fpl[i] = vm_select(active[i] != 0, fp, fpl[i]);
-            active[i] = adx < COMP_TOL_RAD || bound * adx * adx * adx < COMP_TOL_RAD ? 0 : active[i];
+            active[i] = adx < done ? 0 : active[i];
             left += active[i];
         }
     }
     return left;
 }
 
-/* Eq. 13 on kp lanes, keeping tan alpha_d, the arctangent's argument and
- * alpha in keep (ess_lane_comp_eq13's formula). */
-VM_INLINE void comp_eq13_keep(const ess_model *m, size_t kp, const double *x, long *active,
-                              comp_lanes *keep)
-{
-    const double *p = m->p;
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        double td = tan(x[i]);
-        double den = p[ESS_P_C] * td - p[ESS_P_A];
-        keep->td[i] = td;
-        keep->y[i] = (p[ESS_P_B] - td) / den;
-        keep->alpha[i] = atan(keep->y[i]);
-        active[i] = den == 0.0 ? 1 : active[i];
-    }
-}
-
-/* Eq. 13 on kp lanes near a pass's (near): tan alpha_d by the addition
- * formula from near's with tan(h), h = alpha_d - near's, by its series
- * (|h| <= COMP_NEAR_MAX: to h^9, the rest below 1e-23), and the
- * arctangent as near's plus atan((y - y') / (1 + y y')) by its series
- * (ess_lane_atan_small); a lane beyond either range (or across alpha = 90
- * deg, 1 + y y' <= 0) by libm's tan and atan on its own. */
+/* Eq. 13 on kp lanes near a pass's (near): tan alpha_d = (td' + tan h) /
+ * (1 - td' tan h) by the addition formula from near's td' with tan(h), h
+ * = alpha_d - near's, by its series (|h| <= COMP_NEAR_MAX: to h^9, the
+ * rest below 1e-23), into ess_lane_eq13_turn; a lane beyond either range
+ * (or with 1 - td' tan h <= 0, across alpha_d = 90 deg) by libm's tangent
+ * on its own. */
 VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, long *active,
                               const comp_lanes *near, double *alpha)
 {
@@ -394,21 +404,19 @@ VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, lo
     long any_far = 0;
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double h = x[i] - near->x[i], th = ess_lane_tan_small(h);
-        double td = (near->td[i] + th) / (1.0 - near->td[i] * th);
-        double den = p[ESS_P_C] * td - p[ESS_P_A];
-        double y = (p[ESS_P_B] - td) / den, q = 1.0 + y * near->y[i];
-        double e = (y - near->y[i]) / q;
-        alpha[i] = near->alpha[i] + ess_lane_atan_small(e);
-        long in = q > 0.0 ? 1 : 0;
-        in = fabs(h) <= COMP_NEAR_MAX ? in : 0;
-        far[i] = fabs(e) <= COMP_NEAR_MAX ? 1 - in : 1;
+        double q = 1.0 - near->td[i] * th, tn = near->td[i] + th;
+        ess_lane_eq13 e = ess_lane_eq13_turn(p, x[i], tn, q);
+        alpha[i] = e.alpha;
+        long in = q > 0.0 ? 1 - e.far : 0;
+        far[i] = fabs(h) <= COMP_NEAR_MAX ? 1 - in : 1;
         any_far |= far[i];
-        active[i] = den == 0.0 ? 1 : active[i];
+        active[i] = p[ESS_P_C] * tn == p[ESS_P_A] * q ? 1 : active[i];
     }
     for (size_t i = 0; any_far && i < kp; i++)
         if (far[i]) {
-            double td = tan(x[i]), den = p[ESS_P_C] * td - p[ESS_P_A];
-            alpha[i] = atan((p[ESS_P_B] - td) / den);
+            double td = tan(x[i]);
+            ess_lane_eq13 e = ess_lane_eq13_turn(p, x[i], td, 1.0);
+            alpha[i] = e.far ? ess_lane_eq13_atan(p, td) : e.alpha;
         }
 }
 
@@ -428,13 +436,13 @@ VM_INLINE void comp_warm_start(size_t kp, const comp_lanes *near, comp_lanes *l)
 }
 
 /* Halley's method on k <= ESS_COMP_CHUNK raws at once (padded lanes),
- * bound = halley_bound of the model: from each raw, or (near != NULL)
+ * done = halley_done_step of the model: from each raw, or (near != NULL)
  * from near's solution (comp_warm_start); a lane still moving after
  * COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then eq.
  * 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
  * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
  * gets the lanes for a pass near this one; the iteration works in it. */
-VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double bound, size_t k,
+VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double done, size_t k,
                                                     const double *raw, const comp_lanes *near,
                                                     comp_lanes *keep, double *alpha, int *status)
 {
@@ -448,21 +456,20 @@ VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double b
         l->slope[i] = 1.0;
     if (near)
         comp_warm_start(kp, near, l);
-    long left = halley_steps(m, bound, kp, r, x, active, l->xe, l->sn, l->cs, l->slope,
+    long left = halley_steps(m, done, kp, r, x, active, l->xe, l->sn, l->cs, l->slope,
                              near != NULL);
     for (size_t i = 0; left && i < k; i++)
         if (active[i] && isfinite(r[i])) {
             x[i] = finecode_bisect(m->p[ESS_P_KS], m->p[ESS_P_KC], m->omega, r[i]);
             active[i] = 0;
         }
-    if (!keep && !near) {
-        ess_lane_comp_eq13(m, k, x, active, alpha, status);
-        return;
-    }
-    if (keep)
-        comp_eq13_keep(m, kp, x, active, keep);
-    else
+    /* one call of each form, so that a raw alone and in a pair's noisy
+     * pass run the same instructions (FMA contraction is decided per
+     * inlined copy) */
+    if (near)
         comp_eq13_near(m, kp, x, active, near, own.alpha);
+    else
+        ess_lane_eq13_lanes(m, kp, x, active, l->td, l->alpha);
     for (size_t i = 0; i < k; i++) {
         status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
         alpha[i] = l->alpha[i];
@@ -478,14 +485,14 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
             status[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
     }
-    double bound = ext ? 0.0 : halley_bound(m->omega, hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]));
+    double done = ext ? 0.0 : halley_done_step(m->omega, hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]));
     int st = SUNMC_OK;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
         if (ext)
             ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         else
-            compensate_chunk(m, bound, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
+            compensate_chunk(m, done, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;
@@ -508,13 +515,13 @@ int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *
             status[i] = status0[i] = SUNMC_EDOM;
         return SUNMC_EDOM;
     }
-    double bound = halley_bound(m->omega, k_rad);
+    double done = halley_done_step(m->omega, k_rad);
     int st = SUNMC_OK;
     comp_lanes lanes;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        compensate_chunk(m, bound, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
-        compensate_chunk(m, bound, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0,
+        compensate_chunk(m, done, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
+        compensate_chunk(m, done, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0,
                          status0 + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK || status0[i0 + i] != SUNMC_OK)

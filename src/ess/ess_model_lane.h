@@ -85,20 +85,74 @@ VM_INLINE void ess_lane_comp_start(size_t k, const double *raw, double *x, doubl
     }
 }
 
+/* Eq. 13 as alpha = alpha_d + atan(e), e = tan(alpha - alpha_d) =
+ * (b + (a - 1) td - c td^2) / ((b + c) td - a - td^2), td = tan alpha_d
+ * (eq. 13's tan alpha = (b - td) / (c td - a) put into the tangent's
+ * subtraction formula), here with td = tn / q (numerator and denominator
+ * times q^2: one division where td comes from an addition formula; q = 1
+ * otherwise).  The calibration's structural correction e is small (about
+ * 1e-3 for the shipped tolerances), so its arctangent is the series
+ * (ess_lane_atan_small) instead of a libm call, to the last bit of alpha.
+ * far = 1 for a lane outside that range (|e| > ESS_EQ13_E_MAX, or
+ * |alpha_d| > ESS_EQ13_AD_MAX where alpha might leave atan's principal
+ * range), which takes ess_lane_eq13_atan on its own. */
+#define ESS_EQ13_E_MAX 1e-2
+#define ESS_EQ13_AD_MAX 1.4
+typedef struct {
+    double alpha;
+    long far;
+} ess_lane_eq13;
+
+VM_INLINE ess_lane_eq13 ess_lane_eq13_turn(const double *p, double ad, double tn, double q)
+{
+    double e = (p[ESS_P_B] * (q * q) + (p[ESS_P_A] - 1.0) * tn * q - p[ESS_P_C] * tn * tn) /
+               ((p[ESS_P_B] + p[ESS_P_C]) * tn * q - p[ESS_P_A] * (q * q) - tn * tn);
+    ess_lane_eq13 o;
+    o.alpha = ad + ess_lane_atan_small(e);
+    long in = fabs(e) <= ESS_EQ13_E_MAX ? 1 : 0;
+    o.far = fabs(ad) <= ESS_EQ13_AD_MAX ? 1 - in : 1;
+    return o;
+}
+
+/* Eq. 13 by libm's arctangent, for a lane ess_lane_eq13_turn leaves. */
+VM_INLINE double ess_lane_eq13_atan(const double *p, double td)
+{
+    double den = p[ESS_P_C] * td - p[ESS_P_A];
+    return atan((p[ESS_P_B] - td) / den);
+}
+
+/* Eq. 13 on kp lanes: td[i] = tan x[i] and alpha[i] (ess_lane_eq13_turn,
+ * its far lanes by ess_lane_eq13_atan); a lane where eq. 13 is undefined
+ * (c td = a) set active. */
+VM_INLINE void ess_lane_eq13_lanes(const ess_model *m, size_t kp, const double *x, long *active,
+                                   double *td, double *alpha)
+{
+    const double *p = m->p;
+    _Alignas(VM_ALIGN) long far[ESS_COMP_CHUNK];
+    long any_far = 0;
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        td[i] = tan(x[i]);
+        ess_lane_eq13 q = ess_lane_eq13_turn(p, x[i], td[i], 1.0);
+        alpha[i] = q.alpha;
+        far[i] = q.far;
+        any_far |= q.far;
+        active[i] = p[ESS_P_C] * td[i] == p[ESS_P_A] ? 1 : active[i];
+    }
+    for (size_t i = 0; any_far && i < kp; i++)
+        if (far[i])
+            alpha[i] = ess_lane_eq13_atan(p, td[i]);
+}
+
+/* ess_lane_eq13_lanes of k lanes into alpha[i], status[i] = SUNMC_EDOM
+ * for a lane still active or with eq. 13 undefined. */
 VM_INLINE void ess_lane_comp_eq13(const ess_model *m, size_t k, double *x, long *active,
                                   double *alpha, int *status)
 {
-    const double *p = m->p;
-    size_t kp = vm_pad(k);
-    VM_SIMD for (size_t i = 0; i < kp; i++) {
-        double td = tan(x[i]);
-        double den = p[ESS_P_C] * td - p[ESS_P_A];
-        x[i] = atan((p[ESS_P_B] - td) / den);
-        active[i] = den == 0.0 ? 1 : active[i];
-    }
+    _Alignas(VM_ALIGN) double td[ESS_COMP_CHUNK], out[ESS_COMP_CHUNK];
+    ess_lane_eq13_lanes(m, vm_pad(k), x, active, td, out);
     for (size_t i = 0; i < k; i++) {
         status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
-        alpha[i] = x[i];
+        alpha[i] = out[i];
     }
 }
 

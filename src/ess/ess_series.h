@@ -76,6 +76,18 @@ VM_INLINE ess_lane_cs ess_lane_turn(double c, double sn, double d)
     return ess_lane_turn_by(c, sn, sd, cm1);
 }
 
+/* The same for |d| <= 0.1: to d^9 and d^10 (the first terms left out
+ * are below 3e-19 and 3e-21). */
+VM_INLINE ess_lane_cs ess_lane_turn_near(double c, double sn, double d)
+{
+    double d2 = d * d;
+    double sd = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 + d2 * (-1.0 / 5040.0 +
+                    d2 * (1.0 / 362880.0))));
+    double cm1 = d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0 + d2 * (1.0 / 40320.0 +
+                     d2 * (-1.0 / 3628800.0)))));
+    return ess_lane_turn_by(c, sn, sd, cm1);
+}
+
 /* The same for |d| <= 1: to d^17 and d^18 (the first terms left out are
  * below 9e-18 and 5e-19). */
 VM_INLINE ess_lane_cs ess_lane_turn_wide(double c, double sn, double d)
