@@ -422,16 +422,13 @@ VM_INLINE void comp_eq13_near(const ess_model *m, size_t kp, const double *x, lo
 
 /* The lanes' start near a pass over the same readings with noise: near's
  * solution moved by (raw - near's raw) / g' (one Newton step; the raw
- * where that is not a number), its sines and cosines where near took
- * them last. */
+ * where that is not a number).  The iteration then turns near's sines
+ * and cosines in place (near's pass needs them no more). */
 VM_INLINE void comp_warm_start(size_t kp, const comp_lanes *near, comp_lanes *l)
 {
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         double x0 = near->x[i] + (l->r[i] - near->r[i]) / near->slope[i];
         l->x[i] = vm_select(isfinite(x0), x0, l->r[i]);
-        l->xe[i] = near->xe[i];
-        l->sn[i] = near->sn[i];
-        l->cs[i] = near->cs[i];
     }
 }
 
@@ -441,10 +438,11 @@ VM_INLINE void comp_warm_start(size_t kp, const comp_lanes *near, comp_lanes *l)
  * COMP_MAX_ITER steps is solved by bisection (finecode_bisect); then eq.
  * 13 (near: comp_eq13_near).  status[i]: SUNMC_OK or SUNMC_EDOM (a raw
  * that is not a number, or eq. 13 undefined).  keep (NULL: not wanted)
- * gets the lanes for a pass near this one; the iteration works in it. */
-VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double done, size_t k,
-                                                    const double *raw, const comp_lanes *near,
-                                                    comp_lanes *keep, double *alpha, int *status)
+ * gets the lanes for a pass near this one; the iteration works in it.
+ * Returns 1 when a lane failed. */
+VM_KERNEL ESS_CONTRACT static int compensate_chunk(const ess_model *m, double done, size_t k,
+                                                   const double *raw, comp_lanes *near,
+                                                   comp_lanes *keep, double *alpha, int *status)
 {
     comp_lanes own;
     comp_lanes *l = keep ? keep : &own;
@@ -452,11 +450,12 @@ VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double d
     _Alignas(VM_ALIGN) long active[ESS_COMP_CHUNK];
     size_t kp = vm_pad(k);
     ess_lane_comp_start(k, raw, x, r, active);
-    VM_SIMD for (size_t i = 0; i < kp; i++)
-        l->slope[i] = 1.0;
-    if (near)
+    comp_lanes *trig = l;
+    if (near) {
         comp_warm_start(kp, near, l);
-    long left = halley_steps(m, done, kp, r, x, active, l->xe, l->sn, l->cs, l->slope,
+        trig = near;
+    }
+    long left = halley_steps(m, done, kp, r, x, active, trig->xe, trig->sn, trig->cs, l->slope,
                              near != NULL);
     for (size_t i = 0; left && i < k; i++)
         if (active[i] && isfinite(r[i])) {
@@ -470,10 +469,13 @@ VM_KERNEL ESS_CONTRACT static void compensate_chunk(const ess_model *m, double d
         comp_eq13_near(m, kp, x, active, near, own.alpha);
     else
         ess_lane_eq13_lanes(m, kp, x, active, l->td, l->alpha);
-    for (size_t i = 0; i < k; i++) {
+    long bad = 0;
+    VM_SIMD for (size_t i = 0; i < k; i++) {
         status[i] = active[i] ? SUNMC_EDOM : SUNMC_OK;
         alpha[i] = l->alpha[i];
+        bad |= active[i];
     }
+    return bad != 0;
 }
 
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
@@ -489,10 +491,13 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
     int st = SUNMC_OK;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        if (ext)
-            ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
-        else
-            compensate_chunk(m, done, k, raw_rad + i0, NULL, NULL, alpha_rad + i0, status + i0);
+        if (!ext) {
+            if (compensate_chunk(m, done, k, raw_rad + i0, NULL, NULL, alpha_rad + i0,
+                                 status + i0))
+                st = SUNMC_EDOM;
+            continue;
+        }
+        ess_model_ext_compensate_chunk(m, k, raw_rad + i0, alpha_rad + i0, status + i0);
         for (size_t i = 0; i < k; i++)
             if (status[i0 + i] != SUNMC_OK)
                 st = SUNMC_EDOM;
@@ -520,12 +525,12 @@ int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *
     comp_lanes lanes;
     for (size_t i0 = 0; i0 < n; i0 += ESS_COMP_CHUNK) {
         size_t k = n - i0 < ESS_COMP_CHUNK ? n - i0 : ESS_COMP_CHUNK;
-        compensate_chunk(m, done, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0, status + i0);
-        compensate_chunk(m, done, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0,
-                         status0 + i0);
-        for (size_t i = 0; i < k; i++)
-            if (status[i0 + i] != SUNMC_OK || status0[i0 + i] != SUNMC_OK)
-                st = SUNMC_EDOM;
+        int bad = compensate_chunk(m, done, k, raw_rad + i0, NULL, &lanes, alpha_rad + i0,
+                                   status + i0);
+        bad |= compensate_chunk(m, done, k, raw0_rad + i0, &lanes, NULL, alpha0_rad + i0,
+                                status0 + i0);
+        if (bad)
+            st = SUNMC_EDOM;
     }
     return st;
 }
