@@ -96,11 +96,15 @@ static void test_coarse_compare_matches_atan(void **state)
 
 /* The rows in any order across the dial: the outermost rows are found by
  * their x, not their place in the list, and the row telling two cells
- * apart by its Gray bit. */
+ * apart by its Gray bit.  Cells of 0.8 fine periods: a cell one off then
+ * picks another period (with cells of half a period or less either cell
+ * next to an edge picks the same one, and a wrong straddling row would
+ * not show). */
 static void test_coarse_table_rows_shuffled(void **state)
 {
     sunmc_config c = wide_config();
     ess_design d = ess_cfg(&c)->design;
+    d.coarse_resolution_deg = 0.8 * d.theta0_deg;
     const double x[] = {-3.0, -4.2, -0.6, -1.8, -3.6, -1.2, -2.4};
     assert_int_equal(d.coarse_rows_x_mm.n, 7);
     for (int j = 0; j < 7; j++)
