@@ -25,16 +25,17 @@ _Static_assert(ESS_FINE_ROWS == 4, "noise_lanes: four rows a lane");
 
 /* Row noises of k lanes from normals z (lane i's four at z[stride i + m]),
  * scaled by sigma, pads repeating lane 0. */
-static void noise_lanes(double sigma, const double *z, size_t stride, size_t k,
-                        double nz[ESS_FINE_ROWS][ESS_CHUNK])
+VM_KERNEL static void noise_lanes(double sigma, const double *restrict z, size_t stride,
+                                  size_t k, double nz[restrict ESS_FINE_ROWS][ESS_CHUNK])
 {
     /* a lane's four at a time: one pass over z, not four strided ones */
+    double *restrict n0 = nz[0], *restrict n1 = nz[1], *restrict n2 = nz[2], *restrict n3 = nz[3];
     for (size_t i = 0; i < k; i++) {
         const double *zi = z + stride * i;
-        nz[0][i] = sigma * zi[0];
-        nz[1][i] = sigma * zi[1];
-        nz[2][i] = sigma * zi[2];
-        nz[3][i] = sigma * zi[3];
+        n0[i] = sigma * zi[0];
+        n1[i] = sigma * zi[1];
+        n2[i] = sigma * zi[2];
+        n3[i] = sigma * zi[3];
     }
     for (int m = 0; m < ESS_FINE_ROWS; m++)
         pad_lanes(nz[m], k);
@@ -229,6 +230,27 @@ void ess_campaign_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r,
         out[i].raw_rad = out[i].seen ? out[i].sum_rad / c->cal_repeats : 0.0;
 }
 
+/* A validation chunk's k readings into the unit's arrays: 0 where the
+ * sun is not seen, and each reading's status (branch-free: the status is
+ * as unpredictable as the readings). */
+VM_KERNEL static void chunk_out(size_t k, const int *st, const double *raw, const double *raw0,
+                                const double *truth, double half_period, double *restrict raw_rad,
+                                double *restrict raw0_rad, double *restrict truth_rad,
+                                int *restrict status)
+{
+    VM_SIMD for (size_t i = 0; i < k; i++) {
+        int seen = st[i] == SUNMC_OK;
+        raw_rad[i] = vm_keep(seen, raw[i]);
+        truth_rad[i] = truth[i];
+        status[i] = !seen ? ESS_READING_UNSEEN
+                    : ess_is_gross(raw[i], truth[i], half_period) ? ESS_READING_GROSS
+                                                                  : ESS_READING_OK;
+    }
+    if (raw0_rad)
+        VM_SIMD for (size_t i = 0; i < k; i++)
+            raw0_rad[i] = vm_keep(st[i] == SUNMC_OK, raw0[i]);
+}
+
 void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *r, size_t n,
                           const ess_table_trig *trig, double *raw_rad, double *raw0_rad,
                           double *truth_rad, int *status)
@@ -261,14 +283,7 @@ void ess_validation_batch(const sunmc_config *c, const ess_unit *u, rng_stream *
         }
         noise_lanes(sigma, z, ESS_FINE_ROWS, k, nz);
         read_chunk_trig(u, k, tca, tsa, tcb, tsb, noise, raw, raw0_rad ? raw0 : NULL, truth, st);
-        for (size_t i = 0; i < k; i++) {
-            raw_rad[i0 + i] = st[i] == SUNMC_OK ? raw[i] : 0.0;
-            if (raw0_rad)
-                raw0_rad[i0 + i] = st[i] == SUNMC_OK ? raw0[i] : 0.0;
-            truth_rad[i0 + i] = truth[i];
-            status[i0 + i] = st[i] != SUNMC_OK ? ESS_READING_UNSEEN
-                             : ess_is_gross(raw[i], truth[i], half_period) ? ESS_READING_GROSS
-                                                                       : ESS_READING_OK;
-        }
+        chunk_out(k, st, raw, raw0_rad ? raw0 : NULL, truth, half_period, raw_rad + i0,
+                  raw0_rad ? raw0_rad + i0 : NULL, truth_rad + i0, status + i0);
     }
 }

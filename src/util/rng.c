@@ -132,23 +132,48 @@ static void philox_blocks(const uint32_t key[2], const uint32_t ctr[4], size_t n
     philox_blocks_generic(key, ctr, nb, w);
 }
 
-/* Box-Muller on k <= NORMAL_CHUNK blocks' words: block i's words
- * w[0..3][i] make two uniforms as rng_uniform makes them (27 + 26 bits,
- * (m + 0.5) / 2^53, exact in doubles), u1 from words 0 and 1, u2 from 2
- * and 3, and both normals of the pair, r cos(2 pi u2) into c[i] and
- * r sin(2 pi u2) into s[i] (r = sqrt(-2 ln u1)), padded to VM_PAD lanes. */
+/* Box-Muller on one block's words w0..w3: two uniforms as rng_uniform
+ * makes them (27 + 26 bits, (m + 0.5) / 2^53, exact in doubles), u1 from
+ * words 0 and 1, u2 from 2 and 3, and both normals of the pair, r cos(2 pi
+ * u2) and r sin(2 pi u2) (r = sqrt(-2 ln u1)). */
+typedef struct {
+    double c, s;
+} normal_pair;
+
+VM_INLINE normal_pair box_muller_lane(uint32_t w0, uint32_t w1, uint32_t w2, uint32_t w3)
+{
+    double u1 = ((double)(int32_t)(w0 >> 5) * 0x1.0p26 + (double)(int32_t)(w1 >> 6) + 0.5) *
+                0x1.0p-53;
+    double u2 = ((double)(int32_t)(w2 >> 5) * 0x1.0p26 + (double)(int32_t)(w3 >> 6) + 0.5) *
+                0x1.0p-53;
+    double radius = sqrt(-2.0 * log(u1)), angle = 2.0 * M_PI * u2;
+    normal_pair p = {radius * cos(angle), radius * sin(angle)};
+    return p;
+}
+
+/* Box-Muller on k <= NORMAL_CHUNK blocks' words w[0..3][i]: block i's
+ * pair into c[i] and s[i], padded to VM_PAD lanes. */
 VM_KERNEL static void box_muller(size_t k, const uint32_t w[4][NORMAL_CHUNK], double *restrict c,
                                  double *restrict s)
 {
     const uint32_t *w0 = w[0], *w1 = w[1], *w2 = w[2], *w3 = w[3];
     VM_SIMD for (size_t i = 0; i < vm_pad(k); i++) {
-        double u1 = ((double)(int32_t)(w0[i] >> 5) * 0x1.0p26 + (double)(int32_t)(w1[i] >> 6) +
-                     0.5) * 0x1.0p-53;
-        double u2 = ((double)(int32_t)(w2[i] >> 5) * 0x1.0p26 + (double)(int32_t)(w3[i] >> 6) +
-                     0.5) * 0x1.0p-53;
-        double radius = sqrt(-2.0 * log(u1)), angle = 2.0 * M_PI * u2;
-        c[i] = radius * cos(angle);
-        s[i] = radius * sin(angle);
+        normal_pair p = box_muller_lane(w0[i], w1[i], w2[i], w3[i]);
+        c[i] = p.c;
+        s[i] = p.s;
+    }
+}
+
+/* The same into out[2 i] and out[2 i + 1] (k a multiple of VM_PAD: no
+ * padding lanes, out holds 2 k): the stream's order, no copy. */
+VM_KERNEL static void box_muller_pairs(size_t k, const uint32_t w[4][NORMAL_CHUNK],
+                                       double *restrict out)
+{
+    const uint32_t *w0 = w[0], *w1 = w[1], *w2 = w[2], *w3 = w[3];
+    VM_SIMD for (size_t i = 0; i < k; i++) {
+        normal_pair p = box_muller_lane(w0[i], w1[i], w2[i], w3[i]);
+        out[2 * i] = p.c;
+        out[2 * i + 1] = p.s;
     }
 }
 
@@ -194,17 +219,13 @@ void rng_normal_fill(rng_stream *r, double *out, size_t n)
         size_t pairs = (n - done + 1) / 2;
         size_t k = pairs < NORMAL_CHUNK ? pairs : NORMAL_CHUNK;
         next_words(r, k, w);
-        box_muller(k, w, c, s);
-        if (2 * k <= n - done) {
-            /* every pair whole: interleaved without the end's test */
-            double *o = out + done;
-            for (size_t i = 0; i < k; i++) {
-                o[2 * i] = c[i];
-                o[2 * i + 1] = s[i];
-            }
+        if (k % VM_PAD == 0 && 2 * k <= n - done) {
+            /* whole pairs, no padding lanes: straight into out */
+            box_muller_pairs(k, w, out + done);
             done += 2 * k;
             continue;
         }
+        box_muller(k, w, c, s);
         for (size_t i = 0; i < k; i++) {
             out[done++] = c[i];
             if (done == n) {
