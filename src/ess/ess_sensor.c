@@ -253,7 +253,8 @@ VM_KERNEL static void coarse_by_table(const ess_sensor *s, size_t kp, const doub
     double xa = s->coarse_x_mm[s->coarse_row_min], xb = s->coarse_x_mm[s->coarse_row_max];
     VM_SIMD for (size_t i = 0; i < kp; i++)
         k0[i] = ess_lane_coarse_cell(s, psi0[i]);
-    /* the tables' entries (GCC's generic tuning makes no vector gathers) */
+    /* the tables' entries (GCC's generic tuning makes no vector gathers,
+     * and AVX2's are no faster here) */
     for (size_t i = 0; i < kp; i++) {
         int k = (int)k0[i];
         lo[i] = s->coarse_lo_tan[k];
@@ -386,24 +387,30 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         fine_by_series(s, kp, u, v, z, noise, psi0, phase, phase0, out0_rad != NULL);
     else
         fine_by_atan(s, kp, u, v, z, noise, psi0, phase, phase0);
-    _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cell[ESS_CHUNK] = {0};
-    if (s->coarse_by_compare && s->coarse_by_table)
+    /* the table path writes every lane's cell; the others decode from
+     * zero (the cell centre needs the cell alone) */
+    _Alignas(VM_ALIGN) double parity[ESS_CHUNK], cell[ESS_CHUNK];
+    if (s->coarse_by_compare && s->coarse_by_table) {
         coarse_by_table(s, kp, u, v, psi0, cell);
-    else if (s->coarse_by_compare)
-        coarse_by_compare(s, kp, u, v, psi0, parity, cell);
-    else
-        coarse_by_atan(s, kp, u, v, parity, cell);
+    } else {
+        memset(parity, 0, kp * sizeof *parity);
+        memset(cell, 0, kp * sizeof *cell);
+        if (s->coarse_by_compare)
+            coarse_by_compare(s, kp, u, v, psi0, parity, cell);
+        else
+            coarse_by_atan(s, kp, u, v, parity, cell);
+    }
     VM_SIMD for (size_t i = 0; i < kp; i++) {
-        ess_lane_coarse acc = {parity[i], cell[i]};
+        ess_lane_coarse acc = {0.0, cell[i]};
         out_rad[i] = ess_lane_combine_s(s, ess_lane_coarse_angle(s, acc), phase[i]);
     }
     if (out0_rad)
         VM_SIMD for (size_t i = 0; i < kp; i++) {
-            ess_lane_coarse acc = {parity[i], cell[i]};
+            ess_lane_coarse acc = {0.0, cell[i]};
             out0_rad[i] =
                 ess_lane_combine_s(s, ess_lane_coarse_angle(s, acc), phase0[i]);
         }
-    for (size_t i = 0; i < k; i++)
+    VM_SIMD for (size_t i = 0; i < k; i++)
         status[i] = sz[i] > ESS_MIN_COS_INCIDENCE ? SUNMC_OK : SUNMC_EDOM;
     return SUNMC_OK;
 }
