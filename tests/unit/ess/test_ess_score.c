@@ -148,21 +148,41 @@ static void test_other_band_counts(void **state)
     check_bands(&four, 1);
 }
 
+/* The shipped bands' scores of make_readings' readings for a unit whose
+ * fit status is fit_status before scoring, reading nan_at (-1: none) not a
+ * number (free f->r). */
+typedef struct {
+    sunmc_config c;
+    ess_model m;
+    readings *r;
+    unit_result res;
+} scored;
+
+static void score_case(int fit_status, int nan_at, scored *f)
+{
+    f->c = test_family_config("ess");
+    band_list b = {3, {0, 30, 0}, {30, 60, 62}};
+    f->c.bands_deg = b;
+    model(&f->m);
+    f->r = malloc(sizeof *f->r);
+    make_readings(&f->m, f->r);
+    if (nan_at >= 0)
+        f->r->raw[nan_at] = NAN;
+    memset(&f->res, 0, sizeof f->res);
+    f->res.fit_status = fit_status;
+    ess_score_validation(&f->c, &f->m, &f->r->v, &f->res);
+}
+
 /* A reading the fit cannot compensate (not a number) fails the unit's fit:
  * after and systematic part NaN; before is still scored. */
 static void test_uncompensable_fails_fit(void **state)
 {
-    sunmc_config c = test_family_config("ess");
-    band_list b = {3, {0, 30, 0}, {30, 60, 62}};
-    c.bands_deg = b;
-    ess_model m;
-    model(&m);
-    readings *r = malloc(sizeof *r);
-    make_readings(&m, r);
-    r->raw[100] = NAN; /* 21.2 deg: bands 0:30 and 0:62 */
-    unit_result res;
-    memset(&res, 0, sizeof res);
-    ess_score_validation(&c, &m, &r->v, &res);
+    scored f;
+    score_case(UNIT_FIT_OK, 100, &f); /* 21.2 deg: bands 0:30 and 0:62 */
+    const band_list b = f.c.bands_deg;
+    const ess_model m = f.m;
+    readings *r = f.r;
+    const unit_result res = f.res;
     assert_int_equal(res.fit_status, UNIT_FIT_FAILED);
     for (int k = 0; k < 3; k++) {
         assert_true(isnan(res.rms_after[0][k]));
@@ -178,17 +198,12 @@ static void test_uncompensable_fails_fit(void **state)
 /* A unit whose fit failed before scoring: before only. */
 static void test_failed_fit_before_only(void **state)
 {
-    sunmc_config c = test_family_config("ess");
-    band_list b = {3, {0, 30, 0}, {30, 60, 62}};
-    c.bands_deg = b;
-    ess_model m;
-    model(&m);
-    readings *r = malloc(sizeof *r);
-    make_readings(&m, r);
-    unit_result res;
-    memset(&res, 0, sizeof res);
-    res.fit_status = UNIT_FIT_FAILED;
-    ess_score_validation(&c, &m, &r->v, &res);
+    scored f;
+    score_case(UNIT_FIT_FAILED, -1, &f);
+    const band_list b = f.c.bands_deg;
+    const ess_model m = f.m;
+    readings *r = f.r;
+    const unit_result res = f.res;
     double e[CONFIG_BANDS_MAX];
     expected(&b, &m, r, 0, e);
     for (int k = 0; k < 3; k++) {
