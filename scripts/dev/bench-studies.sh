@@ -22,7 +22,7 @@ cpu() {
   awk -v t="$t" 'BEGIN { split(t, a, " "); printf "%.2f\n", a[1] + a[2] }'
 }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
-runs() { grep -Eo '[0-9,]+ unit runs' "$tmp/out" | head -1 | tr -d ',' | awk '{print $1}'; }
+runs() { { grep -Eo '[0-9,]+ unit runs' "$tmp/out" || true; } | head -1 | tr -d ',' | awk '{print $1}'; }
 
 if [ -n "$BEFORE" ]; then
   echo "| study | unit runs before | unit runs after | CPU s before | CPU s after | after / before |"
