@@ -374,61 +374,26 @@ static void chunk_uses(const dss_val_chunk *v, size_t k, int sys, unit_result *r
     }
 }
 
-/* sum2[i] += e2[q] for the readings q < k whose mask m[q] holds band i <
- * nb, in reading order (band_acc_add's sums: vm_keep's +0 elsewhere). */
-static void add_bands(double *sum2, int nb, size_t k, const unsigned *m, const double *e2)
-{
-    for (int i = 0; i < nb; i++) {
-        double s = sum2[i];
-        for (size_t q = 0; q < k; q++)
-            s += vm_keep((int)((m[q] >> i) & 1u), e2[q]);
-        sum2[i] = s;
-    }
-}
-
-/* The same for three bands (the shipped lists), the sums in registers and
- * their three chains interleaved. */
-static void add_bands3(double *sum2, size_t k, const unsigned *m, const double *e2)
-{
-    double s0 = sum2[0], s1 = sum2[1], s2 = sum2[2];
-    for (size_t q = 0; q < k; q++) {
-        s0 += vm_keep((int)(m[q] & 1u), e2[q]);
-        s1 += vm_keep((int)((m[q] >> 1) & 1u), e2[q]);
-        s2 += vm_keep((int)((m[q] >> 2) & 1u), e2[q]);
-    }
-    sum2[0] = s0;
-    sum2[1] = s1;
-    sum2[2] = s2;
-}
-
 /* Add the errors (rad) of readings q < k with use[q] to acc (alpha a - a0,
  * beta b - b0, total t) in the bands of mask[q], as band_acc_add would
- * one reading at a time. */
+ * one reading at a time (band_acc_add_chunks: the three angles' sums
+ * interleaved). */
 static void add_chunk(band_acc acc[DSS_N_ANGLES], int nb, size_t k, const unsigned *mask,
                       const int *use, const double *a, const double *b, const double *a0,
                       const double *b0, const double *t)
 {
     unsigned m[DSS_CHUNK];
     double e2[DSS_N_ANGLES][DSS_CHUNK];
-    long n[CONFIG_BANDS_MAX] = {0};
     for (size_t q = 0; q < k; q++) {
         m[q] = use[q] ? mask[q] : 0u;
-        for (int i = 0; i < nb; i++)
-            n[i] += (m[q] >> i) & 1u;
-    }
-    for (size_t q = 0; q < k; q++) {
         e2[ANGLE_ALPHA][q] = (a[q] - a0[q]) * (a[q] - a0[q]);
         e2[ANGLE_BETA][q] = (b[q] - b0[q]) * (b[q] - b0[q]);
         e2[ANGLE_TOTAL][q] = t[q] * t[q];
     }
-    for (int ang = 0; ang < DSS_N_ANGLES; ang++) {
-        if (nb == 3)
-            add_bands3(acc[ang].sum2, k, m, e2[ang]);
-        else
-            add_bands(acc[ang].sum2, nb, k, m, e2[ang]);
-        for (int i = 0; i < nb; i++)
-            acc[ang].n[i] += n[i];
-    }
+    band_acc *const accs[DSS_N_ANGLES] = {&acc[ANGLE_ALPHA], &acc[ANGLE_BETA], &acc[ANGLE_TOTAL]};
+    const unsigned *const ms[DSS_N_ANGLES] = {m, m, m};
+    const double *const es[DSS_N_ANGLES] = {e2[ANGLE_ALPHA], e2[ANGLE_BETA], e2[ANGLE_TOTAL]};
+    band_acc_add_chunks(DSS_N_ANGLES, accs, nb, k, ms, es);
 }
 
 /* Score the unit's validation readings r (RMS before and after), and the
