@@ -343,21 +343,45 @@ static int sens_start(const sunmc_config *c, long units, sens_result *s, double 
     return SUNMC_OK;
 }
 
-int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
-             void *ctx, sens_result *s, char *err, size_t errlen)
+/* sens_run (until NULL: one block of every unit, progress per run) and
+ * sens_run_until (blocks of until->block, a check after each, progress
+ * per block). */
+static int run_blocks(const sunmc_config *c, long units, sens_until *until, int threads,
+                      sens_progress_fn progress, void *ctx, sens_result *s, char *err,
+                      size_t errlen)
 {
     double *y = NULL;
     int rc = sens_start(c, units, s, &y, err, errlen);
+    long block = until && until->block < units ? until->block : units, end = 0;
+    int blocks = (int)((units + block - 1) / block);
     sens_plan p = {0};
+    if (until) {
+        until->met = 0;
+        until->reached = INFINITY;
+    }
     if (rc == SUNMC_OK)
-        rc = plan_alloc(c, s, units, &p, err, errlen);
+        rc = plan_alloc(c, s, block, &p, err, errlen);
+    for (int b = 0; rc == SUNMC_OK && end < units && !(until && until->met); b++) {
+        long first = end;
+        end = units - first < block ? units : first + block;
+        if (until && progress)
+            progress("block", b + 1, blocks, ctx);
+        rc = sens_runs(&p, first, end, units, threads, until ? NULL : progress, ctx, s, y, err,
+                       errlen);
+        if (rc == SUNMC_OK && until)
+            rc = until_check(c, s, y, units, end, until, err, errlen);
+    }
     if (rc == SUNMC_OK)
-        rc = sens_runs(&p, 0, units, units, threads, progress, ctx, s, y, err, errlen);
-    if (rc == SUNMC_OK)
-        rc = estimate(c, s, y, units, units, err, errlen);
+        rc = estimate(c, s, y, units, end, err, errlen);
     plan_free(&p);
     free(y);
     return rc;
+}
+
+int sens_run(const sunmc_config *c, long units, int threads, sens_progress_fn progress,
+             void *ctx, sens_result *s, char *err, size_t errlen)
+{
+    return run_blocks(c, units, NULL, threads, progress, ctx, s, err, errlen);
 }
 
 int sens_run_until(const sunmc_config *c, long units, sens_until *until, int threads,
@@ -368,27 +392,5 @@ int sens_run_until(const sunmc_config *c, long units, sens_until *until, int thr
         until->stat >= SENS_UNTIL_STATS)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--until: a half-width > 0 and blocks of "
                                                      "at least 1 unit");
-    double *y = NULL;
-    int rc = sens_start(c, units, s, &y, err, errlen);
-    long block = until->block < units ? until->block : units, end = 0;
-    int blocks = (int)((units + block - 1) / block);
-    sens_plan p = {0};
-    until->met = 0;
-    until->reached = INFINITY;
-    if (rc == SUNMC_OK)
-        rc = plan_alloc(c, s, block, &p, err, errlen);
-    for (int b = 0; rc == SUNMC_OK && end < units && !until->met; b++) {
-        long first = end;
-        end = units - first < block ? units : first + block;
-        if (progress)
-            progress("block", b + 1, blocks, ctx);
-        rc = sens_runs(&p, first, end, units, threads, NULL, NULL, s, y, err, errlen);
-        if (rc == SUNMC_OK)
-            rc = until_check(c, s, y, units, end, until, err, errlen);
-    }
-    if (rc == SUNMC_OK)
-        rc = estimate(c, s, y, units, end, err, errlen);
-    plan_free(&p);
-    free(y);
-    return rc;
+    return run_blocks(c, units, until, threads, progress, ctx, s, err, errlen);
 }
