@@ -113,6 +113,11 @@ void cli_run_files_abort(cli_run_files *rf);
 /* Threads to use: o->threads, else run.threads, else OpenMP's default. */
 int cli_threads(const cli_options *o, const sunmc_config *c);
 
+/* --until STAT:HALFWIDTH split at its last colon: STAT into name[len],
+ * HALFWIDTH (finite, > 0) into *halfwidth.  1 when arg has that form, 0
+ * otherwise (nothing written). */
+int cli_split_until(const char *arg, char *name, size_t len, double *halfwidth);
+
 /* Print fam's config keys section by section: key = default  unit. */
 void cli_print_keys(FILE *f, const sensor_family *fam);
 

@@ -8,6 +8,7 @@
 #include "suggest.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -318,6 +319,20 @@ static int parse_option(int argc, char **argv, int *i, const char *command, cons
         }
     }
     return set_option(o, command, name, a, v);
+}
+
+int cli_split_until(const char *arg, char *name, size_t len, double *halfwidth)
+{
+    const char *colon = strrchr(arg, ':');
+    size_t n = colon ? (size_t)(colon - arg) : 0;
+    char *end = NULL;
+    double h = colon ? strtod(colon + 1, &end) : NAN;
+    if (!colon || n >= len || end == colon + 1 || *end != '\0' || !(h > 0) || !isfinite(h))
+        return 0;
+    memcpy(name, arg, n);
+    name[n] = '\0';
+    *halfwidth = h;
+    return 1;
 }
 
 int cli_parse(int argc, char **argv, int first, const char *command, const char *allowed,

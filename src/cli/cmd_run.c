@@ -144,18 +144,13 @@ static int shard_range(const cli_options *o, const sunmc_config *c, long *first,
 static int parse_until(const char *arg, const sunmc_config *c, long first, run_until *u)
 {
     char name[64], list[256];
-    const char *colon = strrchr(arg, ':');
-    size_t n = colon ? (size_t)(colon - arg) : 0;
-    char *end = NULL;
-    double h = colon ? strtod(colon + 1, &end) : NAN;
+    double h;
     report_stat_list(list, sizeof list);
-    if (!colon || n >= sizeof name || end == colon + 1 || *end != '\0' || !(h > 0) || !isfinite(h)) {
+    if (!cli_split_until(arg, name, sizeof name, &h)) {
         fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, e.g. "
                         "yield:0.005 (STAT one of %s)\n", arg, list);
         return EXIT_BAD_INPUT;
     }
-    memcpy(name, arg, n);
-    name[n] = '\0';
     if (first != 0) {
         fprintf(stderr, "sunmc run: --until runs units from 0: give its most units as --units N, "
                         "not FIRST:END\n");

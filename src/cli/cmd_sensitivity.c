@@ -62,18 +62,12 @@ static void progress(const char *what, int i, int n, void *ctx)
 static int parse_until(const char *arg, const sunmc_config *c, sens_until *u)
 {
     char name[64];
-    const char *colon = strrchr(arg, ':');
-    size_t n = colon ? (size_t)(colon - arg) : 0;
-    char *end = NULL;
-    double h = colon ? strtod(colon + 1, &end) : NAN;
-    if (!colon || n >= sizeof name || end == colon + 1 || *end != '\0' || !(h > 0) ||
-        !isfinite(h)) {
+    double h;
+    if (!cli_split_until(arg, name, sizeof name, &h)) {
         fprintf(stderr, "sunmc sensitivity: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, "
                         "e.g. st:0.02 (STAT one of st, s1, st_before, s1_before)\n", arg);
         return EXIT_BAD_INPUT;
     }
-    memcpy(name, arg, n);
-    name[n] = '\0';
     memset(u, 0, sizeof *u);
     u->stat = -1;
     for (int k = 0; k < SENS_UNTIL_STATS; k++)
