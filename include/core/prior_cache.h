@@ -38,6 +38,15 @@ int prior_cache_find(const prior_key_part *key, int n, calib_prior *p, int *stat
 void prior_cache_keep(const prior_key_part *key, int n, const calib_prior *p, int status,
                       const char *err);
 
+/* Adds a pilot's units to p (reset for its parameters): SUNMC_OK, or a
+ * failure (out of memory) with its message. */
+typedef int (*prior_pilot_fn)(void *ctx, calib_prior *p, char *err, size_t errlen);
+
+/* The pilot of key into p (reset by the caller): the store's, or made by
+ * add(ctx, ...) and kept.  add's status (SUNMC_OK when found). */
+int prior_cache_pilot(const prior_key_part *key, int n, calib_prior *p, prior_pilot_fn add,
+                      void *ctx, char *err, size_t errlen);
+
 /* Forget every pilot (tests). */
 void prior_cache_clear(void);
 

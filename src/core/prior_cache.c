@@ -88,6 +88,17 @@ void prior_cache_keep(const prior_key_part *key, int n, const calib_prior *p, in
     }
 }
 
+int prior_cache_pilot(const prior_key_part *key, int n, calib_prior *p, prior_pilot_fn add,
+                      void *ctx, char *err, size_t errlen)
+{
+    int st = SUNMC_OK;
+    if (prior_cache_find(key, n, p, &st, NULL, 0))
+        return SUNMC_OK;
+    if ((st = add(ctx, p, err, errlen)) == SUNMC_OK)
+        prior_cache_keep(key, n, p, SUNMC_OK, NULL);
+    return st;
+}
+
 void prior_cache_clear(void)
 {
 #pragma omp critical(prior_cache)

@@ -74,9 +74,15 @@ static int fits_index(const dss_calib_workspace *cw)
 }
 
 /* The pilot's units of c0 on cw's campaign, fitted, added to p. */
-static int pilot_add(const sunmc_config *c0, const dss_calib_workspace *cw, calib_prior *p,
-                     char *err, size_t errlen)
+typedef struct {
+    const sunmc_config *c0;
+    const dss_calib_workspace *cw;
+} pilot_ctx;
+
+static int pilot_add(void *ctx, calib_prior *p, char *err, size_t errlen)
 {
+    const sunmc_config *c0 = ((const pilot_ctx *)ctx)->c0;
+    const dss_calib_workspace *cw = ((const pilot_ctx *)ctx)->cw;
     dss_calib_workspace *pw = dss_calib_alloc_fix(&cw->design, cw->n, cw->kind, cw->poly_order,
                                                   fits_index(cw), cw->fix_sun);
     if (!pw)
@@ -111,12 +117,11 @@ static int pilot(const sunmc_config *c, const dss_calib_workspace *cw, calib_pri
                                   {&cw->n, sizeof cw->n},
                                   {cw->b1_rad, cw->n * sizeof *cw->b1_rad},
                                   {cw->b2_rad, cw->n * sizeof *cw->b2_rad}};
-    int nk = (int)(sizeof key / sizeof *key), st = SUNMC_OK;
-    if (!prior_cache_find(key, nk, p, &st, NULL, 0)) {
-        if ((st = pilot_add(&c0, cw, p, err, errlen)) != SUNMC_OK)
-            return st;
-        prior_cache_keep(key, nk, p, SUNMC_OK, NULL);
-    }
+    pilot_ctx pc = {&c0, cw};
+    int st = prior_cache_pilot(key, (int)(sizeof key / sizeof *key), p, pilot_add, &pc, err,
+                               errlen);
+    if (st != SUNMC_OK)
+        return st;
     return calib_prior_finish(p, dss_reading_noise_px(c), err, errlen);
 }
 

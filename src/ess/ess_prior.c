@@ -45,9 +45,15 @@ static int pilot_unit(const sunmc_config *c0, uint64_t seed, long u, ess_calib_w
 }
 
 /* The pilot's units of c0 on cw's campaign, fitted, added to p. */
-static int pilot_add(const sunmc_config *c0, const ess_calib_workspace *cw, calib_prior *p,
-                     char *err, size_t errlen)
+typedef struct {
+    const sunmc_config *c0;
+    const ess_calib_workspace *cw;
+} pilot_ctx;
+
+static int pilot_add(void *ctx, calib_prior *p, char *err, size_t errlen)
 {
+    const sunmc_config *c0 = ((const pilot_ctx *)ctx)->c0;
+    const ess_calib_workspace *cw = ((const pilot_ctx *)ctx)->cw;
     ess_calib_workspace *pw = ess_calib_alloc_fix(cw->n, cw->kind, cw->fix_sun_y);
     if (!pw)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the priors' pilot");
@@ -80,12 +86,11 @@ int ess_prior_pilot(const sunmc_config *c, const ess_calib_workspace *cw, calib_
                                   {&cw->n, sizeof cw->n},
                                   {cw->alpha_rad, cw->n * sizeof *cw->alpha_rad},
                                   {cw->beta_rad, cw->n * sizeof *cw->beta_rad}};
-    int nk = (int)(sizeof key / sizeof *key), st = SUNMC_OK;
-    if (!prior_cache_find(key, nk, p, &st, NULL, 0)) {
-        if ((st = pilot_add(&c0, cw, p, err, errlen)) != SUNMC_OK)
-            return st;
-        prior_cache_keep(key, nk, p, SUNMC_OK, NULL);
-    }
+    pilot_ctx pc = {&c0, cw};
+    int st = prior_cache_pilot(key, (int)(sizeof key / sizeof *key), p, pilot_add, &pc, err,
+                               errlen);
+    if (st != SUNMC_OK)
+        return st;
     return calib_prior_finish(p, ess_reading_noise_arcsec(c) * RAD_PER_ARCSEC, err, errlen);
 }
 

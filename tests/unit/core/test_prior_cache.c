@@ -97,12 +97,50 @@ static void test_oldest_forgotten(void **state)
     assert_int_equal(prior_cache_find(second, 1, &q, &st, NULL, 0), 1);
 }
 
+/* A pilot that counts its makings; fails while *ctx's fail is set. */
+typedef struct {
+    int made, fail;
+} maker;
+
+static int make_pilot(void *ctx, calib_prior *p, char *err, size_t errlen)
+{
+    maker *m = ctx;
+    m->made++;
+    if (m->fail)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the pilot");
+    *p = prior_of(2);
+    return SUNMC_OK;
+}
+
+/* prior_cache_pilot makes a pilot once and finds it after; a failed
+ * making is returned with its message and not kept. */
+static void test_pilot_made_once(void **state)
+{
+    int id = 9;
+    prior_key_part key[] = {{&id, sizeof id}};
+    maker m = {0, 1};
+    calib_prior p, want = prior_of(2);
+    char err[SUNMC_ERRLEN] = "";
+    assert_int_equal(prior_cache_pilot(key, 1, &p, make_pilot, &m, err, sizeof err),
+                     SUNMC_ENOMEM);
+    assert_string_equal(err, "out of memory for the pilot");
+    m.fail = 0;
+    for (int k = 0; k < 3; k++) {
+        memset(&p, 0, sizeof p);
+        assert_int_equal(prior_cache_pilot(key, 1, &p, make_pilot, &m, err, sizeof err),
+                         SUNMC_OK);
+        assert_memory_equal(&p, &want, sizeof p);
+    }
+    assert_int_equal(m.made, 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_found_only_under_its_bytes, clear),
         cmocka_unit_test_setup(test_failed_pilot_kept_with_message, clear),
         cmocka_unit_test_setup(test_oldest_forgotten, clear),
+        cmocka_unit_test_setup(test_pilot_made_once, clear),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
