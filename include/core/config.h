@@ -295,6 +295,10 @@ const config_key *config_find_in(const struct sensor_family *fam, const char *se
 /* 1 when k is one of core's shared keys. */
 int config_key_is_shared(const config_key *k);
 
+/* 1 when shared key k is one that family fam does not take
+ * (sensor_family.shared_keys_unused); 0 for fam NULL or a family's key. */
+int config_family_omits(const struct sensor_family *fam, const config_key *k);
+
 /* 1 when k is a shared key or one of fam's own. */
 int config_key_applies(const config_key *k, const struct sensor_family *fam);
 
@@ -343,7 +347,8 @@ int config_parse_value(const config_key *k, void *dst, const char *value, const 
 
 /* " (did you mean SECTION.KEY?)" naming the key of any family nearest to
  * section.name (case-blind, at most two edits), or "" when none is near. */
-void config_suggest(const char *section, const char *name, char *buf, size_t len);
+void config_suggest(const struct sensor_family *fam, const char *section, const char *name,
+                    char *buf, size_t len);
 /* " (did you mean [SECTION]?)" for a mistyped section name, or "". */
 void config_suggest_section(const char *section, char *buf, size_t len);
 

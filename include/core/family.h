@@ -143,6 +143,10 @@ typedef struct sensor_family {
     /* Sections whose family keys `sunmc config` lists after the shared ones
      * (else before them); NULL-terminated, or NULL for none. */
     const char *const *sections_after_shared;
+    /* Shared keys this family does not take, "section.name", NULL-terminated
+     * (NULL: it takes every one): they are unknown in its configs, left
+     * out of its dumps, and the reference does not list it for them. */
+    const char *const *shared_keys_unused;
     int (*validate)(const sunmc_config *c, char *err, size_t errlen);
 
     /* What a unit's campaign may fail to resolve, for the alias counts of

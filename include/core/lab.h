@@ -145,8 +145,8 @@ typedef struct family_lab {
     const char *comp_fail_note;
 
     /* 1 when the fit itself counts the rows at one point once (their mean,
-     * the scatter reported as repeatability): calibrate --duplicates then
-     * leaves exact repeats to it. */
+     * the scatter reported as repeatability): calibrate then leaves exact
+     * repeats to it, unless --duplicates is given. */
     int cal_counts_repeats_once;
     /* The calibration a params.ini describes, into model (model_size bytes). */
     size_t model_size;

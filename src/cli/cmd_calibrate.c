@@ -180,7 +180,10 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     int st = lab_columns_read(data, lab->cal_columns, min_rows, why, &d, err, sizeof err);
     if (st == SUNMC_OK)
         st = lab_check_data(lab, c, &d, err, sizeof err);
-    if (st == SUNMC_OK && !lab->cal_counts_repeats_once)
+    /* a family that counts a point's rows once (PSD: quantised readings of
+     * one point may repeat exactly) leaves exact repeats to its fit unless
+     * --duplicates says otherwise */
+    if (st == SUNMC_OK && (!lab->cal_counts_repeats_once || o->duplicates))
         st = duplicates(o, &d, err, sizeof err);
     calreport *rep = st == SUNMC_OK ? malloc(sizeof *rep) : NULL;
     if (st != SUNMC_OK || !rep) {

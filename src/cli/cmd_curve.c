@@ -56,7 +56,7 @@ static int apply_only(config_state *st, const char *spec, double *sign, char *er
     const config_key *k = config_find_in(st->cfg.family, "tolerance", name);
     if (!k || !config_is_tolerance(k, st->cfg.family)) {
         char hint[2 * CONFIG_STR_MAX + 32];
-        config_suggest("tolerance", name, hint, sizeof hint);
+        config_suggest(st->cfg.family, "tolerance", name, hint, sizeof hint);
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "--only %s: '%s' is not a tolerance key of this sensor family%s", spec,
                           name, hint);

@@ -258,14 +258,9 @@ static void print_header(FILE *f, const calreport *r)
     else
         fprintf(f, "fit: %s after %zu iterations (%s)\n", r->fit_ok ? "converged" : "FAILED",
                 r->fit.iterations, fit_reason(&r->fit));
-    /* with unequal weights sigma is a heaviest row's: say a typical row's
-     * first (weight 1e6 printed 0.344" for a 357" misfit) */
-    if (r->sigma_typical_arcsec > 0 && r->sigma_typical_arcsec > r->sigma_arcsec * (1 + 1e-12))
-        fprintf(f, "residual standard deviation: %.3f arcsec for a row of the median weight "
-                "(%.3f for a row of the largest weight)\n", r->sigma_typical_arcsec,
-                r->sigma_arcsec);
-    else
-        fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);
+    /* the weights are scaled to a median of 1 (lab_check_data): sigma is a
+     * typical row's */
+    fprintf(f, "residual standard deviation: %.3f arcsec\n", r->sigma_arcsec);
 }
 
 /* Parameters with standard errors (and priors), the correlation matrix. */

@@ -32,9 +32,22 @@ static const config_key *find_in(const config_key *t, size_t n, const char *sect
     return NULL;
 }
 
+int config_family_omits(const sensor_family *fam, const config_key *k)
+{
+    if (!fam || !fam->shared_keys_unused || !config_key_is_shared(k))
+        return 0;
+    size_t ls = strlen(k->section);
+    for (const char *const *u = fam->shared_keys_unused; *u; u++)
+        if (strncmp(*u, k->section, ls) == 0 && (*u)[ls] == '.' && strcmp(*u + ls + 1, k->name) == 0)
+            return 1;
+    return 0;
+}
+
 const config_key *config_find_in(const sensor_family *fam, const char *section, const char *name)
 {
     const config_key *k = find_in(config_keys, config_key_count, section, name);
+    if (k && config_family_omits(fam, k))
+        return NULL;
     if (!k && fam)
         k = find_in(fam->keys, table_len(fam->keys), section, name);
     return k;
@@ -64,7 +77,7 @@ int config_key_is_shared(const config_key *k)
 int config_key_applies(const config_key *k, const sensor_family *fam)
 {
     if (config_key_is_shared(k))
-        return 1;
+        return !config_family_omits(fam, k);
     return fam && k >= fam->keys && k < fam->keys + table_len(fam->keys);
 }
 
@@ -97,7 +110,7 @@ static void families_with(const char *section, const char *name, char *buf, size
     buf[0] = '\0';
     for (int i = 0; i < sensor_family_count() && used < len; i++) {
         const sensor_family *f = sensor_family_at(i);
-        if (find_in(f->keys, table_len(f->keys), section, name))
+        if (config_find_in(f, section, name))
             used += (size_t)snprintf(buf + used, len - used, "%s%s", used ? ", " : "", f->name);
     }
 }
@@ -130,17 +143,17 @@ int config_set_value(config_state *st, const char *section, const char *name, co
     if (!k) {
         char fams[128];
         families_with(section, name, fams, sizeof fams);
+        char hint[2 * CONFIG_STR_MAX];
+        config_suggest(st->cfg.family, section, name, hint, sizeof hint);
         if (fams[0])
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "%s: %s.%s applies to %s sensors, but sensor.family is %s", where,
-                              section, name, fams, st->cfg.family->name);
-        char hint[2 * CONFIG_STR_MAX];
+                              "%s: %s.%s applies to %s sensors, but sensor.family is %s%s", where,
+                              section, name, fams, st->cfg.family->name, hint);
         if (!section_known(section)) {
             config_suggest_section(section, hint, sizeof hint);
             return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown section [%s]%s", where,
                               section, hint);
         }
-        config_suggest(section, name, hint, sizeof hint);
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: unknown key '%s' in section [%s]%s",
                           where, name, section, hint);
     }
@@ -189,7 +202,7 @@ static int unknown_key(const char *path, int line, const char *section, const ch
                        char *err, size_t errlen)
 {
     char hint[2 * CONFIG_STR_MAX];
-    config_suggest(section, name, hint, sizeof hint);
+    config_suggest(NULL, section, name, hint, sizeof hint);
     return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key '%s' in section [%s]%s", path,
                       line, name, section, hint);
 }
@@ -314,7 +327,8 @@ size_t config_list_keys(const sensor_family *fam, const config_key **keys,
         const char *sec = config_sections[s];
         n = add_family_keys(fams, nf, sec, 0, keys, owners, n, max);
         for (size_t i = 0; i < config_key_count; i++)
-            if (strcmp(config_keys[i].section, sec) == 0 && n < max) {
+            if (strcmp(config_keys[i].section, sec) == 0 && n < max &&
+                !config_family_omits(fam, &config_keys[i])) {
                 owners[n] = NULL;
                 keys[n++] = &config_keys[i];
             }
@@ -343,7 +357,10 @@ static int init_state(config_state *st, const sensor_family *fam, char *err, siz
     const config_key *keys[CONFIG_KEYS_MAX];
     const sensor_family *owners[CONFIG_KEYS_MAX];
     size_t n = config_list_keys(fam, keys, owners, CONFIG_KEYS_MAX);
-    if (n != config_key_count + table_len(fam->keys))
+    size_t omitted = 0;
+    for (size_t i = 0; i < config_key_count; i++)
+        omitted += (size_t)config_family_omits(fam, &config_keys[i]);
+    if (n != config_key_count - omitted + table_len(fam->keys))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "internal: family %s has a key outside the known sections", fam->name);
     st->keys = malloc(n * sizeof *st->keys);

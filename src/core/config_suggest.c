@@ -1,17 +1,19 @@
 /* config_suggest.c - "did you mean ...?" for a mistyped config key: the
- * nearest key of any family by case-blind edit distance on its name, one
- * more when it sits in another section. */
+ * nearest key of the config's family (of any family when it is not known
+ * yet) by case-blind edit distance on its name, one more when it sits in
+ * another section. */
 #include "config.h"
 #include "suggest.h"
 
 #include <stdio.h>
 #include <string.h>
 
-void config_suggest(const char *section, const char *name, char *buf, size_t len)
+void config_suggest(const struct sensor_family *fam, const char *section, const char *name,
+                    char *buf, size_t len)
 {
     const config_key *keys[CONFIG_KEYS_MAX];
     const struct sensor_family *owners[CONFIG_KEYS_MAX];
-    size_t n = config_list_keys(NULL, keys, owners, CONFIG_KEYS_MAX);
+    size_t n = config_list_keys(fam, keys, owners, CONFIG_KEYS_MAX);
     const config_key *best = NULL;
     int best_d = SUGGEST_MAX_DISTANCE + 1;
     for (size_t i = 0; i < n; i++) {

@@ -105,12 +105,15 @@ static void write_reference_scope(FILE *f, const config_key *k, const sensor_fam
     if (owner)
         fprintf(f, "%s", owner->name);
     else
-        for (int i = 0; i < sensor_family_count(); i++)
-            fprintf(f, "%s%s", i ? ", " : "", sensor_family_at(i)->name);
+        for (int i = 0, shown = 0; i < sensor_family_count(); i++)
+            if (!config_family_omits(sensor_family_at(i), k))
+                fprintf(f, "%s%s", shown++ ? ", " : "", sensor_family_at(i)->name);
     fprintf(f, "; allowed: %s", r);
     if (!owner && k->type != KEY_FAMILY) {
         const char *shown = config_key_default(k, NULL);
         for (int i = 1; i < sensor_family_count(); i++) {
+            if (config_family_omits(sensor_family_at(i), k))
+                continue;
             const char *d = config_key_default(k, sensor_family_at(i));
             if (strcmp(d, shown) != 0)
                 fprintf(f, "; %s default: %s", sensor_family_at(i)->name, d);

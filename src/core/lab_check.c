@@ -20,16 +20,59 @@ static const char *col_name(const family_lab *lab, int k) { return lab->cal_colu
 
 static int weight_col(const lab_columns *d) { return d->n_cols - 1; }
 
-/* Weights scaled so that the largest is 1: only their ratios matter
- * (uniform 1e300 is uniform 1, exactly, as is uniform 1 itself). */
-static void normalise_weights(lab_columns *d)
+/* A weight this many times the median is refused: weights are relative
+ * precisions (1 / variance), and no lab knows one reading 10^6 times
+ * better than its typical one; such a weight is a lever on the fit. */
+#define LAB_WEIGHT_MAX_RATIO 1e6
+
+static int cmp_double(const void *a, const void *b);
+
+/* Median of the weights > 0 (0 when there are none); w_pos is scratch of
+ * d->n doubles. */
+static double positive_median(const lab_columns *d, double *w_pos)
 {
-    double *w = d->v[weight_col(d)], max = 0;
+    size_t n = 0;
     for (size_t i = 0; i < d->n; i++)
-        max = fmax(max, w[i]);
-    if (max > 0 && isfinite(max))
-        for (size_t i = 0; i < d->n; i++)
-            w[i] /= max;
+        if (d->v[weight_col(d)][i] > 0)
+            w_pos[n++] = d->v[weight_col(d)][i];
+    if (n == 0)
+        return 0;
+    qsort(w_pos, n, sizeof *w_pos, cmp_double);
+    return n % 2 ? w_pos[n / 2] : 0.5 * (w_pos[n / 2 - 1] + w_pos[n / 2]);
+}
+
+/* Weights refused when they cannot be relative precisions (non-finite, all
+ * zero, one past LAB_WEIGHT_MAX_RATIO times the median), else scaled so
+ * that the median of the used rows' weights is 1: a residual of weight 1 is
+ * then a typical row's, which one heavy row cannot move. */
+static int normalise_weights(lab_columns *d, char *err, size_t errlen)
+{
+    double *w = d->v[weight_col(d)];
+    for (size_t i = 0; i < d->n; i++)
+        if (!isfinite(w[i]))
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: column 'weight': %g is not a finite number", d->path,
+                              d->line[i], w[i]);
+    double *scratch = malloc((d->n + 1) * sizeof *scratch);
+    if (!scratch)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "%s: out of memory", d->path);
+    double med = positive_median(d, scratch);
+    free(scratch);
+    if (!(med > 0))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: column 'weight' is 0 in every row (0 drops a row): no row "
+                          "is left to fit",
+                          d->path, d->n ? d->line[0] : 0);
+    for (size_t i = 0; i < d->n; i++)
+        if (w[i] > LAB_WEIGHT_MAX_RATIO * med)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: column 'weight': %g is more than %g times the median "
+                              "weight %g: weights are relative precisions (1 / variance), "
+                              "not a lever; give this reading its real variance",
+                              d->path, d->line[i], w[i], LAB_WEIGHT_MAX_RATIO, med);
+    for (size_t i = 0; i < d->n; i++)
+        w[i] /= med;
+    return SUNMC_OK;
 }
 
 /* Range of column k over the rows with weight > 0. */
@@ -227,31 +270,14 @@ static int check_consistent(const family_lab *lab, const sunmc_config *c, const 
 int lab_check_data(const family_lab *lab, const sunmc_config *c, lab_columns *d, char *err,
                    size_t errlen)
 {
-    normalise_weights(d);
-    int st = check_radians(lab, c, d, err, errlen);
+    int st = normalise_weights(d, err, errlen);
+    if (st == SUNMC_OK)
+        st = check_radians(lab, c, d, err, errlen);
     if (st == SUNMC_OK)
         st = check_consistent(lab, c, d, err, errlen);
     if (st == SUNMC_OK)
         st = check_distinct(lab, c, d, err, errlen);
     return st;
-}
-
-/* The median of the weights > 0 (they are scaled to a largest of 1): the
- * weight of a typical row.  1 when there are none. */
-static double median_weight(const lab_columns *d)
-{
-    double *w = malloc(d->n * sizeof *w + 1);
-    size_t n = 0;
-    for (size_t i = 0; w && i < d->n; i++)
-        if (d->v[weight_col(d)][i] > 0)
-            w[n++] = d->v[weight_col(d)][i];
-    double m = 1;
-    if (w && n) {
-        qsort(w, n, sizeof *w, cmp_double);
-        m = n % 2 ? w[n / 2] : 0.5 * (w[n / 2 - 1] + w[n / 2]);
-    }
-    free(w);
-    return m;
 }
 
 void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
@@ -266,11 +292,11 @@ void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_colum
     size_t dropped = offered > rep->n_used ? offered - rep->n_used : 0;
     double noise = lab->cal_noise_arcsec ? lab->cal_noise_arcsec(c) : 0;
     double limit = c->max_residual_ratio * fmax(noise, LAB_NOISE_FLOOR_ARCSEC);
-    /* sigma is that of a row of the largest weight: scaled to a typical
-     * row, so that one heavy row cannot shrink the residual past the
-     * refusal (weight 1e6 showed 0.344" for a 357" misfit). */
-    double w_typ = median_weight(d);
-    double typical = rep->sigma_arcsec / sqrt(w_typ);
+    /* The weights are scaled to a median of 1 (normalise_weights): sigma
+     * is a typical row's, which one heavy row cannot move (scaled to the
+     * largest weight, one row of weight 100 showed 1522" for a 150"
+     * residual, and weight 1e6 0.344" for a 357" misfit). */
+    double typical = rep->sigma_arcsec;
     rep->sigma_typical_arcsec = typical;
     if (offered && (double)dropped > c->max_dropped_fraction * (double)offered)
         snprintf(rep->refused, sizeof rep->refused,
@@ -285,12 +311,10 @@ void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_colum
                  rep->cond_jacobian, LAB_MAX_CONDITION);
     else if (!(typical <= limit))
         snprintf(rep->refused, sizeof rep->refused,
-                 "the residual %.4g arcsec%s is more than calibration.max_residual_ratio = %g "
-                 "times the reading noise of the config (%.3g arcsec, at least %g): the model "
-                 "does not describe these data",
-                 typical, w_typ < 1 ? " (of a row of the median weight: the weights do not "
-                                      "make the data fit)" : "",
-                 c->max_residual_ratio, noise, LAB_NOISE_FLOOR_ARCSEC);
+                 "the residual %.4g arcsec (of a row of the median weight) is more than "
+                 "calibration.max_residual_ratio = %g times the reading noise of the config "
+                 "(%.3g arcsec, at least %g): the model does not describe these data",
+                 typical, c->max_residual_ratio, noise, LAB_NOISE_FLOOR_ARCSEC);
     if (rep->refused[0])
         rep->fit_ok = 0;
 }

@@ -59,7 +59,7 @@ static int parse_key(const char *spec, const sensor_family *family, sweep_axis *
         k = config_find(ax->section, ax->name);
     if (!k) {
         char hint[2 * CONFIG_STR_MAX + 32];
-        config_suggest(ax->section, ax->name, hint, sizeof hint);
+        config_suggest(family, ax->section, ax->name, hint, sizeof hint);
         if (!hint[0])
             config_suggest_section(ax->section, hint, sizeof hint);
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "--vary %s: unknown key '%s'%s", spec,

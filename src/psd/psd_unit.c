@@ -551,6 +551,12 @@ static const family_curve psd_curve_hooks = {
     .eval = psd_curve_eval,
 };
 
+/* The priors' pilot (prior.h) is the ESS's and DSS's: the PSD fit has no
+ * prior rows (its channel fit determines every parameter from the
+ * campaign; docs/priors.md). */
+static const char *const psd_shared_unused[] = {"calibration.priors", "calibration.prior_units",
+                                                NULL};
+
 const sensor_family psd_family = {
     .name = "psd",
     .description = "four-channel analog sun sensor: lateral PSD or quadrant photodiode",
@@ -559,6 +565,7 @@ const sensor_family psd_family = {
     .rms_decimals = 2,
     .keys = psd_keys,
     .defaults = psd_defaults,
+    .shared_keys_unused = psd_shared_unused,
     .validate = psd_validate,
     .model_label = psd_model_label,
     .n_angles = psd_n_angles,

@@ -110,21 +110,21 @@ static void test_lab_help_from_descriptors(void **state)
 static void test_suggest_names_nearest_key(void **state)
 {
     char hint[128];
-    config_suggest("tolerance", "dh_um", hint, sizeof hint);
+    config_suggest(NULL, "tolerance", "dh_um", hint, sizeof hint);
     assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
-    config_suggest("design", "dH_um", hint, sizeof hint);          /* right key, wrong section */
+    config_suggest(NULL, "design", "dH_um", hint, sizeof hint);          /* right key, wrong section */
     assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
-    config_suggest("design", "slitwidth_um", hint, sizeof hint);   /* one edit */
+    config_suggest(NULL, "design", "slitwidth_um", hint, sizeof hint);   /* one edit */
     assert_string_equal(hint, " (did you mean design.slit_width_um?)");
-    config_suggest("design", "xyz", hint, sizeof hint);            /* nothing near */
+    config_suggest(NULL, "design", "xyz", hint, sizeof hint);            /* nothing near */
     assert_string_equal(hint, "");
-    config_suggest("design", "H", hint, sizeof hint);              /* too short to guess */
+    config_suggest(NULL, "design", "H", hint, sizeof hint);              /* too short to guess */
     assert_string_equal(hint, "");
-    config_suggest("run", "se", hint, sizeof hint);                /* seed: 2 edits of 2 letters */
+    config_suggest(NULL, "run", "se", hint, sizeof hint);                /* seed: 2 edits of 2 letters */
     assert_string_equal(hint, "");
-    config_suggest("tolerance", "DH_UM", hint, sizeof hint);       /* case is not an edit */
+    config_suggest(NULL, "tolerance", "DH_UM", hint, sizeof hint);       /* case is not an edit */
     assert_string_equal(hint, " (did you mean tolerance.dH_um?)");
-    config_suggest("validation", "beta_dg", hint, sizeof hint);    /* own section first */
+    config_suggest(NULL, "validation", "beta_dg", hint, sizeof hint);    /* own section first */
     assert_string_equal(hint, " (did you mean validation.beta_deg?)");
 }
 
