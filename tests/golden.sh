@@ -22,9 +22,9 @@ q=--quiet
     --set report.budget_steps=2 --out "$O/budget_ess" >/dev/null
 "$S" budget configs/dss.ini --units 10 --seed 4 $q --set report.budget_units=10 \
     --set report.budget_steps=1 --out "$O/budget_dss" >/dev/null
-"$S" sensitivity configs/ess_type_a.ini --units 6 --seed 4 $q --set validation.alpha_step_deg=2.3 \
+"$S" sensitivity configs/ess_type_a.ini --units 10 --seed 4 $q --set validation.alpha_step_deg=2.3 \
     --out "$O/sens_ess" >/dev/null
-"$S" sensitivity configs/dss.ini --units 4 --seed 4 $q --set validation.b_step_deg=10 \
+"$S" sensitivity configs/dss.ini --units 10 --seed 4 $q --set validation.b_step_deg=10 \
     --out "$O/sens_dss" >/dev/null
 "$S" curve configs/ess_type_a.ini --unit 3 --seed 1 $q --out "$O/curve_ess" >/dev/null
 "$S" curve configs/ess_type_a.ini --only dH_um=2 $q --out "$O/curve_ess_dh" >/dev/null

@@ -13,6 +13,13 @@
 
 #include <stdio.h>
 
+/* The fewest units (with a fit in every run, for the paired studies) that
+ * budget, sensitivity and allocate estimate from: below it the shares,
+ * indices and their t or bootstrap intervals are not numbers sunmc can
+ * stand behind (sensitivity at 2 units gave ST = 2.449 [2.449, 127.7]),
+ * so the study is refused and says how many it had. */
+#define STUDY_MIN_UNITS 10
+
 /* Which validation a row summarises (thermal.h): the lab's temperature,
  * one operating temperature, or the worst over the operating temperatures
  * (a unit's worst RMS; it passes only when it passes at every one). */

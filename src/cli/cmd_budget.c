@@ -139,11 +139,16 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
 static int shown_significant(const budget_share *s);
 
 /* "12.34% [11.90, 12.80]~" (~: the interval includes 0); "-" for a share
- * that cannot be formed (too few units with a fit), never "nan%". */
+ * that cannot be formed (too few units with a fit), never "nan%"; a share
+ * without an interval is marked neither way. */
 static void fmt_share(char *buf, size_t len, const budget_share *s)
 {
     if (isnan(s->v)) {
         snprintf(buf, len, "-");
+        return;
+    }
+    if (!isfinite(s->ci.lo) || !isfinite(s->ci.hi)) { /* no interval: neither ~ nor significant */
+        snprintf(buf, len, "%6.2f%% [     -,      -] ", 100 * s->v);
         return;
     }
     snprintf(buf, len, "%6.2f%% [%6.2f, %6.2f]%s", 100 * s->v, 100 * s->ci.lo, 100 * s->ci.hi,

@@ -138,9 +138,27 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
 }
 
 /* "0.123 [0.101, 0.140]" */
-static void fmt_index(char *buf, size_t len, double v, double lo, double hi)
+/* Half the last printed digit of an index: a value that prints as 0.000
+ * or 1.000 is inside 0..1. */
+#define SENS_INDEX_PRINT_TOL 5e-4
+
+/* Whether index v lies outside 0..1 as printed: no share of a variance. */
+static int index_outside(double v)
 {
-    snprintf(buf, len, "%6.3f [%6.3f, %6.3f]", v, lo, hi);
+    return v < -SENS_INDEX_PRINT_TOL || v > 1 + SENS_INDEX_PRINT_TOL || isnan(v);
+}
+
+/* "0.123 [0.100, 0.150]", a trailing "!" when the index lies outside 0..1,
+ * "-" when it could not be formed. */
+static void fmt_index(char *buf, size_t len, double v, double lo, double hi, int *outside)
+{
+    if (isnan(v)) {
+        snprintf(buf, len, "-");
+        return;
+    }
+    int out = index_outside(v);
+    *outside += out;
+    snprintf(buf, len, "%6.3f [%6.3f, %6.3f]%s", v, lo, hi, out ? "!" : "");
 }
 
 static void print_table(const sunmc_config *c, const sensor_family *fam, const sens_result *s,
@@ -162,13 +180,14 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
            "S1 after", "ST after");
     printf("%-20s %-9s | %-22s %-22s | %-22s %-22s\n", "", "", h, h, h, h);
     double sum[2] = {0, 0};
+    int outside = 0;
     for (int i = 0; i < s->n; i++) {
         const sens_source *x = &s->src[order[i]];
         char a[48], b[48], cc[48], d[48];
-        fmt_index(a, sizeof a, x->before.s1, x->before.s1_lo, x->before.s1_hi);
-        fmt_index(b, sizeof b, x->before.st, x->before.st_lo, x->before.st_hi);
-        fmt_index(cc, sizeof cc, x->after.s1, x->after.s1_lo, x->after.s1_hi);
-        fmt_index(d, sizeof d, x->after.st, x->after.st_lo, x->after.st_hi);
+        fmt_index(a, sizeof a, x->before.s1, x->before.s1_lo, x->before.s1_hi, &outside);
+        fmt_index(b, sizeof b, x->before.st, x->before.st_lo, x->before.st_hi, &outside);
+        fmt_index(cc, sizeof cc, x->after.s1, x->after.s1_lo, x->after.s1_hi, &outside);
+        fmt_index(d, sizeof d, x->after.st, x->after.st_lo, x->after.st_hi, &outside);
         printf("%-20s %-9s | %-22s %-22s | %-22s %-22s\n", x->name, kind_names[x->kind], a, b,
                cc, d);
         sum[0] += x->before.s1;
@@ -182,6 +201,13 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
            "the units (%d resamples).\n%ld unit runs: (%d inputs + 2) x %ld; %ld of them finished "
            "from sample A's validation\nreadings (the inputs only the campaign draws from).\n",
            SENS_BOOTSTRAP, (long)(s->n + 2) * s->units, s->n, s->units, s->reused_units);
+    if (outside || index_outside(sum[0]) || index_outside(sum[1]))
+        printf("WARNING: %d ind%s outside 0..1 (marked !)%s: no share of a variance is; the "
+               "estimators' noise at %ld units (more --units narrow it)\n",
+               outside, outside == 1 ? "ex" : "ices",
+               index_outside(sum[0]) || index_outside(sum[1]) ? ", and a sum of S1 outside 0..1"
+                                                              : "",
+               s->paired_units);
 }
 
 static int write_out(const cli_options *o, const config_state *st, const sens_result *s,

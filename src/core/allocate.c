@@ -325,9 +325,9 @@ int allocate_run(const sunmc_config *c, long units, int threads, allocate_progre
 {
     memset(a, 0, sizeof *a);
     a->units = units;
-    if (units < 10)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "allocate needs at least 10 units, not %ld",
-                          units);
+    if (units < STUDY_MIN_UNITS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "allocate needs at least %d units, not %ld",
+                          STUDY_MIN_UNITS, units);
     int rc = collect_sources(c, a, err, errlen);
     if (rc)
         return rc;

@@ -464,6 +464,9 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     int rc = budget_sources(c, b, err, errlen);
     if (rc)
         return rc;
+    if (units < STUDY_MIN_UNITS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "budget needs at least %d units, not %ld",
+                          STUDY_MIN_UNITS, units);
     b->units = units;
     budget_squares q = {units, 2 + b->n, NULL, NULL, c->sampling_block};
     /* Before any work: each run's units held whole, and the squares of
@@ -488,7 +491,14 @@ int budget_run(const sunmc_config *c, long units, int threads, int with_limits,
     rc = budget_runs(c, b, &q, threads, progress, ctx, err, errlen);
     if (rc == SUNMC_OK) {
         b->paired_units = pair_units(&q);
-        if (shares(c, b, &q, b->paired_units, 0) || shares(c, b, &q, b->paired_units, 1))
+        if (b->paired_units < STUDY_MIN_UNITS)
+            rc = sunmc_fail(err, errlen, SUNMC_EDOM,
+                            "only %ld of %ld units have a fit in every run (all sources, the "
+                            "floor, each source alone), fewer than the %d the shares need: not "
+                            "enough units (more --units, or a config whose units can be "
+                            "fitted: `sunmc run` counts the failed fits)",
+                            b->paired_units, units, STUDY_MIN_UNITS);
+        else if (shares(c, b, &q, b->paired_units, 0) || shares(c, b, &q, b->paired_units, 1))
             rc = sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the shares");
         rank_sources(b);
     }

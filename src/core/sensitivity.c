@@ -1,6 +1,7 @@
 /* sensitivity.c - Sobol indices by pick-freeze on the per-purpose random
  * streams (sensitivity.h). */
 #include "sensitivity.h"
+#include "report.h"
 #include "thermal.h"
 #include "budget.h"
 #include "montecarlo.h"
@@ -268,10 +269,12 @@ static int estimate(const sunmc_config *c, sens_result *s, double *y, long units
                 (size_t)n * sizeof *y);
     s->units = n;
     s->paired_units = pair_rows(y, cols, n);
-    if (s->paired_units < 2)
+    if (s->paired_units < STUDY_MIN_UNITS)
         return sunmc_fail(err, errlen, SUNMC_EDOM,
-                          "only %ld of %ld units have a fit in every run: no indices",
-                          s->paired_units, n);
+                          "only %ld of %ld units have a fit in every run, fewer than the %d "
+                          "the indices need: not enough units (more --units, or a config "
+                          "whose units can be fitted: `sunmc run` counts the failed fits)",
+                          s->paired_units, n, STUDY_MIN_UNITS);
     int rc = indices(c, s, y, n, s->paired_units, 0, err, errlen);
     return rc == SUNMC_OK ? indices(c, s, y, n, s->paired_units, 1, err, errlen) : rc;
 }
@@ -323,9 +326,9 @@ static int sens_start(const sunmc_config *c, long units, sens_result *s, double 
     int rc = sens_sources(c, s, err, errlen);
     if (rc)
         return rc;
-    if (units < 2)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensitivity needs at least 2 units, not %ld",
-                          units);
+    if (units < STUDY_MIN_UNITS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensitivity needs at least %d units, not %ld",
+                          STUDY_MIN_UNITS, units);
     /* the bootstrap resamples units as independent rows; a design's units
      * are not (sampling.h), so its intervals would be too narrow */
     if (c->sampling != CONFIG_SAMPLING_RANDOM)

@@ -5,6 +5,7 @@
 #include "ess_config.h"
 
 #include "budget.h"
+#include "report.h"
 #include "config.h"
 #include "family.h"
 #include "montecarlo.h"
@@ -77,7 +78,7 @@ static void alone_matches_closed_form(void **state)
     const sunmc_config *c = &st.cfg;
     const ess_config *ec = ess_cfg(c);
     budget_result *b = calloc(1, sizeof *b);
-    assert_int_equal(budget_run(c, 3, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(c, STUDY_MIN_UNITS, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->n, 1);
     /* Closed form over the validation grid, band 0:62. */
     double q = 1.0 + 2.0 * MM_PER_UM / ec->design.H_mm, s2 = 0;
@@ -102,7 +103,7 @@ static void alone_matches_closed_form(void **state)
     assert_near(b->floor.before_mean, 0.0, 1e-6);
     assert_near(b->floor_before.v, 0.0, 1e-9);
     assert_near(b->interaction_before.v, 0.0, 1e-9);
-    assert_int_equal(b->paired_units, 3);
+    assert_int_equal(b->paired_units, STUDY_MIN_UNITS);
     /* Calibration removes a pure height error. */
     assert_true(b->all.after_mean < 0.01 * rms_deg);
     assert_int_equal(b->src[0].rank, 1);
@@ -124,7 +125,7 @@ static void inverse_limit_end_states(void **state)
     assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, N_IDEAL + 4, err, sizeof err),
                      0);
     budget_result *b = calloc(1, sizeof *b);
-    assert_int_equal(budget_run(&st.cfg, 2, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, STUDY_MIN_UNITS, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     for (int i = 0; i < b->n; i++)
         assert_int_equal(b->src[i].limit_status, BUDGET_LIMIT_UNMET);
     config_state_free(&st);
@@ -133,7 +134,7 @@ static void inverse_limit_end_states(void **state)
     sets[N_IDEAL + 3] = "report.spec_arcsec=36000";
     assert_int_equal(config_build(&st, "configs/ess_type_a.ini", sets, N_IDEAL + 4, err, sizeof err),
                      0);
-    assert_int_equal(budget_run(&st.cfg, 2, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, STUDY_MIN_UNITS, 1, 1, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     int found = 0;
     for (int i = 0; i < b->n; i++)
         if (strcmp(b->src[i].name, "sun_x_arcsec") == 0) {
@@ -295,7 +296,7 @@ static void cli(void **state)
     /* A small real budget: table, budget.tsv with the floor, 12 + 3 ranked
      * rows and the interaction, whose shares sum to 100 %. */
     snprintf(cmd, sizeof cmd,
-             "%s budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 "
+             "%s budget configs/ess_type_a.ini --units 10 --set report.budget_units=10 "
              "--set report.budget_steps=1 --set validation.alpha_step_deg=2.3 "
              "--set campaign.beta_deg=0 --out %s --quiet",
              test_sunmc(), dir);

@@ -22,7 +22,7 @@ typedef struct {
 static const family_case ess = {
     "ess",
     "configs/ess_type_a.ini",
-    "--units 6 --seed 4 --set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 "
+    "--units 10 --seed 4 --set validation.alpha_step_deg=2.3 --set campaign.beta_deg=0 "
     "--set report.spec_arcsec=20",
     {"dH_um", "dd_um", "dphi_deg", "slit_width_um", "harmonic_phase_deg", "gain_pct", "etch_um",
      "install_x_arcsec", "install_y_arcsec", "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec",
@@ -32,7 +32,7 @@ static const family_case ess = {
 static const family_case dss = {
     "dss",
     "configs/dss.ini",
-    "--units 5 --seed 4 --set validation.b_step_deg=10",
+    "--units 10 --seed 4 --set validation.b_step_deg=10",
     {"dh_px", "dx_px", "dy_px", "c1_arcsec", "c2_arcsec", "c3_arcsec", "glass_thickness_um",
      "glass_index", "sun_b1_arcsec", "sun_b2_arcsec", NULL},
     {"noise.centroid_px", "noise.encoder_arcsec", NULL}};

@@ -259,10 +259,10 @@ static void dss_budget_row(void **state)
     build(&st, "configs/dss.ini", sets, 8);
     budget_result *b = calloc(1, sizeof *b);
     char err[SUNMC_ERRLEN];
-    assert_int_equal(budget_run(&st.cfg, 6, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, 10, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->angle, 2);
     assert_int_equal(b->band, 1);
-    recomputed all = recompute(&st.cfg, 6, 2, 1);
+    recomputed all = recompute(&st.cfg, 10, 2, 1);
     expect_stats(&b->all, &all, "all");
     free(b);
     config_state_free(&st);

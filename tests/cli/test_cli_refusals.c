@@ -312,7 +312,7 @@ static void test_worse_and_alias_warned(void **state)
 static void test_budget_noise_warned(void **state)
 {
     char out[16384];
-    assert_int_equal(sunmc("budget configs/dss.ini --units 3 --quiet --set report.budget_units=10 "
+    assert_int_equal(sunmc("budget configs/dss.ini --units 10 --quiet --set report.budget_units=10 "
                            "--set report.budget_steps=1", out, sizeof out), 0);
     assert_null(strstr(out, "nan"));
     assert_non_null(strstr(out, "]~"));

@@ -59,7 +59,7 @@ static void test_sigpipe_keeps_out(void **state)
                                    "--out $D/sw"),
                      0);
     assert_true(exists("sw/sweep.tsv"));
-    assert_int_equal(piped_to_true("budget " D " --units 5 --out $D/bu"), 0);
+    assert_int_equal(piped_to_true("budget " D " --units 10 --out $D/bu"), 0);
     assert_true(exists("bu/budget.tsv"));
     assert_int_equal(piped_to_true("run " D " --units 20 --out $D/ru"), 0);
     assert_true(exists("ru/units.bin"));

@@ -435,7 +435,7 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
 {
     char path[256], sub[128], args[1024];
     snprintf(sub, sizeof sub, "%s/budget_%s", dir, name);
-    snprintf(args, sizeof args, "%s --units 8 --seed 3 --quiet %s", cfg, sets);
+    snprintf(args, sizeof args, "%s --units 10 --seed 3 --quiet %s", cfg, sets);
     char cmd[4000], out[1 << 15];
     snprintf(cmd, sizeof cmd, "%s budget %s --set report.budget_units=10 --set report.budget_steps=1 "
                               "--out %s",

@@ -15,11 +15,11 @@ static int setup(void **state)
         {"sweep configs/ess_type_a.ini --vary campaign.alpha_step_deg=1,0.3 --units 4", "sweep1"},
         {"sweep configs/ess_type_a.ini --vary design.H_mm=4,5 --vary tolerance.dH_um=1,2 --units 4",
          "sweep2"},
-        {"budget configs/ess_type_a.ini --units 4 --set report.budget_units=10 --set "
+        {"budget configs/ess_type_a.ini --units 10 --set report.budget_units=10 --set "
          "report.budget_steps=1",
          "budget"},
         {"curve configs/ess_type_a.ini --unit 3", "curve"},
-        {"sensitivity configs/ess_type_a.ini --units 8", "sens"},
+        {"sensitivity configs/ess_type_a.ini --units 10", "sens"},
         {"design configs/ess_type_a.ini --units 10 --set campaign.search_steps_deg=0.7,1 "
          "--set campaign.search_max_lines=2 --set campaign.search_screen_units=10 "
          "--set campaign.search_max_units=10 --set report.yield_target=0.5",

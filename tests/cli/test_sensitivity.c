@@ -327,9 +327,9 @@ static void until_cli(void **state)
              "--out %s --quiet",
              test_sunmc(), dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
-    assert_non_null(strstr(out, "--until st:5: met after 8 units (widest half-width "));
-    snprintf(cmd, sizeof cmd, "grep -q '^# --until st:5: met after 8 units' %s/config.ini && "
-             "awk -F'\t' 'NR == 2 { exit !($16 == 8) }' %s/sensitivity.tsv", dir, dir);
+    assert_non_null(strstr(out, "--until st:5: met after 16 units (widest half-width "));
+    snprintf(cmd, sizeof cmd, "grep -q '^# --until st:5: met after 16 units' %s/config.ini && "
+             "awk -F'\t' 'NR == 2 { exit !($16 == 16) }' %s/sensitivity.tsv", dir, dir);
     assert_int_equal(system(cmd), 0);
 }
 

@@ -8,6 +8,7 @@
 #include "test_util.h"
 
 #include "budget.h"
+#include "report.h"
 #include "dss_unit.h"
 #include "lab.h"
 #include "montecarlo.h"
@@ -132,7 +133,7 @@ static void budget_ranks_it(void **state)
     build(&st, sets, 2);
     budget_result *b = calloc(1, sizeof *b);
     char err[SUNMC_ERRLEN];
-    assert_int_equal(budget_run(&st.cfg, 4, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, STUDY_MIN_UNITS, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->n, 3);
     assert_string_equal(b->src[2].name, "bow_arcsec");
     assert_near(b->src[2].alone.before_mean, bow_rms(&st.cfg), 1e-9);

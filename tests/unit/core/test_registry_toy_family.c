@@ -279,7 +279,7 @@ static void budget_in_core(void **state)
     build(&st, NULL, 0);
     budget_result *b = calloc(1, sizeof *b);
     char err[SUNMC_ERRLEN];
-    assert_int_equal(budget_run(&st.cfg, 4, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
+    assert_int_equal(budget_run(&st.cfg, STUDY_MIN_UNITS, 1, 0, NULL, NULL, b, err, sizeof err), SUNMC_OK);
     assert_int_equal(b->n, 2);
     assert_int_equal(b->band, 2); /* 0:40, the widest */
     assert_string_equal(b->src[0].name, "scale_pct");
@@ -297,7 +297,7 @@ static void budget_in_core(void **state)
 static int command(int (*fn)(int, char **), const char *a1, const char *a2, const char *a3,
                    const char *a4)
 {
-    char units[] = "--units", n[] = "3", quiet[] = "--quiet", out[] = "--out";
+    char units[] = "--units", n[] = "10", quiet[] = "--quiet", out[] = "--out";
     char *argv[] = {"sunmc", (char *)a1, ini, units, n, quiet, out, (char *)a2, (char *)a3,
                     (char *)a4, NULL};
     int argc = 8 + (a3 != NULL) + (a4 != NULL);

@@ -324,7 +324,7 @@ static void refused_in_file(void **state)
     assert_int_not_equal(system(cmd), 0);
     /* sensitivity's bootstrap needs independent units: refused, exit 2 */
     snprintf(cmd, sizeof cmd,
-             "%s sensitivity configs/ess_type_a.ini --units 8 --set run.sampling=lhs --out %s --quiet",
+             "%s sensitivity configs/ess_type_a.ini --units 10 --set run.sampling=lhs --out %s --quiet",
              test_sunmc(), out);
     assert_int_equal(test_run(cmd, text, sizeof text), 2);
     assert_non_null(strstr(text, "run.sampling = random"));
