@@ -195,8 +195,18 @@ static int log_block(const unit_result *r, long n, void *ctx, int *stop, char *e
     return SUNMC_OK;
 }
 
+/* The most units a stream reported run (its progress callback). */
+static void most_done(long done, long total, void *ctx)
+{
+    long *m = ctx;
+    if (done > *m)
+        *m = done;
+}
+
 /* mc_stream hands units 3..13 over in blocks of 4, 4, 2 in unit order, the
- * same bytes as mc_run; a sink's stop after block 2 ends at 8 units. */
+ * same bytes as mc_run; a sink's stop after block 2 ends at 8 units, and no
+ * unit past them is run (issue 43: a stream that ran every unit and only
+ * stopped handing them over passed). */
 static void stream_in_blocks(void **state)
 {
     config_state st;
@@ -220,6 +230,13 @@ static void stream_in_blocks(void **state)
     assert_int_equal(mc_stream(c, &p, &done, err, sizeof err), SUNMC_OK);
     assert_int_equal(done, 8);
     assert_int_equal(l->n, 8);
+    long ran = 0;
+    mc_plan p1 = {3, 13, c->block_units, 1, log_block, l, most_done, &ran, 0};
+    memset(l, 0, sizeof *l);
+    l->stop_after = 1;
+    assert_int_equal(mc_stream(c, &p1, &done, err, sizeof err), SUNMC_OK);
+    assert_int_equal(done, 4);
+    assert_int_equal(ran, 4);
     free(l);
     config_state_free(&st);
 }
