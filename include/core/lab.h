@@ -91,6 +91,11 @@ typedef struct family_lab {
      * cal_n_inputs columns are table angles (deg), the next ones up to
      * "weight" the sensor's outputs. */
     int cal_n_inputs;
+    /* Units the output columns are often written in by mistake, for the
+     * diagnosis of data inconsistent with the design: factor[u] turns a
+     * value in unit what[u] ("micrometres (5.5 per pixel)") into the
+     * column's own unit.  Returns the count (at most max); NULL: none. */
+    int (*cal_output_units)(const sunmc_config *c, double *factor, const char **what, int max);
     /* Fewest distinct values each table angle must take (cal_n_inputs). */
     const int *cal_min_distinct;
     /* The configured campaign range of table angle k (deg). */
@@ -209,6 +214,13 @@ void lab_predict_free(lab_predictor *p);
 #define LAB_MAX_CONDITION 1e12
 void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
                    calreport *rep);
+
+/* A warning in rep naming the config's campaign grid points (family_grid,
+ * FAMILY_GRID_CAMPAIGN) that have no row (of any weight) in d, when d follows
+ * that grid (at least 90 % of its rows on it): rows lost from a lab file
+ * otherwise go unnoticed.  Nothing when the lab ran another grid. */
+void lab_check_grid(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                    calreport *rep);
 
 /* A warning in rep for each of lab's measured keys whose value in st is
  * the default (no config file or --set gave it). */

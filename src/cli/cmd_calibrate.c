@@ -146,9 +146,12 @@ static int duplicates_mode(const cli_options *o, char *err, size_t errlen)
     return mode;
 }
 
-/* Exact duplicate rows, as --duplicates says (default average, warned). */
-static int duplicates(const cli_options *o, lab_columns *d, char *err, size_t errlen)
+/* Exact duplicate rows, as --duplicates says (default average); the
+ * warning, if any, into warn (empty: none), for the report's warnings. */
+static int duplicates(const cli_options *o, lab_columns *d, char *warn, size_t warnlen,
+                      char *err, size_t errlen)
 {
+    warn[0] = '\0';
     int mode = duplicates_mode(o, err, errlen);
     if (mode < 0)
         return SUNMC_EINPUT;
@@ -157,15 +160,14 @@ static int duplicates(const cli_options *o, lab_columns *d, char *err, size_t er
     if (n < 0)
         return -n;
     if (n > 0)
-        fprintf(stderr,
-                "sunmc calibrate: WARNING: %s: %d row%s repeat%s an earlier row exactly "
-                "(line = earlier line: %s): %s\n",
-                d->path, n, n == 1 ? "" : "s", n == 1 ? "s" : "", note,
-                mode == LAB_DUP_KEEP
-                    ? "counted as independent readings (--duplicates=keep): every standard "
-                      "error shrinks as if they were"
-                    : "each counted once (--duplicates=average; =refuse refuses the file, "
-                      "=keep counts them as independent readings)");
+        snprintf(warn, warnlen,
+                 "%s: %d row%s repeat%s an earlier row exactly (line = earlier line: %s): %s",
+                 d->path, n, n == 1 ? "" : "s", n == 1 ? "s" : "", note,
+                 mode == LAB_DUP_KEEP
+                     ? "counted as independent readings (--duplicates=keep): every standard "
+                       "error shrinks as if they were"
+                     : "each counted once (--duplicates=average; =refuse refuses the file, "
+                       "=keep counts them as independent readings)");
     return SUNMC_OK;
 }
 
@@ -183,8 +185,9 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     /* a family that counts a point's rows once (PSD: quantised readings of
      * one point may repeat exactly) leaves exact repeats to its fit unless
      * --duplicates says otherwise */
+    char dup_warn[CALREPORT_TEXT_MAX] = "";
     if (st == SUNMC_OK && (!lab->cal_counts_repeats_once || o->duplicates))
-        st = duplicates(o, &d, err, sizeof err);
+        st = duplicates(o, &d, dup_warn, sizeof dup_warn, err, sizeof err);
     calreport *rep = st == SUNMC_OK ? malloc(sizeof *rep) : NULL;
     if (st != SUNMC_OK || !rep) {
         fprintf(stderr, "sunmc calibrate: %s\n", st != SUNMC_OK ? err : "out of memory");
@@ -194,9 +197,16 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
     void *cal = NULL;
     st = lab->cal_run(c, &d, &cal, rep, err, sizeof err);
     if (st != SUNMC_OK) {
+        if (dup_warn[0])
+            fprintf(stderr, "sunmc calibrate: WARNING: %s\n", dup_warn);
         fprintf(stderr, "sunmc calibrate: %s: %s\n", data, err);
     } else {
+        if (dup_warn[0]) /* in the report's warnings, like every other */
+            calreport_warn(rep, "remove the repeated lines, or say how to count them with "
+                                "--duplicates",
+                           "%s", dup_warn);
         lab_check_fit(lab, c, &d, rep);
+        lab_check_grid(lab, c, &d, rep);
         lab_check_measured(lab, cs, rep);
         calreport_print(stdout, rep);
         warn_stderr(rep);

@@ -1,6 +1,7 @@
 /* lab_check.c - lab data a calibration must not be run on, and fits that
  * converged on data they did not explain (lab.h: lab_check_data,
  * lab_check_fit).  Both families get them through their lab hooks. */
+#include "family.h"
 #include "lab.h"
 #include "status.h"
 #include "units.h"
@@ -153,44 +154,122 @@ static int check_distinct(const family_lab *lab, const sunmc_config *c, const la
     return st;
 }
 
-/* The ways lab data are commonly garbled, tried against the design. */
-enum { LAB_AS_IS, LAB_SIGN_FLIPPED, LAB_INPUTS_SWAPPED, LAB_OUTPUTS_SWAPPED, LAB_N_HYP };
+/* The ways lab data are commonly garbled, tried against the design: a
+ * sign, swapped columns, a unit.  Each with what it says of the data and
+ * what to do. */
+enum {
+    LAB_AS_IS,
+    LAB_FLIP_ALL_OUT, /* every output's sign */
+    LAB_FLIP_OUT,     /* output column col's sign */
+    LAB_FLIP_IN,      /* table-angle column col's sign */
+    LAB_SWAP_IN,
+    LAB_SWAP_OUT,
+    LAB_SCALE_OUT,    /* every output times factor */
+    LAB_SCALE_IN      /* every table angle times factor */
+};
 
-static const char *const hypothesis_text[LAB_N_HYP] = {
-    "", "with every output's sign flipped", "with the two table-angle columns swapped",
-    "with the two output columns swapped"};
+/* A table angle in arcmin read as degrees: 60 times too large. */
+#define LAB_ARCMIN_PER_DEG 60.0
+#define LAB_MAX_HYP 24
 
-/* Row i as hypothesis h reads it: table angles in[], outputs out[]; 0 when
- * h does not apply to this family's columns. */
-static int garbled_row(const family_lab *lab, const lab_columns *d, size_t i, int h, double *in,
-                       double *out)
+typedef struct {
+    int kind, col;
+    double factor;
+    char text[CALREPORT_TEXT_MAX / 4];
+    const char *advice;
+} lab_hyp;
+
+static int add_hyp(lab_hyp *h, int n, int kind, int col, double factor, const char *advice,
+                   const char *fmt, const char *arg)
+{
+    if (n >= LAB_MAX_HYP)
+        return n;
+    h[n].kind = kind;
+    h[n].col = col;
+    h[n].factor = factor;
+    h[n].advice = advice;
+    snprintf(h[n].text, sizeof h[n].text, fmt, arg);
+    return n + 1;
+}
+
+/* The hypotheses to try for lab's columns, in order (the first that fits
+ * is named): signs, swaps, then units. */
+static int hypotheses(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                      lab_hyp *h)
+{
+    int ni = lab->cal_n_inputs, no = d->n_cols - 1 - ni, n = 0;
+    const char *cols = "check the columns";
+    n = add_hyp(h, n, LAB_FLIP_ALL_OUT, 0, 1, cols, "with every output's sign flipped%s", "");
+    for (int j = 0; no > 1 && j < no; j++)
+        n = add_hyp(h, n, LAB_FLIP_OUT, j, 1, cols, "with column '%s' sign-flipped",
+                    col_name(lab, ni + j));
+    for (int k = 0; k < ni; k++)
+        n = add_hyp(h, n, LAB_FLIP_IN, k, 1, cols, "with column '%s' sign-flipped",
+                    col_name(lab, k));
+    if (ni == 2)
+        n = add_hyp(h, n, LAB_SWAP_IN, 0, 1, cols, "with the two table-angle columns swapped%s",
+                    "");
+    if (no == 2)
+        n = add_hyp(h, n, LAB_SWAP_OUT, 0, 1, cols, "with the two output columns swapped%s", "");
+    double f[LAB_MAX_HYP];
+    const char *what[LAB_MAX_HYP];
+    int nu = lab->cal_output_units ? lab->cal_output_units(c, f, what, LAB_MAX_HYP) : 0;
+    for (int u = 0; u < nu; u++)
+        n = add_hyp(h, n, LAB_SCALE_OUT, 0, f[u],
+                    "convert the output columns to the unit their names state",
+                    "with the outputs read as %s", what[u]);
+    n = add_hyp(h, n, LAB_SCALE_IN, 0, 1.0 / LAB_ARCMIN_PER_DEG,
+                "convert the table angles to degrees", "with the table angles read as %s",
+                "arcmin");
+    return n;
+}
+
+/* Row i as hypothesis h (NULL: as it is) reads it: table angles in[],
+ * outputs out[]. */
+static void garbled_row(const family_lab *lab, const lab_columns *d, size_t i, const lab_hyp *h,
+                        double *in, double *out)
 {
     int ni = lab->cal_n_inputs, no = d->n_cols - 1 - ni;
     for (int k = 0; k < ni; k++)
         in[k] = d->v[k][i];
     for (int j = 0; j < no; j++)
         out[j] = d->v[ni + j][i];
-    double *swap = h == LAB_INPUTS_SWAPPED && ni == 2 ? in : h == LAB_OUTPUTS_SWAPPED && no == 2
-                                                                 ? out
-                                                                 : NULL;
-    if (swap) {
-        double t = swap[0];
-        swap[0] = swap[1];
-        swap[1] = t;
-    } else if (h == LAB_SIGN_FLIPPED) {
+    if (!h)
+        return;
+    double t;
+    switch (h->kind) {
+    case LAB_FLIP_ALL_OUT:
         for (int j = 0; j < no; j++)
             out[j] = -out[j];
-    } else if (h != LAB_AS_IS) {
-        return 0;
+        break;
+    case LAB_FLIP_OUT:
+        out[h->col] = -out[h->col];
+        break;
+    case LAB_FLIP_IN:
+        in[h->col] = -in[h->col];
+        break;
+    case LAB_SWAP_IN:
+        t = in[0], in[0] = in[1], in[1] = t;
+        break;
+    case LAB_SWAP_OUT:
+        t = out[0], out[0] = out[1], out[1] = t;
+        break;
+    case LAB_SCALE_OUT:
+        for (int j = 0; j < no; j++)
+            out[j] *= h->factor;
+        break;
+    case LAB_SCALE_IN:
+        for (int k = 0; k < ni; k++)
+            in[k] *= h->factor;
+        break;
     }
-    return 1;
 }
 
 /* Rows (with weight > 0) whose outputs the design cannot read at their
- * table angles under hypothesis h (-1: h does not apply); *first is the
+ * table angles under hypothesis h (NULL: as they are); *first is the
  * first of them, *used the rows looked at. */
 static long count_inconsistent(const family_lab *lab, const lab_predictor *lp, const lab_columns *d,
-                               int h, long *used, size_t *first)
+                               const lab_hyp *h, long *used, size_t *first)
 {
     double in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS], pred[LAB_MAX_COLUMNS],
         allowed[LAB_MAX_COLUMNS];
@@ -201,8 +280,7 @@ static long count_inconsistent(const family_lab *lab, const lab_predictor *lp, c
     for (size_t i = 0; i < d->n; i++) {
         if (!(d->v[weight_col(d)][i] > 0))
             continue;
-        if (!garbled_row(lab, d, i, h, in, out))
-            return -1;
+        garbled_row(lab, d, i, h, in, out);
         (*used)++;
         int ok = lab_predict(lp, in, pred, allowed) == SUNMC_OK;
         for (int j = 0; ok && j < no; j++)
@@ -218,26 +296,51 @@ static int too_many(long bad, long used)
     return used > 0 && (double)bad > LAB_MAX_INCONSISTENT * (double)used;
 }
 
-/* The first inconsistent row under h = LAB_AS_IS, told (what the design
- * reads there) into err with the likely cause. */
-static int refuse_inconsistent(const family_lab *lab, const lab_predictor *lp,
-                               const lab_columns *d, long bad, long used, size_t first,
-                               char *err, size_t errlen)
+/* "; is it this sensor's data, in the units its columns name (a_deg, ...)?" */
+static void generic_hint(const family_lab *lab, const lab_columns *d, char *buf, size_t len)
 {
-    char hint[CALREPORT_TEXT_MAX] = "; is it this sensor's data, in degrees and pixels?";
-    for (int h = 1; h < LAB_N_HYP; h++) {
+    size_t used = (size_t)snprintf(buf, len, "; is it this sensor's data, in the units its "
+                                             "columns name (");
+    for (int k = 0; k < d->n_cols - 1 && used < len; k++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", k ? ", " : "", col_name(lab, k));
+    if (used < len)
+        snprintf(buf + used, len - used, ")?");
+}
+
+/* The first inconsistent row as it is, told (what the design reads there)
+ * into err with the likely cause: the first hypothesis under which the
+ * rows fit, else the columns' units to check. */
+static int refuse_inconsistent(const family_lab *lab, const sunmc_config *c,
+                               const lab_predictor *lp, const lab_columns *d, long bad, long used,
+                               size_t first, char *err, size_t errlen)
+{
+    char hint[CALREPORT_TEXT_MAX];
+    generic_hint(lab, d, hint, sizeof hint);
+    lab_hyp h[LAB_MAX_HYP];
+    int nh = hypotheses(lab, c, d, h);
+    /* every hypothesis that fits is named: a flipped table angle and a
+     * flipped output can be the same data (DSS b1 and y_px) */
+    size_t used_h = 0;
+    const char *advice = NULL;
+    long fit = 0;
+    for (int i = 0; i < nh && used_h < sizeof hint; i++) {
         long u2;
         size_t f2;
-        long b2 = count_inconsistent(lab, lp, d, h, &u2, &f2);
-        if (b2 >= 0 && !too_many(b2, u2)) {
-            snprintf(hint, sizeof hint, "; %s, %ld of them would fit: check the columns",
-                     hypothesis_text[h], u2 - b2);
-            break;
-        }
+        long b2 = count_inconsistent(lab, lp, d, &h[i], &u2, &f2);
+        if (too_many(b2, u2))
+            continue;
+        used_h += (size_t)snprintf(hint + (advice ? used_h : 0),
+                                   sizeof hint - (advice ? used_h : 0), "%s%s",
+                                   advice ? ", or " : "; ", h[i].text);
+        if (!advice)
+            fit = u2 - b2;
+        advice = advice ? advice : h[i].advice;
     }
+    if (advice && used_h < sizeof hint)
+        snprintf(hint + used_h, sizeof hint - used_h, ", %ld of them would fit: %s", fit, advice);
     double in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS], pred[LAB_MAX_COLUMNS],
         allowed[LAB_MAX_COLUMNS];
-    garbled_row(lab, d, first, LAB_AS_IS, in, out);
+    garbled_row(lab, d, first, NULL, in, out);
     int ni = lab->cal_n_inputs;
     char what[CALREPORT_TEXT_MAX] = "the design sees no sun there";
     if (lab_predict(lp, in, pred, allowed) == SUNMC_OK)
@@ -260,9 +363,10 @@ static int check_consistent(const family_lab *lab, const sunmc_config *c, const 
         return SUNMC_ENOMEM;
     long used;
     size_t first;
-    long bad = count_inconsistent(lab, lp, d, LAB_AS_IS, &used, &first);
-    int st = too_many(bad, used) ? refuse_inconsistent(lab, lp, d, bad, used, first, err, errlen)
-                                 : SUNMC_OK;
+    long bad = count_inconsistent(lab, lp, d, NULL, &used, &first);
+    int st = too_many(bad, used)
+                 ? refuse_inconsistent(lab, c, lp, d, bad, used, first, err, errlen)
+                 : SUNMC_OK;
     lab_predict_free(lp);
     return st;
 }
@@ -395,4 +499,80 @@ int lab_duplicates(lab_columns *d, int mode, char *note, size_t notelen, char *e
     if (st == SUNMC_OK && n && used < notelen)
         snprintf(note + used, notelen - used, "%s", n > LAB_DUP_SHOWN ? ", ..." : "");
     return st == SUNMC_OK ? (int)n : -st;
+}
+
+/* Points of the config's campaign grid listed in a warning, at most. */
+#define LAB_MISSING_SHOWN 6
+/* The data follow the config's grid when this share of their rows sits on
+ * it; only then are the grid's points without a row named. */
+#define LAB_ON_GRID_SHARE 0.9
+/* Table angles equal to a grid point within this (deg). */
+#define LAB_GRID_TOL_DEG 1e-6
+
+/* Whether a row of d sits at table angles (x, y) (deg); one of weight 0
+ * counts (the lab measured the point: a DSS's "no spot"). */
+static int has_row(const lab_columns *d, double x, double y)
+{
+    for (size_t i = 0; i < d->n; i++)
+        if (fabs(d->v[0][i] - x) <= LAB_GRID_TOL_DEG &&
+            fabs(d->v[1][i] - y) <= LAB_GRID_TOL_DEG)
+            return 1;
+    return 0;
+}
+
+/* Rows of d on the grid (g0[k], g1[k]) of n points, the grid's axes taken
+ * as columns (0, 1) (swap = 0) or (1, 0); every row counts. */
+static long rows_on_grid(const lab_columns *d, const double *g0, const double *g1, long n,
+                         int swap)
+{
+    long on = 0;
+    for (size_t i = 0; i < d->n; i++) {
+        double x = d->v[swap][i], y = d->v[1 - swap][i];
+        for (long k = 0; k < n; k++)
+            if (fabs(g0[k] - x) <= LAB_GRID_TOL_DEG && fabs(g1[k] - y) <= LAB_GRID_TOL_DEG) {
+                on++;
+                break;
+            }
+    }
+    return on;
+}
+
+void lab_check_grid(const family_lab *lab, const sunmc_config *c, const lab_columns *d,
+                    calreport *rep)
+{
+    const family_grid *gr = c->family->grid;
+    if (!gr || !gr->points || lab->cal_n_inputs != 2)
+        return;
+    long n = gr->points(c, FAMILY_GRID_CAMPAIGN, NULL, NULL, 0);
+    double *g = n > 0 ? malloc(2 * (size_t)n * sizeof *g) : NULL;
+    if (!g)
+        return;
+    gr->points(c, FAMILY_GRID_CAMPAIGN, g, g + n, n);
+    long used = (long)d->n;
+    long on0 = rows_on_grid(d, g, g + n, n, 0), on1 = rows_on_grid(d, g, g + n, n, 1);
+    int swap = on1 > on0;
+    long on = swap ? on1 : on0;
+    if (used > 0 && (double)on >= LAB_ON_GRID_SHARE * (double)used) {
+        char list[CALREPORT_TEXT_MAX / 2] = "";
+        size_t len = 0;
+        long missing = 0;
+        for (long k = 0; k < n; k++) {
+            double x = swap ? g[n + k] : g[k], y = swap ? g[k] : g[n + k];
+            if (has_row(d, x, y))
+                continue;
+            if (missing++ < LAB_MISSING_SHOWN && len < sizeof list)
+                len += (size_t)snprintf(list + len, sizeof list - len, "%s(%g, %g)",
+                                        missing > 1 ? ", " : "", x, y);
+        }
+        if (missing)
+            calreport_warn(rep,
+                           "measure the missing points, or set the config's campaign keys to "
+                           "the grid the lab ran",
+                           "%ld of the config's %ld campaign points have no row in %s "
+                           "((%s, %s) deg: %s%s): the fit sees less of the field than the "
+                           "campaign the config describes",
+                           missing, n, d->path, col_name(lab, 0), col_name(lab, 1), list,
+                           missing > LAB_MISSING_SHOWN ? ", ..." : "");
+    }
+    free(g);
 }

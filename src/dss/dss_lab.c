@@ -320,6 +320,23 @@ static int compensate(const void *model, const double *raw, double *comp_rad)
     return dss_compensate(model, raw[0], raw[1], &comp_rad[0], &comp_rad[1]);
 }
 
+/* The spot's position written in micrometres or millimetres on the
+ * detector instead of pixels (lab_check). */
+static int cal_output_units(const sunmc_config *c, double *factor, const char **what, int max)
+{
+    double pixel_um = dss_cfg(c)->design.pixel_um;
+    int n = max < 2 ? max : 2;
+    if (n > 0) {
+        factor[0] = 1.0 / pixel_um;
+        what[0] = "micrometres on the detector";
+    }
+    if (n > 1) {
+        factor[1] = UM_PER_MM / pixel_um;
+        what[1] = "millimetres on the detector";
+    }
+    return n;
+}
+
 const family_lab dss_lab = {
     .sim_run = sim_run,
     .sim_write = sim_write,
@@ -330,6 +347,7 @@ const family_lab dss_lab = {
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .cal_n_inputs = 2,
+    .cal_output_units = cal_output_units,
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = cal_campaign_range,
     .cal_unit_bytes = sizeof(dss_unit),

@@ -346,6 +346,19 @@ static const lab_measured_key cal_measured[] = {
     {NULL, NULL, NULL, NULL},
 };
 
+/* The output angle written in radians, arcmin or arcsec (lab_check). */
+static int cal_output_units(const sunmc_config *c, double *factor, const char **what, int max)
+{
+    static const char *const names[] = {"radians", "arcmin", "arcsec"};
+    const double f[] = {DEG_PER_RAD, 1.0 / 60.0, 1.0 / ARCSEC_PER_DEG};
+    int n = max < 3 ? max : 3;
+    for (int u = 0; u < n; u++) {
+        factor[u] = f[u];
+        what[u] = names[u];
+    }
+    return n;
+}
+
 const family_lab ess_lab = {
     .sim_run = sim_run,
     .sim_write = sim_write,
@@ -356,6 +369,7 @@ const family_lab ess_lab = {
     .cal_min_rows = cal_min_rows,
     .cal_run = cal_run,
     .cal_n_inputs = 2,
+    .cal_output_units = cal_output_units,
     .cal_min_distinct = cal_min_distinct,
     .cal_campaign_range = cal_campaign_range,
     .cal_unit_bytes = sizeof(ess_unit),

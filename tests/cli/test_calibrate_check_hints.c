@@ -79,7 +79,9 @@ static void ess_hints(void **state)
     long n = weighted_rows("ess");
     int st = garbled("ess", "configs/ess_type_a.ini", "$3 = -$3", out, sizeof out);
     snprintf(want, sizeof want,
-             "; with every output's sign flipped, %ld of them would fit: check the columns", n);
+             "; with every output's sign flipped, or with column 'alpha_deg' sign-flipped, %ld "
+             "of them would fit: check the columns",
+             n);
     expect(st, out, want);
     st = garbled("ess", "configs/ess_type_a.ini", "t = $1; $1 = $2; $2 = t", out, sizeof out);
     expect(st, out, "; with the two table-angle columns swapped, ");
@@ -88,7 +90,7 @@ static void ess_hints(void **state)
     st = garbled("ess", "configs/ess_type_a.ini", "$3 = 0", out, sizeof out);
     snprintf(want, sizeof want,
              " of %ld rows are inconsistent with their table angles; is it this sensor's data, "
-             "in degrees and pixels?",
+             "in the units its columns name (alpha_deg, beta_deg, output_deg)?",
              n);
     expect(st, out, want);
     assert_null(strstr(out, "would fit"));

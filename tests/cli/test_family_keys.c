@@ -94,6 +94,15 @@ static void test_family_omits(void **state)
     assert_false(config_key_applies(pri, psd));
     assert_true(config_key_applies(pri, ess));
     assert_true(config_key_applies(it, psd));
+    /* a name is matched whole, never by a prefix (priors / prior_units) */
+    static const char *const only_priors[] = {"calibration.priors", NULL};
+    sensor_family f = *ess;
+    f.shared_keys_unused = only_priors;
+    assert_true(config_family_omits(&f, pri));
+    assert_false(config_family_omits(&f, pu));
+    static const char *const other_section[] = {"run.priors", "calibration", NULL};
+    f.shared_keys_unused = other_section;
+    assert_false(config_family_omits(&f, pri));
 }
 
 /* --duplicates applies to PSD: refuse refuses, average counts once (with
