@@ -76,6 +76,39 @@ void band_acc_add_chunk(band_acc *b, int nb, size_t k, const unsigned *m, const 
 void band_acc_add_chunks(int na, band_acc *const acc[], int nb, size_t k,
                          const unsigned *const m[], const double *const e2[]);
 
+/* The largest squared errors per band, for an order statistic of |error|
+ * (the spec's p99.7 or max, verdict.h): keep of them (at most
+ * BAND_TAIL_MAX) in descending order; keep 0 keeps none (an RMS spec). */
+#define BAND_TAIL_MAX 64
+typedef struct {
+    double top[CONFIG_BANDS_MAX][BAND_TAIL_MAX];
+    int keep;
+} band_tail;
+void band_tail_reset(band_tail *t, int keep);
+/* Squared error e2 into the bands of mask m (band_mask) of nb bands. */
+static inline void band_tail_add_mask(band_tail *t, int nb, unsigned m, double e2)
+{
+    if (t->keep == 0 || !(e2 == e2))
+        return;
+    for (int i = 0; i < nb; i++) {
+        double *top = t->top[i];
+        if (!((m >> i) & 1u) || !(e2 > top[t->keep - 1]))
+            continue;
+        int j = t->keep - 1;
+        for (; j > 0 && top[j - 1] < e2; j--)
+            top[j] = top[j - 1];
+        top[j] = e2;
+    }
+}
+/* band_tail_add_mask for readings q < k (mask m[q], squared error e2[q]). */
+void band_tail_add_chunk(band_tail *t, int nb, size_t k, const unsigned *m, const double *e2);
+/* The nearest-rank quantile at level (0, 1] of |error| over n points of
+ * band i: the (n - ceil(level n) + 1)-th largest, sqrt of the kept squared
+ * error; NaN when n is 0 or the rank lies past the kept ones. */
+double band_tail_quantile(const band_tail *t, int i, long n, double level);
+/* Count each reading q < k in the bands of its mask m[q] into n[]. */
+void band_count_chunk(long *n, int nb, size_t k, const unsigned *m);
+
 /* RMS per band times scale into out[bands->n]; NaN for an empty band. */
 void band_acc_rms(const band_acc *b, const band_list *bands, double scale, double *out);
 /* max[i] = fmax(max[i], v) for every band i that holds abs_deg. */

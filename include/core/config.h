@@ -133,6 +133,9 @@ typedef struct {
     /* [report] */
     band_list bands_deg;
     double spec_arcsec;
+    int spec_statistic;                 /* enum verdict_statistic (verdict.h) */
+    char spec_bands[CONFIG_STR_MAX];    /* "all", or the bands the spec names ("0:25, 25:50") */
+    double min_coverage;                /* share of a spec band's validation points a unit must read */
     double yield_target;                /* budget: yield the inverse limits must keep */
     long budget_units;                  /* budget: units per bisection step */
     int budget_steps;                   /* budget: bisection steps per source */

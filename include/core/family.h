@@ -48,6 +48,16 @@ typedef struct {
      * thermal_n_temps(c) > 0, t < thermal_n_temps(c)): RMS before and after. */
     double rms_before_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     double rms_after_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    /* What the spec judges (verdict.h): report.spec_statistic of the error
+     * after calibration per angle and band (the RMS, or the p99.7 or max of
+     * |error| over the band's points read), rms unit, NaN when none was
+     * read; the band's validation points, and those read and scored after
+     * calibration; the same at each operating temperature. */
+    double stat_after[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    double stat_after_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    int points[CONFIG_BANDS_MAX];
+    int read_after[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    int read_after_t[UNIT_MAX_TEMPS][UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     double fit_rms;                 /* fit residual RMS, rms unit */
     int fit_status;                 /* enum unit_fit_status */
     int fit_gsl_status;             /* GSL's status code of the fit */
@@ -226,6 +236,13 @@ typedef struct sensor_family {
  * band when the unit's fit failed. */
 void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, const band_acc *after,
                          const band_list *bands, double scale);
+
+/* Fill what the verdict judges of angle `angle` (stat_after, read_after,
+ * points; call after unit_result_set_rms): the RMS when the spec's
+ * statistic is rms, else the tail's order statistic, over the points of
+ * after; points[b] the band's validation points (read or not). */
+void unit_result_set_stat(unit_result *r, const sunmc_config *c, int angle, const band_acc *after,
+                          const band_tail *tail, const long *points, double scale);
 
 /* Unit `unit` of a family that splits its units (unit_read, unit_finish)
  * into r: its validation readings read into rd first unless held (rd holds

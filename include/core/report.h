@@ -41,7 +41,13 @@ typedef struct {
     double rms_before_mean, rms_after_mean, rms_after_max, rms_after_min, rms_after_p95;
     double rms_after_sys_mean; /* systematic part: noise-free validation readings */
     double improvement_mean, improvement_max, improvement_min;
-    double yield;           /* fraction of all units with RMS after <= spec */
+    double yield;           /* fraction of all units meeting the spec in this band alone
+                               (verdict_band: its statistic and coverage) */
+    /* The yield under the spec (verdict_unit: every band it names), the
+     * same on every band row of this angle and condition: the one a
+     * unit's pass means, the one the studies use. */
+    double spec_yield;
+    stats_interval spec_yield_ci;
     double worse;           /* fraction of the stat_units whose RMS after exceeds their RMS
                                before: calibration made them worse (Wilson interval) */
     /* Confidence intervals at level `confidence` (report.confidence):

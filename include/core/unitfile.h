@@ -40,7 +40,8 @@
 #define UNITFILE_INT_WORDS 7
 #define UNITFILE_MAX_WORDS                                                                       \
     (UNITFILE_INT_WORDS + UNIT_MAX_DEV + UNIT_MAX_PAR + 1 +                                       \
-     (3 + 2 * UNIT_MAX_TEMPS) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
+     (3 + 2 * UNIT_MAX_TEMPS) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX + CONFIG_BANDS_MAX +           \
+     2 * (1 + UNIT_MAX_TEMPS) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX)
 
 typedef struct {
     int nd, np, na, nb;

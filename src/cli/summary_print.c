@@ -5,6 +5,7 @@
 #include "sampling.h"
 #include "table.h"
 #include "thermal.h"
+#include "verdict.h"
 #include "status.h"
 
 #include <math.h>
@@ -330,6 +331,24 @@ static void print_warnings(FILE *f, const sunmc_config *c, const sensor_family *
                 100.0 * (double)rows[0].alias_units / (double)rows[0].units, fam->alias_term);
 }
 
+/* The yield under the spec (verdict.h), the rule it judged by, per
+ * measured angle; the studies' angle first named. */
+static void print_spec(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                       const summary_row *rows)
+{
+    char rule[256];
+    verdict_rule_text(c, rule, sizeof rule);
+    fprintf(f, "YIELD under the spec: %s; the band rows above judge each band alone\n", rule);
+    for (int a = 0; a < fam->n_angles(c); a++) {
+        const summary_row *r = &rows[report_primary_row(c, a, 0)];
+        char y[96];
+        fmt_estimate(y, sizeof y, r->spec_yield, r->spec_yield_ci,
+                     report_percent_decimals(r->spec_yield, 1), PERCENT, "%");
+        fprintf(f, "  %-6s %s%s\n", fam->angle_names[a], y,
+                a == verdict_angle(c) ? "   (the yield budget, design and allocate use)" : "");
+    }
+}
+
 void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
 {
     const sensor_family *fam = c->family;
@@ -369,6 +388,7 @@ void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
     if (fam->alias_term)
         fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
+    print_spec(f, c, fam, rows);
     print_warnings(f, c, fam, rows, n);
     if (thermal_n_temps(c) > 0)
         print_thermal(f, c, fam, rows, prec);

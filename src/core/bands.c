@@ -135,3 +135,43 @@ void band_max_add(double *max, const band_list *bands, double abs_deg, double v)
         if (band_holds(bands, i, abs_deg))
             max[i] = fmax(max[i], v);
 }
+
+void band_tail_reset(band_tail *t, int keep)
+{
+    t->keep = keep < 0 ? 0 : keep > BAND_TAIL_MAX ? BAND_TAIL_MAX : keep;
+    for (int i = 0; i < CONFIG_BANDS_MAX; i++)
+        for (int j = 0; j < t->keep; j++)
+            t->top[i][j] = -1.0;
+}
+
+void band_tail_add_chunk(band_tail *t, int nb, size_t k, const unsigned *m, const double *e2)
+{
+    if (t->keep == 0)
+        return;
+    for (size_t q = 0; q < k; q++)
+        if (m[q])
+            band_tail_add_mask(t, nb, m[q], e2[q]);
+}
+
+double band_tail_quantile(const band_tail *t, int i, long n, double level)
+{
+    if (n <= 0 || !(level > 0 && level <= 1))
+        return NAN;
+    /* nearest rank, ascending and 1-based: ceil(level n); the slack keeps
+     * a product that is an integer in decimal (0.9973 x 10000) from
+     * rounding up past it */
+    long rank = (long)ceil(level * (double)n - 1e-9);
+    if (rank < 1)
+        rank = 1;
+    long k = n - rank + 1; /* the k-th largest */
+    if (k > t->keep || t->top[i][k - 1] < 0)
+        return NAN;
+    return sqrt(t->top[i][k - 1]);
+}
+
+void band_count_chunk(long *n, int nb, size_t k, const unsigned *m)
+{
+    for (size_t q = 0; q < k; q++)
+        for (int i = 0; i < nb; i++)
+            n[i] += (long)((m[q] >> i) & 1u);
+}

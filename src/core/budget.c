@@ -110,8 +110,8 @@ static int row_stats(const sunmc_config *c, const unit_result *res, long units, 
         memset(out, 0, sizeof *out);
         out->before_mean = r->rms_before_mean;
         out->after_mean = r->rms_after_mean;
-        out->yield = r->yield;
-        out->yield_ci = r->yield_ci;
+        out->yield = r->spec_yield; /* the spec's verdict (verdict.h), every band it names */
+        out->yield_ci = r->spec_yield_ci;
         out->fit_failures = r->fit_failures;
     }
     free(rows);

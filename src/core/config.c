@@ -2,6 +2,7 @@
  * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
 #include "thermal.h"
+#include "verdict.h"
 #include "ini.h"
 #include "memory.h"
 #include "registry.h"
@@ -546,6 +547,8 @@ int config_validate(const sunmc_config *c, char *err, size_t errlen)
     if (!c->family)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "sensor.family is not set");
     int s = thermal_check(c, err, errlen);
+    if (s == SUNMC_OK)
+        s = verdict_check(c, err, errlen);
     if (s == SUNMC_OK && c->family->validate)
         s = c->family->validate(c, err, errlen);
     return s == SUNMC_OK ? memory_check_workspace(c, err, errlen) : s;

@@ -154,7 +154,20 @@ const config_key config_keys[] = {
     {"report", "bands_deg", KEY_BANDS, "deg", "0:30, 30:60, 0:62", 0, 90, NULL, OFF(bands_deg),
      "RMS bands on |alpha| (ESS; ESS paper Table 1) or on the field angle (DSS)"},
     {"report", "spec_arcsec", KEY_DOUBLE, "arcsec", "54", 0, 36000, NULL, OFF(spec_arcsec),
-     "after-calibration RMS a unit must meet per band (yield); 54\" = 0.015 deg"},
+     "the accuracy a unit must meet after calibration (report.spec_statistic of its error, in "
+     "every band of report.spec_bands) to pass; 54\" = 0.015 deg"},
+    {"report", "spec_statistic", KEY_ENUM, "", "rms", 0, 0, "rms|p99.7|max", OFF(spec_statistic),
+     "what of a unit's error over a band's validation points the spec bounds: rms (an RMS "
+     "over the field, as most datasheets), p99.7 (the 99.73 % quantile of |error|, a "
+     "datasheet's \"3 sigma\" without assuming a normal law; the nearest-rank order statistic, "
+     "which is the max below 370 points) or max (a bound, \"+-0.1 deg\")"},
+    {"report", "spec_bands", KEY_STRING, "", "all", 0, 0, NULL, OFF(spec_bands),
+     "the bands of report.bands_deg the spec holds in: all (the whole field), or a list of "
+     "them as written there (\"0:25, 25:50\"); a unit passes only in every one"},
+    {"report", "min_coverage", KEY_DOUBLE, "", "1", 0, 1, NULL, OFF(min_coverage),
+     "share of each spec band's validation points a unit must read (sun seen, spot on the "
+     "detector, no gross error); below it the unit fails: a sensor blind over part of its "
+     "field does not meet a spec over that field"},
     {"report", "yield_target", KEY_DOUBLE, "", "0.95", 0.01, 1, NULL, OFF(yield_target),
      "`budget`: the yield (fraction of units meeting spec_arcsec in the widest band) each "
      "inverse tolerance limit must keep"},

@@ -168,8 +168,8 @@ static void took(design_result *d, design_candidate *k, report_acc *acc, long n,
     d->units_run += n;
     report_acc_rows(acc, rows);
     const summary_row *r = &rows[report_primary_row(&k->cfg, d->angle, d->band)];
-    k->yield = r->yield;
-    k->yield_ci = r->yield_ci;
+    k->yield = r->spec_yield; /* the spec's verdict (verdict.h), every band it names */
+    k->yield_ci = r->spec_yield_ci;
     k->after_mean = r->rms_after_mean;
     k->after_ci = r->rms_after_mean_ci;
     k->alias_units = r->alias_units;

@@ -5,6 +5,7 @@
 #include "sampling.h"
 #include "stats_blocks.h"
 #include "thermal.h"
+#include "verdict.h"
 #include "status.h"
 
 #include <gsl/gsl_sort.h>
@@ -100,6 +101,9 @@ struct report_acc {
     campaign_info campaign;
     /* set-major: the lab's, each operating temperature, the worst over them */
     band_cell cell[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
+    /* the spec's verdict per set and angle: passes, and a design's blocks */
+    long spec_pass[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES];
+    stats_blocks spec_b[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES];
 };
 
 report_acc *report_acc_new(const sunmc_config *c)
@@ -129,6 +133,8 @@ report_acc *report_acc_new(const sunmc_config *c)
         stats_blocks_init(&s->b_ratio);
         stats_blocks_init(&s->b_pass);
     }
+    for (int i = 0; i < a->na * n_sets(c); i++)
+        stats_blocks_init(&a->spec_b[i]);
     return a;
 }
 
@@ -183,11 +189,12 @@ static void cell_add_blocks(band_cell *s, long block, double bef, double aft, do
  * cell, the unit in sampling block `block` (-1: independent units); a unit
  * without a fit only counts in the yield's denominator (a fail). */
 static int cell_add(band_cell *s, long block, int fit_ok, double bef, double aft, double sys,
-                    double spec)
+                    int pass)
 {
     int usable = fit_ok && isfinite(bef) && isfinite(aft);
+    pass = pass && usable;
     if (block >= 0)
-        stats_blocks_add(&s->b_pass, block, usable && aft <= spec ? 1.0 : 0.0);
+        stats_blocks_add(&s->b_pass, block, pass ? 1.0 : 0.0);
     if (!fit_ok)
         return SUNMC_OK;
     if (!usable) {
@@ -204,11 +211,19 @@ static int cell_add(band_cell *s, long block, int fit_ok, double bef, double aft
     stats_moments_add(&s->ratio, bef / aft);
     s->imp_max = fmax(s->imp_max, bef / aft);
     s->imp_min = fmin(s->imp_min, bef / aft);
-    s->pass += aft <= spec;
+    s->pass += pass;
     s->worse += aft > bef;
     if (isfinite(sys))
         stats_moments_add(&s->sys, sys);
     return SUNMC_OK;
+}
+
+/* Whether ur meets the spec in band b alone at set (verdict.h). */
+static int band_pass(const report_acc *acc, const unit_result *ur, int a, int b, int set)
+{
+    verdict v;
+    verdict_band(acc->c, ur, a, b, set, &v);
+    return v.pass;
 }
 
 /* A unit's cells at the operating temperatures and the worst over them. */
@@ -218,11 +233,28 @@ static int thermal_add(report_acc *acc, const unit_result *ur, int a, int b)
     long blk = sampling_block_of(acc->c, ur->unit);
     for (int t = 0; t < acc->nt; t++)
         if (cell_add(&acc->cell[(1 + t) * nab + i], blk, ok, ur->rms_before_t[t][a][b],
-                     ur->rms_after_t[t][a][b], NAN, acc->spec) != SUNMC_OK)
+                     ur->rms_after_t[t][a][b], NAN, band_pass(acc, ur, a, b, t)) != SUNMC_OK)
             return SUNMC_ENOMEM;
     return cell_add(&acc->cell[(1 + acc->nt) * nab + i], blk, ok,
                     thermal_worst(ur->rms_before_t, acc->nt, a, b),
-                    thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN, acc->spec);
+                    thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN,
+                    band_pass(acc, ur, a, b, VERDICT_WORST));
+}
+
+/* A unit's verdict under the spec for each angle and set. */
+static void spec_add(report_acc *acc, const unit_result *ur)
+{
+    long blk = sampling_block_of(acc->c, ur->unit);
+    int ns = n_sets(acc->c);
+    for (int set = 0; set < ns; set++)
+        for (int a = 0; a < acc->na; a++) {
+            verdict v;
+            int vs = set == 0 ? VERDICT_LAB : set <= acc->nt ? set - 1 : VERDICT_WORST;
+            verdict_unit(acc->c, ur, a, vs, &v);
+            acc->spec_pass[set * acc->na + a] += v.pass;
+            if (blk >= 0)
+                stats_blocks_add(&acc->spec_b[set * acc->na + a], blk, v.pass ? 1.0 : 0.0);
+        }
 }
 
 int report_acc_add(report_acc *acc, const unit_result *results, long n)
@@ -233,12 +265,13 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
         acc->gross += ur->gross_val;
         acc->alias += ur->alias_weak > 0;
         acc->failed += ur->fit_status != UNIT_FIT_OK;
+        spec_add(acc, ur);
         for (int a = 0; a < acc->na; a++)
             for (int b = 0; b < acc->nb; b++)
                 if (cell_add(&acc->cell[a * acc->nb + b], sampling_block_of(acc->c, ur->unit),
                              ur->fit_status == UNIT_FIT_OK,
                              ur->rms_before[a][b], ur->rms_after[a][b], ur->rms_after_sys[a][b],
-                             acc->spec) != SUNMC_OK ||
+                             band_pass(acc, ur, a, b, VERDICT_LAB)) != SUNMC_OK ||
                     (acc->nt > 0 && thermal_add(acc, ur, a, b) != SUNMC_OK))
                     return SUNMC_ENOMEM;
     }
@@ -347,6 +380,29 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int d
     }
 }
 
+/* The spec's yield of set-and-angle cell i into r, with its interval (a
+ * design's: at the effective count, as a band's yield). */
+static void spec_statistics(const report_acc *acc, int i, summary_row *r)
+{
+    const sunmc_config *c = acc->c;
+    long n = acc->n, pass = acc->spec_pass[i];
+    double conf = c->confidence;
+    r->spec_yield = n > 0 ? (double)pass / (double)n : NAN;
+    r->spec_yield_ci = (stats_interval){NAN, NAN};
+    if (!(conf > 0.0 && conf < 1.0))
+        return;
+    yield_interval(c->yield_interval, pass, n, conf, &r->spec_yield_ci);
+    double deff = c->sampling != CONFIG_SAMPLING_RANDOM && n > 0
+                      ? stats_blocks_deff(&acc->spec_b[i], r->spec_yield, n)
+                      : 1.0;
+    if (deff > 1.0) {
+        long n_eff = (long)floor((double)n / deff);
+        n_eff = n_eff < 1 ? 1 : n_eff;
+        yield_interval(c->yield_interval, lround(r->spec_yield * (double)n_eff), n_eff, conf,
+                       &r->spec_yield_ci);
+    }
+}
+
 void report_acc_rows(report_acc *acc, summary_row *rows)
 {
     int nab = acc->na * acc->nb;
@@ -373,6 +429,7 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
         r->no_reading_units = s->no_reading;
         cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval,
                         acc->c->sampling != CONFIG_SAMPLING_RANDOM, 1, r);
+        spec_statistics(acc, set * acc->na + a, r);
     }
 }
 

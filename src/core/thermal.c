@@ -59,6 +59,8 @@ void unit_result_store_temp(unit_result *r, int t, const unit_result *at)
 {
     memcpy(r->rms_before_t[t], at->rms_before, sizeof r->rms_before_t[t]);
     memcpy(r->rms_after_t[t], at->rms_after, sizeof r->rms_after_t[t]);
+    memcpy(r->stat_after_t[t], at->stat_after, sizeof r->stat_after_t[t]);
+    memcpy(r->read_after_t[t], at->read_after, sizeof r->read_after_t[t]);
 }
 
 void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validate_fn validate_at,

@@ -2,6 +2,7 @@
  * streams, filling a unit_result from its band accumulators, and the
  * phase clock of --profile (family.h). */
 #include "family.h"
+#include "verdict.h"
 #include "status.h"
 
 #include <math.h>
@@ -30,6 +31,23 @@ void unit_result_set_rms(unit_result *r, int angle, const band_acc *before, cons
     else
         for (int i = 0; i < bands->n; i++)
             r->rms_after[angle][i] = NAN;
+}
+
+void unit_result_set_stat(unit_result *r, const sunmc_config *c, int angle, const band_acc *after,
+                          const band_tail *tail, const long *points, double scale)
+{
+    int ok = r->fit_status == UNIT_FIT_OK, rms = c->spec_statistic == VERDICT_RMS;
+    double level = verdict_level(c);
+    for (int b = 0; b < c->bands_deg.n; b++) {
+        r->points[b] = (int)points[b];
+        r->read_after[angle][b] = ok ? (int)after->n[b] : 0;
+        if (!ok || after->n[b] == 0)
+            r->stat_after[angle][b] = NAN;
+        else
+            r->stat_after[angle][b] =
+                rms ? r->rms_after[angle][b]
+                    : band_tail_quantile(tail, b, after->n[b], level) * scale;
+    }
 }
 
 void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,

@@ -10,7 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define UNITFILE_MAGIC "SUNMCUB1"
+/* 2: the verdict's statistic, points read and band points (verdict.h) */
+#define UNITFILE_MAGIC "SUNMCUB2"
 #define UNITFILE_ORDER 0x0102030405060708ULL
 #define UNITFILE_INT_WORDS 7
 
@@ -23,7 +24,8 @@ void unitfile_layout_of(const sunmc_config *c, unitfile_layout *l)
     l->na = fam->n_angles(c);
     l->nb = c->bands_deg.n;
     l->nt = thermal_n_temps(c);
-    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + (3L + 2L * l->nt) * l->na * l->nb;
+    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + (3L + 2L * l->nt) * l->na * l->nb + l->nb +
+               2L * (1L + l->nt) * l->na * l->nb;
 }
 
 long unitfile_header_bytes(void)
@@ -46,6 +48,39 @@ int unitfile_write_header(FILE *f, const unitfile_layout *l, char *err, size_t e
         return sunmc_fail(err, errlen, SUNMC_EIO, "%s: write error: %s", UNITFILE_NAME,
                           strerror(errno));
     return SUNMC_OK;
+}
+
+/* The verdict's cells (after the RMS cells): the band points, then per
+ * set (the lab's, each temperature) the statistic and the points read,
+ * every angle and band, as doubles (the counts exactly). */
+static void pack_verdict(const unitfile_layout *l, const unit_result *r, double *d)
+{
+    for (int b = 0; b < l->nb; b++)
+        *d++ = r->points[b];
+    for (int t = -1; t < l->nt; t++)
+        for (int a = 0; a < l->na; a++)
+            for (int b = 0; b < l->nb; b++) {
+                *d++ = t < 0 ? r->stat_after[a][b] : r->stat_after_t[t][a][b];
+                *d++ = t < 0 ? r->read_after[a][b] : r->read_after_t[t][a][b];
+            }
+}
+
+static void unpack_verdict(const unitfile_layout *l, const double *d, unit_result *r)
+{
+    for (int b = 0; b < l->nb; b++)
+        r->points[b] = (int)*d++;
+    for (int t = -1; t < l->nt; t++)
+        for (int a = 0; a < l->na; a++)
+            for (int b = 0; b < l->nb; b++) {
+                double s = *d++, n = *d++;
+                if (t < 0) {
+                    r->stat_after[a][b] = s;
+                    r->read_after[a][b] = (int)n;
+                } else {
+                    r->stat_after_t[t][a][b] = s;
+                    r->read_after_t[t][a][b] = (int)n;
+                }
+            }
 }
 
 /* One record into w (words): the integers, then the doubles in order. */
@@ -74,6 +109,7 @@ void unitfile_pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
                        (size_t)l->nb * sizeof *d);
                 d += l->nb;
             }
+    pack_verdict(l, r, d);
 }
 
 static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
@@ -107,6 +143,7 @@ static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
                        (size_t)l->nb * sizeof *d);
                 d += l->nb;
             }
+    unpack_verdict(l, d, r);
 }
 
 int unitfile_write(FILE *f, const unitfile_layout *l, const unit_result *r, long n, char *err,

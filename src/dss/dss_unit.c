@@ -10,6 +10,7 @@
 #include "rotation.h"
 #include "dss_score.h"
 #include "family.h"
+#include "verdict.h"
 #include "rng.h"
 #include "status.h"
 #include "units.h"
@@ -377,10 +378,10 @@ static void chunk_uses(const dss_val_chunk *v, size_t k, int sys, unit_result *r
 /* Add the errors (rad) of readings q < k with use[q] to acc (alpha a - a0,
  * beta b - b0, total t) in the bands of mask[q], as band_acc_add would
  * one reading at a time (band_acc_add_chunks: the three angles' sums
- * interleaved). */
-static void add_chunk(band_acc acc[DSS_N_ANGLES], int nb, size_t k, const unsigned *mask,
-                      const int *use, const double *a, const double *b, const double *a0,
-                      const double *b0, const double *t)
+ * interleaved); and to tail (NULL: none), the spec's largest errors. */
+static void add_chunk(band_acc acc[DSS_N_ANGLES], band_tail *tail, int nb, size_t k,
+                      const unsigned *mask, const int *use, const double *a, const double *b,
+                      const double *a0, const double *b0, const double *t)
 {
     unsigned m[DSS_CHUNK];
     double e2[DSS_N_ANGLES][DSS_CHUNK];
@@ -394,6 +395,8 @@ static void add_chunk(band_acc acc[DSS_N_ANGLES], int nb, size_t k, const unsign
     const unsigned *const ms[DSS_N_ANGLES] = {m, m, m};
     const double *const es[DSS_N_ANGLES] = {e2[ANGLE_ALPHA], e2[ANGLE_BETA], e2[ANGLE_TOTAL]};
     band_acc_add_chunks(DSS_N_ANGLES, accs, nb, k, ms, es);
+    for (int g = 0; tail && g < DSS_N_ANGLES; g++)
+        band_tail_add_chunk(&tail[g], nb, k, m, e2[g]);
 }
 
 /* Score the unit's validation readings r (RMS before and after), and the
@@ -405,10 +408,13 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
                               unit_result *res)
 {
     band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES], after_sys[DSS_N_ANGLES];
+    band_tail tail[DSS_N_ANGLES]; /* the spec's order statistic (verdict.h) */
+    long points[CONFIG_BANDS_MAX] = {0};
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         band_acc_reset(&before[a]);
         band_acc_reset(&after[a]);
         band_acc_reset(&after_sys[a]);
+        band_tail_reset(&tail[a], verdict_tail_keep(c));
     }
     dss_val_chunk v;
     int sys = !c->no_systematic;
@@ -420,16 +426,18 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
         validation_chunk(u, cal, r, i0, k, fit_ok, sys, &v);
         for (size_t q = 0; q < k; q++)
             mask[q] = band_mask(&c->bands_deg, v.field[q]);
+        band_count_chunk(points, nb, k, mask);
         chunk_uses(&v, k, sys, res, use_b, use_a, use_s);
-        add_chunk(before, nb, k, mask, use_b, v.am, v.bm, v.a0, v.b0, v.tm);
+        add_chunk(before, NULL, nb, k, mask, use_b, v.am, v.bm, v.a0, v.b0, v.tm);
         if (!fit_ok)
             continue;
-        add_chunk(after, nb, k, mask, use_a, v.ac, v.bc, v.a0, v.b0, v.tc);
+        add_chunk(after, tail, nb, k, mask, use_a, v.ac, v.bc, v.a0, v.b0, v.tc);
         if (sys)
-            add_chunk(after_sys, nb, k, mask, use_s, v.as, v.bs, v.a0, v.b0, v.ts);
+            add_chunk(after_sys, NULL, nb, k, mask, use_s, v.as, v.bs, v.a0, v.b0, v.ts);
     }
     for (int a = 0; a < DSS_N_ANGLES; a++) {
         unit_result_set_rms(res, a, &before[a], &after[a], &c->bands_deg, ARCSEC_PER_RAD);
+        unit_result_set_stat(res, c, a, &after[a], &tail[a], points, ARCSEC_PER_RAD);
         unit_result_set_sys(res, a, sys ? &after_sys[a] : NULL, &c->bands_deg, ARCSEC_PER_RAD);
     }
 }

@@ -4,6 +4,7 @@
  * loops (a kernel file: the Makefile's KERNEL_SRC). */
 #include "ess_score.h"
 #include "bands.h"
+#include "verdict.h"
 #include "status.h"
 #include "units.h"
 #include "vmath.h"
@@ -100,6 +101,9 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_v
     band_acc_reset(&before);
     band_acc_reset(&after);
     band_acc_reset(&after_sys);
+    band_tail tail; /* the spec's order statistic (verdict.h) */
+    band_tail_reset(&tail, verdict_tail_keep(c));
+    long points[CONFIG_BANDS_MAX] = {0};
     int nb = c->bands_deg.n, sys = !c->no_systematic;
     ess_val_chunk w;
     ess_score_chunk o;
@@ -112,6 +116,7 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_v
         if (fit_ok)
             compensate_chunk(m, v, i0, k, sys, &w);
         chunk_bands(&c->bands_deg, k, v->truth_rad + i0, v->raw_rad + i0, o.mb, o.eb);
+        band_count_chunk(points, nb, k, o.mb);
         chunk_uses(c, v, i0, k, fit_ok, sys, &w, res, &o);
         if (!fit_ok) {
             band_acc_add_chunk(&before, nb, k, o.mb, o.eb);
@@ -121,7 +126,9 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_v
         if (sys)
             chunk_errors(k, w.comp0, v->truth_rad + i0, o.es);
         band_acc_add_chunks(2 + sys, acc, nb, k, m3, e3);
+        band_tail_add_chunk(&tail, nb, k, o.ma, o.ea);
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, DEG_PER_RAD);
+    unit_result_set_stat(res, c, 0, &after, &tail, points, DEG_PER_RAD);
     unit_result_set_sys(res, 0, sys ? &after_sys : NULL, &c->bands_deg, DEG_PER_RAD);
 }

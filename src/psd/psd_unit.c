@@ -1,6 +1,7 @@
 /* psd_unit.c - the four-channel analog sun sensor family: its Monte Carlo
  * unit and its sensor_family struct (see psd_unit.h). */
 #include "psd_unit.h"
+#include "verdict.h"
 #include "psd_thermal.h"
 #include "thermal.h"
 #include "lab.h"
@@ -254,15 +255,21 @@ static void validate(const sunmc_config *c, const psd_cal *k, int fit_ok, const 
                      unit_result *res)
 {
     band_acc bef[PSD_N_ANGLES], aft[PSD_N_ANGLES], sys[PSD_N_ANGLES];
+    band_tail tail[PSD_N_ANGLES]; /* the spec's order statistic (verdict.h) */
+    long points[CONFIG_BANDS_MAX] = {0};
+    int nb = c->bands_deg.n;
     for (int a = 0; a < PSD_N_ANGLES; a++) {
         band_acc_reset(&bef[a]);
         band_acc_reset(&aft[a]);
         band_acc_reset(&sys[a]);
+        band_tail_reset(&tail[a], verdict_tail_keep(c));
     }
     long nv = psd_validation_points(c);
     for (long i = 0; i < nv; i++) {
         const double *x = rd + (size_t)i * PSD_RD_POINT;
         double e1[3], e2[3];
+        unsigned m = band_mask(&c->bands_deg, x[RD_FIELD]);
+        band_count_chunk(points, nb, 1, &m);
         if (x[RD_BAD] != 0 ||
             (fit_ok && (errors(k, x + RD_M, x + RD_UT, e1) != SUNMC_OK ||
                         errors(k, x + RD_M0, x + RD_UT, e2) != SUNMC_OK))) {
@@ -274,11 +281,13 @@ static void validate(const sunmc_config *c, const psd_cal *k, int fit_ok, const 
             if (fit_ok) {
                 band_acc_add(&aft[q], &c->bands_deg, x[RD_FIELD], e1[q]);
                 band_acc_add(&sys[q], &c->bands_deg, x[RD_FIELD], e2[q]);
+                band_tail_add_mask(&tail[q], nb, m, e1[q] * e1[q]);
             }
         }
     }
     for (int q = 0; q < PSD_N_ANGLES; q++) {
         unit_result_set_rms(res, q, &bef[q], &aft[q], &c->bands_deg, ARCSEC_PER_RAD);
+        unit_result_set_stat(res, c, q, &aft[q], &tail[q], points, ARCSEC_PER_RAD);
         unit_result_set_sys(res, q, &sys[q], &c->bands_deg, ARCSEC_PER_RAD);
     }
 }
