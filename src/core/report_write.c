@@ -1,6 +1,7 @@
 /* report_write.c - summary.tsv and units.tsv (report.h). */
 #include "report.h"
 #include "thermal.h"
+#include "verdict.h"
 #include "status.h"
 
 #include <math.h>
@@ -24,7 +25,9 @@ static void summary_header(FILE *f, int n_lead, const char *const *lead_names, i
                "improvement_max\timprovement_min\tyield\tyield_ci_lo\tyield_ci_hi\tspec_arcsec\t"
                "confidence\tstat_units\tfit_failures\tgross_errors\talias_units\tmodel\t"
                "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
-               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval");
+               "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval\t"
+               "spec_yield\tspec_yield_ci_lo\tspec_yield_ci_hi\tspec_statistic\tspec_bands\t"
+               "min_coverage");
     fprintf(f, "%s\n", thermal ? "\tcondition\ttemp_c" : "");
 }
 
@@ -76,8 +79,10 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c,
                 r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
                 model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
                 r->no_reading_units);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%s", r->worse, r->worse_ci.lo, r->worse_ci.hi,
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t", r->worse, r->worse_ci.lo, r->worse_ci.hi,
                 yield_interval_key[c->yield_interval]);
+        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t%s\t%g", r->spec_yield, r->spec_yield_ci.lo,
+                r->spec_yield_ci.hi, verdict_statistic_name(c), c->spec_bands, c->min_coverage);
         if (thermal_n_temps(c) > 0)
             fprintf(f, "\t%s\t%g", condition_key[r->condition], r->temp_c);
         fputc('\n', f);
@@ -117,7 +122,23 @@ void report_write_units_header(FILE *f, const sunmc_config *c)
                     else
                         fprintf(f, "_worst");
                 }
+    /* the spec's verdict for the studies' angle, at the worst condition */
+    fprintf(f, "\tpass\tverdict\tverdict_band\tverdict_%s_%s\tverdict_coverage",
+            verdict_statistic_name(c), fam->rms_unit);
     fputc('\n', f);
+}
+
+/* units.tsv's verdict columns of unit r: pass (1/0), why, the deciding
+ * band, its statistic and coverage ("-" where none). */
+static void write_verdict(FILE *f, const sunmc_config *c, const unit_result *r)
+{
+    verdict v;
+    verdict_unit(c, r, verdict_angle(c), VERDICT_WORST, &v);
+    char band[32] = "-";
+    if (v.band >= 0)
+        report_band_label(c, v.band, band, sizeof band);
+    fprintf(f, "\t%d\t%s\t%s\t%.6g\t%.4g", v.pass, verdict_why_name(v.why), band, v.stat,
+            v.coverage);
 }
 
 void report_write_unit_rows(FILE *f, const sunmc_config *c,
@@ -156,6 +177,7 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c,
                     for (int b = 0; b < nb; b++)
                         fprintf(f, "\t%.6g", t < nt ? v[t][a][b] : thermal_worst(v, nt, a, b));
             }
+        write_verdict(f, c, r);
         fputc('\n', f);
     }
 }
