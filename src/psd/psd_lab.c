@@ -3,6 +3,7 @@
  * (psd_labfit.c, psd_labreport.c), compensate raw readings. */
 #include "psd_lab.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "units.h"
 
 #include <math.h>
@@ -88,8 +89,11 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
     double v[UNIT_MAX_DEV];
     int n = psd_family.dev_columns(c, names, UNIT_MAX_DEV);
     deviations_values(psd_family.deviations, psd_family.n_deviations, &s->dev, v, UNIT_MAX_DEV);
-    for (int k = 0; k < n; k++)
-        fprintf(f[1], "%s,%.10g\n", names[k], v[k]);
+    for (int k = 0; k < n; k++) {
+        char num[64];
+        tsv_num_fmt(num, sizeof num, "%.10g", v[k]);
+        fprintf(f[1], "%s,%s\n", names[k], num);
+    }
     /* the truth of a row follows from its table angles (compensate adds it) */
     fprintf(f[2], "# the readings the Monte Carlo validates on; `sunmc compensate` adds the "
                   "truth of campaign.table_order = %s\n",
@@ -265,7 +269,7 @@ static int write_residuals(const void *p, FILE *f)
         double ta, tb;
         const double *e = k->err + 3 * i;
         sun_angles_of(k->ut + 3 * i, &ta, &tb);
-        fprintf(f, "%d\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\t%.6g\n", k->d->line[i],
+        tsv_printf(f, "%d\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\t%.6g\n", k->d->line[i],
                 k->d->v[0][i], k->d->v[1][i], k->w[i], ta * DEG_PER_RAD, tb * DEG_PER_RAD,
                 e[0] * ARCSEC_PER_RAD, e[1] * ARCSEC_PER_RAD, e[2] * ARCSEC_PER_RAD);
     }
