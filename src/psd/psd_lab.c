@@ -386,6 +386,40 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
     return st;
 }
 
+/* The polynomial's terms are fitted on ratios up to poly.scale (the
+ * campaign's largest): a ratio this fraction beyond is an extrapolation
+ * the calibration cannot stand behind (a spot off the calibrated field). */
+#define PSD_POLY_RANGE_MARGIN 0.1
+
+/* Can the calibrated sensor produce channels raw[0..3]
+ * (family_lab.reading_check)?  An ADC reads no negative value; a spot
+ * gives every model a signal: above the fitted darks (physical model; the
+ * polynomial's raw channels have none), with a positive sum; the
+ * polynomial's ratios stay within what its campaign saw. */
+static int reading_check(const void *model, const double *raw)
+{
+    const psd_model_file *m = model;
+    int phys = m->cal.model == PSD_MODEL_PHYSICAL, any = 0;
+    double sum = 0;
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        if (!(raw[k] >= 0))
+            return LAB_OUTSIDE_RANGE;
+    for (int k = 0; k < PSD_CHANNELS; k++) {
+        double s = phys ? (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
+        any |= s > 0;
+        sum += s;
+    }
+    if (!any)
+        return LAB_NO_SIGNAL;
+    if (!(sum > 0))
+        return LAB_NEGATIVE_SUM;
+    double x, y;
+    if (!phys && psd_poly_ratios(&m->cfg.design, raw, &x, &y) == SUNMC_OK &&
+        fmax(fabs(x), fabs(y)) > m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN))
+        return LAB_OUTSIDE_RANGE;
+    return LAB_READING_OK;
+}
+
 /* raw: i1..i4 and, when given, the table's alpha_deg, beta_deg (NaN when
  * not); comp_rad: the compensated angles, then the truth angles. */
 static int compensate(const void *model, const double *raw, double *comp_rad)
@@ -424,6 +458,7 @@ const family_lab psd_lab = {
     .comp_help = comp_help,
     .opt_columns = table_columns,
     .opt_comp_columns = truth_columns,
+    .reading_check = reading_check,
     .comp_fail_note = "a saturated spot (beyond the linear field) or a reading the model cannot "
                       "invert",
     .model_size = sizeof(psd_model_file),
