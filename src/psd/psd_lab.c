@@ -332,24 +332,50 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
     return st;
 }
 
+/* Every key of [polynomial] is order, form, scale or a coefficient of a
+ * term of q (its order and form): a coefficient beyond them, or any other
+ * key, is refused at its line, never dropped. */
+static int poly_keys_known(const params_file *p, const psd_poly *q, char *err, size_t errlen)
+{
+    static const char *const fixed[] = {"order", "form", "scale"};
+    const char *names[3 + 2 * PSD_POLY_MAX_TERMS];
+    char buf[2 * PSD_POLY_MAX_TERMS][32];
+    int n = 0;
+    for (; n < 3; n++)
+        names[n] = fixed[n];
+    for (int t = 0; t < q->nt; t++)
+        for (int ab = 0; ab < 2; ab++) {
+            char *b = buf[2 * t + ab];
+            snprintf(b, sizeof buf[0], "tan%c_x%dy%d", ab ? 'b' : 'a', q->ex[t], q->ey[t]);
+            names[n++] = b;
+        }
+    int st = params_check_keys(p, "polynomial", names, n, err, errlen);
+    if (st != SUNMC_OK && strstr(err, "_x") && strstr(err, "unknown key polynomial.tan"))
+        snprintf(err + strlen(err), errlen - strlen(err),
+                 ": not a term of order %d (%s): a coefficient beyond the order", q->order,
+                 q->form == PSD_POLY_FSS20 ? "fss20" : "full");
+    return st;
+}
+
 static int load_poly(const params_file *p, psd_cal *k, char *err, size_t errlen)
 {
     static const char *const forms[] = {"full", "fss20"};
-    double order;
-    int form = 0;
+    int order = 0, form = 0;
     const params_range r[] = {{"polynomial", "order", 1, PSD_POLY_MAX_ORDER, "", NULL},
                               {"polynomial", "scale", 1e-300, 1e300, "", NULL}};
     int st = params_check_ranges(p, r, 2, err, errlen);
     if (st == SUNMC_OK)
-        st = params_get_double(p, "polynomial", "order", &order, err, errlen);
+        st = params_get_int(p, "polynomial", "order", &order, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "polynomial", "form", forms, 2, &form, err, errlen);
     if (st == SUNMC_OK && form == PSD_POLY_FSS20 && order != 5)
         st = params_require(p, "polynomial", "form", 0, "full unless the order is 5", err, errlen);
     if (st != SUNMC_OK)
         return st;
-    psd_poly_init(&k->poly, (int)order, form);
-    st = params_get_double(p, "polynomial", "scale", &k->poly.scale, err, errlen);
+    psd_poly_init(&k->poly, order, form);
+    st = poly_keys_known(p, &k->poly, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_double(p, "polynomial", "scale", &k->poly.scale, err, errlen);
     for (int t = 0; t < k->poly.nt && st == SUNMC_OK; t++) {
         char ka[32], kb[32];
         snprintf(ka, sizeof ka, "tana_x%dy%d", k->poly.ex[t], k->poly.ey[t]);
@@ -374,6 +400,7 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
         return load_poly(p, &m->cal, err, errlen);
     }
     m->cal.model = PSD_MODEL_PHYSICAL;
+    st = params_check_keys(p, "parameters", psd_param_names, PSD_NP, err, errlen);
     for (int j = 0; j < PSD_NP && st == SUNMC_OK; j++) {
         st = params_get_double(p, "parameters", psd_param_names[j], &m->cal.p[j], err, errlen);
         m->cal.p[j] /= psd_param_scale[j];
