@@ -198,8 +198,8 @@ row T7 "ESS 6 (2a)" "0.25° compensates better than 1°, but the improvement is 
   "A $(f "$on1")° → $(f "$on25")°, B $(f "$bon1")° → $(f "$bon25")° (on the grid)" "a_t2_on_*, b_t2_on_*" reproduced \
   "on the calibration grid; off it the reason is aliasing, not the period argument (0.25° samples two opposite phases)"
 
-kmin_a=$(ucol $R/a_run k_deg absmin); kmax_a=$(ucol $R/a_run k_deg absmax)
-kmin_b=$(ucol $R/b_run k_deg absmin); kmax_b=$(ucol $R/b_run k_deg absmax)
+kmin_a=$(ucol $R/a_run fit_k_deg absmin); kmax_a=$(ucol $R/a_run fit_k_deg absmax)
+kmin_b=$(ucol $R/b_run fit_k_deg absmin); kmax_b=$(ucol $R/b_run fit_k_deg absmax)
 need K1 "$kmin_a > 0.03 && $kmin_b > 0.03"
 row K1 "ESS 6 (2b)" "the solved k is generally less than 0.03" "< 0.03 (its own Table 4: 0.0357; Table 3: 0.016-0.023)" \
   "\|k\| A $(f "$kmin_a" 3)-$(f "$kmax_a" 3)°, B $(f "$kmin_b" 3)-$(f "$kmax_b" 3)°" "a_run, b_run" differs \
@@ -216,7 +216,7 @@ t3="--units 3:4 --seed 1 --set tolerance.install_x_arcsec_dist=fixed --set toler
 c a_t3_0 run $A $t3 --set tolerance.install_x_arcsec=0 --set tolerance.install_y_arcsec=0 --set tolerance.install_z_arcsec=0
 c a_t3_1 run $A $t3 --set tolerance.install_x_arcsec=0 --set tolerance.install_y_arcsec=300 --set tolerance.install_z_arcsec=38
 c a_t3_2 run $A $t3 --set tolerance.install_x_arcsec=17 --set tolerance.install_y_arcsec=94 --set tolerance.install_z_arcsec=68
-spread=$(awk -F'\t' 'FNR == 1 { for (i = 1; i <= NF; i++) { if ($i == "a") ca = i; if ($i == "k_deg") ck = i; if ($i == "t_rad") ct = i }; next }
+spread=$(awk -F'\t' 'FNR == 1 { for (i = 1; i <= NF; i++) { if ($i == "fit_a") ca = i; if ($i == "fit_k_deg") ck = i; if ($i == "fit_t_rad") ct = i }; next }
   { a[++n] = $ca; k[n] = $ck; t[n] = $ct }
   END { for (i = 1; i <= n; i++) { if (i == 1 || a[i] < a0) a0 = a[i]; if (a[i] > a1) a1 = a[i]; if (i == 1 || k[i] < k0) k0 = k[i]; if (i == 1 || k[i] > k1) k1 = k[i]
     if (i == 1 || t[i] < t0) t0 = t[i]; if (i == 1 || t[i] > t1) t1 = t[i] }
@@ -239,7 +239,7 @@ row T10 "ESS Table 4" "type-B unit: k 0.0357, t 2.4558; r (installation) within 
   "k of Table 4's size by construction (slit width); t follows the drawn harmonic phase; the simulator's tilt toward X is a β offset an α sensor cannot see (fixed at 0 in the fit)"
 
 c b_paper_unit run $B --units 100 --seed 1 --set report.bands_deg=0:62 --set tolerance.dH_um=15.3 --set tolerance.dH_um_dist=fixed --set design.slit_width_um=43 --set noise.row_current_pct=4.2
-pua=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "a") ca = i; if ($i == "k_deg") ck = i }; next }
+pua=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "fit_a") ca = i; if ($i == "fit_k_deg") ck = i }; next }
   { a += $ca; k += ($ck < 0 ? -$ck : $ck); n++ } END { printf "%.5f %.4f\n", a / n, k / n }' $R/b_paper_unit/units.tsv)
 pub=$(sm $R/b_paper_unit 0:62 rms_before_mean); puf=$(sm $R/b_paper_unit 0:62 rms_after_mean)
 pui=$(sm $R/b_paper_unit 0:62 improvement_mean)

@@ -69,9 +69,11 @@ static inline int tsv_col(const tsv *t, const char *name)
     return -1;
 }
 
+/* A number; "-" (a number sunmc could not form) is NaN. */
 static inline double tsv_num(const tsv *t, int r, const char *name)
 {
-    return strtod(t->cell[r][tsv_col(t, name)], NULL);
+    const char *v = t->cell[r][tsv_col(t, name)];
+    return strcmp(v, "-") == 0 ? NAN : strtod(v, NULL);
 }
 
 static inline const char *tsv_str(const tsv *t, int r, const char *name)

@@ -156,8 +156,12 @@ typedef struct family_lab {
     /* The calibration a params.ini describes, into model (model_size bytes). */
     size_t model_size;
     int (*params_load)(const params_file *p, void *model, char *err, size_t errlen);
+    /* Can the calibrated sensor produce reading raw (as compensate gets
+     * it)?  LAB_READING_OK, or why not (enum lab_reading); NULL: every
+     * reading can.  compensate is called only for readings that can. */
+    int (*reading_check)(const void *model, const double *raw);
     /* raw[k]: column k of raw_columns in its unit; comp_rad[k]: compensated
-     * angle k in rad.  Non-OK when the reading cannot be compensated. */
+     * angle k in rad.  Non-OK when the model has no inverse there. */
     int (*compensate)(const void *model, const double *raw, double *comp_rad);
 } family_lab;
 
@@ -258,15 +262,36 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
                           const calreport *rep, const char *data, const char *config,
                           size_t rows, const char *out_dir, char *err, size_t errlen);
 
+/* Why a reading gets no compensated angle (family_lab.reading_check; the
+ * last, when compensate itself fails or gives no finite angle). */
+enum lab_reading {
+    LAB_READING_OK = 0,
+    LAB_NO_SIGNAL,        /* channels at or below the dark level, no spot */
+    LAB_NEGATIVE_SUM,     /* the dark-corrected channels sum below 0 */
+    LAB_OUTSIDE_DETECTOR, /* a spot beyond the detector */
+    LAB_OUTSIDE_RANGE,    /* beyond the output's range (an ADC below 0) */
+    LAB_NO_INVERSE,       /* the model has no inverse there */
+    LAB_N_READING
+};
+
+/* Each cause as compensate's count says it ("no signal (...)"). */
+extern const char *const lab_reading_text[LAB_N_READING];
+
 /* Counts of a compensation run. */
 typedef struct {
     long failed;                     /* readings that could not be compensated */
+    long by_cause[LAB_N_READING];    /* of them, by cause (index 0 unused) */
     int first_failed_line;
 } lab_comp_stats;
 
+/* "3 rows not compensated: 2 no signal (...), 1 outside the detector"
+ * (causes in enum order, those with a count only) into buf. */
+void lab_comp_summary(const lab_comp_stats *s, char *buf, size_t len);
+
 /* Read raw_path (lab->raw_columns) and write it to out as CSV with
- * lab->comp_columns added (deg, "nan" where a reading cannot be
- * compensated).  Non-OK (nothing written) for bad input. */
+ * lab->comp_columns added (deg, "-" where a reading cannot be
+ * compensated, counted in s by cause).  Refused (nothing written): bad
+ * input, a file with no data rows. */
 int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw_path,
                        FILE *out, lab_comp_stats *s, char *err, size_t errlen);
 

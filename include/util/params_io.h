@@ -76,6 +76,11 @@ int params_get_text(const params_file *p, const char *section, const char *key,
 int params_get_double(const params_file *p, const char *section, const char *key, double *out,
                       char *err, size_t errlen);
 
+/* Value of section.key as a whole number (params_get_double, then
+ * "FILE:LINE: key section.key: 'x' is not a whole number"). */
+int params_get_int(const params_file *p, const char *section, const char *key, int *out,
+                   char *err, size_t errlen);
+
 /* A range check on a value read from section.key: SUNMC_OK when ok, else
  * "FILE:LINE: key section.key must be WHAT" at the key's line. */
 /* A range check of one number read from p: lo <= v <= hi, else

@@ -6,6 +6,7 @@
 #include "progress.h"
 #include "report.h"
 #include "status.h"
+#include "tsvnum.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -48,14 +49,14 @@ static void write_tsv(FILE *f, const sunmc_config *c, const allocate_result *a)
                "units\tconfirm_seed\tstatus\n");
     for (int i = 0; i < a->n; i++) {
         const allocate_source *s = &a->src[i];
-        fprintf(f, "%s\t%.6g\t%.6g\t%.6g\t%.4g\t%.6g\t%.6g\t%.6g\t", s->name, s->today,
+        tsv_printf(f, "%s\t%.6g\t%.6g\t%.6g\t%.4g\t%.6g\t%.6g\t%.6g\t", s->name, s->today,
                 s->allocated, s->allocated / s->today, s->power, s->ms_share, s->cost_today,
                 s->cost_allocated);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%ld\t%ld\t%s\n", a->yield, a->yield_ci.lo,
+        tsv_printf(f, "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%ld\t%ld\t%s\n", a->yield, a->yield_ci.lo,
                 a->yield_ci.hi, c->yield_target, c->confidence, report_yield_interval_name(c),
                 a->units, a->confirm_seed, status_names[a->status]);
     }
-    fprintf(f, "TOTAL\tnan\tnan\tnan\tnan\tnan\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%ld\t"
+    tsv_printf(f, "TOTAL\tnan\tnan\tnan\tnan\tnan\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%ld\t"
                "%ld\t%s\n",
             a->cost_today, a->cost_allocated, a->yield, a->yield_ci.lo, a->yield_ci.hi,
             c->yield_target, c->confidence, report_yield_interval_name(c), a->units,

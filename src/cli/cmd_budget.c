@@ -5,6 +5,7 @@
 #include "output.h"
 #include "report.h"
 #include "status.h"
+#include "tsvnum.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -75,10 +76,20 @@ static void dist_name(const sunmc_config *c, const budget_source *s, char *buf, 
         snprintf(buf, len, s->kind == BUDGET_NOISE ? "normal" : "-");
 }
 
+/* n numbers with fmt, each followed by a tab ("-" for NaN: tsvnum.h). */
+static void put_nums(FILE *f, const char *fmt, int n, const double *v)
+{
+    for (int i = 0; i < n; i++) {
+        tsv_num_put(f, fmt, v[i]);
+        fputc('\t', f);
+    }
+}
+
 /* "S\tS_ci_lo\tS_ci_hi\tsignificant\t" */
 static void write_share(FILE *f, const budget_share *s)
 {
-    fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t", s->v, s->ci.lo, s->ci.hi, s->significant ? "yes" : "no");
+    put_nums(f, "%.6g", 3, (double[]){s->v, s->ci.lo, s->ci.hi});
+    fprintf(f, "%s\t", s->significant ? "yes" : "no");
 }
 
 /* The columns every row ends with. */
@@ -87,11 +98,14 @@ static void write_tail(FILE *f, const sunmc_config *c, const sensor_family *fam,
 {
     char band[32];
     report_band_label(c, b->band, band, sizeof band);
-    fprintf(f, "%g\t%g\t%g\t%s\t%s\t%s\t%ld\t%ld\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n",
-            c->yield_target, c->spec_arcsec, c->confidence, fam->rms_unit,
-            fam->angle_names[b->angle], band, b->units, b->paired_units, c->budget_units,
-            b->all.before_mean, b->all.after_mean, b->all.yield, b->all.yield_ci.lo,
-            b->all.yield_ci.hi, b->no_tolerance.before_mean, b->no_tolerance.after_mean);
+    put_nums(f, "%g", 3, (double[]){c->yield_target, c->spec_arcsec, c->confidence});
+    fprintf(f, "%s\t%s\t%s\t%ld\t%ld\t%ld\t", fam->rms_unit, fam->angle_names[b->angle], band,
+            b->units, b->paired_units, c->budget_units);
+    put_nums(f, "%.6g", 6,
+             (double[]){b->all.before_mean, b->all.after_mean, b->all.yield, b->all.yield_ci.lo,
+                        b->all.yield_ci.hi, b->no_tolerance.before_mean});
+    tsv_num_put(f, "%.6g", b->no_tolerance.after_mean);
+    fputc('\n', f);
 }
 
 static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
@@ -105,31 +119,34 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
                "angle\tband\tunits\tpaired_units\tlimit_units\tall_before\tall_after\t"
                "all_yield\tall_yield_ci_lo\tall_yield_ci_hi\tno_tolerance_before\t"
                "no_tolerance_after\n");
-    fprintf(f, "0\tfloor\tFLOOR\t-\tnan\t-\t%.6g\t%.6g\t", b->floor.before_mean,
-            b->floor.after_mean);
+    fprintf(f, "0\tfloor\tFLOOR\t-\t-\t-\t");
+    put_nums(f, "%.6g", 2, (double[]){b->floor.before_mean, b->floor.after_mean});
     write_share(f, &b->floor_before);
     write_share(f, &b->floor_after);
-    fprintf(f, "%.6g\t%.6g\t%.6g\tnan\tnan\tnan\t-\t", b->floor.yield, b->floor.yield_ci.lo,
-            b->floor.yield_ci.hi);
+    put_nums(f, "%.6g", 3, (double[]){b->floor.yield, b->floor.yield_ci.lo, b->floor.yield_ci.hi});
+    fprintf(f, "-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
         char dist[CONFIG_STR_MAX];
         dist_name(c, s, dist, sizeof dist);
-        fprintf(f, "%d\t%s\t%s\t%s\t%.10g\t%s\t%.6g\t%.6g\t", s->rank, kind_names[s->kind], s->name,
-                s->key->unit[0] ? s->key->unit : "-", s->tolerance, dist, s->alone.before_mean,
-                s->alone.after_mean);
+        fprintf(f, "%d\t%s\t%s\t%s\t", s->rank, kind_names[s->kind], s->name,
+                s->key->unit[0] ? s->key->unit : "-");
+        tsv_num_put(f, "%.10g", s->tolerance);
+        fprintf(f, "\t%s\t", dist);
+        put_nums(f, "%.6g", 2, (double[]){s->alone.before_mean, s->alone.after_mean});
         write_share(f, &s->share_before);
         write_share(f, &s->share_after);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t", s->yield_today,
-                s->yield_today_ci.lo, s->yield_today_ci.hi, s->limit, s->limit_ci.lo,
-                s->limit_ci.hi, limit_names[s->limit_status]);
+        put_nums(f, "%.6g", 6,
+                 (double[]){s->yield_today, s->yield_today_ci.lo, s->yield_today_ci.hi, s->limit,
+                            s->limit_ci.lo, s->limit_ci.hi});
+        fprintf(f, "%s\t", limit_names[s->limit_status]);
         write_tail(f, c, fam, b);
     }
-    fprintf(f, "0\tinteraction\tINTERACTION\t-\tnan\t-\tnan\tnan\t");
+    fprintf(f, "0\tinteraction\tINTERACTION\t-\t-\t-\t-\t-\t");
     write_share(f, &b->interaction_before);
     write_share(f, &b->interaction_after);
-    fprintf(f, "nan\tnan\tnan\tnan\tnan\tnan\t-\t");
+    fprintf(f, "-\t-\t-\t-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
 }
 

@@ -60,6 +60,8 @@ static const char compensate_head[] =
     "and adds the compensated angle(s):\n";
 
 static const char compensate_tail[] =
+    "A row the calibrated sensor cannot produce (no signal, outside the detector or the\n"
+    "output's range, no inverse) gets '-' and is counted on stderr by cause.\n"
     "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
 
 /* Append printf-style text to buf (used bytes *n), truncating at len. */
@@ -110,8 +112,12 @@ static void lab_help(int calibrate, char *buf, size_t len)
             if (lab->opt_columns) {
                 help_add(buf, len, &n, "; with ");
                 help_columns(buf, len, &n, lab->opt_columns);
-                help_add(buf, len, &n, " also ");
-                help_columns(buf, len, &n, lab->opt_comp_columns);
+                if (lab->opt_comp_columns) {
+                    help_add(buf, len, &n, " also ");
+                    help_columns(buf, len, &n, lab->opt_comp_columns);
+                } else {
+                    help_add(buf, len, &n, " (read to check the row)");
+                }
             }
             help_add(buf, len, &n, "\n%s", lab->comp_help ? lab->comp_help : "");
         }
@@ -297,12 +303,15 @@ static int compensate(const family_lab *lab, const params_file *pf, const char *
         fprintf(stderr, "sunmc compensate: %s\n", err);
         return cli_exit_code(st);
     }
-    if (cs.failed)
-        fprintf(stderr, "sunmc compensate: %s:%d: %ld readings could not be compensated (nan): "
-                        "beyond what the calibrated sensor can produce (outside the detector, "
-                        "beyond the output's range) or without an inverse%s%s\n",
-                raw_path, cs.first_failed_line, cs.failed, lab->comp_fail_note ? ": " : "",
-                lab->comp_fail_note ? lab->comp_fail_note : "");
+    if (cs.failed) {
+        char why[LAB_HELP_MAX];
+        lab_comp_summary(&cs, why, sizeof why);
+        fprintf(stderr, "sunmc compensate: %s:%d: %s (written '-': readings the calibrated "
+                        "sensor cannot produce%s%s)\n",
+                raw_path, cs.first_failed_line, why,
+                cs.by_cause[LAB_NO_INVERSE] && lab->comp_fail_note ? "; no inverse: " : "",
+                cs.by_cause[LAB_NO_INVERSE] && lab->comp_fail_note ? lab->comp_fail_note : "");
+    }
     return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
 }
 

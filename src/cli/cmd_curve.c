@@ -6,6 +6,7 @@
 #include "output.h"
 #include "report.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "thermal.h"
 
 #include <math.h>
@@ -193,7 +194,7 @@ static void curve_walk(curve_run *r, FILE *fo)
                     bef[a] = aft[a] = NAN;
             }
             if (fo)
-                fprintf(fo, "%.10g\t%.10g", r->ax0[i], r->ax1[j]);
+                tsv_printf(fo, "%.10g\t%.10g", r->ax0[i], r->ax1[j]);
             r->uncompensated += s1 == SUNMC_OK && !all_finite(aft, na);
             for (int a = 0; a < na; a++) {
                 double src = (s1 == SUNMC_OK && s2 == SUNMC_OK) ? bef[a] - nb[a] : NAN;
@@ -202,7 +203,7 @@ static void curve_walk(curve_run *r, FILE *fo)
                 stats_add(s, 1, aft[a]);
                 stats_add(s, 2, src);
                 if (fo)
-                    fprintf(fo, "\t%.8g\t%.8g\t%.8g", bef[a], aft[a], src);
+                    tsv_printf(fo, "\t%.8g\t%.8g\t%.8g", bef[a], aft[a], src);
             }
             if (fo)
                 fputc('\n', fo);

@@ -4,6 +4,7 @@
 #include "design.h"
 #include "output.h"
 #include "status.h"
+#include "tsvnum.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -77,7 +78,7 @@ static void write_tsv(FILE *f, const design_result *d)
         const design_candidate *k = &d->cand[d->order[j]];
         char lab[3 * DESIGN_TEXT];
         label(k, lab, sizeof lab);
-        fprintf(f, "%d\t%s\t%s\t%s\t%d\t%d\t%ld\t%.6g\t%.6g\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
+        tsv_printf(f, "%d\t%s\t%s\t%s\t%d\t%d\t%ld\t%.6g\t%.6g\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
                    "%ld\t%ld\t%s\t%d\t%d\n",
                 j + 1, lab, k->step, k->lines[0] ? k->lines : "-", k->repeats, k->is_input,
                 k->points, k->hours, k->extrapolation_deg, k->units, k->yield, k->yield_ci.lo,

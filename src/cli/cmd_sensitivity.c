@@ -4,6 +4,7 @@
 #include "report.h"
 #include "sensitivity.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "suggest.h"
 
 #include <math.h>
@@ -127,7 +128,7 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
         for (int i = 0; i < s->n; i++) {
             const sens_source *src = &s->src[order[i]];
             const stats_sobol_index *x = w ? &src->after : &src->before;
-            fprintf(f, "%s\t%s\t%s\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%s\t"
+            tsv_printf(f, "%s\t%s\t%s\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%s\t%s\t"
                        "%s\t%ld\t%ld\t%ld\t%ld\t%g\t%d\n",
                     w ? "after" : "before", src->name, kind_names[src->kind], src->keys, x->s1,
                     x->s1_lo, x->s1_hi, x->st, x->st_lo, x->st_hi,

@@ -3,6 +3,7 @@
 #include "registry.h"
 #include "report.h"
 #include "status.h"
+#include "tsvnum.h"
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
@@ -425,7 +426,7 @@ int calreport_write_bands(FILE *f, const calreport *r)
                "cal_sigma_rms_arcsec\tcal_sigma_max_arcsec\tpredicted_rms_arcsec\n");
     for (int a = 0; a < r->n_angles; a++)
         for (int b = 0; b < r->bands.n; b++)
-            fprintf(f, "%s\t%g\t%g\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\n", r->angle_name[a],
+            tsv_printf(f, "%s\t%g\t%g\t%ld\t%.6g\t%.6g\t%.6g\t%.6g\n", r->angle_name[a],
                     r->bands.lo[b], r->bands.hi[b], r->band_n[a][b], r->resid_rms[a][b],
                     r->cal_sigma_rms[a][b], r->cal_sigma_max[a][b], r->predicted_rms[a][b]);
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
@@ -441,7 +442,7 @@ int calreport_write_folds(FILE *f, const calreport *r)
         for (char *s = label; *s; s++)
             if (*s == ' ' || *s == '\t')
                 *s = '_';
-        fprintf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
+        tsv_printf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
                 fo->rms_in_arcsec, fo->rms_out_arcsec, fo->cond);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
@@ -453,7 +454,7 @@ int calreport_write_models(FILE *f, const calreport_models *m)
                "rms_out_arcsec\tused\trecommended\n");
     for (int k = 0; k < m->n; k++) {
         const calreport_model *x = &m->m[k];
-        fprintf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\n", x->name, x->np, x->ok,
+        tsv_printf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\n", x->name, x->np, x->ok,
                 x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec, k == m->used,
                 k == m->best);
     }

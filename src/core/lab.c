@@ -3,6 +3,7 @@
  * compensated CSV (lab.h). */
 #include "lab.h"
 #include "csv.h"
+#include "tsvnum.h"
 #include "output.h"
 #include "status.h"
 #include "units.h"
@@ -289,6 +290,52 @@ static int comp_values(const csv_table *t, const int *cols, int n_raw, double **
     return st;
 }
 
+const char *const lab_reading_text[LAB_N_READING] = {
+    [LAB_READING_OK] = "compensated",
+    [LAB_NO_SIGNAL] = "no signal (no spot, or channels at or below the dark level)",
+    [LAB_NEGATIVE_SUM] = "negative sum (the dark-corrected channels add up below 0)",
+    [LAB_OUTSIDE_DETECTOR] = "outside the detector",
+    [LAB_OUTSIDE_RANGE] = "outside the output's range",
+    [LAB_NO_INVERSE] = "no inverse (the model cannot be inverted there)"};
+
+void lab_comp_summary(const lab_comp_stats *s, char *buf, size_t len)
+{
+    size_t k = (size_t)snprintf(buf, len, "%ld row%s not compensated", s->failed,
+                                s->failed == 1 ? "" : "s");
+    const char *sep = ": ";
+    for (int c = LAB_READING_OK + 1; c < LAB_N_READING && k < len; c++)
+        if (s->by_cause[c]) {
+            k += (size_t)snprintf(buf + k, len - k, "%s%ld %s", sep, s->by_cause[c],
+                                  lab_reading_text[c]);
+            sep = ", ";
+        }
+}
+
+/* One reading: LAB_READING_OK and its angles in comp, or why not. */
+static int comp_one(const family_lab *lab, const void *model, const double *raw, double *comp,
+                    int n_comp)
+{
+    int why = lab->reading_check ? lab->reading_check(model, raw) : LAB_READING_OK;
+    if (why < LAB_READING_OK || why >= LAB_N_READING)
+        why = LAB_NO_INVERSE;
+    if (why != LAB_READING_OK)
+        return why;
+    if (lab->compensate(model, raw, comp) != SUNMC_OK)
+        return LAB_NO_INVERSE;
+    for (int k = 0; k < n_comp; k++)
+        if (!isfinite(comp[k]))
+            return LAB_NO_INVERSE;
+    return LAB_READING_OK;
+}
+
+/* ",v" in degrees ("-": tsvnum.h) */
+static void comp_put(FILE *out, const char *sep, double rad)
+{
+    char num[64];
+    tsv_num_fmt(num, sizeof num, "%.15g", rad * DEG_PER_RAD);
+    fprintf(out, "%s%s", sep, num);
+}
+
 static void comp_rows(const family_lab *lab, const void *model, const csv_table *t,
                       double *const *v, int n_raw, int n_opt, FILE *out, lab_comp_stats *s)
 {
@@ -310,18 +357,17 @@ static void comp_rows(const family_lab *lab, const void *model, const csv_table 
             raw[k] = k < n_raw + n_opt ? v[k][i] : NAN;
         for (int k = 0; k < LAB_MAX_COLUMNS; k++)
             comp[k] = NAN;
-        int ok = lab->compensate(model, raw, comp) == SUNMC_OK;
-        for (int k = 0; k < n_comp; k++) {
-            if (ok)
-                fprintf(out, "%s%.15g", k ? "," : "", comp[k] * DEG_PER_RAD);
-            else
-                fprintf(out, "%snan", k ? "," : "");
-        }
+        int why = comp_one(lab, model, raw, comp, n_comp);
+        for (int k = 0; k < n_comp; k++)
+            comp_put(out, k ? "," : "", why == LAB_READING_OK ? comp[k] : NAN);
         for (int k = n_comp; k < n_comp + n_opt_comp; k++)
-            fprintf(out, ",%.15g", comp[k] * DEG_PER_RAD);
+            comp_put(out, ",", comp[k]);
         fprintf(out, "\n");
-        if (!ok && !s->failed++)
-            s->first_failed_line = t->line[i];
+        if (why != LAB_READING_OK) {
+            s->by_cause[why]++;
+            if (!s->failed++)
+                s->first_failed_line = t->line[i];
+        }
     }
 }
 
@@ -333,6 +379,8 @@ int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw
     int st = csv_read(raw_path, &t, err, errlen);
     int cols[LAB_MAX_COLUMNS], n_raw = 0, n_opt = 0;
     double *v[LAB_MAX_COLUMNS] = {NULL};
+    if (st == SUNMC_OK && t->n_rows == 0)
+        st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: no data rows", raw_path);
     if (st == SUNMC_OK)
         st = comp_columns(lab, t, raw_path, cols, &n_raw, &n_opt, err, errlen);
     if (st == SUNMC_OK)

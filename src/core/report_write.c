@@ -3,6 +3,7 @@
 #include "thermal.h"
 #include "verdict.h"
 #include "status.h"
+#include "tsvnum.h"
 
 #include <math.h>
 #include <string.h>
@@ -45,10 +46,27 @@ void report_write_summary_header_of(FILE *f, const sunmc_config *c, int n_lead,
 /* summary.tsv's condition column. */
 static const char *const condition_key[] = {"lab", "operating", "worst"};
 
+/* n numbers with fmt, each followed by a tab (tsvnum.h: "-" for NaN, no
+ * "-0"). */
+static void write_nums(FILE *f, const char *fmt, int n, const double *v)
+{
+    for (int i = 0; i < n; i++) {
+        tsv_num_put(f, fmt, v[i]);
+        fputc('\t', f);
+    }
+}
+
+/* "\t" then v with fmt. */
+static void put_field(FILE *f, const char *fmt, double v)
+{
+    fputc('\t', f);
+    tsv_num_put(f, fmt, v);
+}
+
 /* "S\tS_ci_lo\tS_ci_hi\t" */
 static void write_estimate(FILE *f, double v, stats_interval ci)
 {
-    fprintf(f, "%.6g\t%.6g\t%.6g\t", v, ci.lo, ci.hi);
+    write_nums(f, "%.6g", 3, (double[]){v, ci.lo, ci.hi});
 }
 
 void report_write_summary_rows(FILE *f, const sunmc_config *c,
@@ -64,27 +82,32 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c,
         report_band_label(c, r->band, band, sizeof band);
         for (int j = 0; j < n_lead; j++)
             fprintf(f, "%s\t", lead_values[j]);
-        fprintf(f, "%s\t%s\t%s\t%s\t%g\t%g\t%ld\t%s\t", c->product, fam->name,
-                fam->angle_names[r->angle], band, c->bands_deg.lo[r->band],
-                c->bands_deg.hi[r->band], r->units, fam->rms_unit);
+        fprintf(f, "%s\t%s\t%s\t%s\t", c->product, fam->name, fam->angle_names[r->angle],
+                band);
+        write_nums(f, "%g", 2, (double[]){c->bands_deg.lo[r->band], c->bands_deg.hi[r->band]});
+        fprintf(f, "%ld\t%s\t", r->units, fam->rms_unit);
         write_estimate(f, r->rms_before_mean, r->rms_before_mean_ci);
         write_estimate(f, r->rms_after_mean, r->rms_after_mean_ci);
         write_estimate(f, r->rms_after_sys_mean, r->rms_after_sys_mean_ci);
-        fprintf(f, "%.6g\t%.6g\t", r->rms_after_max, r->rms_after_min);
+        write_nums(f, "%.6g", 2, (double[]){r->rms_after_max, r->rms_after_min});
         write_estimate(f, r->rms_after_p95, r->rms_after_p95_ci);
         write_estimate(f, r->improvement_mean, r->improvement_mean_ci);
-        fprintf(f, "%.6g\t%.6g\t", r->improvement_max, r->improvement_min);
+        write_nums(f, "%.6g", 2, (double[]){r->improvement_max, r->improvement_min});
         write_estimate(f, r->yield, r->yield_ci);
-        fprintf(f, "%g\t%g\t%ld\t%ld\t%ld\t%ld\t%s\t%ld\t%.6g\t%.6g\t%ld\t", c->spec_arcsec,
-                r->confidence, r->stat_units, r->fit_failures, r->gross_errors, r->alias_units,
-                model, r->campaign_points, r->campaign_hours, r->extrapolation_deg,
-                r->no_reading_units);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t", r->worse, r->worse_ci.lo, r->worse_ci.hi,
-                yield_interval_key[c->yield_interval]);
-        fprintf(f, "%.6g\t%.6g\t%.6g\t%s\t%s\t%g", r->spec_yield, r->spec_yield_ci.lo,
-                r->spec_yield_ci.hi, verdict_statistic_name(c), c->spec_bands, c->min_coverage);
-        if (thermal_n_temps(c) > 0)
-            fprintf(f, "\t%s\t%g", condition_key[r->condition], r->temp_c);
+        write_nums(f, "%g", 2, (double[]){c->spec_arcsec, r->confidence});
+        fprintf(f, "%ld\t%ld\t%ld\t%ld\t%s\t%ld\t", r->stat_units, r->fit_failures,
+                r->gross_errors, r->alias_units, model, r->campaign_points);
+        write_nums(f, "%.6g", 2, (double[]){r->campaign_hours, r->extrapolation_deg});
+        fprintf(f, "%ld\t", r->no_reading_units);
+        write_nums(f, "%.6g", 3, (double[]){r->worse, r->worse_ci.lo, r->worse_ci.hi});
+        fprintf(f, "%s\t", yield_interval_key[c->yield_interval]);
+        write_nums(f, "%.6g", 3, (double[]){r->spec_yield, r->spec_yield_ci.lo, r->spec_yield_ci.hi});
+        fprintf(f, "%s\t%s\t", verdict_statistic_name(c), c->spec_bands);
+        tsv_num_put(f, "%g", c->min_coverage);
+        if (thermal_n_temps(c) > 0) {
+            fprintf(f, "\t%s", condition_key[r->condition]);
+            put_field(f, "%g", r->temp_c);
+        }
         fputc('\n', f);
     }
 }
@@ -137,8 +160,9 @@ static void write_verdict(FILE *f, const sunmc_config *c, const unit_result *r)
     char band[32] = "-";
     if (v.band >= 0)
         report_band_label(c, v.band, band, sizeof band);
-    fprintf(f, "\t%d\t%s\t%s\t%.6g\t%.4g", v.pass, verdict_why_name(v.why), band, v.stat,
-            v.coverage);
+    fprintf(f, "\t%d\t%s\t%s", v.pass, verdict_why_name(v.why), band);
+    put_field(f, "%.6g", v.stat);
+    put_field(f, "%.4g", v.coverage);
 }
 
 void report_write_unit_rows(FILE *f, const sunmc_config *c,
@@ -155,19 +179,19 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c,
                 r->fit_status == UNIT_FIT_OK ? "ok" : "failed", r->fit_gsl_status,
                 r->fit_iterations, r->alias_weak, r->gross_cal, r->gross_val);
         for (int i = 0; i < nd; i++)
-            fprintf(f, "\t%.10g", r->dev[i]);
+            put_field(f, "%.10g", r->dev[i]);
         for (int i = 0; i < np; i++)
-            fprintf(f, "\t%.10g", r->par[i]);
-        fprintf(f, "\t%.6g", r->fit_rms);
+            put_field(f, "%.10g", r->par[i]);
+        put_field(f, "%.6g", r->fit_rms);
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
-                fprintf(f, "\t%.6g", r->rms_before[a][b]);
+                put_field(f, "%.6g", r->rms_before[a][b]);
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
-                fprintf(f, "\t%.6g", r->rms_after[a][b]);
+                put_field(f, "%.6g", r->rms_after[a][b]);
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
-                fprintf(f, "\t%.6g", r->rms_after_sys[a][b]);
+                put_field(f, "%.6g", r->rms_after_sys[a][b]);
         int nt = thermal_n_temps(c);
         for (int t = 0; t <= nt && nt > 0; t++)
             for (int w = 0; w < 2; w++) {
@@ -175,7 +199,7 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c,
                     w == 0 ? r->rms_before_t : r->rms_after_t;
                 for (int a = 0; a < na; a++)
                     for (int b = 0; b < nb; b++)
-                        fprintf(f, "\t%.6g", t < nt ? v[t][a][b] : thermal_worst(v, nt, a, b));
+                        put_field(f, "%.6g", t < nt ? v[t][a][b] : thermal_worst(v, nt, a, b));
             }
         write_verdict(f, c, r);
         fputc('\n', f);

@@ -309,14 +309,26 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
     return dss_params_load(p, model, err, errlen);
 }
 
-static int compensate(const void *model, const double *raw, double *comp_rad)
+/* Optional: the campaign's weight column; weight 0 marks a row without a
+ * spot (the DSS's "no spot" reading). */
+static const char *const opt_columns[] = {"weight", NULL};
+
+/* A spot beyond the detector, or a row that says it saw none, is no
+ * reading this sensor can produce: marked, never turned into a plausible
+ * angle (family_lab.reading_check). */
+static int reading_check(const void *model, const double *raw)
 {
-    /* A spot beyond the detector is no reading this sensor can produce:
-     * marked, never turned into a plausible angle. */
     const dss_calibration *cal = model;
+    if (isfinite(raw[2]) && raw[2] == 0)
+        return LAB_NO_SIGNAL;
     double half = cal->kind == DSS_MODEL_PHYSICAL ? cal->phys.half_px : 0;
     if (half > 0 && !(fabs(raw[0]) <= half && fabs(raw[1]) <= half))
-        return SUNMC_EDOM;
+        return LAB_OUTSIDE_DETECTOR;
+    return LAB_READING_OK;
+}
+
+static int compensate(const void *model, const double *raw, double *comp_rad)
+{
     return dss_compensate(model, raw[0], raw[1], &comp_rad[0], &comp_rad[1]);
 }
 
@@ -366,6 +378,8 @@ const family_lab dss_lab = {
     .comp_columns = comp_columns,
     .comp_help = comp_help,
     .comp_fail_note = NULL,
+    .opt_columns = opt_columns,
+    .reading_check = reading_check,
     .model_size = sizeof(dss_calibration),
     .params_load = params_load,
     .compensate = compensate,

@@ -7,6 +7,7 @@
 #include "family.h"
 #include "lab.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "units.h"
 
 #include <math.h>
@@ -450,7 +451,7 @@ int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int
         dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
         if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
             a = b = NAN;
-        fprintf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
+        tsv_printf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
                 line ? line[i] : (int)i + 1, cw->b1_rad[i] * DEG_PER_RAD,
                 cw->b2_rad[i] * DEG_PER_RAD, cw->x_px[i], cw->y_px[i], cw->weight[i],
                 a * DEG_PER_RAD, b * DEG_PER_RAD, (a - a0) * ARCSEC_PER_RAD,

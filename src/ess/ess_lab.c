@@ -323,10 +323,13 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
  * saw.  Such readings are marked, never turned into a plausible angle. */
 #define ESS_OUTPUT_LIMIT_DEG 90.0
 
+static int reading_check(const void *model, const double *raw)
+{
+    return fabs(raw[0]) < ESS_OUTPUT_LIMIT_DEG ? LAB_READING_OK : LAB_OUTSIDE_RANGE;
+}
+
 static int compensate(const void *model, const double *raw, double *comp_rad)
 {
-    if (!(fabs(raw[0]) < ESS_OUTPUT_LIMIT_DEG))
-        return SUNMC_EDOM;
     int st = ess_model_compensate(model, raw[0] * RAD_PER_DEG, &comp_rad[0]);
     if (st == SUNMC_OK && !(fabs(comp_rad[0]) < ESS_OUTPUT_LIMIT_DEG * RAD_PER_DEG))
         return SUNMC_EDOM;
@@ -390,6 +393,7 @@ const family_lab ess_lab = {
     .comp_columns = comp_columns,
     .comp_help = comp_help,
     .comp_fail_note = "the model is not invertible there",
+    .reading_check = reading_check,
     .model_size = sizeof(ess_model),
     .params_load = params_load,
     .compensate = compensate,

@@ -7,6 +7,7 @@
 #include "family.h"
 #include "lab.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "units.h"
 
 #include <gsl/gsl_errno.h>
@@ -447,7 +448,7 @@ int ess_labfit_write_residuals(FILE *f, const ess_calib_workspace *cw, const int
         double e;
         if (ess_angle_error(m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e) != SUNMC_OK)
             e = NAN;
-        fprintf(f, "%d\t%.10g\t%.10g\t%.12g\t%g\t%.6g\t%.6g\n", line ? line[i] : (int)i + 1,
+        tsv_printf(f, "%d\t%.10g\t%.10g\t%.12g\t%g\t%.6g\t%.6g\n", line ? line[i] : (int)i + 1,
                 cw->alpha_rad[i] * DEG_PER_RAD, cw->beta_rad[i] * DEG_PER_RAD,
                 cw->raw_rad[i] * DEG_PER_RAD, cw->weight[i], r * ARCSEC_PER_RAD,
                 e * ARCSEC_PER_RAD);
@@ -462,7 +463,7 @@ int ess_labfit_write_field(FILE *f, const ess_labfit_result *res, double alpha_m
     long na = grid_count(alpha_min_deg, alpha_max_deg, ESS_FIELD_STEP_DEG, 0);
     for (long j = 0; j < na; j++) {
         double a = alpha_min_deg + (double)j * ESS_FIELD_STEP_DEG;
-        fprintf(f, "%.6g\t%.6g\n", a,
+        tsv_printf(f, "%.6g\t%.6g\n", a,
                 ess_labfit_sigma(&res->m, res->cov, a * RAD_PER_DEG) * ARCSEC_PER_RAD);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;

@@ -19,12 +19,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* units.tsv's fitted-parameter columns: fit_ and the parameter's name
+ * (docs/outputs.md), apart from the deviation columns of the same names. */
 static const char *const ess_par_names[ESS_N_PAR] = {
-    "a", "b", "c", "k_deg", "t_rad", "fit_install_y_arcsec", "fit_install_z_arcsec",
-    "fit_sun_y_arcsec"};
-/* The units.tsv columns of the extended model's own parameters: the names
- * of ess_param_names from ESS_NP on, in degrees. */
+    "fit_a", "fit_b", "fit_c", "fit_k_deg", "fit_t_rad", "fit_install_y_arcsec",
+    "fit_install_z_arcsec", "fit_sun_y_arcsec"};
+/* The units.tsv columns of the extended model's own parameters: fit_ and
+ * the names of ess_param_names from ESS_NP on, in degrees. */
 #define ESS_N_PAR_EXT (ESS_N_PAR + ESS_NP_EXT - ESS_NP)
+static const char *const ess_par_names_ext[ESS_NP_EXT - ESS_NP] = {
+    "fit_ks_cos4_deg", "fit_kc_cos4_deg", "fit_ks_cos8_deg", "fit_kc_cos8_deg", "fit_k1s_deg",
+    "fit_k1c_deg",     "fit_k2s_deg",     "fit_k2c_deg",     "fit_k2s_cos2_deg", "fit_k2c_cos2_deg"};
 static const char *const ess_angle_names[] = {"alpha"};
 
 void ess_unit_build(const sunmc_config *c, const ess_deviations *dev, ess_unit *u)
@@ -231,7 +236,7 @@ static int ess_par_columns(const sunmc_config *c, const char **names, int max)
 {
     int n = ess_cfg(c)->cal_model == ESS_MODEL_EXTENDED ? ESS_N_PAR_EXT : ESS_N_PAR;
     for (int i = 0; i < n && i < max; i++)
-        names[i] = i < ESS_N_PAR ? ess_par_names[i] : ess_param_names[ESS_NP + i - ESS_N_PAR];
+        names[i] = i < ESS_N_PAR ? ess_par_names[i] : ess_par_names_ext[i - ESS_N_PAR];
     return n;
 }
 

@@ -3,6 +3,7 @@
  * (psd_labfit.c, psd_labreport.c), compensate raw readings. */
 #include "psd_lab.h"
 #include "status.h"
+#include "tsvnum.h"
 #include "units.h"
 
 #include <math.h>
@@ -88,8 +89,11 @@ static int sim_write(const void *p, const sunmc_config *c, const lab_unit_ref *r
     double v[UNIT_MAX_DEV];
     int n = psd_family.dev_columns(c, names, UNIT_MAX_DEV);
     deviations_values(psd_family.deviations, psd_family.n_deviations, &s->dev, v, UNIT_MAX_DEV);
-    for (int k = 0; k < n; k++)
-        fprintf(f[1], "%s,%.10g\n", names[k], v[k]);
+    for (int k = 0; k < n; k++) {
+        char num[64];
+        tsv_num_fmt(num, sizeof num, "%.10g", v[k]);
+        fprintf(f[1], "%s,%s\n", names[k], num);
+    }
     /* the truth of a row follows from its table angles (compensate adds it) */
     fprintf(f[2], "# the readings the Monte Carlo validates on; `sunmc compensate` adds the "
                   "truth of campaign.table_order = %s\n",
@@ -265,7 +269,7 @@ static int write_residuals(const void *p, FILE *f)
         double ta, tb;
         const double *e = k->err + 3 * i;
         sun_angles_of(k->ut + 3 * i, &ta, &tb);
-        fprintf(f, "%d\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\t%.6g\n", k->d->line[i],
+        tsv_printf(f, "%d\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\t%.6g\n", k->d->line[i],
                 k->d->v[0][i], k->d->v[1][i], k->w[i], ta * DEG_PER_RAD, tb * DEG_PER_RAD,
                 e[0] * ARCSEC_PER_RAD, e[1] * ARCSEC_PER_RAD, e[2] * ARCSEC_PER_RAD);
     }
@@ -328,24 +332,50 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
     return st;
 }
 
+/* Every key of [polynomial] is order, form, scale or a coefficient of a
+ * term of q (its order and form): a coefficient beyond them, or any other
+ * key, is refused at its line, never dropped. */
+static int poly_keys_known(const params_file *p, const psd_poly *q, char *err, size_t errlen)
+{
+    static const char *const fixed[] = {"order", "form", "scale"};
+    const char *names[3 + 2 * PSD_POLY_MAX_TERMS];
+    char buf[2 * PSD_POLY_MAX_TERMS][32];
+    int n = 0;
+    for (; n < 3; n++)
+        names[n] = fixed[n];
+    for (int t = 0; t < q->nt; t++)
+        for (int ab = 0; ab < 2; ab++) {
+            char *b = buf[2 * t + ab];
+            snprintf(b, sizeof buf[0], "tan%c_x%dy%d", ab ? 'b' : 'a', q->ex[t], q->ey[t]);
+            names[n++] = b;
+        }
+    int st = params_check_keys(p, "polynomial", names, n, err, errlen);
+    if (st != SUNMC_OK && strstr(err, "_x") && strstr(err, "unknown key polynomial.tan"))
+        snprintf(err + strlen(err), errlen - strlen(err),
+                 ": not a term of order %d (%s): a coefficient beyond the order", q->order,
+                 q->form == PSD_POLY_FSS20 ? "fss20" : "full");
+    return st;
+}
+
 static int load_poly(const params_file *p, psd_cal *k, char *err, size_t errlen)
 {
     static const char *const forms[] = {"full", "fss20"};
-    double order;
-    int form = 0;
+    int order = 0, form = 0;
     const params_range r[] = {{"polynomial", "order", 1, PSD_POLY_MAX_ORDER, "", NULL},
                               {"polynomial", "scale", 1e-300, 1e300, "", NULL}};
     int st = params_check_ranges(p, r, 2, err, errlen);
     if (st == SUNMC_OK)
-        st = params_get_double(p, "polynomial", "order", &order, err, errlen);
+        st = params_get_int(p, "polynomial", "order", &order, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "polynomial", "form", forms, 2, &form, err, errlen);
     if (st == SUNMC_OK && form == PSD_POLY_FSS20 && order != 5)
         st = params_require(p, "polynomial", "form", 0, "full unless the order is 5", err, errlen);
     if (st != SUNMC_OK)
         return st;
-    psd_poly_init(&k->poly, (int)order, form);
-    st = params_get_double(p, "polynomial", "scale", &k->poly.scale, err, errlen);
+    psd_poly_init(&k->poly, order, form);
+    st = poly_keys_known(p, &k->poly, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_double(p, "polynomial", "scale", &k->poly.scale, err, errlen);
     for (int t = 0; t < k->poly.nt && st == SUNMC_OK; t++) {
         char ka[32], kb[32];
         snprintf(ka, sizeof ka, "tana_x%dy%d", k->poly.ex[t], k->poly.ey[t]);
@@ -370,6 +400,7 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
         return load_poly(p, &m->cal, err, errlen);
     }
     m->cal.model = PSD_MODEL_PHYSICAL;
+    st = params_check_keys(p, "parameters", psd_param_names, PSD_NP, err, errlen);
     for (int j = 0; j < PSD_NP && st == SUNMC_OK; j++) {
         st = params_get_double(p, "parameters", psd_param_names[j], &m->cal.p[j], err, errlen);
         m->cal.p[j] /= psd_param_scale[j];
@@ -380,6 +411,40 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
     if (st == SUNMC_OK)
         psd_phys_set(&m->cal.phys, &m->cfg.design, m->cal.p);
     return st;
+}
+
+/* The polynomial's terms are fitted on ratios up to poly.scale (the
+ * campaign's largest): a ratio this fraction beyond is an extrapolation
+ * the calibration cannot stand behind (a spot off the calibrated field). */
+#define PSD_POLY_RANGE_MARGIN 0.1
+
+/* Can the calibrated sensor produce channels raw[0..3]
+ * (family_lab.reading_check)?  An ADC reads no negative value; a spot
+ * gives every model a signal: above the fitted darks (physical model; the
+ * polynomial's raw channels have none), with a positive sum; the
+ * polynomial's ratios stay within what its campaign saw. */
+static int reading_check(const void *model, const double *raw)
+{
+    const psd_model_file *m = model;
+    int phys = m->cal.model == PSD_MODEL_PHYSICAL, any = 0;
+    double sum = 0;
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        if (!(raw[k] >= 0))
+            return LAB_OUTSIDE_RANGE;
+    for (int k = 0; k < PSD_CHANNELS; k++) {
+        double s = phys ? (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
+        any |= s > 0;
+        sum += s;
+    }
+    if (!any)
+        return LAB_NO_SIGNAL;
+    if (!(sum > 0))
+        return LAB_NEGATIVE_SUM;
+    double x, y;
+    if (!phys && psd_poly_ratios(&m->cfg.design, raw, &x, &y) == SUNMC_OK &&
+        fmax(fabs(x), fabs(y)) > m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN))
+        return LAB_OUTSIDE_RANGE;
+    return LAB_READING_OK;
 }
 
 /* raw: i1..i4 and, when given, the table's alpha_deg, beta_deg (NaN when
@@ -420,6 +485,7 @@ const family_lab psd_lab = {
     .comp_help = comp_help,
     .opt_columns = table_columns,
     .opt_comp_columns = truth_columns,
+    .reading_check = reading_check,
     .comp_fail_note = "a saturated spot (beyond the linear field) or a reading the model cannot "
                       "invert",
     .model_size = sizeof(psd_model_file),

@@ -16,6 +16,12 @@
 enum { ANGLE_ALPHA = 0, ANGLE_BETA, ANGLE_TOTAL, PSD_N_ANGLES };
 static const char *const psd_angle_names[PSD_N_ANGLES] = {"alpha", "beta", "total"};
 static const char *const psd_poly_par[] = {"poly_terms"};
+/* units.tsv's fitted-parameter columns: fit_ and psd_param_names
+ * (docs/outputs.md), apart from the deviation columns of the same names. */
+static const char *const psd_par_col[PSD_NP] = {
+    "fit_dx_um",     "fit_dy_um",     "fit_dh_um",     "fit_tilt_x_arcsec", "fit_tilt_y_arcsec",
+    "fit_rot_z_arcsec", "fit_gain2_rel", "fit_gain3_rel", "fit_gain4_rel", "fit_dark1_raw",
+    "fit_dark2_raw", "fit_dark3_raw", "fit_dark4_raw"};
 
 PSD_DEVIATIONS(DEVIATION_X_COLUMNS)
 static const deviation_spec psd_deviation_list[] = {
@@ -516,7 +522,7 @@ static int psd_par_columns(const sunmc_config *c, const char **names, int max)
 {
     int phys = psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL, n = phys ? PSD_NP : 1;
     for (int i = 0; i < n && i < max; i++)
-        names[i] = phys ? psd_param_names[i] : psd_poly_par[i];
+        names[i] = phys ? psd_par_col[i] : psd_poly_par[i];
     return n;
 }
 

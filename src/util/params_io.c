@@ -4,6 +4,7 @@
 #include "status.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -179,6 +180,22 @@ int params_get_double(const params_file *p, const char *section, const char *key
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not finite",
                           p->path, e->line, section, key, s);
     *out = v;
+    return SUNMC_OK;
+}
+
+int params_get_int(const params_file *p, const char *section, const char *key, int *out,
+                   char *err, size_t errlen)
+{
+    double v;
+    int st = params_get_double(p, section, key, &v, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    if (!(v == floor(v) && fabs(v) <= INT_MAX)) {
+        const params_entry *e = params_find(p, section, key);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not a whole number",
+                          p->path, e->line, section, key, e->value);
+    }
+    *out = (int)v;
     return SUNMC_OK;
 }
 

@@ -56,20 +56,22 @@ static csvt *csv_load(const char *path)
         if (buf[0] == '#' || buf[0] == '\0')
             continue;
         int n = 0;
-        char *save = NULL;
+        char *save = NULL, raw[4096];
+        snprintf(raw, sizeof raw, "%s", buf);
         for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
             assert_true(n < CSV_MAX_COLS);
             if (header)
                 snprintf(t->names[n], sizeof t->names[n], "%s", tok);
             else
-                t->v[t->nr][n] = strtod(tok, NULL);
+                t->v[t->nr][n] = strcmp(tok, "-") == 0 ? NAN : strtod(tok, NULL);
             n++;
         }
         if (header) {
             t->nc = n;
             header = 0;
         } else {
-            assert_int_equal(n, t->nc);
+            if (n != t->nc)
+                fail_msg("%s:%d: %d fields, header %d: %s", path, ln, n, t->nc, raw);
             t->line[t->nr++] = ln;
             assert_true(t->nr < CSV_MAX_ROWS);
         }
@@ -181,8 +183,10 @@ static void calrun_load(calrun *r, const char *cfg, int unit, const char *cal_se
              "--out %s", test_sunmc(), cfg, cal_sets, r->sim, r->cal);
     run_ok(cmd, out, len);
     report_numbers(out, &r->used, &r->dof, &r->sigma);
-    snprintf(cmd, sizeof cmd, "%s compensate %s/params.ini %s/campaign.csv > %s", test_sunmc(),
-             r->cal, r->sim, comp);
+    /* stderr apart: it counts the rows not compensated (a DSS campaign's
+     * no-spot rows) */
+    snprintf(cmd, sizeof cmd, "(%s compensate %s/params.ini %s/campaign.csv 2> %s.err > %s)",
+             test_sunmc(), r->cal, r->sim, comp, comp);
     run_ok(cmd, cout, sizeof cout);
     snprintf(cmd, sizeof cmd, "%s/campaign.csv", r->sim);
     r->camp = csv_load(cmd);
@@ -404,6 +408,10 @@ static void dss_files(void **state)
         expect_close(tsv_num(res, i, "y_px"), camp->v[i][cy], 1e-9, "y_px", i);
         assert_near(tsv_num(res, i, "weight"), w, 0);
         double a = comp->v[i][ka], b = comp->v[i][kb];
+        if (w == 0) { /* a "no spot" row: no angle (compensate's '-') */
+            assert_true(isnan(a) && isnan(b));
+            continue;
+        }
         expect_close(tsv_num(res, i, "alpha_deg"), a, 1e-9, "alpha_deg", i);
         expect_close(tsv_num(res, i, "beta_deg"), b, 1e-9, "beta_deg", i);
         /* the sun in the mount's frame, the simulator as fitted:
@@ -537,7 +545,7 @@ static void expect_deviations(const char *units_path, const char *truth_path)
     assert_int_equal(u->nr, 1);
     int first = tsv_col(u, "gross_val") + 1, last = -1;
     for (int j = first; j < u->nc; j++)
-        if (strncmp(u->names[j], "fit_", 4) == 0 || strcmp(u->names[j], "a") == 0) {
+        if (strncmp(u->names[j], "fit_", 4) == 0) {
             last = j;
             break;
         }

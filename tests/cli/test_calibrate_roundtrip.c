@@ -116,10 +116,10 @@ static void test_cli_simulate_calibrate_compensate_reproduces_run(void **state)
     char units[600], params[600];
     snprintf(units, sizeof units, "%s/run/units.tsv", dir);
     snprintf(params, sizeof params, "%s/u3cal/params.ini", dir);
-    const char *same[][2] = {{"a", "a"},
-                             {"b", "b"},
-                             {"c", "c"},
-                             {"k_deg", "k_deg"},
+    const char *same[][2] = {{"fit_a", "a"},
+                             {"fit_b", "b"},
+                             {"fit_c", "c"},
+                             {"fit_k_deg", "k_deg"},
                              {"fit_install_y_arcsec", "fit_install_y_arcsec"},
                              {"fit_install_z_arcsec", "fit_install_z_arcsec"},
                              {"fit_sun_y_arcsec", "fit_sun_y_arcsec"}};

@@ -49,27 +49,27 @@ static void test_compensate_marks_impossible(void **state)
     snprintf(p, sizeof p, "%s/re.csv", dir);
     assert_int_equal(test_write_file(p, "output_deg\n10\n95\n180\n-95\n89.99\n-60\n"), 0);
     char *out = slurp("compensate $D/ce/params.ini $D/re.csv");
-    const char *bad[] = {"\n95,nan\n", "\n180,nan\n", "\n-95,nan\n"};
+    const char *bad[] = {"\n95,-\n", "\n180,-\n", "\n-95,-\n"};
     for (int i = 0; i < 3; i++)
         if (!strstr(out, bad[i]))
             fail_msg("'%s' not marked: %s", bad[i] + 1, out);
     if (!strstr(out, "\n10,9.9") || !strstr(out, "\n-60,-60.0"))
         fail_msg("readings in range changed: %s", out);
-    if (!strstr(out, "readings could not be compensated (nan)") ||
-        !strstr(out, "beyond what the calibrated sensor can produce"))
+    if (!strstr(out, "3 rows not compensated: 3 outside the output's range") ||
+        !strstr(out, "readings the calibrated sensor cannot produce"))
         fail_msg("%s", out);
     snprintf(p, sizeof p, "%s/rd.csv", dir);
     assert_int_equal(test_write_file(p, "x_px,y_px\n10,10\n5000,0\n0,-5000\n1023.9,0\n1024.1,0\n"
                                         "-1000,0\n"),
                      0);
     out = slurp("compensate $D/cd/params.ini $D/rd.csv");
-    const char *dbad[] = {"\n5000,0,nan,nan\n", "\n0,-5000,nan,nan\n", "\n1024.1,0,nan,nan\n"};
+    const char *dbad[] = {"\n5000,0,-,-\n", "\n0,-5000,-,-\n", "\n1024.1,0,-,-\n"};
     for (int i = 0; i < 3; i++)
         if (!strstr(out, dbad[i]))
             fail_msg("'%s' not marked: %s", dbad[i] + 1, out);
-    assert_null(strstr(out, "\n1023.9,0,nan"));
-    assert_null(strstr(out, "\n-1000,0,nan"));
-    assert_non_null(strstr(out, "3 readings could not be compensated"));
+    assert_null(strstr(out, "\n1023.9,0,-,"));
+    assert_null(strstr(out, "\n-1000,0,-,"));
+    assert_non_null(strstr(out, "3 rows not compensated: 3 outside the detector"));
     assert_true(test_file_has(test_tmp("labtrust/cd/params.ini"), "detector_px              = 2048"));
 }
 

@@ -1,7 +1,8 @@
 /* fuzz_params.c - libFuzzer harness: any bytes as a params.ini (params_read,
  * then the family's loader with its physical ranges), and a loaded
  * calibration applied as `sunmc compensate` applies it: the ESS to raw
- * outputs across +-90 deg, the DSS to spots across its detector.  A
+ * outputs across +-90 deg, the DSS to spots across its detector, the PSD
+ * to channels through its reading check.  A
  * calibration that loads must compensate without crashing; readings it
  * cannot invert are counted, not fatal. */
 #include "fuzz_util.h"
@@ -10,6 +11,8 @@
 #include "dss_calib.h"
 #include "ess_labfit.h"
 #include "ess_model.h"
+#include "lab.h"
+#include "psd_unit.h"
 #include "params_io.h"
 #include "status.h"
 #include "units.h"
@@ -42,6 +45,22 @@ static void compensate_dss(const params_file *pf)
         }
 }
 
+/* The PSD through its family_lab hooks, as compensate calls them: the
+ * reading check, then the inverse, over channels from below 0 to 1. */
+static void compensate_psd(const params_file *pf)
+{
+    char err[SUNMC_ERRLEN];
+    void *model = malloc(psd_lab.model_size);
+    if (model && psd_lab.params_load(pf, model, err, sizeof err) == SUNMC_OK)
+        for (int i = -1; i <= 4; i++)
+            for (int j = 0; j <= 4; j++) {
+                double raw[6] = {0.25 * i, 0.25 * j, 0.1, 0.05, NAN, NAN}, comp[4];
+                if (psd_lab.reading_check(model, raw) == LAB_READING_OK)
+                    psd_lab.compensate(model, raw, comp);
+            }
+    free(model);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     char path[64], err[SUNMC_ERRLEN];
@@ -56,6 +75,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             compensate_ess(pf);
         else if (strcmp(sensor, "dss") == 0)
             compensate_dss(pf);
+        else if (strcmp(sensor, "psd") == 0)
+            compensate_psd(pf);
     }
     free(pf);
     close(fd);

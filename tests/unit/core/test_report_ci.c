@@ -232,7 +232,9 @@ static void summary_columns(void **state)
             snprintf(hi, sizeof hi, "%s_ci_hi", stat[k]);
             assert_string_equal(h[i + 1], lo);
             assert_string_equal(h[i + 2], hi);
-            double wl = strtod(v[i + 1], NULL), wh = strtod(v[i + 2], NULL);
+            /* "-": a bound that could not be formed */
+            double wl = strcmp(v[i + 1], "-") == 0 ? NAN : strtod(v[i + 1], NULL);
+            double wh = strcmp(v[i + 2], "-") == 0 ? NAN : strtod(v[i + 2], NULL);
             if (isnan(ci[k].hi))
                 assert_true(isnan(wh));
             else

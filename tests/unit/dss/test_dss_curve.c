@@ -44,7 +44,17 @@ static long run_curve(const char *args, row *rows, long max)
             continue;
         assert_true(n < max);
         row *r = &rows[n++];
-        int k = sscanf(line, "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &r->a_deg,
+        /* "-" (a number curve could not form) read as nan */
+        char text[4096];
+        size_t o = 0;
+        for (const char *c = line; *c && o + 4 < sizeof text; c++)
+            if (*c == '-' && (c == line || c[-1] == '\t') && (c[1] == '\t' || c[1] == '\n')) {
+                memcpy(text + o, "nan", 3);
+                o += 3;
+            } else
+                text[o++] = *c;
+        text[o] = '\0';
+        int k = sscanf(text, "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &r->a_deg,
                        &r->b_deg, &r->v[0], &r->v[1], &r->v[2], &r->v[3], &r->v[4], &r->v[5],
                        &r->v[6], &r->v[7], &r->v[8]);
         assert_int_equal(k, 11);
