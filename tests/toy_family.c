@@ -1,6 +1,7 @@
 /* toy_family.c - the test-only toy family (toy_family.h): its keys, its
  * deviation list and its sensor_family hooks. */
 #include "toy_family.h"
+#include "verdict.h"
 #include "deviation.h"
 #include "rng.h"
 #include "status.h"
@@ -193,12 +194,19 @@ static int toy_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     band_acc before, after;
     band_acc_reset(&before);
     band_acc_reset(&after);
+    band_tail tail; /* the spec's order statistic (verdict.h) */
+    band_tail_reset(&tail, verdict_tail_keep(c));
+    long points[CONFIG_BANDS_MAX] = {0};
     for (long i = 0; i < toy_val_count(c); i++) {
-        double ai = toy_val_alpha_deg(c, i) * RAD_PER_DEG;
+        double ai = toy_val_alpha_deg(c, i) * RAD_PER_DEG, e = (yv[i] - p[0]) / p[1] - ai;
+        unsigned m = band_mask(&c->bands_deg, fabs(ai) * DEG_PER_RAD);
+        band_count_chunk(points, c->bands_deg.n, 1, &m);
         band_acc_add(&before, &c->bands_deg, fabs(ai) * DEG_PER_RAD, yv[i] - ai);
-        band_acc_add(&after, &c->bands_deg, fabs(ai) * DEG_PER_RAD, (yv[i] - p[0]) / p[1] - ai);
+        band_acc_add(&after, &c->bands_deg, fabs(ai) * DEG_PER_RAD, e);
+        band_tail_add_mask(&tail, c->bands_deg.n, m, e * e);
     }
     unit_result_set_rms(res, 0, &before, &after, &c->bands_deg, ARCSEC_PER_RAD);
+    unit_result_set_stat(res, c, 0, &after, &tail, points, ARCSEC_PER_RAD);
     return SUNMC_OK;
 }
 

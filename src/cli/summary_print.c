@@ -388,9 +388,9 @@ void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
     if (fam->alias_term)
         fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
-    print_spec(f, c, fam, rows);
     print_warnings(f, c, fam, rows, n);
     if (thermal_n_temps(c) > 0)
         print_thermal(f, c, fam, rows, prec);
+    print_spec(f, c, fam, rows);
 }
 

@@ -102,7 +102,7 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c,
         write_nums(f, "%.6g", 3, (double[]){r->worse, r->worse_ci.lo, r->worse_ci.hi});
         fprintf(f, "%s\t", yield_interval_key[c->yield_interval]);
         write_nums(f, "%.6g", 3, (double[]){r->spec_yield, r->spec_yield_ci.lo, r->spec_yield_ci.hi});
-        fprintf(f, "%s\t%s\t", verdict_statistic_name(c), c->spec_bands);
+        fprintf(f, "%s\t%s\t", verdict_statistic_name(c), c->spec_bands[0] ? c->spec_bands : "all");
         tsv_num_put(f, "%g", c->min_coverage);
         if (thermal_n_temps(c) > 0) {
             fprintf(f, "\t%s", condition_key[r->condition]);
@@ -146,8 +146,7 @@ void report_write_units_header(FILE *f, const sunmc_config *c)
                         fprintf(f, "_worst");
                 }
     /* the spec's verdict for the studies' angle, at the worst condition */
-    fprintf(f, "\tpass\tverdict\tverdict_band\tverdict_%s_%s\tverdict_coverage",
-            verdict_statistic_name(c), fam->rms_unit);
+    fprintf(f, "\tpass\tverdict\tverdict_band\tverdict_stat_%s\tverdict_coverage", fam->rms_unit);
     fputc('\n', f);
 }
 

@@ -69,6 +69,9 @@ static budget_source limit_with_passing(long k, double *today)
     assert_true(aft[k - 1] < aft[k]); /* no tie at the edge */
     assert_near(c->family->arcsec_per_rms_unit, 1.0, 0);
     c->spec_arcsec = aft[k - 1];
+    /* the spec in the budget's band alone: k units pass (verdict.h) */
+    snprintf(c->spec_bands, sizeof c->spec_bands, "%g:%g", c->bands_deg.lo[b->band],
+             c->bands_deg.hi[b->band]);
     budget_source s = b->src[0];
     assert_int_equal(budget_inverse_limit(c, b, &s, 1, err, sizeof err), SUNMC_OK);
     *today = s.yield_today;

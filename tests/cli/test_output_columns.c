@@ -423,7 +423,7 @@ static void summary_row_of(const char *run_dir, const char *angle, const char *b
         if (strcmp(tsv_str(s, r, "angle"), angle) == 0 && strcmp(tsv_str(s, r, "band"), band) == 0) {
             *before = tsv_num(s, r, "rms_before_mean");
             *after = tsv_num(s, r, "rms_after_mean");
-            *yield = tsv_num(s, r, "yield");
+            *yield = tsv_num(s, r, "spec_yield"); /* the studies judge by the spec */
             tsv_free(s);
             return;
         }

@@ -213,7 +213,7 @@ static void every_column_unique_and_documented(void **state)
     ok("sweep " PSD "--units 4 --seed 4 --vary tolerance.dx_um=0,5 --out $D/psd_sweep");
     ok("budget " PSD "--units 10 --seed 4 --set report.budget_units=10 "
        "--set report.budget_steps=1 --out $D/psd_budget");
-    ok("sensitivity " PSD "--units 4 --seed 4 --out $D/psd_sens");
+    ok("sensitivity " PSD "--units 10 --seed 4 --out $D/psd_sens");
     ok("curve " PSD "--unit 2 --out $D/psd_curve");
     /* 4 units decide no candidate: exit 1, design.tsv written */
     ok("design " PSD "--units 4 --out $D/psd_design > /dev/null; test $? -eq 1");

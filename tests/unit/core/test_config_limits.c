@@ -386,7 +386,10 @@ static void test_every_key_both_sides(void **state)
                 enums++;
                 break;
             case KEY_STRING:
-                check_string_key(&rows[i], f);
+                /* report.spec_bands names bands of report.bands_deg: free
+                 * text is refused; its limits are in test_verdict */
+                if (strcmp(rows[i].k->name, "spec_bands") != 0)
+                    check_string_key(&rows[i], f);
                 strings++;
                 break;
             default:

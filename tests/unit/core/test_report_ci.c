@@ -64,6 +64,7 @@ static void make_results(unit_result *r)
         r[u].rms_after_sys[0][0] = sys[u];
     }
     r[3].fit_status = UNIT_FIT_FAILED;
+    test_read_all(r, NU);
 }
 
 /* Header and data row `row` (1 = first) of the TSV in f into h[] and v[]
@@ -164,6 +165,7 @@ static void p95_ranks_at_100(void **state)
         big[u].rms_after[0][0] = 0.001 * ((u * 37) % 100 + 1); /* a permutation of 1..100 */
         big[u].rms_after_sys[0][0] = 0.0005;
     }
+    test_read_all(big, 100);
     summary_row rb;
     assert_int_equal(report_summarize(&c, big, 100, &rb), SUNMC_OK);
     /* Bin(100, 0.95): P(K <= 90) = 0.0282 > 0.025 >= P(K <= 89) = 0.0115

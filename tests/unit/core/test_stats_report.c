@@ -110,6 +110,7 @@ static void make_results(unit_result *r)
     r[3].rms_after[0][1] = r[3].rms_after[1][0] = r[3].rms_after[1][1] = NAN;
     r[5].alias_weak = 2; /* two weak directions: one unit */
     r[2].alias_weak = 1;
+    test_read_all(r, NU);
 }
 
 /* The hand-made results and their summary, fresh for each test. */
@@ -266,6 +267,7 @@ static void spec_in_family_unit(void **state)
                 res[u].rms_before[a][b] = 1.0;
                 res[u].rms_after[a][b] = (u == 0 ? 53.99 : 54.01) / 3600.0;
             }
+    test_read_all(res, 2);
     assert_int_equal(report_summarize(&c, res, 2, rows), SUNMC_OK);
     for (int i = 0; i < 2 * NB; i++)
         assert_near(rows[i].yield, 0.5, 0);
@@ -367,7 +369,13 @@ static void summary_tsv_columns(void **state)
                           "worse",
                           "worse_ci_lo",
                           "worse_ci_hi",
-                          "yield_interval"};
+                          "yield_interval",
+                          "spec_yield",
+                          "spec_yield_ci_lo",
+                          "spec_yield_ci_hi",
+                          "spec_statistic",
+                          "spec_bands",
+                          "min_coverage"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);
@@ -436,7 +444,8 @@ static void units_tsv_columns(void **state)
     char *h[128], *v[128];
     assert_non_null(fgets(hline, sizeof hline, f));
     int nh = split_tsv(hline, h, 128);
-    assert_int_equal(nh, 7 + 3 + 2 + 1 + 3 * 2 * NB); /* before, after, after_sys */
+    /* before, after, after_sys; the verdict's five */
+    assert_int_equal(nh, 7 + 3 + 2 + 1 + 3 * 2 * NB + 5);
     for (int u = 0; u < NU; u++) {
         const unit_result *r = &res[u];
         assert_non_null(fgets(line, sizeof line, f));
