@@ -464,7 +464,7 @@ static void help_text(void **state)
     assert_int_equal(importer("--help", out, sizeof out), 0);
     assert_non_null(strstr(out, "810 x 4"));
     assert_non_null(strstr(out, "Elevation within [0, 90)"));
-    assert_non_null(strstr(out, "nothing\nwritten"));
+    assert_non_null(strstr(out, "Refused, with \"psd-import.py: FILE[:LINE]: message\""));
 }
 
 /* ---- psd-score.py ---- */
