@@ -9,6 +9,7 @@
 #   make claims     check the papers' claims, rewrite docs/claims.md
 #   make install PREFIX=/usr/local DESTDIR=
 #   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
+#                   and the importers' fuzz loop (make fuzz-import alone: no clang)
 # User CFLAGS/LDFLAGS are added to ours.
 
 # `make` alone builds build/sunmc (rules below, such as the dependency files',
@@ -150,7 +151,7 @@ $(ALL_DEP): ;
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
 .PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims bench \
-        reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps
+        reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps fuzz-import
 
 all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 
@@ -321,7 +322,11 @@ claims: $(BUILD)/sunmc
 # into $(FUZZ)/; each harness runs FUZZ_SECONDS seconds from its seeds plus
 # what earlier runs found ($(FUZZ)/corpus/NAME); crashes are written to
 # $(FUZZ)/crash-NAME-*.  clang is installed on demand (FUZZ=1
-# scripts/install-deps.sh), never for `make test`.
+# scripts/install-deps.sh), never for `make test`.  Then the importers of the
+# public PSD data (scripts/psd-import.py, psd-score.py) are fuzzed for
+# FUZZ_SECONDS by a Python loop (scripts/dev/fuzz-import.py; `make
+# fuzz-import` alone): exit 0 or 2, no traceback, nothing written on a
+# refusal, no temporary file left; failing cases in $(FUZZ)/import/crash-*.
 FUZZ_SECONDS ?= 60
 FUZZ_CC ?= clang
 FUZZ := $(BUILD)/fuzz
@@ -363,6 +368,11 @@ fuzz: fuzz-build
 	      $(FUZZ)/$$n.log; \
 	  test $$st -eq 0 || { echo "fuzz $$n: FAILED (see $(FUZZ)/$$n.log)"; exit 1; }; \
 	done; echo "fuzz: every harness ran clean"
+	@$(MAKE) --no-print-directory fuzz-import
+
+fuzz-import: deps
+	@echo "== fuzz import: $(FUZZ_SECONDS) s"
+	@/usr/bin/python3 scripts/dev/fuzz-import.py --seconds $(FUZZ_SECONDS) --work $(FUZZ)/import
 
 # The transcendental floor (scripts/dev/bench-floor.c): the vector math calls of one
 # ESS type A unit before issue 27, and nothing else, in the kernels' flags.

@@ -12,9 +12,24 @@ sun vectors) and per axis, in arcsec, over single readings, and with
 --mean over the means of the readings at each table position (repeated
 rows averaged first, as FSScalibration does).  Rows that could not be
 compensated (nan) are counted and left out.
+
+Refused, with "psd-score.py: FILE[:LINE]: message" and exit 2: a file that
+cannot be read or lacks a column, a row whose cell count differs from the
+header's, a value that is neither a finite decimal number nor nan.
 """
 import math
+import re
 import sys
+
+PROG = "psd-score.py"
+COLUMNS = ("alpha_deg", "beta_deg", "compensated_alpha_deg", "compensated_beta_deg",
+           "truth_alpha_deg", "truth_beta_deg")
+NUMBER = re.compile(r"^[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?$")
+NAN = ("nan", "-nan")
+
+
+class Refusal(Exception):
+    """Input the scorer cannot stand behind; the text names the file."""
 
 
 def vec(a_deg, b_deg):
@@ -23,28 +38,51 @@ def vec(a_deg, b_deg):
     return (tx / n, ty / n, 1 / n)
 
 
-def main(argv):
-    if len(argv) < 2:
+def value(cell, where, name):
+    """A finite number, or nan (a row compensate could not invert)."""
+    s = cell.strip()
+    if s.lower() in NAN:
+        return math.nan
+    v = float(s) if NUMBER.match(s) else math.inf
+    if not math.isfinite(v):
+        raise Refusal("%s: %s is not a finite number: '%s'" % (where, name, s))
+    return v
+
+
+def read_rows(path):
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            text = f.read()
+    except OSError as e:
+        raise Refusal("%s: cannot read (%s)" % (path, e.strerror or e))
+    rows, names, ix = [], None, None
+    for ln, line in enumerate(text.splitlines(), 1):
+        if line.startswith("#") or not line.strip():
+            continue
+        cells = line.strip().split(",")
+        where = "%s:%d" % (path, ln)
+        if names is None:
+            names = cells
+            missing = [c for c in COLUMNS if c not in names]
+            if missing:
+                raise Refusal("%s: no column %s" % (where, ", ".join(missing)))
+            ix = [names.index(c) for c in COLUMNS]
+            continue
+        if len(cells) != len(names):
+            raise Refusal("%s: %d cells, the header has %d" % (where, len(cells), len(names)))
+        rows.append([value(cells[i], where, c) for i, c in zip(ix, COLUMNS)])
+    return rows
+
+
+def run(argv):
+    opts = [a for a in argv[1:] if a.startswith("-")]
+    files = [a for a in argv[1:] if not a.startswith("-")]
+    if len(files) != 1 or any(o != "--mean" for o in opts):
         sys.stderr.write(__doc__)
         return 2
-    mean = "--mean" in argv
-    rows, names = [], None
-    with open(argv[1]) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            cells = line.strip().split(",")
-            if names is None:
-                names = cells
-                try:
-                    ix = [names.index(c) for c in ("alpha_deg", "beta_deg", "compensated_alpha_deg",
-                                                   "compensated_beta_deg", "truth_alpha_deg",
-                                                   "truth_beta_deg")]
-                except ValueError as e:
-                    sys.stderr.write("psd-score: %s: %s\n" % (argv[1], e))
-                    return 2
-                continue
-            rows.append([float(cells[i]) for i in ix])
+    mean = "--mean" in opts
+    path = files[0]
+    rows = read_rows(path)
     failed = sum(1 for r in rows if any(math.isnan(v) for v in r))
     rows = [r for r in rows if not any(math.isnan(v) for v in r)]
     if mean:
@@ -63,12 +101,22 @@ def main(argv):
         sb += ((r[3] - r[5]) * 3600) ** 2
     n = len(rows)
     if n == 0:
-        sys.stderr.write("psd-score: no row could be scored\n")
-        return 2
+        raise Refusal("%s: no row could be scored (%d failed)" % (path, failed))
     print("%s: %d %s, %d failed; RMS total %.1f arcsec, alpha %.1f, beta %.1f"
-          % (argv[1], n, "points (means)" if mean else "readings", failed, math.sqrt(s2 / n),
+          % (path, n, "points (means)" if mean else "readings", failed, math.sqrt(s2 / n),
              math.sqrt(sa / n), math.sqrt(sb / n)))
     return 0
+
+
+def main(argv):
+    """run(argv); every refusal and any unexpected error: one line, exit 2."""
+    try:
+        return run(argv)
+    except Refusal as e:
+        sys.stderr.write("%s: %s\n" % (PROG, e))
+    except Exception as e:  # a bug or an input no check foresaw: still no traceback
+        sys.stderr.write("%s: %s: unexpected %s: %s\n" % (PROG, argv[1:], type(e).__name__, e))
+    return 2
 
 
 if __name__ == "__main__":

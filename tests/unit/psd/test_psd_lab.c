@@ -1,10 +1,8 @@
-/* test_psd_lab.c - the four-channel sensor's lab commands and importers:
+/* test_psd_lab.c - the four-channel sensor's lab commands:
  * simulate -> calibrate -> compensate recovers the simulated unit's truth
  * (both models), the truth columns follow the table angles, repeated rows
  * do not shrink the standard errors, the Monte Carlo is the same for any
- * thread count, and scripts/psd-import.py reads synthetic files of the
- * three public formats (.mat written here with scipy, the CSV and the
- * YAML by hand) and refuses what it cannot read. */
+ * thread count (the importers of the public data: tests/cli/test_psd_import.c). */
 #include "test_util.h"
 #include "test_tsv.h"
 
@@ -206,126 +204,6 @@ static void curve_of_one_unit(void **state)
     assert_true(sqrt(sa / n) < 0.2 * sqrt(sb / n));
 }
 
-/* ---- importers ---- */
-
-static int importer(const char *args, char *out, size_t len)
-{
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "D=%s; scripts/psd-import.py %s", dir, args);
-    return test_run(cmd, out, len);
-}
-
-/* Two beta files of 3 alphas x 10 readings: channel k of reading r of
- * alpha j is 100 beta + 10 j + k + r / 100 (so every value says where it
- * came from). */
-static void import_aeroztark_mat(void **state)
-{
-    char out[65536], cmd[4096];
-    snprintf(cmd, sizeof cmd,
-             "mkdir -p %s/mat && /usr/bin/python3 -c \"\n"
-             "import numpy as np, scipy.io\n"
-             "for beta in (-2, 3):\n"
-             "    a = np.array([[100*beta + 10*j + k + r/100 for k in range(4)]\n"
-             "                  for j in range(3) for r in range(10)])\n"
-             "    scipy.io.savemat('%s/mat/beta_%%d.mat' %% beta, {'data_a': a, 'data_d': a.astype(np.uint16)})\n"
-             "\"",
-             dir, dir);
-    if (test_run(cmd, out, sizeof out) != 0)
-        fail_msg("writing the .mat files needs python3-scipy (scripts/install-deps.sh): %s", out);
-    assert_int_equal(importer("aeroztark $D/mat --out $D/az.csv", out, sizeof out), 0);
-    char path[1024];
-    snprintf(path, sizeof path, "%s/az.csv", dir);
-    csv_table *t = NULL;
-    char err[SUNMC_ERRLEN];
-    assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
-    assert_int_equal((int)t->n_rows, 60);
-    /* sorted: beta_-2.mat first; row 15 = alpha index 1 (-0 deg), reading 5 */
-    double v[6];
-    for (int k = 0; k < 6; k++)
-        v[k] = strtod(t->field[15 * (size_t)t->n_cols + (size_t)k], NULL);
-    assert_near(v[0], 0, 0);
-    assert_near(v[1], -2, 0);
-    assert_near(v[2], -200 + 10 + 0 + 0.05, 1e-9);
-    assert_near(v[5], -200 + 10 + 3 + 0.05, 1e-9);
-    assert_near(strtod(t->field[0], NULL), -1, 0); /* 3 alphas: -1, 0, 1 */
-    csv_free(t);
-    assert_true(test_file_has(path, "# source: beta_3.mat\n"));
-}
-
-static void import_kenscl_csv(void **state)
-{
-    char out[65536], p[1024];
-    snprintf(p, sizeof p, "%s/k_X.txt", dir);
-    assert_int_equal(test_write_file(p, "# Sensor: ADPD2140, Rotationstage: ELL18M\n"
-                                        "Datetime,Stage Angle,xL,xR,yL,yR,X,Y\n"
-                                        "01.12.2021 18:29:29,-59.992,650.634,648.529,392.150,"
-                                        "718.597,-46.576,0.256\n"
-                                        "01.12.2021 18:29:30,-59.904,653.198,650.604,393.188,"
-                                        "720.397,-46.566,0.315\n"),
-                     0);
-    snprintf(p, sizeof p, "%s/k_Y.txt", dir);
-    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL,xR,yL,yR,X,Y\n"
-                                        "x,12.5,1,2,3,4,0,0\n"),
-                     0);
-    assert_int_equal(importer("kenscl $D/k_X.txt --out $D/kx.csv", out, sizeof out), 0);
-    snprintf(p, sizeof p, "%s/kx.csv", dir);
-    assert_true(test_file_has(p, "-59.904,0,393.188,720.397,653.198,650.604\n"));
-    assert_int_equal(importer("kenscl $D/k_Y.txt --out $D/ky.csv", out, sizeof out), 0);
-    snprintf(p, sizeof p, "%s/ky.csv", dir);
-    assert_true(test_file_has(p, "0,12.5,3,4,1,2\n"));
-}
-
-/* elevation 30, azimuth 90: the sun along +Y, alpha 0, beta 30; the
- * channels' ratios give back x and y. */
-static void import_14og_yaml(void **state)
-{
-    char out[65536], p[1024];
-    snprintf(p, sizeof p, "%s/m.yaml", dir);
-    assert_int_equal(test_write_file(p, "- elevation: 30.0\n  azimuth: 90.0\n  x: 0.1\n  y: -0.2\n"
-                                        "- elevation: 0.0\n  azimuth: 45.0\n  x: 0\n  y: 0\n"),
-                     0);
-    assert_int_equal(importer("14og $D/m.yaml --out $D/og.csv", out, sizeof out), 0);
-    snprintf(p, sizeof p, "%s/og.csv", dir);
-    csv_table *t = NULL;
-    char err[SUNMC_ERRLEN];
-    assert_int_equal(csv_read(p, &t, err, sizeof err), SUNMC_OK);
-    assert_int_equal((int)t->n_rows, 2);
-    double v[6];
-    for (int k = 0; k < 6; k++)
-        v[k] = strtod(t->field[k], NULL);
-    assert_near(v[0], 0, 1e-9);
-    assert_near(v[1], 30, 1e-9);
-    double sum = v[2] + v[3] + v[4] + v[5];
-    assert_near((v[3] + v[4] - v[2] - v[5]) / sum, 0.1, 1e-9);
-    assert_near((v[3] + v[5] - v[2] - v[4]) / sum, -0.2, 1e-9);
-    csv_free(t);
-}
-
-static void importer_refusals(void **state)
-{
-    char out[65536], p[1024];
-    snprintf(p, sizeof p, "%s/bad.txt", dir);
-    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL\n"), 0);
-    assert_int_equal(importer("kenscl $D/bad.txt --out $D/no.csv", out, sizeof out), 2);
-    assert_non_null(strstr(out, "_X.txt or _Y.txt"));
-    snprintf(p, sizeof p, "%s/bad_X.txt", dir);
-    assert_int_equal(test_write_file(p, "Datetime,Stage Angle,xL\n1,2,3\n"), 0);
-    assert_int_equal(importer("kenscl $D/bad_X.txt --out $D/no.csv", out, sizeof out), 2);
-    assert_non_null(strstr(out, "header lacks"));
-    assert_int_equal(importer("aeroztark $D/nothing --out $D/no.csv", out, sizeof out), 2);
-    assert_non_null(strstr(out, "no such file"));
-    snprintf(p, sizeof p, "%s/beta_1.mat", dir);
-    assert_int_equal(test_write_file(p, "not a mat file"), 0);
-    assert_int_equal(importer("aeroztark $D/beta_1.mat --out $D/no.csv", out, sizeof out), 2);
-    snprintf(p, sizeof p, "%s/y.yaml", dir);
-    assert_int_equal(test_write_file(p, "- elevation: 3\n  x: 1\n"), 0);
-    assert_int_equal(importer("14og $D/y.yaml --out $D/no.csv", out, sizeof out), 2);
-    assert_int_equal(importer("nosuch $D/y.yaml --out $D/no.csv", out, sizeof out), 2);
-    snprintf(p, sizeof p, "%s/no.csv", dir);
-    FILE *f = fopen(p, "r");
-    assert_null(f); /* nothing written */
-}
-
 /* The systematic part of the after-RMS (validation read without noise)
  * against the after-RMS itself, in every row of summary.tsv: below it with
  * the shipped channel noise, equal to it with none. */
@@ -364,10 +242,6 @@ int main(void)
         cmocka_unit_test(threads_do_not_change_units),
         cmocka_unit_test(curve_of_one_unit),
         cmocka_unit_test(systematic_part_is_noise_free),
-        cmocka_unit_test(import_aeroztark_mat),
-        cmocka_unit_test(import_kenscl_csv),
-        cmocka_unit_test(import_14og_yaml),
-        cmocka_unit_test(importer_refusals),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
