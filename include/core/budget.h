@@ -66,7 +66,18 @@ typedef struct {
     double yield;
     stats_interval yield_ci;        /* Wilson, report.confidence */
     long fit_failures;
+    /* units failing the spec's verdict (verdict.h) because a spec band's
+     * points were not all read, or because its statistic was over the spec */
+    long fail_coverage, fail_spec;
 } budget_stats;
+
+/* What ended an inverse limit's search: the yield lost to units over the
+ * spec, to units that lost their field (coverage), to failed fits, or the
+ * key's range. */
+enum budget_limit_end { BUDGET_END_SPEC = 0, BUDGET_END_COVERAGE, BUDGET_END_FIT, BUDGET_END_RANGE };
+
+/* The smallest share the ranking counts: half a printed 0.01 %. */
+#define BUDGET_SHARE_RESOLUTION 5e-5
 
 /* A share of MS_all with its interval; significant = interval excludes 0. */
 typedef struct {
@@ -82,10 +93,14 @@ typedef struct {
     double tolerance;               /* today's value, unit of the key */
     budget_stats alone;             /* the floor plus this source */
     budget_share share_before, share_after;
-    int rank;                       /* 1 = largest share after calibration */
+    int rank;                       /* 1 = largest share after calibration (outside the
+                                       noise), then before; those in the noise last */
+    int in_noise;                   /* every share's interval holds 0: ranked last */
     double limit;                   /* inverse limit, unit of the key */
     stats_interval limit_ci;        /* from the yield intervals (see above) */
     int limit_status;               /* enum budget_limit_status */
+    int limit_end;                  /* enum budget_limit_end: at the smallest failing value */
+    double limit_end_at;            /* that value (NaN: none failed) */
     double yield_today;             /* yield at today's value (budget_units units) */
     stats_interval yield_today_ci;
     int limit_runs;                 /* Monte Carlos the search took */

@@ -2,6 +2,7 @@
  * whose confirmed yield meets report.yield_target (allocate.h). */
 #include "allocate.h"
 #include "cli.h"
+#include "verdict.h"
 #include "output.h"
 #include "progress.h"
 #include "report.h"
@@ -15,8 +16,9 @@
 static const char allocate_help[] =
     "usage: sunmc allocate CONFIG [--units N] [--seed S] [--threads T]\n"
     "                      [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
-    "The cheapest joint set of tolerances whose yield (after-calibration RMS within\n"
-    "report.spec_arcsec in the budget's row: widest band, last measured angle) has its lower\n"
+    "The cheapest joint set of tolerances whose yield (units meeting the spec's verdict:\n"
+    "report.spec_statistic within report.spec_arcsec in every band of report.spec_bands,\n"
+    "report.min_coverage of their points read; last measured angle) has its lower\n"
     "confidence bound (report.confidence, report.yield_interval) at report.yield_target.\n"
     "Cost: a tolerance at value v costs tolerance.NAME_cost * (today / v)^report.cost_exponent;\n"
     "every tolerance above 0 and not fixed is allocated, within today / 16 .. today * 4 (and\n"
@@ -71,6 +73,10 @@ static void print_table(const sunmc_config *c, const allocate_result *a)
            "spec %g arcsec, band %s deg, %ld units per run, cost exponent %g\n",
            c->product, c->family->name, 100 * c->yield_target, report_yield_interval_name(c),
            100 * c->confidence, c->spec_arcsec, band, a->units, c->cost_exponent);
+    char rule[256];
+    verdict_rule_text(c, rule, sizeof rule);
+    printf("yield: %s (the search's surrogate is the RMS^2 in band %s; every\nyield printed is a "
+           "Monte Carlo's under the spec)\n", rule, band);
     printf("today's tolerances: yield %.2f%% [%.2f, %.2f] (seed %ld)\n", 100 * a->yield_today,
            100 * a->yield_today_ci.lo, 100 * a->yield_today_ci.hi, c->seed);
     if (a->status == ALLOCATE_NONE) {

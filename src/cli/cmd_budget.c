@@ -1,5 +1,6 @@
 /* cmd_budget.c - `sunmc budget`: the tolerance budget and inverse limits. */
 #include "budget.h"
+#include "verdict.h"
 #include "cli.h"
 #include "table.h"
 #include "output.h"
@@ -15,7 +16,9 @@
 static const char budget_help[] =
     "usage: sunmc budget CONFIG [--units N] [--seed S] [--threads T]\n"
     "                    [--set SECTION.KEY=VALUE]... [--out DIR] [--quiet]\n"
-    "Error budget in the widest band of the last measured angle.  Sources: every tolerance\n"
+    "Error budget (mean squares) in the widest band of the last measured angle; yields and\n"
+    "inverse limits by the spec's verdict (report.spec_statistic in every band of\n"
+    "report.spec_bands, report.min_coverage of its points read).  Sources: every tolerance\n"
     "key > 0 and every noise key > 0 of the family (ESS noise.row_current_pct,\n"
     "noise.encoder_arcsec, calibration.roll_sigma_arcsec; DSS noise.centroid_px,\n"
     "noise.encoder_arcsec).  Monte Carlos on the same seed and units: all sources; the floor\n"
@@ -108,6 +111,9 @@ static void write_tail(FILE *f, const sunmc_config *c, const sensor_family *fam,
     fputc('\n', f);
 }
 
+/* What ended a limit (budget.h), as printed and in budget.tsv. */
+static const char *const end_names[] = {"spec", "coverage", "fit", "range"};
+
 static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
                       const budget_result *b)
 {
@@ -115,7 +121,7 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
                "share_before\tshare_before_ci_lo\tshare_before_ci_hi\tsignificant_before\t"
                "share_after\tshare_after_ci_lo\tshare_after_ci_hi\tsignificant_after\t"
                "yield_today\tyield_today_ci_lo\tyield_today_ci_hi\tlimit\tlimit_ci_lo\t"
-               "limit_ci_hi\tlimit_status\tyield_target\tspec_arcsec\tconfidence\trms_unit\t"
+               "limit_ci_hi\tlimit_status\tlimit_end\tin_noise\tyield_target\tspec_arcsec\tconfidence\trms_unit\t"
                "angle\tband\tunits\tpaired_units\tlimit_units\tall_before\tall_after\t"
                "all_yield\tall_yield_ci_lo\tall_yield_ci_hi\tno_tolerance_before\t"
                "no_tolerance_after\n");
@@ -124,7 +130,7 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
     write_share(f, &b->floor_before);
     write_share(f, &b->floor_after);
     put_nums(f, "%.6g", 3, (double[]){b->floor.yield, b->floor.yield_ci.lo, b->floor.yield_ci.hi});
-    fprintf(f, "-\t-\t-\t-\t");
+    fprintf(f, "-\t-\t-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
@@ -140,13 +146,14 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
         put_nums(f, "%.6g", 6,
                  (double[]){s->yield_today, s->yield_today_ci.lo, s->yield_today_ci.hi, s->limit,
                             s->limit_ci.lo, s->limit_ci.hi});
-        fprintf(f, "%s\t", limit_names[s->limit_status]);
+        fprintf(f, "%s\t%s\t%s\t", limit_names[s->limit_status],
+                s->limit_runs ? end_names[s->limit_end] : "-", s->in_noise ? "yes" : "no");
         write_tail(f, c, fam, b);
     }
     fprintf(f, "0\tinteraction\tINTERACTION\t-\t-\t-\t-\t-\t");
     write_share(f, &b->interaction_before);
     write_share(f, &b->interaction_after);
-    fprintf(f, "-\t-\t-\t-\t-\t-\t-\t");
+    fprintf(f, "-\t-\t-\t-\t-\t-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
 }
 
@@ -231,12 +238,12 @@ static void fmt_limit(char *buf, size_t len, const budget_source *s)
     if (s->limit_runs == 0)
         snprintf(buf, len, "-");
     else if (s->limit_status == BUDGET_LIMIT_UNMET)
-        snprintf(buf, len, "unmet even at 0");
+        snprintf(buf, len, "unmet even at 0 (%s)", end_names[s->limit_end]);
     else if (s->limit_status == BUDGET_LIMIT_AT_MAX)
         snprintf(buf, len, ">= %g (key max) [%s, -]", s->limit, lo);
     else
-        snprintf(buf, len, "%.4g [%s, %s] (%.1fx today)", s->limit, lo, hi,
-                 s->limit / s->tolerance);
+        snprintf(buf, len, "%.4g [%s, %s] (%.1fx today; %s)", s->limit, lo, hi,
+                 s->limit / s->tolerance, end_names[s->limit_end]);
 }
 
 /* One row of the table: rank, source, today, unit | alone before, after |
@@ -298,7 +305,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
         char rank[16], today[32], limit[96];
-        snprintf(rank, sizeof rank, "%d", s->rank);
+        snprintf(rank, sizeof rank, "%d%s", s->rank, s->in_noise ? "*" : "");
         snprintf(today, sizeof today, "%.4g", s->tolerance);
         fmt_limit(limit, sizeof limit, s);
         print_row(t, rank, s->name, today, s->key->unit[0] ? s->key->unit : "-", &s->alone,
@@ -311,8 +318,16 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
     printf("RMS in %s.  Floor + sources + interaction = 100 %% of the mean square of all sources "
            "(MS_all);\na source's share is (MS of the floor with it alone - MS of the floor) / "
            "MS_all.  ~ = the interval\nincludes 0: inside the Monte Carlo noise (more --units "
-           "narrow it).\n",
+           "narrow it).  Ranked by the share after\ncalibration, then before, each counted "
+           "only outside the noise; * = every share inside the noise:\nlisted last, their "
+           "order means nothing.\n",
            u);
+    char rule[256];
+    verdict_rule_text(c, rule, sizeof rule);
+    printf("Yield and inverse limits judged by the spec: %s (verdict: `sunmc config "
+           "--reference`,\nreport.spec_*); the limit's end: spec (units over it), coverage "
+           "(units lost their field), fit\n(fits failed), range (the key's maximum).\n",
+           rule);
     printf("%ld unit runs (each inverse limit's yield at today's value is the all-sources run's "
            "first %ld units;\nthe floor is one unit, copied); %ld of them finished from another "
            "run's validation readings.\n",

@@ -1,6 +1,7 @@
 /* cmd_design.c - `sunmc design`: the cheapest calibration campaign whose
  * yield meets report.yield_target against report.spec_arcsec (design.h). */
 #include "cli.h"
+#include "verdict.h"
 #include "design.h"
 #include "output.h"
 #include "status.h"
@@ -18,7 +19,8 @@ static const char design_help[] =
     "--units N: at most N units a candidate (campaign.search_max_units; the screen too).\n"
     "Searches calibration campaigns -- fast-axis step (ESS alpha), symmetric slow-axis line\n"
     "sets (ESS beta: 1 line at 0, or 2..7 evenly spaced over +-B), readings per point -- for\n"
-    "the cheapest in turntable hours whose yield (widest band, report.spec_arcsec) has its\n"
+    "the cheapest in turntable hours whose yield (the spec's verdict: report.spec_statistic\n"
+    "within report.spec_arcsec in every band of report.spec_bands) has its\n"
     "lower confidence bound (report.confidence, report.yield_interval) at report.yield_target or above.\n"
     "Every candidate runs the same units and seed (common random numbers); a screen on\n"
     "campaign.search_screen_units units drops hopeless ones and marks aliasing steps (never\n"
@@ -103,8 +105,11 @@ static void print_shortlist(const design_result *d, double secs)
     const sensor_family *fam = c->family;
     printf("\n%s (%s): campaign design, spec %g arcsec, yield target %g%% at %g%% confidence\n",
            c->product, fam->name, c->spec_arcsec, 100 * c->yield_target, 100 * c->confidence);
-    printf("candidate = %s | %s x repeats; yield of the widest band, seed %ld\n",
-           fam->grid->design_step_key, fam->grid->design_lines_key ? fam->grid->design_lines_key : "-", c->seed);
+    char rule[256];
+    verdict_rule_text(c, rule, sizeof rule);
+    printf("candidate = %s | %s x repeats; yield: %s; seed %ld\n",
+           fam->grid->design_step_key, fam->grid->design_lines_key ? fam->grid->design_lines_key : "-",
+           rule, c->seed);
     printf("   %-40s %6s %6s %6s  %-21s  %s\n", "candidate", "points", "hours", "units",
            "yield [CI]", "verdict");
     int shown = 0;

@@ -1,6 +1,7 @@
 /* cmd_sweep.c - `sunmc sweep`: the Monte Carlo at every point of one or two
  * varied config keys, same seed everywhere (common random numbers). */
 #include "cli.h"
+#include "verdict.h"
 #include "montecarlo.h"
 #include "output.h"
 #include "report.h"
@@ -68,9 +69,10 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
         snprintf(seed, sizeof seed, "seed %ld", c->seed);
     printf("\n%s (%s): sweep of %ld points, %s, %s, spec %g arcsec\n", c->product, fam->name,
            n_points, units, seed, c->spec_arcsec);
-    static const char *const heads[] = {"angle", "band",  "before", "after",  "p95 after",
-                                        "improve", "yield", "alias", "failed", "points",
-                                        "hours",  ""};
+    static const char *const heads[] = {"angle",   "band",       "before",     "after",
+                                        "p95 after", "improve",  "band yield", "spec yield",
+                                        "alias",   "failed",     "points",     "hours",
+                                        ""};
     enum { N_HEADS = sizeof heads / sizeof *heads };
     table *t = table_new(n_axes + N_HEADS);
     if (!t)
@@ -102,16 +104,21 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const s
             }
             table_set(t, row, n_axes + 6, "%.*f%%", report_percent_decimals(s->yield, 1),
                       100.0 * s->yield);
-            table_set(t, row, n_axes + 7, "%ld", s->alias_units);
-            table_set(t, row, n_axes + 8, "%ld", s->fit_failures);
-            table_set(t, row, n_axes + 9, "%ld", s->campaign_points);
-            table_set(t, row, n_axes + 10, "%.2f", s->campaign_hours);
-            table_set(t, row, n_axes + 11, "%s", s->extrapolation_deg > 0 ? "*" : "");
+            table_set(t, row, n_axes + 7, "%.*f%%", report_percent_decimals(s->spec_yield, 1),
+                      100.0 * s->spec_yield);
+            table_set(t, row, n_axes + 8, "%ld", s->alias_units);
+            table_set(t, row, n_axes + 9, "%ld", s->fit_failures);
+            table_set(t, row, n_axes + 10, "%ld", s->campaign_points);
+            table_set(t, row, n_axes + 11, "%.2f", s->campaign_hours);
+            table_set(t, row, n_axes + 12, "%s", s->extrapolation_deg > 0 ? "*" : "");
             extrapolated |= s->extrapolation_deg > 0;
         }
     }
     table_print(stdout, t);
     table_free(t);
+    char rule[256];
+    verdict_rule_text(c, rule, sizeof rule);
+    printf("band yield: the spec in the row's band alone; spec yield: %s (per angle)\n", rule);
     printf("mean RMS in %s", u);
     if (fam->alias_term)
         printf("; alias = units whose campaign could not resolve %s", fam->alias_term);

@@ -5,6 +5,7 @@
 #include "memory.h"
 #include "montecarlo.h"
 #include "report.h"
+#include "verdict.h"
 #include "sensitivity.h"
 #include "stats_blocks.h"
 #include "status.h"
@@ -146,6 +147,18 @@ static int run_units(const sunmc_config *c, long units, int threads, unit_store 
     return st;
 }
 
+/* Units [0, n) of res failing the spec's verdict, by why, into out. */
+static void count_fails(const sunmc_config *c, const unit_result *res, long n, budget_stats *out)
+{
+    out->fail_coverage = out->fail_spec = 0;
+    for (long u = 0; u < n; u++) {
+        verdict v;
+        verdict_unit(c, &res[u], verdict_angle(c), VERDICT_WORST, &v);
+        out->fail_coverage += v.why == VERDICT_COVERAGE;
+        out->fail_spec += v.why == VERDICT_OVER_SPEC;
+    }
+}
+
 /* One budget Monte Carlo of c over units [0, units) (see run_units for
  * the stores): its statistics into out, each unit's squares into
  * sq_before / sq_after (may be NULL), and when 0 < head <= units also the
@@ -170,6 +183,9 @@ static int monte_carlo(const sunmc_config *c, long units, int threads, int angle
                             (st = row_stats(c, res, head, angle, band, head_out)) != SUNMC_OK)))
         sunmc_fail(err, errlen, st, "out of memory summarising %ld units", units);
     if (st == SUNMC_OK) {
+        count_fails(c, res, units, out);
+        if (head > 0 && head <= units)
+            count_fails(c, res, head, head_out);
         for (long u = 0; u < units && (sq_before || sq_after); u++) {
             double bef = unit_primary_before(c, &res[u], angle, band);
             double aft = unit_primary_after(c, &res[u], angle, band);
@@ -282,22 +298,46 @@ static int shares(const sunmc_config *c, budget_result *b, budget_squares *q, lo
     return SUNMC_OK;
 }
 
-/* Rank on the after-calibration share (NaN last), ties by the before share,
- * then in source order: a stable insertion sort. */
+/* Whether a share stands outside the Monte Carlo noise: its interval
+ * excludes 0 and it is at least BUDGET_SHARE_RESOLUTION (as printed, two
+ * decimals of a percent, it is not 0.00 %). */
+static int share_counts(const budget_share *s)
+{
+    return s->significant && isfinite(s->v) && fabs(s->v) >= BUDGET_SHARE_RESOLUTION;
+}
+
+/* A share as the ranking sees it: 0 when inside the noise or not formed,
+ * so that noise orders nothing. */
+static double rank_share(const budget_share *s)
+{
+    return share_counts(s) ? s->v : 0.0;
+}
+
+/* Whether source x ranks before y: one with a share outside the noise
+ * before one with none, then the after-calibration share, then the
+ * before-calibration share (each counted only outside the noise). */
+static int ranks_before(const budget_source *x, const budget_source *y)
+{
+    if (x->in_noise != y->in_noise)
+        return y->in_noise;
+    double ax = rank_share(&x->share_after), ay = rank_share(&y->share_after);
+    if (ax != ay)
+        return ax > ay;
+    return rank_share(&x->share_before) > rank_share(&y->share_before);
+}
+
+/* Rank the sources (a stable insertion sort: equal ones in source order);
+ * those whose shares are all inside the noise last, marked in_noise. */
 static void rank_sources(budget_result *b)
 {
-    for (int i = 0; i < b->n; i++)
+    for (int i = 0; i < b->n; i++) {
+        budget_source *s = &b->src[i];
+        s->in_noise = !share_counts(&s->share_after) && !share_counts(&s->share_before);
         b->order[i] = i;
+    }
     for (int i = 1; i < b->n; i++) {
         int x = b->order[i], j = i;
-        const budget_source *sx = &b->src[x];
-        while (j > 0) {
-            const budget_source *sy = &b->src[b->order[j - 1]];
-            double ax = isnan(sx->share_after.v) ? -INFINITY : sx->share_after.v;
-            double ay = isnan(sy->share_after.v) ? -INFINITY : sy->share_after.v;
-            int first = ax > ay || (ax == ay && sx->share_before.v > sy->share_before.v);
-            if (!first)
-                break;
+        while (j > 0 && ranks_before(&b->src[x], &b->src[b->order[j - 1]])) {
             b->order[j] = b->order[j - 1];
             j--;
         }

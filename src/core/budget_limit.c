@@ -16,6 +16,17 @@ static void note_tried(budget_source *s, double v, stats_interval y, double targ
         s->limit_ci.hi = v;
 }
 
+/* The most common cause of failing units in st. */
+static int dominant_end(const budget_stats *st)
+{
+    long fit = st->fit_failures, cov = st->fail_coverage, spec = st->fail_spec;
+    if (cov >= spec && cov >= fit && cov > 0)
+        return BUDGET_END_COVERAGE;
+    if (fit > spec)
+        return BUDGET_END_FIT;
+    return BUDGET_END_SPEC;
+}
+
 /* Yield with source s at value v (others as in c), budget_units units; at
  * today's value the all-sources run's first units (b->today) when it
  * holds them. */
@@ -38,6 +49,11 @@ static int yield_at(const sunmc_config *c, const budget_result *b, budget_source
         *ci = st.yield_ci;
     if (rc == SUNMC_OK)
         note_tried(s, v, st.yield_ci, c->yield_target);
+    if (rc == SUNMC_OK && st.yield < c->yield_target &&
+        (isnan(s->limit_end_at) || v < s->limit_end_at)) {
+        s->limit_end_at = v;
+        s->limit_end = dominant_end(&st);
+    }
     return rc;
 }
 
@@ -52,6 +68,7 @@ static int expand(const sunmc_config *c, const budget_result *b, budget_source *
         if (*lo >= kmax) {
             s->limit = kmax;
             s->limit_status = BUDGET_LIMIT_AT_MAX;
+            s->limit_end = BUDGET_END_RANGE;
             return SUNMC_OK;
         }
         *hi = fmin(*lo * BUDGET_EXPAND, kmax);
@@ -67,6 +84,8 @@ int budget_inverse_limit(const sunmc_config *c, const budget_result *b, budget_s
 {
     double target = c->yield_target, y;
     s->limit_ci.lo = s->limit_ci.hi = NAN;
+    s->limit_end_at = NAN;
+    s->limit_end = BUDGET_END_SPEC;
     int rc = yield_at(c, b, s, s->tolerance, threads, &y, &s->yield_today_ci, err, errlen);
     if (rc)
         return rc;

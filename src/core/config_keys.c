@@ -169,8 +169,9 @@ const config_key config_keys[] = {
      "detector, no gross error); below it the unit fails: a sensor blind over part of its "
      "field does not meet a spec over that field"},
     {"report", "yield_target", KEY_DOUBLE, "", "0.95", 0.01, 1, NULL, OFF(yield_target),
-     "`budget`: the yield (fraction of units meeting spec_arcsec in the widest band) each "
-     "inverse tolerance limit must keep"},
+     "`budget`, `design`, `allocate`: the yield (fraction of units meeting the spec: "
+     "report.spec_statistic, spec_bands, min_coverage) each inverse tolerance limit, chosen "
+     "campaign and allocation must keep"},
     {"report", "budget_units", KEY_LONG, "", "100", 10, 1000000, NULL, OFF(budget_units),
      "`budget`: units per Monte Carlo step of the inverse-limit bisection"},
     {"report", "budget_steps", KEY_INT, "", "5", 1, 40, NULL, OFF(budget_steps),
