@@ -147,8 +147,8 @@ static int parse_until(const char *arg, const sunmc_config *c, long first, run_u
     double h;
     report_stat_list(list, sizeof list);
     if (!cli_split_until(arg, name, sizeof name, &h)) {
-        fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, e.g. "
-                        "yield:0.005 (STAT one of %s)\n", arg, list);
+        fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH a decimal "
+                        "number > 0, e.g. yield:0.005 (STAT one of %s)\n", arg, list);
         return EXIT_BAD_INPUT;
     }
     if (first != 0) {
