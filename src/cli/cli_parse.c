@@ -4,7 +4,9 @@
  * mistyped option name gets a did-you-mean. */
 #include "cli.h"
 #include "numtext.h"
+#include "outlock.h"
 #include "output.h"
+#include "ranks.h"
 #include "status.h"
 #include "suggest.h"
 
@@ -367,7 +369,9 @@ static int set_positional(cli_options *o, const char *command, const char *allow
 }
 
 /* Before any work: --out must be writable, and replacing it whole must
- * destroy neither a file sunmc did not write nor an input of the command. */
+ * destroy neither a file sunmc did not write nor an input of the command;
+ * then it is this command's until it ends (outlock.h: another live command
+ * into it is refused).  Under mpirun rank 0 alone writes, so it alone locks. */
 static int check_out(const cli_options *o, const char *command)
 {
     char err[SUNMC_ERRLEN];
@@ -375,7 +379,8 @@ static int check_out(const cli_options *o, const char *command)
     for (int k = 0; k < o->n_positional && k < 4; k++)
         inputs[k + 1] = o->positional[k];
     if (out_check(o->out, err, sizeof err) != SUNMC_OK ||
-        out_check_inputs(o->out, inputs, 1 + o->n_positional, err, sizeof err) != SUNMC_OK) {
+        out_check_inputs(o->out, inputs, 1 + o->n_positional, err, sizeof err) != SUNMC_OK ||
+        (ranks_rank() == 0 && out_lock(o->out, err, sizeof err) != SUNMC_OK)) {
         fprintf(stderr, "sunmc %s: %s\n", command, err);
         return EXIT_BAD_INPUT;
     }

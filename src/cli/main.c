@@ -1,6 +1,7 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
  * satellite sun sensors.  Dispatches to one command per file (cmd_*.c). */
 #include "cli.h"
+#include "outlock.h"
 #include "ranks.h"
 #include "status.h"
 #include "suggest.h"
@@ -228,6 +229,7 @@ int main(int argc, char **argv)
     if (rc == 0 && (ranks_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0)))
         rc = dispatch(argc, argv);
     rc = check_stdout(argc, argv, rc);
+    out_unlock(); /* the --out DIR this command held (outlock.h) */
     ranks_finalize();
     return rc;
 }
