@@ -14,7 +14,7 @@ int num_parse_long(const char *s, long *out);
 /* A finite decimal number: [-+]digits[.digits][e[-+]digits] (or .digits),
  * nothing else (no blanks, hex).  0 on success; -1 when s is not one; -2
  * when it is not finite ("inf", "nan" in any case) or out of a double's
- * range (too large, or so small it would read as 0 or lose digits). */
+ * range (too large, or so small it would read as 0). */
 int num_parse_double(const char *s, double *out);
 
 #endif

@@ -29,8 +29,9 @@ static int bad(const char *command, const char *msg, const char *arg)
 }
 
 /* Options a command takes more than once (each adds to a list; their
- * --help shows them as [--set ...]...). */
-#define REPEATABLE_OPTIONS "set vary space"
+ * --help shows them as [--set ...]...).  --units is checked by its form:
+ * N (run.units) and FIRST:END (the range of that run) once each. */
+#define REPEATABLE_OPTIONS "set vary space units"
 
 /* The word opt in the space-separated list allowed (a pointer into it, the
  * same for every spelling), or NULL. */
@@ -205,6 +206,8 @@ static int set_range(cli_options *o, const char *command, const char *v, const c
     char lo[64];
     size_t n = (size_t)(colon - v);
     long most = units_most();
+    if (o->end >= 0)
+        return bad(command, "--units FIRST:END given twice; give it once", v);
     if (n >= sizeof lo)
         return bad(command, "--units FIRST:END is malformed", v);
     memcpy(lo, v, n);
@@ -228,6 +231,8 @@ static int set_run_key(cli_options *o, const char *command, const char *name, co
     if (strcmp(name, "units") == 0 && colon)
         return set_range(o, command, v, colon);
     long whole;
+    if (strcmp(name, "units") == 0 && o->units_given)
+        return bad(command, "--units N given twice; give it once", v);
     if (strlen(v) > CLI_WHOLE_DIGITS_MAX) {
         char msg[96];
         snprintf(msg, sizeof msg, "--%s is too long for a whole number", name);

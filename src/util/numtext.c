@@ -34,8 +34,10 @@ int num_parse_double(const char *s, double *out)
     double v = strtod(s, &end);
     if (end == s || *end != '\0')
         return -1;
-    if (errno == ERANGE || !isfinite(v))
-        return -2; /* too large, or too small to be told from 0 */
+    /* a subnormal (ERANGE too) is read exactly as written: params.ini's
+     * 5e-324 round-trips; too large, or a non-zero text read as 0, is not */
+    if (!isfinite(v) || (errno == ERANGE && v == 0))
+        return -2;
     *out = v;
     return 0;
 }

@@ -47,7 +47,10 @@ static void repeated_option_refused(void **state)
     expect("run " P " --units 2 " Q " --out $D/o1 --out $D/o2", 2, "--out given twice");
     assert_false(exists("o1"));
     assert_false(exists("o2"));
-    expect("run " P " --units 5 --units 6 " Q, 2, "--units given twice");
+    expect("run " P " --units 5 --units 6 " Q, 2, "--units N given twice");
+    expect("run " P " --units 0:2 --units 1:3 " Q, 2, "--units FIRST:END given twice");
+    /* N (run.units) and FIRST:END (the range of that run) are two values */
+    expect("run " P " --units 50 --units 0:2 " Q, 0, "units 0:2 of the run of 50 units");
     expect("run " P " --units 2 --seed 1 --seed 2 " Q, 2, "--seed given twice");
     expect("run " P " --units 2 --threads 1 --threads=2 " Q, 2, "--threads given twice");
     expect("run " P " --units 2 " Q " --quiet", 2, "--quiet given twice");
