@@ -13,6 +13,7 @@
 
 #define CLI_MAX_SETS 128
 #define CLI_MAX_VARY 2
+#define CLI_MAX_GIVEN 32
 
 /* Exit codes. */
 #define EXIT_BAD_INPUT 2
@@ -42,6 +43,9 @@ typedef struct {
     const char *isa;                  /* run --isa baseline|avx2 (else SUNMC_ISA) */
     const char *format;               /* run --format tsv|hdf5 (NULL: tsv) */
     const char *duplicates;           /* calibrate --duplicates average|refuse|keep */
+    const char *given[CLI_MAX_GIVEN]; /* options seen (their words in the allowed list) */
+    int n_given;
+    int units_given, seed_given;      /* --units N (not FIRST:END), --seed S */
 } cli_options;
 
 /* Parse argv[first..] for a command; allowed is a string of the options the

@@ -10,8 +10,10 @@
 /* Largest edit distance still offered as a suggestion. */
 #define SUGGEST_MAX_DISTANCE 2
 
-/* Levenshtein distance of a and b ignoring case; SUGGEST_NAME_MAX when
- * either is SUGGEST_NAME_MAX long or longer. */
+/* Edit distance of a and b ignoring case, a swap of two neighbouring
+ * characters counting as one edit ("rnu" is one from "run"; optimal string
+ * alignment); SUGGEST_NAME_MAX when either is SUGGEST_NAME_MAX long or
+ * longer. */
 int suggest_distance(const char *a, const char *b);
 
 /* The name of names[n] nearest to word, when at most SUGGEST_MAX_DISTANCE

@@ -3,7 +3,10 @@
  * `--name value`, a single-dash option or an extra argument is refused, a
  * mistyped option name gets a did-you-mean. */
 #include "cli.h"
+#include "numtext.h"
+#include "outlock.h"
 #include "output.h"
+#include "ranks.h"
 #include "status.h"
 #include "suggest.h"
 
@@ -18,15 +21,89 @@
 /* Longest --units / --seed text (a long's 19 digits and some zeros). */
 #define CLI_WHOLE_DIGITS_MAX 32
 
-/* 1 when the space-separated list allowed holds the word opt. */
-static int allowed_has(const char *allowed, const char *opt)
+static int bad(const char *command, const char *msg, const char *arg)
+{
+    fprintf(stderr, "sunmc %s: %s%s%s (see sunmc %s --help)\n", command, msg, arg ? ": " : "",
+            arg ? arg : "", command);
+    return EXIT_BAD_INPUT;
+}
+
+/* Options a command takes more than once (each adds to a list; their
+ * --help shows them as [--set ...]...).  --units is checked by its form:
+ * N (run.units) and FIRST:END (the range of that run) once each. */
+#define REPEATABLE_OPTIONS "set vary space units"
+
+/* The word opt in the space-separated list allowed (a pointer into it, the
+ * same for every spelling), or NULL. */
+static const char *allowed_find(const char *allowed, const char *opt)
 {
     size_t n = strlen(opt);
     if (n == 0)
-        return 0;
+        return NULL;
     for (const char *p = allowed; (p = strstr(p, opt)) != NULL; p += n)
         if ((p == allowed || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
-            return 1;
+            return p;
+    return NULL;
+}
+
+/* 1 when the space-separated list allowed holds the word opt. */
+static int allowed_has(const char *allowed, const char *opt)
+{
+    return allowed_find(allowed, opt) != NULL;
+}
+
+/* Option name (its word in allowed) given once more: refused unless it is
+ * repeatable, else recorded. */
+static int given_once(cli_options *o, const char *command, const char *allowed,
+                      const char *name)
+{
+    const char *word = allowed_find(allowed, name);
+    if (allowed_has(REPEATABLE_OPTIONS, name))
+        return 0;
+    for (int i = 0; i < o->n_given; i++)
+        if (o->given[i] == word) {
+            char msg[OPT_NAME_MAX + 96];
+            snprintf(msg, sizeof msg, "--%s given twice; give it once", name);
+            return bad(command, msg, NULL);
+        }
+    if (o->n_given < CLI_MAX_GIVEN)
+        o->given[o->n_given++] = word;
+    return 0;
+}
+
+/* Sets of o whose key is section.key (blanks around it allowed). */
+static int sets_of_key(const cli_options *o, const char *key)
+{
+    int n = 0;
+    size_t len = strlen(key);
+    for (int i = 0; i < o->n_sets; i++) {
+        const char *s = o->sets[i];
+        s += strspn(s, " \t");
+        if (strncmp(s, key, len) != 0)
+            continue;
+        s += len;
+        s += strspn(s, " \t");
+        n += *s == '=';
+    }
+    return n;
+}
+
+/* --units N with --set run.units=M (or --seed with --set run.seed): two
+ * values for one key, where one would silently win. */
+static int one_value_per_key(const cli_options *o, const char *command)
+{
+    static const char *const opts[] = {"units", "seed"};
+    for (int k = 0; k < 2; k++) {
+        char key[16];
+        snprintf(key, sizeof key, "run.%s", opts[k]);
+        int from_option = k == 0 ? o->units_given : o->seed_given;
+        if (from_option && sets_of_key(o, key) > 1) {
+            char msg[128];
+            snprintf(msg, sizeof msg, "--%s and --set %s both give %s; give one of them",
+                     opts[k], key, key);
+            return bad(command, msg, NULL);
+        }
+    }
     return 0;
 }
 
@@ -42,22 +119,11 @@ static int takes_config(const char *allowed)
     return allowed_has(allowed, "CONFIG") || allowed_has(allowed, "CONFIG?");
 }
 
+/* A whole number in plain decimal (numtext.h: no '+', blanks, hex or
+ * exponent); 0 on success. */
 static int parse_long_arg(const char *s, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE)
-        return -1;
-    *out = v;
-    return 0;
-}
-
-static int bad(const char *command, const char *msg, const char *arg)
-{
-    fprintf(stderr, "sunmc %s: %s%s%s (see sunmc %s --help)\n", command, msg, arg ? ": " : "",
-            arg ? arg : "", command);
-    return EXIT_BAD_INPUT;
+    return num_parse_long(s, out) == 0 ? 0 : -1;
 }
 
 /* The option names of allowed (its lower-case words, plus help). */
@@ -126,13 +192,22 @@ static int set_flag(cli_options *o, const char *name)
     return flag != NULL;
 }
 
+/* The most units of a run (run.units' largest value): unit indices are
+ * below it. */
+static long units_most(void)
+{
+    const config_key *k = config_find("run", "units");
+    return k ? (long)k->max : 100000000;
+}
+
 /* --units FIRST:END, both whole numbers within run.units' largest value. */
 static int set_range(cli_options *o, const char *command, const char *v, const char *colon)
 {
     char lo[64];
     size_t n = (size_t)(colon - v);
-    const config_key *k = config_find("run", "units");
-    long most = k ? (long)k->max : 100000000;
+    long most = units_most();
+    if (o->end >= 0)
+        return bad(command, "--units FIRST:END given twice; give it once", v);
     if (n >= sizeof lo)
         return bad(command, "--units FIRST:END is malformed", v);
     memcpy(lo, v, n);
@@ -156,6 +231,8 @@ static int set_run_key(cli_options *o, const char *command, const char *name, co
     if (strcmp(name, "units") == 0 && colon)
         return set_range(o, command, v, colon);
     long whole;
+    if (strcmp(name, "units") == 0 && o->units_given)
+        return bad(command, "--units N given twice; give it once", v);
     if (strlen(v) > CLI_WHOLE_DIGITS_MAX) {
         char msg[96];
         snprintf(msg, sizeof msg, "--%s is too long for a whole number", name);
@@ -167,8 +244,16 @@ static int set_run_key(cli_options *o, const char *command, const char *name, co
                  strcmp(name, "units") == 0 ? " (e.g. 1000, not 1e3) or FIRST:END" : "");
         return bad(command, msg, v);
     }
+    const config_key *k = config_find("run", name);
+    if (k && (whole < k->min || whole > k->max)) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "--%s needs a whole number from %.0f to %.0f", name, k->min,
+                 k->max);
+        return bad(command, msg, v);
+    }
     if (o->n_sets >= CLI_MAX_SETS)
         return bad(command, "too many options", v);
+    *(strcmp(name, "units") == 0 ? &o->units_given : &o->seed_given) = 1;
     snprintf(o->set_buf[o->n_sets], sizeof o->set_buf[0], "run.%s=%ld", name, whole);
     o->sets[o->n_sets] = o->set_buf[o->n_sets];
     o->n_sets++;
@@ -177,12 +262,17 @@ static int set_run_key(cli_options *o, const char *command, const char *name, co
 
 static int set_shard(cli_options *o, const char *command, const char *v)
 {
-    char *e1 = NULL, *e2 = NULL;
-    errno = 0;
-    o->shard_k = strtol(v, &e1, 10);
-    o->shard_n = *e1 == '/' ? strtol(e1 + 1, &e2, 10) : 0;
-    if (e1 == v || *e1 != '/' || !e2 || e2 == e1 + 1 || *e2 || errno || o->shard_n < 1 ||
-        o->shard_n > 1000000 || o->shard_k < 0 || o->shard_k >= o->shard_n)
+    const char *slash = strchr(v, '/');
+    char k[CLI_WHOLE_DIGITS_MAX + 1];
+    size_t n = slash ? (size_t)(slash - v) : 0;
+    o->shard_k = o->shard_n = 0;
+    if (slash && n < sizeof k) {
+        memcpy(k, v, n);
+        k[n] = '\0';
+        if (parse_long_arg(k, &o->shard_k) != 0 || parse_long_arg(slash + 1, &o->shard_n) != 0)
+            o->shard_n = 0;
+    }
+    if (o->shard_n < 1 || o->shard_n > 1000000 || o->shard_k < 0 || o->shard_k >= o->shard_n)
         return bad(command, "--shard K/N needs 0 <= K < N (e.g. 0/4 .. 3/4)", v);
     return 0;
 }
@@ -225,8 +315,11 @@ static int set_option(cli_options *o, const char *command, const char *name, con
             return bad(command, "at most two --vary axes", v);
         o->vary[o->n_vary++] = v;
     } else if (strcmp(name, "unit") == 0) {
-        if (parse_long_arg(v, &o->unit) != 0 || o->unit < 0)
-            return bad(command, "--unit needs a unit index >= 0", v);
+        if (parse_long_arg(v, &o->unit) != 0 || o->unit < 0 || o->unit >= units_most()) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "--unit needs a unit index from 0 to %ld", units_most() - 1);
+            return bad(command, msg, v);
+        }
     } else if (strcmp(name, "only") == 0) {
         o->only = v;
     } else if (strcmp(name, "sensor") == 0) {
@@ -259,20 +352,31 @@ static int set_positional(cli_options *o, const char *command, const char *allow
     else if (o->n_positional < files && o->n_positional < 4)
         o->positional[o->n_positional++] = a;
     else {
-        char msg[160];
-        snprintf(msg, sizeof msg, "unexpected argument '%s': %s takes %s%s", a, command,
-                 takes_config(allowed) ? "one CONFIG" : "",
-                 files == 0 ? (takes_config(allowed) ? "" : "no file arguments")
-                 : files == 1 ? " one data file" : " two files");
-        fprintf(stderr, "sunmc %s: %s and options starting with -- (see sunmc %s --help)\n",
-                command, msg, command);
+        const char *what = files == 0 ? "no file arguments" : files == 1 ? "one data file"
+                                                                         : "two files";
+        if (allowed_has(allowed, "config") && !o->config) {
+            fprintf(stderr, "sunmc %s: unexpected argument '%s': %s takes %s and needs --config "
+                            "CONFIG (the sensor's config%s%s%s) (see sunmc %s --help)\n",
+                    command, a, command, what, o->n_positional ? ": was '" : "",
+                    o->n_positional ? o->positional[0] : "",
+                    o->n_positional ? "' meant as --config?" : "", command);
+            return EXIT_BAD_INPUT;
+        }
+        fprintf(stderr, "sunmc %s: unexpected argument '%s': %s takes %s%s and options starting "
+                        "with -- (see sunmc %s --help)\n",
+                command, a, command, takes_config(allowed) ? "one CONFIG" : what,
+                takes_config(allowed) && files ? (files == 1 ? ", one data file" : ", two files")
+                                               : "",
+                command);
         return EXIT_BAD_INPUT;
     }
     return 0;
 }
 
 /* Before any work: --out must be writable, and replacing it whole must
- * destroy neither a file sunmc did not write nor an input of the command. */
+ * destroy neither a file sunmc did not write nor an input of the command;
+ * then it is this command's until it ends (outlock.h: another live command
+ * into it is refused).  Under mpirun rank 0 alone writes, so it alone locks. */
 static int check_out(const cli_options *o, const char *command)
 {
     char err[SUNMC_ERRLEN];
@@ -280,7 +384,8 @@ static int check_out(const cli_options *o, const char *command)
     for (int k = 0; k < o->n_positional && k < 4; k++)
         inputs[k + 1] = o->positional[k];
     if (out_check(o->out, err, sizeof err) != SUNMC_OK ||
-        out_check_inputs(o->out, inputs, 1 + o->n_positional, err, sizeof err) != SUNMC_OK) {
+        out_check_inputs(o->out, inputs, 1 + o->n_positional, err, sizeof err) != SUNMC_OK ||
+        (ranks_rank() == 0 && out_lock(o->out, err, sizeof err) != SUNMC_OK)) {
         fprintf(stderr, "sunmc %s: %s\n", command, err);
         return EXIT_BAD_INPUT;
     }
@@ -302,6 +407,9 @@ static int parse_option(int argc, char **argv, int *i, const char *command, cons
     name[len] = '\0';
     if (!allowed_has(allowed, name))
         return unknown_option(command, allowed, a, name);
+    int rc = given_once(o, command, allowed, name);
+    if (rc)
+        return rc;
     if (set_flag(o, name)) {
         if (eq)
             return bad(command, "this option takes no value", a);
@@ -325,9 +433,8 @@ int cli_split_until(const char *arg, char *name, size_t len, double *halfwidth)
 {
     const char *colon = strrchr(arg, ':');
     size_t n = colon ? (size_t)(colon - arg) : 0;
-    char *end = NULL;
-    double h = colon ? strtod(colon + 1, &end) : NAN;
-    if (!colon || n >= len || end == colon + 1 || *end != '\0' || !(h > 0) || !isfinite(h))
+    double h = NAN;
+    if (!colon || n >= len || num_parse_double(colon + 1, &h) != 0 || !(h > 0))
         return 0;
     memcpy(name, arg, n);
     name[n] = '\0';
@@ -361,5 +468,8 @@ int cli_parse(int argc, char **argv, int first, const char *command, const char 
     }
     if (allowed_has(allowed, "CONFIG") && !o->config)
         return bad(command, "missing CONFIG file", NULL);
+    int rc = one_value_per_key(o, command);
+    if (rc)
+        return rc;
     return o->out ? check_out(o, command) : 0;
 }

@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "summary_print.h"
 #include "merge.h"
+#include "outlock.h"
 #include "runner.h"
 #include "status.h"
 
@@ -171,6 +172,8 @@ int cmd_merge(int argc, char **argv)
     int rc = s ? out_check(out, err, sizeof err) : SUNMC_ENOMEM;
     if (rc == SUNMC_OK)
         rc = out_check_inputs(out, dirs, n, err, sizeof err);
+    if (rc == SUNMC_OK)
+        rc = out_lock(out, err, sizeof err); /* held until main's out_unlock */
     if (rc == SUNMC_OK)
         rc = merge_plan(dirs, n, s, err, sizeof err);
     if (rc == SUNMC_OK && (rc = shard_config(&s[0], &st, err, sizeof err)) == SUNMC_OK) {

@@ -33,7 +33,9 @@ static const char run_help[] =
     "--shard K/N runs the K-th (0..N-1) of N near-equal parts of the units, for merge.\n"
     "With --out, completed blocks are checkpointed beside DIR (.NAME.resume/); after an\n"
     "interruption (Ctrl-C, SIGTERM, kill -9, power cut) the same command with --resume\n"
-    "runs the missing blocks only and ends with the files of an uninterrupted run.\n"
+    "runs the missing blocks only and ends with the files of an uninterrupted run; on a\n"
+    "finished --until run it runs nothing and prints the result again (files untouched).\n"
+    "While a run writes DIR, another command into DIR is refused (exit 2, its PID named).\n"
     "--until STAT:HALFWIDTH runs blocks of run.block_units units until the half-width of\n"
     "STAT's interval in the widest band is at most HALFWIDTH (STAT's unit; yield as a\n"
     "fraction) or --units N / run.units is reached; the result is that of a fixed run of\n"
@@ -147,8 +149,8 @@ static int parse_until(const char *arg, const sunmc_config *c, long first, run_u
     double h;
     report_stat_list(list, sizeof list);
     if (!cli_split_until(arg, name, sizeof name, &h)) {
-        fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, e.g. "
-                        "yield:0.005 (STAT one of %s)\n", arg, list);
+        fprintf(stderr, "sunmc run: --until %s: needs STAT:HALFWIDTH with HALFWIDTH a decimal "
+                        "number > 0, e.g. yield:0.005 (STAT one of %s)\n", arg, list);
         return EXIT_BAD_INPUT;
     }
     if (first != 0) {
@@ -429,28 +431,36 @@ static int job_execute(run_job *j, long *done)
     return rc;
 }
 
+/* Table 1 of the j->r's units (done of them), the units line and the
+ * --until line (also into note, "; ..." for config.ini, when given). */
+static void job_print(run_job *j, long done, char *note, size_t len)
+{
+    const sunmc_config *c = &j->st.cfg;
+    report_acc_rows(j->r.acc, j->rows);
+    summary_print(stdout, c, j->rows);
+    if (j->first != 0 || j->end != c->units)
+        printf("units %ld:%ld of the run of %ld units (run.units): `sunmc merge` joins the "
+               "shards of a run\n",
+               j->first, j->first + done, c->units);
+    if (j->o.until && len > 2) {
+        note[0] = ';';
+        note[1] = ' ';
+        until_line(note + 2, len - 2, j->o.until, &j->until, c, done);
+        printf("%s\n", note + 2);
+    }
+    fflush(stdout);
+}
+
 /* Table 1 and the --until line, then the files; the checkpoint is
  * removed once they are complete. */
 static int job_finish(run_job *j, long done, double wall_s)
 {
     const sunmc_config *c = &j->st.cfg;
     char note[512] = "", err[SUNMC_ERRLEN];
-    report_acc_rows(j->r.acc, j->rows);
     if (j->o.profile)
         print_profile(j->r.phase_s, done, wall_s, j->threads);
     /* Table 1 first: a failed write must not cost the result. */
-    summary_print(stdout, c, j->rows);
-    if (j->first != 0 || j->end != c->units)
-        printf("units %ld:%ld of the run of %ld units (run.units): `sunmc merge` joins the "
-               "shards of a run\n",
-               j->first, j->first + done, c->units);
-    if (j->o.until) {
-        note[0] = ';';
-        note[1] = ' ';
-        until_line(note + 2, sizeof note - 2, j->o.until, &j->until, c, done);
-        printf("%s\n", note + 2);
-    }
-    fflush(stdout);
+    job_print(j, done, note, sizeof note);
     if (!j->rf.open)
         return 0;
     run_manifest m;
@@ -462,15 +472,79 @@ static int job_finish(run_job *j, long done, double wall_s)
     int status = cli_run_files_commit(&j->rf, c, j->rows, &m, err, sizeof err);
     if (status != SUNMC_OK) {
         fprintf(stderr, "sunmc run: %s: results not saved (Table 1 above)\n", err);
-        if (j->has_ckpt && j->ckpt.done > 0)
+        if (j->has_ckpt && j->ckpt.done > 0) {
             fprintf(stderr, "sunmc run: kept: %ld units checkpointed in %s; once there is room, "
                             "this writes them without running them again:\n  %s\n",
                     j->ckpt.done, j->ckpt.dir, j->resume_cmd);
+        } else if (j->has_ckpt) { /* its first block was not written either */
+            checkpoint_close(&j->ckpt);
+            checkpoint_remove(j->o.out, NULL);
+            j->has_ckpt = 0;
+            fprintf(stderr, "sunmc run: nothing kept (no unit was checkpointed); once there is "
+                            "room, run the command again\n");
+        }
         return cli_exit_code(status);
     }
     checkpoint_close(&j->ckpt);
     checkpoint_remove(j->o.out, NULL);
     j->has_ckpt = 0;
+    return 0;
+}
+
+/* 1 when out holds the run j would make with --until, finished: the same
+ * config, seed and build, units from j->first, and the target met after
+ * exactly those units (or not met after all of --units N).  Replays its
+ * units.bin (checksums checked) into j->r, files untouched. */
+static int finished_until_run(run_job *j, const char *man, long *done)
+{
+    char bin[PATH_MAX], err[SUNMC_ERRLEN];
+    run_manifest old, m;
+    manifest_of(&j->st, j->first, j->end, &m);
+    if (manifest_read(man, &old, err, sizeof err) != SUNMC_OK ||
+        manifest_compatible(&old, man, &m, "this run", err, sizeof err) != SUNMC_OK ||
+        old.first != j->first || old.end > j->end ||
+        snprintf(bin, sizeof bin, "%s/%s", j->o.out, UNITFILE_NAME) >= (int)sizeof bin ||
+        run_sink_init(&j->r, &j->st.cfg, NULL, NULL, err, sizeof err) != SUNMC_OK)
+        return 0;
+    j->r.until = &j->until;
+    long n = old.end - old.first;
+    int same = unitsum_verify(bin, &j->r.layout, old.first, old.end, UNITSUM_LEAF_UNITS,
+                              old.sum_units, old.sum, old.nsum, man, err, sizeof err) == SUNMC_OK &&
+               run_replay(&j->r, bin, old.first, old.end, done, err, sizeof err) == SUNMC_OK &&
+               *done == n && (j->until.met || old.end == j->end);
+    if (!same)
+        run_sink_free(&j->r);
+    return same;
+}
+
+/* `run --until ... --resume` once its run has finished (a requeued cluster
+ * task): nothing to run, its result is printed again from --out's files,
+ * which stay as they are, byte for byte.  *finished = 1 then.  Any other
+ * case (a checkpoint, another run) is left to job_checkpoint. */
+static int job_finished_until(run_job *j, int *finished)
+{
+    char man[PATH_MAX], ck[PATH_MAX];
+    long done = 0;
+    *finished = 0;
+    if (!j->o.resume || !j->o.until || !j->o.out ||
+        checkpoint_path(j->o.out, ck, sizeof ck) != SUNMC_OK || access(ck, F_OK) == 0 ||
+        snprintf(man, sizeof man, "%s/%s", j->o.out, MANIFEST_NAME) >= (int)sizeof man ||
+        access(man, F_OK) != 0 || !finished_until_run(j, man, &done))
+        return 0;
+    *finished = 1;
+    j->rows = calloc((size_t)report_n_rows(&j->st.cfg), sizeof *j->rows);
+    if (!j->rows) {
+        run_sink_free(&j->r);
+        fprintf(stderr, "sunmc run: out of memory\n");
+        return 1;
+    }
+    if (!j->o.quiet)
+        fprintf(stderr, "sunmc run: --resume: %s holds this run, finished (units %ld:%ld); "
+                        "nothing to run, its files are as they were\n",
+                j->o.out, j->first, j->first + done);
+    char note[512];
+    job_print(j, done, note, sizeof note);
+    run_sink_free(&j->r);
     return 0;
 }
 
@@ -482,7 +556,13 @@ int cmd_run(int argc, char **argv)
     if (!j)
         return 1;
     char err[SUNMC_ERRLEN];
-    int rc = job_setup(j, argc, argv), opened = 0, setup_ok = rc == 0;
+    int rc = job_setup(j, argc, argv), opened = 0, setup_ok = rc == 0, finished = 0;
+    if (setup_ok)
+        rc = job_finished_until(j, &finished);
+    /* under mpirun rank 0 alone reads --out: the others follow its word */
+    long all_finished = finished;
+    if (setup_ok && ranks_bcast_long(&all_finished) == SUNMC_OK && all_finished)
+        setup_ok = 0;
     if (setup_ok) {
         int st = job_open(j, err, sizeof err);
         if (st != SUNMC_OK)

@@ -65,8 +65,8 @@ static int parse_until(const char *arg, const sunmc_config *c, sens_until *u)
     char name[64];
     double h;
     if (!cli_split_until(arg, name, sizeof name, &h)) {
-        fprintf(stderr, "sunmc sensitivity: --until %s: needs STAT:HALFWIDTH with HALFWIDTH > 0, "
-                        "e.g. st:0.02 (STAT one of st, s1, st_before, s1_before)\n", arg);
+        fprintf(stderr, "sunmc sensitivity: --until %s: needs STAT:HALFWIDTH with HALFWIDTH a "
+                        "decimal number > 0, e.g. st:0.02 (STAT one of st, s1, st_before, s1_before)\n", arg);
         return EXIT_BAD_INPUT;
     }
     memset(u, 0, sizeof *u);

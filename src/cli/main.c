@@ -1,6 +1,7 @@
 /* main.c - sunmc: Monte Carlo tolerance, calibration and design trades for
  * satellite sun sensors.  Dispatches to one command per file (cmd_*.c). */
 #include "cli.h"
+#include "outlock.h"
 #include "ranks.h"
 #include "status.h"
 #include "suggest.h"
@@ -40,8 +41,11 @@ static void usage(FILE *f)
             "  --seed S                random seed (run.seed)\n"
             "  --threads T             OpenMP threads (results do not depend on it)\n"
             "  --set SECTION.KEY=VALUE override a config key (repeatable)\n"
-            "  --out DIR               write the command's files there (all or nothing)\n"
+            "  --out DIR               write the command's files there (all or nothing; one\n"
+            "                          live command per DIR: a second one is refused)\n"
             "  --quiet                 no progress or timing on stderr\n"
+            "  each option once (--set and the others shown as [...]... add up); numbers are\n"
+            "  plain decimal (no 0x, inf, nan; whole numbers without '+' or exponent)\n"
             "  sunmc COMMAND --help    the command's own help; sunmc --version\n"
             "  sunmc --help --family NAME   the keys of one family (default: the first)\n"
             "\n",
@@ -228,6 +232,7 @@ int main(int argc, char **argv)
     if (rc == 0 && (ranks_rank() == 0 || (argc >= 2 && strcmp(argv[1], "run") == 0)))
         rc = dispatch(argc, argv);
     rc = check_stdout(argc, argv, rc);
+    out_unlock(); /* the --out DIR this command held (outlock.h) */
     ranks_finalize();
     return rc;
 }

@@ -2,6 +2,7 @@
  * key's type and range checks) and formatting it back. */
 #include "config.h"
 #include "ini.h"
+#include "numtext.h"
 #include "registry.h"
 #include "shortest.h"
 #include "status.h"
@@ -13,39 +14,38 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Parse a whole-string double; 0 on success. */
-static int parse_double(const char *s, double *out)
+/* Longest number text read (a long's digits or a double's, with room). */
+#define NUMBER_TEXT_MAX 128
+
+/* s without its trailing blanks into buf; -1 when it does not fit. */
+static int untrail(const char *s, char *buf, size_t len)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || errno == ERANGE || !isfinite(v))
+    size_t n = strlen(s);
+    while (n > 0 && isspace((unsigned char)s[n - 1]))
+        n--;
+    if (n >= len)
         return -1;
-    while (isspace((unsigned char)*end))
-        end++;
-    if (*end != '\0')
-        return -1;
-    *out = v;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
     return 0;
 }
 
-/* Parse a whole-string long; 0 on success, -1 when not a whole number, -2
- * when one too large for a long (a 200-digit seed). */
+/* A whole-string decimal double (numtext.h; trailing blanks allowed); 0 on
+ * success. */
+static int parse_double(const char *s, double *out)
+{
+    char buf[NUMBER_TEXT_MAX];
+    return untrail(s, buf, sizeof buf) != 0 || num_parse_double(buf, out) != 0 ? -1 : 0;
+}
+
+/* A whole-string decimal long (numtext.h); 0 on success, -1 when not a
+ * whole number, -2 when one too large for a long (a 200-digit seed). */
 static int parse_long(const char *s, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s)
-        return -1;
-    if (errno == ERANGE)
-        return -2;
-    while (isspace((unsigned char)*end))
-        end++;
-    if (*end != '\0')
-        return -1;
-    *out = v;
-    return 0;
+    char buf[NUMBER_TEXT_MAX];
+    if (untrail(s, buf, sizeof buf) != 0) /* hundreds of digits */
+        return strspn(s, "-0123456789") >= sizeof buf ? -2 : -1;
+    return num_parse_long(buf, out);
 }
 
 void config_family_choices(char *buf, size_t len)

@@ -1,5 +1,6 @@
 /* sweep.c - parsing --vary axes and applying grid points to a config. */
 #include "sweep.h"
+#include "numtext.h"
 #include "shortest.h"
 #include "status.h"
 
@@ -23,13 +24,7 @@ static int parse_number(const char *s, const char *end, double *out)
         return -1;
     memcpy(buf, s, n);
     buf[n] = '\0';
-    char *e;
-    errno = 0;
-    double v = strtod(buf, &e);
-    if (*e != '\0' || errno == ERANGE || !isfinite(v))
-        return -1;
-    *out = v;
-    return 0;
+    return num_parse_double(buf, out) == 0 ? 0 : -1;
 }
 
 static int key_is_numeric(const config_key *k)

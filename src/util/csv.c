@@ -1,5 +1,6 @@
 /* csv.c - reading the lab's comma-separated data files (see csv.h). */
 #include "csv.h"
+#include "numtext.h"
 #include "status.h"
 
 #include <ctype.h>
@@ -352,13 +353,13 @@ int csv_doubles(const csv_table *t, int col, double *out, char *err, size_t errl
 {
     for (size_t r = 0; r < t->n_rows; r++) {
         const char *s = t->field[r * (size_t)t->n_cols + (size_t)col];
-        char *end;
-        errno = 0;
-        double v = strtod(s, &end);
-        if (*s == '\0' || end == s || *end != '\0')
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: column '%s': '%s' is not a number",
-                              t->path, t->line[r], t->names[col], s);
-        if (!isfinite(v))
+        double v = 0;
+        int pst = num_parse_double(s, &v);
+        if (pst == -1)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "%s:%d: column '%s': '%s' is not a number", t->path,
+                              t->line[r], t->names[col], s);
+        if (pst != 0)
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
                               "%s:%d: column '%s': '%s' is not a finite number", t->path,
                               t->line[r], t->names[col], s);

@@ -2,6 +2,7 @@
  * to a temporary directory beside the target, which replaces the target
  * whole at the end (see output.h). */
 #include "output.h"
+#include "outlock.h"
 #include "status.h"
 
 #include <dirent.h>
@@ -59,6 +60,7 @@ static void guard_on_signal(int sig)
         for (int i = 0; i < n; i++)
             unlink(guard_paths[i]);
         rmdir(guard_tmpdir);
+        out_lock_drop_on_signal();
         size_t len = strlen(guard_note);
         if (len && write(STDERR_FILENO, guard_note, len) < 0)
             guard_note[0] = '\0';

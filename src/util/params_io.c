@@ -1,5 +1,6 @@
 /* params_io.c - params.ini writing and reading, FNV-1a checksums. */
 #include "ini.h"
+#include "numtext.h"
 #include "params_io.h"
 #include "status.h"
 
@@ -171,12 +172,13 @@ int params_get_double(const params_file *p, const char *section, const char *key
     if (st != SUNMC_OK)
         return st;
     const params_entry *e = params_find(p, section, key);
-    char *end;
-    double v = strtod(s, &end);
-    if (*s == '\0' || *end != '\0')
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not a number",
-                          p->path, e->line, section, key, s);
-    if (!isfinite(v))
+    double v = 0;
+    int pst = num_parse_double(s, &v);
+    if (pst == -1)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: key %s.%s: '%s' is not a number", p->path, e->line,
+                          section, key, s);
+    if (pst != 0)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not finite",
                           p->path, e->line, section, key, s);
     *out = v;

@@ -5,12 +5,20 @@
 #include <stdio.h>
 #include <string.h>
 
+/* 1 when a[0..1] is b[0..1] with its two characters swapped ("nu", "un"). */
+static int swapped(const char *a, const char *b)
+{
+    return tolower((unsigned char)a[0]) == tolower((unsigned char)b[1]) &&
+           tolower((unsigned char)a[1]) == tolower((unsigned char)b[0]);
+}
+
 int suggest_distance(const char *a, const char *b)
 {
     size_t na = strlen(a), nb = strlen(b);
     if (na >= SUGGEST_NAME_MAX || nb >= SUGGEST_NAME_MAX)
         return SUGGEST_NAME_MAX;
-    int prev[SUGGEST_NAME_MAX + 1], cur[SUGGEST_NAME_MAX + 1];
+    /* rows i-2, i-1 and i of the table (a swap looks two rows back) */
+    int prev2[SUGGEST_NAME_MAX + 1] = {0}, prev[SUGGEST_NAME_MAX + 1], cur[SUGGEST_NAME_MAX + 1];
     for (size_t j = 0; j <= nb; j++)
         prev[j] = (int)j;
     for (size_t i = 1; i <= na; i++) {
@@ -22,8 +30,11 @@ int suggest_distance(const char *a, const char *b)
                 best = prev[j] + 1;
             if (cur[j - 1] + 1 < best)
                 best = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && swapped(a + i - 2, b + j - 2) && prev2[j - 2] + 1 < best)
+                best = prev2[j - 2] + 1;
             cur[j] = best;
         }
+        memcpy(prev2, prev, sizeof prev);
         memcpy(prev, cur, sizeof cur);
     }
     return prev[nb];

@@ -536,9 +536,9 @@ static int dir_entries(const char *path)
 static int entries_starting(const char *path, const char *prefix);
 
 /* A write error at commit (here: the file-size limit) fails the command
- * and leaves no file, not even a temporary (the checkpoint .full.resume of
- * the units run is kept on purpose: --resume writes them once there is
- * room). */
+ * and leaves no file, not even a temporary (a checkpoint .full.resume is
+ * kept when it holds units, on purpose: --resume writes them once there
+ * is room; test_cli_lock checks both cases). */
 static void run_write_error(void **state)
 {
     (void)state;

@@ -14,8 +14,9 @@
 
 static char dir[128];
 
-#define SMALL "run configs/ess_type_a.ini --quiet --set campaign.alpha_step_deg=0.4 " \
-              "--set validation.alpha_step_deg=0.7 --set campaign.beta_deg=-15,15 --units 1000"
+#define SMALL_CONFIG "run configs/ess_type_a.ini --quiet --set campaign.alpha_step_deg=0.4 " \
+                     "--set validation.alpha_step_deg=0.7 --set campaign.beta_deg=-15,15"
+#define SMALL SMALL_CONFIG " --units 1000"
 
 /* The test's private directory (test_tmp's, removed at exit). */
 static int setup(void **state)
@@ -97,7 +98,7 @@ static void three_shards_merge_to_the_whole_run(void **state)
  * units.bin, units.tsv and summary.tsv): two shards of two threads and one
  * merge to the whole run, byte for byte; a merge with a run of other
  * temperatures is refused. */
-#define THERMAL SMALL " --set environment.operating_temp_c=-30,0:60:30 --units 120"
+#define THERMAL SMALL_CONFIG " --set environment.operating_temp_c=-30,0:60:30 --units 120"
 
 static void shards_with_temperatures_merge_to_the_whole_run(void **state)
 {

@@ -127,6 +127,13 @@ static void test_bad_values(void **state)
                     "%s:3: column 'output_deg': '-inf' is not a finite");
     check_bad_value("alpha_deg,output_deg\n1,1e400\n",
                     "%s:2: column 'output_deg': '1e400' is not a finite");
+    /* issue 36: strtod read 0x10 as 16; hex is refused as in every input */
+    check_bad_value("alpha_deg,output_deg\n1,0x10\n",
+                    "%s:2: column 'output_deg': '0x10' is not a number");
+    check_bad_value("alpha_deg,output_deg\n1,0X1p3\n",
+                    "%s:2: column 'output_deg': '0X1p3' is not a number");
+    check_bad_value("alpha_deg,output_deg\n1,Infinity\n",
+                    "%s:2: column 'output_deg': 'Infinity' is not a finite");
 }
 
 static void test_structure_errors(void **state)
@@ -425,6 +432,7 @@ static void test_params_errors(void **state)
     expect_params_error("[s]\nk = 1\nk = 2\n", ":3: duplicate key s.k (first set on line 2)");
     expect_params_error("[s]\n\nk = one  # unit\n", ":3: key s.k: 'one' is not a number");
     expect_params_error("[s]\nk = inf\n", ":2: key s.k: 'inf' is not finite");
+    expect_params_error("[s]\nk = 0x10\n", ":2: key s.k: '0x10' is not a number");
     expect_params_error("[s]\nj = 1\n", ": missing key s.k");
     char err[SUNMC_ERRLEN];
     params_file *p = malloc(sizeof *p);
