@@ -157,12 +157,21 @@ static void check_budget(const sunmc_config *c, budget_result *b)
         expect_share(in, rest, all, paired, c->confidence, "interaction");
         assert_near(sum + in->v, 1.0, 1e-12); /* floor + sources + interaction = 100 % */
     }
-    /* ranks: 1 = the largest after-calibration share */
+    /* ranks: 1 = the largest after-calibration share outside the noise,
+     * then before; sources whose shares are all inside the noise last */
     for (int i = 0; i < b->n; i++) {
         const budget_source *s = &b->src[b->order[i]];
         assert_int_equal(s->rank, i + 1);
-        if (i > 0)
-            assert_true(s->share_after.v <= b->src[b->order[i - 1]].share_after.v);
+        double ka = s->share_after.significant && fabs(s->share_after.v) >= 5e-5 ? s->share_after.v : 0;
+        double kb = s->share_before.significant && fabs(s->share_before.v) >= 5e-5 ? s->share_before.v : 0;
+        assert_int_equal(s->in_noise, ka == 0 && kb == 0);
+        if (i > 0) {
+            const budget_source *p = &b->src[b->order[i - 1]];
+            double pa = p->share_after.significant && fabs(p->share_after.v) >= 5e-5 ? p->share_after.v : 0;
+            double pb = p->share_before.significant && fabs(p->share_before.v) >= 5e-5 ? p->share_before.v : 0;
+            assert_true(s->in_noise > p->in_noise ||
+                        (s->in_noise == p->in_noise && (ka < pa || (ka == pa && kb <= pb))));
+        }
     }
 }
 

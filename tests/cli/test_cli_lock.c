@@ -220,7 +220,7 @@ static void full_disk_says_what_was_kept(void **state)
     assert_non_null(realpath(test_sunmc(), real));
     snprintf(bin, sizeof bin, "%.500s", real); /* the commands run in dir */
     snprintf(cmd, sizeof cmd,
-             "(cd %s && trap '' XFSZ; ulimit -f 40; %s run %s/" P " --units 600 --quiet "
+             "(cd %s && trap '' XFSZ; ulimit -f 60; %s run %s/" P " --units 600 --quiet "
              "--set run.block_units=32 --out full2 >/dev/null)",
              dir, bin, getenv("PWD"));
     assert_int_equal(test_run(cmd, out, sizeof out), 1);

@@ -450,14 +450,31 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
         assert_string_equal(tsv_str(b, r, "angle"), angle);
         assert_string_equal(tsv_str(b, r, "band"), band);
     }
-    /* FLOOR first, INTERACTION last, ranks 1..n between in order of the
-     * after-calibration share */
+    /* FLOOR first, INTERACTION last, ranks 1..n between: sources with a
+     * share outside the noise first, by the share after calibration, then
+     * before, each counted only outside the noise (worked out here) */
     assert_string_equal(tsv_str(b, 0, "source"), "FLOOR");
     assert_string_equal(tsv_str(b, b->nr - 1, "source"), "INTERACTION");
+    double prev[3] = {0};
     for (int r = 1; r < b->nr - 1; r++) {
         assert_int_equal(atoi(tsv_str(b, r, "rank")), r);
-        if (r > 1)
-            assert_true(tsv_num(b, r, "share_after") <= tsv_num(b, r - 1, "share_after"));
+        double key[3];
+        const char *sig[2] = {"significant_after", "significant_before"};
+        const char *sh[2] = {"share_after", "share_before"};
+        for (int w = 0; w < 2; w++) {
+            double v = tsv_num(b, r, sh[w]);
+            key[1 + w] = strcmp(tsv_str(b, r, sig[w]), "yes") == 0 && fabs(v) >= 5e-5 ? v : 0;
+        }
+        key[0] = key[1] == 0 && key[2] == 0; /* in the noise: last */
+        assert_string_equal(tsv_str(b, r, "in_noise"), key[0] ? "yes" : "no");
+        if (r > 1) {
+            int later = key[0] > prev[0] ||
+                        (key[0] == prev[0] && (key[1] < prev[1] ||
+                                               (key[1] == prev[1] && key[2] <= prev[2])));
+            if (!later)
+                fail_msg("%s ranked %d out of order", tsv_str(b, r, "source"), r);
+        }
+        memcpy(prev, key, sizeof prev);
     }
     /* all: the run itself; FLOOR: every source at 0; a source alone */
     char run[256], sets2[1024];

@@ -285,7 +285,7 @@ static void sweep_failed_point_no_nan(void **state)
     const char *row = strstr(out, "\n40 ");
     assert_non_null(row);
     long failed = -1;
-    assert_int_equal(sscanf(row, " 40 alpha 0:30 - - - - 0.0%% 0 %ld", &failed), 1);
+    assert_int_equal(sscanf(row, " 40 alpha 0:30 - - - - 0.0%% 0.0%% 0 %ld", &failed), 1);
     assert_int_equal(failed, 3);
     assert_non_null(strstr(out, "WARNING: - = no statistic: no unit of that point has a fit"));
     /* the good point prints numbers and, alone, no such warning */

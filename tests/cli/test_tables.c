@@ -53,7 +53,7 @@ static void test_sweep_columns_fit_values(void **state)
             head = line;
             continue;
         }
-        if (!head || !strstr(line, "0:60"))
+        if (!head || !strstr(line, "0:60") || strncmp(line, "band yield:", 11) == 0)
             continue;
         rows++;
         /* fields: value, angle, band, before, after, p95, improve */
