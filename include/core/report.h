@@ -48,6 +48,7 @@ typedef struct {
      * unit's pass means, the one the studies use. */
     double spec_yield;
     stats_interval spec_yield_ci;
+    long band_points;       /* validation points in the band (the most any unit had) */
     double worse;           /* fraction of the stat_units whose RMS after exceeds their RMS
                                before: calibration made them worse (Wilson interval) */
     /* Confidence intervals at level `confidence` (report.confidence):

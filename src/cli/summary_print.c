@@ -347,6 +347,19 @@ static void print_spec(FILE *f, const sunmc_config *c, const sensor_family *fam,
         fprintf(f, "  %-6s %s%s\n", fam->angle_names[a], y,
                 a == verdict_angle(c) ? "   (the yield budget, design and allocate use)" : "");
     }
+    if (c->spec_statistic == VERDICT_RMS)
+        return;
+    fprintf(f, "  validation points per band:");
+    for (int b = 0; b < c->bands_deg.n; b++) {
+        char band[32];
+        report_band_label(c, b, band, sizeof band);
+        fprintf(f, " %s %ld%s", band, rows[b].band_points, b + 1 < c->bands_deg.n ? "," : "");
+    }
+    fprintf(f, "; %s over n points is the %s\n", verdict_statistic_name(c),
+            c->spec_statistic == VERDICT_MAX
+                ? "largest |error|"
+                : "ceil(0.9973 n)-th smallest |error| (the largest up to 370 points, the "
+                  "second largest up to 740)");
 }
 
 void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)

@@ -103,6 +103,7 @@ struct report_acc {
     band_cell cell[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES * CONFIG_BANDS_MAX];
     /* the spec's verdict per set and angle: passes, and a design's blocks */
     long spec_pass[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES];
+    long points[CONFIG_BANDS_MAX]; /* validation points per band, the most of any unit */
     stats_blocks spec_b[(UNIT_MAX_TEMPS + 2) * UNIT_MAX_ANGLES];
 };
 
@@ -265,6 +266,9 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
         acc->gross += ur->gross_val;
         acc->alias += ur->alias_weak > 0;
         acc->failed += ur->fit_status != UNIT_FIT_OK;
+        for (int b = 0; b < acc->nb; b++)
+            if (ur->points[b] > acc->points[b])
+                acc->points[b] = ur->points[b];
         spec_add(acc, ur);
         for (int a = 0; a < acc->na; a++)
             for (int b = 0; b < acc->nb; b++)
@@ -430,6 +434,7 @@ void report_acc_rows(report_acc *acc, summary_row *rows)
         cell_statistics(s, acc->n, acc->c->confidence, acc->c->yield_interval,
                         acc->c->sampling != CONFIG_SAMPLING_RANDOM, 1, r);
         spec_statistics(acc, set * acc->na + a, r);
+        r->band_points = acc->points[b];
     }
 }
 
@@ -438,7 +443,7 @@ static const struct {
     const char *name;
     size_t ci;
 } report_stats[] = {
-    {"yield", offsetof(summary_row, yield_ci)},
+    {"yield", offsetof(summary_row, spec_yield_ci)}, /* the spec's verdict (verdict.h) */
     {"rms_after_mean", offsetof(summary_row, rms_after_mean_ci)},
     {"rms_before_mean", offsetof(summary_row, rms_before_mean_ci)},
     {"rms_after_sys_mean", offsetof(summary_row, rms_after_sys_mean_ci)},
@@ -482,6 +487,7 @@ double report_acc_halfwidth(report_acc *acc, int stat, int band)
         cell_statistics(&acc->cell[a * acc->nb + band], acc->n, acc->c->confidence,
                         acc->c->yield_interval, acc->c->sampling != CONFIG_SAMPLING_RANDOM,
                         quantiles, &r);
+        spec_statistics(acc, a, &r);
         const stats_interval *ci = (const stats_interval *)((const char *)&r + report_stats[stat].ci);
         double half = 0.5 * (ci->hi - ci->lo);
         if (!(half >= 0))

@@ -28,7 +28,7 @@ static void summary_header(FILE *f, int n_lead, const char *const *lead_names, i
                "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
                "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval\t"
                "spec_yield\tspec_yield_ci_lo\tspec_yield_ci_hi\tspec_statistic\tspec_bands\t"
-               "min_coverage");
+               "min_coverage\tband_points");
     fprintf(f, "%s\n", thermal ? "\tcondition\ttemp_c" : "");
 }
 
@@ -104,6 +104,7 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c,
         write_nums(f, "%.6g", 3, (double[]){r->spec_yield, r->spec_yield_ci.lo, r->spec_yield_ci.hi});
         fprintf(f, "%s\t%s\t", verdict_statistic_name(c), c->spec_bands[0] ? c->spec_bands : "all");
         tsv_num_put(f, "%g", c->min_coverage);
+        fprintf(f, "\t%ld", r->band_points);
         if (thermal_n_temps(c) > 0) {
             fprintf(f, "\t%s", condition_key[r->condition]);
             put_field(f, "%g", r->temp_c);

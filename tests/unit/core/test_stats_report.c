@@ -375,7 +375,8 @@ static void summary_tsv_columns(void **state)
                           "spec_yield_ci_hi",
                           "spec_statistic",
                           "spec_bands",
-                          "min_coverage"};
+                          "min_coverage",
+                          "band_points"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);
