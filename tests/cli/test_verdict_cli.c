@@ -1,0 +1,132 @@
+/* test_verdict_cli.c - issue 37 end to end: a unit blind over part of its
+ * field fails, in every band that holds the blind part; the studies' yield
+ * is run's under the same rule and never above run's worst band; inverse
+ * limits end where the spot leaves the detector. */
+#include "test_util.h"
+#include "test_tsv.h"
+
+static char dir[512];
+
+#define OWN "docs/examples/dss_own.ini"
+#define BLIND " --set tolerance.dx_px=690 --set tolerance.dx_px_dist=fixed"
+
+static int sunmc(const char *args, char *out, size_t len)
+{
+    return test_sunmc_in(dir, args, out, len);
+}
+
+static int setup(void **state)
+{
+    return test_private_dir(dir, sizeof dir, "verdictcli");
+}
+
+static tsv *load(const char *name)
+{
+    char p[700];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return tsv_load(p);
+}
+
+static void ok(const char *args)
+{
+    char out[1 << 16];
+    int rc = sunmc(args, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s: exit %d: %.3000s", args, rc, out);
+}
+
+/* dx_px 690 px (fixed): no unit reads a point below 25 deg.  Every unit
+ * fails for coverage, also in a 0:50 band that averages the blind half
+ * away and with the band's own RMS well inside the spec. */
+static void test_blind_unit_fails(void **state)
+{
+    ok("run " OWN BLIND " --units 20 --quiet --set report.spec_arcsec=30 "
+       "--set report.bands_deg=0:25,25:50,0:50 --out $D/blind");
+    tsv *u = load("blind/units.tsv");
+    assert_int_equal(u->nr, 20);
+    for (int r = 0; r < u->nr; r++) {
+        assert_string_equal(tsv_str(u, r, "pass"), "0");
+        assert_string_equal(tsv_str(u, r, "verdict"), "coverage");
+        assert_string_equal(tsv_str(u, r, "verdict_band"), "0:25");
+        assert_near(tsv_num(u, r, "verdict_coverage"), 0, 0);
+    }
+    tsv_free(u);
+    tsv *s = load("blind/summary.tsv");
+    for (int r = 0; r < s->nr; r++) {
+        assert_near(tsv_num(s, r, "spec_yield"), 0, 0);
+        assert_near(tsv_num(s, r, "yield"), 0, 0); /* each band alone too */
+    }
+    tsv_free(s);
+    /* judged on 0:50 alone: its points below 25 deg are not read */
+    ok("run " OWN BLIND " --units 20 --quiet --set report.spec_arcsec=30 "
+       "--set report.bands_deg=0:25,25:50,0:50 --set report.spec_bands=0:50 --out $D/blind50");
+    s = load("blind50/summary.tsv");
+    for (int r = 0; r < s->nr; r++)
+        assert_near(tsv_num(s, r, "spec_yield"), 0, 0);
+    tsv_free(s);
+    /* with coverage waived, the same units pass on the points they see */
+    ok("run " OWN BLIND " --units 20 --quiet --set report.spec_arcsec=30 "
+       "--set report.bands_deg=0:25,25:50,0:50 --set report.spec_bands=0:50 "
+       "--set report.min_coverage=0 --out $D/blind0");
+    s = load("blind0/summary.tsv");
+    assert_near(tsv_num(s, s->nr - 1, "spec_yield"), 1, 0);
+    tsv_free(s);
+}
+
+/* The spec yield is at most every band's yield, and the budget's is run's. */
+static void test_study_yield_is_runs(void **state)
+{
+    const char *sets = " --units 10 --seed 5 --quiet --set report.spec_arcsec=30";
+    char args[1024];
+    snprintf(args, sizeof args, "run " OWN "%s --out $D/r", sets);
+    ok(args);
+    snprintf(args, sizeof args,
+             "budget " OWN "%s --set report.budget_units=10 --set report.budget_steps=1 "
+             "--out $D/b",
+             sets);
+    ok(args);
+    tsv *s = load("r/summary.tsv"), *b = load("b/budget.tsv");
+    double spec = NAN, worst = 1;
+    for (int r = 0; r < s->nr; r++)
+        if (strcmp(tsv_str(s, r, "angle"), "total") == 0) {
+            spec = tsv_num(s, r, "spec_yield");
+            worst = fmin(worst, tsv_num(s, r, "yield"));
+        }
+    assert_true(spec <= worst);
+    assert_true(spec > 0 && spec < 1); /* something to compare */
+    assert_near(tsv_num(b, 0, "all_yield"), spec, 1e-6);
+    tsv_free(s);
+    tsv_free(b);
+}
+
+/* No inverse limit past the detector: a spot off the 1024 px detector is
+ * not read, so dx_px and dy_px end at coverage below the half width. */
+static void test_limits_end_at_the_field(void **state)
+{
+    ok("budget " OWN " --units 10 --quiet --set report.budget_units=20 --set report.budget_steps=3 "
+       "--set report.spec_arcsec=60 --set report.yield_target=0.9 --out $D/lim");
+    tsv *b = load("lim/budget.tsv");
+    int seen = 0;
+    for (int r = 1; r < b->nr - 1; r++) {
+        const char *src = tsv_str(b, r, "source");
+        if (strcmp(src, "dx_px") != 0 && strcmp(src, "dy_px") != 0)
+            continue;
+        seen++;
+        double lim = tsv_num(b, r, "limit");
+        if (!(lim < 512))
+            fail_msg("%s limit %g px: past the 512 px half detector", src, lim);
+        assert_string_equal(tsv_str(b, r, "limit_end"), "coverage");
+    }
+    assert_int_equal(seen, 2);
+    tsv_free(b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_blind_unit_fails),
+        cmocka_unit_test(test_study_yield_is_runs),
+        cmocka_unit_test(test_limits_end_at_the_field),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
