@@ -248,15 +248,18 @@ static void intervals_cover(void **state)
     summary_row truth[CONFIG_BANDS_MAX];
     estimate_run(&st.cfg, getenv("SAMPLING_TRUTH") ? atol(getenv("SAMPLING_TRUTH")) : TRUTH_UNITS, truth);
     config_state_free(&st);
-    const double t[4] = {truth[0].rms_before_mean, truth[0].rms_after_mean,
-                         truth[0].rms_after_p95, truth[0].yield};
+    /* the band's yield and the spec's (verdict.h: every band, every point) */
+    const double t[5] = {truth[0].rms_before_mean, truth[0].rms_after_mean,
+                         truth[0].rms_after_p95, truth[0].yield, truth[0].spec_yield};
     print_message("truth: before %.4f [%.4f %.4f] after %.4f [%.4f %.4f] p95 %g yield %g\n", t[0],
                   truth[0].rms_before_mean_ci.lo, truth[0].rms_before_mean_ci.hi, t[1],
                   truth[0].rms_after_mean_ci.lo, truth[0].rms_after_mean_ci.hi, t[2], t[3]);
     assert_true(t[3] > 0.3 && t[3] < 0.9); /* a yield with something to estimate */
+    print_message("spec yield %g\n", t[4]);
+    assert_true(t[4] > 0.1 && t[4] < 0.9);
     const char *designs[] = {"random", "lhs", "sobol"};
     for (int k = 0; k < 3; k++) {
-        int hits[4] = {0};
+        int hits[5] = {0};
         int reps = getenv("SAMPLING_REPS") ? atoi(getenv("SAMPLING_REPS")) : REPLICATES;
         for (int rep = 0; rep < reps; rep++) {
             summary_row r[CONFIG_BANDS_MAX];
@@ -272,9 +275,10 @@ static void intervals_cover(void **state)
             hits[1] += covers(r[0].rms_after_mean_ci, t[1]);
             hits[2] += covers(r[0].rms_after_p95_ci, t[2]);
             hits[3] += covers(r[0].yield_ci, t[3]);
+            hits[4] += covers(r[0].spec_yield_ci, t[4]);
         }
-        const char *names[] = {"mean before", "mean after", "p95", "yield"};
-        for (int j = 0; j < 4; j++) {
+        const char *names[] = {"mean before", "mean after", "p95", "yield", "spec yield"};
+        for (int j = 0; j < 5; j++) {
             print_message("%-6s %-11s covered %2d of %d\n", designs[k], names[j], hits[j],
                           REPLICATES);
             if (hits[j] < MIN_COVERED && reps == REPLICATES)
