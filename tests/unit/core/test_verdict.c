@@ -53,7 +53,7 @@ static void test_order_statistic_by_hand(void **state)
     assert_near(tail_of(370, VERDICT_P997_LEVEL, BAND_TAIL_MAX), 370, 0);  /* 369.001 -> 370 */
     assert_near(tail_of(371, VERDICT_P997_LEVEL, BAND_TAIL_MAX), 370, 0);  /* 369.998 -> 370 */
     assert_near(tail_of(1000, VERDICT_P997_LEVEL, BAND_TAIL_MAX), 998, 0); /* 997.3 -> 998 */
-    /* an exact decimal product is not rounded up past itself: 9973 of 10000 */
+    /* 0.9973 x 10000 is 9973 whole: the 9973rd smallest */
     assert_near(tail_of(10000, VERDICT_P997_LEVEL, BAND_TAIL_MAX), 9973, 0);
     /* past what the tail keeps: NaN, never a smaller order statistic */
     assert_true(isnan(tail_of(30000, VERDICT_P997_LEVEL, BAND_TAIL_MAX)));
