@@ -11,7 +11,7 @@ scorer, for N seconds (default 60): numbers swapped for nasty ones (nan,
 inf, 1e999, 95, ...), cells and lines dropped or doubled, bytes flipped,
 arrays of other shapes and types, odd file names, --out onto the input or
 a folder.  Each run must exit 0 or 2 with no traceback and no "unexpected"
-error (a check the importer lacks); on exit 2 nothing is written; no
+error (the wrapper's "FILE: unexpected TYPE: ..." for a check the importer lacks); on exit 2 nothing is written; no
 temporary file is left; the inputs are unchanged; an exit 0 writes only
 finite rows with |alpha|, |beta| < 90.  A failing case is kept in
 DIR/crash-K/ (DIR default build/fuzz/import) with the command; exit 1.
@@ -19,6 +19,7 @@ DIR/crash-K/ (DIR default build/fuzz/import) with the command; exit 1.
 import hashlib
 import math
 import os
+import re
 import random
 import shutil
 import subprocess
@@ -223,7 +224,7 @@ def main(argv):
         why = None
         if r.returncode not in (0, 2):
             why = "exit %d" % r.returncode
-        elif "Traceback" in r.stderr or "unexpected" in r.stderr:
+        elif "Traceback" in r.stderr or re.search(r": unexpected [A-Z][A-Za-z_]*: ", r.stderr):
             why = "an error no check foresaw"
         elif temps(scratch):
             why = "temporary file left: %s" % temps(scratch)
