@@ -3,6 +3,7 @@
 #include "calreport.h"
 #include "cli.h"
 #include "lab.h"
+#include "lab_params.h"
 #include "params_io.h"
 #include "registry.h"
 #include "status.h"
@@ -291,10 +292,12 @@ int cmd_calibrate(int argc, char **argv)
 
 static int compensate(const family_lab *lab, const params_file *pf, const char *raw_path)
 {
-    char err[SUNMC_ERRLEN];
+    char err[SUNMC_ERRLEN], warn[SUNMC_ERRLEN] = "";
     void *model = malloc(lab->model_size);
-    int st = model ? lab->params_load(pf, model, err, sizeof err)
+    int st = model ? lab_params_load(lab, pf, model, warn, sizeof warn, err, sizeof err)
                    : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
+    if (warn[0])
+        fprintf(stderr, "sunmc compensate: WARNING: %s\n", warn);
     lab_comp_stats cs;
     if (st == SUNMC_OK)
         st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, err, sizeof err);
