@@ -232,8 +232,8 @@ int lab_params_load(const family_lab *lab, const params_file *p, void *model, ch
             st = check_sections(p, m, err, errlen);
     }
     if (st == SUNMC_OK)
-        st = check_prior(p, err, errlen);
-    if (st == SUNMC_OK)
         st = lab->params_load(p, model, err, errlen);
+    if (st == SUNMC_OK)
+        st = check_prior(p, err, errlen);
     return st;
 }

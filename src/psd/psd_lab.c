@@ -359,12 +359,15 @@ static int poly_keys_known(const params_file *p, const psd_poly *q, char *err, s
             snprintf(b, sizeof buf[0], "tan%c_x%dy%d", ab ? 'b' : 'a', q->ex[t], q->ey[t]);
             names[n++] = b;
         }
-    int st = params_check_keys(p, "polynomial", names, n, err, errlen);
-    if (st != SUNMC_OK && strstr(err, "_x") && strstr(err, "unknown key polynomial.tan"))
-        snprintf(err + strlen(err), errlen - strlen(err),
-                 ": not a term of order %d (%s): a coefficient beyond the order", q->order,
-                 q->form == PSD_POLY_FSS20 ? "fss20" : "full");
-    return st;
+    const params_entry *e = params_unknown_key(p, "polynomial", names, n);
+    int ex, ey, end = 0;
+    if (e && sscanf(e->key, "tan%*1[ab]_x%dy%d%n", &ex, &ey, &end) == 2 && e->key[end] == '\0')
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: unknown key polynomial.%s: not a term of order %d (%s): a "
+                          "coefficient beyond the order",
+                          p->path, e->line, e->key, q->order,
+                          q->form == PSD_POLY_FSS20 ? "fss20" : "full");
+    return params_check_keys(p, "polynomial", names, n, err, errlen);
 }
 
 static int load_poly(const params_file *p, psd_cal *k, char *err, size_t errlen)
