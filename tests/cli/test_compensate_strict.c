@@ -306,7 +306,7 @@ static void fixed_scale_and_hash(void **state)
     (void)state;
     refused("ce", "sed 's/^d  *= 1 /d = 2 /' $IN > $OUT",
             "key fixed.d must be 1 (eq. 12's common scale");
-    refused("cd", "sed 's/^data_fnv1a64  *= [0-9a-f]*/data_fnv1a64 = xyz/' $IN > $OUT",
+    refused("cd", "sed 's/^data_fnv1a64  *= [0-9a-f]*/data_fnv1a64 = 0123456789abcdeg/' $IN > $OUT",
             "key calibration.data_fnv1a64 must be 16 hex digits");
     refused("cq", "sed 's/^data_rows = .*/data_rows = -1/' $IN > $OUT",
             "key calibration.data_rows must be >= 0");
