@@ -63,6 +63,9 @@ static const char compensate_head[] =
 static const char compensate_tail[] =
     "A row the calibrated sensor cannot produce (no signal, outside the detector or the\n"
     "output's range, no inverse) gets '-' and is counted on stderr by cause.\n"
+    "PARAMS.ini is read strictly: an unknown section or key, a model line naming another\n"
+    "model than the file holds, a coefficient beyond the polynomial's order, a file of a\n"
+    "newer major sunmc version (or none) exit 2 with FILE:LINE; a newer minor warns.\n"
     "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
 
 /* Append printf-style text to buf (used bytes *n), truncating at len. */
