@@ -59,6 +59,18 @@ typedef struct lab_measured_key {
     const char *action;
 } lab_measured_key;
 
+/* A calibration model a family's params.ini can hold: the name its
+ * [calibration] model line gives, the sections its file has beside
+ * [calibration] and [prior] (blank-separated), and a key (section, key)
+ * every file of this model has and no other model's of the family (NULL:
+ * none; at most one model of a family has none), by which a model line
+ * naming another model than the file holds is caught. */
+typedef struct lab_params_model {
+    const char *name;
+    const char *sections;
+    const char *sig_section, *sig_key;
+} lab_params_model;
+
 typedef struct family_lab {
     /* ---- simulate: one unit's campaign as a lab records it, its truth and
      * the readings `run` validates it on. ---- */
@@ -153,7 +165,11 @@ typedef struct family_lab {
      * the scatter reported as repeatability): calibrate then leaves exact
      * repeats to it, unless --duplicates is given. */
     int cal_counts_repeats_once;
-    /* The calibration a params.ini describes, into model (model_size bytes). */
+    /* The models its params.ini can hold (NULL-name terminated; lab_params.h
+     * checks the model line, the sections and the header against them). */
+    const lab_params_model *params_models;
+    /* The calibration a params.ini describes, into model (model_size bytes):
+     * every key of the model's sections known or refused at its line. */
     size_t model_size;
     int (*params_load)(const params_file *p, void *model, char *err, size_t errlen);
     /* Can the calibrated sensor produce reading raw (as compensate gets

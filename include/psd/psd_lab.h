@@ -9,6 +9,9 @@
 /* Rows further back than this are not searched for a repeat of a row's
  * table angles (a lab records a point's repeats together). */
 #define PSD_REPEAT_LOOKBACK 64
+/* params.ini's [calibration] model line of each model. */
+#define PSD_CALFIT_MODEL_PHYSICAL "psd_physical"
+#define PSD_CALFIT_MODEL_POLYNOMIAL "psd_polynomial"
 #define PSD_LAB_POLY_WORK (PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2))
 
 /* Data columns: alpha_deg, beta_deg, i1..i4, weight (v[0..6]). */

@@ -76,8 +76,9 @@ int params_get_text(const params_file *p, const char *section, const char *key,
 int params_get_double(const params_file *p, const char *section, const char *key, double *out,
                       char *err, size_t errlen);
 
-/* Value of section.key as a whole number (params_get_double, then
- * "FILE:LINE: key section.key: 'x' is not a whole number"). */
+/* Value of section.key as a whole number: decimal digits with an optional
+ * '-' (numtext.h: "3.0", "+3", "3e0" are not), within an int, else
+ * "FILE:LINE: key section.key: 'x' is not a whole number". */
 int params_get_int(const params_file *p, const char *section, const char *key, int *out,
                    char *err, size_t errlen);
 
@@ -100,8 +101,12 @@ int params_check_ranges(const params_file *p, const params_range *ranges, int n,
 int params_require(const params_file *p, const char *section, const char *key, int ok,
                    const char *what, char *err, size_t errlen);
 
+/* The first entry of `section` whose key is none of names[n], or NULL. */
+const params_entry *params_unknown_key(const params_file *p, const char *section,
+                                       const char *const *names, int n);
 /* Every key of `section` must be one of names[n] (NULL-free), else
- * "FILE:LINE: unknown key section.key". */
+ * "FILE:LINE: unknown key section.key" and " (did you mean NAME?)" when
+ * one of names is near (suggest.h). */
 int params_check_keys(const params_file *p, const char *section, const char *const *names,
                       int n, char *err, size_t errlen);
 

@@ -3,6 +3,7 @@
 #include "calreport.h"
 #include "cli.h"
 #include "lab.h"
+#include "lab_params.h"
 #include "params_io.h"
 #include "registry.h"
 #include "status.h"
@@ -62,6 +63,9 @@ static const char compensate_head[] =
 static const char compensate_tail[] =
     "A row the calibrated sensor cannot produce (no signal, outside the detector or the\n"
     "output's range, no inverse) gets '-' and is counted on stderr by cause.\n"
+    "PARAMS.ini is read strictly: an unknown section or key, a model line naming another\n"
+    "model than the file holds, a coefficient beyond the polynomial's order, a file of a\n"
+    "newer major sunmc version (or none) exit 2 with FILE:LINE; a newer minor warns.\n"
     "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
 
 /* Append printf-style text to buf (used bytes *n), truncating at len. */
@@ -291,10 +295,12 @@ int cmd_calibrate(int argc, char **argv)
 
 static int compensate(const family_lab *lab, const params_file *pf, const char *raw_path)
 {
-    char err[SUNMC_ERRLEN];
+    char err[SUNMC_ERRLEN], warn[SUNMC_ERRLEN] = "";
     void *model = malloc(lab->model_size);
-    int st = model ? lab->params_load(pf, model, err, sizeof err)
+    int st = model ? lab_params_load(lab, pf, model, warn, sizeof warn, err, sizeof err)
                    : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
+    if (warn[0])
+        fprintf(stderr, "sunmc compensate: WARNING: %s\n", warn);
     lab_comp_stats cs;
     if (st == SUNMC_OK)
         st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, err, sizeof err);

@@ -304,6 +304,13 @@ static int write_residuals(const void *p, FILE *f)
 static const char *const raw_columns[] = {"x_px", "y_px", NULL};
 static const char *const comp_columns[] = {"compensated_alpha_deg", "compensated_beta_deg", NULL};
 
+/* The physical model (its named deviations) and the polynomial (its
+ * order in [design]). */
+static const lab_params_model params_models[] = {
+    {DSS_CALFIT_MODEL_PHYSICAL, "design parameters", "parameters", "fit_dx_px"},
+    {DSS_CALFIT_MODEL_POLYNOMIAL, "design parameters", "design", "order"},
+    {NULL, NULL, NULL, NULL}};
+
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {
     return dss_params_load(p, model, err, errlen);
@@ -380,6 +387,7 @@ const family_lab dss_lab = {
     .comp_fail_note = NULL,
     .opt_columns = opt_columns,
     .reading_check = reading_check,
+    .params_models = params_models,
     .model_size = sizeof(dss_calibration),
     .params_load = params_load,
     .compensate = compensate,

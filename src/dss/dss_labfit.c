@@ -568,7 +568,11 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
                                               "glass_index"};
     double dv[4];
     const char *mount = NULL;
+    static const char *const known[] = {"pixel_um",    "detector_px", "sun_disc_c_rad2", "h_mm",
+                                        "glass_thickness_mm", "glass_index", "mount"};
     int st = params_check_keys(p, "parameters", dss_param_names, DSS_NP, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_keys(p, "design", known, N_RANGES(known), err, errlen);
     if (st == SUNMC_OK)
         st = params_check_ranges(p, dss_phys_ranges, N_RANGES(dss_phys_ranges), err, errlen);
     for (int k = 0; k < 4 && st == SUNMC_OK; k++)
@@ -595,9 +599,9 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
                                                            : DSS_MOUNT_AS_MOUNTED};
     dss_model_init(m, &d);
     m->half_px = 0; /* older params.ini: no detector side, no check */
-    double side = 0;
+    int side = 0;
     if (params_find(p, "design", "detector_px") &&
-        (st = params_get_double(p, "design", "detector_px", &side, err, errlen)) == SUNMC_OK &&
+        (st = params_get_int(p, "design", "detector_px", &side, err, errlen)) == SUNMC_OK &&
         (st = params_require(p, "design", "detector_px", side >= 1, ">= 1", err, errlen)) ==
             SUNMC_OK)
         m->half_px = 0.5 * side;
@@ -631,6 +635,80 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
     return st;
 }
 
+/* Every key of the polynomial's [design] and [parameters]: a coefficient
+ * ca_K, cb_K beyond the order's terms is refused, never dropped. */
+static int poly_keys_known(const params_file *p, const dss_poly *q, char *err, size_t errlen)
+{
+    static const char *const design[] = {"order",    "scale_rad",          "h_mm",
+                                         "pixel_um", "glass_thickness_mm", "glass_index"};
+    int st = params_check_keys(p, "design", design, N_RANGES(design), err, errlen);
+    char buf[2 * DSS_POLY_MAX_TERMS][16];
+    const char *names[2 * DSS_POLY_MAX_TERMS];
+    for (int k = 0; k < 2 * q->n_terms; k++) {
+        snprintf(buf[k], sizeof buf[k], "%s_%d", k % 2 ? "cb" : "ca", k / 2);
+        names[k] = buf[k];
+    }
+    const params_entry *e = params_unknown_key(p, "parameters", names, 2 * q->n_terms);
+    int term = 0, n = 0;
+    if (st != SUNMC_OK || !e)
+        return st;
+    if ((sscanf(e->key, "ca_%d%n", &term, &n) == 1 || sscanf(e->key, "cb_%d%n", &term, &n) == 1) &&
+        e->key[n] == '\0' && term >= q->n_terms)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: unknown key parameters.%s: not a term of order %d (ca_0, cb_0 "
+                          ".. ca_%d, cb_%d): a coefficient beyond the order",
+                          p->path, e->line, e->key, q->order, q->n_terms - 1, q->n_terms - 1);
+    return params_check_keys(p, "parameters", names, 2 * q->n_terms, err, errlen);
+}
+
+/* The polynomial model of a params.ini: [design] its order, scale and the
+ * on-board formula's geometry, [parameters] ca_K, cb_K. */
+static int load_poly(const params_file *p, dss_poly *q, char *err, size_t errlen)
+{
+    int order = 0;
+    int st = params_get_int(p, "design", "order", &order, err, errlen);
+    char whole[32];
+    snprintf(whole, sizeof whole, "1..%d", DSS_POLY_MAX_ORDER);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "order", order >= 1 && order <= DSS_POLY_MAX_ORDER,
+                            whole, err, errlen);
+    if (st != SUNMC_OK)
+        return st;
+    q->order = order;
+    q->n_terms = dss_poly_n_terms(q->order);
+    st = poly_keys_known(p, q, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_ranges(p, dss_poly_ranges, N_RANGES(dss_poly_ranges), err, errlen);
+    dss_onboard *o = &q->onboard;
+    const char *const keys[] = {"scale_rad", "h_mm", "pixel_um", "glass_thickness_mm",
+                                "glass_index"};
+    double *v[] = {&q->scale_rad, &o->h_mm, &o->pixel_um, &o->glass_t_mm, &o->glass_n};
+    for (int k = 0; k < 5 && st == SUNMC_OK; k++)
+        st = params_get_double(p, "design", keys[k], v[k], err, errlen);
+    o->pixel_mm = o->pixel_um * MM_PER_UM;
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "scale_rad", q->scale_rad > 0, "> 0", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "h_mm", o->h_mm > 0, "> 0", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "pixel_um", o->pixel_um > 0, "> 0", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "glass_thickness_mm",
+                            o->glass_t_mm >= 0 && o->glass_t_mm < o->h_mm,
+                            ">= 0 and below design.h_mm", err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "design", "glass_index", o->glass_n >= 1, ">= 1", err, errlen);
+    char key[PARAMS_KEY_MAX];
+    for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
+        snprintf(key, sizeof key, "ca_%d", k);
+        st = params_get_double(p, "parameters", key, &q->ca[k], err, errlen);
+        snprintf(key, sizeof key, "cb_%d", k);
+        if (st == SUNMC_OK)
+            st = params_get_double(p, "parameters", key, &q->cb[k], err, errlen);
+    }
+    return st;
+}
+
 static int load_current(const params_file *p, dss_calibration *cal, char *err, size_t errlen)
 {
     const char *model;
@@ -644,55 +722,7 @@ static int load_current(const params_file *p, dss_calibration *cal, char *err, s
     }
     if (strcmp(model, DSS_CALFIT_MODEL_POLYNOMIAL) == 0) {
         cal->kind = DSS_MODEL_POLYNOMIAL;
-        double order;
-        dss_poly *q = &cal->poly;
-        char whole[32];
-        snprintf(whole, sizeof whole, "1..%d", DSS_POLY_MAX_ORDER);
-        st = params_get_double(p, "design", "order", &order, err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "order",
-                                order >= 1 && order <= DSS_POLY_MAX_ORDER && order == floor(order),
-                                whole, err, errlen);
-        if (st == SUNMC_OK)
-            st = params_check_ranges(p, dss_poly_ranges, N_RANGES(dss_poly_ranges), err, errlen);
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "scale_rad", &q->scale_rad, err, errlen);
-        dss_onboard *o = &q->onboard;
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "h_mm", &o->h_mm, err, errlen);
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "pixel_um", &o->pixel_um, err, errlen);
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "glass_thickness_mm", &o->glass_t_mm, err,
-                                   errlen);
-        if (st == SUNMC_OK)
-            st = params_get_double(p, "design", "glass_index", &o->glass_n, err, errlen);
-        o->pixel_mm = o->pixel_um * MM_PER_UM;
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "scale_rad", q->scale_rad > 0, "> 0", err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "h_mm", o->h_mm > 0, "> 0", err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "pixel_um", o->pixel_um > 0, "> 0", err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "glass_thickness_mm",
-                                o->glass_t_mm >= 0 && o->glass_t_mm < o->h_mm,
-                                ">= 0 and below design.h_mm", err, errlen);
-        if (st == SUNMC_OK)
-            st = params_require(p, "design", "glass_index", o->glass_n >= 1, ">= 1", err, errlen);
-        if (st != SUNMC_OK)
-            return st;
-        q->order = (int)order;
-        q->n_terms = dss_poly_n_terms(q->order);
-        char key[PARAMS_KEY_MAX];
-        for (int k = 0; k < q->n_terms && st == SUNMC_OK; k++) {
-            snprintf(key, sizeof key, "ca_%d", k);
-            st = params_get_double(p, "parameters", key, &q->ca[k], err, errlen);
-            snprintf(key, sizeof key, "cb_%d", k);
-            if (st == SUNMC_OK)
-                st = params_get_double(p, "parameters", key, &q->cb[k], err, errlen);
-        }
-        return st;
+        return load_poly(p, &cal->poly, err, errlen);
     }
     return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown dss model '%s'", p->path,
                       params_find(p, "calibration", "model")->line, model);

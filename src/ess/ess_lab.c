@@ -313,6 +313,13 @@ static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
 static const char *const raw_columns[] = {"output_deg", NULL};
 static const char *const comp_columns[] = {"compensated_deg", NULL};
 
+/* The paper's model and the extended one; only the extended has the
+ * fine code's cos-4 terms. */
+static const lab_params_model params_models[] = {
+    {ESS_CALFIT_MODEL, "design parameters fixed derived", NULL, NULL},
+    {ESS_CALFIT_MODEL_EXT, "design parameters fixed derived", "parameters", "ks_cos4_deg"},
+    {NULL, NULL, NULL, NULL}};
+
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {
     return ess_params_load(p, model, err, errlen);
@@ -394,6 +401,7 @@ const family_lab ess_lab = {
     .comp_help = comp_help,
     .comp_fail_note = "the model is not invertible there",
     .reading_check = reading_check,
+    .params_models = params_models,
     .model_size = sizeof(ess_model),
     .params_load = params_load,
     .compensate = compensate,

@@ -565,6 +565,35 @@ static int ess_params_invertible(const params_file *p, const ess_model *m, char 
                       p->path, e ? e->line : 0, k * DEG_PER_RAD, DEG_PER_RAD / m->omega);
 }
 
+/* [design], [fixed] and [derived]: every key known (the sun tilt in
+ * [fixed] when measured), eq. 12's d the 1 the model's a, b, c are scaled
+ * to, the rest numbers (sun_x and the derived k, t are not read: they
+ * follow from the others). */
+static int ess_other_keys(const params_file *p, char *err, size_t errlen)
+{
+    static const char *const design[] = {"theta0_deg"};
+    static const char *const fixed[] = {"d", "roll_measured_arcsec", "sun_x_arcsec",
+                                        ESS_SUN_Y_MEASURED_KEY};
+    static const char *const derived[] = {"k_deg", "t_rad"};
+    int st = params_check_keys(p, "design", design, 1, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_keys(p, "fixed", fixed, 4, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_keys(p, "derived", derived, 2, err, errlen);
+    double d = 1, v;
+    if (st == SUNMC_OK && params_find(p, "fixed", "d"))
+        st = params_get_double(p, "fixed", "d", &d, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, "fixed", "d", d == 1.0,
+                            "1 (eq. 12's common scale: a, b and c are relative to it)", err, errlen);
+    if (st == SUNMC_OK && params_find(p, "fixed", "sun_x_arcsec"))
+        st = params_get_double(p, "fixed", "sun_x_arcsec", &v, err, errlen);
+    for (int k = 0; k < 2 && st == SUNMC_OK; k++)
+        if (params_find(p, "derived", derived[k]))
+            st = params_get_double(p, "derived", derived[k], &v, err, errlen);
+    return st;
+}
+
 int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen)
 {
     const char *sensor, *model;
@@ -593,6 +622,8 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
             names[nfit++] = ess_param_names[j];
         }
     st = params_check_keys(p, "parameters", names, nfit, err, errlen);
+    if (st == SUNMC_OK)
+        st = ess_other_keys(p, err, errlen);
     double theta0_deg, roll_arcsec, v[ESS_NP_MAX] = {0};
     if (st == SUNMC_OK)
         st = params_get_double(p, "design", "theta0_deg", &theta0_deg, err, errlen);

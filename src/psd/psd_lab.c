@@ -160,7 +160,8 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     if (!k)
         return SUNMC_ENOMEM;
     calreport_init(rep, "psd",
-                   psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL ? "psd_physical" : "psd_polynomial");
+                   psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL ? PSD_CALFIT_MODEL_PHYSICAL
+                                                                 : PSD_CALFIT_MODEL_POLYNOMIAL);
     int st = psd_labcal_fit(k, &k->fr);
     if (st == SUNMC_OK) {
         /* rows the fitted model cannot read (saturated spots) leave, once */
@@ -308,8 +309,17 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
     static const char *const detectors[] = {"lateral", "quadrant"}, *const laterals[] = {"duo", "tetra"};
     static const char *const orders[] = {"projected", "alpha_outer", "beta_outer"};
     static const char *const signs[] = {"plus", "minus"};
+    static const char *const design_keys[] = {"detector", "lateral", "h_mm", "active_mm",
+                                              "aperture_um", "gap_um", "pincushion",
+                                              "glass_thickness_mm", "glass_index"};
+    static const char *const campaign_keys[] = {"table_order", "table_alpha_sign",
+                                                "table_beta_sign"};
     psd_design *d = &c->design;
-    int st = enum_of(p, "design", "detector", detectors, 2, &d->detector, err, errlen);
+    int st = params_check_keys(p, "design", design_keys, 9, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_check_keys(p, "campaign", campaign_keys, 3, err, errlen);
+    if (st == SUNMC_OK)
+        st = enum_of(p, "design", "detector", detectors, 2, &d->detector, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "design", "lateral", laterals, 2, &d->lateral, err, errlen);
     const params_range r[] = {
@@ -349,12 +359,15 @@ static int poly_keys_known(const params_file *p, const psd_poly *q, char *err, s
             snprintf(b, sizeof buf[0], "tan%c_x%dy%d", ab ? 'b' : 'a', q->ex[t], q->ey[t]);
             names[n++] = b;
         }
-    int st = params_check_keys(p, "polynomial", names, n, err, errlen);
-    if (st != SUNMC_OK && strstr(err, "_x") && strstr(err, "unknown key polynomial.tan"))
-        snprintf(err + strlen(err), errlen - strlen(err),
-                 ": not a term of order %d (%s): a coefficient beyond the order", q->order,
-                 q->form == PSD_POLY_FSS20 ? "fss20" : "full");
-    return st;
+    const params_entry *e = params_unknown_key(p, "polynomial", names, n);
+    int ex, ey, end = 0;
+    if (e && sscanf(e->key, "tan%*1[ab]_x%dy%d%n", &ex, &ey, &end) == 2 && e->key[end] == '\0')
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: unknown key polynomial.%s: not a term of order %d (%s): a "
+                          "coefficient beyond the order",
+                          p->path, e->line, e->key, q->order,
+                          q->form == PSD_POLY_FSS20 ? "fss20" : "full");
+    return params_check_keys(p, "polynomial", names, n, err, errlen);
 }
 
 static int load_poly(const params_file *p, psd_cal *k, char *err, size_t errlen)
@@ -412,6 +425,13 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
         psd_phys_set(&m->cal.phys, &m->cfg.design, m->cal.p);
     return st;
 }
+
+/* The physical model (its aperture offset among [parameters]) and the
+ * field's polynomial ([polynomial] and its order). */
+static const lab_params_model params_models[] = {
+    {PSD_CALFIT_MODEL_PHYSICAL, "design campaign parameters", "parameters", "dx_um"},
+    {PSD_CALFIT_MODEL_POLYNOMIAL, "design campaign polynomial", "polynomial", "order"},
+    {NULL, NULL, NULL, NULL}};
 
 /* The polynomial's terms are fitted on ratios up to poly.scale (the
  * campaign's largest): a ratio this fraction beyond is an extrapolation
@@ -488,6 +508,7 @@ const family_lab psd_lab = {
     .reading_check = reading_check,
     .comp_fail_note = "a saturated spot (beyond the linear field) or a reading the model cannot "
                       "invert",
+    .params_models = params_models,
     .model_size = sizeof(psd_model_file),
     .params_load = params_load,
     .compensate = compensate,

@@ -3,6 +3,7 @@
 #include "numtext.h"
 #include "params_io.h"
 #include "status.h"
+#include "suggest.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -188,11 +189,12 @@ int params_get_double(const params_file *p, const char *section, const char *key
 int params_get_int(const params_file *p, const char *section, const char *key, int *out,
                    char *err, size_t errlen)
 {
-    double v;
-    int st = params_get_double(p, section, key, &v, err, errlen);
+    const char *s = NULL;
+    int st = params_get_text(p, section, key, &s, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if (!(v == floor(v) && fabs(v) <= INT_MAX)) {
+    long v = 0;
+    if (num_parse_long(s, &v) != 0 || v < INT_MIN || v > INT_MAX) {
         const params_entry *e = params_find(p, section, key);
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: key %s.%s: '%s' is not a whole number",
                           p->path, e->line, section, key, e->value);
@@ -232,8 +234,8 @@ int params_require(const params_file *p, const char *section, const char *key, i
                       e ? e->line : 0, section, key, what);
 }
 
-int params_check_keys(const params_file *p, const char *section, const char *const *names,
-                      int n, char *err, size_t errlen)
+const params_entry *params_unknown_key(const params_file *p, const char *section,
+                                       const char *const *names, int n)
 {
     for (int i = 0; i < p->n; i++) {
         if (strcmp(p->e[i].section, section) != 0)
@@ -242,8 +244,19 @@ int params_check_keys(const params_file *p, const char *section, const char *con
         for (int j = 0; j < n && !known; j++)
             known = strcmp(p->e[i].key, names[j]) == 0;
         if (!known)
-            return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key %s.%s", p->path,
-                              p->e[i].line, section, p->e[i].key);
+            return &p->e[i];
     }
-    return SUNMC_OK;
+    return NULL;
+}
+
+int params_check_keys(const params_file *p, const char *section, const char *const *names,
+                      int n, char *err, size_t errlen)
+{
+    const params_entry *e = params_unknown_key(p, section, names, n);
+    if (!e)
+        return SUNMC_OK;
+    const char *near = suggest_nearest(e->key, names, (size_t)n);
+    return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown key %s.%s%s%s%s", p->path,
+                      e->line, section, e->key, near ? " (did you mean " : "", near ? near : "",
+                      near ? "?)" : "");
 }

@@ -239,10 +239,15 @@ static int compensate(const char *params, const char *raw, char *out, size_t out
     return test_run(cmd, out, outlen);
 }
 
+/* The writing version compensate requires, last (the other keys keep
+ * their lines). */
+#define PARAMS_VERSION "[calibration]\nsunmc_version = " SUNMC_VERSION "\n"
+
 static const char ess_params_fmt[] =
     "[calibration]\nsensor = ess\nmodel = ess_eq12_finecode\n[design]\ntheta0_deg = %s\n"
     "[fixed]\nroll_measured_arcsec = 0\n[parameters]\na = 1\nb = 0\nc = 0\nks_deg = 0\n"
-    "kc_deg = 0\nfit_install_y_arcsec = 0\nfit_install_z_arcsec = 0\nfit_sun_y_arcsec = 0\n";
+    "kc_deg = 0\nfit_install_y_arcsec = 0\nfit_install_z_arcsec = 0\nfit_sun_y_arcsec = 0\n"
+    PARAMS_VERSION;
 
 /* theta0_deg within design.theta0_deg's range 0.1..10 deg: 0, -2 and a
  * hair outside refused at its line, both ends accepted. */
@@ -276,6 +281,7 @@ static void poly_params(const char *order, int terms, const char *pixel, char *t
                                    order, pixel);
     for (int k = 0; k < terms; k++)
         used += (size_t)snprintf(text + used, len - used, "ca_%d = 0\ncb_%d = 0\n", k, k);
+    snprintf(text + used, len - used, "%s", PARAMS_VERSION);
 }
 
 /* order must be a whole number 1..7: 0, 8 and 2.5 refused at its line; 1
@@ -295,7 +301,9 @@ static void test_dss_params_order(void **state)
             double a = strtod(strstr(out, "100,-50,") + 8, NULL);
             assert_near(a, atan(-100 * 0.0055 / 3) * DEG_PER_RAD, 1e-12);
         } else {
-            expect_refused(rc, out, "p.ini:5: key design.order must be 1..7");
+            expect_refused(rc, out, strchr(cases[i].order, '.')
+                                        ? "p.ini:5: key design.order: '2.5' is not a whole number"
+                                        : "p.ini:5: key design.order must be 1..7");
         }
     }
 }
@@ -307,7 +315,7 @@ static const char dss_phys_fmt[] =
     "h_mm = %s\nglass_thickness_mm = %s\nglass_index = 1.52\nmount = %s\n"
     "[parameters]\nfit_dx_px = 0\nfit_dy_px = 0\nfit_dh_px = %s\nfit_glass_thickness_um = %s\n"
     "fit_c1_arcsec = 0\nfit_c2_arcsec = 0\nfit_c3_arcsec = 0\nfit_glass_index = 0\n"
-    "fit_sun_b1_arcsec = 0\nfit_sun_b2_arcsec = 0\n";
+    "fit_sun_b1_arcsec = 0\nfit_sun_b2_arcsec = 0\n" PARAMS_VERSION;
 
 /* The physical model needs a pitch and a height, and the glass under the
  * pinhole: pixel_um and h_mm > 0, the fitted height above the detector,

@@ -261,6 +261,7 @@ static void test_cli_compensate_bad_input(void **state)
     snprintf(params, sizeof params, "%s/p.ini", dir);
     snprintf(raw, sizeof raw, "%s/raw.csv", dir);
     const char *good_params = "[calibration]\nsensor = ess\nmodel = ess_eq12_finecode\n"
+                              "sunmc_version = 0.1.0\n"
                               "[design]\ntheta0_deg = 2\n[fixed]\nroll_measured_arcsec = 0\n"
                               "[parameters]\na = 1\nb = 0\nc = 0\nks_deg = 0\nkc_deg = 0.01\n"
                               "fit_install_y_arcsec = 0\nfit_install_z_arcsec = 0\n"
@@ -295,7 +296,7 @@ static void test_cli_compensate_bad_input(void **state)
     memcpy(strstr(bad, "\nc = 0"), "\nc = z", 6);
     assert_int_equal(test_write_file(params, bad), 0);
     assert_int_equal(test_run(cmd, out, sizeof out), 2);
-    assert_non_null(strstr(out, "p.ini:11: key parameters.c: 'z' is not a number"));
+    assert_non_null(strstr(out, "p.ini:12: key parameters.c: 'z' is not a number"));
     snprintf(bad, sizeof bad, "%s", good_params);
     memcpy(strstr(bad, "sensor = ess"), "sensor = xyz", 12);
     assert_int_equal(test_write_file(params, bad), 0);

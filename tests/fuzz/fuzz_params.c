@@ -1,5 +1,7 @@
 /* fuzz_params.c - libFuzzer harness: any bytes as a params.ini (params_read,
- * then the family's loader with its physical ranges), and a loaded
+ * then compensate's strict reading, lab_params_load: version, model line,
+ * sections, every key, then the family's loader with its physical
+ * ranges), and a loaded
  * calibration applied as `sunmc compensate` applies it: the ESS to raw
  * outputs across +-90 deg, the DSS to spots across its detector, the PSD
  * to channels through its reading check.  A
@@ -12,6 +14,8 @@
 #include "ess_labfit.h"
 #include "ess_model.h"
 #include "lab.h"
+#include "lab_params.h"
+#include "registry.h"
 #include "psd_unit.h"
 #include "params_io.h"
 #include "status.h"
@@ -61,6 +65,20 @@ static void compensate_psd(const params_file *pf)
     free(model);
 }
 
+/* compensate's strict reading of the whole file (lab_params_load). */
+static int strict_ok(const params_file *pf, const char *sensor)
+{
+    char err[SUNMC_ERRLEN], warn[SUNMC_ERRLEN];
+    const sensor_family *fam = sensor_family_find(sensor);
+    if (!fam || !fam->lab)
+        return 0;
+    void *model = malloc(fam->lab->model_size);
+    int ok = model && lab_params_load(fam->lab, pf, model, warn, sizeof warn, err,
+                                      sizeof err) == SUNMC_OK;
+    free(model);
+    return ok;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     char path[64], err[SUNMC_ERRLEN];
@@ -70,7 +88,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     params_file *pf = malloc(sizeof *pf);
     const char *sensor = NULL;
     if (pf && params_read(path, pf, err, sizeof err) == SUNMC_OK &&
-        params_get_text(pf, "calibration", "sensor", &sensor, err, sizeof err) == SUNMC_OK) {
+        params_get_text(pf, "calibration", "sensor", &sensor, err, sizeof err) == SUNMC_OK &&
+        strict_ok(pf, sensor)) {
         if (strcmp(sensor, "ess") == 0)
             compensate_ess(pf);
         else if (strcmp(sensor, "dss") == 0)
