@@ -25,7 +25,7 @@ target = cfgv('yield_target')
 target = strlen(target) > 0 ? real(target) : 0.95
 set title sprintf("%s: campaign design, the yield of each candidate campaign against its turntable time\n(error bars: confidence interval; dashed: the yield target %g %%)", strlen(prod) > 0 ? prod : run, 100 * target)
 set xlabel 'turntable time [h]'
-set ylabel 'yield (widest band)'
+set ylabel 'yield under the spec (every band it names, every point read)'
 set grid
 set key below horizontal maxcols 3
 set yrange [*:1.01]
