@@ -9,7 +9,12 @@
  *  - the repeatability: rows about their point's mean, per axis, with
  *    n - 1 per point, against a hand computation on a small table;
  *  - the validation grid: -alpha_max + alpha_offset + i step, as many
- *    points as fit within +alpha_max, for offsets at both ends of the key. */
+ *    points as fit within +alpha_max, for offsets at both ends of the key;
+ *    the campaign's rows: campaign.repeats readings per point, in turn;
+ *  - weights are precisions: the polynomial fit with a row of weight 3 is
+ *    the fit with that row three times;
+ *  - a lab's points are its distinct (alpha, beta) pairs, and the report's
+ *    repeatability of a point's mean is a row's over sqrt(rows per point). */
 #include "test_util.h"
 
 #include "psd_config.h"
@@ -198,6 +203,139 @@ static void validation_grid_offset(void **state)
     }
 }
 
+static void campaign_rows_repeat(void **state)
+{
+    const char *reps[] = {"1", "3"};
+    for (int t = 0; t < 2; t++) {
+        char set_rep[64];
+        snprintf(set_rep, sizeof set_rep, "campaign.repeats=%s", reps[t]);
+        const char *sets[] = {"sensor.family=psd", "campaign.alpha_max_deg=20",
+                              "campaign.alpha_step_deg=5", "campaign.beta_deg=-10,0,10", set_rep};
+        config_state st;
+        test_build(&st, NULL, sets, 5);
+        long r = atol(reps[t]);
+        assert_int_equal(psd_campaign_rows(&st.cfg), 9 * 3 * r);
+        for (long i = 0; i < 9 * 3 * r; i++) {
+            double a, b;
+            psd_campaign_angles(&st.cfg, i, &a, &b);
+            long pt = i / r;
+            assert_near(a * DEG_PER_RAD, -20 + 5.0 * (double)(pt % 9), 1e-9);
+            assert_near(b * DEG_PER_RAD, -10 + 10.0 * (double)(pt / 9), 1e-9);
+        }
+        config_state_free(&st);
+    }
+}
+
+/* Rows of a unit with a little scatter, on a grid; the fit with row
+ * weights w against the fit with each row given w times at weight 1. */
+static void poly_weights_are_counts(void **state)
+{
+    enum { NA = 9, NB = 5, N = NA * NB, MAXR = 3 * N };
+    psd_design d = duo_design();
+    psd_deviations dev;
+    memset(&dev, 0, sizeof dev);
+    dev.dx_um[0] = 40;
+    dev.gain_pct[1] = 3;
+    psd_sensor s;
+    psd_sensor_build(&d, &dev, &s);
+    static double m1[4][N], u1[3 * N], w1[N], m2[4][MAXR], u2[3 * MAXR];
+    long n2 = 0;
+    for (int r = 0; r < N; r++) {
+        double a = (-20 + 5 * (r % NA)) * RAD_PER_DEG, b = (-10 + 5 * (r / NA)) * RAD_PER_DEG;
+        double u[3] = {tan(a), tan(b), 1}, nu = sqrt(u[0] * u[0] + u[1] * u[1] + 1), mm[4];
+        for (int k = 0; k < 3; k++)
+            u1[3 * r + k] = u[k] / nu;
+        assert_int_equal(psd_sensor_read(&s, u1 + 3 * r, mm), SUNMC_OK);
+        w1[r] = 1 + r % 3;
+        for (int k = 0; k < 4; k++)
+            m1[k][r] = mm[k] * (1 + 2e-3 * sin(7.0 * r + k));
+        for (int c = 0; c < (int)w1[r]; c++, n2++)
+            for (int k = 0; k < 4; k++) {
+                m2[k][n2] = m1[k][r];
+                if (k < 3)
+                    u2[3 * n2 + k] = u1[3 * r + k];
+            }
+    }
+    psd_rows r1 = {.n = N, .m = {m1[0], m1[1], m1[2], m1[3]}, .ut = u1, .w = w1, .design = &d};
+    psd_rows r2 = {.n = (size_t)n2, .m = {m2[0], m2[1], m2[2], m2[3]}, .ut = u2, .design = &d};
+    psd_poly q1, q2;
+    static double work[PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2)];
+    psd_poly_init(&q1, 3, PSD_POLY_FULL);
+    psd_poly_init(&q2, 3, PSD_POLY_FULL);
+    assert_int_equal(psd_poly_fit(&q1, &r1, work), SUNMC_OK);
+    assert_int_equal(psd_poly_fit(&q2, &r2, work), SUNMC_OK);
+    for (int k = 0; k < q1.nt; k++) {
+        assert_near(q1.ca[k], q2.ca[k], 1e-9 * (fabs(q2.ca[k]) + 1e-3));
+        assert_near(q1.cb[k], q2.cb[k], 1e-9 * (fabs(q2.cb[k]) + 1e-3));
+    }
+    /* and uniform weights are no weights */
+    for (int r = 0; r < N; r++)
+        w1[r] = 0.25;
+    psd_poly_init(&q2, 3, PSD_POLY_FULL);
+    r1.w = NULL;
+    assert_int_equal(psd_poly_fit(&q2, &r1, work), SUNMC_OK);
+    r1.w = w1;
+    assert_int_equal(psd_poly_fit(&q1, &r1, work), SUNMC_OK);
+    for (int k = 0; k < q1.nt; k++)
+        assert_near(q1.ca[k], q2.ca[k], 1e-9 * (fabs(q2.ca[k]) + 1e-3));
+}
+
+static void points_are_angle_pairs(void **state)
+{
+    enum { N = 7 };
+    const char *sets[] = {"sensor.family=psd"};
+    config_state st;
+    test_build(&st, NULL, sets, 1);
+    double a[N] = {0, 0, 0, 5, 0, 5, 0}, b[N] = {0, 0, 5, 0, 5, 0, 0}, ch[N], w[N];
+    for (int i = 0; i < N; i++) {
+        ch[i] = 0.1 + 0.01 * i;
+        w[i] = 1;
+    }
+    int line[N] = {2, 3, 4, 5, 6, 7, 8};
+    lab_columns d = {.path = "t.csv", .n = N, .n_cols = 7, .v = {a, b, ch, ch, ch, ch, w},
+                     .line = line};
+    char err[SUNMC_ERRLEN];
+    psd_labcal *k = psd_labcal_alloc(&st.cfg, &d, err, sizeof err);
+    assert_non_null(k);
+    assert_int_equal(k->n_points, 3);
+    /* (0,0) x 4, (0,5) x 2, (5,0) x 2: beta lines are not merged */
+    assert_int_equal(k->point[0], k->point[1]);
+    assert_int_equal(k->point[0], k->point[6]);
+    assert_int_equal(k->point[2], k->point[4]);
+    assert_int_equal(k->point[3], k->point[5]);
+    assert_int_not_equal(k->point[0], k->point[2]);
+    assert_int_not_equal(k->point[0], k->point[3]);
+    assert_int_not_equal(k->point[2], k->point[3]);
+    psd_labcal_free(k);
+    config_state_free(&st);
+}
+
+/* The report's two numbers: a single reading's scatter A and its point's
+ * mean's B = A / sqrt(rows per point). */
+static void repeatability_of_the_mean(void **state)
+{
+    char cmd[4096], out[1 << 16];
+    const char *d = test_tmp("rep");
+    snprintf(cmd, sizeof cmd,
+             "%s simulate configs/psd.ini --unit 3 --set campaign.repeats=4 --quiet --out %s && "
+             "grep -v '^#' %s/campaign.csv > %s/c.csv && %s calibrate --config configs/psd.ini "
+             "%s/c.csv",
+             test_sunmc(), d, d, d, test_sunmc(), d);
+    int rc = test_run(cmd, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s: %d\n%s", cmd, rc, out);
+    const char *p = strstr(out, "repeatability: ");
+    assert_non_null(p);
+    double per, one, mean;
+    assert_int_equal(sscanf(p, "repeatability: %lf rows per point; a single reading scatters %lf "
+                               "arcsec per axis about its point's mean (%lf",
+                            &per, &one, &mean),
+                     3);
+    assert_near(per, 4, 1e-12);
+    assert_true(one > 0);
+    assert_near(mean, one / 2, 1e-3 * one);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -205,6 +343,10 @@ int main(void)
         cmocka_unit_test(fss20_term_list),
         cmocka_unit_test(repeatability_by_hand),
         cmocka_unit_test(validation_grid_offset),
+        cmocka_unit_test(campaign_rows_repeat),
+        cmocka_unit_test(poly_weights_are_counts),
+        cmocka_unit_test(points_are_angle_pairs),
+        cmocka_unit_test(repeatability_of_the_mean),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
