@@ -6,7 +6,9 @@
  * about the mean), and the Wilson interval at n_eff = floor(n / deff) units
  * when deff > 1, at the n units when deff <= 1: a design whose blocks vary
  * less than independent units never narrows it.  And the warning of a run
- * of exactly one design block, none at one unit more. */
+ * of exactly one design block, none at one unit more.  p95's interval:
+ * Woodruff's, the share of units at or below p95 with the block variance
+ * of that share, never below p (1 - p) / n, t over the blocks. */
 #include "test_util.h"
 #include "test_tsv.h"
 
@@ -18,6 +20,48 @@ static void wilson(double k, double n, double level, double *lo, double *hi)
     double c = (k + z2 / 2) / (n + z2), h = z / (n + z2) * sqrt(k * (n - k) / n + z2 / 4);
     *lo = fmax(0, c - h);
     *hi = fmin(1, c + h);
+}
+
+/* Type 7 quantile of sorted x[n]. */
+static double quantile7(const double *x, long n, double p)
+{
+    double h = (double)(n - 1) * p;
+    long i = (long)floor(h);
+    return i + 1 < n ? x[i] + (h - (double)i) * (x[i + 1] - x[i]) : x[n - 1];
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The p95 interval of column col of u, units in blocks of block. */
+static void p95_interval(const tsv *u, const char *col, long block, double level, double *lo,
+                         double *hi)
+{
+    long n = u->nr, nb = n / block;
+    double x[256], tot[64] = {0};
+    assert_true(n <= 256 && nb <= 64);
+    for (long i = 0; i < n; i++)
+        x[i] = tsv_num(u, (int)i, col);
+    double sorted[256];
+    memcpy(sorted, x, (size_t)n * sizeof *x);
+    qsort(sorted, (size_t)n, sizeof *sorted, cmp_d);
+    double q = quantile7(sorted, n, 0.95), below = 0;
+    for (long i = 0; i < n; i++) {
+        long unit = atol(tsv_str(u, (int)i, "unit"));
+        tot[unit / block] += x[i] <= q;
+        below += x[i] <= q;
+    }
+    double f = below / (double)n, ss = 0;
+    for (long b = 0; b < nb; b++)
+        ss += (tot[b] - f * (double)block) * (tot[b] - f * (double)block);
+    double v = (double)nb / (double)(nb - 1) * ss / ((double)n * (double)n);
+    v = fmax(v, f * (1 - f) / (double)n);
+    double h = gsl_cdf_tdist_Pinv(0.5 * (1 + level), (double)(nb - 1)) * sqrt(v);
+    *lo = quantile7(sorted, n, fmax(0.95 - h, 0));
+    *hi = quantile7(sorted, n, fmin(0.95 + h, 1));
 }
 
 static void yield_interval_from_units(void **state)
@@ -75,6 +119,10 @@ static void yield_interval_from_units(void **state)
         mid += p > 0.1 && p < 0.9;
         expect_g6(tsv_num(s, r, "yield_ci_lo"), lo, "yield_ci_lo");
         expect_g6(tsv_num(s, r, "yield_ci_hi"), hi, "yield_ci_hi");
+        double plo, phi;
+        p95_interval(u, col, block, level, &plo, &phi);
+        expect_g6(tsv_num(s, r, "rms_after_p95_ci_lo"), plo, "rms_after_p95_ci_lo");
+        expect_g6(tsv_num(s, r, "rms_after_p95_ci_hi"), phi, "rms_after_p95_ci_hi");
         /* never narrower than for independent units */
         assert_true(tsv_num(s, r, "yield_ci_hi") - tsv_num(s, r, "yield_ci_lo") >=
                     whi - wlo - 1e-5);
