@@ -143,6 +143,10 @@ static void duplicates_counted_once(void **state)
                               sizeof out);
     if (rc != 2 || !strstr(out, "repeats line"))
         fail_msg("refuse: exit %d\n%s", rc, out);
+    /* a near miss of a mode */
+    rc = calibrate_edited("ess", cfg, thrice, "miss.csv", "--duplicates=averag", out, sizeof out);
+    if (rc != 2 || !strstr(out, "one of average, refuse, keep"))
+        fail_msg("--duplicates=averag: exit %d\n%s", rc, out);
 }
 
 /* 4 rows in 5 at weight 0 calibrate as the file without them: the same
@@ -172,17 +176,18 @@ static void weight_zero_drops(void **state)
     assert_true(params_differ_but(p1, p2, "crossval") < 1e-9);
 }
 
-/* Weights 1 and 3 in turn (534 rows: the median is 2), one row at 2.1e6:
- * more than 1e6 times the median, refused; 1.9e6 is taken. */
+/* Weights 1 and 3 in turn (534 rows: the median is 2), one row at
+ * 2.000001e6: more than 1e6 times the median, refused; exactly 2e6 is
+ * taken. */
 static void weight_median_of_an_even_count(void **state)
 {
     const char *cfg = "configs/ess_type_a.ini";
     char out[16384];
-    int rc = calibrate_edited("ess", cfg, "if (++r % 2) $NF = 3; if (r == 7) $NF = 2.1e6",
+    int rc = calibrate_edited("ess", cfg, "if (++r % 2) $NF = 3; if (r == 7) $NF = 2.000001e6",
                               "wbig.csv", "", out, sizeof out);
     if (rc != 2 || !strstr(out, "more than 1e+06 times the median weight 2:"))
         fail_msg("exit %d\n%s", rc, out);
-    rc = calibrate_edited("ess", cfg, "if (++r % 2) $NF = 3; if (r == 7) $NF = 1.9e6",
+    rc = calibrate_edited("ess", cfg, "if (++r % 2) $NF = 3; if (r == 7) $NF = 2e6",
                           "wok.csv", "", out, sizeof out);
     if (rc != 0)
         fail_msg("exit %d\n%s", rc, out);

@@ -107,6 +107,7 @@ static void name_lengths(void **state)
     snprintf(args, sizeof args, "config " E " --set sensor.product=%s", val64);
     expect(args, 2, "1 to 63 bytes");
     expect("config " E " --set sensor.product=v", 0, "product = v");
+    expect("config " E " --set sensor.product=", 2, "1 to 63 bytes");
 }
 
 static void units_ranges(void **state)

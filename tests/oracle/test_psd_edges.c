@@ -205,8 +205,9 @@ static void validation_grid_offset(void **state)
 
 static void campaign_rows_repeat(void **state)
 {
-    const char *reps[] = {"1", "3"};
-    for (int t = 0; t < 2; t++) {
+    /* campaign.repeats from its smallest (1) to its largest (1000) */
+    const char *reps[] = {"1", "3", "1000"};
+    for (int t = 0; t < 3; t++) {
         char set_rep[64];
         snprintf(set_rep, sizeof set_rep, "campaign.repeats=%s", reps[t]);
         const char *sets[] = {"sensor.family=psd", "campaign.alpha_max_deg=20",
