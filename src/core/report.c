@@ -315,6 +315,21 @@ const char *report_yield_interval_name(const sunmc_config *c)
     return names[c->yield_interval >= 0 && c->yield_interval < 3 ? c->yield_interval : 0];
 }
 
+/* A design's yield interval (method, level) of yield over n units whose
+ * passes in blocks are b: at the effective count n / deff when the blocks
+ * vary more than independent units would (deff > 1), else left as it is
+ * (never narrower than independent units'). */
+static void design_yield_interval(const stats_blocks *b, double yield, long n, int method,
+                                  double level, stats_interval *ci)
+{
+    double deff = n > 0 ? stats_blocks_deff(b, yield, n) : 1.0;
+    if (deff > 1.0) {
+        long n_eff = (long)floor((double)n / deff);
+        n_eff = n_eff < 1 ? 1 : n_eff;
+        yield_interval(method, lround(yield * (double)n_eff), n_eff, level, ci);
+    }
+}
+
 /* Under a sampling design (sampling.h) the intervals from the block
  * totals (stats_blocks.h): the means' Student t over the blocks; the
  * yield's by its method at the effective count n / deff when the blocks
@@ -330,12 +345,7 @@ static void cell_design_intervals(band_cell *s, long n, double level, int method
                    sizeof err);
     stats_blocks_t(&s->b_ratio, r->improvement_mean, level, &r->improvement_mean_ci, err,
                    sizeof err);
-    double deff = n > 0 ? stats_blocks_deff(&s->b_pass, r->yield, n) : 1.0;
-    if (deff > 1.0) {
-        long n_eff = (long)floor((double)n / deff);
-        n_eff = n_eff < 1 ? 1 : n_eff;
-        yield_interval(method, lround(r->yield * (double)n_eff), n_eff, level, &r->yield_ci);
-    }
+    design_yield_interval(&s->b_pass, r->yield, n, method, level, &r->yield_ci);
     size_t k = (size_t)s->after.n;
     if (k > 0 && quantiles)
         stats_blocks_quantile_ci(s->after_v, s->block_v, k, REPORT_PERCENTILE, level,
@@ -396,15 +406,9 @@ static void spec_statistics(const report_acc *acc, int i, summary_row *r)
     if (!(conf > 0.0 && conf < 1.0))
         return;
     yield_interval(c->yield_interval, pass, n, conf, &r->spec_yield_ci);
-    double deff = c->sampling != CONFIG_SAMPLING_RANDOM && n > 0
-                      ? stats_blocks_deff(&acc->spec_b[i], r->spec_yield, n)
-                      : 1.0;
-    if (deff > 1.0) {
-        long n_eff = (long)floor((double)n / deff);
-        n_eff = n_eff < 1 ? 1 : n_eff;
-        yield_interval(c->yield_interval, lround(r->spec_yield * (double)n_eff), n_eff, conf,
-                       &r->spec_yield_ci);
-    }
+    if (c->sampling != CONFIG_SAMPLING_RANDOM)
+        design_yield_interval(&acc->spec_b[i], r->spec_yield, n, c->yield_interval, conf,
+                              &r->spec_yield_ci);
 }
 
 void report_acc_rows(report_acc *acc, summary_row *rows)

@@ -123,19 +123,15 @@ static void dss_modes(void **state)
     check_mode("d3", "curve configs/dss.ini --unit 2", NULL, 0);
 }
 
-/* KNOWN BUG (reported with issue 43, src/ not changed here): the PSD's
- * units.tsv names its fitted parameters as its deviations (dx_um, dy_um,
- * dh_um, tilt_x_arcsec, tilt_y_arcsec, rot_z_arcsec twice; the ESS and
- * DSS write fit_*), so a reader by name gets the drawn value for the
- * fitted one.  Its run files are checked for widths only; the uniqueness
- * check goes back on (unique = 1) with the fix. */
+/* The PSD's units.tsv once named its fitted parameters as its deviations
+ * (dx_um ... twice); fit_* now, so its names are unique too. */
 static void psd_modes(void **state)
 {
-    check_mode_u("p1", "run configs/psd.ini --units 5", "rms_after_sys_", 5, 0);
+    check_mode_u("p1", "run configs/psd.ini --units 5", "rms_after_sys_", 5, 1);
     check_mode_u("p2",
                  "run configs/psd.ini --units 8 --set run.sampling=sobol --set run.sampling_block=4 "
                  "--set environment.operating_temp_c=0,40",
-                 "_at_0C", 8, 0);
+                 "_at_0C", 8, 1);
     check_mode("p3", "curve configs/psd.ini --unit 1", NULL, 0);
 }
 
