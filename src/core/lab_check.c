@@ -459,13 +459,35 @@ static int same_row(const lab_columns *d, size_t i, size_t j)
     return 1;
 }
 
+/* Drop the rows marked in drop[] (d->n of them, 1: drop): the file
+ * without them, the rest in their order.  A repeated row left at weight 0
+ * would still count in the priors' pilot, the campaign's size and the
+ * cross-validation's folds. */
+static void drop_marked(lab_columns *d, const unsigned char *drop)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < d->n; i++) {
+        if (drop[i])
+            continue;
+        for (int c = 0; c < d->n_cols; c++)
+            d->v[c][k] = d->v[c][i];
+        d->line[k] = d->line[i];
+        k++;
+    }
+    d->n = k;
+}
+
 int lab_duplicates(lab_columns *d, int mode, char *note, size_t notelen, char *err,
                    size_t errlen)
 {
     note[0] = '\0';
     size_t *ix = malloc((d->n + 1) * sizeof *ix);
-    if (!ix)
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    unsigned char *drop = calloc(d->n + 1, 1);
+    if (!ix || !drop) {
+        free(ix);
+        free(drop);
+        return -sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    }
     for (size_t i = 0; i < d->n; i++)
         ix[i] = i;
     dup_ctx = d;
@@ -492,10 +514,13 @@ int lab_duplicates(lab_columns *d, int mode, char *note, size_t notelen, char *e
             used += (size_t)snprintf(note + used, notelen - used, "%s%d = %d", n ? ", " : "",
                                      d->line[dup], d->line[first]);
         if (mode == LAB_DUP_AVERAGE)
-            d->v[weight_col(d)][dup] = 0; /* the mean of equal rows is the row: once */
+            drop[dup] = 1; /* the mean of equal rows is the row: once */
         n++;
     }
+    if (st == SUNMC_OK && mode == LAB_DUP_AVERAGE && n)
+        drop_marked(d, drop);
     free(ix);
+    free(drop);
     if (st == SUNMC_OK && n && used < notelen)
         snprintf(note + used, notelen - used, "%s", n > LAB_DUP_SHOWN ? ", ..." : "");
     return st == SUNMC_OK ? (int)n : -st;
