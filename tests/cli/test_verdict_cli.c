@@ -121,12 +121,41 @@ static void test_limits_end_at_the_field(void **state)
     tsv_free(b);
 }
 
+/* The order statistics of a real run, against what they must be: over a
+ * band of n points the max lies between the RMS and sqrt(n) times it, and
+ * p99.7 on fewer than 371 points is the max. */
+static void test_max_and_p997_of_a_run(void **state)
+{
+    const char *base = "run configs/dss.ini --units 6 --quiet --set report.spec_bands=0:20 "
+                       "--set report.spec_arcsec=3600";
+    char args[512];
+    snprintf(args, sizeof args, "%s --set report.spec_statistic=max --out $D/mx", base);
+    ok(args);
+    snprintf(args, sizeof args, "%s --set report.spec_statistic=p99.7 --out $D/pq", base);
+    ok(args);
+    tsv *m = load("mx/units.tsv"), *q = load("pq/units.tsv"), *s = load("mx/summary.tsv");
+    double n = tsv_num(s, 0, "band_points");
+    assert_true(n > 10 && n < 371);
+    for (int r = 0; r < m->nr; r++) {
+        assert_string_equal(tsv_str(m, r, "verdict_band"), "0:20");
+        double mx = tsv_num(m, r, "verdict_stat_arcsec");
+        double rms = tsv_num(m, r, "rms_after_total_0_20_arcsec");
+        if (!(rms <= mx * (1 + 1e-5) && mx <= sqrt(n) * rms * (1 + 1e-5)))
+            fail_msg("unit %d: max %g, rms %g over %g points", r, mx, rms, n);
+        assert_near(tsv_num(q, r, "verdict_stat_arcsec"), mx, 1e-6 * mx);
+    }
+    tsv_free(m);
+    tsv_free(q);
+    tsv_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_blind_unit_fails),
         cmocka_unit_test(test_study_yield_is_runs),
         cmocka_unit_test(test_limits_end_at_the_field),
+        cmocka_unit_test(test_max_and_p997_of_a_run),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
