@@ -121,6 +121,40 @@ static void test_limits_end_at_the_field(void **state)
     tsv_free(b);
 }
 
+/* design's yields are the verdict's: the input campaign's candidate has
+ * run's spec yield (the same units), far below the 25:50 band's yield
+ * alone that the widest band would have given. */
+static void test_design_judges_the_spec(void **state)
+{
+    const char *sets = " --units 20 --quiet --set report.spec_arcsec=25";
+    char args[512];
+    snprintf(args, sizeof args, "run " OWN "%s --out $D/dr", sets);
+    ok(args);
+    snprintf(args, sizeof args,
+             "design " OWN "%s --set campaign.search_steps_deg=5,10 --out $D/dd > /dev/null; "
+             "test $? -le 1",
+             sets);
+    ok(args);
+    tsv *s = load("dr/summary.tsv"), *d = load("dd/design.tsv");
+    double spec = NAN, band = NAN;
+    for (int r = 0; r < s->nr; r++)
+        if (strcmp(tsv_str(s, r, "angle"), "total") == 0) {
+            spec = tsv_num(s, r, "spec_yield");
+            if (strcmp(tsv_str(s, r, "band"), "25:50") == 0)
+                band = tsv_num(s, r, "yield");
+        }
+    assert_true(band >= spec + 0.3); /* the two rules differ here */
+    int found = 0;
+    for (int r = 0; r < d->nr; r++)
+        if (strcmp(tsv_str(d, r, "input"), "1") == 0) {
+            assert_near(tsv_num(d, r, "yield"), spec, 1e-6);
+            found = 1;
+        }
+    assert_true(found);
+    tsv_free(s);
+    tsv_free(d);
+}
+
 /* The order statistics of a real run, against what they must be: over a
  * band of n points the max lies between the RMS and sqrt(n) times it, and
  * p99.7 on fewer than 371 points is the max. */
@@ -156,6 +190,7 @@ int main(void)
         cmocka_unit_test(test_study_yield_is_runs),
         cmocka_unit_test(test_limits_end_at_the_field),
         cmocka_unit_test(test_max_and_p997_of_a_run),
+        cmocka_unit_test(test_design_judges_the_spec),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
