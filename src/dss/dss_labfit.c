@@ -449,7 +449,10 @@ int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int
     for (size_t i = 0; i < cw->n; i++) {
         double a0, b0, a = NAN, b = NAN;
         dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-        if (dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+        /* weight 0: no spot (the lab file's convention), so no angle; the
+         * (0, 0) it carries is no reading of the boresight */
+        if (!(cw->weight[i] > 0) ||
+            dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
             a = b = NAN;
         tsv_printf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
                 line ? line[i] : (int)i + 1, cw->b1_rad[i] * DEG_PER_RAD,

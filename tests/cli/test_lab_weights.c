@@ -139,6 +139,39 @@ static void test_weight_ratio_limit(void **state)
     refused(P, "past", "5", "more than 1e+06 times the median weight 1");
 }
 
+/* calibrate's residuals.tsv: a weight-0 "no spot" row of a DSS file gets
+ * no angle (it gave a near-boresight one from its (0, 0)); a read row one. */
+static void test_no_spot_rows_have_no_angle(void **state)
+{
+    char out[65536], p[700];
+    assert_int_equal(sunmc("calibrate --config " D " $D/d/campaign.csv --quiet --out $D/dres", out,
+                           sizeof out),
+                     0);
+    snprintf(p, sizeof p, "%s/dres/residuals.tsv", dir);
+    FILE *f = fopen(p, "r");
+    assert_non_null(f);
+    char line[1024];
+    int zero = 0, read = 0;
+    assert_non_null(fgets(line, sizeof line, f));
+    while (fgets(line, sizeof line, f)) {
+        char *fld[10], *save = NULL;
+        int n = 0;
+        for (char *t = strtok_r(line, "\t\n", &save); t && n < 10; t = strtok_r(NULL, "\t\n", &save))
+            fld[n++] = t;
+        assert_int_equal(n, 10);
+        if (atof(fld[5]) == 0) {
+            zero++;
+            for (int k = 6; k < 10; k++)
+                assert_string_equal(fld[k], "-");
+        } else {
+            read++;
+            assert_true(strcmp(fld[6], "-") != 0 && strcmp(fld[8], "-") != 0);
+        }
+    }
+    fclose(f);
+    assert_true(zero > 0 && read > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -147,6 +180,7 @@ int main(void)
         cmocka_unit_test(test_uniform_weights_are_unweighted),
         cmocka_unit_test(test_weights_refused),
         cmocka_unit_test(test_weight_ratio_limit),
+        cmocka_unit_test(test_no_spot_rows_have_no_angle),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
