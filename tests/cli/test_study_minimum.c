@@ -84,6 +84,25 @@ static void test_index_outside_flagged(void **state)
     assert_true(n >= 1);
     assert_int_equal(marks, n);
     assert_non_null(strstr(out, "outside 0..1 (marked !)"));
+    /* every index printed outside 0..1 carries !, and none inside does:
+     * each "V [LO, HI]" of the table, V before the bracket */
+    int outside = 0;
+    for (const char *p = strstr(out, "| "); p && p < w; p = strchr(p + 1, '[')) {
+        const char *close = strchr(p, ']');
+        if (*p != '[' || !close || close > w)
+            continue;
+        const char *b = p;
+        while (b > out && b[-1] == ' ')
+            b--;
+        while (b > out && b[-1] != ' ')
+            b--;
+        double v = atof(b);
+        int out_of_range = v < -5e-4 || v > 1 + 5e-4;
+        outside += out_of_range;
+        if (out_of_range != (close[1] == '!'))
+            fail_msg("%.40s: outside 0..1 = %d, marked = %d", b, out_of_range, close[1] == '!');
+    }
+    assert_int_equal(outside, n);
     /* every index that carries ! prints outside 0..1 */
     for (const char *p = out; (p = strchr(p, '!')) != NULL && p < w; p++) {
         const char *b = p;
