@@ -358,6 +358,7 @@ static void test_paper_dial_tilt_findings(void **state)
     double eA = max_error(&c, &dev, 0);
     ess_cfg(&c)->design.H_mm = 6.584;
     double eB = max_error(&c, &dev, 0);
+    print_message("max error: type A %.5f, type B %.5f\n", eA, eB);
     assert_true(eB < eA);
     assert_near(eA / eB, 6.584 / 4.124, 0.1);
 }
