@@ -57,7 +57,11 @@
       "only away from calibration_temp_c; 0: no stated source)")                                  \
     X(mask_cte_ppm_k, "ppm/K", 1, 13, "mask_cte_ppm_k", "0", "uniform", 50,                       \
       "the unit's dial expansion against environment.mask_cte_ppm_k (moves the code pitch only "  \
-      "away from calibration_temp_c; 0: no stated source)")
+      "away from calibration_temp_c; 0: no stated source)")                                      \
+    X(dial_tilt_deg, "deg", 1, 14, "dial_tilt_deg", "0.01", "uniform", 10,                        \
+      "code dial's tilt about the code-row axis (Y, through x = 0): a row at x sits x "           \
+      "tan(tilt) farther from the slit (ESS paper sec. 3.2's dphi as its Figs. 6-7 show it: "    \
+      "+-0.01 deg; docs/ess.md)")
 
 /* Entries, and units.tsv columns of the list (a derived column, the roll
  * measurement, follows them: ESS_N_DEV in ess_sensor.h). */

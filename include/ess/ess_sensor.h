@@ -8,9 +8,11 @@
  * beta = asin(s_x).
  *
  * Geometry (ess_slit.c): the entrance slit lies at height H + dH over the
- * code dial, offset dd along Y and tilted dphi about Z.  The slit image
+ * code dial, offset dd along Y and tilted dphi about Z; the dial is tilted
+ * tau (dial_tilt_deg) about the code-row axis Y, so the row at x sits at
+ * height h(x) = H + dH + x tan(tau) under the slit.  The slit image
  * crosses the row at x = x_r at the dial coordinate
- *     eta(x_r) = (H+dH) tan(alpha) - dd - (x_r + (H+dH) s_x/s_z) tan(dphi),
+ *     eta(x_r) = h tan(alpha) - dd - (x_r + h s_x/s_z) tan(dphi),
  * and every row is etched by the rule eta = H tan(angle), so a row reads the
  * angle atan(eta/H).  dH alone gives alpha' = atan((H+dH)/H tan alpha).
  *
@@ -44,6 +46,7 @@ typedef struct {
     double install_x_arcsec, install_y_arcsec, install_z_arcsec;
     double sun_x_arcsec, sun_y_arcsec;
     double spacer_cte_ppm_k, mask_cte_ppm_k; /* the unit's CTEs against the environment's */
+    double dial_tilt_deg; /* the dial's tilt about the code-row axis */
     double roll_measured_arcsec; /* the alignment measurement of install_x */
 } ess_deviations;
 
@@ -89,6 +92,11 @@ typedef struct {
     double Hr_mm;       /* actual height H + dH */
     double dd_mm;
     double tan_dphi;
+    /* The dial's tilt about the code-row axis: row x (from the pivot, as
+     * below) sits at height Hp_mm + x tan_tau, Hp_mm = Hr + pivot tan_tau
+     * (the axis is the dial's centre line x = 0). */
+    double tan_tau;
+    double Hp_mm;
     double theta0_rad;
     double coarse_res_rad;
     int n_coarse;
@@ -123,6 +131,14 @@ typedef struct {
     /* Fine row m's dial tangent less row 0's, the same for every sun
      * direction: -((x_m - x_0) tan(dphi) + etch_m - etch_0) / H. */
     double fine_dt[ESS_FINE_ROWS];
+    /* The dial tilt's share of it, per unit w = s_y/s_z - s_x/s_z tan(dphi):
+     * (x_m - x_0) tan(tau) / H (row m's tangent is fine_dt + fine_dt_w w). */
+    double fine_dt_w[ESS_FINE_ROWS];
+    /* The largest |w| for which the shortcuts below hold (fine_by_series,
+     * coarse_by_compare: the dial tilt's row differences grow with w);
+     * +inf without a dial tilt.  A reading beyond it is made by the
+     * arctangent paths (ess_sensor_output_chunk). */
+    double w_safe;
     /* 1 when every |fine_dt| <= ESS_FINE_SERIES_TAN and 2 pi / theta0
      * times it <= ESS_FINE_SERIES_PHASE: the batch then makes rows 1-3's
      * currents from row 0's arctangent, cosine and sine by series

@@ -18,7 +18,8 @@
  * (ess_slit.c). */
 VM_INLINE double ess_lane_eta(const ess_sensor *s, double x_mm, double u, double v)
 {
-    return s->Hr_mm * v - s->dd_mm - (x_mm + s->Hr_mm * u) * s->tan_dphi;
+    double h = s->Hp_mm + x_mm * s->tan_tau; /* the row's height: the dial's tilt */
+    return h * v - s->dd_mm - (x_mm + h * u) * s->tan_dphi;
 }
 
 /* sin(n pi z) / (n pi z) for n = 1, 3, 5 from one sine: sin 3t = sin t
@@ -109,18 +110,19 @@ VM_INLINE double ess_lane_current(const ess_sensor *s, int m, ess_lane_harm h, d
 }
 
 /* Fine row m's current (m = 1..3) from row 0's dial tangent t0, q = 1 /
- * (1 + t0^2) and the cosine and sine of row 0's phase: row m's tangent is
- * t0 + dt (dt = s->fine_dt[m], the same for every sun direction:
- * ess_lane_eta is linear in x), so its dial angle is psi0 + atan(e), e =
+ * (1 + t0^2), w = v - u tan(dphi) and the cosine and sine of row 0's
+ * phase: row m's tangent is t0 + dt (dt = s->fine_dt[m] + s->fine_dt_w[m]
+ * w: ess_lane_eta is linear in x, and only the dial tilt's share depends
+ * on the sun direction), so its dial angle is psi0 + atan(e), e =
  * dt / (1 + t0 (t0 + dt)) = a / (1 + t0 a) with a = dt q (|t0 a| <= |dt|
  * / 2 <= 5e-3: 1 / (1 + t0 a) by its series to the 7th power, the rest
  * below 4e-19), and its phase row 0's turned by 2 pi / theta0 times
  * that, less m quarter turns (exact: the cosine and sine swap and change
  * sign).  No division: they are the loop's dearest operations. */
 VM_INLINE double ess_lane_current_from0(const ess_sensor *s, int m, ess_lane_harm h, double t0,
-                                        double q, double c0, double s0, double illum)
+                                        double q, double w, double c0, double s0, double illum)
 {
-    double a = s->fine_dt[m] * q, nb = -t0 * a;
+    double a = (s->fine_dt[m] + s->fine_dt_w[m] * w) * q, nb = -t0 * a;
     double g = 1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb * (1.0 + nb *
                (1.0 + nb))))));
     double d = s->fine_turn * ess_lane_atan_small(a * g);

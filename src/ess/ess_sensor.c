@@ -58,15 +58,47 @@ double ess_sun_y_measured_arcsec(const sunmc_config *c, uint64_t seed, long unit
     return d->sun_y_arcsec + ec->sun_y_sigma_arcsec * rng_normal(&r);
 }
 
-/* The largest difference between a coarse row's dial tangent and fine row
- * 0's (ess_lane_eta: the tilt's share and fine row 0's etching), a bound
- * on the difference of their dial angles (atan' <= 1). */
-static double coarse_spread(const ess_sensor *s)
+/* The largest distance across the rows between a coarse row and fine row 0. */
+static double coarse_dx(const ess_sensor *s)
 {
     double dx = 0.0;
     for (int j = 0; j < s->n_coarse; j++)
         dx = fmax(dx, fabs(s->fine_x_mm[0] - s->coarse_x_mm[j]));
-    return (dx * fabs(s->tan_dphi) + fabs(s->etch_mm[0])) / s->H_mm;
+    return dx;
+}
+
+/* The largest difference between a coarse row's dial tangent and fine row
+ * 0's (ess_lane_eta: the tilt's share and fine row 0's etching) at w = 0,
+ * a bound on the difference of their dial angles (atan' <= 1); the dial
+ * tilt adds dx tan(tau) |w| / H (eta is linear in x with slope tan(tau) w
+ * - tan(dphi), w = v - u tan(dphi)). */
+static double coarse_spread(const ess_sensor *s)
+{
+    return (coarse_dx(s) * fabs(s->tan_dphi) + fabs(s->etch_mm[0])) / s->H_mm;
+}
+
+/* Margin on the bounds of |w| (w_safe): below the limits' last digits. */
+#define ESS_W_SAFE_MARGIN (1.0 - 1e-9)
+
+/* The largest |w| within which the shortcuts taken at w = 0 hold with the
+ * dial tilt's share: the fine rows' series (|fine_dt| + |fine_dt_w| |w|
+ * within both limits) and the coarse comparison (the spread within half
+ * a cell); +inf without a dial tilt. */
+static double w_safe_of(const ess_sensor *s)
+{
+    double w = HUGE_VAL;
+    if (s->tan_tau == 0.0)
+        return w;
+    if (s->fine_by_series) {
+        double lim = fmin(ESS_FINE_SERIES_TAN, ESS_FINE_SERIES_PHASE / s->fine_turn) / (1.0 + 1e-4);
+        for (int m = 1; m < ESS_FINE_ROWS; m++)
+            if (s->fine_dt_w[m] != 0.0)
+                w = fmin(w, (lim - fabs(s->fine_dt[m])) / fabs(s->fine_dt_w[m]));
+    }
+    double dx = coarse_dx(s);
+    if (s->coarse_by_compare && dx > 0.0)
+        w = fmin(w, (0.5 * s->coarse_res_rad - coarse_spread(s)) * s->H_mm / (dx * fabs(s->tan_tau)));
+    return w * ESS_W_SAFE_MARGIN;
 }
 
 /* The tangents of every cell's edges, as coarse_by_compare makes them a
@@ -110,6 +142,8 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     s->Hr_mm = d->H_mm + dev->dH_um * MM_PER_UM;
     s->dd_mm = dev->dd_um * MM_PER_UM;
     s->tan_dphi = tan(dev->dphi_deg * RAD_PER_DEG);
+    s->tan_tau = tan(dev->dial_tilt_deg * RAD_PER_DEG);
+    s->Hp_mm = s->Hr_mm + d->tilt_pivot_mm * s->tan_tau;
     s->theta0_rad = d->theta0_deg * RAD_PER_DEG;
     s->coarse_res_rad = d->coarse_resolution_deg * RAD_PER_DEG;
     s->n_coarse = d->coarse_rows_x_mm.n;
@@ -128,6 +162,7 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
     for (int m = 0; m < ESS_FINE_ROWS; m++) {
         s->fine_dt[m] = -((s->fine_x_mm[m] - s->fine_x_mm[0]) * s->tan_dphi +
                           (s->etch_mm[m] - s->etch_mm[0])) / s->H_mm;
+        s->fine_dt_w[m] = (s->fine_x_mm[m] - s->fine_x_mm[0]) * s->tan_tau / s->H_mm;
         /* |atan(dt / (1 + t0 (t0 + dt)))| <= |dt| / (1 - dt^2 / 4): the
          * factor's margin is within the limits' last digit */
         double a = fabs(s->fine_dt[m]) * (1.0 + 1e-4);
@@ -162,6 +197,7 @@ void ess_sensor_init(ess_sensor *s, const ess_design *d, const ess_deviations *d
         s->harm_scale_n[n] = s->harm_scale[n] / (2 * n + 1);
     }
     s->phase0_by_series = 1;
+    s->w_safe = w_safe_of(s);
 }
 
 /* The Gray-decoding state (parity, cell) of kp lanes after every coarse
@@ -326,13 +362,14 @@ VM_INLINE void fine_by_series_loop(const ess_sensor *s, size_t kp, const double 
     _Pragma("omp simd reduction(+ : nfar)") for (size_t i = 0; i < kp; i++) {
         double t0 = (ess_lane_eta(s, s->fine_x_mm[0], u[i], v[i]) - s->etch_mm[0]) * s->inv_H;
         double p0 = atan(t0), x0 = p0 * s->fine_turn, q = 1.0 / (1.0 + t0 * t0);
+        double w = v[i] - u[i] * s->tan_dphi;
         double cx = cos(x0), sx = sin(x0);
         psi0[i] = p0;
         ess_lane_harm h = ess_lane_harmonics_q(s, q);
         double c0 = ess_lane_current_cs(s, 0, h, cx, sx, z[i], 0.0);
-        double c1 = ess_lane_current_from0(s, 1, h, t0, q, cx, sx, z[i]);
-        double c2 = ess_lane_current_from0(s, 2, h, t0, q, cx, sx, z[i]);
-        double c3 = ess_lane_current_from0(s, 3, h, t0, q, cx, sx, z[i]);
+        double c1 = ess_lane_current_from0(s, 1, h, t0, q, w, cx, sx, z[i]);
+        double c2 = ess_lane_current_from0(s, 2, h, t0, q, w, cx, sx, z[i]);
+        double c3 = ess_lane_current_from0(s, 3, h, t0, q, w, cx, sx, z[i]);
         double x = (c2 + n2[i]) - (c0 + n0[i]), y = (c3 + n3[i]) - (c1 + n1[i]);
         double ph = ess_lane_phase_xy(x, y);
         phase[i] = ph;
@@ -363,10 +400,30 @@ VM_KERNEL ESS_CONTRACT static void fine_by_series(const ess_sensor *s, size_t kp
         fine_by_series_loop(s, kp, u, v, z, noise, psi0, phase, phase0, 0);
 }
 
+/* The lanes of a chunk beyond s->w_safe (wide[i] = 1, else 0), read again
+ * by the arctangent paths: their fine phases and coarse cells replace the
+ * shortcuts' (the bits of a lane depend on its own values only). */
+static void wide_by_atan(const ess_sensor *s, size_t kp, const double *u, const double *v,
+                         const double *z, const double *const noise[ESS_FINE_ROWS],
+                         const double *wide, double *phase, double *phase0, double *cell)
+{
+    _Alignas(VM_ALIGN) double psi0[ESS_CHUNK], ph[ESS_CHUNK], ph0[ESS_CHUNK];
+    _Alignas(VM_ALIGN) double parity[ESS_CHUNK] = {0}, cl[ESS_CHUNK] = {0};
+    fine_by_atan(s, kp, u, v, z, noise, psi0, ph, ph0);
+    coarse_by_atan(s, kp, u, v, parity, cl);
+    for (size_t i = 0; i < kp; i++)
+        if (wide[i] != 0.0) {
+            phase[i] = ph[i];
+            phase0[i] = ph0[i];
+            cell[i] = cl[i];
+        }
+}
+
 /* The readings of lanes [0, k) of a chunk: the fine rows' phases per lane
  * in one vector loop (fine_by_series or fine_by_atan), then the coarse
  * rows one row at a time, then the Gray decoding and combination per
- * lane. */
+ * lane; lanes beyond s->w_safe (a dial tilt near grazing) again by the
+ * arctangent paths (wide_by_atan). */
 VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const double *sx,
                                       const double *sy, const double *sz,
                                       const double *const noise[ESS_FINE_ROWS], double *out_rad,
@@ -383,6 +440,14 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         u[i] = sx[i] / z[i];
         v[i] = sy[i] / z[i];
     }
+    _Alignas(VM_ALIGN) double wide[ESS_CHUNK];
+    double nwide = 0.0;
+    if (s->w_safe < HUGE_VAL)
+        _Pragma("omp simd reduction(+ : nwide)") for (size_t i = 0; i < kp; i++) {
+            double w = v[i] - u[i] * s->tan_dphi;
+            wide[i] = vm_select(fabs(w) <= s->w_safe, 0.0, 1.0);
+            nwide += wide[i];
+        }
     if (s->fine_by_series)
         fine_by_series(s, kp, u, v, z, noise, psi0, phase, phase0, out0_rad != NULL);
     else
@@ -400,6 +465,8 @@ VM_KERNEL int ess_sensor_output_chunk(const ess_sensor *s, size_t k, const doubl
         else
             coarse_by_atan(s, kp, u, v, parity, cell);
     }
+    if (nwide > 0.0)
+        wide_by_atan(s, kp, u, v, z, noise, wide, phase, phase0, cell);
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         ess_lane_coarse acc = {0.0, cell[i]};
         out_rad[i] = ess_lane_combine_s(s, ess_lane_coarse_angle(s, acc), phase[i]);

@@ -26,7 +26,7 @@ static const char *const ideal_sets[] = {
     "tolerance.harmonic_phase_deg=0", "tolerance.gain_pct=0", "tolerance.etch_um=0",
     "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0",
     "tolerance.install_z_arcsec=0", "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0",
-    "tolerance.dH_um=2", "tolerance.dH_um_dist=fixed"};
+    "tolerance.dial_tilt_deg=0", "tolerance.dH_um=2", "tolerance.dH_um_dist=fixed"};
 #define N_IDEAL (sizeof ideal_sets / sizeof ideal_sets[0])
 
 static void sources_of_type_a(void **state)
@@ -36,17 +36,17 @@ static void sources_of_type_a(void **state)
     assert_int_equal(config_build(&st, "configs/ess_type_a.ini", NULL, 0, err, sizeof err), 0);
     budget_result *b = calloc(1, sizeof *b);
     assert_int_equal(budget_sources(&st.cfg, b, err, sizeof err), SUNMC_OK);
-    assert_int_equal(b->n, 12 + 3); /* the tolerances, then the noise keys */
+    assert_int_equal(b->n, 13 + 3); /* the tolerances, then the noise keys */
     assert_string_equal(b->src[0].name, "dH_um");
     assert_near(b->src[0].tolerance, 2, 0);
     assert_int_equal(b->src[0].kind, BUDGET_TOLERANCE);
     const char *noise[3] = {"noise.row_current_pct", "noise.encoder_arcsec",
                             "calibration.roll_sigma_arcsec"};
     for (int i = 0; i < 3; i++) {
-        assert_string_equal(b->src[12 + i].name, noise[i]);
-        assert_int_equal(b->src[12 + i].kind, BUDGET_NOISE);
+        assert_string_equal(b->src[13 + i].name, noise[i]);
+        assert_int_equal(b->src[13 + i].kind, BUDGET_NOISE);
     }
-    assert_near(b->src[12].tolerance, 1.5, 0);
+    assert_near(b->src[13].tolerance, 1.5, 0);
     assert_int_equal(b->band, 2); /* 0:62 is the widest band */
     assert_int_equal(b->angle, 0);
     free(b);
@@ -305,7 +305,7 @@ static void cli(void **state)
     assert_non_null(strstr(out, "FLOOR"));
     assert_non_null(strstr(out, "INTERACTION"));
     assert_non_null(strstr(out, " unit runs (each inverse limit's yield at today's value"));
-    snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 15",
+    snprintf(cmd, sizeof cmd, "test $(awk -F'\\t' 'NR>1 && $1>0' %s/budget.tsv | wc -l) -eq 16",
              dir);
     assert_int_equal(system(cmd), 0);
     snprintf(cmd, sizeof cmd,

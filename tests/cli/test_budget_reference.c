@@ -26,7 +26,7 @@ static const family_case ess = {
     "--set report.spec_arcsec=20",
     {"dH_um", "dd_um", "dphi_deg", "slit_width_um", "harmonic_phase_deg", "gain_pct", "etch_um",
      "install_x_arcsec", "install_y_arcsec", "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec",
-     NULL},
+     "dial_tilt_deg", NULL},
     {"noise.row_current_pct", "noise.encoder_arcsec", "calibration.roll_sigma_arcsec", NULL}};
 
 static const family_case dss = {

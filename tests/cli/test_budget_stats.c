@@ -104,7 +104,8 @@ static void expect_share(const budget_share *got, const double *x, const double 
         "report.yield_target=0.5", "report.budget_units=12", "report.budget_steps=4",            \
         "tolerance.dphi_deg=0", "tolerance.slit_width_um=0", "tolerance.harmonic_phase_deg=0",    \
         "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0", "tolerance.install_z_arcsec=0",   \
-        "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0", "tolerance.dd_um=0"
+        "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0", "tolerance.dd_um=0",      \
+        "tolerance.dial_tilt_deg=0"
 
 /* The whole budget of c, checked against recomputations. */
 static void check_budget(const sunmc_config *c, budget_result *b)

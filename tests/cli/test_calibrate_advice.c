@@ -155,7 +155,7 @@ static void test_ess_half_campaign_crossval_flagged(void **state)
     static char out[65536];
     sim_calibrate("ess_half", "configs/ess_type_a.ini", 3,
                   "--set campaign.alpha_min_deg=0 --set campaign.alpha_max_deg=62 "
-                  "--set campaign.alpha_step_deg=0.8",
+                  "--set campaign.alpha_step_deg=0.8 --set tolerance.dial_tilt_deg=0",
                   out, sizeof out);
     assert_non_null(strstr(out, "the held-out error 235.62 arcsec is 9.6 times the in-sample "
                                 "24.64 (above 3x)"));

@@ -23,20 +23,20 @@ static void inputs_of_each_family(void **state)
     sens_result *s = calloc(1, sizeof *s);
     test_build(&st, "configs/ess_type_a.ini", NULL, 0);
     assert_int_equal(sens_sources(&st.cfg, s, err, sizeof err), SUNMC_OK);
-    assert_int_equal(s->n, 12 + 3); /* every tolerance (uniform), three noise streams */
+    assert_int_equal(s->n, 13 + 3); /* every tolerance (uniform), three noise streams */
     assert_string_equal(s->src[0].name, "dH_um");
     assert_int_equal(s->src[0].kind, SENS_TOLERANCE);
-    assert_string_equal(s->src[12].name, "campaign_noise");
-    assert_int_equal(s->src[12].stream, RNG_STREAM_CAL_NOISE);
-    assert_non_null(strstr(s->src[12].keys, "noise.encoder_arcsec"));
-    assert_string_equal(s->src[13].name, "validation_noise");
-    assert_string_equal(s->src[14].name, "roll_measurement");
+    assert_string_equal(s->src[13].name, "campaign_noise");
+    assert_int_equal(s->src[13].stream, RNG_STREAM_CAL_NOISE);
+    assert_non_null(strstr(s->src[13].keys, "noise.encoder_arcsec"));
+    assert_string_equal(s->src[14].name, "validation_noise");
+    assert_string_equal(s->src[15].name, "roll_measurement");
     config_state_free(&st);
     /* a fixed tolerance does not vary; a noise stream at 0 is no input */
     const char *sets[] = {"tolerance.dH_um_dist=fixed", "calibration.roll_sigma_arcsec=0"};
     test_build(&st, "configs/ess_type_a.ini", sets, 2);
     assert_int_equal(sens_sources(&st.cfg, s, err, sizeof err), SUNMC_OK);
-    assert_int_equal(s->n, 11 + 2);
+    assert_int_equal(s->n, 12 + 2);
     assert_string_equal(s->src[0].name, "dd_um");
     config_state_free(&st);
     test_build(&st, "configs/dss.ini", NULL, 0);
@@ -94,7 +94,7 @@ static void single_input(void **state)
                           "tolerance.gain_pct=0", "tolerance.etch_um=0",
                           "tolerance.install_x_arcsec=0", "tolerance.install_y_arcsec=0",
                           "tolerance.install_z_arcsec=0", "tolerance.sun_x_arcsec=0",
-                          "tolerance.sun_y_arcsec=0"};
+                          "tolerance.sun_y_arcsec=0", "tolerance.dial_tilt_deg=0"};
     config_state st;
     test_build(&st, "configs/ess_type_a.ini", sets, (int)(sizeof sets / sizeof sets[0]));
     sens_result *s = calloc(1, sizeof *s);
@@ -113,7 +113,7 @@ static void single_input(void **state)
 }
 
 /* Type A, small: indices in [0, 1] within their intervals and ST >= S1
- * within theirs -- for at least 90 % of the 4 x 15 x 2 intervals (a 95 %
+ * within theirs -- for at least 90 % of the 4 x 16 x 2 intervals (a 95 %
  * interval misses its bound now and then: an input of no effect has its S1
  * interval just below 0 one time in 40), and every miss by less than 0.01;
  * the same bytes on 1 and 2 threads. */
@@ -133,13 +133,13 @@ static void type_a_indices_and_threads(void **state)
     assert_int_equal(sens_run(&st.cfg, 48, 1, NULL, NULL, s1, err, sizeof err), SUNMC_OK);
     assert_int_equal(sens_run(&st.cfg, 48, 2, NULL, NULL, s2, err, sizeof err), SUNMC_OK);
     assert_memory_equal(s1, s2, sizeof *s1);
-    assert_int_equal(s1->n, 15);
+    assert_int_equal(s1->n, 16);
     /* campaign_noise and roll_measurement finished from A's readings */
     assert_int_equal(s1->reused_units, 2 * 48);
     /* Two inputs' total index after calibration recomputed here from three
      * Monte Carlos: A (run.seed), B (the other seed), A with the input's
      * stream from B; Jansen's formula over the variance of A and B. */
-    const int check[2] = {0, 12}; /* dH_um, campaign_noise */
+    const int check[2] = {0, 13}; /* dH_um, campaign_noise */
     for (int k = 0; k < 2; k++) {
         const sens_source *src = &s1->src[check[k]];
         sunmc_config a = st.cfg, b = st.cfg, ab = st.cfg;
@@ -212,7 +212,8 @@ static void errors_and_output(void **state)
                           "tolerance.harmonic_phase_deg=0", "tolerance.gain_pct=0",
                           "tolerance.etch_um=0", "tolerance.install_x_arcsec=0",
                           "tolerance.install_y_arcsec=0", "tolerance.install_z_arcsec=0",
-                          "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0"};
+                          "tolerance.sun_x_arcsec=0", "tolerance.sun_y_arcsec=0",
+                          "tolerance.dial_tilt_deg=0"};
     test_build(&st, "configs/ess_type_a.ini", none, (int)(sizeof none / sizeof none[0]));
     sens_result *s = calloc(1, sizeof *s);
     char err[SUNMC_ERRLEN];
@@ -230,7 +231,7 @@ static void errors_and_output(void **state)
     snprintf(cmd, sizeof cmd,
              "awk -F'\\t' 'NR==1 && $1==\"rms\" && $2==\"source\" && $5==\"S1\" && $6==\"S1_ci_lo\" "
              "&& $7==\"S1_ci_hi\" && $8==\"ST\" && $9==\"ST_ci_lo\" && $10==\"ST_ci_hi\" {h=1} "
-             "$1==\"before\" {b++} $1==\"after\" {a++} END {exit !(h && a==15 && b==15)}' "
+             "$1==\"before\" {b++} $1==\"after\" {a++} END {exit !(h && a==16 && b==16)}' "
              "%s/sensitivity.tsv",
              dir);
     assert_int_equal(system(cmd), 0);

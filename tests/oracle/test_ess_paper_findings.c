@@ -236,6 +236,133 @@ static void test_tilt_period_1deg(void **state)
     assert_true(d1 < 0.1 * dh);   /* a whole degree brings it back */
 }
 
+/* The dial tilted tau about the code-row axis (Y through x = 0), by an
+ * independent ray trace: the dial is the plane z = -x tan(tau), the slit
+ * the line (p + l cos dphi, dd + l sin dphi, Hr) (p the slit's pivot); the ray from the slit along
+ * -s meets the plane at sensor x = x_r when p + l cos dphi - t s_x = x_r and
+ * Hr - t s_z = -x_r tan(tau): a 2x2 linear system in (l, t), solved by
+ * Cramer's rule; eta is minus the y of that point.  For pivots 0 and 1.5
+ * (the slit's pivot moves the in-plane lever, not the dial's axis). */
+static void test_dial_tilt_ray_trace(void **state)
+{
+    const double pivots[] = {0.0, 1.5};
+    for (size_t k = 0; k < 2; k++) {
+        sunmc_config c = no_harmonics();
+        ess_config *ec = ess_cfg(&c);
+        ec->design.tilt_pivot_mm = pivots[k];
+        ess_deviations dev = {0};
+        dev.dial_tilt_deg = 0.4;
+        dev.dphi_deg = -0.3;
+        dev.dH_um = 3;
+        dev.dd_um = 2;
+        ess_sensor s;
+        build(&c, &dev, &s);
+        double Hr = ec->design.H_mm + 3e-3, dd = 2e-3;
+        double tt = tan(0.4 * RAD_PER_DEG), ph = -0.3 * RAD_PER_DEG;
+        for (double xr = -4.2; xr <= 2.41; xr += 0.6)
+            for (double a = -60; a <= 60; a += 12)
+                for (double b = -30; b <= 30; b += 15) {
+                    double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG;
+                    double sv[3] = {sin(br), cos(br) * sin(ar), cos(br) * cos(ar)};
+                    /* [cos ph, -s_x; 0, -s_z] (l, t) = (x_r - p, -x_r tt - Hr) */
+                    double det = -cos(ph) * sv[2], r1 = xr - pivots[k], r2 = -xr * tt - Hr;
+                    double l = (r1 * -sv[2] - -sv[0] * r2) / det;
+                    double t = (cos(ph) * r2) / det;
+                    double eta = -(dd + l * sin(ph) - t * sv[1]);
+                    double got = ess_slit_eta_mm(&s, xr - pivots[k], sv[0] / sv[2], sv[1] / sv[2]);
+                    assert_near(got, eta, 1e-12);
+                }
+    }
+}
+
+/* The dial tilt alone with the four fine rows at one x0: the rows sit at
+ * H + x0 tan(tau), so the reading is dH's closed form with dH = x0
+ * tan(tau), whatever beta; at x0 = 0 (on the axis) the tilt does nothing. */
+static void test_dial_tilt_closed_form(void **state)
+{
+    const double xs[] = {1.8, -2.5, 0.0};
+    for (size_t k = 0; k < 3; k++) {
+        sunmc_config c = no_harmonics();
+        ess_config *ec = ess_cfg(&c);
+        for (int m = 0; m < 4; m++)
+            ec->design.fine_rows_x_mm.v[m] = xs[k];
+        ess_deviations dev = {0};
+        dev.dial_tilt_deg = 0.3;
+        ess_sensor s;
+        build(&c, &dev, &s);
+        double H = ec->design.H_mm, h = H + xs[k] * tan(0.3 * RAD_PER_DEG);
+        for (double a = -62; a <= 62; a += 0.61)
+            for (double b = -30; b <= 30; b += 30) {
+                double expect = atan(h / H * tan(a * RAD_PER_DEG)) * DEG_PER_RAD;
+                assert_near(output_deg(&s, a, b), expect, 1e-9);
+            }
+    }
+}
+
+/* ESS paper sec. 3.2 (1), (3), Figs. 6-7 with dphi read as the dial's
+ * tilt about the row axis (type A, 0.01 deg, beta = 0, no harmonics), the
+ * four statements the in-plane reading cannot make all at once:
+ *  - the error stays below 0.005 deg (max over -62..62: 0.0022);
+ *  - it grows with incidence: mean |error| 0.00016 at |alpha| < 5, 0.0016
+ *    at 55..62 (the rows' mean height 1.5 tan(tau) is a dH of 0.26 um:
+ *    (dH / 2H) sin 2 alpha, plus their alternation, tan(alpha) times the
+ *    rows' height differences);
+ *  - sampled every 0.5 deg it has a 1 deg period;
+ *  - type B's error is less, by H_A / H_B. */
+static void test_paper_dial_tilt_findings(void **state)
+{
+    sunmc_config c = no_harmonics();
+    ess_deviations dev = {0};
+    dev.dial_tilt_deg = 0.01;
+    ess_sensor s;
+    build(&c, &dev, &s);
+    double emax = 0, lo = 0, hi = 0;
+    int nlo = 0, nhi = 0;
+    for (double a = -62; a <= 62.001; a += 0.05) {
+        double e = fabs(output_deg(&s, a, 0) - a);
+        emax = fmax(emax, e);
+        if (fabs(a) < 5)
+            lo += e, nlo++;
+        if (fabs(a) >= 55)
+            hi += e, nhi++;
+    }
+    lo /= nlo;
+    hi /= nhi;
+    print_message("dial tilt 0.01 deg: max %.5f, mean |e| %.5f (|a| < 5), %.5f (55..62)\n", emax,
+                  lo, hi);
+    assert_true(emax > 0.0015 && emax < 0.005);
+    assert_true(lo > 0.00005 && lo < 0.0003);
+    assert_true(hi > 0.0012 && hi < 0.002);
+    assert_true(hi > 5 * lo);
+    /* Fig. 7: on a smooth trend (the mean height's dH), the error sampled
+     * every 0.5 deg alternates: its second difference at 0.5 deg is large
+     * and changes sign at every sample, at 1 deg (one period) it is the
+     * trend's alone */
+    double d1 = 0, dh = 0, prev = 0;
+    int n = 0, flips = 0;
+    for (double a = -40; a <= 40; a += 0.5, n++) {
+        double e[5];
+        for (int j = 0; j < 5; j++)
+            e[j] = output_deg(&s, a + 0.5 * (j - 2), 0) - (a + 0.5 * (j - 2));
+        double sh = e[1] - 2 * e[2] + e[3], s1 = e[0] - 2 * e[2] + e[4];
+        dh += fabs(sh);
+        d1 += fabs(s1);
+        flips += n > 0 && sh * prev < 0;
+        prev = sh;
+    }
+    print_message("0.5-deg samples: mean |2nd difference| %.6f at 0.5 deg, %.6f at 1 deg; sign "
+                  "flips %d of %d\n", dh / n, d1 / n, flips, n - 1);
+    assert_true(dh / n > 1e-4);
+    assert_true(d1 < 0.05 * dh);
+    assert_true(flips >= n - 1 - 6); /* all but the few samples around alpha = 0 */
+    double eA = max_error(&c, &dev, 0);
+    ess_cfg(&c)->design.H_mm = 6.584;
+    double eB = max_error(&c, &dev, 0);
+    print_message("max error: type A %.5f, type B %.5f\n", eA, eB);
+    assert_true(eB < eA);
+    assert_near(eA / eB, 6.584 / 4.124, 0.1);
+}
+
 /* Photocell non-uniformity: a common gain changes nothing; unequal gains give
  * an error of order gain/2 rad of fine phase. */
 static void test_gain_errors(void **state)
@@ -349,6 +476,8 @@ int main(void)
         cmocka_unit_test(test_tilt_pivot_closed_form),
         cmocka_unit_test(test_derived_harmonics),    cmocka_unit_test(test_coarse_gray),
         cmocka_unit_test(test_paper_dH_dd_dphi_sizes), cmocka_unit_test(test_tilt_period_1deg),
+        cmocka_unit_test(test_dial_tilt_ray_trace),  cmocka_unit_test(test_dial_tilt_closed_form),
+        cmocka_unit_test(test_paper_dial_tilt_findings),
         cmocka_unit_test(test_gain_errors),          cmocka_unit_test(test_deviation_sampling),
         cmocka_unit_test(test_turntable_truth),      cmocka_unit_test(test_turntable_truth_tilted),
     };

@@ -464,11 +464,12 @@ static void deviation_lists(void **state)
         }
         assert_int_equal(cols, lists[l].columns);
     }
-    assert_int_equal(ESS_N_DEV, 21);
+    assert_int_equal(ESS_N_DEV, 22);
     assert_string_equal(ess_deviation_names[5], "gain1_pct");
     assert_string_equal(ess_deviation_names[12], "etch4_um");
     assert_string_equal(ess_deviation_names[18], "spacer_cte_ppm_k");
-    assert_string_equal(ess_deviation_names[20], "roll_measured_arcsec");
+    assert_string_equal(ess_deviation_names[20], "dial_tilt_deg");
+    assert_string_equal(ess_deviation_names[21], "roll_measured_arcsec");
     assert_int_equal(DSS_N_DEV, 14);
 }
 

@@ -179,15 +179,16 @@ static void ess_deviations_independent(void **state)
 {
     (void)state;
     /* Every tolerance normal with its own sigma (in its key's unit). */
-    static const char *const keys[14] = {"dH_um", "dd_um", "dphi_deg", "slit_width_um",
+    static const char *const keys[15] = {"dH_um", "dd_um", "dphi_deg", "slit_width_um",
                                          "harmonic_phase_deg", "gain_pct", "etch_um",
                                          "install_x_arcsec", "install_y_arcsec",
                                          "install_z_arcsec", "sun_x_arcsec", "sun_y_arcsec",
-                                         "spacer_cte_ppm_k", "mask_cte_ppm_k"};
-    static const double sigma[14] = {2, 1, 0.01, 1.5, 30, 0.7, 0.2, 60, 300, 90, 40, 50, 2.5, 0.8};
+                                         "spacer_cte_ppm_k", "mask_cte_ppm_k", "dial_tilt_deg"};
+    static const double sigma[15] = {2,  1,  0.01, 1.5, 30,  0.7, 0.2, 60,
+                                      300, 90, 40,  50,  2.5, 0.8, 0.02};
     const char *extra[] = {"calibration.roll_sigma_arcsec=25", "tolerance.truncation_sigmas=3"};
     config_state st;
-    build_normal(&st, "configs/ess_type_a.ini", keys, sigma, 14, extra, 2);
+    build_normal(&st, "configs/ess_type_a.ini", keys, sigma, 15, extra, 2);
     static double x[ESS_N_DEV + 1][NU];
     for (long u = 0; u < NU; u++) {
         ess_deviations d;
@@ -199,9 +200,9 @@ static void ess_deviations_independent(void **state)
         x[ESS_N_DEV][u] = d.roll_measured_arcsec - d.install_x_arcsec; /* measurement error */
     }
     /* deviation columns: dH dd dphi slit phase gain1-4 etch1-4 inst_x,y,z sun_x,y
-     * spacer_cte mask_cte roll */
-    static const int key_of[ESS_N_DEV - 1] = {0, 1, 2, 3, 4, 5, 5, 5,  5,  6,
-                                              6, 6, 6, 7, 8, 9, 10, 11, 12, 13};
+     * spacer_cte mask_cte dial_tilt roll */
+    static const int key_of[ESS_N_DEV - 1] = {0, 1, 2, 3, 4, 5, 5, 5,  5,  6,  6,
+                                              6, 6, 7, 8, 9, 10, 11, 12, 13, 14};
     for (int k = 0; k < ESS_N_DEV - 1; k++) {
         moments m = moments_of(x[k], NU);
         expect_centred(&m, sigma[key_of[k]], NU, ess_deviation_names[k]);

@@ -496,6 +496,76 @@ static void test_phase0_series_limit(void **state)
     assert_true(moved > 0); /* within the limit the series was taken */
 }
 
+/* Every reading of s within 5e-15 rad of the arctangent paths' (noisy or
+ * not) over directions to 88 deg from the boresight (w to 28), those
+ * beyond w_safe bit for bit; some were. */
+static void dial_tilt_reads_agree(const ess_sensor *s0, double tan_dphi)
+{
+    ess_sensor s = *s0, t = *s0;
+    t.fine_by_series = 0;
+    t.coarse_by_compare = 0;
+    const double noise[ESS_FINE_ROWS] = {1e-3, -2e-3, 5e-4, 1.5e-3};
+    int wide = 0;
+    for (double a = -88; a <= 88; a += 0.173)
+        for (double b = -60; b <= 60; b += 30) {
+            double ar = a * RAD_PER_DEG, br = b * RAD_PER_DEG;
+            double w = tan(ar) - tan(br) / cos(ar) * tan_dphi;
+            if (cos(ar) * cos(br) < 0.02)
+                continue;
+            double x = read_rad(&s, a, b), y = read_rad(&t, a, b);
+            double xn = read_noisy_rad(&s, a, b, noise), yn = read_noisy_rad(&t, a, b, noise);
+            if (fabs(w) > s.w_safe) {
+                wide++;
+                if (x != y || xn != yn)
+                    fail_msg("wide alpha %.3f beta %g: %.17g against %.17g", a, b, x, y);
+            } else if (fabs(x - y) > 5e-15 || fabs(xn - yn) > 5e-15)
+                fail_msg("alpha %.3f beta %g: shortcut - atan %.3g", a, b, x - y);
+        }
+    assert_true(wide > 20);
+}
+
+/* The dial tilt (issue 38): fine row m's tangent differs from row 0's by
+ * fine_dt + fine_dt_w w, w = v - u tan(dphi), so the shortcuts hold up to
+ * |w| = w_safe (closed forms: the fine rows' series, the coarse
+ * comparison's half cell) and the lanes beyond are read by the arctangent
+ * paths; without a dial tilt w_safe is +inf. */
+static void test_dial_tilt_wide_lanes(void **state)
+{
+    sunmc_config c = base_config();
+    ess_config *ec = ess_cfg(&c);
+    ess_deviations dev = {0};
+    ess_sensor s;
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_true(s.w_safe == HUGE_VAL);
+    dev.dial_tilt_deg = 0.5;
+    dev.dphi_deg = 0.02;
+    dev.etch_um[2] = 0.3;
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 1);
+    assert_int_equal(s.coarse_by_compare, 1);
+    double H = ec->design.H_mm, tt = tan(0.5 * RAD_PER_DEG), tp = tan(0.02 * RAD_PER_DEG);
+    double lim = fmin(ESS_FINE_SERIES_TAN, ESS_FINE_SERIES_PHASE * ec->design.theta0_deg *
+                                               RAD_PER_DEG / (2 * M_PI)) / (1 + 1e-4);
+    double wf = HUGE_VAL;
+    for (int m = 1; m < 4; m++) {
+        double dxm = ec->design.fine_rows_x_mm.v[m] - ec->design.fine_rows_x_mm.v[0];
+        assert_near(s.fine_dt_w[m], dxm * tt / H, 1e-18);
+        wf = fmin(wf, (lim - fabs(s.fine_dt[m])) / fabs(s.fine_dt_w[m]));
+    }
+    double dx = 0.6 + 4.2; /* fine row 0 to the farthest coarse row */
+    double wc = (0.5 * ec->design.coarse_resolution_deg * RAD_PER_DEG - dx * tp / H) * H / (dx * tt);
+    assert_near(s.w_safe, fmin(wf, wc) * (1 - 1e-9), 1e-9 * s.w_safe);
+    dial_tilt_reads_agree(&s, tp);
+    /* the fine rows by their arctangents (etching beyond the series): the
+     * coarse comparison's bound alone */
+    dev.etch_um[3] = 20;
+    ess_sensor_init(&s, &ec->design, &dev);
+    assert_int_equal(s.fine_by_series, 0);
+    assert_int_equal(s.coarse_by_compare, 1);
+    assert_near(s.w_safe, wc * (1 - 1e-9), 1e-9 * s.w_safe);
+    dial_tilt_reads_agree(&s, tp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -510,6 +580,7 @@ int main(void)
         cmocka_unit_test(test_phase0_series_limit),
         cmocka_unit_test(test_harmonics_small_slit),
         cmocka_unit_test(test_zero_noise_draws_nothing),
+        cmocka_unit_test(test_dial_tilt_wide_lanes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
