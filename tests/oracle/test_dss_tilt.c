@@ -180,6 +180,33 @@ static void test_edge_in_tilted_axes(void **state)
     assert_int_equal(dss_sensor_spot(&s, u_out, NULL, &x, &y), SUNMC_OK);
 }
 
+/* A sun in front of the mask but behind the tilted plane (field angle 85
+ * deg, tilt 10 deg, the key's maximum, toward it) is not seen: its ray
+ * meets the plane's extension behind the pinhole, which with a low pinhole
+ * (0.3 mm, no glass) would land on the detector at -y0, 3.4 mm out. */
+static void test_sun_behind_tilted_plane(void **state)
+{
+    (void)state;
+    setup e = default_setup();
+    dss_design g = dss_cfg(&e.c)->design;
+    g.h_mm = 0.3;
+    g.glass_thickness_mm = 0.0;
+    const double th = 85.0 * RAD_PER_DEG, u[3] = {0, sin(th), cos(th)};
+    dss_deviations d = {0};
+    dss_sensor s;
+    double x, y;
+    dss_sensor_init(&s, &g, &d, 0);
+    assert_int_equal(dss_sensor_spot(&s, u, NULL, &x, &y), SUNMC_OK); /* untilted: seen */
+    assert_near(y * s.pixel_mm, -0.3 * tan(th), 1e-9);
+    d.detector_tilt_x_arcsec = 36000;
+    dss_sensor_init(&s, &g, &d, 0);
+    assert_int_equal(dss_sensor_spot(&s, u, NULL, &x, &y), SUNMC_EDOM);
+    d.detector_tilt_x_arcsec = -36000; /* tilted away: in front, nearer the centre, seen */
+    dss_sensor_init(&s, &g, &d, 0);
+    assert_int_equal(dss_sensor_spot(&s, u, NULL, &x, &y), SUNMC_OK);
+    assert_near(y * s.pixel_mm, -0.3 * tan(th) * cos(th) / cos(th - 10.0 * RAD_PER_DEG), 1e-9);
+}
+
 /* Zero tilt is the untilted trace to the bit (optics_trace, the scalar
  * ray trace the sensor's spot is documented to equal). */
 static void test_zero_tilt_bitwise(void **state)
@@ -209,6 +236,7 @@ int main(void)
         cmocka_unit_test(test_one_axis_closed_form),
         cmocka_unit_test(test_two_axes_intersection),
         cmocka_unit_test(test_edge_in_tilted_axes),
+        cmocka_unit_test(test_sun_behind_tilted_plane),
         cmocka_unit_test(test_zero_tilt_bitwise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
