@@ -7,7 +7,9 @@
  * dss_deviations (dss_sensor.h), and its physics.
  * Defaults: the DSS paper (Wei et al.), Figs. 2-4; c1-c3 are the mount's
  * rotation on the table top, sun_b1, sun_b2 the sun simulator's direction
- * (dss_sensor.h).
+ * (dss_sensor.h).  detector_tilt_x, _y are outside the calibration model
+ * (issue 38): the die's wedge on its attach; 0 by default until a source
+ * states it (an assumed 20 um over the 2048 x 5.5 um die would be 366").
  */
 #ifndef SUNMC_DSS_DEVIATIONS_H
 #define SUNMC_DSS_DEVIATIONS_H
@@ -45,7 +47,13 @@
     X(glass_cte_ppm_k, "ppm/K", 1, 12, "glass_cte_ppm_k", "0", "uniform", 50,                     \
       "the unit's cover-glass expansion against environment.glass_cte_ppm_k (its thickness)")     \
     X(glass_dn_dt_ppm_k, "ppm/K", 1, 13, "glass_dn_dt_ppm_k", "0", "uniform", 50,                 \
-      "the unit's cover-glass dn/dT against environment.glass_dn_dt_ppm_k (melt scatter)")
+      "the unit's cover-glass dn/dT against environment.glass_dn_dt_ppm_k (melt scatter)")       \
+    X(detector_tilt_x_arcsec, "arcsec", 1, 14, "detector_tilt_x_arcsec", "0", "uniform", 36000,   \
+      "detector plane tilted against the mask about its X axis, not in the calibration model; "   \
+      "0 until a source is found (a 20 um die-attach wedge over an 11.3 mm die would be "         \
+      "atan(0.020 / 11.26) = 366\")")                                                              \
+    X(detector_tilt_y_arcsec, "arcsec", 1, 15, "detector_tilt_y_arcsec", "0", "uniform", 36000,   \
+      "detector plane tilted against the mask about its Y axis (see detector_tilt_x_arcsec)")
 
 enum {
     DSS_N_TOL = 0 DSS_DEVIATIONS(DEVIATION_X_ONE),

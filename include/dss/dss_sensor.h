@@ -54,6 +54,24 @@
  * u = 0.6.  dss_lane_disc_gain gives 1 + dr / f; test_dss_disc checks it
  * against a numerical integration over the disc.
  *
+ * Detector tilt (outside the calibration model, issue 38): the detector
+ * plane is turned against the mask by D = rot_zxy(tilt_x, tilt_y, 0)
+ * (detector_tilt_x about X, then detector_tilt_y about the new Y; D takes
+ * frame-b vectors into the detector's frame, whose rows are the detector's
+ * axes and normal in frame b) about the detector's centre.  The ray leaves
+ * the cover glass as today (the glass is the package's window, parallel to
+ * the mask, above the die: the tilt's rise, under 10 um, is taken in air)
+ * and goes on along -u from p0, its point on z = 0, to the tilted plane;
+ * the spot is that point in the detector's axes: with q = D p0, w = D u,
+ *     x = q_x - w_x q_z / w_z,   y = q_y - w_y q_z / w_z.
+ * Zero tilt is the untilted spot to the bit.  For a tilt a about X alone
+ * and the sun in the Y-Z plane at field angle theta, y = y0 cos theta /
+ * cos(theta + a).  The sun disc's gain is taken on the untilted plane (its
+ * change with the tilt is of order R^2 a).  A pinhole with the glass
+ * removed would be the calibration model again (pinhole offset, height and
+ * rotation); the glass, parallel to the mask and not to the detector, is
+ * what the model cannot follow.
+ *
  * Centroid: the spot is the pinhole's shadow, a disc of the pinhole's
  * diameter; its centroid carries the optional S-curve bias (dss_centroid.h)
  * and Gaussian detector noise.  A spot whose disc leaves the detector is not
@@ -80,6 +98,8 @@ typedef struct {
     double sun_b1_arcsec, sun_b2_arcsec;
     /* the unit's thermal coefficients against the environment's (dss_thermal.h) */
     double spacer_cte_ppm_k, detector_cte_ppm_k, glass_cte_ppm_k, glass_dn_dt_ppm_k;
+    /* the detector plane against the mask (truth only; see Detector tilt) */
+    double detector_tilt_x_arcsec, detector_tilt_y_arcsec;
 } dss_deviations;
 
 /* calibration.sun = measured (campaign.mount = as_mounted): unit `unit`'s
@@ -114,6 +134,8 @@ typedef struct {
     double glass_n;
     int mount;                 /* enum dss_mount */
     mat3 M;                    /* table top -> sensor frame */
+    mat3 D;                    /* sensor frame -> the tilted detector's frame:
+                                * rot_zxy(tilt_x, tilt_y, 0) (Detector tilt) */
     double v0[3];              /* sun in the table base frame: M^T e_z (aligned) or
                                 * R(sun_b1, sun_b2) e_z (as_mounted): the truth */
     double v_sun[3];           /* the sun the spots see: v0, but for

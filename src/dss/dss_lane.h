@@ -135,6 +135,19 @@ typedef struct {
     int ok;
 } dss_lane_spot;
 
+/* The spot p0 (mm, on z = 0) carried along the sun's ray to the tilted
+ * detector (dss_sensor.h, Detector tilt), in the detector's axes: q = D p0,
+ * the ray's direction w = D u, the point q - w q_z / w_z. */
+VM_INLINE geo_xy dss_lane_tilt(const mat3 D, geo_xy p0, geo_v3 w)
+{
+    double qx = D[0][0] * p0.x + D[0][1] * p0.y;
+    double qy = D[1][0] * p0.x + D[1][1] * p0.y;
+    double qz = D[2][0] * p0.x + D[2][1] * p0.y;
+    double s = qz / w.z;
+    geo_xy o = {qx - w.x * s, qy - w.y * s};
+    return o;
+}
+
 VM_INLINE dss_lane_spot dss_lane_sensor_spot(const dss_sensor *s, geo_v3 u)
 {
     double H = s->pinhole_mm[2], t = s->glass_t_mm;
@@ -145,8 +158,10 @@ VM_INLINE dss_lane_spot dss_lane_sensor_spot(const dss_sensor *s, geo_v3 u)
     int disc = s->disc_c_rad2 != 0.0;
     sp.x = vm_select(disc, s->pinhole_mm[0] + k * (sp.x - s->pinhole_mm[0]), sp.x);
     sp.y = vm_select(disc, s->pinhole_mm[1] + k * (sp.y - s->pinhole_mm[1]), sp.y);
+    geo_v3 w = geo_mul(s->D, u);
+    sp = dss_lane_tilt(s->D, sp, w);
     dss_lane_spot o;
-    o.ok = (u.z > 0.0) & fits & (fabs(sp.x) <= lim) & (fabs(sp.y) <= lim);
+    o.ok = (u.z > 0.0) & (w.z > 0.0) & fits & (fabs(sp.x) <= lim) & (fabs(sp.y) <= lim);
     o.x = sp.x / s->pixel_mm;
     o.y = sp.y / s->pixel_mm;
     geo_xy b =

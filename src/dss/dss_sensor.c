@@ -116,6 +116,8 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
     s->glass_n = d->glass_index + dev->glass_index;
     rot_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
             dev->c3_arcsec * RAD_PER_ARCSEC, s->M);
+    rot_zxy(dev->detector_tilt_x_arcsec * RAD_PER_ARCSEC,
+            dev->detector_tilt_y_arcsec * RAD_PER_ARCSEC, 0.0, s->D);
     s->mount = d->mount;
     dss_sun_direction(d->mount, s->M, dev->sun_b1_arcsec * RAD_PER_ARCSEC,
                       dev->sun_b2_arcsec * RAD_PER_ARCSEC, s->v0);
