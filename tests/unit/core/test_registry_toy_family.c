@@ -470,7 +470,7 @@ static void deviation_lists(void **state)
     assert_string_equal(ess_deviation_names[18], "spacer_cte_ppm_k");
     assert_string_equal(ess_deviation_names[20], "dial_tilt_deg");
     assert_string_equal(ess_deviation_names[21], "roll_measured_arcsec");
-    assert_int_equal(DSS_N_DEV, 14);
+    assert_int_equal(DSS_N_DEV, 16);
 }
 
 int main(void)

@@ -236,9 +236,9 @@ static void dss_deviations_independent(void **state)
         "dh_px",         "dx_px",         "dy_px",           "c1_arcsec",
         "c2_arcsec",     "c3_arcsec",     "glass_thickness_um", "glass_index",
         "sun_b1_arcsec", "sun_b2_arcsec", "spacer_cte_ppm_k", "detector_cte_ppm_k",
-        "glass_cte_ppm_k", "glass_dn_dt_ppm_k"};
+        "glass_cte_ppm_k", "glass_dn_dt_ppm_k", "detector_tilt_x_arcsec", "detector_tilt_y_arcsec"};
     static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004, 15, 25,
-                                            2,   0.5, 1.5, 0.7};
+                                            2,   0.5, 1.5, 0.7, 40, 70};
     config_state st;
     build_normal(&st, "configs/dss.ini", keys, sigma, DSS_N_DEV, NULL, 0);
     static double x[DSS_N_DEV][NU];
