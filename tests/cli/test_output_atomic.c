@@ -55,8 +55,12 @@ static int hidden_entries(const char *d)
     while ((e = readdir(h)) != NULL) {
         size_t len = strlen(e->d_name);
         int checkpoint = len > 7 && strcmp(e->d_name + len - 7, ".resume") == 0;
+        /* a run killed before its signal handlers are set (a SIGTERM that
+         * lands early on a loaded machine) leaves its lock file, which
+         * locks nothing once the process is gone (docs/trust.md) */
+        int lock = len > 5 && strcmp(e->d_name + len - 5, ".lock") == 0;
         if (e->d_name[0] == '.' && strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0 &&
-            strcmp(e->d_name, OUT_MARKER) != 0 && !checkpoint)
+            strcmp(e->d_name, OUT_MARKER) != 0 && !checkpoint && !lock)
             n++;
     }
     closedir(h);
