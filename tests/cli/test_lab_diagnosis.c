@@ -163,6 +163,28 @@ static void test_duplicate_warning_in_report(void **state)
         assert_true(test_file_has(p, "1 row repeats an earlier row exactly"));
 }
 
+/* Rows after a dropped repeat keep their own file lines (residuals.tsv's
+ * line column): e0.csv's data row 1 logged twice at once. */
+static void test_lines_after_a_dropped_repeat(void **state)
+{
+    char out[1 << 16], p[700];
+    assert_int_equal(shell("awk 'NR == 2 { print } { print }' e0.csv > er.csv%s", ""), 0);
+    assert_int_equal(sunmc("calibrate --config " E " $D/er.csv --duplicates average --out $D/cer",
+                           out, sizeof out),
+                     0);
+    snprintf(p, sizeof p, "%s/cer/residuals.tsv", dir);
+    FILE *f = fopen(p, "r");
+    assert_non_null(f);
+    char line[1024];
+    assert_non_null(fgets(line, sizeof line, f));
+    int want[] = {2, 4, 5, 6};
+    for (int i = 0; i < 4; i++) {
+        assert_non_null(fgets(line, sizeof line, f));
+        assert_int_equal(atoi(line), want[i]);
+    }
+    fclose(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -171,6 +193,7 @@ int main(void)
         cmocka_unit_test(test_generic_words_are_the_familys),
         cmocka_unit_test(test_missing_points_listed),
         cmocka_unit_test(test_duplicate_warning_in_report),
+        cmocka_unit_test(test_lines_after_a_dropped_repeat),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
