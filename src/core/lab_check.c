@@ -158,8 +158,7 @@ static int check_distinct(const family_lab *lab, const sunmc_config *c, const la
  * sign, swapped columns, a unit.  Each with what it says of the data and
  * what to do. */
 enum {
-    LAB_AS_IS,
-    LAB_FLIP_ALL_OUT, /* every output's sign */
+    LAB_FLIP_ALL_OUT = 1, /* every output's sign */
     LAB_FLIP_OUT,     /* output column col's sign */
     LAB_FLIP_IN,      /* table-angle column col's sign */
     LAB_SWAP_IN,

@@ -96,7 +96,6 @@ struct report_acc {
     const sunmc_config *c;
     const sensor_family *fam;
     int na, nb, nt;      /* angles, bands, operating temperatures (thermal.h) */
-    double spec;         /* report.spec_arcsec in the rms unit */
     long n, gross, alias, failed;
     campaign_info campaign;
     /* set-major: the lab's, each operating temperature, the worst over them */
@@ -118,7 +117,6 @@ report_acc *report_acc_new(const sunmc_config *c)
     a->na = fam->n_angles(c);
     a->nb = c->bands_deg.n;
     a->nt = thermal_n_temps(c);
-    a->spec = c->spec_arcsec / fam->arcsec_per_rms_unit;
     char err[SUNMC_ERRLEN];
     if (campaign_describe(c, &a->campaign, err, sizeof err) != SUNMC_OK) {
         free(a);

@@ -239,8 +239,8 @@ void verdict_rule_text(const sunmc_config *c, char *buf, size_t len)
     else
         snprintf(cover, sizeof cover, "at least %g %% of the points read",
                  100.0 * c->min_coverage);
-    snprintf(buf, len, "%s of |%s| <= %g\" in %s band%s (%s), %s%s",
+    snprintf(buf, len, "%s of |%s| <= %g\" in %s band (%s), %s%s",
              verdict_statistic_name(c), fam->angle_names[verdict_angle(c)], c->spec_arcsec,
-             all ? "every" : "each named", "", bands, cover,
+             all ? "every" : "each named", bands, cover,
              thermal_n_temps(c) > 0 ? ", at every operating temperature" : "");
 }
