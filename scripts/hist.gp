@@ -14,8 +14,9 @@ set datafile separator "\t"
 
 hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
-# after-calibration columns, not their noise-free (rms_after_sys_) part
-isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_')
+# after-calibration columns, not their noise-free (rms_after_sys_) or model-form
+# (rms_after_mf_) parts
+isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_') && !(strlen(s) > 13 && s[1:13] eq 'rms_after_mf_')
 # the last after-column (the widest band of the last angle)
 cafter = 0
 do for [i=1:words(hdr)] { if (isafter(word(hdr, i))) { cafter = i } }

@@ -21,8 +21,9 @@ scol(n) = sum [i=1:words(shdr)] (word(shdr, i) eq n ? i : 0)
 spec_as = real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('spec_arcsec'), sfile)))
 unit = system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('rms_unit'), sfile))
 spec = spec_as / (unit eq 'deg' ? 3600.0 : 1.0)
-# after-calibration columns, not their noise-free (rms_after_sys_) part
-isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_')
+# after-calibration columns, not their noise-free (rms_after_sys_) or model-form
+# (rms_after_mf_) parts
+isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_') && !(strlen(s) > 13 && s[1:13] eq 'rms_after_mf_')
 nafter = sum [i=1:words(hdr)] (isafter(word(hdr, i)) ? 1 : 0)
 firstafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && !isafter(word(hdr, i-1))) ? i : 0)
 # the last angle's bands: the last nb after-columns (nb = bands in summary.tsv)

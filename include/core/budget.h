@@ -108,6 +108,9 @@ typedef struct {
     long limit_reused;              /* of those, finished from the all-sources run's readings */
 } budget_source;
 
+/* The parts of the mean square after calibration (budget_result.part_after). */
+enum { BUDGET_PART_NOISE = 0, BUDGET_PART_ESTIMATION, BUDGET_PART_MODEL_FORM, BUDGET_PARTS };
+
 typedef struct {
     int angle, band;                /* the report row of the budget */
     long units;                     /* units per run */
@@ -117,6 +120,12 @@ typedef struct {
     budget_stats all, floor, no_tolerance;
     budget_share floor_before, floor_after;
     budget_share interaction_before, interaction_after;
+    /* The all-sources mean square after calibration by kind (modelform.h):
+     * the validation reading's noise, the calibration's estimation error,
+     * model form; over part_units units run again with the systematic and
+     * model-form passes (lab condition, the budget's row). */
+    budget_share part_after[BUDGET_PARTS];
+    long part_units;
     int order[BUDGET_MAX_SOURCES];  /* src indices, rank order */
     budget_stats today;             /* units [0, today_units) of the all-sources run */
     long today_units;               /* report.budget_units, or 0 when more than units */

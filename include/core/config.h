@@ -142,6 +142,7 @@ typedef struct {
     double confidence;                  /* level of the confidence intervals */
     int yield_interval;                 /* enum config_yield_interval */
     double cost_exponent;               /* allocate: cost of a tolerance ~ 1 / value^k */
+    long model_form_every;              /* every N-th unit gets the model-form pass (modelform.h) */
 
     family_config fam;                  /* the family's own keys (its keys table) */
 
@@ -372,6 +373,10 @@ unsigned long long config_hash(const config_state *st);
 /* Write the commented reference config: every key of every registered
  * family with its unit, range, default and help. */
 int config_write_reference(FILE *f);
+
+/* The key "section.key" of family fam (or a shared one); NULL when there
+ * is none or dotted is not section.key. */
+const config_key *config_find_dotted(const struct sensor_family *fam, const char *dotted);
 
 /* Read a numeric key's value by "section.key" (sweeps); SUNMC_EINPUT if not
  * a number key. */

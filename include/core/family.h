@@ -43,6 +43,10 @@ typedef struct {
     /* The systematic part of rms_after: the same validation points read
      * without reading noise (same unit, same fitted calibration). */
     double rms_after_sys[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
+    /* The model-form part (modelform.h): the same unit calibrated on its
+     * campaign without noise and read without noise; NaN for a unit
+     * without the pass, a failed fit or an empty band. */
+    double rms_after_mf[UNIT_MAX_ANGLES][CONFIG_BANDS_MAX];
     /* The same unit (same calibration, made at environment.calibration_temp_c)
      * validated at operating temperature t (thermal.h; only when
      * thermal_n_temps(c) > 0, t < thermal_n_temps(c)): RMS before and after. */
@@ -254,7 +258,8 @@ int unit_read_finish(const sunmc_config *c, long unit, void *ws, void *rd, int h
 
 /* Fill r's noise-free after RMS (rms_after_sys) of measured angle `angle`;
  * NaN in every band when the unit's fit failed or after_sys is NULL (the
- * pass skipped: c->no_systematic). */
+ * pass skipped: c->no_systematic).  Sets the angle's rms_after_mf NaN
+ * (the model-form pass, run by the engine, fills it: modelform.h). */
 void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
                          const band_list *bands, double scale);
 

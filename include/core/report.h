@@ -40,6 +40,17 @@ typedef struct {
     long alias_units;       /* units whose campaign could not resolve the fine-code term */
     double rms_before_mean, rms_after_mean, rms_after_max, rms_after_min, rms_after_p95;
     double rms_after_sys_mean; /* systematic part: noise-free validation readings */
+    /* The model-form part (modelform.h): the mean of rms_after_mf over the
+     * mf_units units of the stat_units that had the pass, and the after
+     * mean square of those units split in three (fractions, summing to 1):
+     * the validation reading's noise (after^2 - sys^2), the calibration's
+     * estimation error (sys^2 - mf^2) and model form (mf^2); each a ratio
+     * of means with its delta-method interval (stats_ratio_t).  NaN and 0
+     * units without the pass (report.model_form_every = 0, or a set at an
+     * operating temperature). */
+    double rms_after_mf_mean;
+    long mf_units;
+    double share_noise, share_estimation, share_model_form;
     double improvement_mean, improvement_max, improvement_min;
     double yield;           /* fraction of all units meeting the spec in this band alone
                                (verdict_band: its statistic and coverage) */
@@ -64,6 +75,8 @@ typedef struct {
     double campaign_hours;
     double extrapolation_deg;
     stats_interval rms_before_mean_ci, rms_after_mean_ci, rms_after_sys_mean_ci;
+    stats_interval rms_after_mf_mean_ci, share_noise_ci, share_estimation_ci,
+        share_model_form_ci;
     stats_interval rms_after_p95_ci, improvement_mean_ci, yield_ci, worse_ci;
 } summary_row;
 

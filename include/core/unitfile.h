@@ -5,14 +5,15 @@
  * units.bin is binary so that every double comes back to the last bit
  * (units.tsv rounds to 6-10 digits for people).  Layout, all in the
  * writing machine's byte order (a reader on another order refuses it):
- *   header, 8 words of 8 bytes: the magic "SUNMCUB1", the byte-order check
+ *   header, 8 words of 8 bytes: the magic "SUNMCUB3", the byte-order check
  *     0x0102030405060708, words per record, then nd, np, na, nb (columns
  *     of the family and config: deviations, parameters, angles, bands) and
  *     nt, the operating temperatures (thermal.h; 0 without them);
  *   one record per unit, in unit order, each word 8 bytes: unit,
  *     fit_status, fit_gsl_status, fit_iterations, alias_weak, gross_cal,
  *     gross_val as int64, then as IEEE doubles dev[nd], par[np], fit_rms,
- *     rms_before[na][nb], rms_after[na][nb], rms_after_sys[na][nb], then
+ *     rms_before[na][nb], rms_after[na][nb], rms_after_sys[na][nb],
+ *     rms_after_mf[na][nb] (modelform.h), then
  *     for each operating temperature t < nt rms_before_t[t][na][nb] and
  *     rms_after_t[t][na][nb].
  * The profile times are not stored.

@@ -94,6 +94,19 @@ int stats_moments_t(const stats_moments *m, double confidence, double *mean, sta
 int stats_ratio_t(const double *x, const double *a, size_t n, double confidence, double *ratio,
                   stats_interval *ci, char *err, size_t errlen);
 
+/* stats_ratio_t of a stream of pairs, without holding them: sums of x, a
+ * and their squares and products (the residual sum of squares
+ * sum (x - R a)^2 expanded, clamped at 0).  Zero-initialise, then add. */
+typedef struct {
+    long n;
+    double sx, sa, sxx, sxa, saa;
+} stats_ratio_acc;
+
+void stats_ratio_acc_add(stats_ratio_acc *r, double x, double a);
+
+int stats_ratio_acc_t(const stats_ratio_acc *r, double confidence, double *ratio,
+                      stats_interval *ci, char *err, size_t errlen);
+
 /* Point estimate of the p-quantile of sorted[n] (ascending): Hyndman & Fan
  * (1996) definition 7, the linear interpolation between order statistics at
  * h = (n - 1) p (0-based), as R's default and numpy's "linear"; bit for bit

@@ -47,7 +47,8 @@ def run(sunmc, config, units, key, step, out):
 
 def band_columns(row):
     return [k[len("rms_after_"):] for k in row if k.startswith("rms_after_")
-            and not k.startswith("rms_after_sys_")]
+            and not k.startswith("rms_after_sys_")
+            and not k.startswith("rms_after_mf_")]
 
 
 def readings_in_band(config, sunmc, key, step, band):

@@ -114,6 +114,11 @@ static void write_tail(FILE *f, const sunmc_config *c, const sensor_family *fam,
 /* What ended a limit (budget.h), as printed and in budget.tsv. */
 static const char *const end_names[] = {"spec", "coverage", "fit", "range"};
 
+static const char *const part_names[BUDGET_PARTS] = {"NOISE_OF_READING", "ESTIMATION",
+                                                      "MODEL_FORM"};
+
+static void fmt_share(char *buf, size_t len, const budget_share *s);
+
 static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
                       const budget_result *b)
 {
@@ -155,6 +160,29 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
     write_share(f, &b->interaction_after);
     fprintf(f, "-\t-\t-\t-\t-\t-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
+    for (int k = 0; k < BUDGET_PARTS; k++) {
+        fprintf(f, "0\tafter_part\t%s\t-\t-\t-\t-\t-\t-\t-\t-\t-\t", part_names[k]);
+        write_share(f, &b->part_after[k]);
+        fprintf(f, "-\t-\t-\t-\t-\t-\t-\t-\t-\t");
+        write_tail(f, c, fam, b);
+    }
+}
+
+/* The parts of the mean square after calibration (budget.h), as the
+ * print and budget.tsv name them. */
+static void print_parts(const budget_result *b)
+{
+    static const char *const words[BUDGET_PARTS] = {
+        "noise of the validation reading", "the calibration's estimation error (campaign noise)",
+        "model form (what the calibration model cannot represent)"};
+    printf("After calibration, all sources, by kind (%ld units run again with a noise-free "
+           "reading and a\nnoise-free campaign; docs/statistics.md), share of MS_all:\n",
+           b->part_units);
+    for (int k = 0; k < BUDGET_PARTS; k++) {
+        char sh[96];
+        fmt_share(sh, sizeof sh, &b->part_after[k]);
+        printf("  %-58s %s\n", words[k], sh);
+    }
 }
 
 /* Shares named in the outside-0..100 % warning. */
@@ -332,6 +360,7 @@ static void print_table(const sunmc_config *c, const sensor_family *fam, const b
            "first %ld units;\nthe floor is one unit, copied); %ld of them finished from another "
            "run's validation readings.\n",
            budget_unit_runs(b), c->budget_units, budget_reused_units(b));
+    print_parts(b);
     warn_outside(b);
 }
 

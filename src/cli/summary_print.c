@@ -152,6 +152,55 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
 
 #define PERCENT 100.0
 
+/* What calibration leaves (modelform.h): the model-form part and the after
+ * mean square split into the reading's noise, the calibration's
+ * estimation error and model form, on the units with the model-form pass. */
+static void print_floor(FILE *f, const sunmc_config *c, const sensor_family *fam,
+                        const summary_row *rows, int n, int prec)
+{
+    long kmin = rows[0].mf_units, kmax = rows[0].mf_units;
+    for (int i = 1; i < n; i++) {
+        kmin = rows[i].mf_units < kmin ? rows[i].mf_units : kmin;
+        kmax = rows[i].mf_units > kmax ? rows[i].mf_units : kmax;
+    }
+    if (kmax == 0)
+        return;
+    table *t = table_of(6, n);
+    if (!t)
+        return;
+    char h[TABLE_CELL], pct[24], nk[64];
+    report_ci_label(c, pct, sizeof pct);
+    snprintf(h, sizeof h, "[%s] %s", fam->rms_unit, pct);
+    label_columns(c, fam, rows, n, t, 0);
+    table_head(t, 2, "model-form part", h, TABLE_BAR);
+    static const char *const heads[3] = {"noise of reading", "estimation", "model form"};
+    for (int k = 0; k < 3; k++)
+        table_head(t, 3 + k, heads[k], pct, k == 0 ? TABLE_BAR : 0);
+    int d = ci_decimals(rows, n, offsetof(summary_row, rms_after_mf_mean_ci), 1.0, prec);
+    for (int i = 0; i < n; i++) {
+        const summary_row *r = &rows[i];
+        fmt_estimate(table_cell(t, i, 2), TABLE_CELL, r->rms_after_mf_mean, r->rms_after_mf_mean_ci,
+                     d, 1.0, "");
+        const double v[3] = {r->share_noise, r->share_estimation, r->share_model_form};
+        const stats_interval ci[3] = {r->share_noise_ci, r->share_estimation_ci,
+                                      r->share_model_form_ci};
+        for (int k = 0; k < 3; k++)
+            fmt_estimate(table_cell(t, i, 3 + k), TABLE_CELL, v[k], ci[k], 1, PERCENT, "%");
+    }
+    snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
+    fprintf(f, "\nwhat calibration leaves: the mean square after calibration in three parts, "
+               "on the %s units\nwith the model-form pass (every %ld-th: "
+               "report.model_form_every):\n",
+            nk, c->model_form_every);
+    table_print(f, t);
+    table_free(t);
+    fprintf(f, "Model-form part: after-RMS of the unit calibrated on its campaign without noise "
+               "and read\nwithout noise: what the calibration model cannot represent.  Noise "
+               "of reading: after^2 - systematic^2;\nestimation (the campaign's noise through "
+               "the fit): systematic^2 - model form^2; model form^2.\nShares of the mean "
+               "square, ratio of means with delta-method intervals (docs/statistics.md).\n");
+}
+
 /* A row's temperature as the tables show it: "20 (lab)", "-30", "worst". */
 static void temp_label(const summary_row *r, char *buf, size_t len)
 {
@@ -401,6 +450,7 @@ void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
     if (fam->alias_term)
         fprintf(f, "   units whose campaign aliases %s: %ld", fam->alias_term, rows[0].alias_units);
     fputc('\n', f);
+    print_floor(f, c, fam, rows, n, prec);
     print_warnings(f, c, fam, rows, n);
     if (thermal_n_temps(c) > 0)
         print_thermal(f, c, fam, rows, prec);

@@ -3,6 +3,7 @@
 #include "budget.h"
 #include "thermal.h"
 #include "memory.h"
+#include "modelform.h"
 #include "montecarlo.h"
 #include "report.h"
 #include "verdict.h"
@@ -50,10 +51,7 @@ static int noise_sources(const sunmc_config *c, budget_result *b, char *err, siz
     const sensor_family *fam = c->family;
     for (const family_noise *nz = fam->noise; nz && nz->name; nz++)
         for (const char *const *dotted = nz->keys; *dotted; dotted++) {
-            char sec[CONFIG_STR_MAX];
-            const char *dot = strchr(*dotted, '.');
-            snprintf(sec, sizeof sec, "%.*s", dot ? (int)(dot - *dotted) : 0, *dotted);
-            const config_key *k = dot ? config_find_in(fam, sec, dot + 1) : NULL;
+            const config_key *k = config_find_dotted(fam, *dotted);
             if (!k || k->type != KEY_DOUBLE)
                 return sunmc_fail(err, errlen, SUNMC_EINPUT,
                                   "family %s: noise key %s is not a number key", fam->name,
@@ -409,7 +407,7 @@ static int planned_runs(const sunmc_config *c, budget_result *b, budget_squares 
                                                            : &b->no_tolerance;
         int keep = r <= b->n; /* the squares of the floor and the alone runs */
         if (progress)
-            progress(p->what[r], ++run, b->n + 3, ctx);
+            progress(p->what[r], ++run, b->n + 4, ctx);
         long reads = unit_store_reads(store), made = budget_units_run(&p->cfg[r], q->units);
         rc = monte_carlo(&p->cfg[r], q->units, threads, b->angle, b->band, NULL, store, out,
                          keep ? squares(q, 1 + r, 0) : NULL, keep ? squares(q, 1 + r, 1) : NULL,
@@ -423,13 +421,17 @@ static int planned_runs(const sunmc_config *c, budget_result *b, budget_squares 
     return rc;
 }
 
-/* The Monte Carlo runs: all, then floor, each source alone, no tolerance. */
+static int after_parts(const sunmc_config *c, budget_result *b, long units, int threads,
+                       char *err, size_t errlen);
+
+/* The Monte Carlo runs: all, then floor, each source alone, no tolerance,
+ * then the all-sources units by kind (after_parts). */
 static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *q, int threads,
                        budget_progress_fn progress, void *ctx, char *err, size_t errlen)
 {
     int rc;
     if (progress)
-        progress("all sources", 1, 3 + b->n, ctx);
+        progress("all sources", 1, 4 + b->n, ctx);
     /* the inverse limits' yield at today's values is this run's first
      * report.budget_units units: kept, not run again for every source, and
      * their readings kept for the searches of a source they do not read */
@@ -442,7 +444,68 @@ static int budget_runs(const sunmc_config *c, budget_result *b, budget_squares *
                           errlen)))
         return rc;
     b->unit_runs = q->units;
-    return planned_runs(c, b, q, threads, 1, progress, ctx, err, errlen);
+    if ((rc = planned_runs(c, b, q, threads, 1, progress, ctx, err, errlen)))
+        return rc;
+    if (progress)
+        progress("all sources by kind (systematic and model-form passes)", 4 + b->n, 4 + b->n,
+                 ctx);
+    return after_parts(c, b, q->units, threads, err, errlen);
+}
+
+/* Unit u's squares after calibration in three parts (modelform.h) into
+ * x[3], over the total *a; 0 when the unit has no value for every one. */
+static int unit_parts(const unit_result *r, int angle, int band, double x[BUDGET_PARTS],
+                      double *a)
+{
+    double aft = r->rms_after[angle][band], sys = r->rms_after_sys[angle][band];
+    double mf = r->rms_after_mf[angle][band];
+    if (r->fit_status != UNIT_FIT_OK || !isfinite(aft) || !isfinite(sys) || !isfinite(mf))
+        return 0;
+    *a = aft * aft;
+    x[BUDGET_PART_NOISE] = aft * aft - sys * sys;
+    x[BUDGET_PART_ESTIMATION] = sys * sys - mf * mf;
+    x[BUDGET_PART_MODEL_FORM] = mf * mf;
+    return 1;
+}
+
+/* The all-sources run's units again with the systematic pass and a
+ * model-form pass each: the parts of its mean square after calibration
+ * (at the lab's condition) into b->part_after. */
+static int after_parts(const sunmc_config *c, budget_result *b, long units, int threads,
+                       char *err, size_t errlen)
+{
+    sunmc_config t = *c;
+    t.no_systematic = 0;
+    t.model_form_every = 1;
+    long run = budget_units_run(&t, units);
+    unit_result *res = calloc((size_t)run, sizeof *res);
+    double *v = malloc((size_t)run * (BUDGET_PARTS + 2) * sizeof *v);
+    long *block = c->sampling != CONFIG_SAMPLING_RANDOM ? malloc((size_t)run * sizeof *block)
+                                                        : NULL;
+    int rc = res && v && (block || c->sampling == CONFIG_SAMPLING_RANDOM)
+                 ? mc_run(&t, 0, run, threads, res, NULL, NULL, err, errlen)
+                 : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", run);
+    long n = 0;
+    for (long u = 0; rc == SUNMC_OK && u < run; u++) {
+        double x[BUDGET_PARTS], a;
+        if (!unit_parts(&res[u], b->angle, b->band, x, &a))
+            continue;
+        for (int k = 0; k < BUDGET_PARTS; k++)
+            v[(size_t)k * (size_t)run + (size_t)n] = x[k];
+        v[(size_t)BUDGET_PARTS * (size_t)run + (size_t)n] = a;
+        if (block)
+            block[n] = u / c->sampling_block;
+        n++;
+    }
+    for (int k = 0; rc == SUNMC_OK && k < BUDGET_PARTS; k++)
+        set_share(&b->part_after[k], v + (size_t)k * (size_t)run,
+                  v + (size_t)BUDGET_PARTS * (size_t)run, block, (size_t)n, c->confidence);
+    b->part_units = n;
+    b->unit_runs += 2 * run;
+    free(res);
+    free(v);
+    free(block);
+    return rc;
 }
 
 /* Every source's inverse limit, a source to a thread: each search is a

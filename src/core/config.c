@@ -554,16 +554,23 @@ int config_validate(const sunmc_config *c, char *err, size_t errlen)
     return s == SUNMC_OK ? memory_check_workspace(c, err, errlen) : s;
 }
 
-int config_get_number(const sunmc_config *c, const char *dotted, double *out, char *err,
-                      size_t errlen)
+const config_key *config_find_dotted(const struct sensor_family *fam, const char *dotted)
 {
     char section[CONFIG_STR_MAX];
     const char *dot = strchr(dotted, '.');
     if (!dot || (size_t)(dot - dotted) >= sizeof section)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "'%s' is not section.key", dotted);
+        return NULL;
     memcpy(section, dotted, (size_t)(dot - dotted));
     section[dot - dotted] = '\0';
-    const config_key *k = config_find_in(c->family, section, dot + 1);
+    return config_find_in(fam, section, dot + 1);
+}
+
+int config_get_number(const sunmc_config *c, const char *dotted, double *out, char *err,
+                      size_t errlen)
+{
+    if (!strchr(dotted, '.'))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "'%s' is not section.key", dotted);
+    const config_key *k = config_find_dotted(c->family, dotted);
     if (!k)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "unknown key '%s'", dotted);
     const void *base = config_value_cptr(k, c);

@@ -185,6 +185,11 @@ const config_key config_keys[] = {
      "report.confidence) or clopper_pearson_lower (one-sided: the yield is at least the lower "
      "bound with confidence report.confidence, upper bound 1); design and budget compare the "
      "lower bound with report.yield_target"},
+    {"report", "model_form_every", KEY_LONG, "", "10", 0, 100000000, NULL, OFF(model_form_every),
+     "every N-th unit (unit mod N = 0) is calibrated a second time on its campaign without "
+     "noise and read without noise: its after-RMS is the model-form part of Table 1 (what "
+     "the calibration model cannot represent of the simulated sensor; docs/statistics.md); "
+     "0 = none, 1 = every unit (a second fit each)"},
     {"report", "cost_exponent", KEY_DOUBLE, "", "1", 0.1, 10, NULL, OFF(cost_exponent),
      "`allocate`: k of the cost model, a tolerance at value v costs tolerance.NAME_cost * "
      "(today / v)^k (halving a tolerance costs 2^k times as much)"},

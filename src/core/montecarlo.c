@@ -1,5 +1,6 @@
 /* montecarlo.c - the parallel loop over units, whole or in blocks. */
 #include "montecarlo.h"
+#include "modelform.h"
 #include "ranks.h"
 #include "status.h"
 #include "unit_store.h"
@@ -15,6 +16,7 @@
 typedef struct {
     const sunmc_config *c;
     const sensor_family *fam;
+    const sunmc_config *mf; /* the model-form pass's config (modelform.h); NULL: none */
     unit_store *store;  /* NULL: each unit runs whole (unit_run) */
     int status;
     long done, total;
@@ -44,19 +46,35 @@ static int run_stored(mc_shared *s, void *ws, long u, unit_result *r)
     return rs;
 }
 
+/* A thread's workspaces: the family's for c, and for the model-form pass
+ * (NULL when it is off) one for its config and a result to run it into. */
+typedef struct {
+    void *ws;
+    void *ws_mf;
+    unit_result *scratch;
+} mc_thread;
+
+/* Unit u into r, then its model-form pass when it is due. */
+static int run_one(mc_shared *s, mc_thread *t, long u, unit_result *r)
+{
+    int rs = s->store ? run_stored(s, t->ws, u, r) : s->fam->unit_run(s->c, u, t->ws, r);
+    if (rs == SUNMC_OK && s->mf && modelform_due(s->c, u))
+        rs = modelform_unit(s->mf, u, t->ws_mf, t->scratch, r);
+    return rs;
+}
+
 /* Units [first, end) into results[u - first], shared by the calling team
  * (an orphaned `omp for`; its end is a barrier). */
-static void run_units(mc_shared *s, void *ws, long first, long end, unit_result *results)
+static void run_units(mc_shared *s, mc_thread *t, long first, long end, unit_result *results)
 {
 #pragma omp for schedule(dynamic, MC_CHUNK)
     for (long u = first; u < end; u++) {
         int st;
 #pragma omp atomic read
         st = s->status;
-        if (!ws || st != SUNMC_OK)
+        if (!t->ws || st != SUNMC_OK)
             continue;
-        int rs = s->store ? run_stored(s, ws, u, &results[u - first])
-                          : s->fam->unit_run(s->c, u, ws, &results[u - first]);
+        int rs = run_one(s, t, u, &results[u - first]);
         if (rs != SUNMC_OK)
             mc_fail(s, rs, "", u);
         long d;
@@ -67,14 +85,42 @@ static void run_units(mc_shared *s, void *ws, long first, long end, unit_result 
     }
 }
 
-/* Each thread's family workspace (NULL after a failure, recorded in s). */
-static void *workspace(mc_shared *s)
+static void thread_free(mc_shared *s, mc_thread *t)
+{
+    if (t->ws)
+        s->fam->workspace_free(t->ws);
+    if (t->ws_mf)
+        s->fam->workspace_free(t->ws_mf);
+    free(t->scratch);
+}
+
+/* Each thread's workspaces (t->ws NULL after a failure, recorded in s). */
+static void thread_alloc(mc_shared *s, mc_thread *t)
 {
     char terr[SUNMC_ERRLEN] = "";
-    void *ws = s->fam->workspace_alloc(s->c, terr, sizeof terr);
-    if (!ws)
-        mc_fail(s, SUNMC_ENOMEM, terr, -1);
-    return ws;
+    t->ws = s->fam->workspace_alloc(s->c, terr, sizeof terr);
+    t->ws_mf = t->ws && s->mf ? s->fam->workspace_alloc(s->mf, terr, sizeof terr) : NULL;
+    t->scratch = t->ws_mf ? malloc(sizeof *t->scratch) : NULL;
+    if (!t->ws || (s->mf && !t->scratch)) {
+        mc_fail(s, SUNMC_ENOMEM, terr[0] ? terr : "out of memory for a workspace", -1);
+        thread_free(s, t);
+        t->ws = t->ws_mf = NULL;
+        t->scratch = NULL;
+    }
+}
+
+/* The model-form pass's config of c into mf; *use = mf, or NULL when the
+ * pass is off. */
+static int mf_setup(const sunmc_config *c, sunmc_config *mf, const sunmc_config **use,
+                    char *err, size_t errlen)
+{
+    *use = NULL;
+    if (!modelform_on(c))
+        return SUNMC_OK;
+    int st = modelform_config(c, mf, err, errlen);
+    if (st == SUNMC_OK)
+        *use = mf;
+    return st;
 }
 
 int mc_run(const sunmc_config *c, long first, long end, int threads,
@@ -88,16 +134,21 @@ int mc_run_store(const sunmc_config *c, unit_store *store, long first, long end,
                  size_t errlen)
 {
     const sensor_family *fam = c->family;
+    sunmc_config mfc;
+    const sunmc_config *mf;
+    int rc = mf_setup(c, &mfc, &mf, err, errlen);
+    if (rc != SUNMC_OK)
+        return rc;
     unit_store *st = unit_store_bind(store, c, first, end) ? store : NULL;
-    mc_shared s = {c, fam, st, SUNMC_OK, 0, end - first, progress, ctx, err, errlen};
+    mc_shared s = {c, fam, mf, st, SUNMC_OK, 0, end - first, progress, ctx, err, errlen};
     if (threads > 0)
         omp_set_num_threads(threads);
 #pragma omp parallel
     {
-        void *ws = workspace(&s);
-        run_units(&s, ws, first, end, results);
-        if (ws)
-            fam->workspace_free(ws);
+        mc_thread t;
+        thread_alloc(&s, &t);
+        run_units(&s, &t, first, end, results);
+        thread_free(&s, &t);
     }
     return s.status;
 }
@@ -176,11 +227,12 @@ static void round_send(mc_shared *s, mc_round *rd, long round)
 
 static void stream_rounds(mc_shared *s, mc_round *rd)
 {
-    void *ws = workspace(s);
+    mc_thread t;
+    thread_alloc(s, &t);
     for (long round = 0;; round++) {
         long b0 = block_start(rd, round, rd->me);
         if (b0 < rd->p->end)
-            run_units(s, ws, b0, b0 + block_len(rd, b0), rd->buf);
+            run_units(s, &t, b0, b0 + block_len(rd, b0), rd->buf);
         /* The block is complete (barrier); the master thread passes it on
          * while the others wait, so every thread sees the same go_on. */
 #pragma omp master
@@ -196,8 +248,7 @@ static void stream_rounds(mc_shared *s, mc_round *rd)
         if (!rd->go_on)
             break;
     }
-    if (ws)
-        s->fam->workspace_free(ws);
+    thread_free(s, &t);
 }
 
 int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
@@ -219,8 +270,16 @@ int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a block of %ld units",
                           rd.bsize);
     }
+    sunmc_config mfc;
+    const sunmc_config *mf;
+    int rc = mf_setup(c, &mfc, &mf, err, errlen);
+    if (rc != SUNMC_OK) {
+        free(rd.buf);
+        free(rd.rbuf);
+        return rc;
+    }
     /* Several ranks: progress per block received (rank 0 runs a part). */
-    mc_shared s = {c, fam, NULL, SUNMC_OK, 0, span, rd.ranks > 1 ? NULL : p->progress,
+    mc_shared s = {c, fam, mf, NULL, SUNMC_OK, 0, span, rd.ranks > 1 ? NULL : p->progress,
                    p->progress_ctx, err, errlen};
     if (p->threads > 0)
         omp_set_num_threads(p->threads);

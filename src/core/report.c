@@ -80,6 +80,9 @@ void report_band_label(const sunmc_config *c, int i, char *buf, size_t len)
  * and the RMS after of every unit with a value (the p95 needs them all). */
 typedef struct {
     stats_moments before, after, sys, ratio;
+    stats_moments mf;    /* the model-form part, units with the pass */
+    /* their after mean square in three parts: noise, estimation, model form */
+    stats_ratio_acc floor_part[3];
     long pass;           /* units meeting the spec */
     long no_reading;     /* units with a fit but no usable reading in the band */
     long worse;          /* units whose RMS after exceeds their RMS before */
@@ -184,11 +187,25 @@ static void cell_add_blocks(band_cell *s, long block, double bef, double aft, do
     s->block_v[s->after.n] = (double)block;
 }
 
-/* One unit's RMS before, after and its systematic part (NaN: none) in a
- * cell, the unit in sampling block `block` (-1: independent units); a unit
- * without a fit only counts in the yield's denominator (a fail). */
+/* A unit's model-form part mf (NaN: no pass) and its after mean square
+ * in three parts, when its systematic part is known too. */
+static void cell_add_floor(band_cell *s, double aft, double sys, double mf)
+{
+    if (!isfinite(mf) || !isfinite(sys))
+        return;
+    double a2 = aft * aft, s2 = sys * sys, m2 = mf * mf;
+    stats_moments_add(&s->mf, mf);
+    stats_ratio_acc_add(&s->floor_part[0], a2 - s2, a2);
+    stats_ratio_acc_add(&s->floor_part[1], s2 - m2, a2);
+    stats_ratio_acc_add(&s->floor_part[2], m2, a2);
+}
+
+/* One unit's RMS before, after, its systematic and model-form parts (NaN:
+ * none) in a cell, the unit in sampling block `block` (-1: independent
+ * units); a unit without a fit only counts in the yield's denominator (a
+ * fail). */
 static int cell_add(band_cell *s, long block, int fit_ok, double bef, double aft, double sys,
-                    int pass)
+                    double mf, int pass)
 {
     int usable = fit_ok && isfinite(bef) && isfinite(aft);
     pass = pass && usable;
@@ -214,6 +231,7 @@ static int cell_add(band_cell *s, long block, int fit_ok, double bef, double aft
     s->worse += aft > bef;
     if (isfinite(sys))
         stats_moments_add(&s->sys, sys);
+    cell_add_floor(s, aft, sys, mf);
     return SUNMC_OK;
 }
 
@@ -232,11 +250,11 @@ static int thermal_add(report_acc *acc, const unit_result *ur, int a, int b)
     long blk = sampling_block_of(acc->c, ur->unit);
     for (int t = 0; t < acc->nt; t++)
         if (cell_add(&acc->cell[(1 + t) * nab + i], blk, ok, ur->rms_before_t[t][a][b],
-                     ur->rms_after_t[t][a][b], NAN, band_pass(acc, ur, a, b, t)) != SUNMC_OK)
+                     ur->rms_after_t[t][a][b], NAN, NAN, band_pass(acc, ur, a, b, t)) != SUNMC_OK)
             return SUNMC_ENOMEM;
     return cell_add(&acc->cell[(1 + acc->nt) * nab + i], blk, ok,
                     thermal_worst(ur->rms_before_t, acc->nt, a, b),
-                    thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN,
+                    thermal_worst(ur->rms_after_t, acc->nt, a, b), NAN, NAN,
                     band_pass(acc, ur, a, b, VERDICT_WORST));
 }
 
@@ -273,6 +291,7 @@ int report_acc_add(report_acc *acc, const unit_result *results, long n)
                 if (cell_add(&acc->cell[a * acc->nb + b], sampling_block_of(acc->c, ur->unit),
                              ur->fit_status == UNIT_FIT_OK,
                              ur->rms_before[a][b], ur->rms_after[a][b], ur->rms_after_sys[a][b],
+                             ur->rms_after_mf[a][b],
                              band_pass(acc, ur, a, b, VERDICT_LAB)) != SUNMC_OK ||
                     (acc->nt > 0 && thermal_add(acc, ur, a, b) != SUNMC_OK))
                     return SUNMC_ENOMEM;
@@ -350,6 +369,22 @@ static void cell_design_intervals(band_cell *s, long n, double level, int method
                                  &r->rms_after_p95_ci, err, sizeof err);
 }
 
+/* The model-form part and the after mean square's three parts, with
+ * independent units' intervals (under a sampling design too: the pass's
+ * units, every N-th, do not form the design's blocks). */
+static void floor_statistics(const band_cell *s, double level, summary_row *r)
+{
+    char err[SUNMC_ERRLEN];
+    double *v[3] = {&r->share_noise, &r->share_estimation, &r->share_model_form};
+    stats_interval *ci[3] = {&r->share_noise_ci, &r->share_estimation_ci,
+                             &r->share_model_form_ci};
+    r->mf_units = s->mf.n;
+    stats_moments_t(&s->mf, level, &r->rms_after_mf_mean, &r->rms_after_mf_mean_ci, err,
+                    sizeof err);
+    for (int k = 0; k < 3; k++)
+        stats_ratio_acc_t(&s->floor_part[k], level, v[k], ci[k], err, sizeof err);
+}
+
 static void cell_statistics(band_cell *s, long n, double conf, int method, int design,
                             int quantiles, summary_row *r)
 {
@@ -363,6 +398,7 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int d
                     sizeof err);
     stats_moments_t(&s->ratio, level, &r->improvement_mean, &r->improvement_mean_ci, err,
                     sizeof err);
+    floor_statistics(s, level, r);
     yield_interval(method, s->pass, n, level, &r->yield_ci);
     stats_wilson(s->worse, (long)k, level, &r->worse_ci, err, sizeof err);
     r->worse = k > 0 ? (double)s->worse / (double)k : NAN;
@@ -388,6 +424,8 @@ static void cell_statistics(band_cell *s, long n, double conf, int method, int d
     if (!has_level) {
         stats_interval none = {NAN, NAN};
         r->rms_before_mean_ci = r->rms_after_mean_ci = r->rms_after_sys_mean_ci = none;
+        r->rms_after_mf_mean_ci = r->share_noise_ci = r->share_estimation_ci = none;
+        r->share_model_form_ci = none;
         r->improvement_mean_ci = r->yield_ci = r->rms_after_p95_ci = r->worse_ci = none;
     }
 }

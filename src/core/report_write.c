@@ -28,7 +28,11 @@ static void summary_header(FILE *f, int n_lead, const char *const *lead_names, i
                "campaign_points\tcampaign_hours\textrapolation_deg\tno_reading_units\t"
                "worse\tworse_ci_lo\tworse_ci_hi\tyield_interval\t"
                "spec_yield\tspec_yield_ci_lo\tspec_yield_ci_hi\tspec_statistic\tspec_bands\t"
-               "min_coverage\tband_points");
+               "min_coverage\tband_points\t"
+               "rms_after_mf_mean\trms_after_mf_mean_ci_lo\trms_after_mf_mean_ci_hi\tmf_units\t"
+               "share_noise\tshare_noise_ci_lo\tshare_noise_ci_hi\t"
+               "share_estimation\tshare_estimation_ci_lo\tshare_estimation_ci_hi\t"
+               "share_model_form\tshare_model_form_ci_lo\tshare_model_form_ci_hi");
     fprintf(f, "%s\n", thermal ? "\tcondition\ttemp_c" : "");
 }
 
@@ -104,7 +108,13 @@ void report_write_summary_rows(FILE *f, const sunmc_config *c,
         write_nums(f, "%.6g", 3, (double[]){r->spec_yield, r->spec_yield_ci.lo, r->spec_yield_ci.hi});
         fprintf(f, "%s\t%s\t", verdict_statistic_name(c), c->spec_bands[0] ? c->spec_bands : "all");
         tsv_num_put(f, "%g", c->min_coverage);
-        fprintf(f, "\t%ld", r->band_points);
+        fprintf(f, "\t%ld\t", r->band_points);
+        write_estimate(f, r->rms_after_mf_mean, r->rms_after_mf_mean_ci);
+        fprintf(f, "%ld\t", r->mf_units);
+        write_estimate(f, r->share_noise, r->share_noise_ci);
+        write_estimate(f, r->share_estimation, r->share_estimation_ci);
+        write_nums(f, "%.6g", 2, (double[]){r->share_model_form, r->share_model_form_ci.lo});
+        tsv_num_put(f, "%.6g", r->share_model_form_ci.hi);
         if (thermal_n_temps(c) > 0) {
             fprintf(f, "\t%s", condition_key[r->condition]);
             put_field(f, "%g", r->temp_c);
@@ -126,8 +136,8 @@ void report_write_units_header(FILE *f, const sunmc_config *c)
     for (int i = 0; i < np; i++)
         fprintf(f, "\t%s", par[i]);
     fprintf(f, "\tfit_rms_%s", fam->rms_unit);
-    const char *which[3] = {"before", "after", "after_sys"};
-    for (int w = 0; w < 3; w++)
+    const char *which[4] = {"before", "after", "after_sys", "after_mf"};
+    for (int w = 0; w < 4; w++)
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
                 fprintf(f, "\trms_%s_%s_%g_%g_%s", which[w], fam->angle_names[a],
@@ -192,6 +202,9 @@ void report_write_unit_rows(FILE *f, const sunmc_config *c,
         for (int a = 0; a < na; a++)
             for (int b = 0; b < nb; b++)
                 put_field(f, "%.6g", r->rms_after_sys[a][b]);
+        for (int a = 0; a < na; a++)
+            for (int b = 0; b < nb; b++)
+                put_field(f, "%.6g", r->rms_after_mf[a][b]);
         int nt = thermal_n_temps(c);
         for (int t = 0; t <= nt && nt > 0; t++)
             for (int w = 0; w < 2; w++) {

@@ -58,6 +58,8 @@ void unit_result_set_sys(unit_result *r, int angle, const band_acc *after_sys,
     else
         for (int i = 0; i < bands->n; i++)
             r->rms_after_sys[angle][i] = NAN;
+    for (int i = 0; i < CONFIG_BANDS_MAX; i++)
+        r->rms_after_mf[angle][i] = NAN;
 }
 
 /* Set once by the command before any unit runs, only read afterwards. */

@@ -11,7 +11,7 @@
 #include <string.h>
 
 /* 2: the verdict's statistic, points read and band points (verdict.h) */
-#define UNITFILE_MAGIC "SUNMCUB2"
+#define UNITFILE_MAGIC "SUNMCUB3"
 #define UNITFILE_ORDER 0x0102030405060708ULL
 #define UNITFILE_INT_WORDS 7
 
@@ -24,7 +24,7 @@ void unitfile_layout_of(const sunmc_config *c, unitfile_layout *l)
     l->na = fam->n_angles(c);
     l->nb = c->bands_deg.n;
     l->nt = thermal_n_temps(c);
-    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + (3L + 2L * l->nt) * l->na * l->nb + l->nb +
+    l->words = UNITFILE_INT_WORDS + l->nd + l->np + 1 + (4L + 2L * l->nt) * l->na * l->nb + l->nb +
                2L * (1L + l->nt) * l->na * l->nb;
 }
 
@@ -96,8 +96,9 @@ void unitfile_pack(const unitfile_layout *l, const unit_result *r, uint64_t *w)
     memcpy(d, r->par, (size_t)l->np * sizeof *d);
     d += l->np;
     *d++ = r->fit_rms;
-    const double(*m[3])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys};
-    for (int k = 0; k < 3; k++)
+    const double(*m[4])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys,
+                                             r->rms_after_mf};
+    for (int k = 0; k < 4; k++)
         for (int a = 0; a < l->na; a++) {
             memcpy(d, m[k][a], (size_t)l->nb * sizeof *d);
             d += l->nb;
@@ -130,8 +131,9 @@ static void unpack(const unitfile_layout *l, const uint64_t *w, unit_result *r)
     memcpy(r->par, d, (size_t)l->np * sizeof *d);
     d += l->np;
     r->fit_rms = *d++;
-    double(*m[3])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys};
-    for (int k = 0; k < 3; k++)
+    double(*m[4])[CONFIG_BANDS_MAX] = {r->rms_before, r->rms_after, r->rms_after_sys,
+                                       r->rms_after_mf};
+    for (int k = 0; k < 4; k++)
         for (int a = 0; a < l->na; a++) {
             memcpy(m[k][a], d, (size_t)l->nb * sizeof *d);
             d += l->nb;

@@ -175,6 +175,27 @@ int stats_ratio_t(const double *x, const double *a, size_t n, double confidence,
     return stats_t_interval(r, sd, (long)n, confidence, ci, err, errlen);
 }
 
+void stats_ratio_acc_add(stats_ratio_acc *r, double x, double a)
+{
+    r->n++;
+    r->sx += x;
+    r->sa += a;
+    r->sxx += x * x;
+    r->sxa += x * a;
+    r->saa += a * a;
+}
+
+int stats_ratio_acc_t(const stats_ratio_acc *r, double confidence, double *ratio,
+                      stats_interval *ci, char *err, size_t errlen)
+{
+    double R = r->n > 0 && r->sa != 0.0 ? r->sx / r->sa : NAN;
+    double ss = isfinite(R) ? fmax(r->sxx - 2.0 * R * r->sxa + R * R * r->saa, 0.0) : 0.0;
+    double abar = r->n > 0 ? r->sa / (double)r->n : NAN;
+    double sd = r->n > 1 && isfinite(R) ? sqrt(ss / (double)(r->n - 1)) / fabs(abar) : 0.0;
+    *ratio = R;
+    return stats_t_interval(R, sd, r->n, confidence, ci, err, errlen);
+}
+
 double stats_quantile_sorted(const double *sorted, size_t n, double p)
 {
     if (n == 0)

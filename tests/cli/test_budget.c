@@ -178,8 +178,9 @@ static void today_from_all_sources_run(void **state)
         assert_int_equal(b->src[i].limit_units, 10L * (b->src[i].limit_runs - 1));
         searched += b->src[i].limit_units;
     }
-    /* the floor (no random input) is one unit run, copied */
-    assert_int_equal(budget_unit_runs(b), (2L + b->n) * 12 + 1 + searched);
+    /* the floor (no random input) is one unit run, copied; the parts after
+     * calibration run the all-sources units again, each twice (modelform.h) */
+    assert_int_equal(budget_unit_runs(b), (2L + b->n) * 12 + 1 + searched + 2L * 12);
     /* Finished from stored readings: the encoder and roll noise alone read
      * the floor's validation (1 unit stored by the floor's run, then 12),
      * no tolerance reads the row-current noise alone's (12); each search
@@ -310,8 +311,10 @@ static void cli(void **state)
     assert_int_equal(system(cmd), 0);
     snprintf(cmd, sizeof cmd,
              "awk -F'\\t' 'NR==2 && $3==\"FLOOR\" {ok=1} $3==\"INTERACTION\" {ok2=NR} "
-             "NR>1 {sb+=$9; sa+=$13} END {exit !(ok && ok2==NR && sb>0.999999 && sb<1.000001 "
-             "&& sa>0.999999 && sa<1.000001)}' %s/budget.tsv",
+             "$2==\"after_part\" {np++; sp+=$13; next} "
+             "NR>1 {sb+=$9; sa+=$13} END {exit !(ok && ok2==NR-3 && np==3 && sb>0.999999 && "
+             "sb<1.000001 && sa>0.999999 && sa<1.000001 && sp>0.999999 && sp<1.000001)}' "
+             "%s/budget.tsv",
              dir);
     assert_int_equal(system(cmd), 0);
 }

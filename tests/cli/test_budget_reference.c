@@ -85,7 +85,7 @@ static void check_family(const family_case *f)
         n_tol++;
     while (f->noises[n_noise])
         n_noise++;
-    assert_int_equal(b->nr, 1 + n_tol + n_noise + 1);
+    assert_int_equal(b->nr, 1 + n_tol + n_noise + 1 + 3); /* + the parts after calibration */
     for (int r = 1; r <= n_tol + n_noise; r++) {
         const char *src = tsv_str(b, r, "source");
         int found = 0;

@@ -63,7 +63,7 @@ static void slurm_array_tasks_and_merge(void **state)
 static void slurm_array_submit_with_stand_in_sbatch(void **state)
 {
     single_run();
-    char out[16384];
+    static char out[65536]; /* four shards' tables, then the merge's */
     int st = sh("SBATCH='bash tests/fake-sbatch.sh' scripts/slurm-array.sh submit " CFG
                 " $D/sub 4 " OPTS, out, sizeof out);
     if (st != 0)

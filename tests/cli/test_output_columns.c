@@ -450,13 +450,24 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
         assert_string_equal(tsv_str(b, r, "angle"), angle);
         assert_string_equal(tsv_str(b, r, "band"), band);
     }
-    /* FLOOR first, INTERACTION last, ranks 1..n between: sources with a
-     * share outside the noise first, by the share after calibration, then
-     * before, each counted only outside the noise (worked out here) */
+    /* FLOOR first, INTERACTION after the sources, then the three parts of
+     * the mean square after calibration (shares summing to 1); ranks 1..n
+     * between: sources with a share outside the noise first, by the share
+     * after calibration, then before, each counted only outside the noise
+     * (worked out here) */
     assert_string_equal(tsv_str(b, 0, "source"), "FLOOR");
-    assert_string_equal(tsv_str(b, b->nr - 1, "source"), "INTERACTION");
+    assert_string_equal(tsv_str(b, b->nr - 4, "source"), "INTERACTION");
+    const char *parts[3] = {"NOISE_OF_READING", "ESTIMATION", "MODEL_FORM"};
+    double psum = 0;
+    for (int k = 0; k < 3; k++) {
+        assert_string_equal(tsv_str(b, b->nr - 3 + k, "kind"), "after_part");
+        assert_string_equal(tsv_str(b, b->nr - 3 + k, "source"), parts[k]);
+        assert_string_equal(tsv_str(b, b->nr - 3 + k, "share_before"), "-");
+        psum += tsv_num(b, b->nr - 3 + k, "share_after");
+    }
+    assert_true(fabs(psum - 1.0) < 1e-5);
     double prev[3] = {0};
-    for (int r = 1; r < b->nr - 1; r++) {
+    for (int r = 1; r < b->nr - 4; r++) {
         assert_int_equal(atoi(tsv_str(b, r, "rank")), r);
         double key[3];
         const char *sig[2] = {"significant_after", "significant_before"};
@@ -487,7 +498,7 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
     expect_g6(tsv_num(b, 0, "all_after"), ra, "all after");
     expect_g6(tsv_num(b, 0, "all_yield"), ry, "all yield");
     char zero_all[1024] = "", one[160], key[4][96];
-    for (int r = 1; r < b->nr - 1; r++) {
+    for (int r = 1; r < b->nr - 4; r++) {
         const char *src = tsv_str(b, r, "source");
         int tol = strcmp(tsv_str(b, r, "kind"), "tolerance") == 0;
         snprintf(one, sizeof one, " --set %s%s=0", tol ? "tolerance." : "", src);
@@ -501,7 +512,7 @@ static void budget_rows_are_runs(const char *cfg, const char *sets, const char *
     summary_row_of(run, angle, band, &rb, &ra, &ry);
     expect_g6(tsv_num(b, 0, "before_alone"), rb, "FLOOR before");
     expect_g6(tsv_num(b, 0, "after_alone"), ra, "FLOOR after");
-    for (int r = 1; r < b->nr - 1 && r < 4; r++) {
+    for (int r = 1; r < b->nr - 4 && r < 4; r++) {
         /* alone: every source at 0 but this one at its value */
         snprintf(sets2, sizeof sets2, "%s --set %s=%s", zero_all, key[r],
                  tsv_str(b, r, "tolerance"));

@@ -321,9 +321,9 @@ static void summary_tsv_columns(void **state)
     report_write_summary_rows(f, &c, rows, 1, lead_v);
     rewind(f);
     char hline[4096], line[4096];
-    char *h[64], *v[64];
+    char *h[96], *v[96];
     assert_non_null(fgets(hline, sizeof hline, f));
-    int nh = split_tsv(hline, h, 64);
+    int nh = split_tsv(hline, h, 96);
     const char *want[] = {"campaign.alpha_step_deg",
                           "product",
                           "family",
@@ -376,14 +376,27 @@ static void summary_tsv_columns(void **state)
                           "spec_statistic",
                           "spec_bands",
                           "min_coverage",
-                          "band_points"};
+                          "band_points",
+                          "rms_after_mf_mean",
+                          "rms_after_mf_mean_ci_lo",
+                          "rms_after_mf_mean_ci_hi",
+                          "mf_units",
+                          "share_noise",
+                          "share_noise_ci_lo",
+                          "share_noise_ci_hi",
+                          "share_estimation",
+                          "share_estimation_ci_lo",
+                          "share_estimation_ci_hi",
+                          "share_model_form",
+                          "share_model_form_ci_lo",
+                          "share_model_form_ci_hi"};
     assert_int_equal(nh, (int)(sizeof want / sizeof want[0]));
     for (int i = 0; i < nh; i++)
         assert_string_equal(h[i], want[i]);
     for (int i = 0; i < 2 * NB; i++) {
         const summary_row *r = &rows[i];
         assert_non_null(fgets(line, sizeof line, f));
-        assert_int_equal(split_tsv(line, v, 64), nh);
+        assert_int_equal(split_tsv(line, v, 96), nh);
         assert_printed(v[col_of(h, nh, "campaign.alpha_step_deg")], 0.2525, "lead");
         assert_string_equal(v[col_of(h, nh, "product")], "Test product");
         assert_string_equal(v[col_of(h, nh, "family")], "fake");
@@ -445,8 +458,8 @@ static void units_tsv_columns(void **state)
     char *h[128], *v[128];
     assert_non_null(fgets(hline, sizeof hline, f));
     int nh = split_tsv(hline, h, 128);
-    /* before, after, after_sys; the verdict's five */
-    assert_int_equal(nh, 7 + 3 + 2 + 1 + 3 * 2 * NB + 5);
+    /* before, after, after_sys, after_mf; the verdict's five */
+    assert_int_equal(nh, 7 + 3 + 2 + 1 + 4 * 2 * NB + 5);
     for (int u = 0; u < NU; u++) {
         const unit_result *r = &res[u];
         assert_non_null(fgets(line, sizeof line, f));
