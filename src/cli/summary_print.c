@@ -189,7 +189,7 @@ static void print_floor(FILE *f, const sunmc_config *c, const sensor_family *fam
     }
     snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
     fprintf(f, "\nwhat calibration leaves: the mean square after calibration in three parts, "
-               "on the %s units\nwith the model-form pass (every %ld-th: "
+               "on the %s units\nwith the model-form pass (one in %ld: "
                "report.model_form_every):\n",
             nk, c->model_form_every);
     table_print(f, t);

@@ -227,8 +227,11 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
     static const char *const detectors[] = {"lateral", "quadrant"}, *const laterals[] = {"duo", "tetra"};
     static const char *const orders[] = {"projected", "alpha_outer", "beta_outer"};
     static const char *const signs[] = {"plus", "minus"};
+    static const char *const polarities[] = {"positive", "inverted"};
     int st = params_set_text(pf, "design", "detector", detectors[d->detector], NULL);
     st |= params_set_text(pf, "design", "lateral", laterals[d->lateral], NULL);
+    st |= params_set_text(pf, "design", "polarity", polarities[d->polarity],
+                          "a lit channel reads above (positive) or below (inverted) its dark");
     st |= params_set_double(pf, "design", "h_mm", d->h_mm, "nominal");
     st |= params_set_double(pf, "design", "active_mm", d->active_mm, NULL);
     st |= params_set_double(pf, "design", "aperture_um", d->aperture_um, NULL);
@@ -309,19 +312,22 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
     static const char *const detectors[] = {"lateral", "quadrant"}, *const laterals[] = {"duo", "tetra"};
     static const char *const orders[] = {"projected", "alpha_outer", "beta_outer"};
     static const char *const signs[] = {"plus", "minus"};
-    static const char *const design_keys[] = {"detector", "lateral", "h_mm", "active_mm",
-                                              "aperture_um", "gap_um", "pincushion",
+    static const char *const polarities[] = {"positive", "inverted"};
+    static const char *const design_keys[] = {"detector", "lateral", "polarity", "h_mm",
+                                              "active_mm", "aperture_um", "gap_um", "pincushion",
                                               "glass_thickness_mm", "glass_index"};
     static const char *const campaign_keys[] = {"table_order", "table_alpha_sign",
                                                 "table_beta_sign"};
     psd_design *d = &c->design;
-    int st = params_check_keys(p, "design", design_keys, 9, err, errlen);
+    int st = params_check_keys(p, "design", design_keys, 10, err, errlen);
     if (st == SUNMC_OK)
         st = params_check_keys(p, "campaign", campaign_keys, 3, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "design", "detector", detectors, 2, &d->detector, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "design", "lateral", laterals, 2, &d->lateral, err, errlen);
+    if (st == SUNMC_OK) /* the reading check's sign of a lit channel (reading_check) */
+        st = enum_of(p, "design", "polarity", polarities, 2, &d->polarity, err, errlen);
     const params_range r[] = {
         {"design", "h_mm", 0.01, 1000, "mm", NULL},   {"design", "active_mm", 0.01, 1000, "mm", NULL},
         {"design", "aperture_um", 0, 1e5, "um", NULL}, {"design", "gap_um", 0, 1e4, "um", NULL},
@@ -440,19 +446,22 @@ static const lab_params_model params_models[] = {
 
 /* Can the calibrated sensor produce channels raw[0..3]
  * (family_lab.reading_check)?  An ADC reads no negative value; a spot
- * gives every model a signal: above the fitted darks (physical model; the
+ * gives every model a signal: beyond the fitted darks on the side of
+ * design.polarity (physical model; the
  * polynomial's raw channels have none), with a positive sum; the
  * polynomial's ratios stay within what its campaign saw. */
 static int reading_check(const void *model, const double *raw)
 {
     const psd_model_file *m = model;
     int phys = m->cal.model == PSD_MODEL_PHYSICAL, any = 0;
-    double sum = 0;
+    /* the fitted gains are relative to channel 1's (+1): a lit channel of
+     * an inverting amplifier reads below its dark */
+    double lit = m->cfg.design.polarity == PSD_INVERTED ? -1.0 : 1.0, sum = 0;
     for (int k = 0; k < PSD_CHANNELS; k++)
         if (!(raw[k] >= 0))
             return LAB_OUTSIDE_RANGE;
     for (int k = 0; k < PSD_CHANNELS; k++) {
-        double s = phys ? (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
+        double s = phys ? lit * (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
         any |= s > 0;
         sum += s;
     }

@@ -24,6 +24,8 @@ static int setup(void **state)
         "calibrate --config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd",
         "simulate configs/psd.ini --unit 3 --quiet --out $D/sp",
         "calibrate --config configs/psd.ini $D/sp/campaign.csv --quiet --out $D/cp",
+        "simulate configs/psd_aeroztark.ini --unit 1 --quiet --out $D/sz",
+        "calibrate --config configs/psd_aeroztark.ini $D/sz/campaign.csv --quiet --out $D/cz",
         "simulate configs/psd_14og.ini --unit 2 --quiet --out $D/sq",
         "calibrate --config configs/psd_14og.ini $D/sq/campaign.csv --quiet --out $D/cq"};
     char out[16384];
@@ -114,6 +116,30 @@ static void psd_physical(void **state)
            "output's range, 1 no inverse (the model cannot be inverted there)");
 }
 
+/* PSD physical model of an inverting sensor (design.polarity = inverted,
+ * the aeroztark unit's): a lit channel reads below its dark.  Its own
+ * campaign is compensated whole (the check used to call every reading "no
+ * signal": the fitted gains are relative to channel 1's, so params.ini
+ * carries the polarity), and a reading above every dark is no signal. */
+static void psd_inverted(void **state)
+{
+    (void)state;
+    char path[700], cmd[1400], out[65536];
+    snprintf(path, sizeof path, "%s/cz/params.ini", dir);
+    snprintf(cmd, sizeof cmd, "grep -q '^polarity *= *inverted' %s", path);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "compensate $D/cz/params.ini $D/sz/campaign.csv > $D/z.csv");
+    int rc = sunmc(cmd, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s: exit %d: %s", cmd, rc, out);
+    assert_null(strstr(out, "not compensated"));
+    snprintf(cmd, sizeof cmd, "grep -c ',-,' %s/z.csv", dir);
+    assert_int_not_equal(system(cmd), 0); /* grep -c finds none: exit 1 */
+    const char *bad[] = {"\n4.9,4.9,4.9,4.9,-,-\n"};
+    expect("cz", "z_bad.csv", "i1,i2,i3,i4\n4.9,4.9,4.9,4.9\n", bad, 1, NULL, 0,
+           "1 row not compensated: 1 no signal");
+}
+
 /* PSD polynomial model (it used to give nan only for 0,0,0,0): no signal,
  * negative channels, a ratio beyond the calibrated field. */
 static void psd_polynomial(void **state)
@@ -145,6 +171,7 @@ int main(void)
         cmocka_unit_test(ess_outside_range),
         cmocka_unit_test(dss_no_spot_and_outside),
         cmocka_unit_test(psd_physical),
+        cmocka_unit_test(psd_inverted),
         cmocka_unit_test(psd_polynomial),
         cmocka_unit_test(header_only_refused),
     };

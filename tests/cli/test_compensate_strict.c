@@ -112,10 +112,10 @@ static void order_must_be_whole(void **state)
 {
     (void)state;
     refused("cq", "sed 's/^order = 3/order = 2.5/' $IN > $OUT",
-            "edited.ini:31: key polynomial.order: '2.5' is not a whole number");
+            "edited.ini:32: key polynomial.order: '2.5' is not a whole number");
     /* whole numbers are written as digits: 3.0 and 3e0 are not */
     refused("cq", "sed 's/^order = 3/order = 3.0/' $IN > $OUT",
-            "edited.ini:31: key polynomial.order: '3.0' is not a whole number");
+            "edited.ini:32: key polynomial.order: '3.0' is not a whole number");
     refused("cdp", "sed 's/^order  *= 3 /order = 3e0 /' $IN > $OUT",
             "key design.order: '3e0' is not a whole number");
     refused("cdp", "sed 's/^order  *= 3 /order = 2.5 /' $IN > $OUT",
@@ -150,7 +150,7 @@ static void unknown_parameter_key(void **state)
 {
     (void)state;
     refused("cp", "awk '{ print } /^dark4_raw/ { print \"foo_um = 1\" }' $IN > $OUT",
-            "edited.ini:44: unknown key parameters.foo_um");
+            "edited.ini:45: unknown key parameters.foo_um");
     refused("ce", "sed 's/^ks_deg /ks_dg /' $IN > $OUT",
             "unknown key parameters.ks_dg (did you mean ks_deg?)");
     refused("cd", "sed 's/^fit_dy_px /fit_dy_pix /' $IN > $OUT",
