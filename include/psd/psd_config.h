@@ -89,6 +89,9 @@ typedef struct {
     psd_tolerances tol;
     double noise_fs_pct;    /* channel noise sigma, % of full scale */
     double lamp_pct;        /* the lab's light, sigma of its change per reading, % */
+    double table_line_arcsec; /* the table's setting error per scan line, sigma per axis */
+    double common_pct;      /* noise shared by the channels, sigma, % of full scale */
+    double_list common_signs; /* its sign (weight) on each channel: 4 values */
     int adc_bits;
     int table_order;
     int table_alpha_sign, table_beta_sign; /* 0: +1, 1: -1 */

@@ -16,6 +16,17 @@ long psd_validation_points(const sunmc_config *c);
 void psd_campaign_angles(const sunmc_config *c, long i, double *alpha, double *beta);
 void psd_validation_angles(const sunmc_config *c, long i, double *alpha, double *beta);
 
+/* The table's setting error of every line (noise.table_line_arcsec) of
+ * the campaign (which = FAMILY_GRID_CAMPAIGN) or the validation
+ * (FAMILY_GRID_VALIDATION) of unit `unit`, rad: off[line][0] in alpha,
+ * off[line][1] in beta, from the unit's line stream; all 0 when the key
+ * is 0 (no draw). */
+void psd_line_offsets(const sunmc_config *c, long unit, int which,
+                      double off[CONFIG_LIST_MAX][2]);
+/* The line (index into the beta list) of campaign row i / validation point i. */
+long psd_campaign_line(const sunmc_config *c, long i);
+long psd_validation_line(const sunmc_config *c, long i);
+
 /* Unit `unit`'s deviations (drawn as unit_run draws them, times dev_sign). */
 void psd_unit_sample(const sunmc_config *c, long unit, double dev_sign, psd_deviations *dev);
 

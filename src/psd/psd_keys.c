@@ -69,6 +69,20 @@ const config_key psd_keys[] = {
      "the sun simulator's light at the sensor, changing from one reading to the next (lamp "
      "drift, a beam not uniform over the table's travel): each reading's light times 1 + "
      "N(0, lamp_pct); the dark-corrected ratios do not see it, the raw ones do"},
+    {"noise", "common_pct", KEY_DOUBLE, "%", "0", 0, 10, NULL, OFF(common_pct),
+     "sigma of a noise the four channels share in a reading, % of the ADC's full scale: "
+     "each reading adds common_pct * n * w_k to channel k (one N(0, 1) draw n, weights "
+     "noise.common_signs): a shared supply or amplifier reference, whose noise the ratios "
+     "partly cancel; the spread of a point's repeats shows it as correlated channels"},
+    {"noise", "common_signs", KEY_LIST, "", "1, 1, 1, 1", -1, 1, NULL, OFF(common_signs),
+     "noise.common_pct's weight on channels 1-4 (four values): 1, 1, 1, 1 a common mode "
+     "(the ratios cancel it); 1, 1, -1, -1 two channel pairs on opposite references"},
+    {"noise", "table_line_arcsec", KEY_DOUBLE, "arcsec", "0", 0, 3600, NULL,
+     OFF(table_line_arcsec),
+     "the turntable's setting error per scan line: after each move of the slow axis the table "
+     "stands off its recorded angles by N(0, sigma) in each axis, the same for every point of "
+     "the line (repeats do not average it); the campaign's lines and the validation's (whose "
+     "scoring then includes the lab's error, as a lab's held-out lines do); 0: none"},
     {"noise", "adc_bits", KEY_INT, "", "12", 4, 24, NULL, OFF(adc_bits),
      "ADC resolution (quantisation of each channel)"},
 
@@ -215,6 +229,10 @@ static int grid_check(const psd_config *p, char *err, size_t errlen)
 int psd_validate(const sunmc_config *c, char *err, size_t errlen)
 {
     const psd_config *p = psd_cfg(c);
+    if (p->common_signs.n != PSD_CHANNELS)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "noise.common_signs: %d values, the sensor has %d channels",
+                          p->common_signs.n, PSD_CHANNELS);
     int s = physical_check(c, err, errlen);
     if (s == SUNMC_OK)
         s = grid_check(p, err, errlen);

@@ -47,17 +47,23 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     psd_unit_sample(c, unit, 1.0, &s->dev);
     psd_sensor_build(&psd_cfg(c)->design, &s->dev, &sen);
     rng_stream r;
+    double off[CONFIG_LIST_MAX][2]; /* the table's line errors: read there, written nominal */
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
+    psd_line_offsets(c, unit, FAMILY_GRID_CAMPAIGN, off);
     for (long i = 0; i < s->n; i++) {
         double a, b;
+        const double *o = off[psd_campaign_line(c, i)];
         psd_campaign_angles(c, i, &a, &b);
-        s->ok[i] = psd_unit_read(c, &sen, a, b, &r, s->m + 4 * i) == SUNMC_OK;
+        s->ok[i] = psd_unit_read(c, &sen, a + o[0], b + o[1], &r, s->m + 4 * i) == SUNMC_OK;
     }
     unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    psd_line_offsets(c, unit, FAMILY_GRID_VALIDATION, off);
     for (long i = 0; i < s->nv; i++) {
         double a, b;
+        const double *o = off[psd_validation_line(c, i)];
         psd_validation_angles(c, i, &a, &b);
-        s->ok[s->n + i] = psd_unit_read(c, &sen, a, b, &r, s->m + 4 * (s->n + i)) == SUNMC_OK;
+        s->ok[s->n + i] =
+            psd_unit_read(c, &sen, a + o[0], b + o[1], &r, s->m + 4 * (s->n + i)) == SUNMC_OK;
     }
     *out = s;
     return SUNMC_OK;

@@ -50,6 +50,36 @@ long psd_validation_points(const sunmc_config *c)
            p->val_beta_deg.n;
 }
 
+long psd_campaign_line(const sunmc_config *c, long i)
+{
+    const psd_config *p = psd_cfg(c);
+    return i / c->cal_repeats / alpha_n(p->cal_alpha_max_deg, p->cal_alpha_step_deg, 0);
+}
+
+long psd_validation_line(const sunmc_config *c, long i)
+{
+    const psd_config *p = psd_cfg(c);
+    return i / alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg);
+}
+
+void psd_line_offsets(const sunmc_config *c, long unit, int which,
+                      double off[CONFIG_LIST_MAX][2])
+{
+    const psd_config *p = psd_cfg(c);
+    double sigma = p->table_line_arcsec * RAD_PER_ARCSEC;
+    int n = which == FAMILY_GRID_CAMPAIGN ? p->cal_beta_deg.n : p->val_beta_deg.n;
+    memset(off, 0, sizeof(double[CONFIG_LIST_MAX][2]));
+    if (!(sigma > 0))
+        return;
+    rng_stream r;
+    unit_stream_init(&r, c, unit,
+                     which == FAMILY_GRID_CAMPAIGN ? RNG_STREAM_LINE_CAL : RNG_STREAM_LINE_VAL);
+    for (int l = 0; l < n && l < CONFIG_LIST_MAX; l++) {
+        off[l][0] = sigma * rng_normal(&r);
+        off[l][1] = sigma * rng_normal(&r);
+    }
+}
+
 void psd_campaign_angles(const sunmc_config *c, long i, double *alpha, double *beta)
 {
     const psd_config *p = psd_cfg(c);
@@ -88,6 +118,9 @@ static int read_pair(const psd_config *p, const psd_sensor *s, const double ut[3
         rng_normal_fill(r, z, PSD_CHANNELS);
     double light = r && p->lamp_pct > 0 ? 1.0 + p->lamp_pct * FRACTION_PER_PCT * rng_normal(r)
                                         : 1.0;
+    /* drawn only when on, after the lamp's: configs without it keep their streams */
+    double common = r && p->common_pct > 0 ? p->common_pct * FRACTION_PER_PCT * rng_normal(r)
+                                           : 0.0;
     mat3_vec(s->M, ut, u);
     int st = psd_sensor_read_lit(s, u, light > 0 ? light : 0.0, m);
     if (m0) {
@@ -99,7 +132,9 @@ static int read_pair(const psd_config *p, const psd_sensor *s, const double ut[3
             m0[k] = psd_adc(clean[k], p->adc_bits);
     }
     for (int k = 0; k < PSD_CHANNELS; k++)
-        m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k], p->adc_bits);
+        m[k] = psd_adc(m[k] + p->noise_fs_pct * FRACTION_PER_PCT * z[k] +
+                           common * p->common_signs.v[k],
+                       p->adc_bits);
     return st;
 }
 
@@ -206,12 +241,16 @@ static long campaign(const sunmc_config *c, const psd_sensor *s, long unit, psd_
 {
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_CAL_NOISE);
+    double off[CONFIG_LIST_MAX][2];
+    psd_line_offsets(c, unit, FAMILY_GRID_CAMPAIGN, off);
     long seen = 0;
     for (long i = 0; i < w->n; i++) {
-        double a, b, m[4];
+        double a, b, m[4], ur[3];
+        const double *o = off[psd_campaign_line(c, i)];
         psd_campaign_angles(c, i, &a, &b);
-        psd_table_sun(psd_cfg(c), a, b, w->ut + 3 * i);
-        int ok = read_pair(psd_cfg(c), s, w->ut + 3 * i, &r, m, NULL) == SUNMC_OK;
+        psd_table_sun(psd_cfg(c), a, b, w->ut + 3 * i); /* the recorded truth */
+        psd_table_sun(psd_cfg(c), a + o[0], b + o[1], ur); /* where the table stands */
+        int ok = read_pair(psd_cfg(c), s, ur, &r, m, NULL) == SUNMC_OK;
         for (int k = 0; k < PSD_CHANNELS; k++)
             w->m[k][i] = m[k];
         w->w[i] = ok;
@@ -243,12 +282,19 @@ static void read_validation(const sunmc_config *c, const psd_sensor *s, long uni
     psd_cal_nominal(&nominal, &p->design);
     rng_stream r;
     unit_stream_init(&r, c, unit, RNG_STREAM_VAL_NOISE);
+    double off[CONFIG_LIST_MAX][2];
+    psd_line_offsets(c, unit, FAMILY_GRID_VALIDATION, off);
     long nv = psd_validation_points(c);
     for (long i = 0; i < nv; i++) {
-        double a, b, *x = rd + (size_t)i * PSD_RD_POINT;
+        double a, b, ur[3], *x = rd + (size_t)i * PSD_RD_POINT;
+        const double *o = off[psd_validation_line(c, i)];
         psd_validation_angles(c, i, &a, &b);
         psd_table_sun(p, a, b, x + RD_UT);
-        int st = read_pair(p, s, x + RD_UT, &r, x + RD_M, x + RD_M0);
+        psd_table_sun(p, a + o[0], b + o[1], ur);
+        /* where the table stands: the noise-free reading too (the line's
+         * error is the same for every repeat, so the systematic part holds it) */
+        const double *at = o[0] != 0 || o[1] != 0 ? ur : x + RD_UT;
+        int st = read_pair(p, s, at, &r, x + RD_M, x + RD_M0);
         x[RD_FIELD] = acos(fmin(x[RD_UT + 2], 1.0)) * DEG_PER_RAD;
         x[RD_BAD] = st != SUNMC_OK || errors(&nominal, x + RD_M, x + RD_UT, x + RD_E0) != SUNMC_OK;
     }
@@ -543,11 +589,16 @@ static long psd_table_grid(const sunmc_config *c, int which, double *a0, double 
 }
 
 static const char *const psd_table_axes[] = {"alpha", "beta"};
-static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
-static const char *const psd_val_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct", NULL};
+static const char *const psd_cal_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct",
+                                                 "noise.common_pct", NULL};
+static const char *const psd_val_noise_keys[] = {"noise.channel_pct", "noise.lamp_pct",
+                                                 "noise.common_pct", NULL};
+static const char *const psd_line_keys[] = {"noise.table_line_arcsec", NULL};
 static const family_noise psd_noise[] = {
     {"campaign_noise", RNG_STREAM_CAL_NOISE, psd_cal_noise_keys, NULL, 1},
     {"validation_noise", RNG_STREAM_VAL_NOISE, psd_val_noise_keys, NULL, 0},
+    {"campaign_table_lines", RNG_STREAM_LINE_CAL, psd_line_keys, NULL, 1},
+    {"validation_table_lines", RNG_STREAM_LINE_VAL, psd_line_keys, NULL, 0},
     {NULL, 0, NULL, NULL, 0}};
 
 static const family_grid psd_grid_hooks = {
