@@ -266,6 +266,7 @@ run: deps
 	$(BUILD)/sunmc run configs/ess_type_a.ini --out runs/ess_type_a
 	$(BUILD)/sunmc run configs/ess_type_b.ini --out runs/ess_type_b
 	$(BUILD)/sunmc run configs/dss.ini --out runs/dss
+	$(BUILD)/sunmc run configs/psd.ini --out runs/psd
 
 test: deps
 	$(MAKE) --no-print-directory test-plain test-asan
