@@ -1,5 +1,6 @@
 # hist.gp - histogram of the units' times of accuracy improvement (RMS before
-# / RMS after calibration) in the widest band of the last measured angle, from
+# / RMS after calibration) in the widest band of the last measured angle (the
+# band convergence.gp draws), from
 # `sunmc run --out RUN` (units.tsv), mean marked above the bars; bins
 # from the data (Freedman-Diaconis) unless binwidth is given.
 #   gnuplot -e "run='runs/a'" scripts/hist.gp   [-e "out='x.png'"] [-e "svg=1"] [-e "binwidth=0.1"]
@@ -14,13 +15,19 @@ set datafile separator "\t"
 
 hdr = system(sprintf("head -1 '%s'", file))
 col(n) = sum [i=1:words(hdr)] (word(hdr, i) eq n ? i : 0)
-# after-calibration columns, not their noise-free (rms_after_sys_) or model-form
-# (rms_after_mf_) parts
-isafter(s) = strlen(s) > 10 && s[1:10] eq 'rms_after_' && !(strlen(s) > 14 && s[1:14] eq 'rms_after_sys_') && !(strlen(s) > 13 && s[1:13] eq 'rms_after_mf_')
-# the last after-column (the widest band of the last angle)
-cafter = 0
-do for [i=1:words(hdr)] { if (isafter(word(hdr, i))) { cafter = i } }
-aname = word(hdr, cafter)
+# the band: the widest of the last measured angle (the last of equally wide
+# ones), as convergence.gp takes it, from summary.tsv
+sfile = run.'/summary.tsv'
+shdr = system(sprintf("head -1 '%s'", sfile))
+scol(n) = sum [i=1:words(shdr)] (word(shdr, i) eq n ? i : 0)
+angle = system(sprintf("awk -F'\\t' 'NR>1 {a=$%d} END {print a}' '%s'", scol('angle'), sfile))
+band = system(sprintf("awk -F'\\t' 'NR>1 && $%d==\"%s\" && $%d-$%d>=w {w=$%d-$%d; b=$%d} END {print b}' '%s'", scol('angle'), angle, scol('band_hi_deg'), scol('band_lo_deg'), scol('band_hi_deg'), scol('band_lo_deg'), scol('band'), sfile))
+family = system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('family'), sfile))
+unit = system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('rms_unit'), sfile))
+lo = band[1:strstrt(band, ':')-1]; hi = band[strstrt(band, ':')+1:]
+aname = sprintf('rms_after_%s_%s_%s_%s', angle, lo, hi, unit)
+cafter = col(aname)
+if (cafter == 0) { print sprintf("hist.gp: no column %s in %s", aname, file); exit status 2 }
 bname = 'rms_before_'.aname[11:]
 cbefore = col(bname)
 stats file skip 1 using (column(cbefore) / column(cafter)) nooutput
@@ -37,7 +44,7 @@ bin(x) = binwidth * (floor(x / binwidth) + 0.5)
 # the product (config.ini's sensor.product) and its units, for the title
 prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
 prod = strlen(prod) > 0 ? prod : run
-desc = system(sprintf("echo '%s' | sed -E 's/^rms_after_([a-z]+)_([0-9.]+)_([0-9.]+)_.*$/\\1 in band |\\1| \\2:\\3 deg/'", aname))
+desc = sprintf("%s error, band %s %s deg (the widest, as convergence.png)", angle, family eq 'ess' ? '|'.angle.'|' : 'field angle', band)
 set title sprintf("%s, %d units: times of accuracy improvement\n(RMS before / RMS after calibration), %s", prod, STATS_records, desc)
 set xlabel 'RMS before / RMS after calibration [times]'
 set ylabel 'units'
