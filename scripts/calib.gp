@@ -30,6 +30,9 @@ if (ess) {
   rms = sqrt(STATS_sumsq / STATS_records)
   hasfield = system(sprintf("test -f '%s/field.tsv' && echo 1 || echo 0", run)) eq '1'
   set multiplot layout 1 + hasfield, 1 title sprintf("ESS calibration of %s (%d readings): what the fit left and what it predicts", data, nrow)
+  # both panels the same width, the legends right of them in the margin
+  set lmargin at screen 0.09
+  set rmargin at screen 0.80
   set title sprintf('fit residual (model - reading): RMS %.3g arcsec', rms)
   set xlabel 'alpha [deg] (table, inner frame)'
   set ylabel 'residual [arcsec]'
@@ -37,10 +40,10 @@ if (ess) {
   plot for [i=1:words(lines)] used(sprintf("&& $%d == %s", cb, word(lines, i))) using ca:cr with points pt 7 ps 0.4 lc i title sprintf('beta = %s deg', word(lines, i))
   if (hasfield) {
     ffile = run.'/field.tsv'
-    set title 'predicted 1-sigma error of the compensated angle (the fit covariance propagated)'
+    set title "predicted 1-sigma error of the compensated angle\n(the fit covariance propagated; it ripples with the 0.5-deg fine-code term)"
     set ylabel 'sigma [arcsec]'
     set yrange [0:*]
-    plot ffile skip 1 using 1:2 with lines lw 1 lc rgb '#1f77b4' title 'sigma (ripples with the 0.5-deg fine-code term)'
+    plot ffile skip 1 using 1:2 with lines lw 0.5 lc rgb '#1f77b4' title 'predicted sigma'
   }
   unset multiplot
 } else {

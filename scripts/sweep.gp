@@ -35,8 +35,8 @@ angles = uniq(ca)
 angle = word(angles, words(angles))
 bands = uniq(cb)
 wide = word(bands, words(bands))
-# What a band bins: the ESS its own angle's magnitude, the DSS the field angle.
-bandvar = field(col('family'), 2) eq 'dss' ? 'field angle' : '|'.angle.'|'
+# What a band bins: the ESS its own angle's magnitude, the DSS and PSD the field angle.
+bandvar = field(col('family'), 2) eq 'ess' ? '|'.angle.'|' : 'field angle'
 cali = col('aliased'); clab = col('label')
 # Every selected row is prefixed with its point number (column 1, so every
 # sweep.tsv column moves up by one); an aliased row becomes a blank line in
@@ -63,7 +63,20 @@ set xlabel strlen(xunit) > 0 ? sprintf('%s [%s]', word(hdr, 1)[1:strlen(word(hdr
 set ylabel sprintf('mean RMS error of %s [%s]', angle, unit)
 set grid
 set key outside below horizontal maxcols 3 width -4   # below: the plot and its title keep the full width
-set yrange [0:*]
+# One linear axis hides the after-calibration curves (and the spec) on the
+# floor when the before curves are over 10 times higher: then a log axis.
+yext(c, f) = real(system(sprintf("awk -F'\\t' 'NR>1 && $%d==\"%s\" && $%d > 0 {v=$%d; if (!n++ || %s) m=v} END {print m+0}' '%s'", ca, angle, c, c, f, file)))
+ylo = yext(caft, 'v < m'); yhi = yext(cbef, 'v > m')
+ylo = (spec > 0 && spec < ylo) ? spec : ylo
+yhi = (spec > yhi) ? spec : yhi
+logy = ylo > 0 && yhi / ylo > 10
+if (logy) {
+  set logscale y
+  set yrange [ylo / 1.6 : yhi * 1.6]
+  set ylabel sprintf('mean RMS error of %s [%s], log scale', angle, unit)
+} else {
+  set yrange [0:*]
+}
 if (!xnum) { set xtics rotate by -30; set offsets 0.5, 0.5, 0, 0 } else { set offsets graph 0.04, graph 0.04, 0, 0 }  # no marker half-clipped at the ends
 # The ESS paper's Table 2 (one unit of each type, |alpha| <= 62 deg): drawn
 # over a sweep of campaign.alpha_step_deg of product "ESS type A" or "B",

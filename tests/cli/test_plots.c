@@ -37,6 +37,9 @@ static int setup(void **state)
      * line at 0), and a simulated unit calibrated as a lab would, per family */
     const char *fmt[] = {
         "%1$s run configs/dss.ini --units 6 --out %2$s/drun --quiet",
+        /* before and after calibration over 10 times apart: a log axis */
+        "%1$s sweep configs/dss.ini --vary noise.centroid_px=0.005,0.02 --units 4 "
+        "--out %2$s/dsweep --quiet",
         /* two bands of the same width: every figure of the run takes the same */
         "%1$s run configs/dss.ini --units 6 --set report.bands_deg=0:25,25:50 "
         "--set report.spec_bands=25:50 --out %2$s/dband --quiet",
@@ -155,6 +158,16 @@ static void plot_texts(void **state)
         "grep -q 'band field angle 25:50 deg' $d/h.svg && grep -q 'band field angle 25:50 deg' $d/c.svg && "
         "! grep -q '0:25' $d/h.svg && "
         "grep -q 'yield under the spec: rms &lt;= 10 arcsec in 25:50 bands' $d/c.svg",
+        /* the DSS sweep's curves differ by over 10 times: log axis; the ESS
+         * sweep's (about 4 times) keep a linear one from 0 */
+        "d=%1$s/../dsweep && gnuplot -e \"run='$d'; svg=1; out='$d/s.svg'\" scripts/sweep.gp && "
+        "grep -q 'log scale' $d/s.svg && gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s3.svg'\" "
+        "scripts/sweep.gp && ! grep -q 'log scale' %2$s/s3.svg",
+        /* no text line wider than its canvas holds (titles wrap): at most
+         * 110 characters in any figure drawn here */
+        "for f in %1$s/*.svg %2$s/*.svg %1$s/../dband/*.svg %1$s/../dsweep/*.svg; do "
+        "n=$(grep -o '<text[^>]*>[^<]*' $f | sed 's/<text[^>]*>//' | awk '{ if (length > m) m = length } END { print m + 0 }'); "
+        "[ $n -le 110 ] || { echo \"$f: a text of $n characters\"; exit 1; }; done",
         /* the budget: the parts after calibration and the spec's rule in the
          * title, not as bars; the legend above the plot */
         "b=%1$s/../budget && gnuplot -e \"run='$b'; svg=1; out='$b/b.svg'\" scripts/budget.gp && "
