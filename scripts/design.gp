@@ -23,7 +23,10 @@ cfgv(k) = system(sprintf("awk '/^%s = / {sub(/^%s = /, \"\"); sub(/  #.*$/, \"\"
 prod = cfgv('product')
 target = cfgv('yield_target')
 target = strlen(target) > 0 ? real(target) : 0.95
-set title sprintf("%s: campaign design, the yield of each candidate campaign against its turntable time\n(error bars: confidence interval; dashed: the yield target %g %%)", strlen(prod) > 0 ? prod : run, 100 * target)
+# the spec's verdict the yield counts (report.spec_*)
+cov = cfgv('min_coverage')
+rule = sprintf("yield under the spec: %s <= %s\" in %s bands, %s", cfgv('spec_statistic'), cfgv('spec_arcsec'), cfgv('spec_bands'), (cov eq '1' || cov eq '') ? 'every point read' : cov.' of the points read')
+set title sprintf("%s: campaign design, the yield of each candidate campaign against its turntable time\n%s\n(error bars: confidence interval; dashed: the yield target %g %%)", strlen(prod) > 0 ? prod : run, rule, 100 * target)
 set xlabel 'turntable time [h]'
 set ylabel 'yield under the spec (every band it names, every point read)'
 set grid

@@ -168,6 +168,9 @@ static void plot_texts(void **state)
         "for f in %1$s/*.svg %2$s/*.svg %1$s/../dband/*.svg %1$s/../dsweep/*.svg; do "
         "n=$(grep -o '<text[^>]*>[^<]*' $f | sed 's/<text[^>]*>//' | awk '{ if (length > m) m = length } END { print m + 0 }'); "
         "[ $n -le 110 ] || { echo \"$f: a text of $n characters\"; exit 1; }; done",
+        /* the design's title names the spec's verdict its yield counts */
+        "d=%1$s/../design && gnuplot -e \"run='$d'; svg=1; out='$d/d.svg'\" scripts/design.gp && "
+        "grep -q 'yield under the spec: rms &lt;= 54. in all bands, every point read' $d/d.svg",
         /* the budget: the parts after calibration and the spec's rule in the
          * title, not as bars; the legend above the plot */
         "b=%1$s/../budget && gnuplot -e \"run='$b'; svg=1; out='$b/b.svg'\" scripts/budget.gp && "
