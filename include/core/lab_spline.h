@@ -33,7 +33,7 @@
 
 #define LAB_SPLINE_ORDER 4                      /* cubic */
 #define LAB_SPLINE_MAX_OUT 2
-#define LAB_SPLINE_MAX_BREAK1 62                /* breakpoints per input, dims 1 */
+#define LAB_SPLINE_MAX_BREAK1 300               /* breakpoints per input, dims 1 */
 #define LAB_SPLINE_MAX_BREAK2 11                /* dims 2 */
 #define LAB_SPLINE_MIN_BREAK 2
 /* Data rows per coefficient the knot count aims at (before the penalty). */

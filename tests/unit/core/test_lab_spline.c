@@ -244,7 +244,7 @@ static void test_params_roundtrip(void **state)
     damaged(&s, "c0_1", "c0_1 = x", "c0_1");
     damaged(&s, "smoothing", "smoothing = 1\nsmoothness = 1", "smoothness");
     damaged(&s, "hi_0", "hi_0 = -5", "hi_0");
-    damaged(&s, "breakpoints", "breakpoints = 63", "breakpoints");
+    damaged(&s, "breakpoints", "breakpoints = 301", "breakpoints");
     /* dims 2 with its field */
     static double x0[100], x1[100], y0[100], w[100];
     for (int i = 0; i < 100; i++) {
