@@ -38,6 +38,7 @@ typedef struct {
     double spline_smooth;
     int *spline_fold;
     int spline_n_folds;
+    calreport_models models; /* for models.tsv */
 } psd_labcal;
 
 psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *err,
@@ -65,6 +66,10 @@ void psd_labcal_point_stats(const psd_labcal *k, const double *w, psd_point_stat
  * Returns their count. */
 int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_FOLDS],
                      int *by_line);
+
+/* The model comparison (psd_labmodels.c): every model refitted on the
+ * folds of psd_labcal_folds, into rep->models with the recommendation. */
+void psd_labcal_compare(const psd_labcal *k, calreport *rep);
 
 /* Fill rep for the fitted k (parameters, covariance, bands, prediction,
  * cross-validation). */

@@ -295,6 +295,14 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
     return st;
 }
 
+/* models.tsv: the model comparison (calreport_write_models). */
+static const char *const extra_files[] = {"models.tsv", NULL};
+
+static int write_extra(const void *p, const sunmc_config *c, int k, FILE *f)
+{
+    return calreport_write_models(f, &((const psd_labcal *)p)->models);
+}
+
 static int write_residuals(const void *p, FILE *f)
 {
     const psd_labcal *k = p;
@@ -557,6 +565,8 @@ const family_lab psd_lab = {
     .params_title = "sunmc calibration of a four-channel analog sun sensor (psd)",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
+    .extra_files = extra_files,
+    .write_extra = write_extra,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,
