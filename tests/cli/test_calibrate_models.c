@@ -11,12 +11,22 @@
  *  - a spline calibrated on +-20 deg compensates readings to +-30 deg:
  *    those beyond its field are '-', counted as outside the calibrated
  *    field, those inside are compensated;
+ *  - with 4 repeats per point, the held-out mean of a point's readings
+ *    is about half a single reading's error (noise over sqrt 4), and a
+ *    polynomial that overfits shows it only held out;
+ *  - an inverting sensor (aeroztark's layout) is compensated: its
+ *    channels below the fitted darks are its signal (params.ini's
+ *    design.polarity);
  *  - the comparison is the same at 1 and 2 threads. */
 #include "test_util.h"
 
 static char dir[512];
 
 #define P "configs/psd.ini"
+/* A small campaign of aeroztark's inverting sensor. */
+#define AZ                                                                                   \
+    "--set campaign.beta_deg=-10,-6,-2,2,6,10 --set campaign.repeats=1 "                      \
+    "--set campaign.alpha_step_deg=2 --set campaign.alpha_max_deg=14"
 
 static int sunmc(const char *args, char *out, size_t len)
 {
@@ -31,9 +41,11 @@ static int setup(void **state)
     const char *steps[] = {
         "simulate " P " --unit 3 --quiet --out $D/sp",
         "simulate " P " --unit 3 --quiet --set validation.alpha_max_deg=30 --out $D/sp30",
+        "simulate " P " --unit 3 --quiet --set campaign.repeats=4 --out $D/sr",
+        "simulate configs/psd_aeroztark.ini " AZ " --unit 3 --quiet --out $D/sa",
         "true; awk -F, 'BEGIN{OFS=\",\"} /^#/ || /^alpha/ {print; next} "
         "{$3 = $3 * (1 + 0.3 * sin($1 / 6)); print}' $D/sp/campaign.csv > $D/warp.csv"};
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 5; i++)
         if (sunmc(steps[i], out, sizeof out) != 0) {
             fprintf(stderr, "%s: %s\n", steps[i], out);
             return -1;
@@ -116,6 +128,48 @@ static void test_spline_refuses_beyond_field(void **state)
     assert_true(beyond > 10 && inside > 10);
 }
 
+/* Row `model` of models.tsv: held-out and in-sample RMS, rows per point
+ * and the held-out RMS of the points' means. */
+static void models_row(const char *tsv, const char *model, double v[4])
+{
+    char key[64];
+    snprintf(key, sizeof key, "\n%s\t", model);
+    const char *r = strstr(tsv, key);
+    assert_non_null(r);
+    int np, ok, al, used, rec;
+    long n;
+    assert_int_equal(sscanf(r + strlen(key), "%d\t%d\t%d\t%ld\t%lf\t%lf\t%d\t%d\t%lf\t%lf", &np,
+                            &ok, &al, &n, &v[0], &v[1], &used, &rec, &v[2], &v[3]),
+                     10);
+    assert_int_equal(ok, 1);
+}
+
+static void test_mean_of_repeats(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config " P " --set campaign.repeats=4 "
+                           "$D/sr/campaign.csv --quiet --out $D/cr && cat $D/cr/models.tsv",
+                           out, sizeof out), 0);
+    double ph[4], po[4];
+    models_row(out, "physical", ph);
+    models_row(out, "polynomial", po);
+    assert_true(ph[2] == 4.0);
+    assert_true(ph[3] > 0.35 * ph[1] && ph[3] < 0.65 * ph[1]);
+    assert_true(po[1] > 3.0 * po[0]);
+}
+
+static void test_inverting_sensor_compensated(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config configs/psd_aeroztark.ini " AZ
+                           " $D/sa/campaign.csv --quiet --out $D/ca",
+                           out, sizeof out), 0);
+    assert_int_equal(sunmc("compensate $D/ca/params.ini $D/sa/validation.csv", out, sizeof out),
+                     0);
+    assert_null(strstr(out, "not compensated"));
+    must_have(out, "compensated_alpha_deg");
+}
+
 static void test_threads_same(void **state)
 {
     static char a[65536], b[65536];
@@ -137,6 +191,8 @@ int main(void)
         cmocka_unit_test(test_exact_physics_recommended),
         cmocka_unit_test(test_physics_does_not_describe),
         cmocka_unit_test(test_spline_refuses_beyond_field),
+        cmocka_unit_test(test_mean_of_repeats),
+        cmocka_unit_test(test_inverting_sensor_compensated),
         cmocka_unit_test(test_threads_same),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
