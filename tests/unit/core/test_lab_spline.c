@@ -254,6 +254,13 @@ static void test_params_roundtrip(void **state)
     assert_int_equal(lab_spline_fit(&s, &d, 1e-3, 1, err, sizeof err), SUNMC_OK);
     roundtrip(&s);
     damaged(&s, "field_0", "field_0 = 2", "field_0");
+    /* the right length, a cell neither 0 nor 1 */
+    char line[64] = "field_0 = ";
+    size_t at = strlen(line);
+    for (int c = 0; c < s.nbreak - 1; c++)
+        line[at++] = c ? '1' : '2';
+    line[at] = '\0';
+    damaged(&s, "field_0", line, "field_0");
     damaged(&s, "breakpoints", "breakpoints = 12", "breakpoints");
 }
 
