@@ -11,7 +11,7 @@ the total angular error (the angle between the compensated and the true
 sun vectors) and per axis, in arcsec, over single readings, and with
 --mean over the means of the readings at each table position (repeated
 rows averaged first, as FSScalibration does).  Rows that could not be
-compensated (nan) are counted and left out.
+compensated ("-", or nan) are counted and left out.
 
 Refused, with "psd-score.py: FILE[:LINE]: message" and exit 2: a file that
 cannot be read or lacks a column, a row whose cell count differs from the
@@ -25,7 +25,7 @@ PROG = "psd-score.py"
 COLUMNS = ("alpha_deg", "beta_deg", "compensated_alpha_deg", "compensated_beta_deg",
            "truth_alpha_deg", "truth_beta_deg")
 NUMBER = re.compile(r"^[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?$")
-NAN = ("nan", "-nan")
+NAN = ("nan", "-nan", "-")  # "-": sunmc compensate's mark of a reading it could not compensate
 
 
 class Refusal(Exception):

@@ -59,6 +59,12 @@ typedef struct {
     int aliased;                      /* the campaign aliased some of its terms (held at 0) */
     long n_out;                       /* held-out points scored */
     double rms_in_arcsec, rms_out_arcsec; /* pooled over the folds */
+    /* A flight reading averaged over per_point repeats (the data's rows
+     * per point; 0: not estimated): the held-out RMS of the points' mean
+     * errors, each point's held-out rows averaged first. */
+    double per_point, rms_out_mean_arcsec;
+    /* parameters' worth (effective degrees of freedom of a spline), or NaN */
+    double edf;
 } calreport_model;
 
 typedef struct {

@@ -64,11 +64,14 @@ typedef struct lab_measured_key {
  * [calibration] and [prior] (blank-separated), and a key (section, key)
  * every file of this model has and no other model's of the family (NULL:
  * none; at most one model of a family has none), by which a model line
- * naming another model than the file holds is caught. */
+ * naming another model than the file holds is caught.  extends: the name
+ * of a model whose sections and signature every file of this one holds
+ * too (e.g. a correction on top of a physical model), or NULL. */
 typedef struct lab_params_model {
     const char *name;
     const char *sections;
     const char *sig_section, *sig_key;
+    const char *extends;
 } lab_params_model;
 
 typedef struct family_lab {
@@ -287,6 +290,7 @@ enum lab_reading {
     LAB_OUTSIDE_DETECTOR, /* a spot beyond the detector */
     LAB_OUTSIDE_RANGE,    /* beyond the output's range (an ADC below 0) */
     LAB_NO_INVERSE,       /* the model has no inverse there */
+    LAB_OUTSIDE_FIELD,    /* beyond the field the calibration saw (an extrapolation) */
     LAB_N_READING
 };
 

@@ -56,7 +56,10 @@ enum psd_polarity { PSD_POSITIVE = 0, PSD_INVERTED = 1 };
  * tan(beta) = u_y/u_z; alpha_outer: u = rot_x(sb beta) rot_y(-sa alpha) e_z;
  * beta_outer: u = rot_y(-sa alpha) rot_x(sb beta) e_z (sa, sb the signs). */
 enum psd_table { PSD_TABLE_PROJECTED = 0, PSD_TABLE_ALPHA_OUTER = 1, PSD_TABLE_BETA_OUTER = 2 };
-enum psd_model { PSD_MODEL_PHYSICAL = 0, PSD_MODEL_POLYNOMIAL = 1 };
+enum psd_model { PSD_MODEL_PHYSICAL = 0, PSD_MODEL_POLYNOMIAL = 1, PSD_MODEL_SPLINE = 2,
+                 PSD_MODEL_HYBRID = 3 };
+/* Does model m fit the physical model (alone, or under a correction)? */
+#define PSD_MODEL_HAS_PHYSICS(m) ((m) == PSD_MODEL_PHYSICAL || (m) == PSD_MODEL_HYBRID)
 enum psd_poly_form { PSD_POLY_FULL = 0, PSD_POLY_FSS20 = 1 };
 
 typedef struct {

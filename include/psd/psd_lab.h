@@ -12,6 +12,8 @@
 /* params.ini's [calibration] model line of each model. */
 #define PSD_CALFIT_MODEL_PHYSICAL "psd_physical"
 #define PSD_CALFIT_MODEL_POLYNOMIAL "psd_polynomial"
+#define PSD_CALFIT_MODEL_SPLINE "psd_spline"
+#define PSD_CALFIT_MODEL_HYBRID "psd_hybrid"
 #define PSD_LAB_POLY_WORK (PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2))
 
 /* Data columns: alpha_deg, beta_deg, i1..i4, weight (v[0..6]). */
@@ -31,6 +33,12 @@ typedef struct {
     psd_rows rows;       /* the fit's view of the data (and its variable scales) */
     fit_result fr;
     size_t dropped;      /* rows the fitted model could not read (weight set 0) */
+    /* spline and hybrid: the smoothing once chosen (0: choose it by the
+     * cross-validation's folds, spline_fold, at the next fit) */
+    double spline_smooth;
+    int *spline_fold;
+    int spline_n_folds;
+    calreport_models models; /* for models.tsv */
 } psd_labcal;
 
 psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *err,
@@ -52,6 +60,16 @@ typedef struct {
     double mean_rms_rad[2];  /* RMS of the points' mean errors, alpha and beta */
 } psd_point_stats;
 void psd_labcal_point_stats(const psd_labcal *k, const double *w, psd_point_stats *s);
+
+/* The cross-validation's folds: fold[i] of each row (-1: never held out),
+ * by beta line (*by_line = 1; line[f] the fold's beta, deg) or by sweep.
+ * Returns their count. */
+int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_FOLDS],
+                     int *by_line);
+
+/* The model comparison (psd_labmodels.c): every model refitted on the
+ * folds of psd_labcal_folds, into rep->models with the recommendation. */
+void psd_labcal_compare(const psd_labcal *k, calreport *rep);
 
 /* Fill rep for the fitted k (parameters, covariance, bands, prediction,
  * cross-validation). */

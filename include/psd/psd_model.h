@@ -25,6 +25,7 @@
 #define SUNMC_PSD_MODEL_H
 
 #include "fit.h"
+#include "lab_spline.h"
 #include "psd_sensor.h"
 
 #include <stddef.h>
@@ -86,6 +87,12 @@ typedef struct {
      * PSD_RESIDUALS_PER_ROW n residuals and psd_phys_free_channels
      * parameters, or NULL to start the ratios' fit from p itself. */
     fit_workspace *fw_channels;
+    /* spline and hybrid models: the smoothing (> 0: fixed), else chosen by
+     * the folds fold[i] < n_folds (NULL: rows in PSD_SPLINE_AUTO_FOLDS
+     * interleaved folds) */
+    double smooth;
+    const int *fold;
+    int n_folds;
 } psd_rows;
 
 /* Start values: the nominal geometry, and per channel dark and gain from a
@@ -145,14 +152,35 @@ int psd_poly_fit(psd_poly *q, const psd_rows *d, double *work);
 int psd_poly_eval(const psd_poly *q, const psd_design *d, const double r[4], double *alpha,
                   double *beta);
 
-/* ---- a fitted calibration of either model ---- */
+/* ---- a fitted calibration of any model ---- */
 typedef struct {
     int model;                       /* enum psd_model */
     const psd_design *design;
-    double p[PSD_NP];                /* physical: internal units */
+    double p[PSD_NP];                /* physical (and hybrid): internal units */
     psd_phys phys;
     psd_poly poly;
+    lab_spline spline;               /* spline: tan alpha, tan beta of the raw ratios;
+                                        hybrid: the physical model's error in them */
 } psd_cal;
+
+/* ---- spline and hybrid (psd_spline.c) ----
+ * spline: core's penalised B-spline (lab_spline.h) of tan alpha and tan
+ * beta over the raw ratios (x, y), as the polynomial; hybrid: the physical
+ * model, and a spline of its error (true minus physical tan alpha, tan
+ * beta) over its own (tan alpha, tan beta), zero where the physics is
+ * exact.  One input per output (dims 1) when every row lies on an axis
+ * (single-axis sweeps: alpha = 0 or beta = 0), else both (dims 2). */
+#define PSD_SPLINE_AUTO_FOLDS 4
+/* Fewest rows a spline is fitted to (two breakpoints' worth). */
+#define PSD_SPLINE_MIN_ROWS 8
+/* The models' names as calibration.model gives them (enum psd_model). */
+extern const char *const psd_model_names[4];
+/* Fit k->spline to the rows (the physical part of a hybrid already in
+ * k); work: 4 n doubles.  SUNMC_EFIT when it cannot be fitted. */
+int psd_spline_fit(psd_cal *k, const psd_rows *d, double *work);
+/* The spline's inputs of reading r: the raw ratios (spline), the physical
+ * model's tan alpha, tan beta (hybrid).  SUNMC_EDOM where there are none. */
+int psd_spline_inputs(const psd_cal *k, const double r[4], double x[2]);
 
 /* The nominal calibration of design d (no fit): the design's geometry,
  * equal gains, the nominal dark signal dark_fs (data in fractions of full

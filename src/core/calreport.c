@@ -226,7 +226,10 @@ static void print_models(FILE *f, const calreport_models *m)
     for (int k = 0; k < m->n; k++) {
         const calreport_model *x = &m->m[k];
         fprintf(f, "  %-10s %3d parameters: ", x->name, x->np);
-        if (x->ok)
+        if (x->ok && x->per_point > 1)
+            fprintf(f, "in-sample %8.2f  held-out %8.2f, mean of %.3g readings %8.2f\n",
+                    x->rms_in_arcsec, x->rms_out_arcsec, x->per_point, x->rms_out_mean_arcsec);
+        else if (x->ok)
             fprintf(f, "in-sample %8.2f  held-out %8.2f%s\n", x->rms_in_arcsec,
                     x->rms_out_arcsec,
                     x->aliased ? "  (terms aliased by the campaign, held at 0)" : "");
@@ -451,12 +454,14 @@ int calreport_write_folds(FILE *f, const calreport *r)
 int calreport_write_models(FILE *f, const calreport_models *m)
 {
     fprintf(f, "model\tparameters\tok\taliased\theld_out_points\trms_in_arcsec\t"
-               "rms_out_arcsec\tused\trecommended\n");
+               "rms_out_arcsec\tused\trecommended\treadings_per_point\t"
+               "rms_out_mean_arcsec\n");
     for (int k = 0; k < m->n; k++) {
         const calreport_model *x = &m->m[k];
-        tsv_printf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\n", x->name, x->np, x->ok,
-                x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec, k == m->used,
-                k == m->best);
+        tsv_printf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\t%.6g\t%.6g\n", x->name, x->np,
+                x->ok, x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec, k == m->used,
+                k == m->best, x->per_point > 0 ? x->per_point : NAN,
+                x->per_point > 0 ? x->rms_out_mean_arcsec : NAN);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }

@@ -296,7 +296,8 @@ const char *const lab_reading_text[LAB_N_READING] = {
     [LAB_NEGATIVE_SUM] = "negative sum (the dark-corrected channels add up below 0)",
     [LAB_OUTSIDE_DETECTOR] = "outside the detector",
     [LAB_OUTSIDE_RANGE] = "outside the output's range",
-    [LAB_NO_INVERSE] = "no inverse (the model cannot be inverted there)"};
+    [LAB_NO_INVERSE] = "no inverse (the model cannot be inverted there)",
+    [LAB_OUTSIDE_FIELD] = "outside the calibrated field (the model would extrapolate)"};
 
 void lab_comp_summary(const lab_comp_stats *s, char *buf, size_t len)
 {

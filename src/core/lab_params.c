@@ -77,6 +77,22 @@ static int has_sig(const params_file *p, const lab_params_model *m)
     return m->sig_key && params_find(p, m->sig_section, m->sig_key);
 }
 
+/* Is word one of the blank-separated words of list? */
+static int in_list(const char *word, const char *list)
+{
+    size_t n = strlen(word);
+    for (const char *s = list; (s = strstr(s, word)) != NULL; s += n)
+        if ((s == list || s[-1] == ' ') && (s[n] == ' ' || s[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+/* Does m extend o (its file holds o's sections and signature too)? */
+static int extends(const lab_params_model *m, const lab_params_model *o)
+{
+    return m->extends && strcmp(m->extends, o->name) == 0;
+}
+
 /* "a, b, c": the models' names. */
 static void model_names(const lab_params_model *ms, char *buf, size_t len)
 {
@@ -107,7 +123,7 @@ int lab_params_model_of(const family_lab *lab, const params_file *p,
                           p->path, e->line, name, names, hint);
     }
     for (int i = 0; ms[i].name; i++) {
-        if (&ms[i] == m || !has_sig(p, &ms[i]))
+        if (&ms[i] == m || !has_sig(p, &ms[i]) || extends(m, &ms[i]))
             continue;
         const params_entry *s = params_find(p, ms[i].sig_section, ms[i].sig_key);
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
@@ -122,16 +138,6 @@ int lab_params_model_of(const family_lab *lab, const params_file *p,
                           p->path, e->line, name, m->sig_section, m->sig_key, name);
     *model = m;
     return SUNMC_OK;
-}
-
-/* Is word one of the blank-separated words of list? */
-static int in_list(const char *word, const char *list)
-{
-    size_t n = strlen(word);
-    for (const char *s = list; (s = strstr(s, word)) != NULL; s += n)
-        if ((s == list || s[-1] == ' ') && (s[n] == ' ' || s[n] == '\0'))
-            return 1;
-    return 0;
 }
 
 /* Every entry in [calibration], [prior] or a section of m. */

@@ -307,9 +307,9 @@ static const char *const comp_columns[] = {"compensated_alpha_deg", "compensated
 /* The physical model (its named deviations) and the polynomial (its
  * order in [design]). */
 static const lab_params_model params_models[] = {
-    {DSS_CALFIT_MODEL_PHYSICAL, "design parameters", "parameters", "fit_dx_px"},
-    {DSS_CALFIT_MODEL_POLYNOMIAL, "design parameters", "design", "order"},
-    {NULL, NULL, NULL, NULL}};
+    {DSS_CALFIT_MODEL_PHYSICAL, "design parameters", "parameters", "fit_dx_px", NULL},
+    {DSS_CALFIT_MODEL_POLYNOMIAL, "design parameters", "design", "order", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
 
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {

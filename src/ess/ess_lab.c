@@ -316,9 +316,9 @@ static const char *const comp_columns[] = {"compensated_deg", NULL};
 /* The paper's model and the extended one; only the extended has the
  * fine code's cos-4 terms. */
 static const lab_params_model params_models[] = {
-    {ESS_CALFIT_MODEL, "design parameters fixed derived", NULL, NULL},
-    {ESS_CALFIT_MODEL_EXT, "design parameters fixed derived", "parameters", "ks_cos4_deg"},
-    {NULL, NULL, NULL, NULL}};
+    {ESS_CALFIT_MODEL, "design parameters fixed derived", NULL, NULL, NULL},
+    {ESS_CALFIT_MODEL_EXT, "design parameters fixed derived", "parameters", "ks_cos4_deg", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
 
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)
 {

@@ -104,10 +104,12 @@ const config_key psd_keys[] = {
      OFF(cal_beta_deg), "campaign beta lines (the slow axis), one alpha scan each"},
 
     /* [calibration] */
-    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial",
+    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial|spline|hybrid",
      OFF(cal_model),
-     "physical (aperture offsets and height, mount, channel gains and darks; psd_model.h) or "
-     "the field's polynomial in the raw ratios"},
+     "physical (aperture offsets and height, mount, channel gains and darks; psd_model.h), "
+     "the field's polynomial in the raw ratios, spline (a penalised cubic B-spline of the "
+     "angles in the raw ratios, its smoothing chosen by cross-validation) or hybrid (the "
+     "physical model and a spline of its residual)"},
     {"calibration", "poly_order", KEY_INT, "", "5", 1, PSD_POLY_MAX_ORDER, NULL, OFF(poly_order),
      "polynomial model: total degree in (x, y)"},
     {"calibration", "poly_form", KEY_ENUM, "", "full", 0, 0, "full|fss20", OFF(poly_form),
@@ -209,16 +211,18 @@ static int grid_check(const psd_config *p, char *err, size_t errlen)
     long n = alpha_count(p->cal_alpha_max_deg, p->cal_alpha_step_deg, 0) * p->cal_beta_deg.n;
     psd_poly q;
     int fr[PSD_NP];
-    int np = p->cal_model == PSD_MODEL_PHYSICAL ? psd_phys_free(&p->design, p->fit_tilt, fr) : psd_poly_init(&q, p->poly_order,
-                                                                           p->poly_form);
-    long nr = p->cal_model == PSD_MODEL_PHYSICAL ? 2 * n : n;
+    int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
+    int np = phys ? psd_phys_free(&p->design, p->fit_tilt, fr)
+             : p->cal_model == PSD_MODEL_SPLINE ? PSD_SPLINE_MIN_ROWS
+                                                : psd_poly_init(&q, p->poly_order, p->poly_form);
+    long nr = phys ? 2 * n : n;
     if (p->cal_beta_deg.n < 2 || nr <= np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "campaign: %ld points on %d beta lines, too few for the %s model's %d "
                           "parameters (campaign.alpha_max_deg, campaign.alpha_step_deg, "
                           "campaign.beta_deg: at least 2 lines)",
                           n, p->cal_beta_deg.n,
-                          p->cal_model == PSD_MODEL_PHYSICAL ? "physical" : "polynomial", np);
+                          psd_model_names[p->cal_model], np);
     if (p->poly_form == PSD_POLY_FSS20 && p->poly_order != 5)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "calibration.poly_form = fss20 is the 5th-order form: set "

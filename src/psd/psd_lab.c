@@ -149,11 +149,18 @@ static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
     const psd_config *p = psd_cfg(c);
     int fr[PSD_NP];
     psd_poly q;
-    int np = p->cal_model == PSD_MODEL_PHYSICAL ? psd_phys_free(&p->design, p->fit_tilt, fr)
-                                                : psd_poly_init(&q, p->poly_order, p->poly_form);
-    size_t need = p->cal_model == PSD_MODEL_PHYSICAL ? (size_t)np / 2 + 1 : (size_t)np + 1;
+    int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
+    if (p->cal_model == PSD_MODEL_SPLINE) {
+        snprintf(why, len, "the spline model needs at least %d rows", PSD_SPLINE_MIN_ROWS);
+        return PSD_SPLINE_MIN_ROWS;
+    }
+    int np = phys ? psd_phys_free(&p->design, p->fit_tilt, fr)
+                  : psd_poly_init(&q, p->poly_order, p->poly_form);
+    size_t need = phys ? (size_t)np / 2 + 1 : (size_t)np + 1;
+    if (p->cal_model == PSD_MODEL_HYBRID && need < PSD_SPLINE_MIN_ROWS)
+        need = PSD_SPLINE_MIN_ROWS;
     snprintf(why, len, "the %s model has %d parameters: need at least %zu rows",
-             p->cal_model == PSD_MODEL_PHYSICAL ? "physical" : "polynomial", np, need);
+             psd_model_names[p->cal_model], np, need);
     return need;
 }
 
@@ -165,9 +172,27 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     psd_labcal *k = psd_labcal_alloc(c, d, err, errlen);
     if (!k)
         return SUNMC_ENOMEM;
-    calreport_init(rep, "psd",
-                   psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL ? PSD_CALFIT_MODEL_PHYSICAL
-                                                                 : PSD_CALFIT_MODEL_POLYNOMIAL);
+    static const char *const model_lines[] = {PSD_CALFIT_MODEL_PHYSICAL,
+                                              PSD_CALFIT_MODEL_POLYNOMIAL,
+                                              PSD_CALFIT_MODEL_SPLINE, PSD_CALFIT_MODEL_HYBRID};
+    int model = psd_cfg(c)->cal_model;
+    calreport_init(rep, "psd", model_lines[model]);
+    if (model == PSD_MODEL_SPLINE || model == PSD_MODEL_HYBRID) {
+        /* the smoothing: by the held-out error of calibrate's own folds */
+        double line[CALREPORT_MAX_FOLDS];
+        int by_line;
+        k->spline_fold = malloc((d->n + 1) * sizeof *k->spline_fold);
+        if (!k->spline_fold) {
+            psd_labcal_free(k);
+            return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+        }
+        k->spline_n_folds = psd_labcal_folds(k, k->spline_fold, line, &by_line);
+        if (k->spline_n_folds < 2) {
+            free(k->spline_fold);
+            k->spline_fold = NULL;
+            k->spline_n_folds = 0;
+        }
+    }
     int st = psd_labcal_fit(k, &k->fr);
     if (st == SUNMC_OK) {
         /* rows the fitted model cannot read (saturated spots) leave, once */
@@ -180,6 +205,8 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
             psd_labcal_errors(k);
         }
     }
+    /* the folds' refits keep the smoothing chosen on every row */
+    k->spline_smooth = st == SUNMC_OK ? k->cal.spline.smooth : 0.0;
     rep->fit = k->fr;
     rep->fit_ok = st == SUNMC_OK;
     if (rep->fit_ok)
@@ -237,7 +264,7 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
     int st = params_set_text(pf, "design", "detector", detectors[d->detector], NULL);
     st |= params_set_text(pf, "design", "lateral", laterals[d->lateral], NULL);
     st |= params_set_text(pf, "design", "polarity", polarities[d->polarity],
-                          "a lit channel reads above (positive) or below (inverted) its dark");
+                          "inverted: the spot lowers the channels (compensate's signal check)");
     st |= params_set_double(pf, "design", "h_mm", d->h_mm, "nominal");
     st |= params_set_double(pf, "design", "active_mm", d->active_mm, NULL);
     st |= params_set_double(pf, "design", "aperture_um", d->aperture_um, NULL);
@@ -249,6 +276,10 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
                           "the truth columns' convention");
     st |= params_set_text(pf, "campaign", "table_alpha_sign", signs[pc->table_alpha_sign], NULL);
     st |= params_set_text(pf, "campaign", "table_beta_sign", signs[pc->table_beta_sign], NULL);
+    if (k->cal.model == PSD_MODEL_SPLINE)
+        return st | lab_spline_params_fill(&k->cal.spline, pf, "spline");
+    if (k->cal.model == PSD_MODEL_HYBRID)
+        st |= lab_spline_params_fill(&k->cal.spline, pf, "correction");
     if (k->cal.model == PSD_MODEL_POLYNOMIAL) {
         st |= params_set_double(pf, "polynomial", "order", k->cal.poly.order, NULL);
         st |= params_set_text(pf, "polynomial", "form",
@@ -268,6 +299,14 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
         st |= params_set_double(pf, "parameters", psd_param_names[j],
                                 k->cal.p[j] * psd_param_scale[j], NULL);
     return st;
+}
+
+/* models.tsv: the model comparison (calreport_write_models). */
+static const char *const extra_files[] = {"models.tsv", NULL};
+
+static int write_extra(const void *p, const sunmc_config *c, int k, FILE *f)
+{
+    return calreport_write_models(f, &((const psd_labcal *)p)->models);
 }
 
 static int write_residuals(const void *p, FILE *f)
@@ -318,10 +357,10 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
     static const char *const detectors[] = {"lateral", "quadrant"}, *const laterals[] = {"duo", "tetra"};
     static const char *const orders[] = {"projected", "alpha_outer", "beta_outer"};
     static const char *const signs[] = {"plus", "minus"};
+    static const char *const design_keys[] = {"detector", "lateral", "h_mm", "active_mm",
+                                              "aperture_um", "gap_um", "pincushion",
+                                              "glass_thickness_mm", "glass_index", "polarity"};
     static const char *const polarities[] = {"positive", "inverted"};
-    static const char *const design_keys[] = {"detector", "lateral", "polarity", "h_mm",
-                                              "active_mm", "aperture_um", "gap_um", "pincushion",
-                                              "glass_thickness_mm", "glass_index"};
     static const char *const campaign_keys[] = {"table_order", "table_alpha_sign",
                                                 "table_beta_sign"};
     psd_design *d = &c->design;
@@ -332,7 +371,8 @@ static int load_design(const params_file *p, psd_config *c, char *err, size_t er
         st = enum_of(p, "design", "detector", detectors, 2, &d->detector, err, errlen);
     if (st == SUNMC_OK)
         st = enum_of(p, "design", "lateral", laterals, 2, &d->lateral, err, errlen);
-    if (st == SUNMC_OK) /* the reading check's sign of a lit channel (reading_check) */
+    /* written since issue 39; a file without it was of a positive sensor */
+    if (st == SUNMC_OK && params_find(p, "design", "polarity"))
         st = enum_of(p, "design", "polarity", polarities, 2, &d->polarity, err, errlen);
     const params_range r[] = {
         {"design", "h_mm", 0.01, 1000, "mm", NULL},   {"design", "active_mm", 0.01, 1000, "mm", NULL},
@@ -424,8 +464,17 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
         m->cal.model = PSD_MODEL_POLYNOMIAL;
         return load_poly(p, &m->cal, err, errlen);
     }
+    if (params_find(p, "spline", "breakpoints")) {
+        m->cal.model = PSD_MODEL_SPLINE;
+        return lab_spline_params_load(p, "spline", &m->cal.spline, err, errlen);
+    }
     m->cal.model = PSD_MODEL_PHYSICAL;
-    st = params_check_keys(p, "parameters", psd_param_names, PSD_NP, err, errlen);
+    if (params_find(p, "correction", "breakpoints")) {
+        m->cal.model = PSD_MODEL_HYBRID;
+        st = lab_spline_params_load(p, "correction", &m->cal.spline, err, errlen);
+    }
+    if (st == SUNMC_OK)
+        st = params_check_keys(p, "parameters", psd_param_names, PSD_NP, err, errlen);
     for (int j = 0; j < PSD_NP && st == SUNMC_OK; j++) {
         st = params_get_double(p, "parameters", psd_param_names[j], &m->cal.p[j], err, errlen);
         m->cal.p[j] /= psd_param_scale[j];
@@ -441,9 +490,12 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
 /* The physical model (its aperture offset among [parameters]) and the
  * field's polynomial ([polynomial] and its order). */
 static const lab_params_model params_models[] = {
-    {PSD_CALFIT_MODEL_PHYSICAL, "design campaign parameters", "parameters", "dx_um"},
-    {PSD_CALFIT_MODEL_POLYNOMIAL, "design campaign polynomial", "polynomial", "order"},
-    {NULL, NULL, NULL, NULL}};
+    {PSD_CALFIT_MODEL_PHYSICAL, "design campaign parameters", "parameters", "dx_um", NULL},
+    {PSD_CALFIT_MODEL_POLYNOMIAL, "design campaign polynomial", "polynomial", "order", NULL},
+    {PSD_CALFIT_MODEL_SPLINE, "design campaign spline", "spline", "breakpoints", NULL},
+    {PSD_CALFIT_MODEL_HYBRID, "design campaign parameters correction", "correction",
+     "breakpoints", PSD_CALFIT_MODEL_PHYSICAL},
+    {NULL, NULL, NULL, NULL, NULL}};
 
 /* The polynomial's terms are fitted on ratios up to poly.scale (the
  * campaign's largest): a ratio this fraction beyond is an extrapolation
@@ -459,15 +511,15 @@ static const lab_params_model params_models[] = {
 static int reading_check(const void *model, const double *raw)
 {
     const psd_model_file *m = model;
-    int phys = m->cal.model == PSD_MODEL_PHYSICAL, any = 0;
-    /* the fitted gains are relative to channel 1's (+1): a lit channel of
-     * an inverting amplifier reads below its dark */
-    double lit = m->cfg.design.polarity == PSD_INVERTED ? -1.0 : 1.0, sum = 0;
+    int phys = PSD_MODEL_HAS_PHYSICS(m->cal.model), any = 0;
+    double sum = 0;
     for (int k = 0; k < PSD_CHANNELS; k++)
         if (!(raw[k] >= 0))
             return LAB_OUTSIDE_RANGE;
+    /* an inverting amplifier lowers the channels below their darks */
+    double sign = phys && m->cfg.design.polarity == PSD_INVERTED ? -1.0 : 1.0;
     for (int k = 0; k < PSD_CHANNELS; k++) {
-        double s = phys ? lit * (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
+        double s = phys ? sign * (raw[k] - m->cal.phys.dark[k]) / m->cal.phys.gain[k] : raw[k];
         any |= s > 0;
         sum += s;
     }
@@ -475,8 +527,14 @@ static int reading_check(const void *model, const double *raw)
         return LAB_NO_SIGNAL;
     if (!(sum > 0))
         return LAB_NEGATIVE_SUM;
+    int spl = m->cal.model == PSD_MODEL_SPLINE || m->cal.model == PSD_MODEL_HYBRID;
+    double in[2], t[2];
+    if (spl && psd_spline_inputs(&m->cal, raw, in) != SUNMC_OK)
+        return LAB_NO_INVERSE;
+    if (spl && lab_spline_eval(&m->cal.spline, in, t) != SUNMC_OK)
+        return LAB_OUTSIDE_FIELD;
     double x, y;
-    if (!phys && psd_poly_ratios(&m->cfg.design, raw, &x, &y) == SUNMC_OK &&
+    if (m->cal.model == PSD_MODEL_POLYNOMIAL && psd_poly_ratios(&m->cfg.design, raw, &x, &y) == SUNMC_OK &&
         fmax(fabs(x), fabs(y)) > m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN))
         return LAB_OUTSIDE_RANGE;
     return LAB_READING_OK;
@@ -514,6 +572,8 @@ const family_lab psd_lab = {
     .params_title = "sunmc calibration of a four-channel analog sun sensor (psd)",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
+    .extra_files = extra_files,
+    .write_extra = write_extra,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

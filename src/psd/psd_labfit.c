@@ -24,6 +24,7 @@ void psd_labcal_free(psd_labcal *k)
     if (!k)
         return;
     free(k->ut);
+    free(k->spline_fold);
     fit_workspace_free(k->fw);
     fit_workspace_free(k->fw_channels);
     free(k);
@@ -55,7 +56,7 @@ psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *
     int nfree = psd_phys_free(&psd_cfg(c)->design, psd_cfg(c)->fit_tilt, fr);
     if (k) {
         k->ut = malloc((n * 16 + PSD_LAB_POLY_WORK) * sizeof(double) + n * sizeof(long));
-        k->fw = psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL
+        k->fw = PSD_MODEL_HAS_PHYSICS(psd_cfg(c)->cal_model)
                     ? fit_workspace_alloc(2 * n, (size_t)nfree) : NULL;
         k->fw_channels = k->fw ? fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * n,
                                                      (size_t)psd_phys_free_channels(
@@ -63,7 +64,7 @@ psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *
                                : NULL;
     }
     if (!k || !k->ut ||
-        (psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL && (!k->fw || !k->fw_channels))) {
+        (PSD_MODEL_HAS_PHYSICS(psd_cfg(c)->cal_model) && (!k->fw || !k->fw_channels))) {
         psd_labcal_free(k);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %zu rows", n);
         return NULL;
@@ -100,6 +101,9 @@ void psd_labcal_rows(psd_labcal *k, psd_rows *r)
 int psd_labcal_fit(psd_labcal *k, fit_result *fr)
 {
     psd_labcal_rows(k, &k->rows);
+    k->rows.smooth = k->spline_smooth;
+    k->rows.fold = k->spline_fold;
+    k->rows.n_folds = k->spline_n_folds;
     return psd_unit_fit(k->c, k->fw, &k->rows, k->poly_work, &k->cal, fr);
 }
 

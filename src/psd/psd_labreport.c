@@ -101,29 +101,33 @@ static int sweeps(const lab_columns *d, int *fold)
     return f + 1 < CALREPORT_MAX_FOLDS ? f + 1 : CALREPORT_MAX_FOLDS;
 }
 
+int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_FOLDS],
+                     int *by_line)
+{
+    int nl = distinct(k->d, 1, line, CALREPORT_MAX_FOLDS);
+    *by_line = nl >= 2;
+    if (!*by_line)
+        return sweeps(k->d, fold);
+    /* each beta line in turn; from 4 lines on, the outermost two are
+     * never held out (a refit without them would extrapolate, which a
+     * calibration's user does not do) */
+    int edge = nl >= 4, n_folds = nl - 2 * edge;
+    for (int f = 0; f < n_folds; f++)
+        line[f] = line[f + edge];
+    for (size_t i = 0; i < k->d->n; i++) {
+        fold[i] = -1;
+        for (int f = 0; f < n_folds; f++)
+            if (line[f] == k->d->v[1][i])
+                fold[i] = f;
+    }
+    return n_folds;
+}
+
 static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
 {
     cv_ctx c = {.k = k, .keep = k->cal};
     c.fold = (int *)(void *)k->err; /* the errors are refilled after the folds */
-    int nl = distinct(k->d, 1, c.line, CALREPORT_MAX_FOLDS);
-    c.by_line = nl >= 2;
-    if (c.by_line) {
-        /* each beta line in turn; from 4 lines on, the outermost two are
-         * never held out (a refit without them would extrapolate, which a
-         * calibration's user does not do) */
-        int edge = nl >= 4;
-        c.n_folds = nl - 2 * edge;
-        for (int f = 0; f < c.n_folds; f++)
-            c.line[f] = c.line[f + edge];
-        for (size_t i = 0; i < k->d->n; i++) {
-            c.fold[i] = -1;
-            for (int f = 0; f < c.n_folds; f++)
-                if (c.line[f] == k->d->v[1][i])
-                    c.fold[i] = f;
-        }
-    } else {
-        c.n_folds = sweeps(k->d, c.fold);
-    }
+    c.n_folds = psd_labcal_folds(k, c.fold, c.line, &c.by_line);
     if (c.n_folds < 2) {
         snprintf(rep->cv_note, sizeof rep->cv_note,
                  "one beta line and one sweep: nothing to hold out");
@@ -174,6 +178,17 @@ static int jacobian_covariance(fit_workspace *fw)
 static void report_parameters(psd_labcal *k, calreport *rep, const psd_point_stats *ps)
 {
     const psd_config *p = psd_cfg(k->c);
+    if (p->cal_model == PSD_MODEL_SPLINE) {
+        static const char *const names[] = {"smoothing", "edf_alpha", "edf_beta"};
+        const double v[] = {k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]};
+        rep->np = 3;
+        for (int i = 0; i < 3; i++) {
+            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+            rep->value[i] = v[i];
+            rep->se[i] = NAN;
+        }
+        return;
+    }
     if (p->cal_model == PSD_MODEL_POLYNOMIAL) {
         rep->np = 2 * k->cal.poly.nt;
         for (int t = 0; t < k->cal.poly.nt; t++)
@@ -253,8 +268,11 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
     psd_labcal_point_stats(k, k->w, &ps);
     rep->n_rows = k->d->n;
     rep->n_used = (size_t)ps.rows;
-    int np = p->cal_model == PSD_MODEL_PHYSICAL ? (int)k->fw->p : k->cal.poly.nt;
-    rep->dof = 2 * (int)ps.points - (p->cal_model == PSD_MODEL_PHYSICAL ? np : 2 * np);
+    int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
+    int spl = p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_HYBRID;
+    int np = phys ? (int)k->fw->p : p->cal_model == PSD_MODEL_POLYNOMIAL ? k->cal.poly.nt : 0;
+    double edf = spl ? k->cal.spline.edf[0] + k->cal.spline.edf[1] : 0.0;
+    rep->dof = 2 * (int)ps.points - (phys ? np : 2 * np) - (int)lround(edf);
     double chi2 = (double)ps.points * (ps.mean_rms_rad[0] * ps.mean_rms_rad[0] +
                                        ps.mean_rms_rad[1] * ps.mean_rms_rad[1]);
     rep->sigma_arcsec = rep->dof > 0 ? sqrt(chi2 / rep->dof) * ARCSEC_PER_RAD : NAN;
@@ -270,12 +288,25 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
                        "point once (%ld points), not each row",
                        ps.per_point, ps.repeat_rad * ARCSEC_PER_RAD,
                        ps.repeat_rad / sqrt(ps.per_point) * ARCSEC_PER_RAD, ps.points);
+    if (spl)
+        calreport_warn(rep, "nothing to do: compare the models' held-out errors (crossval.tsv)",
+                       "the %s's spline: %d breakpoints per input (%s), smoothing %.3g chosen "
+                       "by the held-out error of the folds below, %.1f and %.1f effective "
+                       "degrees of freedom (alpha, beta); readings outside the calibrated "
+                       "field are refused by compensate, not extrapolated",
+                       p->cal_model == PSD_MODEL_HYBRID ? "correction" : "model",
+                       k->cal.spline.nbreak,
+                       k->cal.spline.dims == 1 ? "one per axis: single-axis sweeps"
+                                               : "tensor product of both",
+                       k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]);
     if (k->dropped)
         calreport_warn(rep, "keep the data within the linear field, or check the table "
                             "convention (campaign.table_order and signs)",
                        "%zu rows could not be compensated by the fitted model (a saturated or "
                        "clipped spot: the ratios stop moving) and were left out of the fit",
                        k->dropped);
-    size_t min_rows = (size_t)np + 1;
+    size_t min_rows = (size_t)np + 1 + (size_t)lround(edf / 2);
     cross_validate(k, rep, min_rows);
+    psd_labcal_compare(k, rep);
+    k->models = rep->models;
 }

@@ -393,6 +393,15 @@ int psd_cal_angles(const psd_cal *k, const double r[4], double *alpha, double *b
 {
     if (k->model == PSD_MODEL_POLYNOMIAL)
         return psd_poly_eval(&k->poly, k->design, r, alpha, beta);
+    if (k->model == PSD_MODEL_SPLINE || k->model == PSD_MODEL_HYBRID) {
+        double in[2], t[2];
+        if (psd_spline_inputs(k, r, in) != SUNMC_OK || lab_spline_eval(&k->spline, in, t) != SUNMC_OK)
+            return SUNMC_EDOM;
+        int hyb = k->model == PSD_MODEL_HYBRID;
+        *alpha = atan(t[0] + (hyb ? in[0] : 0.0));
+        *beta = atan(t[1] + (hyb ? in[1] : 0.0));
+        return SUNMC_OK;
+    }
     double x, y, ut[3];
     if (psd_phys_observed(&k->phys, r, &x, &y) != SUNMC_OK ||
         psd_phys_invert(&k->phys, x, y, ut) != SUNMC_OK)

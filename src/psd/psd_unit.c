@@ -158,9 +158,13 @@ int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *
         psd_poly_init(&k->poly, p->poly_order, p->poly_form);
         return psd_poly_fit(&k->poly, d, poly_work);
     }
+    if (p->cal_model == PSD_MODEL_SPLINE)
+        return psd_spline_fit(k, d, d->scratch);
     psd_phys_start(d, k->p);
     int st = psd_phys_fit(fw, d, p->fit_tilt, k->p, fr);
     psd_phys_set(&k->phys, &p->design, k->p);
+    if (st == SUNMC_OK && p->cal_model == PSD_MODEL_HYBRID)
+        st = psd_spline_fit(k, d, d->scratch);
     return st;
 }
 
@@ -424,7 +428,7 @@ static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     res->fit_status = st == SUNMC_OK ? UNIT_FIT_OK : UNIT_FIT_FAILED;
     res->fit_gsl_status = fr.status;
     res->fit_iterations = (int)fr.iterations;
-    if (p->cal_model == PSD_MODEL_PHYSICAL)
+    if (PSD_MODEL_HAS_PHYSICS(p->cal_model))
         for (int j = 0; j < PSD_NP; j++)
             res->par[j] = k.p[j] * psd_param_scale[j];
     else
@@ -554,9 +558,12 @@ static void psd_model_label(const sunmc_config *c, char *buf, size_t len)
     if (p->cal_model == PSD_MODEL_POLYNOMIAL)
         snprintf(buf, len, "polynomial of order %d (%s) in the raw ratios", p->poly_order,
                  p->poly_form == PSD_POLY_FSS20 ? "FSScalibration's 20 terms" : "every term");
+    else if (p->cal_model == PSD_MODEL_SPLINE)
+        snprintf(buf, len, "penalised cubic B-spline of tan alpha, tan beta in the raw ratios");
     else
         snprintf(buf, len, "physical: aperture dx, dy, dh, mount tilt_x, tilt_y, rot_z, "
-                           "channel gains and darks");
+                           "channel gains and darks%s",
+                 p->cal_model == PSD_MODEL_HYBRID ? "; a spline of its residual" : "");
 }
 
 static int psd_dev_columns(const sunmc_config *c, const char **names, int max)
@@ -566,7 +573,7 @@ static int psd_dev_columns(const sunmc_config *c, const char **names, int max)
 
 static int psd_par_columns(const sunmc_config *c, const char **names, int max)
 {
-    int phys = psd_cfg(c)->cal_model == PSD_MODEL_PHYSICAL, n = phys ? PSD_NP : 1;
+    int phys = PSD_MODEL_HAS_PHYSICS(psd_cfg(c)->cal_model), n = phys ? PSD_NP : 1;
     for (int i = 0; i < n && i < max; i++)
         names[i] = phys ? psd_par_col[i] : psd_poly_par[i];
     return n;

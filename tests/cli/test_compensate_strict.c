@@ -37,6 +37,8 @@ static const struct {
     {"cf", "sp", "--config configs/psd.ini --set calibration.model=polynomial "
                  "--set calibration.poly_form=fss20"},
     {"cq", "sq", "--config configs/psd_14og.ini"},
+    {"cs", "sp", "--config configs/psd.ini --set calibration.model=spline"},
+    {"ch", "sp", "--config configs/psd.ini --set calibration.model=hybrid"},
 };
 #define N_CALS (sizeof cals / sizeof cals[0])
 
@@ -226,6 +228,20 @@ static void model_line_names_another_model(void **state)
     refused("cq", "sed 's/^model = psd_polynomial/model = psd_physical/' $IN > $OUT",
             "edited.ini:6: model = psd_physical, but the file holds the psd_polynomial model "
             "(polynomial.order at line");
+    /* issue 39: the hybrid holds the physical model's parameters and its
+     * correction; either model line on the other's file is caught */
+    refused("ch", "sed 's/^model = psd_hybrid/model = psd_physical/' $IN > $OUT",
+            "edited.ini:6: model = psd_physical, but the file holds the psd_hybrid model "
+            "(correction.breakpoints at line");
+    refused("cp", "sed 's/^model = psd_physical/model = psd_hybrid/' $IN > $OUT",
+            "edited.ini:6: model = psd_hybrid, but the file has no correction.breakpoints");
+    refused("cs", "sed 's/^model = psd_spline/model = psd_polynomial/' $IN > $OUT",
+            "edited.ini:6: model = psd_polynomial, but the file holds the psd_spline model "
+            "(spline.breakpoints at line");
+    refused("cs", "sed 's/^c1_0 *= [^ ]* /c1_0 = /' $IN > $OUT",
+            "key spline.c1_0");
+    refused("cp", "sed 's/^polarity .*/polarity = inverse/' $IN > $OUT",
+            "design.polarity");
 }
 
 static void model_line_not_of_the_family(void **state)
@@ -239,7 +255,7 @@ static void model_line_not_of_the_family(void **state)
             "(dss_physical, dss_polynomial)");
     refused("cp", "sed 's/^model = .*/model = psd_physcal/' $IN > $OUT",
             "edited.ini:6: model 'psd_physcal' is not one this sensor's params.ini can hold "
-            "(psd_physical, psd_polynomial) (did you mean psd_physical?)");
+            "(psd_physical, psd_polynomial, psd_spline, psd_hybrid) (did you mean psd_physical?)");
     refused("cp", "sed '/^model = /d' $IN > $OUT", "missing key calibration.model");
 }
 

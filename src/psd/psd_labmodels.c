@@ -1,0 +1,210 @@
+/* psd_labmodels.c - `sunmc calibrate`'s model comparison for the
+ * four-channel sensor (issue 39): the physical, polynomial, spline and
+ * hybrid models, each refitted on the same cross-validation folds as the
+ * calibration (beta lines or sweeps) and scored on the held-out rows, for
+ * a single reading and for the mean of a point's repeats; the lowest
+ * held-out error is recommended, and when the physical model's is far
+ * above the best empirical one's, the report says the physics does not
+ * describe this sensor. */
+#include "psd_lab.h"
+#include "status.h"
+#include "units.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The physical model's held-out error above this many times the best
+ * empirical model's: its physics does not describe the sensor. */
+#define PSD_PHYSICS_FAR 1.5
+/* A model with more parameters is recommended over one with fewer only
+ * when its held-out error is lower by more than this fraction. */
+#define PSD_COMPARE_GAIN 0.05
+
+static const int compared[CALREPORT_MAX_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
+                                                   PSD_MODEL_SPLINE, PSD_MODEL_HYBRID};
+
+/* Sums of one model's refits: in-sample, held-out rows, held-out points. */
+typedef struct {
+    double in2, out2;
+    long n_in, n_out;
+    double *pt;       /* 3 per point: held-out alpha and beta error sums, count */
+} cv_sums;
+
+/* Refit k on the rows of k0 outside fold f and add its errors. */
+static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f, cv_sums *s)
+{
+    size_t n = k0->d->n;
+    for (size_t i = 0; i < n; i++)
+        k->w[i] = fold[i] == f ? 0.0 : k0->w[i];
+    fit_result fr;
+    if (psd_labcal_fit(k, &fr) != SUNMC_OK)
+        return 0;
+    for (size_t i = 0; i < n; i++) {
+        double e[3];
+        if (!(k0->w[i] > 0) || psd_labcal_row_error(k, i, e) != SUNMC_OK)
+            continue;
+        double e2 = e[0] * e[0] + e[1] * e[1];
+        if (fold[i] != f) {
+            s->in2 += e2;
+            s->n_in++;
+            continue;
+        }
+        s->out2 += e2;
+        s->n_out++;
+        double *p = s->pt + 3 * k0->point[i];
+        p[0] += e[0];
+        p[1] += e[1];
+        p[2] += 1.0;
+    }
+    return 1;
+}
+
+/* The spline's effective degrees of freedom, or 0. */
+static double spline_edf(const psd_labcal *k)
+{
+    int m = k->cal.model;
+    return m == PSD_MODEL_SPLINE || m == PSD_MODEL_HYBRID ? k->cal.spline.edf[0] + k->cal.spline.edf[1]
+                                                          : 0.0;
+}
+
+/* Fit model to every row of k0 (the smoothing chosen on the folds), then
+ * hold out each fold in turn into x. */
+static int score_model(const psd_labcal *k0, int model, const int *fold, int n_folds,
+                       double per_point, calreport_model *x)
+{
+    memset(x, 0, sizeof *x);
+    snprintf(x->name, sizeof x->name, "%s", psd_model_names[model]);
+    sunmc_config *c = malloc(sizeof *c);
+    if (!c)
+        return SUNMC_ENOMEM;
+    *c = *k0->c;
+    ((psd_config *)(void *)c->fam.bytes)->cal_model = model;
+    char err[SUNMC_ERRLEN];
+    size_t n = k0->d->n;
+    psd_labcal *k = psd_labcal_alloc(c, k0->d, err, sizeof err);
+    cv_sums s = {0};
+    s.pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s.pt);
+    int *sf = malloc((n + 1) * sizeof *sf);
+    if (!k || !s.pt || !sf) {
+        psd_labcal_free(k);
+        free(s.pt);
+        free(sf);
+        free(c);
+        return SUNMC_ENOMEM;
+    }
+    memcpy(sf, fold, n * sizeof *sf);
+    k->spline_fold = sf;
+    k->spline_n_folds = n_folds;
+    memcpy(k->w, k0->w, n * sizeof *k->w);
+    fit_result fr;
+    x->ok = psd_labcal_fit(k, &fr) == SUNMC_OK;
+    k->spline_smooth = x->ok && spline_edf(k) > 0 ? k->cal.spline.smooth : 0.0;
+    x->edf = spline_edf(k);
+    x->np = (PSD_MODEL_HAS_PHYSICS(model) ? (int)k->fw->p : 0) +
+            (model == PSD_MODEL_POLYNOMIAL ? 2 * k->cal.poly.nt : 0) + (int)lround(x->edf);
+    for (int f = 0; f < n_folds && x->ok; f++)
+        x->ok = one_fold(k, k0, fold, f, &s);
+    x->n_out = s.n_out;
+    x->rms_in_arcsec = s.n_in ? sqrt(s.in2 / (double)s.n_in) * ARCSEC_PER_RAD : NAN;
+    x->rms_out_arcsec = s.n_out ? sqrt(s.out2 / (double)s.n_out) * ARCSEC_PER_RAD : NAN;
+    double m2 = 0;
+    long np = 0;
+    for (long g = 0; g < k0->n_points; g++) {
+        const double *p = s.pt + 3 * g;
+        if (p[2] > 0) {
+            m2 += (p[0] * p[0] + p[1] * p[1]) / (p[2] * p[2]);
+            np++;
+        }
+    }
+    x->per_point = per_point;
+    x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
+    x->ok &= s.n_out > 0;
+    psd_labcal_free(k);
+    free(s.pt);
+    free(c);
+    return SUNMC_OK;
+}
+
+/* The recommendation in words into cm->note. */
+static void recommend(calreport_models *cm)
+{
+    int best = -1, emp = -1;
+    for (int m = 0; m < cm->n; m++) {
+        const calreport_model *x = &cm->m[m];
+        if (!x->ok)
+            continue;
+        if (best < 0)
+            best = m;
+        /* the simpler of two, unless the other is clearly better */
+        const calreport_model *b = &cm->m[best];
+        int simpler = x->np < b->np;
+        double gain = simpler ? 1.0 + PSD_COMPARE_GAIN : 1.0 - PSD_COMPARE_GAIN;
+        if (x->rms_out_arcsec < b->rms_out_arcsec * gain)
+            best = m;
+        if (compared[m] != PSD_MODEL_PHYSICAL &&
+            (emp < 0 || x->rms_out_arcsec < cm->m[emp].rms_out_arcsec))
+            emp = m;
+    }
+    cm->best = best < 0 ? cm->used : best;
+    size_t at = 0;
+    const calreport_model *b = &cm->m[cm->best];
+    if (best < 0) {
+        snprintf(cm->note, sizeof cm->note, "no model could be refitted on every fold");
+        return;
+    }
+    at += (size_t)snprintf(cm->note, sizeof cm->note,
+                           "recommended %s: held out %.0f arcsec for a single reading",
+                           b->name, b->rms_out_arcsec);
+    if (b->per_point > 1 && at < sizeof cm->note)
+        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, ", %.0f for the mean of %.3g",
+                               b->rms_out_mean_arcsec, b->per_point);
+    if (at < sizeof cm->note)
+        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, "%s%s",
+                               cm->best != cm->used ? ": calibrate with --set calibration.model="
+                                                    : "",
+                               cm->best != cm->used ? b->name : "");
+    const calreport_model *ph = &cm->m[0];
+    if (emp >= 0 && ph->ok && ph->rms_out_arcsec > PSD_PHYSICS_FAR * cm->m[emp].rms_out_arcsec &&
+        at < sizeof cm->note)
+        snprintf(cm->note + at, sizeof cm->note - at,
+                 "; the physics does not describe this sensor: the physical model's held-out "
+                 "error is %.1f times the %s model's",
+                 ph->rms_out_arcsec / cm->m[emp].rms_out_arcsec, cm->m[emp].name);
+}
+
+void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
+{
+    calreport_models *cm = &rep->models;
+    memset(cm, 0, sizeof *cm);
+    int *fold = malloc((k0->d->n + 1) * sizeof *fold), by_line;
+    double line[CALREPORT_MAX_FOLDS];
+    if (!fold) {
+        snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
+        return;
+    }
+    int n_folds = psd_labcal_folds(k0, fold, line, &by_line);
+    psd_point_stats ps;
+    psd_labcal_point_stats(k0, k0->w, &ps);
+    if (n_folds < 2) {
+        snprintf(cm->note, sizeof cm->note,
+                 "no model comparison: one beta line and one sweep, nothing to hold out");
+        free(fold);
+        return;
+    }
+    cm->used = 0;
+    for (int m = 0; m < CALREPORT_MAX_MODELS; m++) {
+        if (compared[m] == psd_cfg(k0->c)->cal_model)
+            cm->used = m;
+        if (score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m]) != SUNMC_OK) {
+            snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
+            cm->n = 0;
+            free(fold);
+            return;
+        }
+        cm->n++;
+    }
+    free(fold);
+    recommend(cm);
+}
