@@ -7,6 +7,7 @@
 #   make plots RUN=DIR   draw every figure a run directory holds
 #   make figures    regenerate the papers' figures into build/figures/
 #   make claims     check the papers' claims, rewrite docs/claims.md
+#   make docs-check re-run the docs' commands, compare the numbers the pages quote
 #   make install PREFIX=/usr/local DESTDIR=
 #   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
 #                   and the importers' fuzz loop (make fuzz-import alone: no clang)
@@ -150,7 +151,7 @@ $(ALL_DEP): ;
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims bench \
+.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims docs-check bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps fuzz-import
 
 all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
@@ -311,6 +312,12 @@ plots: $(BUILD)/sunmc
 
 figures: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc bash scripts/figures.sh
+
+# `make docs-check` re-runs the commands of the docs whose numbers the pages
+# quote (marked `<!-- check: ... -->`, scripts/docs-check.py) and fails when
+# a quoted number differs from the printed one beyond the page's tolerance.
+docs-check: $(BUILD)/sunmc
+	SUNMC=$(BUILD)/sunmc /usr/bin/python3 scripts/docs-check.py
 
 # `make claims` checks the papers' claims row by row and rewrites docs/claims.md.
 claims: $(BUILD)/sunmc
