@@ -99,6 +99,17 @@ def flat(text):
     return " ".join(text.replace("\\\n", " ").split())
 
 
+def in_code(page, pos):
+    """A mark shown as an example: in a fenced block, an indented code line or `code`."""
+    before = page[:pos]
+    if before.endswith("`"):
+        return True
+    if len(re.findall(r'^ {0,3}```', before, re.M)) % 2:
+        return True
+    line = before[before.rfind("\n") + 1:]
+    return line.startswith("    ") and not line.strip()
+
+
 def quoted(text, scope):
     """The value appears in the page's text as a whole number (not part of another)."""
     return re.search(r'(?<![\d.])' + re.escape(text) + r'(?!\.?\d)', scope) is not None
@@ -142,7 +153,7 @@ def check_page(path, root, counts):
     with open(path, encoding="utf-8") as f:
         page = f.read()
     outside = MARK.sub("", page)
-    marks = list(MARK.finditer(page))
+    marks = [m for m in MARK.finditer(page) if not in_code(page, m.start())]
     failures, output, cwd = [], None, None
     try:
         for i, m in enumerate(marks):
