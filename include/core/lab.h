@@ -302,6 +302,7 @@ typedef struct {
     long failed;                     /* readings that could not be compensated */
     long by_cause[LAB_N_READING];    /* of them, by cause (index 0 unused) */
     int first_failed_line;
+    int acc_nomem; /* the accuracy summary ran out of memory */
 } lab_comp_stats;
 
 /* "3 rows not compensated: 2 no signal (...), 1 outside the detector"
@@ -310,9 +311,15 @@ void lab_comp_summary(const lab_comp_stats *s, char *buf, size_t len);
 
 /* Read raw_path (lab->raw_columns) and write it to out as CSV with
  * lab->comp_columns added (deg, "-" where a reading cannot be
- * compensated, counted in s by cause).  Refused (nothing written): bad
- * input, a file with no data rows. */
+ * compensated, counted in s by cause).  With acc (lab_accuracy_init'ed, or
+ * NULL), each compensated_X is scored against truth_X of the same row, an
+ * input column or one the family adds (acc->found says whether there were
+ * any; a row without a compensated angle counts as missing).  Refused
+ * (nothing written): bad input, a file with no data rows, a truth column
+ * with a value that is no number, no truth columns when acc->required. */
+struct lab_accuracy_s;
 int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw_path,
-                       FILE *out, lab_comp_stats *s, char *err, size_t errlen);
+                       FILE *out, lab_comp_stats *s, struct lab_accuracy_s *acc, char *err,
+                       size_t errlen);
 
 #endif

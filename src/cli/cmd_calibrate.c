@@ -3,6 +3,7 @@
 #include "calreport.h"
 #include "cli.h"
 #include "lab.h"
+#include "lab_accuracy.h"
 #include "lab_params.h"
 #include "params_io.h"
 #include "registry.h"
@@ -293,19 +294,64 @@ int cmd_calibrate(int argc, char **argv)
 
 /* ---- compensate ---- */
 
-static int compensate(const family_lab *lab, const params_file *pf, const char *raw_path)
+/* What compensate achieved against the truth columns, on stderr. */
+static void accuracy_print(const lab_accuracy *a, const sensor_family *fam, const char *config)
+{
+    fprintf(stderr, "sunmc compensate: accuracy against %s%s%s: %ld rows, %ld without a "
+                    "compensated angle; %s, bands of %s",
+            a->truth[0], a->n_comp > 1 ? ", " : "", a->n_comp > 1 ? a->truth[1] : "", a->rows,
+            a->missing, a->unit, fam->band_name ? fam->band_name : "|angle|");
+    if (a->have_spec)
+        fprintf(stderr, "; spec %s <= %g %s (%s)\n", lab_accuracy_stat_name(a), a->spec, a->unit,
+                config);
+    else
+        fprintf(stderr, " (one band over the data: --config CONFIG gives its bands and spec)\n");
+    fprintf(stderr, "  angle  band           points         rms       p99.7         max%s\n",
+            a->have_spec ? "  meets spec" : "");
+    for (int k = 0; k < a->n_angles; k++)
+        for (int b = 0; b < a->bands.n; b++) {
+            char band[48];
+            snprintf(band, sizeof band, "%g:%g", a->bands.lo[b], a->bands.hi[b]);
+            fprintf(stderr, "  %-6s %-12s %8ld %11.4g %11.4g %11.4g%s%s\n", a->angle[k], band,
+                    a->n[k][b], a->rms[k][b], a->p997[k][b], a->max[k][b],
+                    a->have_spec ? "  " : "", a->have_spec ? lab_accuracy_meets(a, k, b) : "");
+        }
+}
+
+static int compensate(const family_lab *lab, const sensor_family *fam, const params_file *pf,
+                      const char *raw_path, const cli_options *o, const sunmc_config *c)
 {
     char err[SUNMC_ERRLEN], warn[SUNMC_ERRLEN] = "";
-    void *model = malloc(lab->model_size);
-    int st = model ? lab_params_load(lab, pf, model, warn, sizeof warn, err, sizeof err)
+    int n_comp = 0;
+    while (lab->comp_columns[n_comp])
+        n_comp++;
+    lab_accuracy acc;
+    int st = lab_accuracy_init(&acc, fam, c, n_comp, err, sizeof err);
+    acc.required = o->out != NULL;
+    out_set os;
+    int began = 0;
+    if (st == SUNMC_OK && o->out)
+        began = (st = out_begin(&os, o->out, err, sizeof err)) == SUNMC_OK;
+    void *model = st == SUNMC_OK ? malloc(lab->model_size) : NULL;
+    if (st == SUNMC_OK)
+        st = model ? lab_params_load(lab, pf, model, warn, sizeof warn, err, sizeof err)
                    : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
     if (warn[0])
         fprintf(stderr, "sunmc compensate: WARNING: %s\n", warn);
     lab_comp_stats cs;
     if (st == SUNMC_OK)
-        st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, err, sizeof err);
+        st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, &acc, err, sizeof err);
     free(model);
+    if (st == SUNMC_OK && acc.found)
+        st = lab_accuracy_finish(&acc) == SUNMC_OK
+                 ? SUNMC_OK
+                 : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory for the accuracy");
+    if (st == SUNMC_OK && began)
+        st = lab_accuracy_save(&acc, &os, err, sizeof err);
+    else if (began)
+        out_abort(&os);
     if (st != SUNMC_OK) {
+        lab_accuracy_free(&acc);
         fprintf(stderr, "sunmc compensate: %s\n", err);
         return cli_exit_code(st);
     }
@@ -318,7 +364,37 @@ static int compensate(const family_lab *lab, const params_file *pf, const char *
                 cs.by_cause[LAB_NO_INVERSE] && lab->comp_fail_note ? "; no inverse: " : "",
                 cs.by_cause[LAB_NO_INVERSE] && lab->comp_fail_note ? lab->comp_fail_note : "");
     }
+    if (acc.found)
+        accuracy_print(&acc, fam, o->config);
+    lab_accuracy_free(&acc);
     return fflush(stdout) == 0 && !ferror(stdout) ? 0 : 1;
+}
+
+/* The optional --config (bands and spec of the accuracy summary) must be
+ * the params.ini's family. */
+static int compensate_with_config(const sensor_family *fam, const params_file *pf,
+                                  const cli_options *o)
+{
+    if (!o->config) {
+        if (o->n_sets) {
+            fprintf(stderr, "sunmc compensate: --set needs --config CONFIG\n");
+            return EXIT_BAD_INPUT;
+        }
+        return compensate(fam->lab, fam, pf, o->positional[1], o, NULL);
+    }
+    config_state st;
+    int rc = cli_config(o, &st);
+    if (rc)
+        return rc;
+    if (st.cfg.family != fam) {
+        fprintf(stderr, "sunmc compensate: %s is a %s config, but %s was calibrated for the %s\n",
+                o->config, st.cfg.family->name, o->positional[0], fam->name);
+        config_state_free(&st);
+        return EXIT_BAD_INPUT;
+    }
+    rc = compensate(fam->lab, fam, pf, o->positional[1], o, &st.cfg);
+    config_state_free(&st);
+    return rc;
 }
 
 int cmd_compensate(int argc, char **argv)
@@ -328,7 +404,7 @@ int cmd_compensate(int argc, char **argv)
     if (cli_wants_help(argc, argv, help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "compensate", "quiet FILES2", &o);
+    int rc = cli_parse(argc, argv, 2, "compensate", "config set out quiet FILES2", &o);
     if (rc)
         return rc;
     if (o.n_positional != 2) {
@@ -353,7 +429,7 @@ int cmd_compensate(int argc, char **argv)
     }
     const sensor_family *fam = sensor_family_find(sensor);
     if (fam && fam->lab)
-        rc = compensate(fam->lab, pf, o.positional[1]);
+        rc = compensate_with_config(fam, pf, &o);
     else {
         const params_entry *e = params_find(pf, "calibration", "sensor");
         fprintf(stderr, "sunmc compensate: %s:%d: sensor '%s' is not available\n",

@@ -2,6 +2,7 @@
  * header, the cross-validation skeleton, a calibration's files and the
  * compensated CSV (lab.h). */
 #include "lab.h"
+#include "lab_accuracy.h"
 #include "csv.h"
 #include "tsvnum.h"
 #include "output.h"
@@ -337,8 +338,38 @@ static void comp_put(FILE *out, const char *sep, double rad)
     fprintf(out, "%s%s", sep, num);
 }
 
+/* Where the truth of compensated angle k comes from: tsrc[k] >= 0 an input
+ * column, -2 - j the family's added column opt_comp_columns[j], -1 none
+ * (then acc->found = 0).  Refused when acc->required and there is none. */
+static int comp_truth(const family_lab *lab, const csv_table *t, int n_opt, lab_accuracy *acc,
+                      int *tsrc, const char *raw_path, char *err, size_t errlen)
+{
+    static const char prefix[] = "compensated_";
+    int k = 0, st = SUNMC_OK;
+    for (; k < acc->n_comp; k++) {
+        const char *x = lab->comp_columns[k];
+        snprintf(acc->truth[k], sizeof acc->truth[k], "truth_%s",
+                 strncmp(x, prefix, sizeof prefix - 1) ? x : x + sizeof prefix - 1);
+        if ((st = csv_column(t, acc->truth[k], 0, &tsrc[k], err, errlen)) != SUNMC_OK)
+            return st;
+        for (int j = 0; tsrc[k] < 0 && n_opt && lab->opt_comp_columns[j]; j++)
+            if (strcmp(lab->opt_comp_columns[j], acc->truth[k]) == 0)
+                tsrc[k] = -2 - j;
+        if (tsrc[k] == -1)
+            break;
+    }
+    acc->found = k == acc->n_comp;
+    if (!acc->found && acc->required)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s:%d: no truth columns (%s%s%s) to score the compensated angles against",
+                          raw_path, t->header_line, acc->truth[0], acc->n_comp > 1 ? ", " : "",
+                          acc->n_comp > 1 ? acc->truth[1] : "");
+    return SUNMC_OK;
+}
+
 static void comp_rows(const family_lab *lab, const void *model, const csv_table *t,
-                      double *const *v, int n_raw, int n_opt, FILE *out, lab_comp_stats *s)
+                      double *const *v, int n_raw, int n_opt, FILE *out, lab_comp_stats *s,
+                      lab_accuracy *acc, const int *tsrc, double *const *tv)
 {
     for (int j = 0; j < t->n_cols; j++)
         fprintf(out, "%s,", t->names[j]);
@@ -364,6 +395,15 @@ static void comp_rows(const family_lab *lab, const void *model, const csv_table 
         for (int k = n_comp; k < n_comp + n_opt_comp; k++)
             comp_put(out, ",", comp[k]);
         fprintf(out, "\n");
+        if (acc && acc->found) {
+            double truth[2], got[2];
+            for (int k = 0; k < acc->n_comp; k++) {
+                truth[k] = tsrc[k] >= 0 ? tv[k][i] / DEG_PER_RAD : comp[n_comp - 2 - tsrc[k]];
+                got[k] = why == LAB_READING_OK ? comp[k] : NAN;
+            }
+            if (lab_accuracy_add(acc, got, truth) != SUNMC_OK)
+                s->acc_nomem = 1;
+        }
         if (why != LAB_READING_OK) {
             s->by_cause[why]++;
             if (!s->failed++)
@@ -373,23 +413,33 @@ static void comp_rows(const family_lab *lab, const void *model, const csv_table 
 }
 
 int lab_compensate_csv(const family_lab *lab, const void *model, const char *raw_path,
-                       FILE *out, lab_comp_stats *s, char *err, size_t errlen)
+                       FILE *out, lab_comp_stats *s, lab_accuracy *acc, char *err,
+                       size_t errlen)
 {
     memset(s, 0, sizeof *s);
     csv_table *t = NULL;
     int st = csv_read(raw_path, &t, err, errlen);
-    int cols[LAB_MAX_COLUMNS], n_raw = 0, n_opt = 0;
-    double *v[LAB_MAX_COLUMNS] = {NULL};
+    int cols[LAB_MAX_COLUMNS], n_raw = 0, n_opt = 0, tsrc[2] = {-1, -1};
+    double *v[LAB_MAX_COLUMNS] = {NULL}, *tv[2] = {NULL};
     if (st == SUNMC_OK && t->n_rows == 0)
         st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s: no data rows", raw_path);
     if (st == SUNMC_OK)
         st = comp_columns(lab, t, raw_path, cols, &n_raw, &n_opt, err, errlen);
     if (st == SUNMC_OK)
         st = comp_values(t, cols, n_raw + n_opt, v, err, errlen);
+    if (st == SUNMC_OK && acc)
+        st = comp_truth(lab, t, n_opt, acc, tsrc, raw_path, err, errlen);
+    for (int k = 0; st == SUNMC_OK && acc && acc->found && k < acc->n_comp; k++)
+        if (tsrc[k] >= 0) /* the input's truth columns as numbers, each checked */
+            st = comp_values(t, &tsrc[k], 1, &tv[k], err, errlen);
     if (st == SUNMC_OK)
-        comp_rows(lab, model, t, v, n_raw, n_opt, out, s);
+        comp_rows(lab, model, t, v, n_raw, n_opt, out, s, acc, tsrc, tv);
+    if (st == SUNMC_OK && s->acc_nomem)
+        st = sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the accuracy summary");
     for (int k = 0; k < LAB_MAX_COLUMNS; k++)
         free(v[k]);
+    free(tv[0]);
+    free(tv[1]);
     csv_free(t);
     return st;
 }
