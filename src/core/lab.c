@@ -350,9 +350,11 @@ static int comp_truth(const family_lab *lab, const csv_table *t, int n_opt, lab_
         const char *x = lab->comp_columns[k];
         snprintf(acc->truth[k], sizeof acc->truth[k], "truth_%s",
                  strncmp(x, prefix, sizeof prefix - 1) ? x : x + sizeof prefix - 1);
+    }
+    for (k = 0; k < acc->n_comp; k++) {
         if ((st = csv_column(t, acc->truth[k], 0, &tsrc[k], err, errlen)) != SUNMC_OK)
             return st;
-        for (int j = 0; tsrc[k] < 0 && n_opt && lab->opt_comp_columns[j]; j++)
+        for (int j = 0; tsrc[k] < 0 && n_opt && lab->opt_comp_columns && lab->opt_comp_columns[j]; j++)
             if (strcmp(lab->opt_comp_columns[j], acc->truth[k]) == 0)
                 tsrc[k] = -2 - j;
         if (tsrc[k] == -1)

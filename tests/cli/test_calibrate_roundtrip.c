@@ -129,8 +129,9 @@ static void test_cli_simulate_calibrate_compensate_reproduces_run(void **state)
     }
 
     /* Compensating the validation readings reproduces run's RMS after. */
-    snprintf(cmd, sizeof cmd, "%s compensate %s/u3cal/params.ini %s/u3/validation.csv > %s/comp.csv",
-             test_sunmc(), dir, dir, dir);
+    /* (stderr apart: it carries compensate's accuracy against truth_deg) */
+    snprintf(cmd, sizeof cmd, "{ %s compensate %s/u3cal/params.ini %s/u3/validation.csv > %s/comp.csv "
+             "2>/dev/null; }", test_sunmc(), dir, dir, dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     snprintf(path, sizeof path, "%s/comp.csv", dir);
     assert_int_equal(csv_read(path, &t, err, sizeof err), SUNMC_OK);
@@ -326,7 +327,7 @@ static void test_cli_dss_reproduces_run(void **state)
     }
     /* Compensating validation.csv reproduces run's after-compensation RMS
      * of the unit, per angle and band (bands 0:20, 20:40, 0:60 of dss.ini). */
-    snprintf(cmd, sizeof cmd, "%s compensate %s %s/d3/validation.csv > %s/d3comp.csv",
+    snprintf(cmd, sizeof cmd, "{ %s compensate %s %s/d3/validation.csv > %s/d3comp.csv 2>/dev/null; }",
              test_sunmc(), params, dir, dir);
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     {

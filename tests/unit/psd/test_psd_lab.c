@@ -49,7 +49,7 @@ static void round_trip(const char *model, const char *sets, double max_arcsec)
              "simulate configs/psd.ini --unit 5 --out $D/sim_%s && "
              "%s calibrate --config configs/psd.ini --set calibration.model=%s %s "
              "$D/sim_%s/campaign.csv --out $D/cal_%s --quiet && "
-             "%s compensate $D/cal_%s/params.ini $D/sim_%s/validation.csv > $D/comp_%s.csv",
+             "{ %s compensate $D/cal_%s/params.ini $D/sim_%s/validation.csv > $D/comp_%s.csv; }",
              model, test_sunmc(), model, sets, model, model, test_sunmc(), model, model, model);
     if (test_sunmc_in(dir, args, out, sizeof out) != 0)
         fail_msg("%s", out);
@@ -95,8 +95,8 @@ static void lamp_changes_only_the_polynomial(void **state)
                  "simulate configs/psd.ini --unit 5 --set noise.lamp_pct=20 --out $D/lamp && "
                  "%s calibrate --config configs/psd.ini --set calibration.model=%s "
                  "--set calibration.poly_order=3 $D/lamp/campaign.csv --out $D/lamp_%s "
-                 "--quiet && %s compensate $D/lamp_%s/params.ini $D/lamp/validation.csv > "
-                 "$D/lamp_%s.csv",
+                 "--quiet && { %s compensate $D/lamp_%s/params.ini $D/lamp/validation.csv > "
+                 "$D/lamp_%s.csv; }",
                  test_sunmc(), models[k], models[k], test_sunmc(), models[k], models[k]);
         if (test_sunmc_in(dir, args, out, sizeof out) != 0)
             fail_msg("%s", out);
