@@ -17,6 +17,7 @@ typedef struct {
     int n;
     double e[3][MAXROWS]; /* alpha, beta, total errors (rms unit) */
     double field[MAXROWS]; /* deg: field angle (two axes) or |truth| */
+    int skipped;           /* rows written '-' */
 } errors;
 
 /* Column index of name in a CSV header line, -1 when absent. */
@@ -57,8 +58,16 @@ static void read_errors(const char *path, int two, double per_deg, errors *e)
     int tb = two ? column(header, "truth_beta_deg") : -1;
     assert_true(ca >= 0 && ta >= 0 && (!two || (cb >= 0 && tb >= 0)));
     e->n = 0;
+    e->skipped = 0;
     while (fgets(line, sizeof line, f) && e->n < MAXROWS) {
         double a = field_at(line, ca), a0 = field_at(line, ta);
+        const char *p = line;
+        for (int k = 0; k < ca; k++)
+            p = strchr(p, ',') + 1;
+        if (*p == '-' && (p[1] == ',' || p[1] == '\n')) { /* not compensated */
+            e->skipped++;
+            continue;
+        }
         int i = e->n++;
         e->e[0][i] = (a - a0) * per_deg;
         e->field[i] = fabs(a0);
@@ -262,12 +271,59 @@ static void spec_not_met(void **state)
     assert_null(strstr(out, "\tyes\n"));
 }
 
+/* The PSD's truth comes from its table angles (validation.csv has no truth
+ * columns): scored the same way. */
+static void psd_truth_from_table_angles(void **state)
+{
+    char out[16384], cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "S=%s; D=%s; $S simulate configs/psd.ini --unit 3 --out $D/sim >/dev/null && "
+             "$S calibrate --config configs/psd.ini $D/sim/campaign.csv --out $D/cal >/dev/null && "
+             "$S compensate $D/cal/params.ini $D/sim/validation.csv --config configs/psd.ini "
+             "--out $D/acc 2>$D/err >$D/comp.csv; echo rc=$?; cat $D/err",
+             test_sunmc(), test_tmp("psd"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    if (!strstr(out, "rc=0"))
+        fail_msg("%s", out);
+    assert_non_null(strstr(out, "accuracy against truth_alpha_deg, truth_beta_deg: 72 rows"));
+    errors *e = malloc(sizeof *e);
+    read_errors(test_tmp("psd/comp.csv"), 1, 3600, e);
+    assert_int_equal(e->n, 72);
+    assert_int_equal(check_tsv(test_tmp("psd/acc/accuracy.tsv"), e, two_axes, "rms", 360), 9);
+    free(e);
+}
+
+/* A row the calibrated sensor cannot read (its spot moved off the
+ * detector) is counted without a compensated angle and left out. */
+static void uncompensated_row_is_counted(void **state)
+{
+    char out[16384], cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "S=%s; D=%s; $S simulate configs/dss.ini --unit 3 --out $D/sim >/dev/null && "
+             "$S calibrate --config configs/dss.ini $D/sim/campaign.csv --out $D/cal >/dev/null && "
+             "awk -F, 'BEGIN{OFS=\",\"} NR==17{$3=\"99999\"} {print}' $D/sim/validation.csv > $D/v.csv"
+             " && $S compensate $D/cal/params.ini $D/v.csv --config configs/dss.ini --out $D/acc "
+             "2>$D/err >$D/comp.csv; echo rc=$?; cat $D/err",
+             test_sunmc(), test_tmp("miss"));
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    if (!strstr(out, "rc=0"))
+        fail_msg("%s", out);
+    assert_non_null(strstr(out, "808 rows, 1 without a compensated angle"));
+    errors *e = malloc(sizeof *e);
+    read_errors(test_tmp("miss/comp.csv"), 1, 3600, e);
+    assert_int_equal(e->skipped, 1);
+    assert_int_equal(e->n, 807);
+    assert_int_equal(check_tsv(test_tmp("miss/acc/accuracy.tsv"), e, two_axes, "rms", 10), 9);
+    free(e);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(dss_validation_scored), cmocka_unit_test(ess_validation_one_band),
         cmocka_unit_test(no_truth_columns),      cmocka_unit_test(refusals),
-        cmocka_unit_test(spec_not_met),
+        cmocka_unit_test(spec_not_met),          cmocka_unit_test(psd_truth_from_table_angles),
+        cmocka_unit_test(uncompensated_row_is_counted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
