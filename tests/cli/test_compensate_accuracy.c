@@ -204,6 +204,13 @@ static void ess_validation_one_band(void **state)
     read_errors(test_tmp("ess/comp.csv"), 0, 1, e);
     static const char *const one[] = {"alpha"};
     assert_int_equal(check_tsv(test_tmp("ess/acc/accuracy.tsv"), e, one, "-", 0), 1);
+    /* with the config: its bands of |alpha| and its 54" spec in deg */
+    snprintf(cmd, sizeof cmd, "D=%s; { %s compensate $D/cal/params.ini $D/sim/validation.csv "
+             "--config configs/ess_type_a.ini --out $D/acc2 >/dev/null; }", test_tmp("ess"),
+             test_sunmc());
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "deg, bands of |alpha|; spec rms <= 0.015 deg (configs/ess_type_a.ini)"));
+    assert_int_equal(check_tsv(test_tmp("ess/acc2/accuracy.tsv"), e, one, "rms", 0.015), 3);
     free(e);
 }
 
