@@ -322,9 +322,13 @@ static void accuracy_print(const lab_accuracy *a, const sensor_family *fam, cons
         for (int b = 0; b < a->bands.n; b++) {
             char band[48];
             snprintf(band, sizeof band, "%g:%g", a->bands.lo[b], a->bands.hi[b]);
-            fprintf(stderr, "  %-6s %-12s %8ld %11.4g %11.4g %11.4g%s%s\n", a->angle[k], band,
-                    a->n[k][b], a->rms[k][b], a->p997[k][b], a->max[k][b],
-                    a->have_spec ? "  " : "", a->have_spec ? lab_accuracy_meets(a, k, b) : "");
+            char v[3][32]; /* "-" for a band without rows, never "nan" */
+            const double x[3] = {a->rms[k][b], a->p997[k][b], a->max[k][b]};
+            for (int j = 0; j < 3; j++)
+                snprintf(v[j], sizeof v[j], x[j] == x[j] ? "%.4g" : "-", x[j]);
+            fprintf(stderr, "  %-6s %-12s %8ld %11s %11s %11s%s%s\n", a->angle[k], band,
+                    a->n[k][b], v[0], v[1], v[2], a->have_spec ? "  " : "",
+                    a->have_spec ? lab_accuracy_meets(a, k, b) : "");
         }
 }
 
