@@ -314,7 +314,7 @@ static void compare(const indep_dss *m, const indep_dss *design, double sigma_px
              test_sunmc(), extra, path, test_tmp(tag));
     if (test_run(cmd, out, sizeof out) != 0)
         fail_msg("%s: %s", cmd, out);
-    snprintf(cmd, sizeof cmd, "%s compensate %s_cal/params.ini %s > %s_comp.csv", test_sunmc(),
+    snprintf(cmd, sizeof cmd, "{ %s compensate %s_cal/params.ini %s > %s_comp.csv; }", test_sunmc(),
              test_tmp(tag), vpath, test_tmp(tag));
     assert_int_equal(test_run(cmd, out, sizeof out), 0);
     snprintf(path, sizeof path, "%s_comp.csv", test_tmp(tag));
