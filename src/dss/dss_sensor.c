@@ -131,6 +131,39 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
         memcpy(s->scurve_amp_px, amp_px, sizeof s->scurve_amp_px);
     else
         dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
+    dss_pattern_init(&s->pattern, s->spot_px, s->pixel_phase_px);
+    s->pattern.prnu = dev->prnu_pct * FRACTION_PER_PCT;
+    s->pattern.dsnu = dev->dsnu_pct * FRACTION_PER_PCT;
+    s->pattern.ghost = dev->glass_ghost;
+}
+
+uint32_t dss_pattern_key(const sunmc_config *c, uint64_t seed, long unit)
+{
+    rng_stream r;
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_PATTERN), (uint64_t)unit,
+                    RNG_STREAM_PATTERN);
+    /* 32 bits of a uniform in [0, 1) */
+    return (uint32_t)(rng_uniform(&r) * DSS_PATTERN_KEYS);
+}
+
+int dss_sensor_extras_on(const dss_sensor *s)
+{
+    return s->pattern.prnu != 0.0 || s->pattern.dsnu != 0.0 || s->pattern.ghost != 0.0;
+}
+
+void dss_sensor_extras(const dss_sensor *s, const double u[3], double *x_px, double *y_px)
+{
+    const dss_pattern *p = &s->pattern;
+    double ex = 0.0, ey = 0.0, gx = 0.0, gy = 0.0;
+    dss_pattern_error(p, *x_px, *y_px, &ex, &ey);
+    if (p->ghost != 0.0 && u[2] > 0.0) {
+        double n = s->glass_n, s2 = u[0] * u[0] + u[1] * u[1];
+        double a = p->ghost * dss_ghost_intensity(u[2], n);
+        double k = -2.0 * s->glass_t_mm / (sqrt(n * n - s2) * s->pixel_mm);
+        dss_ghost_pull(p, a, *x_px, *y_px, k * u[0], k * u[1], &gx, &gy);
+    }
+    *x_px += ex + gx;
+    *y_px += ey + gy;
 }
 
 void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, double v[3])
@@ -179,6 +212,8 @@ VM_NOSAN int dss_sensor_spot(const dss_sensor *s, const double u[3], const doubl
     dss_lane_spot sp = dss_lane_sensor_spot(s, geo_v3_of(u));
     if (!sp.ok)
         return SUNMC_EDOM;
+    if (dss_sensor_extras_on(s))
+        dss_sensor_extras(s, u, &sp.x, &sp.y);
     *x_px = noise_px ? sp.x + noise_px[0] : sp.x;
     *y_px = noise_px ? sp.y + noise_px[1] : sp.y;
     return SUNMC_OK;
