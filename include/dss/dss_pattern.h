@@ -4,8 +4,9 @@
  *
  * Centroid window.  The spot's centroid is taken over a square window of
  * 2 m + 1 pixels, m = ceil(DSS_WINDOW_SIGMAS sigma), centred on the pixel
- * nearest the spot's centre; sigma is the spot's rms radius per axis, the
- * pinhole's shadow, a disc of D pixels: sigma = D / 4 (its second moment).
+ * nearest the spot's centre; sigma is the spot's rms radius per axis
+ * (dss_spot_sigma_px: the pinhole's shadow, a disc of D pixels, D / 4, with
+ * the Airy core and the sun's disc in quadrature).
  * Inside the window the spot is weighted as a Gaussian of that sigma
  * sampled at the pixel centres, w_ij = g(x_i - x) g(y_j - y).
  *
@@ -61,9 +62,14 @@ typedef struct {
     double phase_px;   /* pixel centres at phase_px + integer */
 } dss_pattern;
 
-/* The window and spot of a disc spot of diameter spot_px, pixel centres at
- * phase_px + integer; no pattern, no ghost. */
-void dss_pattern_init(dss_pattern *p, double spot_px, double phase_px);
+/* The window's half-width m = ceil(DSS_WINDOW_SIGMAS sigma_px), in
+ * [1, DSS_WINDOW_HALF_MAX]. */
+int dss_window_half_px(double sigma_px);
+
+/* The window and spot of a spot of rms radius sigma_px per axis
+ * (dss_spot_sigma_px), pixel centres at phase_px + integer; no pattern, no
+ * ghost. */
+void dss_pattern_init(dss_pattern *p, double sigma_px, double phase_px);
 
 /* The 32-bit hash of pixel (i, j) of pattern key; its two halves give z1,
  * z2 of the pixel (dss_pattern_pixel). */

@@ -147,6 +147,8 @@ typedef struct {
                                 * design.principal_point = paper_eq6 the ray
                                 * S_b0 = (dx, dy, -h) at the table's zero */
     double spot_px;            /* spot diameter */
+    double tube_ratio;         /* mask thickness / pinhole diameter: no light passes
+                                * where tan(theta) >= 1 / tube_ratio */
     double disc_c_rad2;        /* the sun's disc: dss_disc_coefficient (0: a point sun) */
     int s_curve;               /* 1: apply the S-curve bias */
     double scurve_amp_px[DSS_SCURVE_HARMONICS];

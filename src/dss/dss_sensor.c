@@ -111,7 +111,9 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
     s->pixel_phase_px = (d->detector_px % 2 == 0) ? 0.5 : 0.0;
     s->pinhole_mm[0] = dev->dx_px * s->pixel_mm;
     s->pinhole_mm[1] = dev->dy_px * s->pixel_mm;
-    s->pinhole_mm[2] = d->h_mm + dev->dh_px * s->pixel_mm;
+    /* a mask of thickness T: the tube's light is centred at its mid-plane */
+    s->pinhole_mm[2] = d->h_mm + dev->dh_px * s->pixel_mm + 0.5 * d->mask_thickness_um * MM_PER_UM;
+    s->tube_ratio = d->mask_thickness_um / d->pinhole_um;
     s->glass_t_mm = d->glass_thickness_mm + dev->glass_thickness_um * MM_PER_UM;
     s->glass_n = d->glass_index + dev->glass_index;
     rot_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
@@ -127,11 +129,13 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
     s->spot_px = dss_spot_px(d);
     s->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     s->s_curve = s_curve;
+    dss_pattern_init(&s->pattern, dss_spot_sigma_px(d), s->pixel_phase_px);
+    if (d->centroid_window_px > 0)
+        s->pattern.half_px = d->centroid_window_px;
     if (amp_px)
         memcpy(s->scurve_amp_px, amp_px, sizeof s->scurve_amp_px);
-    else
-        dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
-    dss_pattern_init(&s->pattern, s->spot_px, s->pixel_phase_px);
+    else if (s_curve) /* else unused: memset left them 0 */
+        dss_scurve_design(d, s->scurve_amp_px);
     s->pattern.prnu = dev->prnu_pct * FRACTION_PER_PCT;
     s->pattern.dsnu = dev->dsnu_pct * FRACTION_PER_PCT;
     s->pattern.ghost = dev->glass_ghost;

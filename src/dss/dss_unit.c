@@ -214,7 +214,7 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
-    dss_scurve_amplitudes(dss_spot_px(&dc->design), w->amp_px);
+    dss_scurve_design(&dc->design, w->amp_px);
     if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
         dss_ws_free(w);
         return NULL;
