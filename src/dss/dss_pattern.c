@@ -121,7 +121,7 @@ void dss_pattern_error(const dss_pattern *p, double x_px, double y_px, double *e
      * of both terms cancels */
     double gsum = 0.0, gksum = 0.0;
     for (int k = 0; k < n; k++) {
-        gq[k] = (int32_t)lround(gx[k] * DSS_G_ONE);
+        gq[k] = (int32_t)(gx[k] * DSS_G_ONE + 0.5); /* g >= 0: rounded */
         kgq[k] = k * gq[k];
         gsum += gq[k];
         gksum += kgq[k];
