@@ -10,9 +10,10 @@
  * (dss_sensor.h).  detector_tilt_x, _y are outside the calibration model
  * (issue 38): the die's wedge on its attach; 0 by default until a source
  * states it (an assumed 20 um over the 2048 x 5.5 um die would be 366").
- * prnu_pct, dsnu_pct (the detector's fixed pattern) and glass_ghost are
- * outside it too (dss_pattern.h); they are 'fixed': every unit has them,
- * each unit its own pattern.
+ * prnu_pct, dsnu_pct (the detector's fixed pattern, each unit its own, its
+ * rms amplitude uniform below the datasheet's bound) and glass_ghost
+ * ('fixed': the physics of uncoated glass) are outside it too
+ * (dss_pattern.h).
  */
 #ifndef SUNMC_DSS_DEVIATIONS_H
 #define SUNMC_DSS_DEVIATIONS_H
@@ -57,10 +58,11 @@
       "atan(0.020 / 11.26) = 366\")")                                                              \
     X(detector_tilt_y_arcsec, "arcsec", 1, 15, "detector_tilt_y_arcsec", "0", "uniform", 36000,   \
       "detector plane tilted against the mask about its Y axis (see detector_tilt_x_arcsec)")    \
-    X(prnu_pct, "%", 1, 16, "prnu_pct", "1", "fixed", 100,                                         \
+    X(prnu_pct, "%", 1, 16, "prnu_pct", "1", "uniform", 100,                                       \
       "pixel response non-uniformity, rms gain of the unit's fixed pattern (not in the "          \
-      "calibration model; CMV4000 datasheet, the 2048 x 5.5 um detector: PRNU < 1 % rms)")        \
-    X(dsnu_pct, "%", 1, 17, "dsnu_pct", "0.1", "fixed", 100,                                       \
+      "calibration model; CMV4000 datasheet, the 2048 x 5.5 um detector: PRNU < 1 % rms, so "    \
+      "units spread below it; the sign flips the pattern)")                                       \
+    X(dsnu_pct, "%", 1, 17, "dsnu_pct", "0.1", "uniform", 100,                                     \
       "dark signal non-uniformity, rms dark offset of the fixed pattern in % of the spot's peak " \
       "pixel (CMV4000 datasheet: fixed pattern noise < 1 LSB rms of 10 bits, 0.1 % of full "    \
       "scale)")                                                                                   \

@@ -157,7 +157,9 @@ typedef struct {
 } dss_sensor;
 
 /* Unit `unit`'s fixed-pattern key for seed: a draw of stream
- * RNG_STREAM_PATTERN (deterministic in (seed, unit), no other draw moves). */
+ * RNG_STREAM_PATTERN (deterministic in (seed, unit), no other draw moves),
+ * seeded as prnu_pct's stream (DSS_PRNU_STREAM). */
+#define DSS_PRNU_STREAM 16
 uint32_t dss_pattern_key(const sunmc_config *c, uint64_t seed, long unit);
 
 /* Whether the spot of s carries a fixed pattern or a ghost. */

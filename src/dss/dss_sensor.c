@@ -144,8 +144,10 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
 uint32_t dss_pattern_key(const sunmc_config *c, uint64_t seed, long unit)
 {
     rng_stream r;
-    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_PATTERN), (uint64_t)unit,
-                    RNG_STREAM_PATTERN);
+    /* seeded as prnu_pct's stream, so a pick-freeze of it freezes the
+     * pattern too (the DSNU pattern shares the key: one detector) */
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_TOLERANCE + DSS_PRNU_STREAM),
+                    (uint64_t)unit, RNG_STREAM_PATTERN);
     /* 32 bits of a uniform in [0, 1) */
     return (uint32_t)(rng_uniform(&r) * DSS_PATTERN_KEYS);
 }

@@ -14,6 +14,7 @@
 #include "dss_sensor.h"
 #include "dss_unit.h"
 #include "status.h"
+#include "rng.h"
 #include "units.h"
 
 /* The design's spot: sigma = D / 4 = 60 / 5.5 / 4 px, window 2 * 7 + 1. */
@@ -159,8 +160,9 @@ static void test_pattern_per_unit(void **state)
     for (int k = 0; k < 4; k++) {
         dss_deviations d;
         dss_deviations_sample(&c, seeds[k], units[k], &d);
-        assert_near(d.prnu_pct, 1.0, 0); /* fixed: every unit */
-        assert_near(d.dsnu_pct, 0.1, 0);
+        /* uniform below the datasheet's bounds; the ghost fixed */
+        assert_true(fabs(d.prnu_pct) <= 1.0 && d.prnu_pct != 0.0);
+        assert_true(fabs(d.dsnu_pct) <= 0.1 && d.dsnu_pct != 0.0);
         assert_near(d.glass_ghost, 1.0, 0);
         memset(&d, 0, sizeof d);
         d.prnu_pct = 1.0;
@@ -174,6 +176,22 @@ static void test_pattern_per_unit(void **state)
     assert_true(xs[2] != xs[0] && ys[2] != ys[0]);
     assert_true(xs[3] != xs[0] && ys[3] != ys[0]);
     assert_int_equal(dss_pattern_key(&c, 1, 3), dss_pattern_key(&c, 1, 3));
+    /* the key is seeded as prnu_pct's stream: its line of the list */
+    int found = 0;
+    for (int e = 0; e < DSS_N_TOL; e++)
+        if (strcmp(dss_deviation_list[e].name, "prnu_pct") == 0) {
+            assert_int_equal(dss_deviation_list[e].stream, DSS_PRNU_STREAM);
+            found = 1;
+        }
+    assert_true(found);
+    /* a pick-freeze of that stream freezes the pattern; of another, not */
+    sunmc_config cp = c;
+    cp.pick.n = 1;
+    cp.pick.seed = 99;
+    cp.pick.stream[0] = RNG_STREAM_TOLERANCE + DSS_PRNU_STREAM;
+    assert_int_equal(dss_pattern_key(&cp, 1, 3), dss_pattern_key(&c, 99, 3));
+    cp.pick.stream[0] = RNG_STREAM_TOLERANCE + 17;
+    assert_int_equal(dss_pattern_key(&cp, 1, 3), dss_pattern_key(&c, 1, 3));
     assert_true(dss_pattern_key(&c, 1, 3) != dss_pattern_key(&c, 1, 4));
     /* the readings repeat: dss_sensor_read gives the same spot as _spot */
     dss_deviations d = {.prnu_pct = 1.0, .dsnu_pct = 0.1};
