@@ -82,6 +82,14 @@ static void test_window_of_the_spot(void **state)
     assert_near(dss_spot_sun_px(&d), Ds, 1e-12);
     assert_near(dss_spot_sigma_px(&d), sqrt(D * D / 16 + airy * airy + Ds * Ds / 16), 1e-12);
     assert_int_equal(dss_window_half_px(dss_spot_sigma_px(&d)), 10);
+    /* the sensor's pattern sums over that window, or the design's own */
+    dss_deviations z = {0};
+    dss_sensor s;
+    dss_sensor_init(&s, &d, &z, 0);
+    assert_int_equal(s.pattern.half_px, 10);
+    d.centroid_window_px = 4;
+    dss_sensor_init(&s, &d, &z, 0);
+    assert_int_equal(s.pattern.half_px, 4);
 }
 
 /* The pattern's error is the windowed centroid's, pixel by pixel. */
