@@ -18,6 +18,9 @@ typedef struct {
     double pixel_um;         /* pixel pitch */
     int detector_px;         /* detector side in pixels (square) */
     double pinhole_um;       /* pinhole diameter */
+    double wavelength_nm;    /* the sunlight's effective wavelength (0: no diffraction) */
+    double mask_thickness_um; /* the mask's thickness: the pinhole is a tube */
+    int centroid_window_px;  /* the centroid window's half-width m (0: the whole spot) */
     double glass_thickness_mm;
     double glass_index;
     double fov_deg;          /* half field of view, per axis */

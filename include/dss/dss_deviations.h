@@ -10,6 +10,10 @@
  * (dss_sensor.h).  detector_tilt_x, _y are outside the calibration model
  * (issue 38): the die's wedge on its attach; 0 by default until a source
  * states it (an assumed 20 um over the 2048 x 5.5 um die would be 366").
+ * prnu_pct, dsnu_pct (the detector's fixed pattern, each unit its own, its
+ * rms amplitude uniform below the datasheet's bound) and glass_ghost
+ * ('fixed': the physics of uncoated glass) are outside it too
+ * (dss_pattern.h).
  */
 #ifndef SUNMC_DSS_DEVIATIONS_H
 #define SUNMC_DSS_DEVIATIONS_H
@@ -53,7 +57,18 @@
       "0 until a source is found (a 20 um die-attach wedge over an 11.3 mm die would be "         \
       "atan(0.020 / 11.26) = 366\")")                                                              \
     X(detector_tilt_y_arcsec, "arcsec", 1, 15, "detector_tilt_y_arcsec", "0", "uniform", 36000,   \
-      "detector plane tilted against the mask about its Y axis (see detector_tilt_x_arcsec)")
+      "detector plane tilted against the mask about its Y axis (see detector_tilt_x_arcsec)")    \
+    X(prnu_pct, "%", 1, 16, "prnu_pct", "1", "uniform", 100,                                       \
+      "pixel response non-uniformity, rms gain of the unit's fixed pattern (not in the "          \
+      "calibration model; CMV4000 datasheet, the 2048 x 5.5 um detector: PRNU < 1 % rms, so "    \
+      "units spread below it; the sign flips the pattern)")                                       \
+    X(dsnu_pct, "%", 1, 17, "dsnu_pct", "0.1", "uniform", 100,                                     \
+      "dark signal non-uniformity, rms dark offset of the fixed pattern in % of the spot's peak " \
+      "pixel (CMV4000 datasheet: fixed pattern noise < 1 LSB rms of 10 bits, 0.1 % of full "    \
+      "scale)")                                                                                   \
+    X(glass_ghost, "", 1, 18, "glass_ghost", "1", "fixed", 100,                                    \
+      "the cover glass's ghost (its double internal reflection) as a multiple of the Fresnel "   \
+      "reflectance of uncoated glass (1: 0.18 % of the spot at n = 1.52; an AR coating is < 1)")
 
 enum {
     DSS_N_TOL = 0 DSS_DEVIATIONS(DEVIATION_X_ONE),

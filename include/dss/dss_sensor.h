@@ -74,8 +74,10 @@
  *
  * Centroid: the spot is the pinhole's shadow, a disc of the pinhole's
  * diameter; its centroid carries the optional S-curve bias (dss_centroid.h)
- * and Gaussian detector noise.  A spot whose disc leaves the detector is not
- * seen (SUNMC_EDOM).
+ * , the detector's fixed pattern (PRNU, DSNU) and the cover glass's ghost
+ * (dss_pattern.h: a centroid window of 2.5 sigma, the ghost pulls only
+ * while inside it), and Gaussian detector noise.  A spot whose disc leaves
+ * the detector is not seen (SUNMC_EDOM).
  */
 #ifndef SUNMC_DSS_SENSOR_H
 #define SUNMC_DSS_SENSOR_H
@@ -84,6 +86,7 @@
 #include "deviation.h"
 #include "dss_centroid.h"
 #include "dss_onboard.h"
+#include "dss_pattern.h"
 #include "rotation.h"
 
 #include <stdint.h>
@@ -100,6 +103,8 @@ typedef struct {
     double spacer_cte_ppm_k, detector_cte_ppm_k, glass_cte_ppm_k, glass_dn_dt_ppm_k;
     /* the detector plane against the mask (truth only; see Detector tilt) */
     double detector_tilt_x_arcsec, detector_tilt_y_arcsec;
+    /* the detector's fixed pattern and the glass's ghost (truth only; dss_pattern.h) */
+    double prnu_pct, dsnu_pct, glass_ghost;
 } dss_deviations;
 
 /* calibration.sun = measured (campaign.mount = as_mounted): unit `unit`'s
@@ -142,10 +147,27 @@ typedef struct {
                                 * design.principal_point = paper_eq6 the ray
                                 * S_b0 = (dx, dy, -h) at the table's zero */
     double spot_px;            /* spot diameter */
+    double tube_ratio;         /* mask thickness / pinhole diameter: no light passes
+                                * where tan(theta) >= 1 / tube_ratio */
     double disc_c_rad2;        /* the sun's disc: dss_disc_coefficient (0: a point sun) */
     int s_curve;               /* 1: apply the S-curve bias */
     double scurve_amp_px[DSS_SCURVE_HARMONICS];
+    dss_pattern pattern;       /* fixed pattern and ghost (dss_pattern.h); its key is
+                                * 0 until dss_sensor_pattern_key */
 } dss_sensor;
+
+/* Unit `unit`'s fixed-pattern key for seed: a draw of stream
+ * RNG_STREAM_PATTERN (deterministic in (seed, unit), no other draw moves),
+ * seeded as prnu_pct's stream (DSS_PRNU_STREAM). */
+#define DSS_PRNU_STREAM 16
+uint32_t dss_pattern_key(const sunmc_config *c, uint64_t seed, long unit);
+
+/* Whether the spot of s carries a fixed pattern or a ghost. */
+int dss_sensor_extras_on(const dss_sensor *s);
+
+/* Add the fixed pattern's and the ghost's centroid errors (dss_pattern.h)
+ * to the noiseless spot (x_px, y_px) of sun direction u. */
+void dss_sensor_extras(const dss_sensor *s, const double u[3], double *x_px, double *y_px);
 
 /* The sun disc's coefficient m2 / 4 (rad^2) of design.sun_disc_deg and
  * design.limb_darkening u (see Sun disc above): R^2 (15 - 7u) / (40 (3 - u)). */

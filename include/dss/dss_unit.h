@@ -30,6 +30,10 @@ void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *
 void dss_unit_build_amp(const sunmc_config *c, const dss_deviations *dev, const double *amp_px,
                         dss_unit *u);
 
+/* Give unit u the fixed pattern of unit `unit` for seed (dss_pattern_key);
+ * a unit built without it has key 0's pattern.  Call after each build. */
+void dss_unit_set_pattern(const sunmc_config *c, uint64_t seed, long unit, dss_unit *u);
+
 /* Readings in c's campaign: the b1 x b2 grid (campaign.b_min_deg ..
  * b_max_deg, step b_step_deg, both axes), b1 varying slowest. */
 size_t dss_campaign_size(const sunmc_config *c);

@@ -21,8 +21,9 @@ enum rng_stream_id {
     RNG_STREAM_ALIGNMENT = 0x202, /* the roll alignment measurement */
     RNG_STREAM_SUN_Y = 0x203,     /* the sun simulator's tilt measurement (ESS) */
     RNG_STREAM_SUN_B = 0x204,     /* the sun simulator's direction measurement (DSS) */
-    RNG_STREAM_LINE_CAL = 0x205,  /* the table's setting error per campaign line (PSD) */
-    RNG_STREAM_LINE_VAL = 0x206,  /* the same per validation line (PSD) */
+    RNG_STREAM_PATTERN = 0x205,   /* the detector's fixed pattern: its key (DSS) */
+    RNG_STREAM_LINE_CAL = 0x206,  /* the table's setting error per campaign line (PSD) */
+    RNG_STREAM_LINE_VAL = 0x207,  /* the same per validation line (PSD) */
     RNG_STREAM_LOT = 0x300,       /* + the stream id: a lot's common part (index: the lot) */
     RNG_STREAM_DESIGN = 0x400     /* + the stream id: a sampling block's keys (index: the block) */
 };

@@ -15,6 +15,7 @@
 #define ARCSEC_PER_RAD (180.0 * 3600.0 / M_PI)
 #define MM_PER_UM 1e-3
 #define UM_PER_MM 1e3
+#define MM_PER_NM 1e-6
 #define FRACTION_PER_PCT 1e-2
 
 #endif

@@ -82,6 +82,7 @@ static int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     cw->sun_rad[1] = sun[1] * dev_sign * RAD_PER_ARCSEC;
     deviations_scale(dss_deviation_list, DSS_N_TOL, &dev, dev_sign);
     dss_unit_build(c, &dev, &w->u);
+    dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &w->u);
     dss_unit_campaign(c, &w->u, unit, cw->b1_rad, cw->b2_rad, cw->x_px, cw->y_px, cw->weight,
                       NULL, NULL);
     fit_result fr;
@@ -93,6 +94,7 @@ static int dss_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
         dss_deviations at;
         dss_deviations_at_temp(c, &dev, thermal_temp_c(c, 0), &at);
         dss_unit_build(c, &at, &w->u);
+        dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &w->u);
     }
     return SUNMC_OK;
 }

@@ -33,6 +33,24 @@ const config_key dss_keys[] = {
      "detector side length in pixels (square detector)"},
     {"design", "pinhole_um", KEY_DOUBLE, "um", "60", 1, 5000, NULL, OFF(design.pinhole_um),
      "pinhole diameter (sets the spot size for the S-curve bias)"},
+    {"design", "wavelength_nm", KEY_DOUBLE, "nm", "650", 0, 2000, NULL, OFF(design.wavelength_nm),
+     "effective wavelength of the sunlight the detector sees: the pinhole's diffraction blurs "
+     "the spot (cut-off d / (lambda h)) and sets the S-curve with the centroid window "
+     "(docs/dss.md); 650 = the middle of a silicon detector's response to sunlight "
+     "(400-900 nm); 0 = no diffraction, the geometric disc's S-curve"},
+    {"design", "mask_thickness_um", KEY_DOUBLE, "um", "0", 0, 1000, NULL,
+     OFF(design.mask_thickness_um),
+     "thickness of the mask around the pinhole: the hole becomes a tube whose light is the "
+     "overlap of its two openings, centred at its mid-plane (h is to the lower face; the spot "
+     "sits as if the pinhole were T / 2 higher), and no light passes beyond "
+     "tan(theta) = pinhole / T; 0 = a thin film (a chrome mask on glass, ~0.1 um)"},
+    {"design", "centroid_window_px", KEY_INT, "px", "0", 0, 64, NULL,
+     OFF(design.centroid_window_px),
+     "half-width m of a fixed centroid window without threshold (2 m + 1 pixels about the "
+     "pixel nearest the spot): it cuts the spot's diffraction tails, an S-curve of 0.031 px "
+     "rms at m = 10 for configs/dss.ini (noise.s_curve = on; docs/dss.md); 0 = the whole "
+     "spot (a thresholded centroid: no truncation), the fixed pattern summed over "
+     "ceil(2.5 sigma)"},
     {"design", "glass_thickness_mm", KEY_DOUBLE, "mm", "0.4", 0, 5, NULL,
      OFF(design.glass_thickness_mm),
      "detector cover-glass thickness"},
@@ -44,7 +62,7 @@ const config_key dss_keys[] = {
      "the sun's apparent diameter: the spot is the pinhole's image of the disc, whose centroid "
      "sits (R^2/4) tan(theta) farther out than the centre's image (~1.1 arcsec tan(theta); "
      "docs/dss.md); 0.533 = the sun's mean diameter over the year (0.524-0.542; 1 AU, solar "
-     "radius 695,700 km, IAU 2015 B3); 0 (default, for now) = a point sun, as before"},
+     "radius 695,700 km, IAU 2015 B3; configs/dss.ini, in orbit); 0 = a point sun"},
     {"design", "limb_darkening", KEY_DOUBLE, "", "0.6", 0, 1, NULL, OFF(design.limb_darkening),
      "linear limb-darkening coefficient u of the sun's disc, I(mu) = 1 - u (1 - mu): 0.6 = the "
      "visible value (Eddington grey atmosphere; Neckel & Labs 1994, Sol. Phys. 153, give "

@@ -58,6 +58,7 @@ static int sim_run(const sunmc_config *c, long unit, void **out, char *err, size
     s->sun_measured = dc->sun_mode == DSS_SUN_MEASURED && dc->design.mount == DSS_MOUNT_AS_MOUNTED;
     dss_sun_measured_arcsec(c, (uint64_t)c->seed, unit, &s->dev, s->sun_meas_arcsec);
     dss_unit_build(c, &s->dev, &u);
+    dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
     double **v = s->col;
     s->n_spot = dss_unit_campaign(c, &u, unit, v[C_B1], v[C_B2], v[C_X], v[C_Y], v[C_WEIGHT],
                                   v[C_TRUTH_A], v[C_TRUTH_B]);

@@ -161,7 +161,9 @@ VM_INLINE dss_lane_spot dss_lane_sensor_spot(const dss_sensor *s, geo_v3 u)
     geo_v3 w = geo_mul(s->D, u);
     sp = dss_lane_tilt(s->D, sp, w);
     dss_lane_spot o;
-    o.ok = (u.z > 0.0) & (w.z > 0.0) & fits & (fabs(sp.x) <= lim) & (fabs(sp.y) <= lim);
+    /* the tube closes where T tan(theta) >= d */
+    int open = s->tube_ratio * s->tube_ratio * (u.x * u.x + u.y * u.y) < u.z * u.z;
+    o.ok = (u.z > 0.0) & (w.z > 0.0) & fits & open & (fabs(sp.x) <= lim) & (fabs(sp.y) <= lim);
     o.x = sp.x / s->pixel_mm;
     o.y = sp.y / s->pixel_mm;
     geo_xy b =

@@ -41,6 +41,7 @@ static int pilot_unit(const sunmc_config *c0, uint64_t seed, long u, dss_calib_w
     dss_unit unit;
     dss_deviations_sample(c0, seed, u, &dev);
     dss_unit_build(c0, &dev, &unit);
+    dss_unit_set_pattern(c0, seed, u, &unit);
     rng_stream r; /* nothing is drawn from it that matters: c0 has no noise */
     rng_stream_init(&r, seed, (uint64_t)u, RNG_STREAM_CAL_NOISE);
     for (size_t i0 = 0; i0 < pw->n; i0 += DSS_CHUNK) {

@@ -73,6 +73,25 @@ VM_KERNEL static void read_chunk(const dss_sensor *s, size_t k, const dss_trig *
     }
 }
 
+/* The fixed pattern and the ghost (dss_pattern.h) of the seen spots of a
+ * chunk: a loop per spot, outside the vectorised kernel. */
+static void read_extras(const dss_sensor *s, size_t k, const dss_trig *t, double *x_px,
+                        double *y_px, const double *seen)
+{
+    if (!dss_sensor_extras_on(s))
+        return;
+    for (size_t i = 0; i < k; i++) {
+        if (seen[i] == 0.0)
+            continue;
+        double u[3];
+        geo_v3 v = dss_lane_sun_at(s, geo_table_trig(t->c1[i], t->s1[i], t->c2[i], t->s2[i]));
+        u[0] = v.x;
+        u[1] = v.y;
+        u[2] = v.z;
+        dss_sensor_extras(s, u, &x_px[i], &y_px[i]);
+    }
+}
+
 int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double noise_px[2],
                     double *x_px, double *y_px)
 {
@@ -84,6 +103,7 @@ int dss_sensor_read(const dss_sensor *s, double b1, double b2, const double nois
     pad_lanes(b, 1);
     trig_chunk(1, a, b, &t);
     read_chunk(s, 1, &t, x, y, seen);
+    read_extras(s, 1, &t, x, y, seen);
     if (seen[0] == 0.0)
         return SUNMC_EDOM;
     *x_px = noise_px ? x[0] + noise_px[0] : x[0];
@@ -114,6 +134,7 @@ static void campaign_chunk(const sunmc_config *c, const dss_unit *u, rng_stream 
     pad_lanes(bt2, np);
     trig_chunk(np, bt1, bt2, &t);
     read_chunk(&u->sensor, np, &t, x, y, seen);
+    read_extras(&u->sensor, np, &t, x, y, seen);
     for (size_t i = 0; i < np; i++) {
         double sx = 0.0, sy = 0.0;
         for (size_t rep = 0; rep < reps; rep++) {
@@ -183,6 +204,7 @@ static void validation_chunk(const sunmc_config *c, const dss_unit *u, rng_strea
     pad_lanes(p, k);
     pad_lanes(q, k);
     read_chunk(&u->sensor, k, t, x, y, seen);
+    read_extras(&u->sensor, k, t, x, y, seen);
     dss_truth_batch_trig(u->sensor.mount, u->sensor.v0, k, p, q, t->c1, t->s1, t->c2, t->s2, a0,
                          b0);
     for (size_t i = 0; i < k; i++) {

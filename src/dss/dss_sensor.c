@@ -111,7 +111,9 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
     s->pixel_phase_px = (d->detector_px % 2 == 0) ? 0.5 : 0.0;
     s->pinhole_mm[0] = dev->dx_px * s->pixel_mm;
     s->pinhole_mm[1] = dev->dy_px * s->pixel_mm;
-    s->pinhole_mm[2] = d->h_mm + dev->dh_px * s->pixel_mm;
+    /* a mask of thickness T: the tube's light is centred at its mid-plane */
+    s->pinhole_mm[2] = d->h_mm + dev->dh_px * s->pixel_mm + 0.5 * d->mask_thickness_um * MM_PER_UM;
+    s->tube_ratio = d->mask_thickness_um / d->pinhole_um;
     s->glass_t_mm = d->glass_thickness_mm + dev->glass_thickness_um * MM_PER_UM;
     s->glass_n = d->glass_index + dev->glass_index;
     rot_zxy(dev->c1_arcsec * RAD_PER_ARCSEC, dev->c2_arcsec * RAD_PER_ARCSEC,
@@ -127,10 +129,47 @@ void dss_sensor_init_amp(dss_sensor *s, const dss_design *d, const dss_deviation
     s->spot_px = dss_spot_px(d);
     s->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     s->s_curve = s_curve;
+    dss_pattern_init(&s->pattern, dss_spot_sigma_px(d), s->pixel_phase_px);
+    if (d->centroid_window_px > 0)
+        s->pattern.half_px = d->centroid_window_px;
     if (amp_px)
         memcpy(s->scurve_amp_px, amp_px, sizeof s->scurve_amp_px);
-    else
-        dss_scurve_amplitudes(s->spot_px, s->scurve_amp_px);
+    else if (s_curve) /* else unused: memset left them 0 */
+        dss_scurve_design(d, s->scurve_amp_px);
+    s->pattern.prnu = dev->prnu_pct * FRACTION_PER_PCT;
+    s->pattern.dsnu = dev->dsnu_pct * FRACTION_PER_PCT;
+    s->pattern.ghost = dev->glass_ghost;
+}
+
+uint32_t dss_pattern_key(const sunmc_config *c, uint64_t seed, long unit)
+{
+    rng_stream r;
+    /* seeded as prnu_pct's stream, so a pick-freeze of it freezes the
+     * pattern too (the DSNU pattern shares the key: one detector) */
+    rng_stream_init(&r, unit_stream_seed(c, seed, RNG_STREAM_TOLERANCE + DSS_PRNU_STREAM),
+                    (uint64_t)unit, RNG_STREAM_PATTERN);
+    /* 32 bits of a uniform in [0, 1) */
+    return (uint32_t)(rng_uniform(&r) * DSS_PATTERN_KEYS);
+}
+
+int dss_sensor_extras_on(const dss_sensor *s)
+{
+    return s->pattern.prnu != 0.0 || s->pattern.dsnu != 0.0 || s->pattern.ghost != 0.0;
+}
+
+void dss_sensor_extras(const dss_sensor *s, const double u[3], double *x_px, double *y_px)
+{
+    const dss_pattern *p = &s->pattern;
+    double ex = 0.0, ey = 0.0, gx = 0.0, gy = 0.0;
+    dss_pattern_error(p, *x_px, *y_px, &ex, &ey);
+    if (p->ghost != 0.0 && u[2] > 0.0) {
+        double n = s->glass_n, s2 = u[0] * u[0] + u[1] * u[1];
+        double a = p->ghost * dss_ghost_intensity(u[2], n);
+        double k = -2.0 * s->glass_t_mm / (sqrt(n * n - s2) * s->pixel_mm);
+        dss_ghost_pull(p, a, *x_px, *y_px, k * u[0], k * u[1], &gx, &gy);
+    }
+    *x_px += ex + gx;
+    *y_px += ey + gy;
 }
 
 void dss_sun_direction(int mount, const mat3 M, double sun_b1, double sun_b2, double v[3])
@@ -179,6 +218,8 @@ VM_NOSAN int dss_sensor_spot(const dss_sensor *s, const double u[3], const doubl
     dss_lane_spot sp = dss_lane_sensor_spot(s, geo_v3_of(u));
     if (!sp.ok)
         return SUNMC_EDOM;
+    if (dss_sensor_extras_on(s))
+        dss_sensor_extras(s, u, &sp.x, &sp.y);
     *x_px = noise_px ? sp.x + noise_px[0] : sp.x;
     *y_px = noise_px ? sp.y + noise_px[1] : sp.y;
     return SUNMC_OK;

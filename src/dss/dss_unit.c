@@ -48,6 +48,11 @@ void dss_unit_build_amp(const sunmc_config *c, const dss_deviations *dev, const 
     dss_sensor_init_amp(&u->sensor, &dc->design, dev, dc->noise.s_curve, amp_px);
 }
 
+void dss_unit_set_pattern(const sunmc_config *c, uint64_t seed, long unit, dss_unit *u)
+{
+    u->sensor.pattern.key = dss_pattern_key(c, seed, unit);
+}
+
 static long cal_axis_count(const sunmc_config *c)
 {
     const dss_config *dc = dss_cfg(c);
@@ -209,7 +214,7 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
-    dss_scurve_amplitudes(dss_spot_px(&dc->design), w->amp_px);
+    dss_scurve_design(&dc->design, w->amp_px);
     if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
         dss_ws_free(w);
         return NULL;
@@ -452,6 +457,8 @@ static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
     dss_unit_build_amp(c, &dev, w->amp_px, &u);
+    dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
+    dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
     dss_val_readings v = dss_rd_view(&w->val, rd, 0);
     dss_unit_read_validation(c, &u, unit, &v);
     for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
@@ -460,6 +467,7 @@ static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
             continue;
         dss_deviations_at_temp(c, &dev, T, &dev_t);
         dss_unit_build_amp(c, &dev_t, w->amp_px, &u);
+        dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
         v = dss_rd_view(&w->val, rd, k++);
         dss_unit_read_validation(c, &u, unit, &v);
     }
@@ -499,6 +507,7 @@ static int dss_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     dss_unit u;
     dss_deviations_sample(c, (uint64_t)c->seed, unit, &dev);
     dss_unit_build_amp(c, &dev, w->amp_px, &u);
+    dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
 
     memset(res, 0, sizeof *res);
     res->unit = unit;

@@ -18,6 +18,10 @@
  * trade rounding noise (GSL's own tests wait for that noise to vanish and
  * spend several evaluations on it). */
 #define FIT_DTOL 1e-12
+/* A start whose cost |f|^2 is below this is exact to rounding in any
+ * quantity of order one (residuals of 1e-11 over 10^4 points): no step
+ * lowering it is the solution, whatever the gradient's rounding. */
+#define FIT_F2_EXACT 1e-16
 /* Damping, relative to the largest scaled diagonal of J^T J: Nielsen's
  * start (GSL's nielsen_init); on an accepted step it falls by Nielsen's
  * factor but at least FIT_MU_FALL, down to FIT_MU_MIN.  The floor keeps
@@ -325,16 +329,17 @@ static int converged(fit_workspace *fw, const lm_state *s, int *info)
 
 /* GSL's driver: iterate until converged; no step at all on the first
  * iteration is GSL_EMAXITER -- unless the start already passes the
- * gradient test (a perfect unit's data fitted from the nominal model: its
- * residuals are zero or rounding, and no step can lower them), which is
- * the solution, 0 iterations. */
+ * gradient test or its cost is below FIT_F2_EXACT (a perfect unit's data
+ * fitted from the nominal model: its residuals are zero or rounding, and no
+ * step can lower them; the gradient of rounding residuals times a large
+ * Jacobian need not pass the test), which is the solution, 0 iterations. */
 static int lm_drive(fit_workspace *fw, lm_state *s, int max_iter, fit_result *res)
 {
     size_t iter = 0;
     int st, done = 0;
     do {
         st = lm_iterate(fw, s);
-        if (st == GSL_ENOPROG && iter == 0 && gradient_small(fw, s)) {
+        if (st == GSL_ENOPROG && iter == 0 && (gradient_small(fw, s) || s->f2 <= FIT_F2_EXACT)) {
             res->info = 2;
             res->iterations = 0;
             return GSL_SUCCESS;

@@ -34,7 +34,8 @@ static const family_case dss = {
     "configs/dss.ini",
     "--units 10 --seed 4 --set validation.b_step_deg=10",
     {"dh_px", "dx_px", "dy_px", "c1_arcsec", "c2_arcsec", "c3_arcsec", "glass_thickness_um",
-     "glass_index", "sun_b1_arcsec", "sun_b2_arcsec", NULL},
+     "glass_index", "sun_b1_arcsec", "sun_b2_arcsec", "glass_ghost",
+     NULL},
     {"noise.centroid_px", "noise.encoder_arcsec", NULL}};
 
 static void sunmc_ok(const char *args, char *out, size_t len)

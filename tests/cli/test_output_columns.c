@@ -390,7 +390,9 @@ static void dss_fit_columns_are_deviations(void **state)
            " --set tolerance.glass_index=0 --set calibration.fit_glass_index=off"
            " --set tolerance.dh_px=3 --set tolerance.dx_px=2 --set tolerance.dy_px=2"
            " --set tolerance.c1_arcsec=200 --set tolerance.c2_arcsec=200"
-           " --set tolerance.c3_arcsec=200 --set tolerance.glass_thickness_um=20 --out %s/dss_fit%s",
+           " --set tolerance.c3_arcsec=200 --set tolerance.glass_thickness_um=20"
+           " --set tolerance.prnu_pct=0 --set tolerance.dsnu_pct=0 --set tolerance.glass_ghost=0"
+           " --out %s/dss_fit%s",
            dir, "");
     snprintf(path, sizeof path, "%s/dss_fit/units.tsv", dir);
     tsv *u = tsv_load(path);

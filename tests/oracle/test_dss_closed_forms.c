@@ -345,6 +345,7 @@ static void test_scurve_pixel_phase(void **state)
         for (int pi = 0; pi < 2; pi++) {
             sunmc_config c = default_dss();
             dss_cfg(&c)->design.glass_thickness_mm = 0;
+            dss_cfg(&c)->design.wavelength_nm = 0; /* the geometric disc's S-curve */
             dss_cfg(&c)->design.detector_px = detectors[di];
             dss_cfg(&c)->design.pinhole_um = pinholes_um[pi];
             dss_deviations d = {0};

@@ -310,7 +310,7 @@ static void compare(const indep_dss *m, const indep_dss *design, double sigma_px
              "--set tolerance.dh_px=2.5 --set tolerance.dx_px=1 --set tolerance.dy_px=1.2 "
              "--set tolerance.c1_arcsec=100 --set tolerance.c2_arcsec=100 "
              "--set tolerance.c3_arcsec=100 --set tolerance.sun_b1_arcsec=50 "
-             "--set tolerance.sun_b2_arcsec=50 %s %s --out %s_cal",
+             "--set tolerance.sun_b2_arcsec=50 --set design.sun_disc_deg=0 %s %s --out %s_cal",
              test_sunmc(), extra, path, test_tmp(tag));
     if (test_run(cmd, out, sizeof out) != 0)
         fail_msg("%s: %s", cmd, out);

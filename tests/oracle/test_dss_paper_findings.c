@@ -230,10 +230,14 @@ static void test_deviation_sampling(void **state)
     assert_true(a.dh_px != other.dh_px);
     double v[DSS_N_DEV];
     dss_deviations_values(&a, v);
-    /* the thermal tolerances (the last four) are 0 by default */
-    const double lim[DSS_N_DEV] = {0.2, 0.1, 0.1, 10, 10, 10, 10, 0.005, 10, 10, 0, 0, 0, 0};
+    /* the thermal tolerances and the detector's tilt are 0 by default; the
+     * fixed pattern's amplitudes uniform below PRNU 1 %, DSNU 0.1 %; the
+     * ghost fixed at 1 */
+    const double lim[DSS_N_DEV] = {0.2, 0.1, 0.1, 10, 10, 10, 10, 0.005, 10, 10,
+                                   0,   0,   0,   0,  0,  0,  1,  0.1,   1};
     for (int i = 0; i < DSS_N_DEV; i++)
         assert_true(fabs(v[i]) <= lim[i] && (v[i] != 0.0) == (lim[i] > 0));
+    assert_true(v[DSS_N_DEV - 1] == lim[DSS_N_DEV - 1]);
     dss_cfg(&c)->tol.dx_px.value = 0.5; /* another tolerance does not reshuffle dh */
     dss_deviations_sample(&c, 7, 3, &b);
     assert_true(a.dh_px == b.dh_px && a.dx_px != b.dx_px);

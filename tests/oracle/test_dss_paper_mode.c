@@ -9,7 +9,7 @@
     "--set validation.b_step_deg=10 --set validation.b_offset_deg=0 "                             \
     "--set noise.centroid_px=0 --set noise.encoder_arcsec=0 --set noise.s_curve=off "             \
     "--set design.glass_thickness_mm=0 --set calibration.fit_glass_index=off "                    \
-    "--set campaign.mount=aligned --quiet "
+    "--set campaign.mount=aligned --set design.sun_disc_deg=0 --quiet "
 #define PAPER "--set design.principal_point=paper_eq6 "
 #define MAX_ROWS 169
 

@@ -180,8 +180,8 @@ static void built_in_envelope_both_ends(void **state)
 {
     const sensor_family *f = sensor_family_find("dss");
     assert_non_null(f);
-    char sets_buf[16][80];
-    const char *sets[16];
+    char sets_buf[24][80];
+    const char *sets[24];
     int n = 0;
     for (int e = 0; e < f->n_deviations; e++) {
         snprintf(sets_buf[n], sizeof sets_buf[n], "tolerance.%s=%s", f->deviations[e].name,

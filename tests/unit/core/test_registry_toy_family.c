@@ -470,7 +470,10 @@ static void deviation_lists(void **state)
     assert_string_equal(ess_deviation_names[18], "spacer_cte_ppm_k");
     assert_string_equal(ess_deviation_names[20], "dial_tilt_deg");
     assert_string_equal(ess_deviation_names[21], "roll_measured_arcsec");
-    assert_int_equal(DSS_N_DEV, 16);
+    assert_int_equal(DSS_N_DEV, 19);
+    assert_string_equal(dss_deviation_names[16], "prnu_pct");
+    assert_string_equal(dss_deviation_names[17], "dsnu_pct");
+    assert_string_equal(dss_deviation_names[18], "glass_ghost");
 }
 
 int main(void)

@@ -161,9 +161,9 @@ static void expect_independent(double (*x)[NU], int nk, const char *const *names
 static void build_normal(config_state *st, const char *path, const char *const *keys,
                          const double *sigma, int n, const char *const *extra, int n_extra)
 {
-    char sets[32][64];
-    const char *setp[32];
-    assert_true(2 * n + n_extra <= 32);
+    char sets[48][64];
+    const char *setp[48];
+    assert_true(2 * n + n_extra <= 48);
     for (int k = 0; k < n; k++) {
         snprintf(sets[2 * k], 64, "tolerance.%s=%g", keys[k], sigma[k]);
         snprintf(sets[2 * k + 1], 64, "tolerance.%s_dist=normal", keys[k]);
@@ -236,9 +236,10 @@ static void dss_deviations_independent(void **state)
         "dh_px",         "dx_px",         "dy_px",           "c1_arcsec",
         "c2_arcsec",     "c3_arcsec",     "glass_thickness_um", "glass_index",
         "sun_b1_arcsec", "sun_b2_arcsec", "spacer_cte_ppm_k", "detector_cte_ppm_k",
-        "glass_cte_ppm_k", "glass_dn_dt_ppm_k", "detector_tilt_x_arcsec", "detector_tilt_y_arcsec"};
+        "glass_cte_ppm_k", "glass_dn_dt_ppm_k", "detector_tilt_x_arcsec", "detector_tilt_y_arcsec",
+        "prnu_pct",      "dsnu_pct",      "glass_ghost"};
     static const double sigma[DSS_N_DEV] = {0.5, 0.2, 0.3, 10, 20, 30, 5, 0.004, 15, 25,
-                                            2,   0.5, 1.5, 0.7, 40, 70};
+                                            2,   0.5, 1.5, 0.7, 40, 70, 0.8, 0.2, 0.6};
     config_state st;
     build_normal(&st, "configs/dss.ini", keys, sigma, DSS_N_DEV, NULL, 0);
     static double x[DSS_N_DEV][NU];

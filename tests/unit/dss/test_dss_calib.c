@@ -124,6 +124,10 @@ static dss_calib_workspace *campaign(const sunmc_config *c, const dss_deviations
 
 static const char *const quiet[] = {"noise.centroid_px=0", "noise.encoder_arcsec=0",
                                     "noise.s_curve=off"};
+/* ...and the detector's fixed pattern and the glass's ghost, which no
+ * model follows (dss_pattern.h) */
+static const char *const no_pattern[] = {"tolerance.prnu_pct=0", "tolerance.dsnu_pct=0",
+                                         "tolerance.glass_ghost=0"};
 
 /* Noise-free data: the physical fit recovers every parameter. */
 static void physical_fit_recovers(const char *disc)
@@ -253,9 +257,12 @@ static void run_unit(const sunmc_config *c, long unit, unit_result *r)
 
 static void test_family_units(void **state)
 {
-    sunmc_config c = dss_test_config(quiet, 3);
-    const char *psets[] = {quiet[0], quiet[1], quiet[2], "calibration.model=polynomial"};
-    sunmc_config cp = dss_test_config(psets, 4);
+    const char *sets[] = {quiet[0], quiet[1], quiet[2], no_pattern[0], no_pattern[1], no_pattern[2]};
+    sunmc_config c = dss_test_config(sets, 6);
+    const char *psets[] = {quiet[0],      quiet[1],      quiet[2],
+                           no_pattern[0], no_pattern[1], no_pattern[2],
+                           "calibration.model=polynomial"};
+    sunmc_config cp = dss_test_config(psets, 7);
     int band_all = 2; /* 0:60 */
     for (long unit = 0; unit < 3; unit++) {
         unit_result r, rp;

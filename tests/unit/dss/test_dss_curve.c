@@ -7,7 +7,8 @@
  * no S-curve: every number below is a closed form. */
 #define SMALL                                                                                     \
     "--set validation.b_step_deg=10 --set validation.b_offset_deg=0 "                             \
-    "--set noise.centroid_px=0 --set noise.encoder_arcsec=0 --set noise.s_curve=off --quiet"
+    "--set noise.centroid_px=0 --set noise.encoder_arcsec=0 --set noise.s_curve=off "              \
+    "--set design.sun_disc_deg=0 --quiet"
 #define NO_GLASS "--set design.glass_thickness_mm=0 --set calibration.fit_glass_index=off"
 #define GRID_N 13
 #define MAX_ROWS (GRID_N * GRID_N)

@@ -132,7 +132,7 @@ static void test_sensor_amp_same(void **state)
     test_build(&st, "configs/dss.ini", NULL, 0);
     const dss_design *g = &dss_cfg(&st.cfg)->design;
     double amp[DSS_SCURVE_HARMONICS];
-    dss_scurve_amplitudes(dss_spot_px(g), amp);
+    dss_scurve_design(g, amp);
     dss_deviations d;
     dss_deviations_sample(&st.cfg, 1, 2, &d);
     dss_sensor a, b;
