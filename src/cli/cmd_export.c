@@ -182,6 +182,8 @@ int cmd_export(int argc, char **argv)
     char err[SUNMC_ERRLEN];
     int st = pf ? params_read(a.params, pf, err, sizeof err)
                 : sunmc_fail(err, sizeof err, SUNMC_ENOMEM, "out of memory");
+    if (st != SUNMC_OK && st != SUNMC_ENOMEM) /* a params file not read: a bad input */
+        st = SUNMC_EINPUT;
     const family_lab *lab = NULL;
     void *model = NULL;
     if (st == SUNMC_OK)

@@ -1,0 +1,338 @@
+/* test_export.c - issue 42: `sunmc export` writes a unit's calibration as
+ * C99 a flight computer compiles.  Each family's exported code is compiled
+ * here with the system's cc (-std=c99 -Wall -Wextra -Werror -pedantic, and
+ * -DSUNMC_FLOAT) and run on the unit's validation readings against
+ * `sunmc compensate`:
+ *   double  within 1e-9 of the unit's after-calibration RMS (params.ini's
+ *           crossval_rms_arcsec): the port adds nothing;
+ *   float   within FLOAT_ULPS float ulps at 1 rad (the angles are at most
+ *           ~1.2 rad; the reading's own rounding to float, half an ulp of
+ *           |x| <= 1024 px, moves a DSS angle by 1.2e-7 rad, one ulp), in
+ *           deg 16 * 2^-23 * 57.3 = 1.1e-4 deg;
+ *   table   the bilinear error of a smooth map, step^2 / 8 times its
+ *           curvature: its measured size, and the step^2 law (half the
+ *           step, a quarter of the error).
+ * And the refusals: exit 2, nothing written. */
+#include "test_util.h"
+
+#include <math.h>
+#include <unistd.h>
+
+#define FLOAT_ULPS 16.0
+#define FLOAT_BOUND_DEG (FLOAT_ULPS * 1.1920928955078125e-07 * 57.29577951308232)
+#define DOUBLE_OF_AFTER_RMS 1e-9
+
+static char dir[512];
+
+static int sunmc(const char *args, char *out, size_t len)
+{
+    return test_sunmc_in(dir, args, out, len);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    if (test_private_dir(dir, sizeof dir, "export") != 0)
+        return -1;
+    static const char *const steps[] = {
+        "simulate configs/dss.ini --unit 3 --quiet --out $D/sd",
+        "calibrate --config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd",
+        "compensate $D/cd/params.ini $D/sd/validation.csv > $D/cd.csv",
+        "simulate configs/dss.ini --set campaign.mount=aligned --unit 2 --quiet --out $D/sa",
+        "calibrate --config configs/dss.ini --set campaign.mount=aligned $D/sa/campaign.csv "
+        "--quiet --out $D/ca",
+        "compensate $D/ca/params.ini $D/sa/validation.csv > $D/ca.csv"};
+    char out[16384];
+    for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
+        if (sunmc(steps[i], out, sizeof out) != 0) {
+            fprintf(stderr, "%s: %s\n", steps[i], out);
+            return -1;
+        }
+    return 0;
+}
+
+/* Column k of a CSV line (0-based) into buf. */
+static void field(const char *line, int k, char *buf, size_t len)
+{
+    const char *p = line;
+    for (int i = 0; i < k && p; i++) {
+        p = strchr(p, ',');
+        if (p)
+            p++;
+    }
+    size_t n = 0;
+    while (p && p[n] && p[n] != ',' && p[n] != '\n' && n + 1 < len) {
+        buf[n] = p[n];
+        n++;
+    }
+    buf[n] = '\0';
+}
+
+static int column(const char *header, const char *name)
+{
+    char buf[128];
+    for (int k = 0; k < 32; k++) {
+        field(header, k, buf, sizeof buf);
+        if (strcmp(buf, name) == 0)
+            return k;
+    }
+    fail_msg("no column %s in %s", name, header);
+    return -1;
+}
+
+/* compensate's output comp (its raw and compensated columns) as test vectors
+ * in the export's format; returns the rows written (every one compensated). */
+static int vectors_of(const char *comp, const char *vec, const char *const *raw, int n_raw,
+                      const char *const *ang, int n_ang)
+{
+    FILE *in = fopen(comp, "r"), *out = fopen(vec, "w");
+    assert_non_null(in);
+    assert_non_null(out);
+    char line[4096], header[4096] = "", buf[128];
+    int col[8] = {0}, rows = 0;
+    while (fgets(line, sizeof line, in)) {
+        if (line[0] == '#')
+            continue;
+        if (!header[0]) {
+            snprintf(header, sizeof header, "%s", line);
+            for (int k = 0; k < n_raw; k++)
+                col[k] = column(header, raw[k]);
+            for (int k = 0; k < n_ang; k++)
+                col[n_raw + k] = column(header, ang[k]);
+            fputs("header\n", out);
+            continue;
+        }
+        for (int k = 0; k < n_raw; k++) {
+            field(line, col[k], buf, sizeof buf);
+            fprintf(out, "%s,", buf);
+        }
+        fputs("0", out);
+        for (int k = 0; k < n_ang; k++) {
+            field(line, col[n_raw + k], buf, sizeof buf);
+            assert_string_not_equal(buf, "-");
+            fprintf(out, ",%s", buf);
+        }
+        fputc('\n', out);
+        rows++;
+    }
+    fclose(in);
+    assert_int_equal(fclose(out), 0);
+    return rows;
+}
+
+typedef struct {
+    long ok, mismatch;
+    double err_deg[2];
+    double ns;
+} run_result;
+
+/* Compile the export in $D/x (flags), run it on vec; its printout parsed. */
+static run_result compile_run(const char *x, const char *name, const char *flags, const char *vec)
+{
+    char args[2800], out[16384];
+    snprintf(args, sizeof args,
+             "%s/%s/test_main.c %s/%s/sunmc_%s_cal.c -o %s/%s/t -lm 2>&1 && %s/%s/t %s", dir, x,
+             dir, x, name, dir, x, dir, x, vec);
+    char cmd[4000];
+    snprintf(cmd, sizeof cmd, "cc -std=c99 -Wall -Wextra -Werror -pedantic -O2 %s %s", flags,
+             args);
+    int rc = test_run(cmd, out, sizeof out);
+    if (rc != 0)
+        fail_msg("%s: exit %d: %s", cmd, rc, out);
+    run_result r = {0, 0, {0, 0}, 0};
+    const char *p = strstr(out, " ok ");
+    assert_non_null(p);
+    assert_int_equal(sscanf(p, " ok %ld status_mismatch %ld", &r.ok, &r.mismatch), 2);
+    p = strstr(out, "max_abs_error_deg[0] ");
+    assert_non_null(p);
+    assert_int_equal(sscanf(p, "max_abs_error_deg[0] %lf", &r.err_deg[0]), 1);
+    p = strstr(out, "max_abs_error_deg[1] ");
+    if (p)
+        assert_int_equal(sscanf(p, "max_abs_error_deg[1] %lf", &r.err_deg[1]), 1);
+    p = strstr(out, "ns_per_reading ");
+    assert_non_null(p);
+    assert_int_equal(sscanf(p, "ns_per_reading %lf", &r.ns), 1);
+    return r;
+}
+
+static double max2(const double *e)
+{
+    return e[0] > e[1] ? e[0] : e[1];
+}
+
+/* params.ini's crossval_rms_arcsec, in deg. */
+static double after_rms_deg(const char *cal)
+{
+    char path[700], line[512];
+    snprintf(path, sizeof path, "%s/%s/params.ini", dir, cal);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    double v = NAN;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "crossval_rms_arcsec = %lf", &v) == 1)
+            break;
+    fclose(f);
+    assert_true(v > 0);
+    return v / 3600.0;
+}
+
+static const char *const dss_raw[] = {"x_px", "y_px"};
+static const char *const dss_ang[] = {"compensated_alpha_deg", "compensated_beta_deg"};
+
+/* The DSS physical model, exported in double, compiled in double and float,
+ * against compensate on the unit's 800 validation readings; both mounts. */
+static void dss_model_form(const char *cal, const char *x)
+{
+    char args[1024], out[8192], comp[700], vec[700];
+    snprintf(args, sizeof args, "export $D/%s/params.ini --out $D/%s", cal, x);
+    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    snprintf(comp, sizeof comp, "%s/%s.csv", dir, cal);
+    snprintf(vec, sizeof vec, "%s/%s.vec", dir, cal);
+    int n = vectors_of(comp, vec, dss_raw, 2, dss_ang, 2);
+    assert_true(n > 700);
+    run_result d = compile_run(x, "dss_physical", "", vec);
+    assert_int_equal(d.ok, n);
+    assert_int_equal(d.mismatch, 0);
+    double rms = after_rms_deg(cal);
+    if (!(max2(d.err_deg) <= DOUBLE_OF_AFTER_RMS * rms))
+        fail_msg("double: %g deg against compensate, above 1e-9 of the after RMS %g deg",
+                 max2(d.err_deg), rms);
+    run_result f = compile_run(x, "dss_physical", "-DSUNMC_FLOAT", vec);
+    assert_int_equal(f.ok, n);
+    if (!(max2(f.err_deg) <= FLOAT_BOUND_DEG))
+        fail_msg("float: %g deg, above the bound %g", max2(f.err_deg), FLOAT_BOUND_DEG);
+    /* and it is float arithmetic: an error no double computation makes */
+    assert_true(max2(f.err_deg) > 1e3 * max2(d.err_deg));
+    /* the export's own vectors agree too, statuses included */
+    snprintf(vec, sizeof vec, "%s/%s/test_vectors.csv", dir, x);
+    d = compile_run(x, "dss_physical", "", vec);
+    assert_int_equal(d.mismatch, 0);
+    assert_true(d.ok > 1000);
+    assert_true(max2(d.err_deg) <= 1e-12);
+}
+
+static void dss_physical_as_mounted(void **state)
+{
+    (void)state;
+    dss_model_form("cd", "xd");
+}
+
+static void dss_physical_aligned(void **state)
+{
+    (void)state;
+    dss_model_form("ca", "xa");
+}
+
+/* The table form: bilinear on x_px, y_px.  Its error is the curvature of
+ * the spot-to-angle map times step^2 / 8: alpha ~ atan(k x), k = pitch /
+ * height (5.5 um / 2.87 mm = 1.92e-3 rad/px), |d2 alpha / dx2| <= 0.65 k^2;
+ * the glass bends wide rays more, so the measured error may reach twice
+ * the pinhole's estimate. */
+static void dss_table_form(void **state)
+{
+    (void)state;
+    char out[8192], vec[700];
+    snprintf(vec, sizeof vec, "%s/cd.vec", dir);
+    double err[2], step[2] = {16, 8};
+    const char *xs[2] = {"t16", "t8"};
+    for (int i = 0; i < 2; i++) {
+        char args[1024];
+        snprintf(args, sizeof args, "export $D/cd/params.ini --out $D/%s --form table:%g "
+                 "--precision float", xs[i], step[i]);
+        assert_int_equal(sunmc(args, out, sizeof out), 0);
+        run_result r = compile_run(xs[i], "dss_physical", "-DSUNMC_DOUBLE", vec);
+        assert_int_equal(r.mismatch, 0);
+        err[i] = max2(r.err_deg);
+        double k = 5.5e-3 / 2.87, est = step[i] * step[i] / 8 * 0.65 * k * k * 57.29578;
+        if (!(err[i] > 0.25 * est && err[i] < 2.0 * est))
+            fail_msg("table:%g: error %g deg against the estimate %g", step[i], err[i], est);
+        /* the float build of the table (its values in float) adds little */
+        r = compile_run(xs[i], "dss_physical", "", vec);
+        assert_true(max2(r.err_deg) < err[i] + FLOAT_BOUND_DEG);
+    }
+    double ratio = err[0] / err[1];
+    if (!(ratio > 3.0 && ratio < 5.0))
+        fail_msg("half the step: error ratio %g, not ~4", ratio);
+    /* its size is stated: (2048 / 8 + 1)^2 nodes, 2 angles, 4 bytes */
+    char path[700];
+    snprintf(path, sizeof path, "%s/t8/sunmc_dss_physical_cal.h", dir);
+    assert_true(test_file_has(path, "66049 nodes x 2 angles, 528392 bytes as float"));
+}
+
+/* What the files say: the params' checksum and the unit's data file. */
+static void dss_provenance(void **state)
+{
+    (void)state;
+    char path[700], out[4096];
+    snprintf(path, sizeof path, "%s/xd/sunmc_dss_physical_cal.c", dir);
+    assert_true(test_file_has(path, "data_fnv1a64 = "));
+    assert_true(test_file_has(path, "sd/campaign.csv"));
+    assert_true(test_file_has(path, "its bytes' FNV-1a 64: "));
+    assert_true(test_file_has(path, "10 steps"));
+    /* no header beyond the two the issue allows */
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "grep -h '#include <' %s/xd/sunmc_dss_physical_cal.[ch] | sort -u",
+             dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    assert_string_equal(out, "#include <math.h>\n#include <stdint.h>\n");
+    snprintf(cmd, sizeof cmd, "grep -cE 'malloc|static [a-z_]+ [a-z_]+ *=|while' "
+             "%s/xd/sunmc_dss_physical_cal.c", dir);
+    test_run(cmd, out, sizeof out);
+    assert_string_equal(out, "0\n");
+}
+
+/* Refused, exit 2, nothing written. */
+static void refusals(void **state)
+{
+    (void)state;
+    char out[8192], args[1024];
+    static const char *const bad[] = {
+        "export $D/nothing.ini --out $D/r1",
+        "export $D/cd/params.ini --out $D/r1 --precision half",
+        "export $D/cd/params.ini --out $D/r1 --form table:0",
+        "export $D/cd/params.ini --out $D/r1 --form table:-4",
+        "export $D/cd/params.ini --out $D/r1 --form table:x",
+        "export $D/cd/params.ini --out $D/r1 --form tableau",
+        "export $D/cd/params.ini --out $D/r1 --form table:0.001",
+        "export $D/cd/params.ini --out $D/r1 --colour",
+        "export $D/cd/params.ini $D/cd/params.ini --out $D/r1",
+        "export $D/cd/params.ini",
+        "export $D/cd/params.ini --out $D/r1 --form",
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        int rc = sunmc(bad[i], out, sizeof out);
+        if (rc != 2)
+            fail_msg("%s: exit %d: %s", bad[i], rc, out);
+    }
+    snprintf(args, sizeof args, "%s/r1", dir);
+    assert_int_not_equal(access(args, F_OK), 0);
+    /* the table's limit, both sides: 1e6 nodes; 2048 px / 2.0501 -> 999 cells a side,
+     * (999 + 1)^2 = 1e6 nodes exactly; 2.05 -> 1000 cells, 1001^2 nodes */
+    assert_int_equal(sunmc("export $D/cd/params.ini --out $D/r2 --form table:2.05", out,
+                           sizeof out), 2);
+    assert_non_null(strstr(out, "nodes or more"));
+    assert_int_equal(sunmc("export $D/cd/params.ini --out $D/r2 --form table:2.0501 "
+                           "--precision float", out, sizeof out), 0);
+    snprintf(args, sizeof args, "%s/r2/sunmc_dss_physical_cal.h", dir);
+    assert_true(test_file_has(args, "1000000 nodes x 2 angles"));
+    snprintf(args, sizeof args, "rm -r %s/r2", dir);
+    assert_int_equal(system(args), 0);
+    /* an existing directory, even empty, is never written */
+    assert_int_equal(sunmc("export $D/cd/params.ini --out $D/xd", out, sizeof out), 2);
+    assert_non_null(strstr(out, "never overwrites"));
+    snprintf(args, sizeof args, "%s/empty", dir);
+    assert_int_equal(mkdir(args, 0700), 0);
+    assert_int_equal(sunmc("export $D/cd/params.ini --out $D/empty", out, sizeof out), 2);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(dss_physical_as_mounted),
+        cmocka_unit_test(dss_physical_aligned),
+        cmocka_unit_test(dss_table_form),
+        cmocka_unit_test(dss_provenance),
+        cmocka_unit_test(refusals),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
