@@ -45,7 +45,10 @@ typedef struct lab_export {
     void (*axes_range)(const void *model, double *lo, double *hi);
     /* The raw reading (compensate's raw columns) at axes values q. */
     void (*raw_at)(const void *model, const double *q, double *raw);
-    /* C statements: the axes q[] (sunmc_real) of the reading raw[]. */
+    /* Static functions the check and the model call (NULL: none). */
+    void (*emit_helpers)(const void *model, FILE *f);
+    /* C statements: the axes q[] (sunmc_real) of the reading raw[]; may
+     * `return SUNMC_CAL_NO_INVERSE;`. */
     void (*emit_axes)(const void *model, FILE *f);
     /* C statements of the reading check, from raw[]: `return
      * SUNMC_CAL_...;` for a reading the unit cannot produce (the rules of

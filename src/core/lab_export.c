@@ -296,6 +296,8 @@ static int write_source(FILE *f, const lab_export_job *j, const char *name,
     fprintf(f, "/* sunmc_%s_cal.c - one unit's calibration, raw reading to angles.\n", name);
     put_provenance(f, j, name, nodes);
     fprintf(f, " */\n#include \"sunmc_%s_cal.h\"\n\n#include <math.h>\n\n%s", name, math_macros);
+    if (j->lab->export->emit_helpers)
+        j->lab->export->emit_helpers(j->model, f);
     write_check(f, j, n_raw);
     if (j->step > 0) {
         int st = write_table(f, j, n, n_comp);
