@@ -41,7 +41,19 @@ static int setup(void **state)
         "simulate configs/dss.ini --set campaign.mount=aligned --unit 2 --quiet --out $D/sa",
         "calibrate --config configs/dss.ini --set campaign.mount=aligned $D/sa/campaign.csv "
         "--quiet --out $D/ca",
-        "compensate $D/ca/params.ini $D/sa/validation.csv > $D/ca.csv"};
+        "compensate $D/ca/params.ini $D/sa/validation.csv > $D/ca.csv",
+        "simulate configs/psd.ini --unit 3 --quiet --out $D/sp",
+        "calibrate --config configs/psd.ini $D/sp/campaign.csv --quiet --out $D/cp",
+        "compensate $D/cp/params.ini $D/sp/validation.csv > $D/cp.csv",
+        "simulate configs/psd_aeroztark.ini --unit 1 --quiet --out $D/sz",
+        "calibrate --config configs/psd_aeroztark.ini $D/sz/campaign.csv --quiet --out $D/cz",
+        "compensate $D/cz/params.ini $D/sz/validation.csv > $D/cz.csv",
+        "simulate configs/psd_14og.ini --unit 2 --quiet --out $D/sq",
+        "calibrate --config configs/psd_14og.ini $D/sq/campaign.csv --quiet --out $D/cq",
+        "compensate $D/cq/params.ini $D/sq/validation.csv > $D/cq.csv",
+        "simulate configs/psd_kenscl.ini --unit 1 --quiet --out $D/sk",
+        "calibrate --config configs/psd_kenscl.ini $D/sk/campaign.csv --quiet --out $D/ck",
+        "compensate $D/ck/params.ini $D/sk/validation.csv > $D/ck.csv"};
     char out[16384];
     for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
         if (sunmc(steps[i], out, sizeof out) != 0) {
@@ -81,9 +93,10 @@ static int column(const char *header, const char *name)
 }
 
 /* compensate's output comp (its raw and compensated columns) as test vectors
- * in the export's format; returns the rows written (every one compensated). */
+ * in the export's format, the raw values rounded to float when to_float;
+ * rows compensate wrote '-' are left out.  Returns the rows written. */
 static int vectors_of(const char *comp, const char *vec, const char *const *raw, int n_raw,
-                      const char *const *ang, int n_ang)
+                      const char *const *ang, int n_ang, int to_float)
 {
     FILE *in = fopen(comp, "r"), *out = fopen(vec, "w");
     assert_non_null(in);
@@ -102,14 +115,19 @@ static int vectors_of(const char *comp, const char *vec, const char *const *raw,
             fputs("header\n", out);
             continue;
         }
+        field(line, col[n_raw], buf, sizeof buf);
+        if (strcmp(buf, "-") == 0)
+            continue;
         for (int k = 0; k < n_raw; k++) {
             field(line, col[k], buf, sizeof buf);
-            fprintf(out, "%s,", buf);
+            if (to_float)
+                fprintf(out, "%.9g,", (double)(float)strtod(buf, NULL));
+            else
+                fprintf(out, "%s,", buf);
         }
         fputs("0", out);
         for (int k = 0; k < n_ang; k++) {
             field(line, col[n_raw + k], buf, sizeof buf);
-            assert_string_not_equal(buf, "-");
             fprintf(out, ",%s", buf);
         }
         fputc('\n', out);
@@ -160,7 +178,8 @@ static double max2(const double *e)
     return e[0] > e[1] ? e[0] : e[1];
 }
 
-/* params.ini's crossval_rms_arcsec, in deg. */
+/* params.ini's residual_sigma_arcsec (the after-calibration RMS of its
+ * data), in deg. */
 static double after_rms_deg(const char *cal)
 {
     char path[700], line[512];
@@ -169,7 +188,7 @@ static double after_rms_deg(const char *cal)
     assert_non_null(f);
     double v = NAN;
     while (fgets(line, sizeof line, f))
-        if (sscanf(line, "crossval_rms_arcsec = %lf", &v) == 1)
+        if (sscanf(line, "residual_sigma_arcsec = %lf", &v) == 1)
             break;
     fclose(f);
     assert_true(v > 0);
@@ -177,35 +196,52 @@ static double after_rms_deg(const char *cal)
 }
 
 static const char *const dss_raw[] = {"x_px", "y_px"};
-static const char *const dss_ang[] = {"compensated_alpha_deg", "compensated_beta_deg"};
+static const char *const psd_raw[] = {"i1", "i2", "i3", "i4"};
+static const char *const two_ang[] = {"compensated_alpha_deg", "compensated_beta_deg"};
 
-/* The DSS physical model, exported in double, compiled in double and float,
- * against compensate on the unit's 800 validation readings; both mounts. */
-static void dss_model_form(const char *cal, const char *x)
+/* Export calibration cal (params.ini in $D/cal, compensate's output of its
+ * unit's validation readings in $D/cal.csv) into $D/x, compile it in double
+ * and float, and run it on those readings against compensate:
+ *   double: within DOUBLE_OF_AFTER_RMS of the after RMS;
+ *   float:  within 4 e_in + FLOAT_BOUND_DEG, e_in the error the readings'
+ *           own rounding to float makes through the double build (the
+ *           input's half ulp propagated; 4: the arithmetic's roundings of
+ *           the same size), FLOAT_BOUND_DEG the angle's own ulps.
+ * And the export's own test vectors, statuses included. */
+static void model_form(const char *cal, const char *x, const char *name, const char *const *raw,
+                       int n_raw, const char *const *ang, int n_ang, int min_rows)
 {
-    char args[1024], out[8192], comp[700], vec[700];
+    char args[1024], out[8192], comp[700], vec[700], vecf[700];
     snprintf(args, sizeof args, "export $D/%s/params.ini --out $D/%s", cal, x);
-    assert_int_equal(sunmc(args, out, sizeof out), 0);
+    if (sunmc(args, out, sizeof out) != 0)
+        fail_msg("%s: %s", args, out);
     snprintf(comp, sizeof comp, "%s/%s.csv", dir, cal);
     snprintf(vec, sizeof vec, "%s/%s.vec", dir, cal);
-    int n = vectors_of(comp, vec, dss_raw, 2, dss_ang, 2);
-    assert_true(n > 700);
-    run_result d = compile_run(x, "dss_physical", "", vec);
+    snprintf(vecf, sizeof vecf, "%s/%s.vecf", dir, cal);
+    int n = vectors_of(comp, vec, raw, n_raw, ang, n_ang, 0);
+    assert_int_equal(vectors_of(comp, vecf, raw, n_raw, ang, n_ang, 1), n);
+    if (n < min_rows)
+        fail_msg("%s: %d validation readings compensated, expected %d", cal, n, min_rows);
+    run_result d = compile_run(x, name, "", vec);
     assert_int_equal(d.ok, n);
     assert_int_equal(d.mismatch, 0);
     double rms = after_rms_deg(cal);
     if (!(max2(d.err_deg) <= DOUBLE_OF_AFTER_RMS * rms))
         fail_msg("double: %g deg against compensate, above 1e-9 of the after RMS %g deg",
                  max2(d.err_deg), rms);
-    run_result f = compile_run(x, "dss_physical", "-DSUNMC_FLOAT", vec);
+    double e_in = max2(compile_run(x, name, "", vecf).err_deg);
+    run_result f = compile_run(x, name, "-DSUNMC_FLOAT", vec);
     assert_int_equal(f.ok, n);
-    if (!(max2(f.err_deg) <= FLOAT_BOUND_DEG))
-        fail_msg("float: %g deg, above the bound %g", max2(f.err_deg), FLOAT_BOUND_DEG);
+    double bound = 4 * e_in + FLOAT_BOUND_DEG;
+    if (!(max2(f.err_deg) <= bound))
+        fail_msg("float: %g deg, above the bound %g (e_in %g)", max2(f.err_deg), bound, e_in);
     /* and it is float arithmetic: an error no double computation makes */
     assert_true(max2(f.err_deg) > 1e3 * max2(d.err_deg));
+    print_message("%s: %d readings, double %.2e deg, float %.2e deg (bound %.2e), "
+                  "%.0f ns/reading\n", cal, n, max2(d.err_deg), max2(f.err_deg), bound, d.ns);
     /* the export's own vectors agree too, statuses included */
     snprintf(vec, sizeof vec, "%s/%s/test_vectors.csv", dir, x);
-    d = compile_run(x, "dss_physical", "", vec);
+    d = compile_run(x, name, "", vec);
     assert_int_equal(d.mismatch, 0);
     assert_true(d.ok > 1000);
     assert_true(max2(d.err_deg) <= 1e-12);
@@ -214,13 +250,29 @@ static void dss_model_form(const char *cal, const char *x)
 static void dss_physical_as_mounted(void **state)
 {
     (void)state;
-    dss_model_form("cd", "xd");
+    model_form("cd", "xd", "dss_physical", dss_raw, 2, two_ang, 2, 700);
 }
 
 static void dss_physical_aligned(void **state)
 {
     (void)state;
-    dss_model_form("ca", "xa");
+    model_form("ca", "xa", "dss_physical", dss_raw, 2, two_ang, 2, 700);
+}
+
+/* The PSD: its physical model (tetra-lateral; the inverting aeroztark unit)
+ * and its polynomial (tetra and duo-lateral). */
+static void psd_physical(void **state)
+{
+    (void)state;
+    model_form("cp", "xp", "psd_physical", psd_raw, 4, two_ang, 2, 50);
+    model_form("cz", "xz", "psd_physical", psd_raw, 4, two_ang, 2, 50);
+}
+
+static void psd_polynomial(void **state)
+{
+    (void)state;
+    model_form("cq", "xq", "psd_polynomial", psd_raw, 4, two_ang, 2, 50);
+    model_form("ck", "xk", "psd_polynomial", psd_raw, 4, two_ang, 2, 50);
 }
 
 /* The table form: bilinear on x_px, y_px.  Its error is the curvature of
@@ -232,7 +284,10 @@ static void dss_table_form(void **state)
 {
     (void)state;
     char out[8192], vec[700];
-    snprintf(vec, sizeof vec, "%s/cd.vec", dir);
+    char comp[700];
+    snprintf(comp, sizeof comp, "%s/cd.csv", dir);
+    snprintf(vec, sizeof vec, "%s/cd.tvec", dir);
+    assert_true(vectors_of(comp, vec, dss_raw, 2, two_ang, 2, 0) > 700);
     double err[2], step[2] = {16, 8};
     const char *xs[2] = {"t16", "t8"};
     for (int i = 0; i < 2; i++) {
@@ -330,6 +385,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(dss_physical_as_mounted),
         cmocka_unit_test(dss_physical_aligned),
+        cmocka_unit_test(psd_physical),
+        cmocka_unit_test(psd_polynomial),
         cmocka_unit_test(dss_table_form),
         cmocka_unit_test(dss_provenance),
         cmocka_unit_test(refusals),
