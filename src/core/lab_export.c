@@ -334,9 +334,10 @@ static void write_vectors(FILE *f, const lab_export_job *j)
     double lo[LAB_EXPORT_MAX_AXES], hi[LAB_EXPORT_MAX_AXES];
     x->axes_range(j->model, lo, hi);
     int m = x->n_axes == 2 ? LAB_EXPORT_VEC_2D : LAB_EXPORT_VEC_1D;
-    fputs("# test vectors: raw readings, the status and angles (deg) of sunmc's double\n"
-          "# compensate (status 0: OK; else the enum sunmc_cal_status of the header).\n",
-          f);
+    fprintf(f, "# test vectors: raw readings over %s, the status and angles\n"
+               "# (deg) of sunmc's double compensate (status 0: OK; else the enum\n"
+               "# sunmc_cal_status of the header).\n",
+            j->step > 0 ? "the table's range" : "the unit's range and 5 % beyond");
     for (int k = 0; k < n_raw; k++)
         fprintf(f, "%s,", lab->raw_columns[k]);
     fputs("status", f);
@@ -345,12 +346,15 @@ static void write_vectors(FILE *f, const lab_export_job *j)
     fputc('\n', f);
     double q[LAB_EXPORT_MAX_AXES] = {0, 0}, raw[LAB_MAX_COLUMNS], deg[LAB_MAX_COLUMNS];
     int m1 = x->n_axes == 2 ? m : 1;
+    /* the table form: its range only (beyond it, OUTSIDE_RANGE where
+     * compensate may still give an angle) */
+    double margin = j->step > 0 ? 0.0 : LAB_EXPORT_VEC_MARGIN;
     for (int i1 = 0; i1 < m1; i1++)
         for (int i0 = 0; i0 < m; i0++) {
             int ii[2] = {i0, i1};
             for (int a = 0; a < x->n_axes; a++) {
-                double w = (hi[a] - lo[a]) * (1 + 2 * LAB_EXPORT_VEC_MARGIN);
-                q[a] = lo[a] - (hi[a] - lo[a]) * LAB_EXPORT_VEC_MARGIN +
+                double w = (hi[a] - lo[a]) * (1 + 2 * margin);
+                q[a] = lo[a] - (hi[a] - lo[a]) * margin +
                        w * ii[a] / (double)(m - 1);
             }
             x->raw_at(j->model, q, raw);
