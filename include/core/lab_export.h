@@ -45,7 +45,7 @@ typedef struct lab_export {
     void (*axes_range)(const void *model, double *lo, double *hi);
     /* The raw reading (compensate's raw columns) at axes values q. */
     void (*raw_at)(const void *model, const double *q, double *raw);
-    /* Static functions the check and the model call (NULL: none). */
+    /* Static functions the model calls (NULL: none; not in the table form). */
     void (*emit_helpers)(const void *model, FILE *f);
     /* C statements: the axes q[] (sunmc_real) of the reading raw[]; may
      * `return SUNMC_CAL_NO_INVERSE;`. */

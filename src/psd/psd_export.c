@@ -21,6 +21,10 @@ static const double corner_sy[PSD_CHANNELS] = {-1, 1, -1, 1};
  * this (in channel 1's unit; an inverting unit's to this fraction of its
  * smallest dark); the ratios do not depend on it. */
 #define PSD_EXPORT_LIGHT 0.5
+/* The polynomial's table ends this fraction inside its reading check's
+ * range, so that its edge nodes pass the check whatever the rounding of
+ * their channels' ratios. */
+#define PSD_EXPORT_EDGE_IN (1 - 1e-12)
 
 static int supported(const void *model, char *err, size_t errlen)
 {
@@ -42,7 +46,7 @@ static void axes_range(const void *model, double *lo, double *hi)
 {
     const psd_model_file *m = model;
     double r = m->cal.model == PSD_MODEL_POLYNOMIAL
-                   ? m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN)
+                   ? m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN) * PSD_EXPORT_EDGE_IN
                    : 1.0 + fabs(m->cfg.design.pincushion);
     lo[0] = lo[1] = -r;
     hi[0] = hi[1] = r;
