@@ -31,9 +31,12 @@ static const char export_help[] =
     "                      -DSUNMC_DOUBLE (default double)\n"
     "--form model          the calibrated model itself (default)\n"
     "--form table:STEP     the compensated angles on a grid of the reading with STEP in its\n"
-    "                      unit (DSS: px of x_px, y_px), bilinear (1-D: linear); its size in\n"
-    "                      bytes in the header\n"
-    "Exported: dss_physical.  DIR must not exist (export never overwrites).\n";
+    "                      unit (DSS: x_px, y_px in px; PSD: the channels' ratios; ESS:\n"
+    "                      output_deg, +-89), bilinear (ESS: linear); its size in bytes in\n"
+    "                      the header; near the model's edge it refuses a reading in a cell\n"
+    "                      with a node without an angle\n"
+    "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode.\n"
+    "DIR must not exist (export never overwrites).\n";
 
 typedef struct {
     const char *params, *out;

@@ -20,20 +20,26 @@ static const char *const axis_names[] = {"x_px", "y_px", NULL};
 static int supported(const void *model, char *err, size_t errlen)
 {
     const dss_calibration *cal = model;
-    if (cal->kind != DSS_MODEL_PHYSICAL)
-        return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "the DSS polynomial model is not exported yet (dss_physical is)");
-    if (!(cal->phys.half_px > 0))
+    if (cal->kind == DSS_MODEL_PHYSICAL && !(cal->phys.half_px > 0))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design.detector_px is missing: the export needs the detector's side");
+    if (cal->kind == DSS_MODEL_POLYNOMIAL && !(cal->poly.scale_rad > 0))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "the polynomial's field (its scale) is missing: no export");
     return SUNMC_OK;
 }
 
+/* The detector (physical model); the polynomial's params have no detector
+ * side: the spots of its field, scale_rad on each axis. */
 static void axes_range(const void *model, double *lo, double *hi)
 {
     const dss_calibration *cal = model;
-    lo[0] = lo[1] = -cal->phys.half_px;
-    hi[0] = hi[1] = cal->phys.half_px;
+    const dss_onboard *o = &cal->poly.onboard;
+    double half = cal->kind == DSS_MODEL_PHYSICAL
+                      ? cal->phys.half_px
+                      : o->h_mm * tan(cal->poly.scale_rad) / o->pixel_mm;
+    lo[0] = lo[1] = -half;
+    hi[0] = hi[1] = half;
 }
 
 static void raw_at(const void *model, const double *q, double *raw)
@@ -49,23 +55,28 @@ static void emit_axes(const void *model, FILE *f)
     fputs("    q[0] = raw[0];\n    q[1] = raw[1];\n", f);
 }
 
-/* reading_check of dss_lab.c: a spot beyond the detector. */
+/* reading_check of dss_lab.c: a spot beyond the detector (the polynomial:
+ * every spot). */
 static void emit_check(const void *model, FILE *f)
 {
     const dss_calibration *cal = model;
+    if (cal->kind != DSS_MODEL_PHYSICAL) {
+        fputs("    (void)raw;\n", f);
+        return;
+    }
     fprintf(f, "    if (!(SR_FABS(raw[0]) <= SR(%.17g) && SR_FABS(raw[1]) <= SR(%.17g)))\n"
                "        return SUNMC_CAL_OUTSIDE_DETECTOR;\n",
             cal->phys.half_px, cal->phys.half_px);
 }
 
-/* The field angle's tangent T: dss_lane_tan_step's Newton step (the sun
- * disc's gain included), a fixed count, then the root's check. */
-static void emit_tangent(const dss_model *m, FILE *f)
+/* The field angle's tangent T of a spot at r (mm) under a pinhole at H
+ * over glass t, n and the sun's disc C: dss_lane_tan_step's Newton step,
+ * a fixed count, then the root's check. */
+static void emit_tangent(FILE *f, double H, double t, double n, double C)
 {
-    double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N];
     fprintf(f, "    const sunmc_real A = SR(%.17g), t = SR(%.17g), n2 = SR(%.17g);\n"
                "    const sunmc_real C = SR(%.17g), T_max = SR(%.17g);\n",
-            H - t, t, n * n, m->disc_c_rad2, tan(OPTICS_FIELD_THETA_MAX_RAD));
+            H - t, t, n * n, C, tan(OPTICS_FIELD_THETA_MAX_RAD));
     fprintf(f, "    sunmc_real T = r / SR(%.17g), step = SR(0);\n    int it;\n",
             H - t + t / n);
     fprintf(f,
@@ -87,15 +98,54 @@ static void emit_tangent(const dss_model *m, FILE *f)
             DSS_EXPORT_NEWTON_STEPS);
 }
 
+/* The polynomial (dss_poly_compensate): the on-board formula's angles
+ * (dss_onboard_chunk: eq. 9-10, the glass's field angle by the same
+ * Newton when it corrects for it), then the correction's monomials. */
+static void emit_polynomial(const dss_poly *q, FILE *f)
+{
+    const dss_onboard *o = &q->onboard;
+    fprintf(f, "    sunmc_real x = (raw[0] - SR(%.17g)) * SR(%.17g);\n"
+               "    sunmc_real y = (raw[1] - SR(%.17g)) * SR(%.17g);\n"
+               "    sunmc_real r = SR_SQRT(x * x + y * y), kr, am, bm, u, v, a, b;\n"
+               "    sunmc_real pu[%d], pv[%d];\n    int k;\n",
+            o->x0_px, o->pixel_mm, o->y0_px, o->pixel_mm, q->order + 1, q->order + 1);
+    if (o->glass_t_mm > 0) {
+        fputs("    {\n", f);
+        emit_tangent(f, o->h_mm, o->glass_t_mm, o->glass_n, 0.0);
+        fprintf(f, "    kr = r > SR(0) ? T / r : SR(1) / SR(%.17g);\n    }\n", o->h_mm);
+    } else {
+        fprintf(f, "    kr = SR(1) / SR(%.17g);\n", o->h_mm);
+    }
+    fprintf(f, "    am = SR_ATAN(-x * kr);\n    bm = SR_ATAN(-y * kr);\n"
+               "    u = am / SR(%.17g);\n    v = bm / SR(%.17g);\n"
+               "    pu[0] = pv[0] = SR(1);\n"
+               "    for (k = 1; k <= %d; k++) {\n"
+               "        pu[k] = pu[k - 1] * u;\n        pv[k] = pv[k - 1] * v;\n    }\n"
+               "    a = am;\n    b = bm;\n",
+            q->scale_rad, q->scale_rad, q->order);
+    int k = 0;
+    for (int d = 0; d <= q->order; d++)
+        for (int j = 0; j <= d; j++, k++)
+            fprintf(f, "    a += SR(%.17g) * (pu[%d] * pv[%d]);\n"
+                       "    b += SR(%.17g) * (pu[%d] * pv[%d]);\n",
+                    q->ca[k], d - j, j, q->cb[k], d - j, j);
+    fputs("    ang[0] = a;\n    ang[1] = b;\n", f);
+}
+
 static void emit_model(const void *model, FILE *f)
 {
-    const dss_model *m = &((const dss_calibration *)model)->phys;
+    const dss_calibration *cal = model;
+    if (cal->kind == DSS_MODEL_POLYNOMIAL) {
+        emit_polynomial(&cal->poly, f);
+        return;
+    }
+    const dss_model *m = &cal->phys;
     fprintf(f, "    /* the spot from the pinhole's foot (mm) */\n"
                "    sunmc_real dx = SR(%.17g) - raw[0] * SR(%.17g);\n"
                "    sunmc_real dy = SR(%.17g) - raw[1] * SR(%.17g);\n"
                "    sunmc_real r = SR_SQRT(dx * dx + dy * dy);\n",
             m->p[DSS_P_X0], m->pixel_mm, m->p[DSS_P_Y0], m->pixel_mm);
-    emit_tangent(m, f);
+    emit_tangent(f, m->p[DSS_P_H], m->p[DSS_P_T], m->p[DSS_P_N], m->disc_c_rad2);
     int aligned = m->mount == DSS_MOUNT_ALIGNED;
     fputs("    {\n        /* u: the sun in the detector's frame; w = M^T u */\n", f);
     if (aligned)
@@ -136,6 +186,7 @@ const lab_export dss_export = {
     .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
-    .iterations = "Loops: the field angle's Newton iteration, 10 steps (the physical model's "
-                  "tangent\n *   converges in at most 6 from its paraxial start).",
+    .iterations = "Loops: the field angle's Newton iteration, 10 steps (the tangent converges "
+                  "in at\n *   most 6 from its paraxial start); the polynomial's powers (order "
+                  "steps).",
 };

@@ -38,6 +38,9 @@ static int setup(void **state)
         "simulate configs/dss.ini --unit 3 --quiet --out $D/sd",
         "calibrate --config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd",
         "compensate $D/cd/params.ini $D/sd/validation.csv > $D/cd.csv",
+        "calibrate --config configs/dss.ini --set calibration.model=polynomial "
+        "$D/sd/campaign.csv --quiet --out $D/cl",
+        "compensate $D/cl/params.ini $D/sd/validation.csv > $D/cl.csv",
         "simulate configs/dss.ini --set campaign.mount=aligned --unit 2 --quiet --out $D/sa",
         "calibrate --config configs/dss.ini --set campaign.mount=aligned $D/sa/campaign.csv "
         "--quiet --out $D/ca",
@@ -274,6 +277,14 @@ static void dss_physical_aligned(void **state)
     model_form("ca", "xa", "dss_physical", dss_raw, 2, two_ang, 2, 700);
 }
 
+/* The DSS polynomial: the on-board formula (its glass's Newton) and the
+ * correction's monomials. */
+static void dss_polynomial(void **state)
+{
+    (void)state;
+    model_form("cl", "xl", "dss_polynomial", dss_raw, 2, two_ang, 2, 700);
+}
+
 /* The PSD: its physical model (tetra-lateral; the inverting aeroztark unit)
  * and its polynomial (tetra and duo-lateral). */
 static void psd_physical(void **state)
@@ -482,6 +493,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(dss_physical_as_mounted),
         cmocka_unit_test(dss_physical_aligned),
+        cmocka_unit_test(dss_polynomial),
         cmocka_unit_test(psd_physical),
         cmocka_unit_test(psd_polynomial),
         cmocka_unit_test(ess_paper_model),
