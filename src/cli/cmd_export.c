@@ -35,7 +35,8 @@ static const char export_help[] =
     "                      output_deg, +-89), bilinear (ESS: linear); its size in bytes in\n"
     "                      the header; near the model's edge it refuses a reading in a cell\n"
     "                      with a node without an angle\n"
-    "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode.\n"
+    "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode,\n"
+    "ess_extended.\n"
     "DIR must not exist (export never overwrites).\n";
 
 typedef struct {
@@ -123,7 +124,7 @@ static int load(const export_args *a, const params_file *pf, const family_lab **
     const params_entry *e = params_find(pf, "calibration", "sensor");
     if (!fam || !fam->lab || !fam->lab->export)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: sensor '%s' %s", a->params, e->line,
-                          sensor, fam && fam->lab ? "has no export yet (dss has)"
+                          sensor, fam && fam->lab ? "has no export yet"
                                                   : "is not available");
     *lab = fam->lab;
     char warn[SUNMC_ERRLEN] = "";

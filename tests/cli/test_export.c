@@ -61,7 +61,8 @@ static int setup(void **state)
         "calibrate --config configs/ess_type_a.ini $D/se/campaign.csv --quiet --out $D/ce",
         "compensate $D/ce/params.ini $D/se/validation.csv > $D/ce.csv",
         "calibrate --config configs/ess_type_a.ini --set calibration.model=extended "
-        "$D/se/campaign.csv --quiet --out $D/cx"};
+        "$D/se/campaign.csv --quiet --out $D/cx",
+        "compensate $D/cx/params.ini $D/se/validation.csv > $D/cx.csv"};
     char out[16384];
     for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
         if (sunmc(steps[i], out, sizeof out) != 0) {
@@ -310,6 +311,13 @@ static void ess_paper_model(void **state)
     model_form("ce", "xe", "ess_eq12_finecode", ess_raw, 1, ess_ang, 1, 3000);
 }
 
+/* The extended model: its fine-code terms by Newton (a fixed 12 steps). */
+static void ess_extended_model(void **state)
+{
+    (void)state;
+    model_form("cx", "xx", "ess_extended", ess_raw, 1, ess_ang, 1, 3000);
+}
+
 /* The ESS table, linear in output_deg: its error is step^2 / 8 times the
  * curvature of the fine code's inverse, x = r + k sin(w x + t): |x''| =
  * k w^2 |sin| / g'^3 with g' in [1 - w k, 1 + w k] (w = 2 pi / (theta0 / 4),
@@ -444,7 +452,7 @@ static void dss_provenance(void **state)
 static void refusals(void **state)
 {
     (void)state;
-    char out[8192], args[1024];
+    char out[8192], args[2200];
     static const char *const bad[] = {
         "export $D/nothing.ini --out $D/r1",
         "export $D/cd/params.ini --out $D/r1 --precision half",
@@ -476,10 +484,18 @@ static void refusals(void **state)
     assert_true(test_file_has(args, "1000000 nodes x 2 angles"));
     snprintf(args, sizeof args, "rm -r %s/r2", dir);
     assert_int_equal(system(args), 0);
-    /* a model not exported yet, at the params' model line */
-    assert_int_equal(sunmc("export $D/cx/params.ini --out $D/r3", out, sizeof out), 2);
-    assert_non_null(strstr(out, "cx/params.ini:"));
-    assert_non_null(strstr(out, "extended model is not exported"));
+    /* a sensor no family has, at its line */
+    snprintf(args, sizeof args, "sed 's/^sensor = dss/sensor = xyz/' %s/cd/params.ini > "
+             "%s/bad.ini", dir, dir);
+    assert_int_equal(test_run(args, out, sizeof out), 0);
+    assert_int_equal(sunmc("export $D/bad.ini --out $D/r3", out, sizeof out), 2);
+    assert_non_null(strstr(out, "bad.ini:6: sensor 'xyz' is not available"));
+    /* a model line no C name can take, at its line */
+    snprintf(args, sizeof args, "sed 's/^model = dss_physical/model = dss-physical/' "
+             "%s/cd/params.ini > %s/bad2.ini", dir, dir);
+    assert_int_equal(test_run(args, out, sizeof out), 0);
+    assert_int_equal(sunmc("export $D/bad2.ini --out $D/r3", out, sizeof out), 2);
+    assert_non_null(strstr(out, "bad2.ini:"));
     /* an existing directory, even empty, is never written */
     assert_int_equal(sunmc("export $D/cd/params.ini --out $D/xd", out, sizeof out), 2);
     assert_non_null(strstr(out, "never overwrites"));
@@ -497,6 +513,7 @@ int main(void)
         cmocka_unit_test(psd_physical),
         cmocka_unit_test(psd_polynomial),
         cmocka_unit_test(ess_paper_model),
+        cmocka_unit_test(ess_extended_model),
         cmocka_unit_test(ess_table_form),
         cmocka_unit_test(psd_table_form),
         cmocka_unit_test(dss_table_form),
