@@ -14,6 +14,7 @@
 
 static const char export_help[] =
     "usage: sunmc export PARAMS.ini --out DIR [--precision float|double] [--form model|table:STEP]\n"
+    "                    [--quiet]\n"
     "Writes the calibration of PARAMS.ini (from `sunmc calibrate --out`) as C99 source a flight\n"
     "computer compiles: one function from the family's raw reading (compensate's raw columns)\n"
     "to the compensated angles in deg, returning 0 or why the unit cannot produce the reading\n"
@@ -37,11 +38,11 @@ static const char export_help[] =
     "                      with a node without an angle\n"
     "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode,\n"
     "ess_extended.\n"
-    "DIR must not exist (export never overwrites).\n";
+    "DIR must not exist (export never overwrites).  --quiet: no 'wrote' line.\n";
 
 typedef struct {
     const char *params, *out;
-    int use_float;
+    int use_float, quiet;
     double step;
 } export_args;
 
@@ -88,6 +89,8 @@ static int parse(int argc, char **argv, export_args *a)
                 a->use_float = v[0] == 'f';
             else
                 return bad("--precision takes float or double", v);
+        } else if (strcmp(o, "--quiet") == 0) {
+            a->quiet = 1;
         } else if (o[0] == '-' && o[1]) {
             return bad("unknown option", o);
         } else if (a->params) {
@@ -169,7 +172,7 @@ static int write_all(const export_args *a, const lab_export_job *j, char *err, s
         st = out_commit(&os, err, errlen);
     else
         out_abort(&os);
-    if (st == SUNMC_OK)
+    if (st == SUNMC_OK && !a->quiet)
         printf("wrote %s/%s, %s, %s, %s\n", a->out, names[0], names[1], names[2], names[3]);
     return st;
 }

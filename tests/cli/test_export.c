@@ -496,6 +496,9 @@ static void refusals(void **state)
     assert_int_equal(test_run(args, out, sizeof out), 0);
     assert_int_equal(sunmc("export $D/bad2.ini --out $D/r3", out, sizeof out), 2);
     assert_non_null(strstr(out, "bad2.ini:"));
+    /* --quiet: nothing printed */
+    assert_int_equal(sunmc("export $D/cd/params.ini --out $D/q --quiet", out, sizeof out), 0);
+    assert_string_equal(out, "");
     /* an existing directory, even empty, is never written */
     assert_int_equal(sunmc("export $D/cd/params.ini --out $D/xd", out, sizeof out), 2);
     assert_non_null(strstr(out, "never overwrites"));
