@@ -496,6 +496,15 @@ static void refusals(void **state)
     assert_int_equal(test_run(args, out, sizeof out), 0);
     assert_int_equal(sunmc("export $D/bad2.ini --out $D/r3", out, sizeof out), 2);
     assert_non_null(strstr(out, "bad2.ini:"));
+    /* a params path that would end the head comment ("*" then "/") */
+    snprintf(args, sizeof args, "mkdir -p '%s/a*' && cp %s/cd/params.ini '%s/a*/p.ini'", dir,
+             dir, dir);
+    assert_int_equal(test_run(args, out, sizeof out), 0);
+    assert_int_equal(sunmc("export \"$D/a*/p.ini\" --out $D/xc --quiet", out, sizeof out), 0);
+    snprintf(args, sizeof args, "cd %s/xc && cc -std=c99 -Wall -Wextra -Werror -pedantic -c "
+             "sunmc_dss_physical_cal.c -o /dev/null", dir);
+    if (test_run(args, out, sizeof out) != 0)
+        fail_msg("%s: %s", args, out);
     /* --quiet: nothing printed */
     assert_int_equal(sunmc("export $D/cd/params.ini --out $D/q --quiet", out, sizeof out), 0);
     assert_string_equal(out, "");
