@@ -137,7 +137,8 @@ static void put_provenance(FILE *f, const lab_export_job *j, const char *name, l
     put_key(f, j, "data_fnv1a64");
     put_key(f, j, "config");
     if (j->step > 0) {
-        fprintf(f, " * Form: table, step %.17g on the axes (", j->step);
+        fprintf(f, " * Form: table, step %.17g (shortened to whole cells of the range) on the "
+                   "axes (", j->step);
         for (int a = 0; a < x->n_axes; a++)
             fprintf(f, "%s%s", a ? ", " : "", x->axis_names[a]);
         fprintf(f, "), %s interpolation:\n *   %ld nodes x %d angles, %ld bytes as float, "
@@ -234,17 +235,25 @@ static int write_table(FILE *f, const lab_export_job *j, const long n[LAB_EXPORT
     x->axes_range(j->model, lo, hi);
     fprintf(f, "/* The compensated angles (deg) at the nodes; %s: no angle there. */\n",
             LAB_EXPORT_NO_NODE);
-    for (int a = 0; a < x->n_axes; a++)
-        fprintf(f, "#define SUNMC_LO%d SR(%.17g) /* %s */\n#define SUNMC_N%d %ld\n", a, lo[a],
-                x->axis_names[a], a, n[a]);
-    fprintf(f, "#define SUNMC_STEP SR(%.17g)\n#define SUNMC_NO_NODE SR(%s)\n", j->step,
-            LAB_EXPORT_NO_NODE);
+    /* each axis's step: STEP shortened so that whole cells span the range */
+    double step[LAB_EXPORT_MAX_AXES] = {0, 0};
+    for (int a = 0; a < x->n_axes; a++) {
+        step[a] = (hi[a] - lo[a]) / (double)(n[a] - 1);
+        fprintf(f, "#define SUNMC_LO%d SR(%.17g) /* %s */\n#define SUNMC_N%d %ld\n"
+                   "#define SUNMC_STEP%d SR(%.17g)\n",
+                a, lo[a], x->axis_names[a], a, n[a], a, step[a]);
+    }
+    fprintf(f, "#define SUNMC_NO_NODE SR(%s)\n", LAB_EXPORT_NO_NODE);
     fprintf(f, "static const sunmc_real sunmc_table[%ld][%d] = {\n", n[0] * n[1], n_comp);
     double raw[LAB_MAX_COLUMNS], deg[LAB_MAX_COLUMNS];
     for (long i1 = 0; i1 < n[1]; i1++)
         for (long i0 = 0; i0 < n[0]; i0++) {
-            double q[LAB_EXPORT_MAX_AXES] = {lo[0] + (double)i0 * j->step,
-                                             lo[1] + (double)i1 * j->step};
+            double q[LAB_EXPORT_MAX_AXES] = {lo[0] + (double)i0 * step[0],
+                                             lo[1] + (double)i1 * step[1]};
+            if (i0 == n[0] - 1)
+                q[0] = hi[0];
+            if (i1 == n[1] - 1 && x->n_axes == 2)
+                q[1] = hi[1];
             x->raw_at(j->model, q, raw);
             int st = lab_export_reference(j->lab, j->model, raw, deg);
             fputs("    {", f);
@@ -275,7 +284,9 @@ static void write_lookup(FILE *f, const lab_export_job *j, int n_raw, int n_comp
     fputs(two ? "SUNMC_N1;\n" : "1;\n", f);
     fputs("        sunmc_real lo = a == 0 ? SUNMC_LO0 : ", f);
     fputs(two ? "SUNMC_LO1;\n" : "SR(0);\n", f);
-    fputs("        sunmc_real s = (q[a] - lo) / SUNMC_STEP;\n"
+    fputs("        sunmc_real h = a == 0 ? SUNMC_STEP0 : ", f);
+    fputs(two ? "SUNMC_STEP1;\n" : "SR(1);\n", f);
+    fputs("        sunmc_real s = (q[a] - lo) / h;\n"
           "        if (!(s >= SR(0) && s <= (sunmc_real)(na - 1)))\n"
           "            return SUNMC_CAL_OUTSIDE_RANGE;\n"
           "        i[a] = (long)SR_FLOOR(s);\n"

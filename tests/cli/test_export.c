@@ -385,6 +385,14 @@ static void psd_table_form(void **state)
     if (!(ratio > 3.0 && ratio < 5.0))
         fail_msg("half the step: error ratio %g, not ~4", ratio);
     assert_true(err[1] < 0.05 * after_rms_deg("cp"));
+    /* the polynomial's table ends just inside its reading check: no edge
+     * node refused by its ratios' rounding, no reading of its range refused */
+    assert_int_equal(sunmc("export $D/cq/params.ini --out $D/tq --form table:0.1", out,
+                           sizeof out), 0);
+    snprintf(args, sizeof args, "%s/tq/test_vectors.csv", dir);
+    run_result r = compile_run("tq", "psd_polynomial", "", args);
+    assert_int_equal(r.mismatch, 0);
+    assert_int_equal(r.ok, 41 * 41);
 }
 
 /* The table form: bilinear on x_px, y_px.  Its error is the curvature of
