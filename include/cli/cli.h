@@ -76,6 +76,7 @@ int cmd_curve(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);
 int cmd_calibrate(int argc, char **argv);
 int cmd_compensate(int argc, char **argv);
+int cmd_export(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 
 /* Progress on stderr: a refreshed line on a terminal, else (a log) a line

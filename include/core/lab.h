@@ -182,6 +182,9 @@ typedef struct family_lab {
     /* raw[k]: column k of raw_columns in its unit; comp_rad[k]: compensated
      * angle k in rad.  Non-OK when the model has no inverse there. */
     int (*compensate)(const void *model, const double *raw, double *comp_rad);
+
+    /* ---- export: the model as C code (lab_export.h); NULL: none. ---- */
+    const struct lab_export *export;
 } family_lab;
 
 /* Read columns names (NULL-terminated, "weight" last) of the CSV at path,

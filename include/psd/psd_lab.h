@@ -16,6 +16,17 @@
 #define PSD_CALFIT_MODEL_HYBRID "psd_hybrid"
 #define PSD_LAB_POLY_WORK (PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2))
 
+/* What compensate reads from a params.ini (family_lab.model_size). */
+typedef struct {
+    psd_config cfg;      /* design and table convention, from params.ini */
+    psd_cal cal;
+} psd_model_file;
+
+/* The polynomial's terms are fitted on ratios up to poly.scale (the
+ * campaign's largest): a ratio this fraction beyond is an extrapolation
+ * the calibration cannot stand behind (a spot off the calibrated field). */
+#define PSD_POLY_RANGE_MARGIN 0.1
+
 /* Data columns: alpha_deg, beta_deg, i1..i4, weight (v[0..6]). */
 typedef struct {
     const sunmc_config *c;

@@ -34,6 +34,7 @@ static void usage(FILE *f)
             "  simulate CONFIG    --unit U: one unit's campaign as a lab records it (CSV)\n"
             "  calibrate          --config CONFIG DATA.csv: fit a real sensor (family from CONFIG)\n"
             "  compensate         PARAMS.ini RAW.csv: apply a calibration\n"
+            "  export             PARAMS.ini --out DIR: the calibration as C99 flight code\n"
             "  merge OUT DIR...   the shards (run --shard K/N --out DIR) of one run into OUT\n"
             "\n"
             "common options:\n"
@@ -89,6 +90,7 @@ static int dispatch(int argc, char **argv)
                     {"sensitivity", cmd_sensitivity},
                     {"curve", cmd_curve},       {"simulate", cmd_simulate},
                     {"calibrate", cmd_calibrate}, {"compensate", cmd_compensate},
+                    {"export", cmd_export},
                     {"merge", cmd_merge}};
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(cmd, commands[i].name) == 0)

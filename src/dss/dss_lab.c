@@ -2,6 +2,7 @@
  * campaign, truth and validation readings; `calibrate` fits rotary-table
  * data (dss_labfit.h); `compensate` applies params.ini. */
 #include "dss_labfit.h"
+#include "dss_export.h"
 #include "dss_lab.h"
 #include "dss_unit.h"
 #include "family.h"
@@ -392,4 +393,5 @@ const family_lab dss_lab = {
     .model_size = sizeof(dss_calibration),
     .params_load = params_load,
     .compensate = compensate,
+    .export = &dss_export,
 };

@@ -1,6 +1,7 @@
 /* ess_lab.c - the ESS's lab hooks (lab.h): `simulate` writes a unit's
  * campaign, truth and validation readings; `calibrate` fits turntable data
  * (ess_labfit.h); `compensate` applies params.ini. */
+#include "ess_export.h"
 #include "ess_labfit.h"
 #include "ess_lab.h"
 #include "ess_prior.h"
@@ -405,4 +406,5 @@ const family_lab ess_lab = {
     .model_size = sizeof(ess_model),
     .params_load = params_load,
     .compensate = compensate,
+    .export = &ess_export,
 };

@@ -2,6 +2,7 @@
  * unit's campaign as a lab records it, calibrate a lab's data
  * (psd_labfit.c, psd_labreport.c), compensate raw readings. */
 #include "psd_lab.h"
+#include "psd_export.h"
 #include "status.h"
 #include "tsvnum.h"
 #include "units.h"
@@ -332,10 +333,6 @@ static const char *const comp_columns[] = {"compensated_alpha_deg", "compensated
 static const char *const table_columns[] = {"alpha_deg", "beta_deg", NULL};
 static const char *const truth_columns[] = {"truth_alpha_deg", "truth_beta_deg", NULL};
 
-typedef struct {
-    psd_config cfg;      /* design and table convention, from params.ini */
-    psd_cal cal;
-} psd_model_file;
 
 static int enum_of(const params_file *p, const char *sec, const char *key,
                    const char *const *choices, int n, int *out, char *err, size_t errlen)
@@ -497,10 +494,6 @@ static const lab_params_model params_models[] = {
      "breakpoints", PSD_CALFIT_MODEL_PHYSICAL},
     {NULL, NULL, NULL, NULL, NULL}};
 
-/* The polynomial's terms are fitted on ratios up to poly.scale (the
- * campaign's largest): a ratio this fraction beyond is an extrapolation
- * the calibration cannot stand behind (a spot off the calibrated field). */
-#define PSD_POLY_RANGE_MARGIN 0.1
 
 /* Can the calibrated sensor produce channels raw[0..3]
  * (family_lab.reading_check)?  An ADC reads no negative value; a spot
@@ -587,4 +580,5 @@ const family_lab psd_lab = {
     .model_size = sizeof(psd_model_file),
     .params_load = params_load,
     .compensate = compensate,
+    .export = &psd_export,
 };

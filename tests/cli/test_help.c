@@ -73,7 +73,7 @@ static void test_every_command_help_balanced(void **state)
 {
     const char *cmds[] = {"run", "config", "sweep", "budget", "sensitivity",
                           "curve", "simulate", "calibrate",
-                          "compensate"};
+                          "compensate", "export"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char args[64];
         snprintf(args, sizeof args, "%s --help", cmds[i]);

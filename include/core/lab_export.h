@@ -1,0 +1,98 @@
+/* lab_export.h - `sunmc export` (issue 42): a unit's calibration as C99
+ * source a flight computer compiles, the part every family shares.  The
+ * family gives its model's arithmetic as C statements (lab_export, a hook
+ * of family_lab); core writes around them the header, the reading check,
+ * the function, the table form, the test vectors and the test program.
+ *
+ * The exported function (NAME = the params' model line, e.g. dss_physical):
+ *     int sunmc_NAME_cal(const sunmc_real raw[N_RAW], sunmc_real angle_deg[N_ANGLES]);
+ * raw in the units of compensate's raw columns, angles in deg as
+ * compensate's columns; returns SUNMC_CAL_OK (0) or why the reading has no
+ * angle (the codes of enum lab_reading).  sunmc_real is float with
+ * -DSUNMC_FLOAT, double with -DSUNMC_DOUBLE, else the --precision chosen.
+ * The generated code uses <math.h> and <stdint.h> only, no allocation, no
+ * recursion, loops of fixed bounds, no writable static data.
+ *
+ * The table form (step > 0) tabulates the compensated angles on a grid of
+ * the family's reading axes (lab_export.n_axes: 1 linear, 2 bilinear)
+ * with the step in the axes' unit; a cell with a node the model cannot
+ * invert gives SUNMC_CAL_NO_INVERSE.
+ */
+#ifndef SUNMC_LAB_EXPORT_H
+#define SUNMC_LAB_EXPORT_H
+
+#include "lab.h"
+#include "params_io.h"
+
+#include <stdio.h>
+
+#define LAB_EXPORT_MAX_AXES 2
+/* Largest table the export writes (nodes per angle). */
+#define LAB_EXPORT_MAX_NODES 1000000L
+/* Test vectors per axis (a grid reaching LAB_EXPORT_VEC_MARGIN beyond the
+ * axes' range on each side, so that refused readings are in it too). */
+#define LAB_EXPORT_VEC_2D 41
+#define LAB_EXPORT_VEC_1D 801
+#define LAB_EXPORT_VEC_MARGIN 0.05
+
+/* A family's model as C code (NULL hooks: that model is not exported). */
+typedef struct lab_export {
+    int n_axes;                     /* the table's reading axes: 1 or 2 */
+    const char *const *axis_names;  /* with their unit ("x_px") */
+    /* Can this model be exported?  Non-OK (message) when not. */
+    int (*supported)(const void *model, char *err, size_t errlen);
+    /* The range of the axes the unit's readings take. */
+    void (*axes_range)(const void *model, double *lo, double *hi);
+    /* The raw reading (compensate's raw columns) at axes values q. */
+    void (*raw_at)(const void *model, const double *q, double *raw);
+    /* Static functions the model calls (NULL: none; not in the table form). */
+    void (*emit_helpers)(const void *model, FILE *f);
+    /* C statements: the axes q[] (sunmc_real) of the reading raw[]; may
+     * `return SUNMC_CAL_NO_INVERSE;`. */
+    void (*emit_axes)(const void *model, FILE *f);
+    /* C statements of the reading check, from raw[]: `return
+     * SUNMC_CAL_...;` for a reading the unit cannot produce (the rules of
+     * reading_check); falls through otherwise. */
+    void (*emit_check)(const void *model, FILE *f);
+    /* C statements of the model, from raw[] into ang[] (rad); may `return
+     * SUNMC_CAL_NO_INVERSE;`.  Constants as SR(literal), functions as
+     * SR_SQRT, SR_ATAN2, SR_ATAN, SR_ASIN, SR_SIN, SR_COS, SR_FABS. */
+    void (*emit_model)(const void *model, FILE *f);
+    /* The fixed loop counts of the model, for the header comment. */
+    const char *iterations;
+} lab_export;
+
+typedef struct {
+    const family_lab *lab;
+    const void *model;          /* lab_params_load's */
+    const params_file *pf;
+    const char *params_path;
+    unsigned long long params_fnv1a64; /* of the params file's bytes */
+    int use_float;              /* the default sunmc_real */
+    double step;                /* table step in the axes' unit; 0: the model form */
+} lab_export_job;
+
+/* File names of the export (header, source, vectors, test program). */
+#define LAB_EXPORT_FILES 4
+#define LAB_EXPORT_NAME_MAX 48
+
+/* The model's name as the files and function take it ("dss_physical"),
+ * checked: letters, digits and '_'. */
+int lab_export_name(const lab_export_job *j, char *name, size_t len, char *err, size_t errlen);
+
+/* Nodes per axis of j's table and their total (*nodes); non-OK for a table
+ * beyond LAB_EXPORT_MAX_NODES or a step that is not positive. */
+int lab_export_table_size(const lab_export_job *j, long n[LAB_EXPORT_MAX_AXES], long *nodes,
+                          char *err, size_t errlen);
+
+/* The reading's status and angles (deg) by sunmc's double compensate:
+ * reading_check, then compensate (comp_one of lab.c). */
+int lab_export_reference(const family_lab *lab, const void *model, const double *raw,
+                         double *deg);
+
+/* Write the four files (f[0] header, f[1] source, f[2] test_vectors.csv,
+ * f[3] test_main.c). */
+int lab_export_write(const lab_export_job *j, FILE *const f[LAB_EXPORT_FILES], char *err,
+                     size_t errlen);
+
+#endif
