@@ -92,7 +92,13 @@ int lab_export_reference(const family_lab *lab, const void *model, const double 
 /* ---- the header ---- */
 
 static const char *const status_names[LAB_N_READING] = {
-    "OK", "NO_SIGNAL", "NEGATIVE_SUM", "OUTSIDE_DETECTOR", "OUTSIDE_RANGE", "NO_INVERSE"};
+    [LAB_READING_OK] = "OK",
+    [LAB_NO_SIGNAL] = "NO_SIGNAL",
+    [LAB_NEGATIVE_SUM] = "NEGATIVE_SUM",
+    [LAB_OUTSIDE_DETECTOR] = "OUTSIDE_DETECTOR",
+    [LAB_OUTSIDE_RANGE] = "OUTSIDE_RANGE",
+    [LAB_NO_INVERSE] = "NO_INVERSE",
+    [LAB_OUTSIDE_FIELD] = "OUTSIDE_FIELD"};
 
 static void upper(const char *s, char *out, size_t len)
 {

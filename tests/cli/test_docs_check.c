@@ -64,13 +64,13 @@ static void tolerance_both_sides(void **state)
 }
 
 /* The K-th number after the match: `#2` after `spec_arcsec =` is the
- * config line number in `# configs/dss.ini:51`. */
+ * config line number in `# configs/dss.ini:60`. */
 static void kth_number_is_read(void **state)
 {
     char out[4096];
-    assert_int_equal(check_page(CMD "\ntol 0\n51 @ ^spec_arcsec = #2", "line 51", out, sizeof out), 0);
+    assert_int_equal(check_page(CMD "\ntol 0\n60 @ ^spec_arcsec = #2", "line 60", out, sizeof out), 0);
     assert_int_equal(check_page(CMD "\ntol 0\n10 @ ^spec_arcsec = #2", "line 10", out, sizeof out), 1);
-    assert_non_null(strstr(out, "the page says 10, the command prints 51"));
+    assert_non_null(strstr(out, "the page says 10, the command prints 60"));
 }
 
 /* The mark's number must be what the text quotes: the text changed alone
