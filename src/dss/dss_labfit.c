@@ -490,7 +490,7 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
             st = params_set_text(p, "design", "mount",
                                  m->mount == DSS_MOUNT_ALIGNED ? "aligned" : "as_mounted",
                                  "campaign.mount: the frame of the compensated angles");
-        for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+        for (int k = 0; k < (m->tilt ? DSS_NP : DSS_P_TX) && st == SUNMC_OK; k++) {
             comment[0] = '\0';
             for (int j = 0; rep && j < rep->np; j++)
                 if (strcmp(rep->name[j], dss_param_names[k]) == 0 && isfinite(rep->se[j]))
@@ -555,6 +555,13 @@ static const params_range dss_phys_ranges[] = {
     {"parameters", "fit_sun_b1_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
     {"parameters", "fit_sun_b2_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
 };
+/* The detector tilt's (calibration.fit_detector_tilt = on), both or neither. */
+static const params_range dss_tilt_ranges[] = {
+    {"parameters", "fit_detector_tilt_x_arcsec", -36000, 36000, "arcsec",
+     "tolerance.detector_tilt_x_arcsec's range"},
+    {"parameters", "fit_detector_tilt_y_arcsec", -36000, 36000, "arcsec",
+     "tolerance.detector_tilt_y_arcsec's range"},
+};
 static const params_range dss_poly_ranges[] = {
     {"design", "h_mm", 0.2, 50, "mm", "design.h_mm's range"},
     {"design", "pixel_um", 0.5, 100, "um", "design.pixel_um's range"},
@@ -616,7 +623,12 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
                             "in [0, 1e-4] (a sun disc of at most 2 deg)", err, errlen);
     if (st != SUNMC_OK)
         return st;
-    for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+    int tx = params_find(p, "parameters", dss_param_names[DSS_P_TX]) != NULL;
+    int ty = params_find(p, "parameters", dss_param_names[DSS_P_TY]) != NULL;
+    if (tx || ty)
+        st = params_check_ranges(p, dss_tilt_ranges, N_RANGES(dss_tilt_ranges), err, errlen);
+    m->tilt = tx && ty;
+    for (int k = 0; k < (m->tilt ? DSS_NP : DSS_P_TX) && st == SUNMC_OK; k++) {
         double v;
         st = params_get_double(p, "parameters", dss_param_names[k], &v, err, errlen);
         dss_param_set(m, k, v);
