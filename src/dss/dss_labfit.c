@@ -208,10 +208,23 @@ static void dss_check_correlations(calreport *rep)
         "calibration.sun_b1_measured_arcsec=B1 --set calibration.sun_b2_measured_arcsec=B2), "
         "calibrate in an aligned lab (campaign.mount = aligned: no simulator tilt to fit) or "
         "over wider table angles";
+    static const char why_det[] =
+        "a detector tilt about X (Y) moves a spot at field angle theta by about h a tan^2 theta "
+        "along y (x), which a mount tilt c1 (c2) with the opposite principal-point shift also "
+        "does (h c sec^2 theta - h c); they differ only through the table's axes and across "
+        "the field at wide angles";
+    static const char act_det[] =
+        "the sum that compensation needs stays determined (cal.sigma shows it); to separate "
+        "them calibrate over wider table angles, or keep calibration.fit_detector_tilt = off "
+        "if the tilt's tolerance is small (the mount and the principal point then take it up)";
     const calreport_corr_cause causes[] = {
         {{"fit_dh_px", "fit_glass_thickness_um", "fit_glass_index", NULL}, why_scale, act_scale},
         {{"fit_dy_px", "fit_c1_arcsec", "fit_sun_b1_arcsec", NULL}, why_tilt, act_tilt},
         {{"fit_dx_px", "fit_c2_arcsec", "fit_sun_b2_arcsec", NULL}, why_tilt, act_tilt},
+        {{"fit_dy_px", "fit_c1_arcsec", "fit_sun_b1_arcsec", "fit_detector_tilt_x_arcsec", NULL},
+         why_det, act_det},
+        {{"fit_dx_px", "fit_c2_arcsec", "fit_sun_b2_arcsec", "fit_detector_tilt_y_arcsec", NULL},
+         why_det, act_det},
     };
     calreport_check_correlations_explained(rep, CALREPORT_CORR_WARN, causes,
                                            (int)(sizeof causes / sizeof *causes));
