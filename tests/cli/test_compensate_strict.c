@@ -355,6 +355,24 @@ static void detector_tilt_keys(void **state)
     read_ok("cdt", "grep -v '^fit_detector_tilt_' $IN > $OUT", NULL);
     refused("cdt", "grep -v '^fit_detector_tilt_[xy]_arcsec ' $IN > $OUT",
             "unknown key prior.fit_detector_tilt_x_arcsec_mean");
+    /* the tilt read is the tilt used: without it the angles move */
+    char cmp[2048];
+    snprintf(cmp, sizeof cmp,
+             "true; grep -v '^fit_detector_tilt_' $D/cdt/params.ini > $D/flat.ini && "
+             "%s compensate $D/cdt/params.ini $D/sd/validation.csv > $D/tilt.csv && "
+             "%s compensate $D/flat.ini $D/sd/validation.csv > $D/flat.csv && "
+             "! cmp -s $D/tilt.csv $D/flat.csv",
+             test_sunmc(), test_sunmc());
+    static char res[65536];
+    assert_int_equal(sunmc(cmp, res, sizeof res), 0);
+    /* calibrate names the tilt's correlation with the mount and says why */
+    assert_int_equal(sunmc("calibrate --config configs/dss.ini --set "
+                           "calibration.fit_detector_tilt=on $D/sd/campaign.csv --quiet --out $D/cdt2",
+                           res, sizeof res),
+                     0);
+    assert_non_null(strstr(res, "fit_c1_arcsec and fit_detector_tilt_x_arcsec"));
+    assert_non_null(strstr(res, "fit_dx_px and fit_detector_tilt_y_arcsec"));
+    assert_non_null(strstr(res, "why: a detector tilt about X (Y) moves a spot"));
     /* the paper's model's params.ini has no tilt keys; the extension's has both */
     char out[4096];
     assert_int_equal(sunmc("true; grep -c '^fit_detector_tilt_' $D/cd/params.ini; true", out,
