@@ -9,8 +9,11 @@
  *
  * Physical model: residuals are the spot's (x, y) in px, 2n rows, weighted.
  * Fitted: dx, dy, dh, glass thickness, glass index (unless
- * calibration.fit_glass_index = off), the mount c1-c3 and, as mounted, the
- * sun simulator's sun_b1, sun_b2.  Identifiability, from the Jacobian at
+ * calibration.fit_glass_index = off), the mount c1-c3, as mounted, the
+ * sun simulator's sun_b1, sun_b2 and, with calibration.fit_detector_tilt =
+ * on, the detector's tilt tx, ty (nearly collinear with c1 + dy and c2 + dx:
+ * |r| ~0.99 on this campaign; dss_labfit.c names the cause).  The table
+ * below is the paper's model's.  Identifiability, from the Jacobian at
  * the nominal unit over the default campaign (b1, b2 in -60..60 deg step
  * 5, 581 seen readings; columns normalised; tests/unit/dss/test_dss_calib.c
  * recomputes it):

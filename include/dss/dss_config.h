@@ -30,6 +30,9 @@ typedef struct {
     int mount;               /* enum dss_mount: campaign.mount, the lab's procedure, carried
                               * with the design so every model of the unit knows it */
     int principal_point;     /* enum dss_principal_point: how dx, dy enter the sensor */
+    int fit_tilt;            /* calibration.fit_detector_tilt: 1 extends the physical model by
+                              * the detector's tilt (dss_model.h), carried with the design as
+                              * mount is */
 } dss_design;
 
 /* The values of campaign.mount (dss_sensor.h): aligned = the DSS paper's

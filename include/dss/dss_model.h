@@ -11,7 +11,13 @@
  * the Jacobian's conditioning, see dss_calib.h) is held fixed by the fit;
  * the model itself carries every parameter.
  *
- * Compensation inverts it exactly: the spot's distance from (x0, y0) gives
+ * With calibration.fit_detector_tilt = on the spot is then carried along
+ * the sun's ray to the detector plane tilted by D = rot_zxy(tx, ty, 0) and
+ * read in its axes, as the truth does (dss_sensor.h, Detector tilt).
+ *
+ * Compensation inverts it exactly (a tilted model first carries the
+ * measured spot back to z = 0 along the sun's ray, the ray refined from
+ * the spot's own inversion, DSS_UNTILT_ITER times): the spot's distance from (x0, y0) gives
  * the field angle (Newton on the glass formula), its direction the azimuth;
  * that u is taken back through M into the table-top frame, w = M^T u.
  * as_mounted: the output is w's angles (atan(w_x/w_z), atan(w_y/w_z)), the
@@ -38,6 +44,8 @@ enum dss_param {
     DSS_P_N,      /* cover-glass index */
     DSS_P_S1,     /* sun simulator: table angle b1 it equals (rad), as_mounted */
     DSS_P_S2,     /* and b2 (rad) */
+    DSS_P_TX,     /* detector tilt about X (rad): calibration.fit_detector_tilt = on only */
+    DSS_P_TY,     /* about the new Y (rad) */
     DSS_NP
 };
 /* Rotation parameters whose d v_sun / d p the model caches: c1-c3, s1, s2. */
@@ -49,7 +57,10 @@ enum dss_param {
  * fit_dx_px, fit_dy_px, fit_dh_px (height, glass included),
  * fit_glass_thickness_um, fit_c1_arcsec .. fit_c3_arcsec (the mount),
  * fit_glass_index, fit_sun_b1_arcsec, fit_sun_b2_arcsec (the sun
- * simulator). */
+ * simulator), fit_detector_tilt_x_arcsec, fit_detector_tilt_y_arcsec (the
+ * detector plane against the mask; only with calibration.fit_detector_tilt
+ * = on: off, the model has no tilt, holds them at 0 and no output names
+ * them). */
 extern const char *const dss_param_names[DSS_NP];
 
 typedef struct {
@@ -60,10 +71,12 @@ typedef struct {
     int mount;             /* enum dss_mount */
     double disc_c_rad2;    /* the sun's disc (dss_disc_coefficient; 0: a point sun) */
     double nominal[DSS_NP]; /* the design's values (dss_model_init) */
+    int tilt;              /* 1: the detector tilt extension (design.fit_tilt) */
     /* filled by dss_model_prepare */
     mat3 M, dM[3];         /* M and dM/dc1, dM/dc2, dM/dc3 */
     double v0[3];          /* v_sun */
     double dv0[DSS_N_ROT][3]; /* d v_sun / d (c1, c2, c3, s1, s2) */
+    mat3 D, dD[2];         /* tilt: rot_zxy(tx, ty, 0) and its derivatives (dss_sensor.h) */
 } dss_model;
 
 /* The nominal unit of design d (prepared; d->mount is the model's). */

@@ -65,6 +65,8 @@ int dss_calib_free_params(const dss_design *d, int fit_index, int fix_sun, int f
             continue;
         if ((j == DSS_P_S1 || j == DSS_P_S2) && fix_sun)
             continue;
+        if ((j == DSS_P_TX || j == DSS_P_TY) && !d->fit_tilt)
+            continue;
         if (free_idx)
             free_idx[n] = j;
         n++;

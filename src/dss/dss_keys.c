@@ -110,6 +110,12 @@ const config_key dss_keys[] = {
      "physical model: fit the cover-glass index too (height, thickness and index are nearly "
      "collinear, |corr| ~0.99, yet fitting all three predicts the spots best; off holds the "
      "index at design; see dss_calib.h)"},
+    {"calibration", "fit_detector_tilt", KEY_ENUM, "", "off", 0, 0, "off|on",
+     OFF(design.fit_tilt),
+     "physical model: extend it by the detector plane's tilt against the mask (two angles, "
+     "fit_detector_tilt_x_arcsec, fit_detector_tilt_y_arcsec, the geometry of "
+     "tolerance.detector_tilt_x_arcsec); off (the DSS paper's model) leaves the tilt in the "
+     "after-calibration error"},
     {"calibration", "sun", KEY_ENUM, "", "fitted", 0, 0, "fitted|measured", OFF(sun_mode),
      "campaign.mount = as_mounted: the sun simulator's direction (sun_b1, sun_b2) fitted with "
      "the other parameters, or measured and fixed (two parameters fewer); on a narrow campaign "
@@ -166,7 +172,7 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
                       "campaign: %ld x %ld b grid = %ld readings, too few for the %s model's %d "
                       "parameters (campaign.b_min_deg, campaign.b_max_deg, campaign.b_step_deg, "
                       "calibration.model, calibration.poly_order, calibration.fit_glass_index, "
-                      "calibration.sun)",
+                      "calibration.fit_detector_tilt, calibration.sun)",
                       nb, nb, n, phys ? "physical" : "polynomial", np);
 }
 

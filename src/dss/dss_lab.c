@@ -241,7 +241,9 @@ typedef struct {
 static int model_params(const sunmc_config *c)
 {
     const dss_config *dc = dss_cfg(c);
-    return dc->cal_model == DSS_MODEL_PHYSICAL ? DSS_NP : dss_poly_n_terms(dc->poly_order);
+    if (dc->cal_model != DSS_MODEL_PHYSICAL)
+        return dss_poly_n_terms(dc->poly_order);
+    return dc->design.fit_tilt ? DSS_NP : DSS_P_TX; /* the tilt's two only when fitted */
 }
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)

@@ -208,10 +208,23 @@ static void dss_check_correlations(calreport *rep)
         "calibration.sun_b1_measured_arcsec=B1 --set calibration.sun_b2_measured_arcsec=B2), "
         "calibrate in an aligned lab (campaign.mount = aligned: no simulator tilt to fit) or "
         "over wider table angles";
+    static const char why_det[] =
+        "a detector tilt about X (Y) moves a spot at field angle theta by about h a tan^2 theta "
+        "along y (x), which a mount tilt c1 (c2) with the opposite principal-point shift also "
+        "does (h c sec^2 theta - h c); they differ only through the table's axes and across "
+        "the field at wide angles";
+    static const char act_det[] =
+        "the sum that compensation needs stays determined (cal.sigma shows it); to separate "
+        "them calibrate over wider table angles, or keep calibration.fit_detector_tilt = off "
+        "if the tilt's tolerance is small (the mount and the principal point then take it up)";
     const calreport_corr_cause causes[] = {
         {{"fit_dh_px", "fit_glass_thickness_um", "fit_glass_index", NULL}, why_scale, act_scale},
         {{"fit_dy_px", "fit_c1_arcsec", "fit_sun_b1_arcsec", NULL}, why_tilt, act_tilt},
         {{"fit_dx_px", "fit_c2_arcsec", "fit_sun_b2_arcsec", NULL}, why_tilt, act_tilt},
+        {{"fit_dy_px", "fit_c1_arcsec", "fit_sun_b1_arcsec", "fit_detector_tilt_x_arcsec", NULL},
+         why_det, act_det},
+        {{"fit_dx_px", "fit_c2_arcsec", "fit_sun_b2_arcsec", "fit_detector_tilt_y_arcsec", NULL},
+         why_det, act_det},
     };
     calreport_check_correlations_explained(rep, CALREPORT_CORR_WARN, causes,
                                            (int)(sizeof causes / sizeof *causes));
@@ -490,7 +503,7 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
             st = params_set_text(p, "design", "mount",
                                  m->mount == DSS_MOUNT_ALIGNED ? "aligned" : "as_mounted",
                                  "campaign.mount: the frame of the compensated angles");
-        for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+        for (int k = 0; k < (m->tilt ? DSS_NP : DSS_P_TX) && st == SUNMC_OK; k++) {
             comment[0] = '\0';
             for (int j = 0; rep && j < rep->np; j++)
                 if (strcmp(rep->name[j], dss_param_names[k]) == 0 && isfinite(rep->se[j]))
@@ -555,6 +568,13 @@ static const params_range dss_phys_ranges[] = {
     {"parameters", "fit_sun_b1_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
     {"parameters", "fit_sun_b2_arcsec", -36000, 36000, "arcsec", "an angle within 10 deg"},
 };
+/* The detector tilt's (calibration.fit_detector_tilt = on), both or neither. */
+static const params_range dss_tilt_ranges[] = {
+    {"parameters", "fit_detector_tilt_x_arcsec", -36000, 36000, "arcsec",
+     "tolerance.detector_tilt_x_arcsec's range"},
+    {"parameters", "fit_detector_tilt_y_arcsec", -36000, 36000, "arcsec",
+     "tolerance.detector_tilt_y_arcsec's range"},
+};
 static const params_range dss_poly_ranges[] = {
     {"design", "h_mm", 0.2, 50, "mm", "design.h_mm's range"},
     {"design", "pixel_um", 0.5, 100, "um", "design.pixel_um's range"},
@@ -616,7 +636,12 @@ static int load_physical(const params_file *p, dss_model *m, char *err, size_t e
                             "in [0, 1e-4] (a sun disc of at most 2 deg)", err, errlen);
     if (st != SUNMC_OK)
         return st;
-    for (int k = 0; k < DSS_NP && st == SUNMC_OK; k++) {
+    int tx = params_find(p, "parameters", dss_param_names[DSS_P_TX]) != NULL;
+    int ty = params_find(p, "parameters", dss_param_names[DSS_P_TY]) != NULL;
+    if (tx || ty)
+        st = params_check_ranges(p, dss_tilt_ranges, N_RANGES(dss_tilt_ranges), err, errlen);
+    m->tilt = tx && ty;
+    for (int k = 0; k < (m->tilt ? DSS_NP : DSS_P_TX) && st == SUNMC_OK; k++) {
         double v;
         st = params_get_double(p, "parameters", dss_param_names[k], &v, err, errlen);
         dss_param_set(m, k, v);

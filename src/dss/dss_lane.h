@@ -209,7 +209,7 @@ VM_INLINE double dss_lane_truth_beta(double b1, double b2)
  * parameters (dss_model_spot).  ok = 0 where the sun is behind the sensor
  * or totally reflected. */
 typedef struct {
-    double x0, y0, H, t, c1, c2, c3, n, s1, s2;
+    double x0, y0, H, t, c1, c2, c3, n, s1, s2, tx, ty;
 } dss_lane_par;
 
 typedef struct {
@@ -236,8 +236,88 @@ VM_INLINE double dss_lane_ds(const dss_model *m, int k, geo_table R, geo_v3 dsdu
 
 /* disc: 1 (the sun disc on), 0 (off: its gain is 1, not computed) or -1
  * (either: computed and selected). */
-VM_INLINE dss_lane_model dss_lane_model_spot_as(const dss_model *m, geo_table R, int want_j,
-                                                int disc)
+/* du / d p_k of a rotation parameter (k = 0-2: c1-c3, 3, 4: s1, s2):
+ * dM_k w + M R dv0_k (the first term for c only). */
+VM_INLINE geo_v3 dss_lane_du(const dss_model *m, int k, geo_table R, geo_v3 w)
+{
+    geo_v3 t3 = geo_mul(m->M, geo_table_mul(R, geo_v3_of(m->dv0[k])));
+    if (k < 3) {
+        geo_v3 t1 = geo_mul(m->dM[k], w);
+        t3.x += t1.x;
+        t3.y += t1.y;
+        t3.z += t1.z;
+    }
+    return t3;
+}
+
+/* The tilted detector's spot of a parameter's derivative: the untilted
+ * (jx, jy) px and du (0 for a parameter that does not turn the sun) taken
+ * through s = q - wv r (dss_lane_tilt): ds_a = C_a . (dp0, 0) - r C_a . du
+ * with C_aj = D_aj - wv_a D_2j / wv_z. */
+VM_INLINE void dss_lane_tilt_j(const double C[2][3], double r, double inv_pix, geo_v3 du,
+                               double *jx, double *jy)
+{
+    double x = *jx, y = *jy;
+    *jx = C[0][0] * x + C[0][1] * y - r * (C[0][0] * du.x + C[0][1] * du.y + C[0][2] * du.z) * inv_pix;
+    *jy = C[1][0] * x + C[1][1] * y - r * (C[1][0] * du.x + C[1][1] * du.y + C[1][2] * du.z) * inv_pix;
+}
+
+/* d s / d tilt_i (dD = dD_i): dq = dD p0, dwv = dD u,
+ * ds_a = dq_a - wv_a dq_z / wv_z - r (dwv_a - wv_a dwv_z / wv_z). */
+VM_INLINE geo_xy dss_lane_tilt_dtheta(const mat3 dD, geo_xy p0, geo_v3 u, geo_v3 wv, double r)
+{
+    double dq[3], dw[3];
+    for (int a = 0; a < 3; a++) {
+        dq[a] = dD[a][0] * p0.x + dD[a][1] * p0.y;
+        dw[a] = dD[a][0] * u.x + dD[a][1] * u.y + dD[a][2] * u.z;
+    }
+    geo_xy o = {dq[0] - wv.x * dq[2] / wv.z - r * (dw[0] - wv.x * dw[2] / wv.z),
+                dq[1] - wv.y * dq[2] / wv.z - r * (dw[1] - wv.y * dw[2] / wv.z)};
+    return o;
+}
+
+/* The model's untilted spot p0 (mm) carried to its tilted detector, and
+ * the Jacobian e's untilted columns through it (dss_lane_tilt_j). */
+VM_INLINE void dss_lane_model_tilt(const dss_model *m, geo_table R, geo_v3 w, geo_v3 u,
+                                   geo_xy p0, int want_j, dss_lane_model *e)
+{
+    double inv_pix = 1.0 / m->pixel_mm;
+    geo_v3 wv = geo_mul(m->D, u);
+    geo_xy sp = dss_lane_tilt(m->D, p0, wv);
+    e->ok = e->ok & (wv.z > 0.0);
+    e->x = sp.x * inv_pix;
+    e->y = sp.y * inv_pix;
+    if (!want_j)
+        return;
+    double r = (m->D[2][0] * p0.x + m->D[2][1] * p0.y) / wv.z;
+    double C[2][3];
+    for (int j = 0; j < 3; j++) {
+        C[0][j] = m->D[0][j] - wv.x * m->D[2][j] / wv.z;
+        C[1][j] = m->D[1][j] - wv.y * m->D[2][j] / wv.z;
+    }
+    geo_v3 z = {0.0, 0.0, 0.0};
+    dss_lane_tilt_j(C, r, inv_pix, z, &e->jx.x0, &e->jy.x0);
+    dss_lane_tilt_j(C, r, inv_pix, z, &e->jx.y0, &e->jy.y0);
+    dss_lane_tilt_j(C, r, inv_pix, z, &e->jx.H, &e->jy.H);
+    dss_lane_tilt_j(C, r, inv_pix, z, &e->jx.t, &e->jy.t);
+    dss_lane_tilt_j(C, r, inv_pix, z, &e->jx.n, &e->jy.n);
+    dss_lane_tilt_j(C, r, inv_pix, dss_lane_du(m, 0, R, w), &e->jx.c1, &e->jy.c1);
+    dss_lane_tilt_j(C, r, inv_pix, dss_lane_du(m, 1, R, w), &e->jx.c2, &e->jy.c2);
+    dss_lane_tilt_j(C, r, inv_pix, dss_lane_du(m, 2, R, w), &e->jx.c3, &e->jy.c3);
+    dss_lane_tilt_j(C, r, inv_pix, dss_lane_du(m, 3, R, w), &e->jx.s1, &e->jy.s1);
+    dss_lane_tilt_j(C, r, inv_pix, dss_lane_du(m, 4, R, w), &e->jx.s2, &e->jy.s2);
+    geo_xy gx = dss_lane_tilt_dtheta(m->dD[0], p0, u, wv, r);
+    geo_xy gy = dss_lane_tilt_dtheta(m->dD[1], p0, u, wv, r);
+    e->jx.tx = gx.x * inv_pix;
+    e->jy.tx = gx.y * inv_pix;
+    e->jx.ty = gy.x * inv_pix;
+    e->jy.ty = gy.y * inv_pix;
+}
+
+/* tilt: 1 (the model's detector tilt on: m->tilt) or 0 (off: not computed,
+ * its Jacobian columns 0). */
+VM_INLINE dss_lane_model dss_lane_model_spot_tilt(const dss_model *m, geo_table R, int want_j,
+                                                  int disc, int tilt)
 {
     geo_v3 w = geo_table_mul(R, geo_v3_of(m->v0));
     geo_v3 u = geo_mul(m->M, w);
@@ -255,10 +335,14 @@ VM_INLINE dss_lane_model dss_lane_model_spot_as(const dss_model *m, geo_table R,
     }
     double q = g.q * k;
     double inv_pix = 1.0 / m->pixel_mm;
-    e.x = (m->p[DSS_P_X0] - u.x * q) * inv_pix;
-    e.y = (m->p[DSS_P_Y0] - u.y * q) * inv_pix;
-    if (!want_j)
+    geo_xy p0 = {m->p[DSS_P_X0] - u.x * q, m->p[DSS_P_Y0] - u.y * q};
+    e.x = p0.x * inv_pix;
+    e.y = p0.y * inv_pix;
+    if (!want_j) {
+        if (tilt)
+            dss_lane_model_tilt(m, R, w, u, p0, 0, &e);
         return e;
+    }
     double gx = k * g.ux, gy = k * g.uy, gz = k * g.uz, gH = k * g.H, gt = k * g.t, gn = k * g.n;
     e.jx.x0 = inv_pix;
     e.jx.y0 = 0.0;
@@ -285,12 +369,24 @@ VM_INLINE dss_lane_model dss_lane_model_spot_as(const dss_model *m, geo_table R,
     e.jy.s1 = dss_lane_ds(m, 3, R, dy);
     e.jx.s2 = dss_lane_ds(m, 4, R, dx);
     e.jy.s2 = dss_lane_ds(m, 4, R, dy);
+    e.jx.tx = 0.0;
+    e.jy.tx = 0.0;
+    e.jx.ty = 0.0;
+    e.jy.ty = 0.0;
+    if (tilt)
+        dss_lane_model_tilt(m, R, w, u, p0, 1, &e);
     return e;
+}
+
+VM_INLINE dss_lane_model dss_lane_model_spot_as(const dss_model *m, geo_table R, int want_j,
+                                                int disc)
+{
+    return dss_lane_model_spot_tilt(m, R, want_j, disc, 0);
 }
 
 VM_INLINE dss_lane_model dss_lane_model_spot(const dss_model *m, geo_table R, int want_j)
 {
-    return dss_lane_model_spot_as(m, R, want_j, -1);
+    return dss_lane_model_spot_tilt(m, R, want_j, -1, m->tilt);
 }
 
 /* The calibrated angles of a spot whose field angle th and azimuth

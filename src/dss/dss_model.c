@@ -12,7 +12,8 @@
 const char *const dss_param_names[DSS_NP] = {
     "fit_dx_px",     "fit_dy_px",     "fit_dh_px",       "fit_glass_thickness_um",
     "fit_c1_arcsec", "fit_c2_arcsec", "fit_c3_arcsec",   "fit_glass_index",
-    "fit_sun_b1_arcsec", "fit_sun_b2_arcsec"};
+    "fit_sun_b1_arcsec", "fit_sun_b2_arcsec", "fit_detector_tilt_x_arcsec",
+    "fit_detector_tilt_y_arcsec"};
 
 double dss_param_scale(const dss_model *m, int k)
 {
@@ -23,7 +24,7 @@ double dss_param_scale(const dss_model *m, int k)
         return UM_PER_MM;
     case DSS_P_N:
         return 1.0;
-    default: /* c1-c3, s1, s2 */
+    default: /* c1-c3, s1, s2, tx, ty */
         return ARCSEC_PER_RAD;
     }
 }
@@ -48,6 +49,7 @@ void dss_model_init(dss_model *m, const dss_design *d)
     m->pixel_mm = d->pixel_um * MM_PER_UM;
     m->half_px = 0.5 * d->detector_px;
     m->mount = d->mount;
+    m->tilt = d->fit_tilt != 0;
     m->disc_c_rad2 = dss_disc_coefficient(d->sun_disc_deg, d->limb_darkening);
     memcpy(m->nominal, m->p, sizeof m->nominal);
     dss_model_prepare(m);
@@ -60,6 +62,9 @@ void dss_model_prepare(dss_model *m)
     rot_zxy_deriv(c1, c2, c3, m->dM[0], m->dM[1], m->dM[2]);
     double s1 = m->p[DSS_P_S1], s2 = m->p[DSS_P_S2];
     dss_sun_direction(m->mount, m->M, s1, s2, m->v0);
+    rot_zxy(m->p[DSS_P_TX], m->p[DSS_P_TY], 0.0, m->D);
+    mat3 dz;
+    rot_zxy_deriv(m->p[DSS_P_TX], m->p[DSS_P_TY], 0.0, m->dD[0], m->dD[1], dz);
     memset(m->dv0, 0, sizeof m->dv0);
     if (m->mount == DSS_MOUNT_ALIGNED) {
         /* v = M^T e_z, the third row of M */
@@ -88,8 +93,8 @@ VM_NOSAN int dss_model_spot(const dss_model *m, double b1, double b2, double spo
     if (J) {
         const dss_lane_par *g[2] = {&e.jx, &e.jy};
         for (int a = 0; a < 2; a++) {
-            double v[DSS_NP] = {g[a]->x0, g[a]->y0, g[a]->H,  g[a]->t,  g[a]->c1,
-                                g[a]->c2, g[a]->c3, g[a]->n,  g[a]->s1, g[a]->s2};
+            double v[DSS_NP] = {g[a]->x0, g[a]->y0, g[a]->H,  g[a]->t,  g[a]->c1, g[a]->c2,
+                                g[a]->c3, g[a]->n,  g[a]->s1, g[a]->s2, g[a]->tx, g[a]->ty};
             for (int j = 0; j < DSS_NP; j++)
                 J[a][j] = v[j];
         }

@@ -32,10 +32,11 @@ VM_KERNEL void dss_table_fill(dss_table *t, const double *b1_rad, const double *
     }
 }
 
-/* dss_model_batch's loop, disc a constant (dss_lane_model_spot_as). */
+/* dss_model_batch's loop, disc and tilt constants (dss_lane_model_spot_tilt);
+ * the tilt's columns are written only with the tilt on. */
 VM_INLINE void model_batch_loop(const dss_model *m, const dss_table *t, const double *x_px,
                                 const double *y_px, const double *sw, double *f,
-                                double *const col[DSS_NP], int disc)
+                                double *const col[DSS_NP], int disc, int tilt)
 {
     const double *restrict m0 = t->m[0], *restrict m1 = t->m[1], *restrict m2 = t->m[2];
     const double *restrict m3 = t->m[3], *restrict m4 = t->m[4], *restrict m5 = t->m[5];
@@ -43,9 +44,10 @@ VM_INLINE void model_batch_loop(const dss_model *m, const dss_table *t, const do
     double *jx0 = col[DSS_P_X0], *jy0 = col[DSS_P_Y0], *jh = col[DSS_P_H], *jt = col[DSS_P_T];
     double *jc1 = col[DSS_P_C1], *jc2 = col[DSS_P_C2], *jc3 = col[DSS_P_C3], *jn = col[DSS_P_N];
     double *js1 = col[DSS_P_S1], *js2 = col[DSS_P_S2];
+    double *jtx = col[DSS_P_TX], *jty = col[DSS_P_TY];
     VM_SIMD for (size_t i = 0; i < vm_pad(t->n); i++) {
         geo_table R = {m0[i], m1[i], m2[i], m3[i], m4[i], m5[i], m6[i], m7[i], m8[i]};
-        dss_lane_model e = dss_lane_model_spot_as(m, R, 1, disc);
+        dss_lane_model e = dss_lane_model_spot_tilt(m, R, 1, disc, tilt);
         /* a dropped or unmodelled point gives 0, whatever the model says there */
         double w = sw[i];
         int use = (w > 0.0) & e.ok;
@@ -71,6 +73,12 @@ VM_INLINE void model_batch_loop(const dss_model *m, const dss_table *t, const do
         js1[2 * i + 1] = vm_keep(use, w * e.jy.s1);
         js2[2 * i] = vm_keep(use, w * e.jx.s2);
         js2[2 * i + 1] = vm_keep(use, w * e.jy.s2);
+        if (tilt) {
+            jtx[2 * i] = vm_keep(use, w * e.jx.tx);
+            jtx[2 * i + 1] = vm_keep(use, w * e.jy.tx);
+            jty[2 * i] = vm_keep(use, w * e.jx.ty);
+            jty[2 * i + 1] = vm_keep(use, w * e.jy.ty);
+        }
     }
 }
 
@@ -78,10 +86,13 @@ VM_KERNEL void dss_model_batch(const dss_model *m, const dss_table *t, const dou
                                const double *y_px, const double *sw, double *f,
                                double *const col[DSS_NP])
 {
-    if (m->disc_c_rad2 != 0.0)
-        model_batch_loop(m, t, x_px, y_px, sw, f, col, 1);
+    int disc = m->disc_c_rad2 != 0.0;
+    if (m->tilt)
+        model_batch_loop(m, t, x_px, y_px, sw, f, col, disc, 1);
+    else if (disc)
+        model_batch_loop(m, t, x_px, y_px, sw, f, col, 1, 0);
     else
-        model_batch_loop(m, t, x_px, y_px, sw, f, col, 0);
+        model_batch_loop(m, t, x_px, y_px, sw, f, col, 0, 0);
 }
 
 VM_KERNEL int dss_field_tan_chunk(size_t k, const double *r_mm, double H_mm, double t_mm,
@@ -144,6 +155,53 @@ typedef struct {
     long failed[DSS_CHUNK];
 } comp_lanes;
 
+/* The untilting's refinements: each multiplies the error of the ray's
+ * direction by about the tilted plane's rise over the pinhole height
+ * (1e-2 or less), so four take the pinhole line's start to the bit. */
+#define DSS_UNTILT_ITER 4
+
+/* A tilted model's measured spots (px, on the tilted detector, in its
+ * axes) carried back to z = 0 (px) along the sun's ray: the spot S = D^T
+ * (x, y, 0) in the sensor frame lies on p0 + lambda u (dss_lane_tilt), so
+ * p0 = S - u S_z / u_z; u from the pinhole's line P - S first, then from
+ * p0's own inversion (the field angle's tangent T and azimuth: u = (dx / r
+ * T, dy / r T, 1)). */
+VM_KERNEL static void comp_untilt(const dss_model *m, size_t k, const double *x_px,
+                                  const double *y_px, double *xo_px, double *yo_px)
+{
+    _Alignas(VM_ALIGN) double Sx[DSS_CHUNK], Sy[DSS_CHUNK], Sz[DSS_CHUNK], r[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double dx[DSS_CHUNK], dy[DSS_CHUNK], T[DSS_CHUNK];
+    long failed[DSS_CHUNK];
+    double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N], pm = m->pixel_mm;
+    double x0 = m->p[DSS_P_X0], y0 = m->p[DSS_P_Y0];
+    const double(*D)[3] = (const double(*)[3])m->D;
+    size_t kp = vm_pad(k);
+    VM_SIMD for (size_t i = 0; i < kp; i++) {
+        double sx = x_px[i] * pm, sy = y_px[i] * pm;
+        Sx[i] = D[0][0] * sx + D[1][0] * sy;
+        Sy[i] = D[0][1] * sx + D[1][1] * sy;
+        Sz[i] = D[0][2] * sx + D[1][2] * sy;
+        double l = Sz[i] / (H - Sz[i]); /* u = P - S, u_z = H - S_z */
+        dx[i] = x0 - (Sx[i] - (x0 - Sx[i]) * l);
+        dy[i] = y0 - (Sy[i] - (y0 - Sy[i]) * l);
+        r[i] = hypot(dx[i], dy[i]);
+    }
+    for (int it = 0; it < DSS_UNTILT_ITER; it++) {
+        dss_field_tan_chunk(k, r, H, t, n, m->disc_c_rad2, NULL, T, NULL, failed);
+        VM_SIMD for (size_t i = 0; i < kp; i++) {
+            double rr = vm_select(r[i] > 0.0, r[i], 1.0);
+            double ux = dx[i] / rr * T[i], uy = dy[i] / rr * T[i]; /* u_z = 1 */
+            dx[i] = x0 - (Sx[i] - ux * Sz[i]);
+            dy[i] = y0 - (Sy[i] - uy * Sz[i]);
+            r[i] = hypot(dx[i], dy[i]);
+        }
+    }
+    for (size_t i = 0; i < kp; i++) {
+        xo_px[i] = (x0 - dx[i]) / pm;
+        yo_px[i] = (y0 - dy[i]) / pm;
+    }
+}
+
 /* The field angles of k <= DSS_CHUNK spots (padded lanes), the sun's disc
  * in the model's r = gain(theta) f(theta); from warm's solution moved by
  * (r - r_warm) / F' when warm is given (the same spot without its noise:
@@ -151,9 +209,14 @@ typedef struct {
 VM_KERNEL static void comp_solve(const dss_model *m, size_t k, const double *x_px,
                                  const double *y_px, const comp_lanes *warm, comp_lanes *L)
 {
-    _Alignas(VM_ALIGN) double start[DSS_CHUNK];
+    _Alignas(VM_ALIGN) double start[DSS_CHUNK], xu[DSS_CHUNK], yu[DSS_CHUNK];
     double H = m->p[DSS_P_H], t = m->p[DSS_P_T], n = m->p[DSS_P_N];
     size_t kp = vm_pad(k);
+    if (m->tilt) {
+        comp_untilt(m, k, x_px, y_px, xu, yu);
+        x_px = xu;
+        y_px = yu;
+    }
     VM_SIMD for (size_t i = 0; i < kp; i++) {
         L->dx[i] = m->p[DSS_P_X0] - x_px[i] * m->pixel_mm;
         L->dy[i] = m->p[DSS_P_Y0] - y_px[i] * m->pixel_mm;

@@ -28,8 +28,8 @@
 enum { ANGLE_ALPHA = 0, ANGLE_BETA, ANGLE_TOTAL, DSS_N_ANGLES };
 static const char *const dss_angle_names[DSS_N_ANGLES] = {"alpha", "beta", "total"};
 
-/* After the DSS_NP parameters (dss_param_names, the same names as the
- * calibrate report and params.ini). */
+/* After the parameters (dss_param_names, the same names as the calibrate
+ * report and params.ini; the tilt's only with the model's tilt). */
 static const char *const par_fit_quality[DSS_N_PAR_PHYSICAL - DSS_NP] = {
     "corr_max_abs", "corr_pair", "log10_rcond"};
 static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
@@ -95,13 +95,21 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
     return seen;
 }
 
+/* The dss_param columns units.tsv carries for design d: all but the
+ * detector tilt's unless the model has it (calibration.fit_detector_tilt). */
+static int shown_params(const dss_design *d)
+{
+    return d->fit_tilt ? DSS_NP : DSS_P_TX;
+}
+
 int dss_par_names(const sunmc_config *c, const char **names, int max)
 {
     int poly = dss_cfg(c)->cal_model == DSS_MODEL_POLYNOMIAL;
-    int n = poly ? DSS_N_PAR_POLYNOMIAL : DSS_N_PAR_PHYSICAL;
+    int np = shown_params(&dss_cfg(c)->design);
+    int n = poly ? DSS_N_PAR_POLYNOMIAL : np + DSS_N_PAR_PHYSICAL - DSS_NP;
     for (int i = 0; i < n && i < max; i++)
         names[i] = poly ? par_polynomial[i]
-                        : (i < DSS_NP ? dss_param_names[i] : par_fit_quality[i - DSS_NP]);
+                        : (i < np ? dss_param_names[i] : par_fit_quality[i - np]);
     return n;
 }
 
@@ -117,13 +125,15 @@ int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double cor
         return DSS_N_PAR_POLYNOMIAL;
     }
     double v[DSS_N_PAR_PHYSICAL];
-    for (int k = 0; k < DSS_NP; k++)
+    int np = shown_params(&dc->design), n = np + DSS_N_PAR_PHYSICAL - DSS_NP;
+    for (int k = 0; k < np; k++)
         v[k] = dss_param_value(&cal->phys, k);
-    v[DSS_NP] = corr;
-    v[DSS_NP + 1] = pair;
-    v[DSS_NP + 2] = lrc;
-    memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
-    return DSS_N_PAR_PHYSICAL;
+    v[np] = corr;
+    v[np + 1] = pair;
+    v[np + 2] = lrc;
+    size_t bytes = (size_t)n * sizeof *v;
+    memcpy(out, v, bytes < (size_t)max * sizeof *out ? bytes : (size_t)max * sizeof *out);
+    return n;
 }
 
 /* ---- the family ---- */
@@ -565,11 +575,12 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
         snprintf(buf, len, "2-D polynomial of order %d in the alpha and beta errors",
                  dc->poly_order);
     else
-        snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s",
+        snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s%s",
                  dc->fit_glass_index ? " (thickness and index)" : " (thickness)",
                  dc->design.mount == DSS_MOUNT_ALIGNED ? " (aligned lab)"
                  : dc->sun_mode == DSS_SUN_MEASURED    ? " (sun simulator measured)"
-                                                       : ", sun simulator sun_b1, sun_b2");
+                                                       : ", sun simulator sun_b1, sun_b2",
+                 dc->design.fit_tilt ? ", detector tilt (calibration.fit_detector_tilt)" : "");
 }
 
 /* The random inputs besides the tolerances (family.h); encoder and centroid

@@ -32,6 +32,7 @@ static const struct {
     {"cd", "sd", "--config configs/dss.ini"},
     {"cdp", "sd", "--config configs/dss.ini --set calibration.model=polynomial"},
     {"cds", "sd", "--config configs/dss.ini --set calibration.sun=measured"},
+    {"cdt", "sd", "--config configs/dss.ini --set calibration.fit_detector_tilt=on"},
     {"cp", "sp", "--config configs/psd.ini"},
     {"ct", "sp", "--config configs/psd.ini --set calibration.fit_tilt=on"},
     {"cf", "sp", "--config configs/psd.ini --set calibration.model=polynomial "
@@ -334,6 +335,61 @@ static void fixed_scale_and_hash(void **state)
             "key prior.a_mean: 'x' is not a number");
 }
 
+/* The detector tilt's two parameters (calibration.fit_detector_tilt = on):
+ * both or neither, each within its tolerance's range; neither (and no
+ * prior for them) is the paper's model, read silently; a prior for a tilt
+ * the file does not carry is refused as any unknown prior key. */
+static void detector_tilt_keys(void **state)
+{
+    (void)state;
+    refused("cdt", "grep -v '^fit_detector_tilt_y_arcsec' $IN > $OUT",
+            "missing key parameters.fit_detector_tilt_y_arcsec");
+    refused("cdt", "grep -v '^fit_detector_tilt_x_arcsec ' $IN > $OUT",
+            "missing key parameters.fit_detector_tilt_x_arcsec");
+    refused("cdt",
+            "sed 's/^fit_detector_tilt_x_arcsec  *= [^ ]*/fit_detector_tilt_x_arcsec = 36001/' "
+            "$IN > $OUT",
+            "fit_detector_tilt_x_arcsec = 36001 is out of range: allowed -36000 to 36000 arcsec");
+    refused("cdt",
+            "sed 's/^fit_detector_tilt_y_arcsec  *= [^ ]*/fit_detector_tilt_y_arcsec = x/' "
+            "$IN > $OUT",
+            "fit_detector_tilt_y_arcsec: 'x' is not a number");
+    read_ok("cdt", "grep -v '^fit_detector_tilt_' $IN > $OUT", NULL);
+    refused("cdt", "grep -v '^fit_detector_tilt_[xy]_arcsec ' $IN > $OUT",
+            "unknown key prior.fit_detector_tilt_x_arcsec_mean");
+    /* the tilt read is the tilt used: without it the angles move */
+    char cmp[2048];
+    snprintf(cmp, sizeof cmp,
+             "true; grep -v '^fit_detector_tilt_' $D/cdt/params.ini > $D/flat.ini && "
+             "%s compensate $D/cdt/params.ini $D/sd/validation.csv > $D/tilt.csv && "
+             "%s compensate $D/flat.ini $D/sd/validation.csv > $D/flat.csv && "
+             "! cmp -s $D/tilt.csv $D/flat.csv",
+             test_sunmc(), test_sunmc());
+    static char res[65536];
+    assert_int_equal(sunmc(cmp, res, sizeof res), 0);
+    /* calibrate names the tilt's correlation with the mount and says why */
+    assert_int_equal(sunmc("calibrate --config configs/dss.ini --set "
+                           "calibration.fit_detector_tilt=on $D/sd/campaign.csv --quiet --out $D/cdt2",
+                           res, sizeof res),
+                     0);
+    assert_non_null(strstr(res, "fit_c1_arcsec and fit_detector_tilt_x_arcsec"));
+    assert_non_null(strstr(res, "fit_dx_px and fit_detector_tilt_y_arcsec"));
+    assert_non_null(strstr(res, "why: a detector tilt about X (Y) moves a spot"));
+    /* each of the two pairs under that cause, not the generic warning */
+    assert_null(strstr(res, "fit_detector_tilt_x_arcsec are nearly unidentifiable"));
+    assert_null(strstr(res, "fit_detector_tilt_y_arcsec are nearly unidentifiable"));
+    /* the paper's model's params.ini has no tilt keys; the extension's has both */
+    char out[4096];
+    assert_int_equal(sunmc("true; grep -c '^fit_detector_tilt_' $D/cd/params.ini; true", out,
+                           sizeof out),
+                     0);
+    assert_int_equal(atoi(out), 0);
+    assert_int_equal(sunmc("true; grep -c '^fit_detector_tilt_[xy]_arcsec ' $D/cdt/params.ini",
+                           out, sizeof out),
+                     0);
+    assert_int_equal(atoi(out), 2);
+}
+
 /* Every params.ini calibrate writes is read and compensates every row of
  * its unit's validation readings, saying nothing but its accuracy against
  * the truth columns; the ESS's and the DSS's
@@ -367,6 +423,7 @@ int main(void)
         cmocka_unit_test(model_line_not_of_the_family),
         cmocka_unit_test(version_rule),
         cmocka_unit_test(fixed_scale_and_hash),
+        cmocka_unit_test(detector_tilt_keys),
         cmocka_unit_test(every_model_round_trips),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

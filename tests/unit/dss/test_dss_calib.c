@@ -85,7 +85,8 @@ static void test_model_jacobian(void **state)
     dss_sensor_init(&s, &dss_cfg(&c)->design, &test_dev, 0);
     dss_model m;
     true_model(&c, &s, &m);
-    const double steps[DSS_NP] = {1e-6, 1e-6, 1e-6, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6, 1e-7, 1e-7};
+    const double steps[DSS_NP] = {1e-6, 1e-6, 1e-6, 1e-6, 1e-7, 1e-7,
+                                  1e-7, 1e-6, 1e-7, 1e-7, 1e-7, 1e-7};
     for (double b1 = -50; b1 <= 50; b1 += 25)
         for (double b2 = -50; b2 <= 50; b2 += 25) {
             double r1 = b1 * RAD_PER_DEG, r2 = b2 * RAD_PER_DEG, sp[2], J[2][DSS_NP];
@@ -178,7 +179,7 @@ static void test_fixed_index_bias(void **state)
     sunmc_config c = dss_test_config(sets, 4);
     dss_unit u;
     dss_calib_workspace *cw = campaign(&c, &test_dev, 0, &u);
-    assert_int_equal(cw->n_free, DSS_NP - 1);
+    assert_int_equal(cw->n_free, DSS_P_TX - 1); /* no index, no tilt */
     dss_calibration cal;
     fit_result fr;
     assert_int_equal(dss_calibrate(cw, c.max_iterations, &cal, &fr), SUNMC_OK);

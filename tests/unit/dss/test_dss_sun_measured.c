@@ -88,8 +88,8 @@ static void recovers_exactly(void **state)
     dss_model truth;
     truth_model(d, &truth);
     dss_calib_workspace *cw = campaign(d, &truth, 60, 5, 1, 1, 0);
-    assert_int_equal(cw->n_free, DSS_NP - 2);
-    assert_int_equal((int)cw->fw->p, DSS_NP - 2);
+    assert_int_equal(cw->n_free, DSS_P_TX - 2) /* the paper's model: no tilt */;
+    assert_int_equal((int)cw->fw->p, DSS_P_TX - 2) /* the paper's model: no tilt */;
     dss_calibration cal;
     fit_result fr;
     assert_int_equal(dss_calibrate(cw, 100, &cal, &fr), SUNMC_OK);
@@ -111,7 +111,7 @@ static void recovers_exactly(void **state)
     al.mount = DSS_MOUNT_ALIGNED;
     cw = dss_calib_alloc_fix(&al, 100, DSS_MODEL_PHYSICAL, 0, 1, 1);
     assert_false(cw->fix_sun);
-    assert_int_equal(cw->n_free, DSS_NP - 2);
+    assert_int_equal(cw->n_free, DSS_P_TX - 2) /* the paper's model: no tilt */;
     dss_calib_free(cw);
     config_state_free(&st);
 }
@@ -138,7 +138,7 @@ static void narrow_campaign_schur(void **state)
     assert_int_equal(dss_calibrate(cf, 200, &full, &fr), SUNMC_OK);
     assert_int_equal(fit_covariance(cf->fw), SUNMC_OK);
     int nf = cf->n_free; /* 9: the direction last */
-    assert_int_equal(nf, DSS_NP - 1);
+    assert_int_equal(nf, DSS_P_TX - 1); /* the paper's model: no tilt */
     assert_int_equal(cf->free_idx[nf - 2], DSS_P_S1);
     assert_int_equal(cf->free_idx[nf - 1], DSS_P_S2);
     dss_calib_workspace *cx = campaign(d, &truth, 10, 1, 0, 1, 0.01);
