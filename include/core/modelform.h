@@ -35,6 +35,31 @@ int modelform_on(const sunmc_config *c);
  * (message in err) when a noise key is not a number key of the family. */
 int modelform_config(const sunmc_config *c, sunmc_config *out, char *err, size_t errlen);
 
+/* c's noise-free config into storage and *mf = storage, or *mf = NULL
+ * when the pass is off for c (modelform_on); the error of
+ * modelform_config. */
+int modelform_setup(const sunmc_config *c, sunmc_config *storage, const sunmc_config **mf,
+                    char *err, size_t errlen);
+
+/* One thread's pass: the shared noise-free config (NULL: off), its own
+ * workspace of it and a result to run the unit into, allocated once and
+ * reused for every unit the thread runs. */
+typedef struct {
+    const sunmc_config *mf;
+    void *ws;
+    unit_result *scratch;
+} modelform_pass;
+
+/* p for config mf (from modelform_setup; NULL: p off, nothing allocated).
+ * SUNMC_ENOMEM (message in err) when the workspace or the result cannot
+ * be had: p is then off and holds nothing. */
+int modelform_pass_init(modelform_pass *p, const sunmc_config *mf, char *err, size_t errlen);
+void modelform_pass_free(modelform_pass *p);
+
+/* Unit `unit` of config c: its model-form pass into r when p is on and the
+ * unit is due (modelform_due); SUNMC_OK and r untouched otherwise. */
+int modelform_pass_run(modelform_pass *p, const sunmc_config *c, long unit, unit_result *r);
+
 /* Unit `unit` of the noise-free config mf (modelform_config) run in
  * workspace ws (a workspace of mf) into scratch; its after-RMS copied into
  * r->rms_after_mf (NaN where its fit failed or a band is empty).  Returns

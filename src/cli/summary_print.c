@@ -152,23 +152,32 @@ static void print_means(FILE *f, const sunmc_config *c, const sensor_family *fam
 
 #define PERCENT 100.0
 
+/* The range of a count over rows[n] (the long at byte offset off of each
+ * row) as text, "200" or "180-200", into buf; its largest value. */
+static long count_range(const summary_row *rows, int n, size_t off, char *buf, size_t len)
+{
+    long lo = 0, hi = 0;
+    for (int i = 0; i < n; i++) {
+        long k = *(const long *)(const void *)((const char *)&rows[i] + off);
+        lo = i == 0 || k < lo ? k : lo;
+        hi = i == 0 || k > hi ? k : hi;
+    }
+    snprintf(buf, len, lo == hi ? "%ld" : "%ld-%ld", lo, hi);
+    return hi;
+}
+
 /* What calibration leaves (modelform.h): the model-form part and the after
  * mean square split into the reading's noise, the calibration's
  * estimation error and model form, on the units with the model-form pass. */
 static void print_floor(FILE *f, const sunmc_config *c, const sensor_family *fam,
                         const summary_row *rows, int n, int prec)
 {
-    long kmin = rows[0].mf_units, kmax = rows[0].mf_units;
-    for (int i = 1; i < n; i++) {
-        kmin = rows[i].mf_units < kmin ? rows[i].mf_units : kmin;
-        kmax = rows[i].mf_units > kmax ? rows[i].mf_units : kmax;
-    }
-    if (kmax == 0)
+    char h[TABLE_CELL], pct[24], nk[64];
+    if (count_range(rows, n, offsetof(summary_row, mf_units), nk, sizeof nk) == 0)
         return;
     table *t = table_of(6, n);
     if (!t)
         return;
-    char h[TABLE_CELL], pct[24], nk[64];
     report_ci_label(c, pct, sizeof pct);
     snprintf(h, sizeof h, "[%s] %s", fam->rms_unit, pct);
     label_columns(c, fam, rows, n, t, 0);
@@ -187,7 +196,6 @@ static void print_floor(FILE *f, const sunmc_config *c, const sensor_family *fam
         for (int k = 0; k < 3; k++)
             fmt_estimate(table_cell(t, i, 3 + k), TABLE_CELL, v[k], ci[k], 1, PERCENT, "%");
     }
-    snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
     fprintf(f, "\nwhat calibration leaves: the mean square after calibration in three parts, "
                "on the %s units\nwith the model-form pass (one in %ld: "
                "report.model_form_every):\n",
@@ -429,13 +437,8 @@ void summary_print(FILE *f, const sunmc_config *c, const summary_row *rows)
     print_table1(f, c, fam, rows, n, prec);
     fputc('\n', f);
     print_means(f, c, fam, rows, n, prec);
-    long kmin = rows[0].stat_units, kmax = rows[0].stat_units;
-    for (int i = 1; i < n; i++) {
-        kmin = rows[i].stat_units < kmin ? rows[i].stat_units : kmin;
-        kmax = rows[i].stat_units > kmax ? rows[i].stat_units : kmax;
-    }
     char nk[64];
-    snprintf(nk, sizeof nk, kmin == kmax ? "%ld" : "%ld-%ld", kmin, kmax);
+    count_range(rows, n, offsetof(summary_row, stat_units), nk, sizeof nk);
     fprintf(f,
             "%g%% intervals: means and improvement Student t over the n = %s units with a fit,\n"
             "p95 distribution-free order statistics (estimate: Hyndman-Fan type 7), yield %s\n"

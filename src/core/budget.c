@@ -479,7 +479,7 @@ static int after_parts(const sunmc_config *c, budget_result *b, long units, int 
     t.model_form_every = 1;
     long run = budget_units_run(&t, units);
     unit_result *res = calloc((size_t)run, sizeof *res);
-    double *v = malloc((size_t)run * (BUDGET_PARTS + 2) * sizeof *v);
+    double *v = malloc((size_t)run * (BUDGET_PARTS + 1) * sizeof *v); /* parts, total */
     long *block = c->sampling != CONFIG_SAMPLING_RANDOM ? malloc((size_t)run * sizeof *block)
                                                         : NULL;
     int rc = res && v && (block || c->sampling == CONFIG_SAMPLING_RANDOM)

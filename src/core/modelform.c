@@ -3,6 +3,7 @@
 #include "status.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 int modelform_on(const sunmc_config *c)
@@ -44,4 +45,50 @@ int modelform_unit(const sunmc_config *mf, long unit, void *ws, unit_result *scr
     for (int p = 0; p < UNIT_PHASES; p++)
         r->phase_s[p] += scratch->phase_s[p];
     return st;
+}
+
+int modelform_setup(const sunmc_config *c, sunmc_config *storage, const sunmc_config **mf,
+                    char *err, size_t errlen)
+{
+    *mf = NULL;
+    if (!modelform_on(c))
+        return SUNMC_OK;
+    int st = modelform_config(c, storage, err, errlen);
+    if (st == SUNMC_OK)
+        *mf = storage;
+    return st;
+}
+
+void modelform_pass_free(modelform_pass *p)
+{
+    if (p->ws)
+        p->mf->family->workspace_free(p->ws);
+    free(p->scratch);
+    p->mf = NULL;
+    p->ws = NULL;
+    p->scratch = NULL;
+}
+
+int modelform_pass_init(modelform_pass *p, const sunmc_config *mf, char *err, size_t errlen)
+{
+    p->mf = mf;
+    p->ws = NULL;
+    p->scratch = NULL;
+    if (!mf)
+        return SUNMC_OK;
+    p->ws = mf->family->workspace_alloc(mf, err, errlen);
+    p->scratch = p->ws ? malloc(sizeof *p->scratch) : NULL;
+    if (p->scratch)
+        return SUNMC_OK;
+    if (p->ws)
+        sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the model-form pass");
+    modelform_pass_free(p);
+    return SUNMC_ENOMEM;
+}
+
+int modelform_pass_run(modelform_pass *p, const sunmc_config *c, long unit, unit_result *r)
+{
+    if (!p->mf || !modelform_due(c, unit))
+        return SUNMC_OK;
+    return modelform_unit(p->mf, unit, p->ws, p->scratch, r);
 }

@@ -46,21 +46,17 @@ static int run_stored(mc_shared *s, void *ws, long u, unit_result *r)
     return rs;
 }
 
-/* A thread's workspaces: the family's for c, and for the model-form pass
- * (NULL when it is off) one for its config and a result to run it into. */
+/* A thread's workspaces: the family's for c and the model-form pass's. */
 typedef struct {
     void *ws;
-    void *ws_mf;
-    unit_result *scratch;
+    modelform_pass mf;
 } mc_thread;
 
 /* Unit u into r, then its model-form pass when it is due. */
 static int run_one(mc_shared *s, mc_thread *t, long u, unit_result *r)
 {
     int rs = s->store ? run_stored(s, t->ws, u, r) : s->fam->unit_run(s->c, u, t->ws, r);
-    if (rs == SUNMC_OK && s->mf && modelform_due(s->c, u))
-        rs = modelform_unit(s->mf, u, t->ws_mf, t->scratch, r);
-    return rs;
+    return rs == SUNMC_OK ? modelform_pass_run(&t->mf, s->c, u, r) : rs;
 }
 
 /* Units [first, end) into results[u - first], shared by the calling team
@@ -89,9 +85,8 @@ static void thread_free(mc_shared *s, mc_thread *t)
 {
     if (t->ws)
         s->fam->workspace_free(t->ws);
-    if (t->ws_mf)
-        s->fam->workspace_free(t->ws_mf);
-    free(t->scratch);
+    modelform_pass_free(&t->mf);
+    t->ws = NULL;
 }
 
 /* Each thread's workspaces (t->ws NULL after a failure, recorded in s). */
@@ -99,28 +94,11 @@ static void thread_alloc(mc_shared *s, mc_thread *t)
 {
     char terr[SUNMC_ERRLEN] = "";
     t->ws = s->fam->workspace_alloc(s->c, terr, sizeof terr);
-    t->ws_mf = t->ws && s->mf ? s->fam->workspace_alloc(s->mf, terr, sizeof terr) : NULL;
-    t->scratch = t->ws_mf ? malloc(sizeof *t->scratch) : NULL;
-    if (!t->ws || (s->mf && !t->scratch)) {
+    int st = modelform_pass_init(&t->mf, t->ws ? s->mf : NULL, terr, sizeof terr);
+    if (!t->ws || st != SUNMC_OK) {
         mc_fail(s, SUNMC_ENOMEM, terr[0] ? terr : "out of memory for a workspace", -1);
         thread_free(s, t);
-        t->ws = t->ws_mf = NULL;
-        t->scratch = NULL;
     }
-}
-
-/* The model-form pass's config of c into mf; *use = mf, or NULL when the
- * pass is off. */
-static int mf_setup(const sunmc_config *c, sunmc_config *mf, const sunmc_config **use,
-                    char *err, size_t errlen)
-{
-    *use = NULL;
-    if (!modelform_on(c))
-        return SUNMC_OK;
-    int st = modelform_config(c, mf, err, errlen);
-    if (st == SUNMC_OK)
-        *use = mf;
-    return st;
 }
 
 int mc_run(const sunmc_config *c, long first, long end, int threads,
@@ -136,7 +114,7 @@ int mc_run_store(const sunmc_config *c, unit_store *store, long first, long end,
     const sensor_family *fam = c->family;
     sunmc_config mfc;
     const sunmc_config *mf;
-    int rc = mf_setup(c, &mfc, &mf, err, errlen);
+    int rc = modelform_setup(c, &mfc, &mf, err, errlen);
     if (rc != SUNMC_OK)
         return rc;
     unit_store *st = unit_store_bind(store, c, first, end) ? store : NULL;
@@ -272,7 +250,7 @@ int mc_stream(const sunmc_config *c, const mc_plan *p, long *done,
     }
     sunmc_config mfc;
     const sunmc_config *mf;
-    int rc = mf_setup(c, &mfc, &mf, err, errlen);
+    int rc = modelform_setup(c, &mfc, &mf, err, errlen);
     if (rc != SUNMC_OK) {
         free(rd.buf);
         free(rd.rbuf);

@@ -64,37 +64,20 @@ static void fill_store(each_shared *s)
         c->family->workspace_free(ws);
 }
 
-/* The model-form pass of config c (modelform.h): its config into mf, a
- * workspace and a scratch result; SUNMC_OK with *ws NULL when it is off. */
-static int mf_alloc(const sunmc_config *c, sunmc_config *mf, void **ws, unit_result **scratch,
-                    char *terr, size_t tlen)
-{
-    *ws = NULL;
-    *scratch = NULL;
-    if (!modelform_on(c))
-        return SUNMC_OK;
-    int st = modelform_config(c, mf, terr, tlen);
-    if (st != SUNMC_OK)
-        return st;
-    *ws = c->family->workspace_alloc(mf, terr, tlen);
-    *scratch = *ws ? malloc(sizeof **scratch) : NULL;
-    return *scratch ? SUNMC_OK : SUNMC_ENOMEM;
-}
-
 /* Config i's units in order into buf, then to the sink. */
 static int run_config(each_shared *s, int i, unit_result *buf, char *terr, size_t tlen)
 {
     const sunmc_config *c = s->c[i];
     const sensor_family *fam = c->family;
-    sunmc_config mf;
-    void *ws_mf;
-    unit_result *scratch;
-    int st = mf_alloc(c, &mf, &ws_mf, &scratch, terr, tlen);
+    sunmc_config mfc;
+    const sunmc_config *mf;
+    modelform_pass pass = {NULL, NULL, NULL};
+    int st = modelform_setup(c, &mfc, &mf, terr, tlen);
+    if (st == SUNMC_OK)
+        st = modelform_pass_init(&pass, mf, terr, tlen);
     void *ws = st == SUNMC_OK ? fam->workspace_alloc(c, terr, tlen) : NULL;
     if (!ws) {
-        if (ws_mf)
-            fam->workspace_free(ws_mf);
-        free(scratch);
+        modelform_pass_free(&pass);
         return st == SUNMC_OK ? SUNMC_ENOMEM : st;
     }
     for (long u = s->first; u < s->end && st == SUNMC_OK && !failed(s); u++) {
@@ -102,15 +85,13 @@ static int run_config(each_shared *s, int i, unit_result *buf, char *terr, size_
         void *rd = s->served[i] ? unit_store_slot(s->store, u, &held) : NULL;
         unit_result *r = &buf[u - s->first];
         st = rd && held ? fam->unit_finish(c, u, ws, rd, r) : fam->unit_run(c, u, ws, r);
-        if (st == SUNMC_OK && ws_mf && modelform_due(c, u))
-            st = modelform_unit(&mf, u, ws_mf, scratch, r);
+        if (st == SUNMC_OK)
+            st = modelform_pass_run(&pass, c, u, r);
         if (st != SUNMC_OK)
             snprintf(terr, tlen, "unit %ld: simulation failed", u);
     }
     fam->workspace_free(ws);
-    if (ws_mf)
-        fam->workspace_free(ws_mf);
-    free(scratch);
+    modelform_pass_free(&pass);
     if (st == SUNMC_OK && !failed(s))
         st = s->each(i, buf, s->end - s->first, s->ctx, terr, tlen);
     return st;

@@ -295,10 +295,10 @@ static void read_validation(const sunmc_config *c, const psd_sensor *s, long uni
         psd_validation_angles(c, i, &a, &b);
         psd_table_sun(p, a, b, x + RD_UT);
         psd_table_sun(p, a + o[0], b + o[1], ur);
-        /* where the table stands: the noise-free reading too (the line's
-         * error is the same for every repeat, so the systematic part holds it) */
-        const double *at = o[0] != 0 || o[1] != 0 ? ur : x + RD_UT;
-        int st = read_pair(p, s, at, &r, x + RD_M, x + RD_M0);
+        /* where the table stands (the recorded angles when the line has no
+         * error: a + 0 is a), the noise-free reading too: the line's error
+         * is the same for every repeat, so the systematic part holds it */
+        int st = read_pair(p, s, ur, &r, x + RD_M, x + RD_M0);
         x[RD_FIELD] = acos(fmin(x[RD_UT + 2], 1.0)) * DEG_PER_RAD;
         x[RD_BAD] = st != SUNMC_OK || errors(&nominal, x + RD_M, x + RD_UT, x + RD_E0) != SUNMC_OK;
     }
