@@ -19,7 +19,8 @@
  *            campaign against the others of its line;
  *   within   RMS of the difference about that line (arcsec): the
  *            campaign's own scatter (a campaign alone: about its own line).
- * between (the pooled shift) above within (pooled) is reported as drift.  Family-neutral:
+ * A campaign whose shift exceeds the pooled within is reported as drift
+ * (noise alone moves a line of n rows by about within sqrt(2 / n)).  Family-neutral:
  * a family passes its table angles, the fitted calibration's per-row angle
  * errors and the rows' campaigns.
  */
@@ -38,8 +39,8 @@
  * closely (deg) and their swept ranges overlap by this fraction. */
 #define LAB_DRIFT_SAME_LINE_DEG 0.05
 #define LAB_DRIFT_MIN_OVERLAP 0.5
-/* A campaign is named as differing when its shift exceeds this many times
- * the pooled within-campaign error. */
+/* A campaign has drifted, and is named, when its shift exceeds this many
+ * times the pooled within-campaign error. */
 #define LAB_DRIFT_NAME_FACTOR 1.0
 /* At most this many are named in the note (campaigns.tsv has them all). */
 #define LAB_DRIFT_NAMED 4
@@ -67,7 +68,7 @@ typedef struct {
     int compared;             /* campaigns with another of their table line */
     double between_arcsec;    /* pooled shift of the compared campaigns (NaN: none) */
     double within_arcsec;     /* pooled within of the compared campaigns */
-    int drift;                /* between > within */
+    int drift;                /* a campaign's shift > within */
     char note[LAB_DRIFT_NOTE_MAX]; /* the finding in words */
 } lab_drift;
 

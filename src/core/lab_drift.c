@@ -240,7 +240,11 @@ static void pool(lab_drift *d)
         }
     d->between_arcsec = n > 0 ? sqrt(sb / n) : NAN;
     d->within_arcsec = n > 0 ? sqrt(sw / n) : NAN;
-    d->drift = n > 0 && d->between_arcsec > d->within_arcsec;
+    /* drift: a campaign changed by more than a campaign scatters (the
+     * noise alone moves a line of n rows by about within sqrt(2 / n)) */
+    d->drift = 0;
+    for (int s = 0; s < d->n; s++)
+        d->drift |= d->c[s].shift_arcsec > LAB_DRIFT_NAME_FACTOR * d->within_arcsec;
 }
 
 /* The finding in words, naming the campaigns that differ most. */
