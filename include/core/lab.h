@@ -24,6 +24,8 @@
 #include <stdio.h>
 
 #define LAB_MAX_COLUMNS 8
+/* The least reading noise (arcsec) a fit's residual is judged against. */
+#define LAB_NOISE_FLOOR_ARCSEC 1.0
 /* Files `simulate` writes, in this order: campaign.csv, truth.csv, validation.csv. */
 #define LAB_SIM_FILES 3
 /* Room for what a lab hook gives the command to print. */

@@ -366,6 +366,10 @@ static void print_drift(FILE *f, const lab_drift *d)
     for (int s = 0; s < d->n; s++) {
         const lab_campaign *c = &d->c[s];
         static const char *const ax[] = {"-", "alpha", "beta"};
+        if (c->n == 0) {
+            fprintf(f, "  %-34.34s %6ld  (no row the calibration reads)\n", c->name, c->n);
+            continue;
+        }
         fprintf(f, "  %-34.34s %6ld %5s %9.0f %9.3f %9.0f", c->name, c->n, ax[c->axis + 1],
                 c->zero_arcsec, c->scale_pct, c->within_arcsec);
         if (isfinite(c->shift_arcsec))
