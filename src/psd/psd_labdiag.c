@@ -22,6 +22,8 @@
 #define PSD_DIAG_COMPRESSED 0.8
 /* A row is an outlier beyond this many times the median residual. */
 #define PSD_DIAG_OUTLIER 5.0
+/* A map scaled outside [1 / this, this] is named. */
+#define PSD_DIAG_SCALE 1.4
 /* A map turned by more than this (deg) is named. */
 #define PSD_DIAG_TURN_DEG 5.0
 
@@ -185,6 +187,7 @@ int psd_labcal_diagnose(const psd_labcal *k, psd_data_diag *g)
     outliers(k, &nom, a, inner, g, tmp);
     free(tmp);
     g->defects = g->mirrored + (!g->mirrored && fabs(g->turn_deg) > PSD_DIAG_TURN_DEG) +
+                 (g->scale > PSD_DIAG_SCALE || g->scale * PSD_DIAG_SCALE < 1.0) +
                  isfinite(g->compressed_from_deg) + (g->outliers > 0);
     return SUNMC_OK;
 }
@@ -203,6 +206,10 @@ void psd_labcal_report_defects(const psd_labcal *k, calreport *rep)
             g.turn_deg);
     else if (fabs(g.turn_deg) > PSD_DIAG_TURN_DEG)
         ADD("; turned by %.1f deg about the optical axis", g.turn_deg);
+    if (g.scale > PSD_DIAG_SCALE || g.scale * PSD_DIAG_SCALE < 1.0)
+        ADD("; the spot travels %.2f times as far as the design's (design.h_mm, active_mm, the "
+            "aperture's size)",
+            g.scale);
     if (isfinite(g.compressed_from_deg))
         ADD("; the spot's travel falls below %.0f %% of the inner field's map from %.0f deg "
             "(%.2f of it at %.0f-%.0f deg): a saturating or non-pinhole response",
@@ -221,6 +228,6 @@ void psd_labcal_report_defects(const psd_labcal *k, calreport *rep)
                    "turn), keep the data within the field that responds, or calibrate with an "
                    "empirical model (calibration.model = spline)",
                    "the data against the design (the measured ratios mapped linearly on the "
-                   "design's, %ld rows within %.1f deg; scale %.3g)%s",
-                   g.rows, g.inner_deg, g.scale, what);
+                   "design's, %ld rows within %.1f deg)%s",
+                   g.rows, g.inner_deg, what);
 }

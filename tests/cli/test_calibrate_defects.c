@@ -10,6 +10,8 @@
  *    than the design says: a saturating response) and two central rows
  *    with channel 1 tripled: the compression named with the angle it
  *    starts at, the two rows named by their lines;
+ *  - the design's aperture height given as half the unit's: the spot
+ *    said to travel about twice as far as the design's;
  *  - the unit as simulated: none of these words. */
 #include "test_util.h"
 
@@ -78,6 +80,19 @@ static void test_compressed_and_outliers(void **state)
     assert_null(strstr(out, "mirrored"));
 }
 
+static void test_design_height_wrong(void **state)
+{
+    static char out[65536];
+    /* the design says the aperture is at half its height: the measured
+     * spot travels twice as far as the design's */
+    sunmc("calibrate --config " P " --set design.h_mm=2 $D/squeeze.csv --out $D/c5", out,
+          sizeof out);
+    const char *t = strstr(out, "the spot travels ");
+    assert_non_null(t);
+    double f = strtod(t + strlen("the spot travels "), NULL);
+    assert_true(f > 1.4 && f < 2.2); /* 1.60: the raw ratios carry the darks (0.88 as read) */
+}
+
 static void test_as_simulated_quiet(void **state)
 {
     static char out[65536];
@@ -93,6 +108,7 @@ int main(void)
         cmocka_unit_test(test_mirrored_alpha),
         cmocka_unit_test(test_swapped_columns),
         cmocka_unit_test(test_compressed_and_outliers),
+        cmocka_unit_test(test_design_height_wrong),
         cmocka_unit_test(test_as_simulated_quiet),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
