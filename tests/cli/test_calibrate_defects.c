@@ -29,7 +29,6 @@ static int setup(void **state)
 {
     if (test_private_dir(dir, sizeof dir, "caldefects") != 0)
         return -1;
-    char out[16384];
     const char *steps[] = {
         "simulate " P " --unit 3 --quiet --out $D/s",
         AWK "{$1 = -$1; print}' $D/s/campaign.csv > $D/mirror.csv",
@@ -37,18 +36,7 @@ static int setup(void **state)
         AWK "{t = sqrt($1 * $1 + $2 * $2); if (t > 14) {f = 1 + 0.5 * (t - 14) / 14; "
             "$1 *= f; $2 *= f}; if ($1 * $1 + $2 * $2 <= 25 && n++ < 2) $3 *= 3; print}' "
             "$D/s/campaign.csv > $D/squeeze.csv"};
-    for (int i = 0; i < 4; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
-}
-
-static void must_have(const char *out, const char *what)
-{
-    if (!strstr(out, what))
-        fail_msg("no '%s' in: %s", what, out);
+    return test_sunmc_steps(dir, steps, 4);
 }
 
 static void test_mirrored_alpha(void **state)
@@ -56,10 +44,10 @@ static void test_mirrored_alpha(void **state)
     static char out[65536];
     assert_int_not_equal(sunmc("calibrate --config " P " $D/mirror.csv --out $D/c1", out,
                                sizeof out), 0);
-    must_have(out, "fit markedly better under another table convention");
-    must_have(out, "under table_order = beta_outer, table_alpha_sign = minus, table_beta_sign "
+    test_must_have(out, "fit markedly better under another table convention");
+    test_must_have(out, "under table_order = beta_outer, table_alpha_sign = minus, table_beta_sign "
                    "= plus (9 conventions tried)");
-    must_have(out, "mirrored: the spot moves as the design's mirror image, across a line 90.0 "
+    test_must_have(out, "mirrored: the spot moves as the design's mirror image, across a line 90.0 "
                    "deg from X");
 }
 
@@ -67,7 +55,7 @@ static void test_swapped_columns(void **state)
 {
     static char out[65536];
     sunmc("calibrate --config " P " $D/swap.csv --out $D/c2", out, sizeof out);
-    must_have(out, "with the alpha_deg and beta_deg columns swapped");
+    test_must_have(out, "with the alpha_deg and beta_deg columns swapped");
 }
 
 static void test_compressed_and_outliers(void **state)
@@ -75,8 +63,8 @@ static void test_compressed_and_outliers(void **state)
     static char out[65536];
     assert_int_not_equal(sunmc("calibrate --config " P " $D/squeeze.csv --out $D/c3", out,
                                sizeof out), 0);
-    must_have(out, "the spot's travel falls below 80 % of the inner field's map from 25 deg");
-    must_have(out, "2 inner rows lie beyond 5 times the map's median residual (lines 24 25)");
+    test_must_have(out, "the spot's travel falls below 80 % of the inner field's map from 25 deg");
+    test_must_have(out, "2 inner rows lie beyond 5 times the map's median residual (lines 24 25)");
     assert_null(strstr(out, "mirrored"));
 }
 

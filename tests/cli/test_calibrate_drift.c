@@ -26,7 +26,6 @@ static int setup(void **state)
 {
     if (test_private_dir(dir, sizeof dir, "caldrift") != 0)
         return -1;
-    char out[16384];
     const char *steps[] = {
         "simulate " P " --unit 3 --quiet --set campaign.repeats=3 --set campaign.beta_deg=-10,10 "
         "--set campaign.alpha_step_deg=1 --out $D/s",
@@ -36,12 +35,7 @@ static int setup(void **state)
         "r[b\",\"k]}}' $D/s/campaign.csv > $D/ok.csv",
         "true; awk -F, 'BEGIN{OFS=\",\"} /^# source: beta 10 repeat 2/{d=1} /^#/{print; next} "
         "/^alpha/{print; next} {if (d) $1=$1*1.02; print}' $D/ok.csv > $D/drift.csv"};
-    for (int i = 0; i < 3; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, 3);
 }
 
 static void test_campaigns_no_drift(void **state)
