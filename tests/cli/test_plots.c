@@ -43,6 +43,8 @@ static int setup(void **state)
         /* two bands of the same width: every figure of the run takes the same */
         "%1$s run configs/dss.ini --units 6 --set report.bands_deg=0:25,25:50 "
         "--set report.spec_bands=25:50 --out %2$s/dband --quiet",
+        /* every unit fails a 1-arcsec spec: the yield panel's legend goes on top */
+        "%1$s run configs/dss.ini --units 6 --set report.spec_arcsec=1 --out %2$s/dlow --quiet",
         "%1$s curve configs/dss.ini --only glass_index=0 --set noise.s_curve=off "
         "--set design.onboard_refraction=ignored --out %2$s/dmap --quiet",
         "%1$s simulate configs/ess_type_a.ini --unit 3 --out %2$s/esim --quiet && %1$s calibrate "
@@ -158,6 +160,17 @@ static void plot_texts(void **state)
         "grep -q 'band field angle 25:50 deg' $d/h.svg && grep -q 'band field angle 25:50 deg' $d/c.svg && "
         "! grep -q '0:25' $d/h.svg && "
         "grep -q 'yield under the spec: rms &lt;= 10 arcsec in 25:50 bands' $d/c.svg",
+        /* the yield panel's legend sits on the side away from the final
+         * yield (SVG y grows downwards; the y label marks the panel's middle):
+         * below the middle at 100 %%, above it at 0 %% */
+        "ky() { grep -B1 \"<text>$2</text>\" $1 | grep -o 'translate([0-9.]*,[0-9.]*' | cut -d, -f2; }; "
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/cy.svg'\" scripts/convergence.gp && "
+        "grep -q 'final 100.0%%' %1$s/cy.svg && "
+        "awk -v k=$(ky %1$s/cy.svg 'running yield') -v c=$(ky %1$s/cy.svg 'running yield under the spec') "
+        "'BEGIN { exit !(k > c) }' && d=%1$s/../dlow && "
+        "gnuplot -e \"run='$d'; svg=1; out='$d/cy.svg'\" scripts/convergence.gp && grep -q 'final 0.0%%' $d/cy.svg && "
+        "awk -v k=$(ky $d/cy.svg 'running yield') -v c=$(ky $d/cy.svg 'running yield under the spec') "
+        "'BEGIN { exit !(k < c) }'",
         /* the DSS sweep's curves differ by over 10 times: log axis; the ESS
          * sweep's (about 4 times) keep a linear one from 0 */
         "d=%1$s/../dsweep && gnuplot -e \"run='$d'; svg=1; out='$d/s.svg'\" scripts/sweep.gp && "
