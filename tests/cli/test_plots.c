@@ -49,6 +49,8 @@ static int setup(void **state)
         "--set design.onboard_refraction=ignored --out %2$s/dmap --quiet",
         "%1$s simulate configs/ess_type_a.ini --unit 3 --out %2$s/esim --quiet && %1$s calibrate "
         "--config configs/ess_type_a.ini %2$s/esim/campaign.csv --out %2$s/ecal",
+        "%1$s simulate configs/psd.ini --unit 3 --out %2$s/psim --quiet && %1$s calibrate "
+        "--config configs/psd.ini %2$s/psim/campaign.csv --out %2$s/pcal",
         "%1$s simulate configs/dss.ini --unit 3 --out %2$s/dsim --quiet && %1$s calibrate "
         "--config configs/dss.ini %2$s/dsim/campaign.csv --out %2$s/dcal",
     };
@@ -171,6 +173,10 @@ static void plot_texts(void **state)
         "gnuplot -e \"run='$d'; svg=1; out='$d/cy.svg'\" scripts/convergence.gp && grep -q 'final 0.0%%' $d/cy.svg && "
         "awk -v k=$(ky $d/cy.svg 'running yield') -v c=$(ky $d/cy.svg 'running yield under the spec') "
         "'BEGIN { exit !(k < c) }'",
+        /* a calibrate directory's title names its family (the PSD's was
+         * drawn as "DSS calibration") */
+        "for f in dcal:DSS pcal:PSD; do d=%1$s/../${f%%:*}; gnuplot -e \"run='$d'; svg=1; out='$d/k.svg'\" "
+        "scripts/calib.gp && grep -q \"${f#*:} calibration of\" $d/k.svg || exit 1; done",
         /* the DSS sweep's curves differ by over 10 times: log axis; the ESS
          * sweep's (about 4 times) keep a linear one from 0 */
         "d=%1$s/../dsweep && gnuplot -e \"run='$d'; svg=1; out='$d/s.svg'\" scripts/sweep.gp && "
