@@ -30,10 +30,12 @@ firstafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && !isafter(word(hdr, 
 nb = int(system(sprintf("awk -F'\\t' 'NR>1 && !s[$%d]++' '%s' | wc -l", scol('band'), sfile)))
 c0 = firstafter + nafter - nb
 
-# the product (config.ini's sensor.product) and its units, for the title
+# the product (config.ini's sensor.product) and its units, for the title: a
+# line of their own, so a long product name does not push the rest off the
+# canvas (issue 41)
 prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
 prod = strlen(prod) > 0 ? prod : run
-set title sprintf("%s, %d units: per band, the share of units whose RMS after calibration meets the spec\nunder the spec (%s in every band it names, every point read): %.1f%%", prod, int(system(sprintf("awk 'END {print NR - 1}' '%s'", file))), system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_statistic\") c = i} NR==2 {print $c}' '%s'", sfile)), 100 * real(system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_yield\") c = i} END {print $c}' '%s'", sfile))))
+set title sprintf("%s, %d units\nper band, the share of units whose RMS after calibration meets the spec\nunder the spec (%s in every band it names, every point read): %.1f%%", prod, int(system(sprintf("awk 'END {print NR - 1}' '%s'", file))), system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_statistic\") c = i} NR==2 {print $c}' '%s'", sfile)), 100 * real(system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_yield\") c = i} END {print $c}' '%s'", sfile))))
 set xlabel sprintf('RMS error after calibration [%s]', unit)
 set ylabel 'fraction of units with RMS <= x'
 set yrange [0:1.02]

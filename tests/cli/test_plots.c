@@ -203,7 +203,10 @@ static void plot_texts(void **state)
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/c.svg'\" scripts/convergence.gp && "
         "grep -q 'ESS type A: mean RMS after' %1$s/c.svg && grep -q 'band |alpha| 0:62' %1$s/c.svg && "
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y2.svg'\" scripts/yield.gp && "
-        "grep -q 'ESS type A, 12 units: per band, the share' %1$s/y2.svg && ! grep -q '%1$s' %1$s/y2.svg",
+        "grep -q '<text>ESS type A, 12 units</text>' %1$s/y2.svg && ! grep -q '%1$s' %1$s/y2.svg && "
+        /* the map names the product beside the command that drew it */
+        "d=%1$s/../curve && gnuplot -e \"run='$d'; svg=1; out='$d/m.svg'; what='after'\" scripts/map.gp && "
+        "grep -q 'ESS type A: curve --unit 3' $d/m.svg",
         /* the sweep's x label carries the key's unit as a unit */
         "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s2.svg'\" scripts/sweep.gp && "
         "grep -q 'campaign.alpha_step \\[deg\\]' %2$s/s2.svg && grep -q 'scan short: extrapolates' %2$s/s2.svg",
