@@ -3,7 +3,7 @@
 # for the ESS the accuracy the fit predicts across the field (field.tsv).
 #   ESS: top, the fit's residual (model - reading) against alpha, one colour
 #        per beta line; bottom, the propagated 1-sigma error against alpha
-#   DSS: the alpha and beta errors after calibration against alpha and beta
+#   DSS, PSD: the alpha and beta errors after calibration against alpha and beta
 #   gnuplot -e "run='runs/cal'" scripts/calib.gp   [-e "out='x.png'"] [-e "svg=1"]
 if (!exists("run")) run = '.'
 file = run.'/residuals.tsv'
@@ -49,7 +49,10 @@ if (ess) {
 } else {
   cea = col('alpha_error_arcsec'); ceb = col('beta_error_arcsec')
   ca = col('alpha_deg'); cb = col('beta_deg')
-  set multiplot layout 1, 2 title sprintf("DSS calibration of %s (%d spots): error after calibration at each campaign point", data, nrow)
+  # the two-axis families (DSS, PSD) share this layout: the title names which
+  fam = pv('sensor')
+  famname = fam eq 'psd' ? 'PSD' : fam eq 'dss' ? 'DSS' : fam
+  set multiplot layout 1, 2 title sprintf("%s calibration of %s (%d points): error after calibration at each campaign point", famname, data, nrow)
   stats used('') using cea nooutput
   set title sprintf('alpha error: RMS %.3g arcsec', sqrt(STATS_sumsq / STATS_records))
   set xlabel 'alpha [deg]'

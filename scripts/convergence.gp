@@ -61,6 +61,9 @@ plot running using 1:3:4 with filledcurves lc rgb '#a6c8e6' title sprintf('%g%% 
 set ylabel 'running yield under the spec'
 set title sprintf('yield under the spec: %s (every unit, its verdict)', rule)
 set yrange [*:1.01]
+# the running yield ends at the final yield: the legend on the other side,
+# so it never covers the line and its interval where they settle (issue 41)
+if (final_yield >= 0.5) { set key bottom right box opaque } else { set key top right box opaque }
 plot running using 1:6:7 with filledcurves lc rgb '#f6c89f' title sprintf('%g%% Wilson interval', 100 * level), \
      running using 1:5 with lines lw 2 lc rgb '#d95f02' title 'running yield', \
      final_yield with lines dt 2 lc rgb 'black' title sprintf('final %.1f%%', 100 * final_yield)

@@ -24,9 +24,10 @@ it (invisible when the page is rendered):
   on the page), their output appended;
 - each value line `VALUE @ REGEX [#K]` names a number as the page writes it
   (it must appear in the text after the comment, up to the next check
-  comment or heading) and where the command prints it: the K-th number
-  (default 1) after the first match of REGEX (Python syntax, multi-line) in
-  what the command wrote, stdout then stderr.
+  comment or heading, once for each value line that names it) and where
+  the command prints it: the K-th number (default 1) after the first match
+  of REGEX (Python syntax, multi-line) in what the command wrote, stdout
+  then stderr.
 
 A number the machine decides (a timing) is marked `<!-- machine: WHY -->`
 and is not checked; one too costly to re-run in a test (10^5 units) is
@@ -111,8 +112,8 @@ def in_code(page, pos):
 
 
 def quoted(text, scope):
-    """The value appears in the page's text as a whole number (not part of another)."""
-    return re.search(r'(?<![\d.])' + re.escape(text) + r'(?!\.?\d)', scope) is not None
+    """How often the value appears in the page's text as a whole number (not part of another)."""
+    return len(re.findall(r'(?<![\d.])' + re.escape(text) + r'(?!\.?\d)', scope))
 
 
 def printed(output, regex, k):
@@ -183,10 +184,20 @@ def check_page(path, root, counts):
             elif output is None:
                 failures.append(f"{where}: 'check: same' without a command before it")
                 continue
+            marked = {}
             for v in block["values"]:
                 counts["numbers"] += 1
-                if not quoted(v["text"], scope):
+                # each value line stands for one place the text quotes it: a
+                # number marked twice (two table cells) and changed in one
+                # cell is caught although the other cell still shows it
+                marked[v["text"]] = marked.get(v["text"], 0) + 1
+                n = quoted(v["text"], scope)
+                if n == 0:
                     failures.append(f"{where}: {v['text']} is marked but the text after the mark does not quote it")
+                    continue
+                if marked[v["text"]] > n:
+                    failures.append(f"{where}: {v['text']} is marked {marked[v['text']]} times but the text "
+                                    f"after the mark quotes it {n} times")
                     continue
                 got, err = printed(output, v["regex"], v["k"])
                 if err:

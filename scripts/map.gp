@@ -29,7 +29,10 @@ if (svg) { set terminal svg size 560*npanel,hgt dynamic font 'Sans,12' } else { 
 set output out
 set termoption noenhanced
 set datafile separator "\t"
-if (!exists("title")) title = system(sprintf("head -1 '%s/config.ini'", run))[3:]
+# the product (config.ini's sensor.product), then the command that drew the
+# curve (config.ini's first line), not the command alone (issue 41)
+prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
+if (!exists("title")) title = (strlen(prod) > 0 ? prod.': ' : '').system(sprintf("head -1 '%s/config.ini'", run))[3:]
 if (!exists("scale")) scale = 'panel'
 # readable panel names: error_source_alpha_arcsec -> alpha error, source alone [arcsec]
 whatname(w) = w eq 'source' ? 'the source alone' : (w eq 'before' ? 'before calibration' : 'after calibration')

@@ -74,6 +74,12 @@ if (logy) {
   set logscale y
   set yrange [ylo / 1.6 : yhi * 1.6]
   set ylabel sprintf('mean RMS error of %s [%s], log scale', angle, unit)
+  # labels at 1, 2, 5 of every decade: a decade or two of range has them
+  # all inside, not only the powers of ten (issue 41)
+  set ytics format '%g'
+  do for [e = floor(log10(ylo / 1.6)) : ceil(log10(yhi * 1.6))] {
+    set ytics add (sprintf('%g', 10.0**e) 10.0**e, sprintf('%g', 2 * 10.0**e) 2 * 10.0**e, sprintf('%g', 5 * 10.0**e) 5 * 10.0**e)
+  }
 } else {
   set yrange [0:*]
 }

@@ -30,10 +30,12 @@ firstafter = sum [i=1:words(hdr)] ((isafter(word(hdr, i)) && !isafter(word(hdr, 
 nb = int(system(sprintf("awk -F'\\t' 'NR>1 && !s[$%d]++' '%s' | wc -l", scol('band'), sfile)))
 c0 = firstafter + nafter - nb
 
-# the product (config.ini's sensor.product) and its units, for the title
+# the product (config.ini's sensor.product) and its units, for the title: a
+# line of their own, so a long product name does not push the rest off the
+# canvas (issue 41)
 prod = system(sprintf("awk '/^product = / {sub(/^product = /, \"\"); sub(/  #.*$/, \"\"); p = $0} END {print p}' '%s/config.ini' 2>/dev/null", run))
 prod = strlen(prod) > 0 ? prod : run
-set title sprintf("%s, %d units: per band, the share of units whose RMS after calibration meets the spec\nunder the spec (%s in every band it names, every point read): %.1f%%", prod, int(system(sprintf("awk 'END {print NR - 1}' '%s'", file))), system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_statistic\") c = i} NR==2 {print $c}' '%s'", sfile)), 100 * real(system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_yield\") c = i} END {print $c}' '%s'", sfile))))
+set title sprintf("%s, %d units\nper band, the share of units whose RMS after calibration meets the spec\nunder the spec (%s in every band it names, every point read): %.1f%%", prod, int(system(sprintf("awk 'END {print NR - 1}' '%s'", file))), system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_statistic\") c = i} NR==2 {print $c}' '%s'", sfile)), 100 * real(system(sprintf("awk -F'\\t' 'NR==1 {for (i = 1; i <= NF; i++) if ($i == \"spec_yield\") c = i} END {print $c}' '%s'", sfile))))
 set xlabel sprintf('RMS error after calibration [%s]', unit)
 set ylabel 'fraction of units with RMS <= x'
 set yrange [0:1.02]
@@ -51,11 +53,13 @@ cy = scol('yield'); cylo = scol('yield_ci_lo'); cyhi = scol('yield_ci_hi')
 target = real(system(sprintf("awk -F'=' '$1 ~ /^yield_target *$/ {split($2, v, \"#\"); print v[1]+0}' '%s/config.ini'", run)))
 if (target > 0) {
   set arrow from graph 0, first target to graph 1, first target nohead lw 1.5 lc rgb '#555555' dt 2
-  set label sprintf('yield target %g%%', 100 * target) at graph 0.02, first target offset 0, 0.7 left tc rgb '#555555'
 }
+# named in the legend's title, not on the line: a label there sat where the
+# best band's curve crosses the target (the DSS's at 4 arcsec; issue 41)
+target_txt = target > 0 ? sprintf('; dashed: yield target %g%%', 100 * target) : ''
 # legend in words: the measured angle, the band and the yield with its interval
 legend = system(sprintf("awk -F'\\t' 'NR>1 && $%d==\"%s\" {printf \"\\\"%%s error, band %%s-%%s deg: yield %%.1f%%%% [%%.1f, %%.1f]\\\" \", $%d, $%d, $%d, 100*$%d, 100*$%d, 100*$%d}' '%s'", \
   scol('angle'), lastangle, scol('angle'), scol('band_lo_deg'), scol('band_hi_deg'), scol('yield'), scol('yield_ci_lo'), scol('yield_ci_hi'), sfile))
-set key title sprintf('yield at the spec: bars are %g%% intervals', 100 * real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('confidence'), sfile))))
+set key title sprintf('yield at the spec: bars are %g%% intervals%s', 100 * real(system(sprintf("awk -F'\\t' 'NR==2 {print $%d}' '%s'", scol('confidence'), sfile))), target_txt)
 plot for [c=c0:c0+nb-1] file skip 1 using (column(c)):(1.0) smooth cnormal with steps lw 2 lc (c-c0+1) title word(legend, c-c0+1), \
      for [i=1:nb] srow(i) using (spec):(column(cy)):(column(cylo)):(column(cyhi)) with yerrorbars lc (i) pt 7 ps 0.8 lw 2 notitle

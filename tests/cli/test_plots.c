@@ -43,10 +43,14 @@ static int setup(void **state)
         /* two bands of the same width: every figure of the run takes the same */
         "%1$s run configs/dss.ini --units 6 --set report.bands_deg=0:25,25:50 "
         "--set report.spec_bands=25:50 --out %2$s/dband --quiet",
+        /* every unit fails a 1-arcsec spec: the yield panel's legend goes on top */
+        "%1$s run configs/dss.ini --units 6 --set report.spec_arcsec=1 --out %2$s/dlow --quiet",
         "%1$s curve configs/dss.ini --only glass_index=0 --set noise.s_curve=off "
         "--set design.onboard_refraction=ignored --out %2$s/dmap --quiet",
         "%1$s simulate configs/ess_type_a.ini --unit 3 --out %2$s/esim --quiet && %1$s calibrate "
         "--config configs/ess_type_a.ini %2$s/esim/campaign.csv --out %2$s/ecal",
+        "%1$s simulate configs/psd.ini --unit 3 --out %2$s/psim --quiet && %1$s calibrate "
+        "--config configs/psd.ini %2$s/psim/campaign.csv --out %2$s/pcal",
         "%1$s simulate configs/dss.ini --unit 3 --out %2$s/dsim --quiet && %1$s calibrate "
         "--config configs/dss.ini %2$s/dsim/campaign.csv --out %2$s/dcal",
     };
@@ -158,10 +162,28 @@ static void plot_texts(void **state)
         "grep -q 'band field angle 25:50 deg' $d/h.svg && grep -q 'band field angle 25:50 deg' $d/c.svg && "
         "! grep -q '0:25' $d/h.svg && "
         "grep -q 'yield under the spec: rms &lt;= 10 arcsec in 25:50 bands' $d/c.svg",
+        /* the yield panel's legend sits on the side away from the final
+         * yield (SVG y grows downwards; the y label marks the panel's middle):
+         * below the middle at 100 %%, above it at 0 %% */
+        "ky() { grep -B1 \"<text>$2</text>\" $1 | grep -o 'translate([0-9.]*,[0-9.]*' | cut -d, -f2; }; "
+        "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/cy.svg'\" scripts/convergence.gp && "
+        "grep -q 'final 100.0%%' %1$s/cy.svg && "
+        "awk -v k=$(ky %1$s/cy.svg 'running yield') -v c=$(ky %1$s/cy.svg 'running yield under the spec') "
+        "'BEGIN { exit !(k > c) }' && d=%1$s/../dlow && "
+        "gnuplot -e \"run='$d'; svg=1; out='$d/cy.svg'\" scripts/convergence.gp && grep -q 'final 0.0%%' $d/cy.svg && "
+        "awk -v k=$(ky $d/cy.svg 'running yield') -v c=$(ky $d/cy.svg 'running yield under the spec') "
+        "'BEGIN { exit !(k < c) }'",
+        /* a calibrate directory's title names its family (the PSD's was
+         * drawn as "DSS calibration") */
+        "for f in dcal:DSS pcal:PSD; do d=%1$s/../${f%%:*}; gnuplot -e \"run='$d'; svg=1; out='$d/k.svg'\" "
+        "scripts/calib.gp && grep -q \"${f#*:} calibration of\" $d/k.svg || exit 1; done",
         /* the DSS sweep's curves differ by over 10 times: log axis; the ESS
          * sweep's (about 4 times) keep a linear one from 0 */
         "d=%1$s/../dsweep && gnuplot -e \"run='$d'; svg=1; out='$d/s.svg'\" scripts/sweep.gp && "
-        "grep -q 'log scale' $d/s.svg && gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s3.svg'\" "
+        "grep -q 'log scale' $d/s.svg && "
+        /* with labels at 1, 2, 5 of each decade, not the powers of ten alone */
+        "[ $(grep -cE '<text>(1|2|5)0*</text>' $d/s.svg) -ge 4 ] && "
+        "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s3.svg'\" "
         "scripts/sweep.gp && ! grep -q 'log scale' %2$s/s3.svg",
         /* no text line wider than its canvas holds (titles wrap): at most
          * 110 characters in any figure drawn here */
@@ -181,12 +203,19 @@ static void plot_texts(void **state)
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/c.svg'\" scripts/convergence.gp && "
         "grep -q 'ESS type A: mean RMS after' %1$s/c.svg && grep -q 'band |alpha| 0:62' %1$s/c.svg && "
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y2.svg'\" scripts/yield.gp && "
-        "grep -q 'ESS type A, 12 units: per band, the share' %1$s/y2.svg && ! grep -q '%1$s' %1$s/y2.svg",
+        "grep -q '<text>ESS type A, 12 units</text>' %1$s/y2.svg && ! grep -q '%1$s' %1$s/y2.svg && "
+        /* the map names the product beside the command that drew it */
+        "d=%1$s/../curve && gnuplot -e \"run='$d'; svg=1; out='$d/m.svg'; what='after'\" scripts/map.gp && "
+        "grep -q 'ESS type A: curve --unit 3' $d/m.svg",
         /* the sweep's x label carries the key's unit as a unit */
         "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s2.svg'\" scripts/sweep.gp && "
         "grep -q 'campaign.alpha_step \\[deg\\]' %2$s/s2.svg && grep -q 'scan short: extrapolates' %2$s/s2.svg",
         "gnuplot -e \"run='%1$s'; svg=1; out='%1$s/y.svg'\" scripts/yield.gp && "
-        "grep -q 'alpha error, band 0-62 deg: yield' %1$s/y.svg && grep -q 'yield target 95' %1$s/y.svg",
+        "grep -q 'alpha error, band 0-62 deg: yield' %1$s/y.svg && "
+        /* the target named once, in the legend's title (a label on the line sat
+         * where the best band's curve crosses it) */
+        "grep -q 'bars are 95%% intervals; dashed: yield target 95%%' %1$s/y.svg && "
+        "[ $(grep -c 'yield target' %1$s/y.svg) = 1 ]",
         /* the sweep's legend names what the ESS bands bin: |alpha| */
         "gnuplot -e \"run='%2$s'; svg=1; out='%2$s/s.svg'\" scripts/sweep.gp && "
         "grep -q 'after, |alpha| 0:62 deg' %2$s/s.svg && ! grep -q '|x|' %2$s/s.svg",
