@@ -49,6 +49,14 @@ static void raw_at(const void *model, const double *q, double *raw)
     raw[1] = q[1];
 }
 
+static int axes_at(const void *model, const double *raw, double *q)
+{
+    (void)model;
+    q[0] = raw[0];
+    q[1] = raw[1];
+    return SUNMC_OK;
+}
+
 static void emit_axes(const void *model, FILE *f)
 {
     (void)model;
@@ -186,6 +194,7 @@ const lab_export dss_export = {
     .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
+    .axes_at = axes_at,
     .iterations = "Loops: the field angle's Newton iteration, 10 steps (the tangent converges "
                   "in at\n *   most 6 from its paraxial start); the polynomial's powers (order "
                   "steps).",
