@@ -40,6 +40,12 @@ typedef struct {
 int lab_onboard_parse(const char *text, const char *what, lab_onboard_spec *s, char *err,
                       size_t errlen);
 
+/* calibration.onboard of c into *s, checked: its form, and a family whose
+ * Monte Carlo and export take it (a family's unit pipeline validates
+ * through lab_onboard when c asks for it: ESS, DSS).  Messages name the
+ * key. */
+int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, size_t errlen);
+
 /* The source's name in budget's tables: "ONBOARD_FLOAT", "ONBOARD_TABLE". */
 const char *lab_onboard_source_name(const lab_onboard_spec *s);
 

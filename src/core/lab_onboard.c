@@ -1,5 +1,6 @@
 /* lab_onboard.c - the exported arithmetic in process (see lab_onboard.h). */
 #include "lab_onboard.h"
+#include "family.h"
 #include "status.h"
 #include "units.h"
 
@@ -42,6 +43,27 @@ int lab_onboard_parse(const char *text, const char *what, lab_onboard_spec *s, c
                           what, v);
     s->form = LAB_ONBOARD_TABLE;
     s->step = step;
+    return SUNMC_OK;
+}
+
+int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, size_t errlen)
+{
+    static const char key[] = "calibration.onboard";
+    int st = lab_onboard_parse(c->onboard[0] ? c->onboard : "double", key, s, err, errlen);
+    if (st != SUNMC_OK || s->form == LAB_ONBOARD_DOUBLE)
+        return st;
+    const family_lab *lab = c->family ? c->family->lab : NULL;
+    const lab_export *x = lab ? lab->export : NULL;
+    if (!x || !x->onboard_mc)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s = %s: the %s family's Monte Carlo validates through its model "
+                          "in double only",
+                          key, c->onboard, c->family ? c->family->name : "?");
+    if (s->form == LAB_ONBOARD_FLOAT && !x->eval_float)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s = float: the %s family's export has no float path in sunmc (use "
+                          "double or table:STEP)",
+                          key, c->family->name);
     return SUNMC_OK;
 }
 

@@ -201,6 +201,7 @@ const lab_export ess_export = {
     .emit_model = emit_model,
     .axes_at = axes_at,
     .eval_float = ess_export_eval_float,
+    .onboard_mc = 1,
     .iterations = "Loops: the fine code's Halley iteration, 8 steps (the last bit in 3 or 4 "
                   "for w k < 0.5;\n *   the extended model's Newton, 12); a reading not settled "
                   "then, 64 bisections.\n *   The table form covers output_deg +-89.",

@@ -8,6 +8,7 @@
 #include "ess_lab.h"
 #include "ess_grid.h"
 #include "ess_prior.h"
+#include "lab_onboard.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -274,6 +275,7 @@ typedef struct {
     ess_val_readings val;
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
     double *rd;        /* ess_readings_bytes */
+    lab_onboard ob;    /* calibration.onboard: its table built once, reused */
 } ess_ws;
 
 static void ess_ws_free(void *p)
@@ -284,6 +286,7 @@ static void ess_ws_free(void *p)
     ess_calib_free(w->cw);
     ess_val_free(&w->val);
     free(w->rd);
+    lab_onboard_free(&w->ob);
     free(w);
 }
 
@@ -299,6 +302,34 @@ static double ess_ws_bytes(const sunmc_config *c)
     return ess_calib_bytes(n, kind) + jfull +
            (double)ess_validation_size(c) * (5.0 * sizeof(double) + sizeof(int)) +
            (double)ess_readings_bytes(c);
+}
+
+/* The on-board form of c (calibration.onboard) into ob, its table made
+ * for the nominal model now: the units' tables reuse its memory. */
+static int ess_onboard_init(const sunmc_config *c, lab_onboard *ob, char *err, size_t errlen)
+{
+    lab_onboard_spec spec;
+    int st = lab_onboard_config(c, &spec, err, errlen);
+    lab_onboard_init(ob, c->family->lab, &spec);
+    if (st != SUNMC_OK || spec.form == LAB_ONBOARD_DOUBLE)
+        return st;
+    ess_model m;
+    ess_model_init_kind(&m, ess_cfg(c)->cal_model, ess_cfg(c)->design.theta0_deg * RAD_PER_DEG,
+                        0.0);
+    return lab_onboard_prepare(ob, &m, err, errlen);
+}
+
+/* The on-board form to validate the unit's fitted model m through (NULL:
+ * the model itself, calibration.onboard = double); one the export cannot
+ * take fails the unit's fit. */
+static const lab_onboard *ess_onboard_unit(lab_onboard *ob, const ess_model *m, unit_result *res)
+{
+    char err[SUNMC_ERRLEN];
+    if (ob->spec.form == LAB_ONBOARD_DOUBLE)
+        return NULL;
+    if (res->fit_status == UNIT_FIT_OK && lab_onboard_prepare(ob, m, err, sizeof err) != SUNMC_OK)
+        res->fit_status = UNIT_FIT_FAILED;
+    return ob;
 }
 
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
@@ -319,7 +350,8 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     ess_campaign_angles(c, w->cw);
-    if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
+    if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK ||
+        ess_onboard_init(c, &w->ob, err, errlen) != SUNMC_OK) {
         ess_ws_free(w);
         return NULL;
     }
@@ -354,6 +386,7 @@ static int ess_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
  * the next block of its readings scored. */
 typedef struct {
     const ess_model *m;
+    const lab_onboard *ob;
     const ess_ws *w;
     const void *rd;
     int next; /* the block of the next temperature */
@@ -363,7 +396,7 @@ static void ess_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
 {
     ess_temp_ctx *k = ctx;
     ess_val_readings v = ess_rd_view(&k->w->val, k->rd, k->next++);
-    ess_score_validation(c, k->m, &v, at);
+    ess_score_validation(c, k->m, k->ob, &v, at);
 }
 
 /* Campaign, fit and the scores of the unit's readings rd (family.h). */
@@ -404,8 +437,9 @@ static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
-    ess_score_validation(c, &m, &v, res);
-    ess_temp_ctx tc = {&m, w, rd, 1};
+    const lab_onboard *ob = ess_onboard_unit(&w->ob, &m, res);
+    ess_score_validation(c, &m, ob, &v, res);
+    ess_temp_ctx tc = {&m, ob, w, rd, 1};
     thermal_validate_all(c, res, ess_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
