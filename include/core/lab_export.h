@@ -71,6 +71,9 @@ typedef struct lab_export {
     /* 1 when the family's Monte Carlo validates through lab_onboard
      * (calibration.onboard; its unit model is this model's type). */
     int onboard_mc;
+    /* onboard_mc: the nominal model of config c (its table's size is
+     * checked with the config, and a thread's table made for it). */
+    void (*nominal)(const sunmc_config *c, void *model);
 } lab_export;
 
 typedef struct {

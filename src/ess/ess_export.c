@@ -2,6 +2,7 @@
  * code for `sunmc export` (lab_export.h): ess_model_compensate's inversion
  * (Halley on the fine code, bisection where it does not settle, eq. 13)
  * with the unit's fitted constants. */
+#include "ess_config.h"
 #include "ess_export.h"
 #include "ess_model.h"
 #include "lab_export.h"
@@ -51,6 +52,13 @@ static void raw_at(const void *model, const double *q, double *raw)
 {
     (void)model;
     raw[0] = q[0];
+}
+
+/* The nominal model of c: the paper's a = 1, no fine-code term. */
+static void nominal(const sunmc_config *c, void *model)
+{
+    ess_model_init_kind(model, ess_cfg(c)->cal_model, ess_cfg(c)->design.theta0_deg * RAD_PER_DEG,
+                        0.0);
 }
 
 static int axes_at(const void *model, const double *raw, double *q)
@@ -202,6 +210,7 @@ const lab_export ess_export = {
     .axes_at = axes_at,
     .eval_float = ess_export_eval_float,
     .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: the fine code's Halley iteration, 8 steps (the last bit in 3 or 4 "
                   "for w k < 0.5;\n *   the extended model's Newton, 12); a reading not settled "
                   "then, 64 bisections.\n *   The table form covers output_deg +-89.",

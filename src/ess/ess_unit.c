@@ -314,8 +314,7 @@ static int ess_onboard_init(const sunmc_config *c, lab_onboard *ob, char *err, s
     if (st != SUNMC_OK || spec.form == LAB_ONBOARD_DOUBLE)
         return st;
     ess_model m;
-    ess_model_init_kind(&m, ess_cfg(c)->cal_model, ess_cfg(c)->design.theta0_deg * RAD_PER_DEG,
-                        0.0);
+    ob->lab->export->nominal(c, &m);
     return lab_onboard_prepare(ob, &m, err, errlen);
 }
 
