@@ -193,6 +193,18 @@ static void test_budget_onboard_row(void **state)
     char path[600];
     snprintf(path, sizeof path, "%s/b/budget.tsv", dir);
     assert_true(test_file_has(path, "\tafter_part\tONBOARD_TABLE\t"));
+    /* the four parts (share_after, column 13) sum to the on-board mean
+     * square; the table's part is a real share, not the whole */
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "awk -F'\\t' '$2 == \"after_part\" {s += $13} $3 == \"ONBOARD_TABLE\" {o = $13} "
+             "END {print s, o}' %s/b/budget.tsv",
+             dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    double sum = NAN, part = NAN;
+    assert_int_equal(sscanf(out, "%lf %lf", &sum, &part), 2);
+    assert_true(fabs(sum - 1.0) < 0.02);
+    assert_true(part > 0.05 && part < 0.9);
     assert_int_equal(sunmc("budget configs/ess_type_a.ini --units 12 --quiet --out $D/b0",
                            out, sizeof out),
                      0);
