@@ -67,6 +67,18 @@ typedef struct lab_onboard {
 void lab_onboard_init(lab_onboard *o, const family_lab *lab, const lab_onboard_spec *s);
 void lab_onboard_free(lab_onboard *o);
 
+/* A Monte Carlo thread's evaluator for config c (a family's workspace):
+ * calibration.onboard checked (lab_onboard_config) and, for a table, the
+ * table of c's nominal unit built, so that the memory the units' tables
+ * take is had now.  Non-OK with a message. */
+int lab_onboard_mc_init(lab_onboard *o, const sunmc_config *c, char *err, size_t errlen);
+
+/* The on-board form to validate a unit's fitted model through: NULL for
+ * double (the family's own compensation), else o prepared with model; a
+ * model the export cannot take sets *fit_ok = 0 (the unit has no on-board
+ * calibration: counted as a failed fit). */
+const lab_onboard *lab_onboard_mc_unit(lab_onboard *o, const void *model, int *fit_ok);
+
 /* Take model (lab_params_load's, or a Monte Carlo unit's fitted model of
  * the same type) for the evaluations that follow: the table form builds
  * its table.  Non-OK with a message: the family has no export or no

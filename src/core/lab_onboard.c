@@ -79,6 +79,35 @@ int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, si
     return st == SUNMC_OK ? st : sunmc_fail(err, errlen, st, "%s = %s: %s", key, c->onboard, why);
 }
 
+int lab_onboard_mc_init(lab_onboard *o, const sunmc_config *c, char *err, size_t errlen)
+{
+    lab_onboard_spec spec = {LAB_ONBOARD_DOUBLE, 0};
+    int st = lab_onboard_config(c, &spec, err, errlen);
+    memset(o, 0, sizeof *o);
+    o->spec = spec;
+    if (st != SUNMC_OK || spec.form == LAB_ONBOARD_DOUBLE)
+        return st; /* (a form other than double: the family has an export) */
+    lab_onboard_init(o, c->family->lab, &spec);
+    void *m = calloc(1, o->lab->model_size);
+    if (!m)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+    o->lab->export->nominal(c, m);
+    st = lab_onboard_prepare(o, m, err, errlen);
+    free(m);
+    o->model = NULL;
+    return st;
+}
+
+const lab_onboard *lab_onboard_mc_unit(lab_onboard *o, const void *model, int *fit_ok)
+{
+    char err[SUNMC_ERRLEN];
+    if (o->spec.form == LAB_ONBOARD_DOUBLE)
+        return NULL;
+    if (*fit_ok && lab_onboard_prepare(o, model, err, sizeof err) != SUNMC_OK)
+        *fit_ok = 0;
+    return o;
+}
+
 const char *lab_onboard_source_name(const lab_onboard_spec *s)
 {
     return s->form == LAB_ONBOARD_FLOAT   ? "ONBOARD_FLOAT"

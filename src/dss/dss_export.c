@@ -2,10 +2,13 @@
  * (lab_export.h): the inversion of dss_model_compensate (dss_model_batch.c,
  * dss_lane.h) written out with the unit's fitted constants. */
 #include "dss_calib.h"
+#include "dss_config.h"
+#include "dss_poly.h"
 #include "dss_export.h"
 #include "lab_export.h"
 #include "optics_lane.h"
 #include "status.h"
+#include "units.h"
 
 #include <math.h>
 
@@ -13,7 +16,7 @@
  * start the physical model's tangent converges to the last bit of a double
  * in at most 6 steps over a 2048 px detector at 3 mm (tests/cli/test_export.c
  * checks the result against compensate); the extra steps stay at the root. */
-#define DSS_EXPORT_NEWTON_STEPS 10
+/* DSS_EXPORT_NEWTON_STEPS: dss_export.h */
 
 static const char *const axis_names[] = {"x_px", "y_px", NULL};
 
@@ -47,6 +50,19 @@ static void raw_at(const void *model, const double *q, double *raw)
     (void)model;
     raw[0] = q[0];
     raw[1] = q[1];
+}
+
+/* The nominal calibration of c: the design's physical model, the
+ * polynomial's zero correction over the field (its table's range). */
+static void nominal(const sunmc_config *c, void *model)
+{
+    const dss_config *dc = dss_cfg(c);
+    dss_calibration *cal = model;
+    dss_onboard ob;
+    cal->kind = dc->cal_model;
+    dss_model_init(&cal->phys, &dc->design);
+    dss_onboard_init(&ob, &dc->design);
+    dss_poly_init(&cal->poly, dc->poly_order, &ob, dc->design.fov_deg * RAD_PER_DEG);
 }
 
 static int axes_at(const void *model, const double *raw, double *q)
@@ -195,6 +211,9 @@ const lab_export dss_export = {
     .emit_check = emit_check,
     .emit_model = emit_model,
     .axes_at = axes_at,
+    .eval_float = dss_export_eval_float,
+    .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: the field angle's Newton iteration, 10 steps (the tangent converges "
                   "in at\n *   most 6 from its paraxial start); the polynomial's powers (order "
                   "steps).",

@@ -304,33 +304,6 @@ static double ess_ws_bytes(const sunmc_config *c)
            (double)ess_readings_bytes(c);
 }
 
-/* The on-board form of c (calibration.onboard) into ob, its table made
- * for the nominal model now: the units' tables reuse its memory. */
-static int ess_onboard_init(const sunmc_config *c, lab_onboard *ob, char *err, size_t errlen)
-{
-    lab_onboard_spec spec;
-    int st = lab_onboard_config(c, &spec, err, errlen);
-    lab_onboard_init(ob, c->family->lab, &spec);
-    if (st != SUNMC_OK || spec.form == LAB_ONBOARD_DOUBLE)
-        return st;
-    ess_model m;
-    ob->lab->export->nominal(c, &m);
-    return lab_onboard_prepare(ob, &m, err, errlen);
-}
-
-/* The on-board form to validate the unit's fitted model m through (NULL:
- * the model itself, calibration.onboard = double); one the export cannot
- * take fails the unit's fit. */
-static const lab_onboard *ess_onboard_unit(lab_onboard *ob, const ess_model *m, unit_result *res)
-{
-    char err[SUNMC_ERRLEN];
-    if (ob->spec.form == LAB_ONBOARD_DOUBLE)
-        return NULL;
-    if (res->fit_status == UNIT_FIT_OK && lab_onboard_prepare(ob, m, err, sizeof err) != SUNMC_OK)
-        res->fit_status = UNIT_FIT_FAILED;
-    return ob;
-}
-
 static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
 {
     size_t n = ess_campaign_size(c);
@@ -350,7 +323,7 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     }
     ess_campaign_angles(c, w->cw);
     if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK ||
-        ess_onboard_init(c, &w->ob, err, errlen) != SUNMC_OK) {
+        lab_onboard_mc_init(&w->ob, c, err, errlen) != SUNMC_OK) {
         ess_ws_free(w);
         return NULL;
     }
@@ -436,7 +409,9 @@ static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
-    const lab_onboard *ob = ess_onboard_unit(&w->ob, &m, res);
+    int fit_ok = res->fit_status == UNIT_FIT_OK;
+    const lab_onboard *ob = lab_onboard_mc_unit(&w->ob, &m, &fit_ok);
+    res->fit_status = fit_ok ? res->fit_status : UNIT_FIT_FAILED;
     ess_score_validation(c, &m, ob, &v, res);
     ess_temp_ctx tc = {&m, ob, w, rd, 1};
     thermal_validate_all(c, res, ess_validate_at, &tc);
