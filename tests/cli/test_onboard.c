@@ -158,14 +158,15 @@ static void test_table_error_step_squared(void **state)
 
 /* mean RMS after and its interval (summary.tsv's last row, the widest band) of `run` with
  * calibration.onboard = onb. */
-static void mean_after(const char *cfg, const char *onb, double *mean, double *lo, double *hi)
+static void mean_after(const char *cfg, const char *onb, double *mean, double *lo, double *hi,
+                       double *sys)
 {
     char cmd[1024], out[16384];
     snprintf(cmd, sizeof cmd,
              "run %s --units 40 --set calibration.onboard=%s --quiet --out "
              "$D/r_%c > /dev/null && rm -rf $D/r_%c.old && mv $D/r_%c $D/r_%c.old && awk -F'\\t' 'NR == 1 {for (k = 1; k <= NF; k++) c[$k] = "
              "k} END {print $c[\"rms_after_mean\"], $c[\"rms_after_mean_ci_lo\"], "
-             "$c[\"rms_after_mean_ci_hi\"]}' $D/r_%c.old/summary.tsv",
+             "$c[\"rms_after_mean_ci_hi\"], $c[\"rms_after_sys_mean\"]}' $D/r_%c.old/summary.tsv",
              cfg, onb, onb[1], onb[1], onb[1], onb[1], onb[1]);
     assert_int_equal(sunmc(cmd, out, sizeof out), 0);
     const char *p = out + strlen(out);
@@ -173,7 +174,7 @@ static void mean_after(const char *cfg, const char *onb, double *mean, double *l
         p--;
     while (p > out && p[-1] != '\n')
         p--;
-    assert_int_equal(sscanf(p, "%lf %lf %lf", mean, lo, hi), 3);
+    assert_int_equal(sscanf(p, "%lf %lf %lf %lf", mean, lo, hi, sys), 4);
 }
 
 /* The issue's check: float differs from double by less than the interval
@@ -181,12 +182,14 @@ static void mean_after(const char *cfg, const char *onb, double *mean, double *l
  * code's period 0.5 deg in 5 cells; DSS: 16 px). */
 static void mc_check(const char *cfg, const char *coarse)
 {
-    double m0, lo0, hi0, m1, lo1, hi1, m2, lo2, hi2;
-    mean_after(cfg, "double", &m0, &lo0, &hi0);
-    mean_after(cfg, "float", &m1, &lo1, &hi1);
-    mean_after(cfg, coarse, &m2, &lo2, &hi2);
-    assert_true(hi0 > lo0 && m0 > 0);
+    double m0, lo0, hi0, m1, lo1, hi1, m2, lo2, hi2, s0, s1, s2;
+    mean_after(cfg, "double", &m0, &lo0, &hi0, &s0);
+    mean_after(cfg, "float", &m1, &lo1, &hi1, &s1);
+    mean_after(cfg, coarse, &m2, &lo2, &hi2, &s2);
+    assert_true(hi0 > lo0 && m0 > 0 && s0 > 0 && s0 < m0);
     assert_true(fabs(m1 - m0) < 0.5 * (hi0 - lo0));
+    /* the systematic part (the noise-free readings) through float too */
+    assert_true(fabs(s1 - s0) < 1e-3 * s0);
     assert_true(m2 - m0 > 0.5 * (hi0 - lo0));
 }
 
