@@ -200,6 +200,21 @@ static void test_mc_float_within_interval(void **state)
     mc_check("configs/dss.ini", "table:16");
 }
 
+/* The same units for any thread count: each thread's table is built from
+ * the unit's own model. */
+static void test_mc_onboard_threads(void **state)
+{
+    (void)state;
+    char out[16384], cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "run configs/dss.ini --units 12 --threads 1 --quiet --set calibration.onboard=table:8 "
+             "--out $D/t1 > /dev/null && %s run configs/dss.ini --units 12 --threads 2 --quiet "
+             "--set calibration.onboard=table:8 --out $D/t2 > /dev/null && cmp $D/t1/summary.tsv "
+             "$D/t2/summary.tsv && cmp $D/t1/units.tsv $D/t2/units.tsv",
+             test_sunmc());
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+}
+
 /* budget lists the on-board arithmetic as a part of the mean square after
  * (budget.tsv's after_part rows), only when it is not double. */
 static void test_budget_onboard_row(void **state)
@@ -306,6 +321,7 @@ int main(void)
         cmocka_unit_test(test_table_matches_compiled_export),
         cmocka_unit_test(test_table_error_step_squared),
         cmocka_unit_test(test_mc_float_within_interval),
+        cmocka_unit_test(test_mc_onboard_threads),
         cmocka_unit_test(test_budget_onboard_row),
         cmocka_unit_test(test_onboard_refused),
         cmocka_unit_test(test_onboard_table_limits),
