@@ -42,7 +42,7 @@ int lab_onboard_parse(const char *text, const char *what, lab_onboard_spec *s, c
 
 /* calibration.onboard of c into *s, checked: its form, and a family whose
  * Monte Carlo and export take it (a family's unit pipeline validates
- * through lab_onboard when c asks for it: ESS, DSS).  Messages name the
+ * through lab_onboard when c asks for it: ESS, DSS, PSD).  Messages name the
  * key. */
 int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, size_t errlen);
 

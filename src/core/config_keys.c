@@ -102,9 +102,9 @@ const config_key config_keys[] = {
      "run.seed's own pilot stream, the same in every shard and thread)"},
     {"calibration", "onboard", KEY_STRING, "", "double", 0, 0, NULL, OFF(onboard),
      "the arithmetic each unit is validated through: double (the model), float (`sunmc "
-     "export`'s code built with -DSUNMC_FLOAT) or table:STEP (its table form, STEP in the "
-     "reading axes' unit: ESS output_deg, DSS px; at most 10^6 nodes); Table 1, the yield and "
-     "`budget` (its ONBOARD_ part) then include the on-board error (ESS, DSS; the PSD: double)"},
+     "export`'s code built with -DSUNMC_FLOAT; ESS, DSS) or table:STEP (its table form, STEP in "
+     "the reading axes' unit: ESS output_deg, DSS px, PSD channel ratio; at most 10^6 nodes); "
+     "Table 1, the yield and `budget` (its ONBOARD_ part) then include the on-board error"},
 
     /* [environment] */
     {"environment", "calibration_temp_c", KEY_DOUBLE, "C", "20", -100, 150, NULL,

@@ -108,6 +108,18 @@ static void put_signals(const psd_model_file *m, FILE *f)
     }
 }
 
+/* The nominal model of c: the design's physical calibration (a
+ * polynomial's over ratios up to 1, the most its table spans: the size
+ * checked with the config bounds every unit's). */
+static void nominal(const sunmc_config *c, void *model)
+{
+    psd_model_file *m = model;
+    m->cfg = *psd_cfg(c);
+    psd_cal_nominal(&m->cal, &m->cfg.design);
+    m->cal.model = m->cfg.cal_model;
+    m->cal.poly.scale = 1.0;
+}
+
 /* emit_axes in process: put_signals, then put_ratios, in their order of
  * operations. */
 static int axes_at(const void *model, const double *raw, double *q)
@@ -374,6 +386,8 @@ const lab_export psd_export = {
     .emit_check = emit_check,
     .emit_model = emit_model,
     .axes_at = axes_at,
+    .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: physical model: Newton in (tan alpha, tan beta), at most 40 steps, "
                   "stopping\n *   when a step is below 1e-13 (double; 1e-5 float); the "
                   "polynomial: none but its\n *   powers (order steps).",

@@ -268,7 +268,6 @@ static void test_onboard_refused(void **state)
         "configs/ess_type_a.ini --units 2 --set calibration.onboard=Float",
         /* one past the node limit: 178 deg in 1000000 cells, 1000001 nodes */
         "configs/ess_type_a.ini --units 2 --set calibration.onboard=table:0.000178",
-        "configs/psd.ini --units 2 --set calibration.onboard=table:0.01",
         "configs/psd.ini --units 2 --set calibration.onboard=float",
         /* the DSS's detector, 2048 px, in more than 10^6 nodes */
         "configs/dss.ini --units 2 --set calibration.onboard=table:2"};
