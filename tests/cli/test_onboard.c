@@ -198,6 +198,11 @@ static void test_mc_float_within_interval(void **state)
     (void)state;
     mc_check("configs/ess_type_a.ini", "table:0.1");
     mc_check("configs/dss.ini", "table:16");
+    /* the PSD: no float path; a coarse table (0.25 in the ratios) moves it */
+    double m0, lo0, hi0, s0, m2, lo2, hi2, s2;
+    mean_after("configs/psd.ini", "double", &m0, &lo0, &hi0, &s0);
+    mean_after("configs/psd.ini", "table:0.25", &m2, &lo2, &hi2, &s2);
+    assert_true(hi0 > lo0 && m2 - m0 > 0.5 * (hi0 - lo0));
 }
 
 /* The same units for any thread count: each thread's table is built from
