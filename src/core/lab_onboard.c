@@ -64,17 +64,20 @@ int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, si
                           "%s = float: the %s family's export has no float path in sunmc (use "
                           "double or table:STEP)",
                           key, c->family->name);
-    if (s->form != LAB_ONBOARD_TABLE || !x->nominal)
+    if (!x->nominal)
         return SUNMC_OK;
-    /* the table of the config's nominal unit: its size */
+    /* the config's nominal unit: does the export take its model, and its
+     * table's size */
     void *m = calloc(1, lab->model_size);
     if (!m)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
     x->nominal(c, m);
+    char why[SUNMC_ERRLEN];
+    st = x->supported ? x->supported(m, why, sizeof why) : SUNMC_OK;
     lab_export_job j = {.lab = lab, .model = m, .step = s->step};
     long n[LAB_EXPORT_MAX_AXES], nodes;
-    char why[SUNMC_ERRLEN];
-    st = lab_export_table_size(&j, n, &nodes, why, sizeof why);
+    if (st == SUNMC_OK && s->form == LAB_ONBOARD_TABLE)
+        st = lab_export_table_size(&j, n, &nodes, why, sizeof why);
     free(m);
     return st == SUNMC_OK ? st : sunmc_fail(err, errlen, st, "%s = %s: %s", key, c->onboard, why);
 }

@@ -23,6 +23,11 @@ static const char *const axis_names[] = {"x_px", "y_px", NULL};
 static int supported(const void *model, char *err, size_t errlen)
 {
     const dss_calibration *cal = model;
+    /* the generated physical model has no untilting step (dss_model_batch.c) */
+    if (cal->kind == DSS_MODEL_PHYSICAL && cal->phys.tilt)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "the detector tilt (calibration.fit_detector_tilt = on) is not in the "
+                          "exported model: no export");
     if (cal->kind == DSS_MODEL_PHYSICAL && !(cal->phys.half_px > 0))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design.detector_px is missing: the export needs the detector's side");

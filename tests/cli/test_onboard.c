@@ -275,7 +275,10 @@ static void test_onboard_refused(void **state)
         "configs/ess_type_a.ini --units 2 --set calibration.onboard=table:0.000178",
         "configs/psd.ini --units 2 --set calibration.onboard=float",
         /* the DSS's detector, 2048 px, in more than 10^6 nodes */
-        "configs/dss.ini --units 2 --set calibration.onboard=table:2"};
+        "configs/dss.ini --units 2 --set calibration.onboard=table:2",
+        /* the export has no detector tilt: neither has its on-board form */
+        "configs/dss.ini --units 2 --set calibration.fit_detector_tilt=on --set "
+        "calibration.onboard=float"};
     char no[600];
     snprintf(no, sizeof no, "%s/none", dir);
     test_refused("run", bad, sizeof bad / sizeof *bad, no);
