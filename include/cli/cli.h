@@ -43,6 +43,7 @@ typedef struct {
     const char *isa;                  /* run --isa baseline|avx2 (else SUNMC_ISA) */
     const char *format;               /* run --format tsv|hdf5 (NULL: tsv) */
     const char *duplicates;           /* calibrate --duplicates average|refuse|keep */
+    const char *onboard;              /* compensate --onboard double|float|table:STEP */
     const char *given[CLI_MAX_GIVEN]; /* options seen (their words in the allowed list) */
     int n_given;
     int units_given, seed_given;      /* --units N (not FIRST:END), --seed S */

@@ -126,6 +126,12 @@ typedef struct {
      * model-form passes (lab condition, the budget's row). */
     budget_share part_after[BUDGET_PARTS];
     long part_units;
+    /* calibration.onboard other than double (onboard_name "ONBOARD_TABLE",
+     * "ONBOARD_FLOAT"; "" for double): the on-board arithmetic's part of
+     * that mean square, MS(on board) - MS(double) of the same units, the
+     * three parts above then from the double run. */
+    char onboard_name[24];
+    budget_share part_onboard;
     int order[BUDGET_MAX_SOURCES];  /* src indices, rank order */
     budget_stats today;             /* units [0, today_units) of the all-sources run */
     long today_units;               /* report.budget_units, or 0 when more than units */

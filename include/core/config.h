@@ -143,6 +143,7 @@ typedef struct {
     int yield_interval;                 /* enum config_yield_interval */
     double cost_exponent;               /* allocate: cost of a tolerance ~ 1 / value^k */
     long model_form_every;              /* every N-th unit gets the model-form pass (modelform.h) */
+    char onboard[CONFIG_STR_MAX];       /* calibration.onboard: double|float|table:STEP (lab_onboard.h) */
 
     family_config fam;                  /* the family's own keys (its keys table) */
 

@@ -60,6 +60,20 @@ typedef struct lab_export {
     void (*emit_model)(const void *model, FILE *f);
     /* The fixed loop counts of the model, for the header comment. */
     const char *iterations;
+    /* In process (lab_onboard.h): the axes q of reading raw as emit_axes's
+     * statements compute them, in double; non-OK where they give no number. */
+    int (*axes_at)(const void *model, const double *raw, double *q);
+    /* The exported function built with -DSUNMC_FLOAT, in process: the
+     * reading check, the model and the angles in deg, each operation in
+     * float as the generated code does it.  Returns enum lab_reading;
+     * NULL: the family has no float path (the onboard float is refused). */
+    int (*eval_float)(const void *model, const float *raw, float *deg);
+    /* 1 when the family's Monte Carlo validates through lab_onboard
+     * (calibration.onboard; its unit model is this model's type). */
+    int onboard_mc;
+    /* onboard_mc: the nominal model of config c (its table's size is
+     * checked with the config, and a thread's table made for it). */
+    void (*nominal)(const sunmc_config *c, void *model);
 } lab_export;
 
 typedef struct {

@@ -11,8 +11,11 @@
  * under c->no_systematic).  Unseen readings are left out, gross ones
  * counted in res->gross_val and left out; res->fit_status says whether m
  * is good (not: before only), and a reading m cannot compensate fails
- * the unit's fit (UNIT_FIT_FAILED) and ends the after sums. */
-void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_val_readings *v,
-                          unit_result *res);
+ * the unit's fit (UNIT_FIT_FAILED) and ends the after sums.  ob (NULL:
+ * none) compensates through the on-board form (calibration.onboard,
+ * lab_onboard.h) prepared with m instead of m itself. */
+struct lab_onboard;
+void ess_score_validation(const sunmc_config *c, const ess_model *m, const struct lab_onboard *ob,
+                          const ess_val_readings *v, unit_result *res);
 
 #endif

@@ -336,6 +336,8 @@ static int set_option(cli_options *o, const char *command, const char *name, con
         o->format = v;
     } else if (strcmp(name, "duplicates") == 0) {
         o->duplicates = v;
+    } else if (strcmp(name, "onboard") == 0) {
+        o->onboard = v; /* lab_onboard_parse checks it */
     } else {
         return bad(command, "unknown option", a);
     }

@@ -160,9 +160,10 @@ static void write_tsv(FILE *f, const sunmc_config *c, const sensor_family *fam,
     write_share(f, &b->interaction_after);
     fprintf(f, "-\t-\t-\t-\t-\t-\t-\t-\t-\t");
     write_tail(f, c, fam, b);
-    for (int k = 0; k < BUDGET_PARTS; k++) {
-        fprintf(f, "0\tafter_part\t%s\t-\t-\t-\t-\t-\t-\t-\t-\t-\t", part_names[k]);
-        write_share(f, &b->part_after[k]);
+    for (int k = 0; k < BUDGET_PARTS + (b->onboard_name[0] != '\0'); k++) {
+        fprintf(f, "0\tafter_part\t%s\t-\t-\t-\t-\t-\t-\t-\t-\t-\t",
+                k < BUDGET_PARTS ? part_names[k] : b->onboard_name);
+        write_share(f, k < BUDGET_PARTS ? &b->part_after[k] : &b->part_onboard);
         fprintf(f, "-\t-\t-\t-\t-\t-\t-\t-\t-\t");
         write_tail(f, c, fam, b);
     }
@@ -182,6 +183,12 @@ static void print_parts(const budget_result *b)
         char sh[96];
         fmt_share(sh, sizeof sh, &b->part_after[k]);
         printf("  %-58s %s\n", words[k], sh);
+    }
+    if (b->onboard_name[0]) {
+        char sh[96], what[96];
+        fmt_share(sh, sizeof sh, &b->part_onboard);
+        snprintf(what, sizeof what, "on-board arithmetic (%s: MS - MS in double)", b->onboard_name);
+        printf("  %-58s %s\n", what, sh);
     }
 }
 

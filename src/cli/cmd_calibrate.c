@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "lab.h"
 #include "lab_accuracy.h"
+#include "lab_onboard.h"
 #include "lab_params.h"
 #include "params_io.h"
 #include "registry.h"
@@ -56,7 +57,8 @@ static const char calibrate_tail[] =
     "Exit status 2 for bad data (FILE:LINE: message), 1 when the fit fails.\n";
 
 static const char compensate_head[] =
-    "usage: sunmc compensate PARAMS.ini RAW.csv [--config CONFIG] [--out DIR] > COMPENSATED.csv\n"
+    "usage: sunmc compensate PARAMS.ini RAW.csv [--config CONFIG] [--out DIR]\n"
+    "                        [--onboard double|float|table:STEP] > COMPENSATED.csv\n"
     "Applies a calibration written by `sunmc calibrate` to raw readings.  RAW.csv needs the\n"
     "family's raw columns ('#' comment lines skipped); the output repeats every input column\n"
     "and adds the compensated angle(s):\n";
@@ -77,6 +79,11 @@ static const char compensate_tail[] =
     "                   band over the data.  Must be the params.ini's family.\n"
     "  --set KEY=VALUE  changes a key of CONFIG (needs --config)\n"
     "  --out DIR        also writes DIR/accuracy.tsv (refused without truth columns)\n"
+    "  --onboard FORM   compensates as `sunmc export`'s code does on board: double (the\n"
+    "                   default: the model), float (its -DSUNMC_FLOAT build; ESS, DSS), or\n"
+    "                   table:STEP (its table form, STEP in the reading axes' unit: ESS\n"
+    "                   output_deg, DSS px, PSD ratio); the accuracy is then the on-board\n"
+    "                   form's (docs/calibration.md, from the lab to the flight software)\n"
     "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
 
 /* Append printf-style text to buf (used bytes *n), truncating at len. */
@@ -332,6 +339,14 @@ static void accuracy_print(const lab_accuracy *a, const sensor_family *fam, cons
         }
 }
 
+/* "--onboard X: " before why the on-board form was refused. */
+static void onboard_refused(char *err, size_t len, const char *onboard)
+{
+    char why[SUNMC_ERRLEN];
+    snprintf(why, sizeof why, "%s", err);
+    snprintf(err, len, "--onboard %.64s: %.400s", onboard, why);
+}
+
 static int compensate(const family_lab *lab, const sensor_family *fam, const params_file *pf,
                       const char *raw_path, const cli_options *o, const sunmc_config *c)
 {
@@ -353,8 +368,21 @@ static int compensate(const family_lab *lab, const sensor_family *fam, const par
     if (warn[0])
         fprintf(stderr, "sunmc compensate: WARNING: %s\n", warn);
     lab_comp_stats cs;
+    lab_onboard ob;
+    lab_onboard_spec spec = {LAB_ONBOARD_DOUBLE, 0};
+    if (o->onboard && st == SUNMC_OK)
+        st = lab_onboard_parse(o->onboard, "--onboard", &spec, err, sizeof err);
+    lab_onboard_init(&ob, lab, &spec);
+    lab_onboard_wrap wrap;
+    if (st == SUNMC_OK && spec.form != LAB_ONBOARD_DOUBLE &&
+        (st = lab_onboard_prepare(&ob, model, err, sizeof err)) != SUNMC_OK)
+        onboard_refused(err, sizeof err, o->onboard);
+    lab_onboard_wrap_init(&wrap, &ob);
+    int through = spec.form != LAB_ONBOARD_DOUBLE; /* double: the family's compensate itself */
     if (st == SUNMC_OK)
-        st = lab_compensate_csv(lab, model, raw_path, stdout, &cs, &acc, err, sizeof err);
+        st = lab_compensate_csv(through ? &wrap.lab : lab, through ? (void *)&wrap : model,
+                                raw_path, stdout, &cs, &acc, err, sizeof err);
+    lab_onboard_free(&ob);
     free(model);
     if (st == SUNMC_OK && acc.found)
         st = lab_accuracy_finish(&acc) == SUNMC_OK
@@ -418,7 +446,8 @@ int cmd_compensate(int argc, char **argv)
     if (cli_wants_help(argc, argv, help))
         return 0;
     cli_options o;
-    int rc = cli_parse(argc, argv, 2, "compensate", "config set out quiet FILES2", &o);
+    int rc = cli_parse(argc, argv, 2, "compensate", "config set out quiet onboard FILES2",
+                        &o);
     if (rc)
         return rc;
     if (o.n_positional != 2) {

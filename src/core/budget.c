@@ -1,6 +1,7 @@
 /* budget.c - sources, the all / floor / alone runs, shares with intervals,
  * ranks (the inverse limits are in budget_limit.c). */
 #include "budget.h"
+#include "lab_onboard.h"
 #include "thermal.h"
 #include "memory.h"
 #include "modelform.h"
@@ -468,9 +469,44 @@ static int unit_parts(const unit_result *r, int angle, int band, double x[BUDGET
     return 1;
 }
 
+/* The on-board part of unit u (budget.h): its parts from the double run
+ * dbl, the on-board run's mean square after as the total *a and x[BUDGET_PARTS]
+ * its excess over the double's; 0 when either has no value. */
+static int unit_parts_onboard(const unit_result *ob, const unit_result *dbl, int angle, int band,
+                              double x[BUDGET_PARTS + 1], double *a)
+{
+    double a_dbl, aft = ob->rms_after[angle][band];
+    if (!unit_parts(dbl, angle, band, x, &a_dbl) || ob->fit_status != UNIT_FIT_OK ||
+        !isfinite(aft))
+        return 0;
+    *a = aft * aft;
+    x[BUDGET_PARTS] = *a - a_dbl;
+    return 1;
+}
+
+/* The same units as res (config t) validated in double instead of
+ * calibration.onboard's form, into *dbl (NULL when t's form is double). */
+static int onboard_double_run(const sunmc_config *t, budget_result *b, long run, int threads,
+                              unit_result **dbl, char *err, size_t errlen)
+{
+    lab_onboard_spec s;
+    *dbl = NULL;
+    b->onboard_name[0] = '\0';
+    int rc = lab_onboard_config(t, &s, err, errlen);
+    if (rc != SUNMC_OK || s.form == LAB_ONBOARD_DOUBLE)
+        return rc;
+    snprintf(b->onboard_name, sizeof b->onboard_name, "%s", lab_onboard_source_name(&s));
+    sunmc_config d = *t;
+    snprintf(d.onboard, sizeof d.onboard, "double");
+    if (!(*dbl = calloc((size_t)run, sizeof **dbl)))
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", run);
+    b->unit_runs += 2 * run;
+    return mc_run(&d, 0, run, threads, *dbl, NULL, NULL, err, errlen);
+}
+
 /* The all-sources run's units again with the systematic pass and a
  * model-form pass each: the parts of its mean square after calibration
- * (at the lab's condition) into b->part_after. */
+ * (at the lab's condition) into b->part_after (and b->part_onboard). */
 static int after_parts(const sunmc_config *c, budget_result *b, long units, int threads,
                        char *err, size_t errlen)
 {
@@ -478,21 +514,25 @@ static int after_parts(const sunmc_config *c, budget_result *b, long units, int 
     t.no_systematic = 0;
     t.model_form_every = 1;
     long run = budget_units_run(&t, units);
-    unit_result *res = calloc((size_t)run, sizeof *res);
-    double *v = malloc((size_t)run * (BUDGET_PARTS + 1) * sizeof *v); /* parts, total */
+    unit_result *res = calloc((size_t)run, sizeof *res), *dbl = NULL;
+    double *v = malloc((size_t)run * (BUDGET_PARTS + 2) * sizeof *v); /* parts, total, onboard */
     long *block = c->sampling != CONFIG_SAMPLING_RANDOM ? malloc((size_t)run * sizeof *block)
                                                         : NULL;
     int rc = res && v && (block || c->sampling == CONFIG_SAMPLING_RANDOM)
                  ? mc_run(&t, 0, run, threads, res, NULL, NULL, err, errlen)
                  : sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for %ld units", run);
+    if (rc == SUNMC_OK)
+        rc = onboard_double_run(&t, b, run, threads, &dbl, err, errlen);
     long n = 0;
     for (long u = 0; rc == SUNMC_OK && u < run; u++) {
-        double x[BUDGET_PARTS], a;
-        if (!unit_parts(&res[u], b->angle, b->band, x, &a))
+        double x[BUDGET_PARTS + 1], a;
+        if (dbl ? !unit_parts_onboard(&res[u], &dbl[u], b->angle, b->band, x, &a)
+                : !unit_parts(&res[u], b->angle, b->band, x, &a))
             continue;
         for (int k = 0; k < BUDGET_PARTS; k++)
             v[(size_t)k * (size_t)run + (size_t)n] = x[k];
         v[(size_t)BUDGET_PARTS * (size_t)run + (size_t)n] = a;
+        v[(size_t)(BUDGET_PARTS + 1) * (size_t)run + (size_t)n] = dbl ? x[BUDGET_PARTS] : 0.0;
         if (block)
             block[n] = u / c->sampling_block;
         n++;
@@ -500,9 +540,13 @@ static int after_parts(const sunmc_config *c, budget_result *b, long units, int 
     for (int k = 0; rc == SUNMC_OK && k < BUDGET_PARTS; k++)
         set_share(&b->part_after[k], v + (size_t)k * (size_t)run,
                   v + (size_t)BUDGET_PARTS * (size_t)run, block, (size_t)n, c->confidence);
+    if (rc == SUNMC_OK && dbl)
+        set_share(&b->part_onboard, v + (size_t)(BUDGET_PARTS + 1) * (size_t)run,
+                  v + (size_t)BUDGET_PARTS * (size_t)run, block, (size_t)n, c->confidence);
     b->part_units = n;
     b->unit_runs += 2 * run;
     free(res);
+    free(dbl);
     free(v);
     free(block);
     return rc;

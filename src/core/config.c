@@ -1,6 +1,7 @@
 /* config.c - building a config: finding keys across the shared and family
  * tables, reading the INI file, defaults, --set overrides and validation. */
 #include "config.h"
+#include "lab_onboard.h"
 #include "thermal.h"
 #include "verdict.h"
 #include "ini.h"
@@ -549,6 +550,9 @@ int config_validate(const sunmc_config *c, char *err, size_t errlen)
     int s = thermal_check(c, err, errlen);
     if (s == SUNMC_OK)
         s = verdict_check(c, err, errlen);
+    lab_onboard_spec ob;
+    if (s == SUNMC_OK)
+        s = lab_onboard_config(c, &ob, err, errlen);
     if (s == SUNMC_OK && c->family->validate)
         s = c->family->validate(c, err, errlen);
     return s == SUNMC_OK ? memory_check_workspace(c, err, errlen) : s;

@@ -49,19 +49,20 @@ int lab_export_table_size(const lab_export_job *j, long n[LAB_EXPORT_MAX_AXES], 
     for (int a = 0; a < LAB_EXPORT_MAX_AXES; a++)
         n[a] = 1;
     if (!(j->step > 0) || !isfinite(j->step))
-        return sunmc_fail(err, errlen, SUNMC_EINPUT, "--form table:STEP: STEP must be > 0");
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "table:STEP: STEP must be > 0");
     for (int a = 0; a < x->n_axes; a++) {
         double cells = ceil((hi[a] - lo[a]) / j->step);
         if (!(cells >= 1) || cells > (double)LAB_EXPORT_MAX_NODES)
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "--form table:%g: %s spans %g to %g: the step gives %s cells",
+                              "table:%g: %s spans %g to %g: the step gives %s cells (at most "
+                              "%ld nodes)",
                               j->step, x->axis_names[a], lo[a], hi[a],
-                              cells >= 1 ? "too many" : "no");
+                              cells >= 1 ? "too many" : "no", LAB_EXPORT_MAX_NODES);
         n[a] = (long)cells + 1;
         *nodes *= n[a];
         if (*nodes > LAB_EXPORT_MAX_NODES)
             return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                              "--form table:%g: %ld nodes or more, beyond the %ld an export "
+                              "table:%g: %ld nodes or more, beyond the %ld an export "
                               "writes: take a larger step",
                               j->step, *nodes, LAB_EXPORT_MAX_NODES);
     }

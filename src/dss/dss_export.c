@@ -2,10 +2,13 @@
  * (lab_export.h): the inversion of dss_model_compensate (dss_model_batch.c,
  * dss_lane.h) written out with the unit's fitted constants. */
 #include "dss_calib.h"
+#include "dss_config.h"
+#include "dss_poly.h"
 #include "dss_export.h"
 #include "lab_export.h"
 #include "optics_lane.h"
 #include "status.h"
+#include "units.h"
 
 #include <math.h>
 
@@ -13,13 +16,18 @@
  * start the physical model's tangent converges to the last bit of a double
  * in at most 6 steps over a 2048 px detector at 3 mm (tests/cli/test_export.c
  * checks the result against compensate); the extra steps stay at the root. */
-#define DSS_EXPORT_NEWTON_STEPS 10
+/* DSS_EXPORT_NEWTON_STEPS: dss_export.h */
 
 static const char *const axis_names[] = {"x_px", "y_px", NULL};
 
 static int supported(const void *model, char *err, size_t errlen)
 {
     const dss_calibration *cal = model;
+    /* the generated physical model has no untilting step (dss_model_batch.c) */
+    if (cal->kind == DSS_MODEL_PHYSICAL && cal->phys.tilt)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "the detector tilt (calibration.fit_detector_tilt = on) is not in the "
+                          "exported model: no export");
     if (cal->kind == DSS_MODEL_PHYSICAL && !(cal->phys.half_px > 0))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design.detector_px is missing: the export needs the detector's side");
@@ -47,6 +55,27 @@ static void raw_at(const void *model, const double *q, double *raw)
     (void)model;
     raw[0] = q[0];
     raw[1] = q[1];
+}
+
+/* The nominal calibration of c: the design's physical model, the
+ * polynomial's zero correction over the field (its table's range). */
+static void nominal(const sunmc_config *c, void *model)
+{
+    const dss_config *dc = dss_cfg(c);
+    dss_calibration *cal = model;
+    dss_onboard ob;
+    cal->kind = dc->cal_model;
+    dss_model_init(&cal->phys, &dc->design);
+    dss_onboard_init(&ob, &dc->design);
+    dss_poly_init(&cal->poly, dc->poly_order, &ob, dc->design.fov_deg * RAD_PER_DEG);
+}
+
+static int axes_at(const void *model, const double *raw, double *q)
+{
+    (void)model;
+    q[0] = raw[0];
+    q[1] = raw[1];
+    return SUNMC_OK;
 }
 
 static void emit_axes(const void *model, FILE *f)
@@ -186,6 +215,10 @@ const lab_export dss_export = {
     .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
+    .axes_at = axes_at,
+    .eval_float = dss_export_eval_float,
+    .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: the field angle's Newton iteration, 10 steps (the tangent converges "
                   "in at\n *   most 6 from its paraxial start); the polynomial's powers (order "
                   "steps).",

@@ -9,6 +9,7 @@
 #include "dss_grid.h"
 #include "rotation.h"
 #include "dss_score.h"
+#include "lab_onboard.h"
 #include "family.h"
 #include "verdict.h"
 #include "rng.h"
@@ -185,6 +186,7 @@ typedef struct {
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
     double amp_px[DSS_SCURVE_HARMONICS]; /* the design's S-curve, made once */
     double *rd;        /* dss_readings_bytes */
+    lab_onboard ob;    /* calibration.onboard: its table built once, reused */
 } dss_ws;
 
 static void dss_ws_free(void *p)
@@ -195,6 +197,7 @@ static void dss_ws_free(void *p)
     dss_calib_free(w->cw);
     dss_val_free(&w->val);
     free(w->rd);
+    lab_onboard_free(&w->ob);
     free(w);
 }
 
@@ -225,7 +228,8 @@ static void *dss_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     }
     dss_campaign_angles(c, w->cw->b1_rad, w->cw->b2_rad);
     dss_scurve_design(&dc->design, w->amp_px);
-    if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
+    if (dss_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK ||
+        lab_onboard_mc_init(&w->ob, c, err, errlen) != SUNMC_OK) {
         dss_ws_free(w);
         return NULL;
     }
@@ -336,9 +340,23 @@ typedef struct {
     int seen[DSS_CHUNK], st_m[DSS_CHUNK], st_c[DSS_CHUNK], st_s[DSS_CHUNK];
 } dss_val_chunk;
 
+/* Spots (x[q], y[q]), q < vm_pad(k), through the on-board form: angles
+ * (rad) a, b and status st (SUNMC_EDOM, angles 0, where it gives none). */
+static void onboard_chunk(const lab_onboard *ob, size_t k, const double *x, const double *y,
+                          double *a, double *b, int *st)
+{
+    for (size_t q = 0; q < vm_pad(k); q++) {
+        double raw[2] = {x[q], y[q]}, deg[2];
+        int ok = lab_onboard_eval(ob, raw, deg) == LAB_READING_OK;
+        st[q] = ok ? SUNMC_OK : SUNMC_EDOM;
+        a[q] = ok ? deg[0] * RAD_PER_DEG : 0.0;
+        b[q] = ok ? deg[1] * RAD_PER_DEG : 0.0;
+    }
+}
+
 static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
-                             const dss_val_readings *r, size_t i0, size_t k, int fit_ok, int sys,
-                             dss_val_chunk *v)
+                             const lab_onboard *ob, const dss_val_readings *r, size_t i0,
+                             size_t k, int fit_ok, int sys, dss_val_chunk *v)
 {
     for (size_t i = 0; i < vm_pad(k); i++) {
         size_t j = i0 + (i < k ? i : 0);
@@ -356,6 +374,15 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
     dss_total_error_vec_chunk(k, v->am, v->bm, v->vx, v->vy, v->vz, v->tm);
     if (!fit_ok)
         return;
+    if (ob) {
+        onboard_chunk(ob, k, v->x, v->y, v->ac, v->bc, v->st_c);
+        dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
+        if (!sys)
+            return;
+        onboard_chunk(ob, k, v->x0, v->y0, v->as, v->bs, v->st_s);
+        dss_total_error_vec_chunk(k, v->as, v->bs, v->vx, v->vy, v->vz, v->ts);
+        return;
+    }
     if (!sys) {
         dss_compensate_batch(cal, vm_pad(k), v->x, v->y, v->ac, v->bc, v->st_c);
         dss_total_error_vec_chunk(k, v->ac, v->bc, v->vx, v->vy, v->vz, v->tc);
@@ -419,8 +446,8 @@ static void add_chunk(band_acc acc[DSS_N_ANGLES], band_tail *tail, int nb, size_
  * RMS; the S-curve bias, a property of the detector, stays in; NaN under
  * c->no_systematic). */
 static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
-                              const dss_calibration *cal, const dss_val_readings *r,
-                              unit_result *res)
+                              const dss_calibration *cal, const lab_onboard *ob,
+                              const dss_val_readings *r, unit_result *res)
 {
     band_acc before[DSS_N_ANGLES], after[DSS_N_ANGLES], after_sys[DSS_N_ANGLES];
     band_tail tail[DSS_N_ANGLES]; /* the spec's order statistic (verdict.h) */
@@ -438,7 +465,7 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
     for (size_t i0 = 0; i0 < r->n; i0 += DSS_CHUNK) {
         size_t k = r->n - i0 < DSS_CHUNK ? r->n - i0 : DSS_CHUNK;
         int fit_ok = res->fit_status == UNIT_FIT_OK;
-        validation_chunk(u, cal, r, i0, k, fit_ok, sys, &v);
+        validation_chunk(u, cal, ob, r, i0, k, fit_ok, sys, &v);
         for (size_t q = 0; q < k; q++)
             mask[q] = band_mask(&c->bands_deg, v.field[q]);
         band_count_chunk(points, nb, k, mask);
@@ -490,6 +517,7 @@ static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
 typedef struct {
     const dss_deviations *dev;
     const dss_calibration *cal;
+    const lab_onboard *ob;
     const dss_ws *w;
     const void *rd;
     int next; /* the block of the next temperature */
@@ -503,7 +531,7 @@ static void dss_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
     dss_deviations_at_temp(c, k->dev, temp_c, &dev_t);
     dss_unit_build_amp(c, &dev_t, k->w->amp_px, &u);
     dss_val_readings v = dss_rd_view(&k->w->val, k->rd, k->next++);
-    dss_unit_score_validation(c, &u, k->cal, &v, at);
+    dss_unit_score_validation(c, &u, k->cal, k->ob, &v, at);
 }
 
 /* Campaign, fit and the scores of the unit's readings rd (family.h). */
@@ -548,8 +576,11 @@ static int dss_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
     dss_val_readings v = dss_rd_view(&w->val, rd, 0);
-    dss_unit_score_validation(c, &u, &cal, &v, res);
-    dss_temp_ctx tc = {&dev, &cal, w, rd, 1};
+    int fit_ok = res->fit_status == UNIT_FIT_OK;
+    const lab_onboard *ob = lab_onboard_mc_unit(&w->ob, &cal, &fit_ok);
+    res->fit_status = fit_ok ? res->fit_status : UNIT_FIT_FAILED;
+    dss_unit_score_validation(c, &u, &cal, ob, &v, res);
+    dss_temp_ctx tc = {&dev, &cal, ob, w, rd, 1};
     thermal_validate_all(c, res, dss_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;

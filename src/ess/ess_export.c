@@ -2,6 +2,7 @@
  * code for `sunmc export` (lab_export.h): ess_model_compensate's inversion
  * (Halley on the fine code, bisection where it does not settle, eq. 13)
  * with the unit's fitted constants. */
+#include "ess_config.h"
 #include "ess_export.h"
 #include "ess_model.h"
 #include "lab_export.h"
@@ -15,18 +16,18 @@
  * or 4 steps for w k < 0.5; a reading not settled after them is bisected
  * (ESS_EXPORT_BISECTIONS halvings of [raw - 2k, raw + 2k]: below a double's
  * resolution). */
-#define ESS_EXPORT_HALLEY_STEPS 8
-#define ESS_EXPORT_BISECTIONS 64
+/* ESS_EXPORT_HALLEY_STEPS: ess_export.h */
+/* ESS_EXPORT_BISECTIONS: ess_export.h */
 /* Newton steps on the extended model's fine code (quadratic from within
  * its few-arcsecond terms of the root: the last bit in 4 or 5). */
-#define ESS_EXPORT_NEWTON_STEPS 12
+/* ESS_EXPORT_NEWTON_STEPS: ess_export.h */
 /* The table's range of output_deg: an ESS encodes the incidence's tangent,
  * no output reaches +-90 deg (ess_lab.c's reading check). */
 #define ESS_EXPORT_TABLE_DEG 89.0
 /* Eq. 13's structural correction taken as alpha_d + atan(e) within these
  * (ess_model_lane.h: ESS_EQ13_E_MAX, ESS_EQ13_AD_MAX), else directly. */
-#define ESS_EXPORT_E_MAX 1e-2
-#define ESS_EXPORT_AD_MAX 1.4
+/* ESS_EXPORT_E_MAX: ess_export.h */
+/* ESS_EXPORT_AD_MAX: ess_export.h */
 
 static const char *const axis_names[] = {"output_deg", NULL};
 
@@ -51,6 +52,20 @@ static void raw_at(const void *model, const double *q, double *raw)
 {
     (void)model;
     raw[0] = q[0];
+}
+
+/* The nominal model of c: the paper's a = 1, no fine-code term. */
+static void nominal(const sunmc_config *c, void *model)
+{
+    ess_model_init_kind(model, ess_cfg(c)->cal_model, ess_cfg(c)->design.theta0_deg * RAD_PER_DEG,
+                        0.0);
+}
+
+static int axes_at(const void *model, const double *raw, double *q)
+{
+    (void)model;
+    q[0] = raw[0];
+    return SUNMC_OK;
 }
 
 static void emit_axes(const void *model, FILE *f)
@@ -192,6 +207,10 @@ const lab_export ess_export = {
     .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
+    .axes_at = axes_at,
+    .eval_float = ess_export_eval_float,
+    .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: the fine code's Halley iteration, 8 steps (the last bit in 3 or 4 "
                   "for w k < 0.5;\n *   the extended model's Newton, 12); a reading not settled "
                   "then, 64 bisections.\n *   The table form covers output_deg +-89.",

@@ -4,6 +4,7 @@
  * loops (a kernel file: the Makefile's KERNEL_SRC). */
 #include "ess_score.h"
 #include "bands.h"
+#include "lab_onboard.h"
 #include "verdict.h"
 #include "status.h"
 #include "units.h"
@@ -30,9 +31,28 @@ typedef struct {
     _Alignas(VM_ALIGN) double es[ESS_CHUNK];
 } ess_score_chunk;
 
-static void compensate_chunk(const ess_model *m, const ess_val_readings *v, size_t i0, size_t k,
-                             int sys, ess_val_chunk *w)
+/* The readings raw_rad[0..k) through the on-board form: its angle (rad)
+ * or status SUNMC_EDOM (comp 0) for a reading it gives none. */
+static void onboard_chunk(const lab_onboard *ob, size_t k, const double *raw_rad, double *comp,
+                          int *st)
 {
+    for (size_t q = 0; q < k; q++) {
+        double raw_deg = raw_rad[q] * DEG_PER_RAD, deg;
+        int ok = lab_onboard_eval(ob, &raw_deg, &deg) == LAB_READING_OK;
+        st[q] = ok ? SUNMC_OK : SUNMC_EDOM;
+        comp[q] = ok ? deg * RAD_PER_DEG : 0.0;
+    }
+}
+
+static void compensate_chunk(const ess_model *m, const lab_onboard *ob, const ess_val_readings *v,
+                             size_t i0, size_t k, int sys, ess_val_chunk *w)
+{
+    if (ob) {
+        onboard_chunk(ob, k, v->raw_rad + i0, w->comp, w->st_comp);
+        if (sys)
+            onboard_chunk(ob, k, v->raw0_rad + i0, w->comp0, w->st_comp0);
+        return;
+    }
     if (sys)
         ess_model_compensate_pair_batch(m, k, v->raw_rad + i0, v->raw0_rad + i0, w->comp,
                                         w->comp0, w->st_comp, w->st_comp0);
@@ -94,8 +114,8 @@ static void chunk_uses(const sunmc_config *c, const ess_val_readings *v, size_t 
     }
 }
 
-void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_val_readings *v,
-                          unit_result *res)
+void ess_score_validation(const sunmc_config *c, const ess_model *m, const lab_onboard *ob,
+                          const ess_val_readings *v, unit_result *res)
 {
     band_acc before, after, after_sys;
     band_acc_reset(&before);
@@ -114,7 +134,7 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const ess_v
         size_t k = v->n - i0 < ESS_CHUNK ? v->n - i0 : ESS_CHUNK;
         int fit_ok = res->fit_status == UNIT_FIT_OK;
         if (fit_ok)
-            compensate_chunk(m, v, i0, k, sys, &w);
+            compensate_chunk(m, ob, v, i0, k, sys, &w);
         chunk_bands(&c->bands_deg, k, v->truth_rad + i0, v->raw_rad + i0, o.mb, o.eb);
         band_count_chunk(points, nb, k, o.mb);
         chunk_uses(c, v, i0, k, fit_ok, sys, &w, res, &o);

@@ -8,6 +8,7 @@
 #include "ess_lab.h"
 #include "ess_grid.h"
 #include "ess_prior.h"
+#include "lab_onboard.h"
 #include "family.h"
 #include "status.h"
 #include "units.h"
@@ -274,6 +275,7 @@ typedef struct {
     ess_val_readings val;
     calib_prior prior; /* calibration.priors = tolerances: set on cw's fit */
     double *rd;        /* ess_readings_bytes */
+    lab_onboard ob;    /* calibration.onboard: its table built once, reused */
 } ess_ws;
 
 static void ess_ws_free(void *p)
@@ -284,6 +286,7 @@ static void ess_ws_free(void *p)
     ess_calib_free(w->cw);
     ess_val_free(&w->val);
     free(w->rd);
+    lab_onboard_free(&w->ob);
     free(w);
 }
 
@@ -319,7 +322,8 @@ static void *ess_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         return NULL;
     }
     ess_campaign_angles(c, w->cw);
-    if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK) {
+    if (ess_prior_apply(c, w->cw, &w->prior, err, errlen) != SUNMC_OK ||
+        lab_onboard_mc_init(&w->ob, c, err, errlen) != SUNMC_OK) {
         ess_ws_free(w);
         return NULL;
     }
@@ -354,6 +358,7 @@ static int ess_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
  * the next block of its readings scored. */
 typedef struct {
     const ess_model *m;
+    const lab_onboard *ob;
     const ess_ws *w;
     const void *rd;
     int next; /* the block of the next temperature */
@@ -363,7 +368,7 @@ static void ess_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
 {
     ess_temp_ctx *k = ctx;
     ess_val_readings v = ess_rd_view(&k->w->val, k->rd, k->next++);
-    ess_score_validation(c, k->m, &v, at);
+    ess_score_validation(c, k->m, k->ob, &v, at);
 }
 
 /* Campaign, fit and the scores of the unit's readings rd (family.h). */
@@ -404,8 +409,11 @@ static int ess_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     /* validation at the lab's temperature (u itself), then at each
      * operating temperature (thermal.h) with the same calibration */
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
-    ess_score_validation(c, &m, &v, res);
-    ess_temp_ctx tc = {&m, w, rd, 1};
+    int fit_ok = res->fit_status == UNIT_FIT_OK;
+    const lab_onboard *ob = lab_onboard_mc_unit(&w->ob, &m, &fit_ok);
+    res->fit_status = fit_ok ? res->fit_status : UNIT_FIT_FAILED;
+    ess_score_validation(c, &m, ob, &v, res);
+    ess_temp_ctx tc = {&m, ob, w, rd, 1};
     thermal_validate_all(c, res, ess_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;

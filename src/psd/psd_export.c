@@ -108,6 +108,39 @@ static void put_signals(const psd_model_file *m, FILE *f)
     }
 }
 
+/* The nominal model of c: the design's physical calibration (a
+ * polynomial's over ratios up to 1, the most its table spans: the size
+ * checked with the config bounds every unit's). */
+static void nominal(const sunmc_config *c, void *model)
+{
+    psd_model_file *m = model;
+    m->cfg = *psd_cfg(c);
+    psd_cal_nominal(&m->cal, &m->cfg.design);
+    m->cal.model = m->cfg.cal_model;
+    m->cal.poly.scale = 1.0;
+}
+
+/* emit_axes in process: put_signals, then put_ratios, in their order of
+ * operations. */
+static int axes_at(const void *model, const double *raw, double *q)
+{
+    const psd_model_file *m = model;
+    double s[PSD_CHANNELS];
+    for (int k = 0; k < PSD_CHANNELS; k++)
+        s[k] = m->cal.model == PSD_MODEL_PHYSICAL ? (raw[k] - m->cal.phys.dark[k]) /
+                                                       m->cal.phys.gain[k]
+                                                 : raw[k];
+    if (is_duo(m)) {
+        q[0] = (s[1] - s[0]) / (s[0] + s[1]);
+        q[1] = (s[3] - s[2]) / (s[2] + s[3]);
+    } else {
+        double sum = s[0] + s[1] + s[2] + s[3];
+        q[0] = (s[1] + s[2] - s[0] - s[3]) / sum;
+        q[1] = (s[1] + s[3] - s[0] - s[2]) / sum;
+    }
+    return isfinite(q[0]) && isfinite(q[1]) ? SUNMC_OK : SUNMC_EDOM;
+}
+
 static void emit_axes(const void *model, FILE *f)
 {
     const psd_model_file *m = model;
@@ -352,6 +385,9 @@ const lab_export psd_export = {
     .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
+    .axes_at = axes_at,
+    .onboard_mc = 1,
+    .nominal = nominal,
     .iterations = "Loops: physical model: Newton in (tan alpha, tan beta), at most 40 steps, "
                   "stopping\n *   when a step is below 1e-13 (double; 1e-5 float); the "
                   "polynomial: none but its\n *   powers (order steps).",

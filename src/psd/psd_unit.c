@@ -5,6 +5,8 @@
 #include "psd_thermal.h"
 #include "thermal.h"
 #include "lab.h"
+#include "lab_onboard.h"
+#include "psd_lab.h"
 #include "status.h"
 #include "units.h"
 
@@ -175,6 +177,8 @@ typedef struct {
     double *m[PSD_CHANNELS], *ut, *w, *scratch, *poly_work;
     fit_workspace *fw, *fw_channels;
     double *rd; /* one unit's readings (psd_readings_bytes) */
+    lab_onboard ob;     /* calibration.onboard: its table built once, reused */
+    psd_model_file *mf; /* the unit's calibration as the lab's model (onboard) */
 } psd_ws;
 
 /* A unit's readings (family.h: unit_read): for each validation it reads
@@ -199,6 +203,8 @@ static void psd_ws_free(void *ws)
     free(w->rd);
     fit_workspace_free(w->fw);
     fit_workspace_free(w->fw_channels);
+    lab_onboard_free(&w->ob);
+    free(w->mf);
     free(w);
 }
 
@@ -216,8 +222,9 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         w->fw_channels = fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * (size_t)n,
                                              (size_t)psd_phys_free_channels(psd_cfg(c)->fit_tilt));
         w->rd = malloc(psd_readings_bytes(c));
+        w->mf = malloc(sizeof *w->mf);
     }
-    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd) {
+    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd || !w->mf) {
         psd_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
         return NULL;
@@ -228,6 +235,11 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
     w->w = w->ut + 3 * n;
     w->scratch = w->w + n;
     w->poly_work = w->scratch + 8 * n;
+    w->mf->cfg = *psd_cfg(c);
+    if (lab_onboard_mc_init(&w->ob, c, err, errlen) != SUNMC_OK) {
+        psd_ws_free(w);
+        return NULL;
+    }
     return w;
 }
 
@@ -263,12 +275,20 @@ static long campaign(const sunmc_config *c, const psd_sensor *s, long unit, psd_
     return seen;
 }
 
-/* Errors (rad) of calibration k on reading m against truth ut. */
-static int errors(const psd_cal *k, const double m[4], const double ut[3], double e[3])
+/* Errors (rad) of calibration k on reading m against truth ut; through
+ * the on-board form ob when not NULL (prepared with k). */
+static int errors(const psd_cal *k, const lab_onboard *ob, const double m[4],
+                  const double ut[3], double e[3])
 {
-    double a, b, ta, tb, uc[3];
-    if (psd_cal_angles(k, m, &a, &b) != SUNMC_OK)
+    double a, b, ta, tb, uc[3], deg[2];
+    if (ob && lab_onboard_eval(ob, m, deg) != LAB_READING_OK)
         return SUNMC_EDOM;
+    if (ob) {
+        a = deg[0] * RAD_PER_DEG;
+        b = deg[1] * RAD_PER_DEG;
+    } else if (psd_cal_angles(k, m, &a, &b) != SUNMC_OK) {
+        return SUNMC_EDOM;
+    }
     sun_angles_of(ut, &ta, &tb);
     sun_vector_of(a, b, uc);
     e[ANGLE_ALPHA] = a - ta;
@@ -300,15 +320,15 @@ static void read_validation(const sunmc_config *c, const psd_sensor *s, long uni
          * is the same for every repeat, so the systematic part holds it */
         int st = read_pair(p, s, ur, &r, x + RD_M, x + RD_M0);
         x[RD_FIELD] = acos(fmin(x[RD_UT + 2], 1.0)) * DEG_PER_RAD;
-        x[RD_BAD] = st != SUNMC_OK || errors(&nominal, x + RD_M, x + RD_UT, x + RD_E0) != SUNMC_OK;
+        x[RD_BAD] = st != SUNMC_OK || errors(&nominal, NULL, x + RD_M, x + RD_UT, x + RD_E0) != SUNMC_OK;
     }
 }
 
 /* The validation grid's readings rd: errors before (the nominal design's
  * reading), after and after without noise, per angle and band; gross:
  * points not read, or whose angles a calibration cannot give. */
-static void validate(const sunmc_config *c, const psd_cal *k, int fit_ok, const double *rd,
-                     unit_result *res)
+static void validate(const sunmc_config *c, const psd_cal *k, const lab_onboard *ob, int fit_ok,
+                     const double *rd, unit_result *res)
 {
     band_acc bef[PSD_N_ANGLES], aft[PSD_N_ANGLES], sys[PSD_N_ANGLES];
     band_tail tail[PSD_N_ANGLES]; /* the spec's order statistic (verdict.h) */
@@ -327,8 +347,8 @@ static void validate(const sunmc_config *c, const psd_cal *k, int fit_ok, const 
         unsigned m = band_mask(&c->bands_deg, x[RD_FIELD]);
         band_count_chunk(points, nb, 1, &m);
         if (x[RD_BAD] != 0 ||
-            (fit_ok && (errors(k, x + RD_M, x + RD_UT, e1) != SUNMC_OK ||
-                        errors(k, x + RD_M0, x + RD_UT, e2) != SUNMC_OK))) {
+            (fit_ok && (errors(k, ob, x + RD_M, x + RD_UT, e1) != SUNMC_OK ||
+                        errors(k, ob, x + RD_M0, x + RD_UT, e2) != SUNMC_OK))) {
             res->gross_val++;
             continue;
         }
@@ -355,7 +375,7 @@ static double fit_rms(const psd_ws *w, const psd_cal *k)
     long n = 0;
     for (long i = 0; i < w->n; i++) {
         double m[4] = {w->m[0][i], w->m[1][i], w->m[2][i], w->m[3][i]}, e[3];
-        if (w->w[i] > 0 && errors(k, m, w->ut + 3 * i, e) == SUNMC_OK) {
+        if (w->w[i] > 0 && errors(k, NULL, m, w->ut + 3 * i, e) == SUNMC_OK) {
             s2 += e[ANGLE_TOTAL] * e[ANGLE_TOTAL];
             n++;
         }
@@ -389,6 +409,7 @@ static int psd_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
  * the lab's calibration on the next block of its readings. */
 typedef struct {
     const psd_cal *k;
+    const lab_onboard *ob;
     int fit_ok;
     const double *rd;
     int next; /* the block of the next temperature */
@@ -398,7 +419,7 @@ static void psd_validate_at(const sunmc_config *c, double temp_c, void *ctx, uni
 {
     psd_temp_ctx *t = ctx;
     size_t block = (size_t)psd_validation_points(c) * PSD_RD_POINT;
-    validate(c, t->k, t->fit_ok, t->rd + (size_t)t->next++ * block, at);
+    validate(c, t->k, t->ob, t->fit_ok, t->rd + (size_t)t->next++ * block, at);
 }
 
 /* Campaign, fit and the scores of the unit's readings rd (family.h). */
@@ -436,9 +457,13 @@ static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     res->fit_rms = st == SUNMC_OK ? fit_rms(w, &k) : NAN;
     unit_phase_end(res, UNIT_PHASE_FIT, &t);
 
-    validate(c, &k, st == SUNMC_OK, rd, res);
+    int fit_ok = st == SUNMC_OK;
+    w->mf->cal = k;
+    const lab_onboard *ob = lab_onboard_mc_unit(&w->ob, w->mf, &fit_ok);
+    res->fit_status = fit_ok ? res->fit_status : UNIT_FIT_FAILED;
+    validate(c, &k, ob, fit_ok, rd, res);
     /* at each operating temperature, the same calibration (thermal.h) */
-    psd_temp_ctx tc = {.k = &k, .fit_ok = st == SUNMC_OK, .rd = rd, .next = 1};
+    psd_temp_ctx tc = {.k = &k, .ob = ob, .fit_ok = fit_ok, .rd = rd, .next = 1};
     thermal_validate_all(c, res, psd_validate_at, &tc);
     unit_phase_end(res, UNIT_PHASE_VALIDATION, &t);
     return SUNMC_OK;
@@ -519,9 +544,9 @@ static int psd_curve_eval(const sunmc_config *c, const void *p, double a0_deg, d
     double a = a0_deg * RAD_PER_DEG, b = a1_deg * RAD_PER_DEG, ut[3], m[4], e0[3], e1[3];
     psd_table_sun(psd_cfg(c), a, b, ut);
     if (psd_unit_read(c, &cv->s, a, b, NULL, m) != SUNMC_OK ||
-        errors(&cv->nominal, m, ut, e0) != SUNMC_OK)
+        errors(&cv->nominal, NULL, m, ut, e0) != SUNMC_OK)
         return SUNMC_EDOM;
-    int ok = errors(&cv->k, m, ut, e1) == SUNMC_OK;
+    int ok = errors(&cv->k, NULL, m, ut, e1) == SUNMC_OK;
     for (int q = 0; q < PSD_N_ANGLES; q++) {
         before[q] = e0[q] * ARCSEC_PER_RAD;
         after[q] = ok ? e1[q] * ARCSEC_PER_RAD : NAN;

@@ -111,7 +111,7 @@ static void check_bands(const band_list *b, int sys)
     make_readings(&m, r);
     unit_result res;
     memset(&res, 0, sizeof res);
-    ess_score_validation(&c, &m, &r->v, &res);
+    ess_score_validation(&c, &m, NULL, &r->v, &res);
     assert_int_equal(res.fit_status, UNIT_FIT_OK);
     assert_int_equal(res.gross_val, gross_count(r));
     assert_true(gross_count(r) > 0);
@@ -170,7 +170,7 @@ static void score_case(int fit_status, int nan_at, scored *f)
         f->r->raw[nan_at] = NAN;
     memset(&f->res, 0, sizeof f->res);
     f->res.fit_status = fit_status;
-    ess_score_validation(&f->c, &f->m, &f->r->v, &f->res);
+    ess_score_validation(&f->c, &f->m, NULL, &f->r->v, &f->res);
 }
 
 /* A reading the fit cannot compensate (not a number) fails the unit's fit:
