@@ -50,7 +50,7 @@ typedef struct {
  * Each model refitted on the same cross-validation folds and scored on the
  * held-out points; the recommendation follows the paired difference of
  * the held-out squared errors, point by point. */
-#define CALREPORT_MAX_MODELS 4
+#define CALREPORT_MAX_MODELS 6
 
 typedef struct {
     char name[CALREPORT_NAME_MAX];    /* as calibration.model names it */

@@ -1,6 +1,6 @@
 /* psd_labmodels.c - `sunmc calibrate`'s model comparison for the
- * four-channel sensor (issue 39): the physical, polynomial, spline and
- * hybrid models, each refitted on the same cross-validation folds as the
+ * four-channel sensor (issue 39): the physical, polynomial, spline, hybrid
+ * and table models, each refitted on the same cross-validation folds as the
  * calibration (beta lines or sweeps) and scored on the held-out rows, for
  * a single reading and for the mean of a point's repeats; the lowest
  * held-out error is recommended, and when the physical model's is far
@@ -22,8 +22,8 @@
  * when its held-out error is lower by more than this fraction. */
 #define PSD_COMPARE_GAIN 0.05
 
-static const int compared[CALREPORT_MAX_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
-                                                   PSD_MODEL_SPLINE, PSD_MODEL_HYBRID};
+static const int compared[PSD_N_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
+                                           PSD_MODEL_SPLINE, PSD_MODEL_HYBRID, PSD_MODEL_TABLE};
 
 /* Sums of one model's refits: in-sample, held-out rows, held-out points. */
 typedef struct {
@@ -65,8 +65,7 @@ static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f,
 static double spline_edf(const psd_labcal *k)
 {
     int m = k->cal.model;
-    return m == PSD_MODEL_SPLINE || m == PSD_MODEL_HYBRID ? k->cal.spline.edf[0] + k->cal.spline.edf[1]
-                                                          : 0.0;
+    return PSD_MODEL_HAS_SPLINE(m) ? k->cal.spline.edf[0] + k->cal.spline.edf[1] : 0.0;
 }
 
 /* Fit model to every row of k0 (the smoothing chosen on the folds), then
@@ -101,9 +100,13 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     fit_result fr;
     x->ok = psd_labcal_fit(k, &fr) == SUNMC_OK;
     k->spline_smooth = x->ok && spline_edf(k) > 0 ? k->cal.spline.smooth : 0.0;
+    k->table_log = x->ok && model == PSD_MODEL_TABLE ? psd_table_log(&k->cal.table) : 0;
     x->edf = spline_edf(k);
+    /* a table's parameters are its stored node values */
     x->np = (PSD_MODEL_HAS_PHYSICS(model) ? (int)k->fw->p : 0) +
-            (model == PSD_MODEL_POLYNOMIAL ? 2 * k->cal.poly.nt : 0) + (int)lround(x->edf);
+            (model == PSD_MODEL_POLYNOMIAL ? 2 * k->cal.poly.nt : 0) +
+            (model == PSD_MODEL_TABLE ? (int)(lab_table_bytes(&k->cal.table) / sizeof(float))
+                                      : (int)lround(x->edf));
     for (int f = 0; f < n_folds && x->ok; f++)
         x->ok = one_fold(k, k0, fold, f, &s);
     x->n_out = s.n_out;
@@ -194,7 +197,7 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
         return;
     }
     cm->used = 0;
-    for (int m = 0; m < CALREPORT_MAX_MODELS; m++) {
+    for (int m = 0; m < PSD_N_MODELS; m++) {
         if (compared[m] == psd_cfg(k0->c)->cal_model)
             cm->used = m;
         if (score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m]) != SUNMC_OK) {

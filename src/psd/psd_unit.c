@@ -158,7 +158,7 @@ int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *
         psd_poly_init(&k->poly, p->poly_order, p->poly_form);
         return psd_poly_fit(&k->poly, d, poly_work);
     }
-    if (p->cal_model == PSD_MODEL_SPLINE)
+    if (p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_TABLE)
         return psd_spline_fit(k, d, d->scratch);
     psd_phys_start(d, k->p);
     int st = psd_phys_fit(fw, d, p->fit_tilt, k->p, fr);
@@ -560,6 +560,9 @@ static void psd_model_label(const sunmc_config *c, char *buf, size_t len)
                  p->poly_form == PSD_POLY_FSS20 ? "FSScalibration's 20 terms" : "every term");
     else if (p->cal_model == PSD_MODEL_SPLINE)
         snprintf(buf, len, "penalised cubic B-spline of tan alpha, tan beta in the raw ratios");
+    else if (p->cal_model == PSD_MODEL_TABLE)
+        snprintf(buf, len, "look-up table of tan alpha, tan beta in the raw ratios "
+                           "((bi)linear, the spline's values at its nodes)");
     else
         snprintf(buf, len, "physical: aperture dx, dy, dh, mount tilt_x, tilt_y, rot_z, "
                            "channel gains and darks%s",

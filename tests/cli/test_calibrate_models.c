@@ -1,14 +1,14 @@
 /* test_calibrate_models.c - issue 39: `calibrate` of a four-channel sensor
  * compares its models on the same folds and recommends one, and the
- * spline and hybrid models reach compensate:
- *  - a simulated unit (the physics exact, noise only): four models in the
+ * spline, hybrid and table models reach compensate:
+ *  - a simulated unit (the physics exact, noise only): five models in the
  *    comparison and models.tsv, the physical one recommended, no word
  *    against the physics;
  *  - the same campaign with channel 1 warped by 30 % sin(alpha / 6 deg),
  *    which no geometry gives: the physical fit is refused, and the report
  *    says the physics does not describe the sensor and which model to use;
  *    calibrated with that model it is accepted;
- *  - a spline calibrated on +-20 deg compensates readings to +-30 deg:
+ *  - a spline (a table) calibrated on +-20 deg compensates readings to +-30 deg:
  *    those beyond its field are '-', counted as outside the calibrated
  *    field, those inside are compensated;
  *  - with 4 repeats per point, the held-out mean of a point's readings
@@ -70,8 +70,9 @@ static void test_exact_physics_recommended(void **state)
     char p[700];
     snprintf(p, sizeof p, "%s/cp/models.tsv", dir);
     assert_true(test_file_has(p, "rms_out_mean_arcsec\n"));
-    const char *names[] = {"\nphysical\t", "\npolynomial\t", "\nspline\t", "\nhybrid\t"};
-    for (int k = 0; k < 4; k++)
+    const char *names[] = {"\nphysical\t", "\npolynomial\t", "\nspline\t", "\nhybrid\t",
+                           "\ntable\t"};
+    for (int k = 0; k < 5; k++)
         assert_true(test_file_has(p, names[k]));
 }
 
@@ -97,13 +98,15 @@ static void test_physics_does_not_describe(void **state)
     assert_true(test_file_has(p, "model = psd_hybrid"));
 }
 
-static void test_spline_refuses_beyond_field(void **state)
+static void refuses_beyond_field(const char *model)
 {
     static char out[65536];
-    assert_int_equal(sunmc("calibrate --config " P " --set calibration.model=spline "
-                           "$D/sp/campaign.csv --quiet --out $D/cs", out, sizeof out), 0);
-    assert_int_equal(sunmc("compensate $D/cs/params.ini $D/sp30/validation.csv", out, sizeof out),
-                     0);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "calibrate --config " P " --set calibration.model=%s "
+             "$D/sp/campaign.csv --quiet --out $D/c%s", model, model);
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "compensate $D/c%s/params.ini $D/sp30/validation.csv", model);
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
     must_have(out, "outside the calibrated field (the model would extrapolate)");
     /* every row beyond the campaign's +-20 deg is '-', every row well inside compensated */
     int beyond = 0, inside = 0;
@@ -127,6 +130,9 @@ static void test_spline_refuses_beyond_field(void **state)
     }
     assert_true(beyond > 10 && inside > 10);
 }
+
+static void test_spline_refuses_beyond_field(void **state) { refuses_beyond_field("spline"); }
+static void test_table_refuses_beyond_field(void **state) { refuses_beyond_field("table"); }
 
 /* Row `model` of models.tsv: held-out and in-sample RMS, rows per point
  * and the held-out RMS of the points' means. */
@@ -191,6 +197,7 @@ int main(void)
         cmocka_unit_test(test_exact_physics_recommended),
         cmocka_unit_test(test_physics_does_not_describe),
         cmocka_unit_test(test_spline_refuses_beyond_field),
+        cmocka_unit_test(test_table_refuses_beyond_field),
         cmocka_unit_test(test_mean_of_repeats),
         cmocka_unit_test(test_inverting_sensor_compensated),
         cmocka_unit_test(test_threads_same),

@@ -40,6 +40,7 @@ static const struct {
     {"cq", "sq", "--config configs/psd_14og.ini"},
     {"cs", "sp", "--config configs/psd.ini --set calibration.model=spline"},
     {"ch", "sp", "--config configs/psd.ini --set calibration.model=hybrid"},
+    {"cl", "sp", "--config configs/psd.ini --set calibration.model=table"},
 };
 #define N_CALS (sizeof cals / sizeof cals[0])
 
@@ -243,6 +244,14 @@ static void model_line_names_another_model(void **state)
             "(spline.breakpoints at line");
     refused("cs", "sed 's/^c1_0 *= [^ ]* /c1_0 = /' $IN > $OUT",
             "key spline.c1_0");
+    refused("cl", "sed 's/^model = psd_table/model = psd_spline/' $IN > $OUT",
+            "edited.ini:6: model = psd_spline, but the file holds the psd_table model "
+            "(table.nodes at line");
+    refused("cl", "sed 's/^nodes *= .*/nodes = 6/' $IN > $OUT", "table.nodes");
+    refused("cl", "sed 's/^v1_0 *= [^ ]* /v1_0 = /' $IN > $OUT", "key table.v1_0");
+    refused("cl", "sed 's/^field_cells *=.*/field_cells = 0/' $IN > $OUT", "table.field_cells");
+    refused("cl", "sed 's/^hi_1 *=.*/hi_1 = -1/' $IN > $OUT", "table.hi_1");
+    refused("cl", "sed 's/^lo_0 .*/&\\nstep_0 = 1/' $IN > $OUT", "table.step_0");
     refused("cp", "sed 's/^polarity .*/polarity = inverse/' $IN > $OUT",
             "design.polarity");
 }
@@ -258,7 +267,8 @@ static void model_line_not_of_the_family(void **state)
             "(dss_physical, dss_polynomial)");
     refused("cp", "sed 's/^model = .*/model = psd_physcal/' $IN > $OUT",
             "edited.ini:6: model 'psd_physcal' is not one this sensor's params.ini can hold "
-            "(psd_physical, psd_polynomial, psd_spline, psd_hybrid) (did you mean psd_physical?)");
+            "(psd_physical, psd_polynomial, psd_spline, psd_hybrid, psd_table) (did you mean "
+            "psd_physical?)");
     refused("cp", "sed '/^model = /d' $IN > $OUT", "missing key calibration.model");
 }
 
