@@ -21,6 +21,11 @@
 /* Model names written to params.ini. */
 #define DSS_CALFIT_MODEL_PHYSICAL "dss_physical"
 #define DSS_CALFIT_MODEL_POLYNOMIAL "dss_polynomial"
+#define DSS_CALFIT_MODEL_SPLINE "dss_spline"
+#define DSS_CALFIT_MODEL_HYBRID "dss_hybrid"
+#define DSS_CALFIT_MODEL_TABLE "dss_table"
+/* params.ini's model line of each calibration.model (enum dss_model_kind). */
+extern const char *const dss_calfit_models[DSS_N_MODELS];
 
 /* Fit cw (data and weights filled by the caller; allocated with c's model)
  * and fill cal and rep.  SUNMC_EINPUT (message in err) when the usable
