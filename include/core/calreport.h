@@ -72,9 +72,11 @@ typedef struct {
     calreport_model m[CALREPORT_MAX_MODELS];
     int used, best;                   /* the model fitted, the one recommended */
     /* mean over the held-out points of e_used^2 - e_other^2 (arcsec^2), its
-     * standard error and the points, for two models */
+     * standard error and the points (n_paired 0: not printed); other: the
+     * model compared with (0 stands for 1 - used when n == 2) */
     double diff_arcsec2, diff_se_arcsec2;
     long n_paired;
+    int other;
     char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
 } calreport_models;
 

@@ -29,6 +29,11 @@ static const struct {
     {"ce", "se", "--config configs/ess_type_a.ini"},
     {"cx", "se", "--config configs/ess_type_a.ini --set calibration.model=extended"},
     {"cy", "se", "--config configs/ess_type_a.ini --set calibration.sun_y=measured"},
+    {"cel", "se", "--config configs/ess_type_a.ini --set calibration.model=spline "
+                  "--set calibration.max_residual_ratio=1000"},
+    {"ceh", "se", "--config configs/ess_type_a.ini --set calibration.model=hybrid"},
+    {"ceb", "se", "--config configs/ess_type_a.ini --set calibration.model=table "
+                  "--set calibration.max_residual_ratio=1000"},
     {"cd", "sd", "--config configs/dss.ini"},
     {"cdp", "sd", "--config configs/dss.ini --set calibration.model=polynomial"},
     {"cds", "sd", "--config configs/dss.ini --set calibration.sun=measured"},
@@ -248,6 +253,11 @@ static void model_line_names_another_model(void **state)
             "(spline.breakpoints at line");
     refused("cs", "sed 's/^c1_0 *= [^ ]* /c1_0 = /' $IN > $OUT",
             "key spline.c1_0");
+    refused("ceh", "sed 's/^model = ess_hybrid/model = ess_eq12_finecode/' $IN > $OUT",
+            "model = ess_eq12_finecode, but the file holds the ess_hybrid model "
+            "(correction.breakpoints at line");
+    refused("ceb", "sed 's/^nodes .*/nodes = 300/' $IN > $OUT", "table.nodes");
+    refused("cel", "sed 's/^breakpoints .*/breakpoints = 1/' $IN > $OUT", "spline.breakpoints");
     refused("cdh", "sed 's/^model = dss_hybrid/model = dss_physical/' $IN > $OUT",
             "model = dss_physical, but the file holds the dss_hybrid model "
             "(correction.breakpoints at line");
@@ -273,7 +283,7 @@ static void model_line_not_of_the_family(void **state)
     (void)state;
     refused("ce", "sed 's/^model = .*/model = dss_physical/' $IN > $OUT",
             "edited.ini:7: model 'dss_physical' is not one this sensor's params.ini can hold "
-            "(ess_eq12_finecode, ess_extended)");
+            "(ess_eq12_finecode, ess_extended, ess_spline, ess_hybrid, ess_table)");
     refused("cd", "sed 's/^model = .*/model = psd_polynomial/' $IN > $OUT",
             "model 'psd_polynomial' is not one this sensor's params.ini can hold "
             "(dss_physical, dss_polynomial, dss_spline, dss_hybrid, dss_table)");
