@@ -142,6 +142,10 @@ static int load(const export_args *a, const params_file *pf, const family_lab **
         if (fam->lab->export->supported(*model, why, sizeof why) != SUNMC_OK)
             st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: %s", a->params,
                             m ? m->line : 0, why);
+        else if (!(a->step > 0) && fam->lab->export->model_form &&
+                 fam->lab->export->model_form(*model, why, sizeof why) != SUNMC_OK)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: %s", a->params,
+                            m ? m->line : 0, why);
     }
     return st;
 }
