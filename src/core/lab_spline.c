@@ -44,14 +44,42 @@ static int basis_alloc(basis_ws *ws, const lab_spline *s, int n_in)
     return ok ? SUNMC_OK : SUNMC_ENOMEM;
 }
 
-static int basis_at(basis_ws *ws, int k, double x, double b[LAB_SPLINE_ORDER], int *start)
+/* Knot j of input k: the uniform breakpoints, the ends repeated
+ * LAB_SPLINE_ORDER times (gsl_bspline_knots_uniform's). */
+static double knot(const lab_spline *s, int k, int j)
 {
-    size_t i0, i1;
-    if (gsl_bspline_eval_nonzero(x, ws->b, &i0, &i1, ws->bw[k]) != GSL_SUCCESS)
+    int m = j - (LAB_SPLINE_ORDER - 1);
+    if (m <= 0)
+        return s->lo[k];
+    if (m >= s->nbreak - 1)
+        return s->hi[k];
+    return s->lo[k] + m * (s->hi[k] - s->lo[k]) / (s->nbreak - 1);
+}
+
+/* The ORDER nonzero basis functions of input k at x, from coefficient
+ * *start, by the Cox-de Boor recursion (The NURBS Book, A2.2): no
+ * workspace, nothing allocated (the evaluation runs per reading). */
+static int basis_at(const lab_spline *s, int k, double x, double b[LAB_SPLINE_ORDER], int *start)
+{
+    if (!(x >= s->lo[k] && x <= s->hi[k]))
         return SUNMC_EDOM;
-    for (int a = 0; a < LAB_SPLINE_ORDER; a++)
-        b[a] = gsl_vector_get(ws->b, (size_t)a);
-    *start = (int)i0;
+    int i = (int)((x - s->lo[k]) / (s->hi[k] - s->lo[k]) * (s->nbreak - 1));
+    i = i > s->nbreak - 2 ? s->nbreak - 2 : i < 0 ? 0 : i;
+    int span = i + LAB_SPLINE_ORDER - 1;
+    double left[LAB_SPLINE_ORDER], right[LAB_SPLINE_ORDER];
+    b[0] = 1.0;
+    for (int j = 1; j < LAB_SPLINE_ORDER; j++) {
+        left[j] = x - knot(s, k, span + 1 - j);
+        right[j] = knot(s, k, span + j) - x;
+        double saved = 0.0;
+        for (int r = 0; r < j; r++) {
+            double t = b[r] / (right[r + 1] + left[j - r]);
+            b[r] = saved + right[r + 1] * t;
+            saved = left[j - r] * t;
+        }
+        b[j] = saved;
+    }
+    *start = i;
     return SUNMC_OK;
 }
 
@@ -74,13 +102,13 @@ static int in_field(const lab_spline *s, const double *x)
 
 /* The design row of output j (dims 1: its input; dims 2: both): idx[],
  * val[] of its nonzeros; their count, or -1 outside. */
-static int design_row(const lab_spline *s, basis_ws *ws, int j, const double *x, int *idx,
+static int design_row(const lab_spline *s, int j, const double *x, int *idx,
                       double *val)
 {
     double b0[LAB_SPLINE_ORDER], b1[LAB_SPLINE_ORDER];
     int s0, s1;
     if (s->dims == 1) {
-        if (basis_at(ws, j, x[j], b0, &s0) != SUNMC_OK)
+        if (basis_at(s, j, x[j], b0, &s0) != SUNMC_OK)
             return -1;
         for (int a = 0; a < LAB_SPLINE_ORDER; a++) {
             idx[a] = s0 + a;
@@ -88,7 +116,7 @@ static int design_row(const lab_spline *s, basis_ws *ws, int j, const double *x,
         }
         return LAB_SPLINE_ORDER;
     }
-    if (basis_at(ws, 0, x[0], b0, &s0) != SUNMC_OK || basis_at(ws, 1, x[1], b1, &s1) != SUNMC_OK)
+    if (basis_at(s, 0, x[0], b0, &s0) != SUNMC_OK || basis_at(s, 1, x[1], b1, &s1) != SUNMC_OK)
         return -1;
     int p1 = coef_per_input(s->nbreak), m = 0;
     for (int a = 0; a < LAB_SPLINE_ORDER; a++)
@@ -105,13 +133,10 @@ int lab_spline_eval(const lab_spline *s, const double *x, double *y)
         y[j] = NAN;
     if (!in_field(s, x))
         return SUNMC_EDOM;
-    basis_ws ws;
-    if (basis_alloc(&ws, s, s->dims == 2 ? 2 : s->n_out) != SUNMC_OK)
-        return SUNMC_ENOMEM;
     int idx[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER], st = SUNMC_OK;
     double val[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER];
     for (int j = 0; j < s->n_out && st == SUNMC_OK; j++) {
-        int m = design_row(s, &ws, j, x, idx, val);
+        int m = design_row(s, j, x, idx, val);
         if (m < 0) {
             st = SUNMC_EDOM;
             break;
@@ -121,7 +146,6 @@ int lab_spline_eval(const lab_spline *s, const double *x, double *y)
             v += val[t] * s->coef[j][idx[t]];
         y[j] = v;
     }
-    basis_free(&ws);
     if (st != SUNMC_OK)
         for (int j = 0; j < s->n_out; j++)
             y[j] = NAN;
@@ -249,7 +273,7 @@ static int accumulate(const lab_spline *s, const lab_spline_data *d, basis_ws *w
             continue;
         for (int k = 0; k < n_in; k++)
             x[k] = d->x[k][i];
-        int m = design_row(s, ws, j, x, idx, val);
+        int m = design_row(s, j, x, idx, val);
         if (m < 0)
             return SUNMC_EFIT;
         double w = d->w ? d->w[i] : 1.0;
