@@ -76,6 +76,11 @@ int lab_table_choose(lab_table *t, const lab_spline *s, const lab_spline_data *d
                      const int *fold, int n_folds, double *cv_rms, long *n_outside, char *err,
                      size_t errlen);
 
+/* The same on a thread's workspace (lab_spline.h): nothing allocated. */
+int lab_table_choose_ws(lab_table *t, const lab_spline *s, const lab_spline_data *d,
+                        const int *fold, int n_folds, lab_spline_ws *w, double *cv_rms,
+                        long *n_outside, char *err, size_t errlen);
+
 /* Grid step of input k (same unit as the input). */
 double lab_table_step(const lab_table *t, int k);
 /* The table's size as stored: its node values, 4 bytes each. */

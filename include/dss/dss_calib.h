@@ -158,6 +158,7 @@ typedef struct {
     double *target;       /* polynomial: the current axis's targets, n */
     double *sx;           /* spline models: 4 n (inputs and targets) */
     int *fold;            /* spline models: n, the folds that choose the smoothing */
+    lab_spline_ws *sws;   /* spline models: their fits' workspace (nothing allocated per fit) */
 } dss_calib_workspace;
 
 /* Allocate for n readings of design d and model `kind` (poly_order for the

@@ -94,6 +94,7 @@ typedef struct {
     ess_alias_set alias;
     double *alias_work[2 * ESS_ALIAS_MAX_H + 2]; /* extended: ess_alias_check_set's */
     int *fold;            /* spline models: n, the folds that choose the smoothing */
+    lab_spline_ws *sws;   /* spline models: their fits' workspace (nothing allocated per fit) */
 } ess_calib_workspace;
 
 /* The spline models' folds: ESS_SPLINE_FOLDS interleaved blocks of

@@ -93,6 +93,10 @@ typedef struct {
      * interleaved folds) */
     double smooth;
     int table_log;                   /* table: nodes 2^table_log + 1 (> 0: fixed), else by the folds */
+    /* the spline models' thread workspace (lab_spline.h) and room for n
+     * fold indices; NULL: allocated for the fit (calibrate) */
+    lab_spline_ws *sws;
+    int *fold_buf;
     const int *fold;
     int n_folds;
 } psd_rows;

@@ -148,15 +148,16 @@ typedef struct {
 
 /* Every table's held-out sum of squares over fold f (wk: the weights). */
 static void score_fold(const lab_spline_data *d, const int *fold, int f, double smooth,
-                       double *wk, step_scores *sc)
+                       lab_spline_ws *w, step_scores *sc)
 {
     char e[SUNMC_ERRLEN];
     lab_spline_data dk = *d;
+    double *wk = lab_spline_ws_weights(w, d->n);
     dk.w = wk;
     for (size_t i = 0; i < d->n; i++)
         wk[i] = fold[i] == f ? 0.0 : (d->w ? d->w[i] : 1.0);
     int top = max_log(d->dims);
-    if (lab_spline_fit(&sc->s, &dk, smooth, 0, e, sizeof e) != SUNMC_OK ||
+    if (lab_spline_fit_ws(&sc->s, &dk, smooth, 0, w, e, sizeof e) != SUNMC_OK ||
         lab_table_sample(&sc->fine, &sc->s, top, e, sizeof e) != SUNMC_OK)
         return;
     for (size_t i = 0; i < d->n; i++) {
@@ -194,28 +195,37 @@ static int pick_step(const step_scores *sc, int top, int n_out, double *rms)
     return top;
 }
 
-int lab_table_choose(lab_table *t, const lab_spline *s, const lab_spline_data *d,
-                     const int *fold, int n_folds, double *cv_rms, long *n_outside, char *err,
-                     size_t errlen)
+int lab_table_choose_ws(lab_table *t, const lab_spline *s, const lab_spline_data *d,
+                        const int *fold, int n_folds, lab_spline_ws *w, double *cv_rms,
+                        long *n_outside, char *err, size_t errlen)
 {
     int top = max_log(s->dims), lg = top;
     *cv_rms = NAN;
     *n_outside = 0;
+    if (!lab_spline_ws_weights(w, d->n))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "table: %zu rows, more than the workspace",
+                          d->n);
     if (n_folds >= 2) {
-        step_scores *sc = calloc(1, sizeof *sc);
-        double *wk = malloc((d->n + 1) * sizeof *wk);
-        if (!sc || !wk) {
-            free(sc);
-            free(wk);
-            return sunmc_fail(err, errlen, SUNMC_ENOMEM, "table: out of memory");
-        }
+        step_scores sc; /* on the stack: nothing allocated per fit */
+        memset(sc.sum2, 0, sizeof sc.sum2);
+        sc.cnt = sc.outside = 0;
         for (int f = 0; f < n_folds; f++)
-            score_fold(d, fold, f, s->smooth, wk, sc);
-        if (sc->cnt > 0)
-            lg = pick_step(sc, top, d->n_out, cv_rms);
-        *n_outside = sc->outside;
-        free(sc);
-        free(wk);
+            score_fold(d, fold, f, s->smooth, w, &sc);
+        if (sc.cnt > 0)
+            lg = pick_step(&sc, top, d->n_out, cv_rms);
+        *n_outside = sc.outside;
     }
     return lab_table_sample(t, s, lg, err, errlen);
+}
+
+int lab_table_choose(lab_table *t, const lab_spline *s, const lab_spline_data *d,
+                     const int *fold, int n_folds, double *cv_rms, long *n_outside, char *err,
+                     size_t errlen)
+{
+    lab_spline_ws *w = lab_spline_ws_alloc(d->n);
+    if (!w)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "table: out of memory");
+    int st = lab_table_choose_ws(t, s, d, fold, n_folds, w, cv_rms, n_outside, err, errlen);
+    lab_spline_ws_free(w);
+    return st;
 }

@@ -102,8 +102,7 @@ double dss_calib_bytes(size_t n, int kind, int poly_order)
     }
     double spline = 0;
     if (DSS_MODEL_HAS_SPLINE(kind)) /* its rows, folds, and lab_spline_fit's three matrices */
-        spline = (4.0 * sizeof(double) + sizeof(int)) * (double)n +
-                 3.0 * sizeof(double) * LAB_SPLINE_MAX_COEF * LAB_SPLINE_MAX_COEF;
+        spline = (4.0 * sizeof(double) + sizeof(int)) * (double)n + lab_spline_ws_bytes(n);
     return cols + fit_workspace_bytes(2 * n, DSS_NP) + spline;
 }
 
@@ -162,7 +161,8 @@ dss_calib_workspace *dss_calib_alloc_fix(const dss_design *d, size_t n, int kind
     if (ok && DSS_MODEL_HAS_SPLINE(kind)) {
         cw->sx = malloc((4 * n + 1) * sizeof *cw->sx);
         cw->fold = malloc((n + 1) * sizeof *cw->fold);
-        ok = cw->sx && cw->fold;
+        cw->sws = lab_spline_ws_alloc(n);
+        ok = cw->sx && cw->fold && cw->sws;
     }
     if (!ok) {
         dss_calib_free(cw);
@@ -184,6 +184,7 @@ void dss_calib_free(dss_calib_workspace *cw)
     free(cw->target);
     free(cw->sx);
     free(cw->fold);
+    lab_spline_ws_free(cw->sws);
     for (int k = 0; k < 9; k++)
         free(cw->table.m[k]);
     free(cw->sw);

@@ -54,11 +54,11 @@ int dss_spline_fit(dss_calib_workspace *cw, dss_calibration *cal, fit_result *re
     char err[SUNMC_ERRLEN];
     double rms;
     long outside;
-    int st = lab_spline_choose(&cal->spline, &sd, cw->fold, DSS_SPLINE_FOLDS, &rms, &outside, err,
-                               sizeof err);
+    int st = lab_spline_choose_ws(&cal->spline, &sd, cw->fold, DSS_SPLINE_FOLDS, cw->sws, &rms,
+                                  &outside, err, sizeof err);
     if (st == SUNMC_OK && cal->kind == DSS_MODEL_TABLE)
-        st = lab_table_choose(&cal->table, &cal->spline, &sd, cw->fold, DSS_SPLINE_FOLDS, &rms,
-                              &outside, err, sizeof err);
+        st = lab_table_choose_ws(&cal->table, &cal->spline, &sd, cw->fold, DSS_SPLINE_FOLDS,
+                                 cw->sws, &rms, &outside, err, sizeof err);
     res->status = st == SUNMC_OK ? GSL_SUCCESS : GSL_EFAILED;
     return st == SUNMC_OK ? SUNMC_OK : st == SUNMC_ENOMEM ? SUNMC_ENOMEM : SUNMC_EFIT;
 }

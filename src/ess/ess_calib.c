@@ -212,7 +212,9 @@ double ess_calib_bytes(size_t n, int kind)
 {
     int arrays = ESS_CALIB_ARRAYS + (kind == ESS_MODEL_EXTENDED ? ESS_ALIAS_ARRAYS : 0);
     return (double)sizeof(ess_calib_workspace) + (double)sizeof(double) * arrays * (double)n +
-           fit_workspace_bytes(n + (size_t)ess_calib_prior_rows(kind), (size_t)ess_model_np(kind));
+           fit_workspace_bytes(n + (size_t)ess_calib_prior_rows(kind), (size_t)ess_model_np(kind)) +
+           (ESS_MODEL_HAS_SPLINE(kind) ? lab_spline_ws_bytes(n) + (double)(n + 1) * sizeof(int)
+                                       : 0.0);
 }
 
 ess_calib_workspace *ess_calib_alloc(size_t n)
@@ -248,8 +250,10 @@ ess_calib_workspace *ess_calib_alloc_fix(size_t n, int kind, int fix_sun_y)
     cw->fw = fit_workspace_alloc(n + (size_t)cw->n_prior_rows, (size_t)cw->np_fit);
     if (cw->fw && cw->fix_sun_y)
         ok &= (cw->jfull = vm_alloc(cw->fw->ld * (size_t)ess_model_np(kind))) != NULL;
-    if (ESS_MODEL_HAS_SPLINE(kind))
+    if (ESS_MODEL_HAS_SPLINE(kind)) {
         ok &= (cw->fold = malloc((n + 1) * sizeof *cw->fold)) != NULL;
+        ok &= (cw->sws = lab_spline_ws_alloc(n)) != NULL;
+    }
     if (!ok || !cw->fw) {
         ess_calib_free(cw);
         return NULL;
@@ -274,6 +278,7 @@ void ess_calib_free(ess_calib_workspace *cw)
         free(cw->alias_work[k]);
     free(cw->jfull);
     free(cw->fold);
+    lab_spline_ws_free(cw->sws);
     fit_workspace_free(cw->fw);
     free(cw);
 }

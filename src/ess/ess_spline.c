@@ -71,10 +71,10 @@ int ess_spline_fit(ess_calib_workspace *cw, ess_model *m)
     char err[SUNMC_ERRLEN];
     double rms;
     long outside;
-    int st = lab_spline_choose(&m->spline, &sd, cw->fold, ESS_SPLINE_FOLDS, &rms, &outside, err,
-                               sizeof err);
+    int st = lab_spline_choose_ws(&m->spline, &sd, cw->fold, ESS_SPLINE_FOLDS, cw->sws, &rms,
+                                  &outside, err, sizeof err);
     if (st == SUNMC_OK && m->kind == ESS_MODEL_TABLE)
-        st = lab_table_choose(&m->table, &m->spline, &sd, cw->fold, ESS_SPLINE_FOLDS, &rms,
-                              &outside, err, sizeof err);
+        st = lab_table_choose_ws(&m->table, &m->spline, &sd, cw->fold, ESS_SPLINE_FOLDS, cw->sws,
+                                 &rms, &outside, err, sizeof err);
     return st == SUNMC_OK ? SUNMC_OK : st == SUNMC_EINPUT ? SUNMC_EINPUT : SUNMC_EFIT;
 }

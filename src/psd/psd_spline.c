@@ -73,27 +73,35 @@ int psd_spline_fit(psd_cal *k, const psd_rows *d, double *work)
                           .y = {y[0], y[1]}, .w = d->w};
     char err[SUNMC_ERRLEN];
     int tab = k->model == PSD_MODEL_TABLE;
-    if (d->smooth > 0 && (!tab || d->table_log > 0)) {
-        int st = lab_spline_fit(&k->spline, &sd, d->smooth, 1, err, sizeof err);
-        if (st == SUNMC_OK && tab)
-            st = lab_table_sample(&k->table, &k->spline, d->table_log, err, sizeof err);
-        return st == SUNMC_OK ? SUNMC_OK : SUNMC_EFIT;
-    }
-    int *fold = d->fold ? NULL : malloc((n + 1) * sizeof *fold);
-    if (!d->fold && !fold)
+    /* the Monte Carlo's thread workspace, or one for this fit */
+    lab_spline_ws *w = d->sws ? d->sws : lab_spline_ws_alloc(n);
+    int *fold = d->fold || d->fold_buf ? d->fold_buf : malloc((n + 1) * sizeof *fold);
+    if (!w || (!d->fold && !fold)) {
+        if (!d->sws)
+            lab_spline_ws_free(w);
+        if (!d->fold_buf)
+            free(fold);
         return SUNMC_ENOMEM;
-    for (size_t i = 0; fold && i < n; i++)
+    }
+    for (size_t i = 0; !d->fold && i < n; i++)
         fold[i] = (int)((i / PSD_SPLINE_FOLD_BLOCK) % PSD_SPLINE_AUTO_FOLDS);
     const int *use = d->fold ? d->fold : fold;
     int nf = d->fold ? d->n_folds : PSD_SPLINE_AUTO_FOLDS;
     double rms;
     long outside;
-    int st = d->smooth > 0 ? lab_spline_fit(&k->spline, &sd, d->smooth, 1, err, sizeof err)
-                           : lab_spline_choose(&k->spline, &sd, use, nf, &rms, &outside, err,
-                                               sizeof err);
-    if (st == SUNMC_OK && tab)
-        st = lab_table_choose(&k->table, &k->spline, &sd, use, nf, &rms, &outside, err,
-                              sizeof err);
-    free(fold);
+    int st;
+    if (d->smooth > 0)
+        st = lab_spline_fit_ws(&k->spline, &sd, d->smooth, 1, w, err, sizeof err);
+    else
+        st = lab_spline_choose_ws(&k->spline, &sd, use, nf, w, &rms, &outside, err, sizeof err);
+    if (st == SUNMC_OK && tab && d->smooth > 0 && d->table_log > 0)
+        st = lab_table_sample(&k->table, &k->spline, d->table_log, err, sizeof err);
+    else if (st == SUNMC_OK && tab)
+        st = lab_table_choose_ws(&k->table, &k->spline, &sd, use, nf, w, &rms, &outside, err,
+                                 sizeof err);
+    if (!d->sws)
+        lab_spline_ws_free(w);
+    if (!d->fold_buf)
+        free(fold);
     return st == SUNMC_OK ? SUNMC_OK : SUNMC_EFIT;
 }

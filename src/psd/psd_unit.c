@@ -175,6 +175,8 @@ typedef struct {
     double *m[PSD_CHANNELS], *ut, *w, *scratch, *poly_work;
     fit_workspace *fw, *fw_channels;
     double *rd; /* one unit's readings (psd_readings_bytes) */
+    lab_spline_ws *sws; /* the spline models': their fits allocate nothing */
+    int *fold;          /* n: their folds */
 } psd_ws;
 
 /* A unit's readings (family.h: unit_read): for each validation it reads
@@ -199,6 +201,8 @@ static void psd_ws_free(void *ws)
     free(w->rd);
     fit_workspace_free(w->fw);
     fit_workspace_free(w->fw_channels);
+    lab_spline_ws_free(w->sws);
+    free(w->fold);
     free(w);
 }
 
@@ -216,8 +220,13 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
         w->fw_channels = fit_workspace_alloc(PSD_RESIDUALS_PER_ROW * (size_t)n,
                                              (size_t)psd_phys_free_channels(psd_cfg(c)->fit_tilt));
         w->rd = malloc(psd_readings_bytes(c));
+        if (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model)) {
+            w->sws = lab_spline_ws_alloc((size_t)n);
+            w->fold = malloc(((size_t)n + 1) * sizeof *w->fold);
+        }
     }
-    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd) {
+    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd ||
+        (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model) && (!w->sws || !w->fold))) {
         psd_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
         return NULL;
@@ -237,7 +246,9 @@ static double psd_ws_bytes(const sunmc_config *c)
     return ((double)n * 16 + PSD_POLY_WORK) * sizeof(double) +
            fit_workspace_bytes(2 * (size_t)n, PSD_NP) +
            fit_workspace_bytes(PSD_RESIDUALS_PER_ROW * (size_t)n, PSD_NP) +
-           (double)psd_readings_bytes(c);
+           (double)psd_readings_bytes(c) +
+           (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model)
+                ? lab_spline_ws_bytes((size_t)n) + (double)(n + 1) * sizeof(int) : 0.0);
 }
 
 /* The campaign of sensor s into w's rows; returns the rows seen. */
@@ -419,7 +430,8 @@ static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     psd_rows d = {.n = (size_t)w->n, .ut = w->ut, .w = w->w, .design = &p->design,
-                  .scratch = w->scratch, .fw_channels = w->fw_channels};
+                  .scratch = w->scratch, .fw_channels = w->fw_channels, .sws = w->sws,
+                  .fold_buf = w->fold};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = w->m[k];
     psd_cal k;
@@ -498,7 +510,8 @@ static int psd_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     campaign(c, &cv->s, unit, cv->ws);
     psd_rows d = {.n = (size_t)cv->ws->n, .ut = cv->ws->ut, .w = cv->ws->w,
                   .design = &pc->design, .scratch = cv->ws->scratch,
-                  .fw_channels = cv->ws->fw_channels};
+                  .fw_channels = cv->ws->fw_channels, .sws = cv->ws->sws,
+                  .fold_buf = cv->ws->fold};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = cv->ws->m[k];
     fit_result fr;
