@@ -37,7 +37,8 @@ static const char export_help[] =
     "                      the header; near the model's edge it refuses a reading in a cell\n"
     "                      with a node without an angle\n"
     "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode,\n"
-    "ess_extended.\n"
+    "ess_extended; the spline, table and hybrid models (dss_, ess_, psd_spline, psd_table)\n"
+    "as --form table:STEP only, over their calibrated field (psd_hybrid: not exported).\n"
     "DIR must not exist (export never overwrites).  --quiet: no 'wrote' line.\n";
 
 typedef struct {

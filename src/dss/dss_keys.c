@@ -104,10 +104,9 @@ const config_key dss_keys[] = {
     {"calibration", "model", KEY_ENUM, "", "physical", 0, 0,
      "physical|polynomial|spline|hybrid|table", OFF(cal_model),
      "DSS calibration model: physical (dx, dy, h, refraction, c1-c3), a 2-D polynomial of the "
-     "angle errors, spline (a penalised cubic B-spline of alpha, beta over the spot x, y, its "
-     "smoothing chosen by cross-validation), hybrid (the physical model and a spline of its "
-     "residual) or table (the look-up table of alpha, beta on a grid of the spot, bilinear "
-     "between its nodes, its step chosen by cross-validation)"},
+     "angle errors, spline (a penalised B-spline of alpha, beta over the spot x, y), hybrid "
+     "(physical + a spline of its residual) or table (a look-up table of the spline); "
+     "docs/calibration.md"},
     {"calibration", "poly_order", KEY_INT, "", "3", 1, 7, NULL, OFF(poly_order),
      "order of the 2-D polynomial model"},
     {"calibration", "fit_glass_index", KEY_ENUM, "", "on", 0, 0, "off|on", OFF(fit_glass_index),

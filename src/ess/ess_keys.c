@@ -111,12 +111,10 @@ const config_key ess_keys[] = {
     {"calibration", "model", KEY_ENUM, "", "paper", 0, 0,
      "paper|extended|spline|hybrid|table", OFF(cal_model),
      "ESS calibration model: paper (eq. 12 + k sin(4 pi alpha + t), 8 parameters), extended "
-     "(18: the fine period's 1st and 2nd harmonics, the 4th's incidence dependence and its "
-     "exact eq. 7 form; derived in src/ess/ess_model_ext.c), spline (a penalised cubic "
-     "B-spline of the true angle over the measured one, its smoothing chosen by "
-     "cross-validation), hybrid (the paper's model and a spline of its residual over the "
-     "measured angle) or table (the look-up table of the true angle on a grid of the measured "
-     "one, linear between its nodes, its step chosen by cross-validation)"},
+     "(18: the fine period's 1st, 2nd harmonics, the 4th's incidence dependence, eq. 7 "
+     "exact; src/ess/ess_model_ext.c), spline (the true angle as a penalised B-spline of "
+     "the measured one), hybrid (paper + a spline of its residual) or table (a look-up "
+     "table of the spline); docs/calibration.md"},
 
     /* [validation] */
     {"validation", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(val_alpha_min_deg),

@@ -107,11 +107,9 @@ const config_key psd_keys[] = {
     {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial|spline|hybrid|table",
      OFF(cal_model),
      "physical (aperture offsets and height, mount, channel gains and darks; psd_model.h), "
-     "the field's polynomial in the raw ratios, spline (a penalised cubic B-spline of the "
-     "angles in the raw ratios, its smoothing chosen by cross-validation) or hybrid (the "
-     "physical model and a spline of its residual) or table (the look-up table of the angles "
-     "on a grid of the raw ratios, (bi)linear between its nodes, its step chosen by "
-     "cross-validation)"},
+     "the field's polynomial in the raw ratios, spline (a penalised B-spline of the angles "
+     "in the raw ratios), hybrid (physical + a spline of its residual) or table (a look-up "
+     "table of the spline); docs/calibration.md"},
     {"calibration", "poly_order", KEY_INT, "", "5", 1, PSD_POLY_MAX_ORDER, NULL, OFF(poly_order),
      "polynomial model: total degree in (x, y)"},
     {"calibration", "poly_form", KEY_ENUM, "", "full", 0, 0, "full|fss20", OFF(poly_form),
