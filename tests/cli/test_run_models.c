@@ -46,6 +46,12 @@ static void same_at_threads(const char *config, const char *model, int units)
 
 static void test_threads_psd(void **state) { same_at_threads("configs/psd.ini", "table", 8); }
 
+static void test_threads_ess(void **state)
+{
+    same_at_threads("configs/ess_type_a.ini", "hybrid", 6);
+    same_at_threads("configs/ess_type_a.ini", "table", 6);
+}
+
 static void test_threads_dss(void **state)
 {
     same_at_threads("configs/dss.ini", "hybrid", 3);
@@ -98,13 +104,16 @@ static void test_design_table(void **state)
 static void test_mistyped_model(void **state)
 {
     static char out[16384];
-    const char *families[] = {"psd", "dss"};
-    for (int f = 0; f < 2; f++) {
+    const char *families[] = {"psd", "dss", "ess_type_a"};
+    /* the ESS config has no [calibration]: one is added at its end */
+    const char *edits[] = {"s/^model *=.*/model = tabel/", "s/^model *=.*/model = tabel/",
+                           "$a [calibration]\\nmodel = tabel"};
+    for (int f = 0; f < 3; f++) {
         char cmd[1024];
         snprintf(cmd, sizeof cmd,
-                 "true; sed 's/^model *=.*/model = tabel/' configs/%s.ini > $D/bad_%s.ini && "
+                 "true; sed '%s' configs/%s.ini > $D/bad_%s.ini && "
                  "grep -n '^model = tabel' $D/bad_%s.ini | cut -d: -f1",
-                 families[f], families[f], families[f]);
+                 edits[f], families[f], families[f], families[f]);
         assert_int_equal(sunmc(cmd, out, sizeof out), 0);
         int line = atoi(out);
         assert_true(line > 0);
@@ -125,6 +134,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_psd),
         cmocka_unit_test(test_threads_dss),
+        cmocka_unit_test(test_threads_ess),
         cmocka_unit_test(test_hybrid_buys_nothing_on_exact_physics),
         cmocka_unit_test(test_design_table),
         cmocka_unit_test(test_mistyped_model),
