@@ -80,6 +80,13 @@ typedef struct {
     char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
 } calreport_models;
 
+/* The recommendation (calreport_models.c), m[0] the physical model: the
+ * lowest held-out error, keeping the simpler of two (fewer parameters)
+ * unless the other is lower by more than the fraction gain; "the physics
+ * does not describe this sensor" when m[0]'s held-out error is more than
+ * far times the best other model's.  Sets best and note. */
+void calreport_models_recommend(calreport_models *cm, double gain, double far);
+
 typedef struct {
     const char *sensor;               /* "ess", "dss" */
     const char *model;                /* model name as in params.ini */

@@ -56,4 +56,9 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
 /* The calibration a params.ini describes ("FILE:LINE: ..." messages). */
 int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen);
 
+/* The model comparison of `calibrate` (dss_calmodels.c): every model
+ * refitted on folds of the campaign's b1 lines, into rep->models with the
+ * recommendation. */
+void dss_labfit_compare(const sunmc_config *c, const dss_calib_workspace *cw, calreport *rep);
+
 #endif

@@ -236,6 +236,7 @@ typedef struct {
     dss_calib_workspace *cw;
     const int *line;
     dss_calibration cal;
+    calreport_models models; /* for models.tsv */
 } dss_cal;
 
 static int model_params(const sunmc_config *c)
@@ -289,6 +290,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
+    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -303,6 +305,13 @@ static int write_residuals(const void *p, FILE *f)
 {
     const dss_cal *k = p;
     return dss_labfit_write_residuals(f, k->cw, k->line, &k->cal);
+}
+
+/* models.tsv: the model comparison (calreport_write_models). */
+static const char *const extra_files[] = {"models.tsv", NULL};
+static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
+{
+    return calreport_write_models(f, &((const dss_cal *)p)->models);
 }
 
 /* ---- compensate ---- */
@@ -392,8 +401,8 @@ const family_lab dss_lab = {
                     "read by `sunmc compensate`; units are in the key names",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
-    .extra_files = NULL,
-    .write_extra = NULL,
+    .extra_files = extra_files,
+    .write_extra = write_extra,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

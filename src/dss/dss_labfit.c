@@ -500,6 +500,7 @@ int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     calreport_check_priors(rep);
     band_stats(c, cw, cal, cov_s, have_cov, n_res, rep);
     cross_validate(c, cw, rep);
+    dss_labfit_compare(c, cw, rep);
     return SUNMC_OK;
 }
 

@@ -17,7 +17,10 @@
  *  - an inverting sensor (aeroztark's layout) is compensated: its
  *    channels below the fitted darks are its signal (params.ini's
  *    design.polarity);
- *  - the comparison is the same at 1 and 2 threads. */
+ *  - the comparison is the same at 1 and 2 threads;
+ *  - a DSS's five models on folds of its b1 lines: the physical one
+ *    recommended on a simulated unit, the hybrid's held-out error within
+ *    10 % of it, the spline's and the table's far above (models.tsv). */
 #include "test_util.h"
 
 static char dir[512];
@@ -191,6 +194,46 @@ static void test_threads_same(void **state)
     assert_string_equal(a, b);
 }
 
+/* A DSS models.tsv row: held-out RMS, used and recommended. */
+static double dss_row(const char *tsv, const char *model, int *used, int *rec)
+{
+    char key[64];
+    snprintf(key, sizeof key, "\n%s\t", model);
+    const char *r = strstr(tsv, key);
+    assert_non_null(r);
+    int np, ok, al;
+    long n;
+    double in, held;
+    assert_int_equal(sscanf(r + strlen(key), "%d\t%d\t%d\t%ld\t%lf\t%lf\t%d\t%d", &np, &ok,
+                            &al, &n, &in, &held, used, rec),
+                     8);
+    assert_int_equal(ok, 1);
+    assert_true(n > 400);
+    return held;
+}
+
+static void test_dss_compares_five(void **state)
+{
+    static char out[65536];
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "true; %s simulate configs/dss.ini --unit 3 --quiet --out $D/sd && %s calibrate "
+             "--config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd 2>/dev/null && "
+             "cat $D/cd/models.tsv",
+             test_sunmc(), test_sunmc());
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+    int u[5], r[5];
+    const char *names[5] = {"physical", "polynomial", "spline", "hybrid", "table"};
+    double h[5];
+    for (int m = 0; m < 5; m++)
+        h[m] = dss_row(out, names[m], &u[m], &r[m]);
+    assert_true(h[0] > 1.0 && h[0] < 20.0);
+    assert_true(fabs(h[3] - h[0]) < 0.1 * h[0]);
+    assert_true(h[2] > 3.0 * h[0] && h[4] > 3.0 * h[0]);
+    assert_int_equal(u[0] + r[0], 2);
+    assert_int_equal(u[1] + u[2] + u[3] + u[4] + r[1] + r[2] + r[3] + r[4], 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -201,6 +244,7 @@ int main(void)
         cmocka_unit_test(test_mean_of_repeats),
         cmocka_unit_test(test_inverting_sensor_compensated),
         cmocka_unit_test(test_threads_same),
+        cmocka_unit_test(test_dss_compares_five),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
