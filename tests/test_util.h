@@ -148,6 +148,27 @@ static inline int test_sunmc_in(const char *d, const char *args, char *out, size
     return test_run(cmd, out, len);
 }
 
+/* Run each of n `sunmc` steps in directory d (test_sunmc_in); on the first
+ * that fails, print it and its output and return -1 (a group setup's
+ * failure), else 0. */
+static inline int test_sunmc_steps(const char *d, const char *const *steps, int n)
+{
+    static char out[16384];
+    for (int i = 0; i < n; i++)
+        if (test_sunmc_in(d, steps[i], out, sizeof out) != 0) {
+            fprintf(stderr, "%s: %s\n", steps[i], out);
+            return -1;
+        }
+    return 0;
+}
+
+/* Fail the test unless out holds what (and say what out held). */
+static inline void test_must_have(const char *out, const char *what)
+{
+    if (!strstr(out, what))
+        fail_msg("no '%s' in: %s", what, out);
+}
+
 /* Write text to a file; returns 0 on success. */
 static inline int test_write_file(const char *path, const char *text)
 {

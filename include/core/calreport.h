@@ -15,6 +15,7 @@
 #include "campaign.h"
 #include "config.h"
 #include "fit.h"
+#include "lab_drift.h"
 #include "prior.h"
 
 #include <gsl/gsl_matrix.h>
@@ -143,6 +144,7 @@ typedef struct {
     char cv_note[CALREPORT_TEXT_MAX]; /* why there is no cross-validation, else "" */
 
     calreport_models models;          /* model comparison (models.n = 0: none) */
+    lab_drift drift;                  /* campaigns of the file (drift.n < 2: none) */
 } calreport;
 
 /* Zero r and set its family names. */

@@ -24,6 +24,8 @@
 #include <stdio.h>
 
 #define LAB_MAX_COLUMNS 8
+/* The least reading noise (arcsec) a fit's residual is judged against. */
+#define LAB_NOISE_FLOOR_ARCSEC 1.0
 /* Files `simulate` writes, in this order: campaign.csv, truth.csv, validation.csv. */
 #define LAB_SIM_FILES 3
 /* Room for what a lab hook gives the command to print. */
@@ -41,6 +43,13 @@ typedef struct {
     int n_cols;
     double *v[LAB_MAX_COLUMNS];
     int *line;
+    /* Campaigns: the rows after each "# source: NAME" comment line (as the
+     * importers write them) are one; source[i] is row i's (0 .. n_sources-1),
+     * rows before the first such line, if any, campaign 0 named "(head)".
+     * source NULL, n_sources 0: the file has no such line. */
+    int *source;
+    int n_sources;
+    char **source_name;
 } lab_columns;
 
 /* The simulated unit a lab file describes, for its head comments. */
@@ -194,6 +203,9 @@ typedef struct family_lab {
 int lab_columns_read(const char *path, const char *const *names, size_t min_rows,
                      const char *why, lab_columns *d, char *err, size_t errlen);
 void lab_columns_free(lab_columns *d);
+/* The campaigns of d (read from d->path; d->line filled): source,
+ * n_sources, source_name.  Called by lab_columns_read. */
+int lab_columns_sources(lab_columns *d, char *err, size_t errlen);
 
 /* Lab data a calibration must not be run on (exit 2, "FILE:LINE: ..."),
  * before the fit: table angles that look like radians (all within +-2 pi,

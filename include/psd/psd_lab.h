@@ -88,4 +88,42 @@ void psd_labcal_compare(const psd_labcal *k, calreport *rep);
  * cross-validation). */
 void psd_labcal_report(psd_labcal *k, calreport *rep);
 
+/* The data under other table conventions (psd_labconv.c): the physical
+ * model fitted in-sample on a subsample under the configured convention,
+ * every other sign of the two axes, the axes swapped and the other two
+ * orders; better when the best fits PSD_CONV_BETTER times better. */
+typedef struct {
+    long rows;                        /* rows of the subsample fitted */
+    int tried;                        /* other conventions tried */
+    double rms_configured_arcsec;     /* in-sample RMS total angle (+inf: fails) */
+    double rms_best_arcsec;
+    int better;
+    char configured[240], best[240]; /* the conventions in config-key words */
+} psd_conv_check;
+int psd_labcal_conventions(const psd_labcal *k, psd_conv_check *out);
+/* What is wrong with data the physics does not fit, in the data's terms
+ * (psd_labdiag.c): the measured raw ratios mapped linearly (q = Q p + c)
+ * on the design's nominal ones over the inner half of the data's field. */
+#define PSD_DIAG_LINES 3
+typedef struct {
+    long rows;                 /* inner rows the map is fitted to */
+    double inner_deg;          /* the inner field's total angle */
+    int mirrored;              /* det Q < 0: the spot moves as the design's mirror image */
+    double scale;              /* sqrt |det Q| */
+    double turn_deg;           /* Q's rotation; mirrored: its mirror line's angle to X */
+    double compressed_from_deg; /* first 5-deg bin whose travel is < 0.8 of the map's (NaN) */
+    double outer_ratio, outer_deg; /* the outermost bin's travel over the map's, its start */
+    long outliers;             /* inner rows beyond 5 times the median residual */
+    int outlier_line[PSD_DIAG_LINES];
+    double resid_median;       /* the map's median residual (ratio units) */
+    int defects;               /* mirrored, turned, compressed, outliers: how many */
+} psd_data_diag;
+int psd_labcal_diagnose(const psd_labcal *k, psd_data_diag *g);
+/* A warning in rep naming the data's defects (psd_labcal_diagnose). */
+void psd_labcal_report_defects(const psd_labcal *k, calreport *rep);
+
+/* A warning in rep when another convention fits markedly better (also
+ * after a fit that failed: it may be why). */
+void psd_labcal_report_conventions(const psd_labcal *k, calreport *rep);
+
 #endif

@@ -357,6 +357,30 @@ static void print_crossval(FILE *f, const calreport *r)
                 r->cv_rms_in_arcsec, r->cv_rms_out_arcsec);
 }
 
+static void print_drift(FILE *f, const lab_drift *d)
+{
+    if (d->n < 2)
+        return;
+    fprintf(f, "\ncampaigns (the file's \"# source:\" blocks; campaigns.tsv):\n");
+    fprintf(f, "  %-34s %6s %5s %9s %9s %9s %9s %9s\n", "campaign", "rows", "swept", "zero\"",
+            "scale %", "within\"", "d zero\"", "d scale %");
+    for (int s = 0; s < d->n; s++) {
+        const lab_campaign *c = &d->c[s];
+        static const char *const ax[] = {"-", "alpha", "beta"};
+        if (c->n == 0) {
+            fprintf(f, "  %-34.34s %6ld  (no row the calibration reads)\n", c->name, c->n);
+            continue;
+        }
+        fprintf(f, "  %-34.34s %6ld %5s %9.0f %9.3f %9.0f", c->name, c->n, ax[c->axis + 1],
+                c->zero_arcsec, c->scale_pct, c->within_arcsec);
+        if (isfinite(c->shift_arcsec))
+            fprintf(f, " %9.0f %9.3f\n", c->dzero_arcsec, c->dscale_pct);
+        else
+            fprintf(f, " %9s %9s\n", "alone", "-");
+    }
+    fprintf(f, "  %s\n", d->note);
+}
+
 int calreport_print(FILE *f, const calreport *r)
 {
     print_header(f, r);
@@ -364,6 +388,7 @@ int calreport_print(FILE *f, const calreport *r)
     print_bands(f, r);
     print_crossval(f, r);
     print_models(f, &r->models);
+    print_drift(f, &r->drift);
     fprintf(f, "\nwarnings: %d\n", r->nw);
     for (int i = 0; i < r->nw; i++)
         fprintf(f, "  %d. %s\n     what to do: %s\n", i + 1, r->w[i].reason, r->w[i].action);

@@ -70,6 +70,8 @@ int lab_columns_read(const char *path, const char *const *names, size_t min_rows
             memcpy(d->line, t->line, t->n_rows * sizeof *d->line);
     }
     csv_free(t);
+    if (st == SUNMC_OK)
+        st = lab_columns_sources(d, err, errlen);
     return st;
 }
 
@@ -78,6 +80,10 @@ void lab_columns_free(lab_columns *d)
     for (int k = 0; k < LAB_MAX_COLUMNS; k++)
         free(d->v[k]);
     free(d->line);
+    free(d->source);
+    for (int s = 0; s < d->n_sources; s++)
+        free(d->source_name[s]);
+    free(d->source_name);
     memset(d, 0, sizeof *d);
 }
 
@@ -214,8 +220,11 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
     const char *names[OUT_MAX_FILES] = {"params.ini", "residuals.tsv", "bands.tsv",
                                         "crossval.tsv"};
     int n = LAB_CAL_FILES;
-    while (lab->extra_files && lab->extra_files[n - LAB_CAL_FILES] && n < OUT_MAX_FILES - 1)
+    while (lab->extra_files && lab->extra_files[n - LAB_CAL_FILES] && n < OUT_MAX_FILES - 2)
         names[n] = lab->extra_files[n - LAB_CAL_FILES], n++;
+    int n_family = n, drift = rep->drift.n >= 2;
+    if (drift)
+        names[n++] = "campaigns.tsv";
     FILE *f[OUT_MAX_FILES] = {NULL};
     out_set os;
     if (st == SUNMC_OK)
@@ -227,8 +236,10 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
             lab->write_residuals(cal, f[1]);
             calreport_write_bands(f[2], rep);
             calreport_write_folds(f[3], rep);
-            for (int k = LAB_CAL_FILES; k < n; k++)
+            for (int k = LAB_CAL_FILES; k < n_family; k++)
                 lab->write_extra(cal, c, k - LAB_CAL_FILES, f[k]);
+            if (drift)
+                lab_drift_write(f[n_family], &rep->drift);
             st = out_commit(&os, err, errlen);
         } else {
             out_abort(&os);

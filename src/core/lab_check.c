@@ -14,8 +14,6 @@
 #define LAB_RADIANS_MAX (2.0 * M_PI)
 /* A configured range this wide (deg) is told apart from its radians. */
 #define LAB_RADIANS_MIN_SPAN_DEG 10.0
-/* The residual floor of the noise test (arcsec): a noise-free config. */
-#define LAB_NOISE_FLOOR_ARCSEC 1.0
 
 static const char *col_name(const family_lab *lab, int k) { return lab->cal_columns[k]; }
 

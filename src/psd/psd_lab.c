@@ -168,6 +168,8 @@ static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
 
 static void cal_free(void *p) { psd_labcal_free(p); }
 
+static double cal_noise_arcsec(const sunmc_config *c);
+
 static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calreport *rep,
                    char *err, size_t errlen)
 {
@@ -213,10 +215,16 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     k->table_log = st == SUNMC_OK && model == PSD_MODEL_TABLE ? psd_table_log(&k->cal.table) : 0;
     rep->fit = k->fr;
     rep->fit_ok = st == SUNMC_OK;
-    if (rep->fit_ok)
+    if (rep->fit_ok) {
         psd_labcal_report(k, rep);
-    else
+    } else {
         rep->n_rows = d->n;
+        psd_labcal_report_conventions(k, rep);
+    }
+    /* data the model does not describe: say what is wrong with them */
+    if (!rep->fit_ok || !(rep->sigma_arcsec <= c->max_residual_ratio *
+                                                 fmax(cal_noise_arcsec(c), LAB_NOISE_FLOOR_ARCSEC)))
+        psd_labcal_report_defects(k, rep);
     *out = k;
     return SUNMC_OK;
 }

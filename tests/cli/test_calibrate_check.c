@@ -159,7 +159,7 @@ static void test_check_fit_limits(void **state)
     double w[100];
     for (int i = 0; i < 100; i++)
         w[i] = i < 10 ? 0 : 1; /* 10 rows weighted 0 by the user: not gross errors */
-    lab_columns d = {"x.csv", 100, 1, {w}, NULL};
+    lab_columns d = {.path = "x.csv", .n = 100, .n_cols = 1, .v = {w}};
     family_lab lab = {0};
     calreport r;
     calreport_init(&r, "ess", "m");

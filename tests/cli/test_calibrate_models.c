@@ -40,7 +40,6 @@ static int setup(void **state)
 {
     if (test_private_dir(dir, sizeof dir, "calmodels") != 0)
         return -1;
-    char out[16384];
     const char *steps[] = {
         "simulate " P " --unit 3 --quiet --out $D/sp",
         "simulate " P " --unit 3 --quiet --set validation.alpha_max_deg=30 --out $D/sp30",
@@ -48,18 +47,7 @@ static int setup(void **state)
         "simulate configs/psd_aeroztark.ini " AZ " --unit 3 --quiet --out $D/sa",
         "true; awk -F, 'BEGIN{OFS=\",\"} /^#/ || /^alpha/ {print; next} "
         "{$3 = $3 * (1 + 0.3 * sin($1 / 6)); print}' $D/sp/campaign.csv > $D/warp.csv"};
-    for (int i = 0; i < 5; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
-}
-
-static void must_have(const char *out, const char *what)
-{
-    if (!strstr(out, what))
-        fail_msg("no '%s' in: %s", what, out);
+    return test_sunmc_steps(dir, steps, 5);
 }
 
 static void test_exact_physics_recommended(void **state)
@@ -67,8 +55,8 @@ static void test_exact_physics_recommended(void **state)
     static char out[65536];
     assert_int_equal(sunmc("calibrate --config " P " $D/sp/campaign.csv --out $D/cp", out,
                            sizeof out), 0);
-    must_have(out, "model comparison");
-    must_have(out, "used: physical; recommended: physical");
+    test_must_have(out, "model comparison");
+    test_must_have(out, "used: physical; recommended: physical");
     assert_null(strstr(out, "does not describe"));
     char p[700];
     snprintf(p, sizeof p, "%s/cp/models.tsv", dir);
@@ -88,13 +76,13 @@ static void test_physics_does_not_describe(void **state)
              "true; { %s calibrate --config " P " $D/warp.csv --out $D/cw 2>/dev/null; }",
              test_sunmc());
     assert_int_equal(sunmc(cmd, out, sizeof out), 1);
-    must_have(out, "the physics does not describe this sensor");
-    must_have(out, "recommended: hybrid");
-    must_have(out, "calibrate with --set calibration.model=hybrid");
+    test_must_have(out, "the physics does not describe this sensor");
+    test_must_have(out, "recommended: hybrid");
+    test_must_have(out, "calibrate with --set calibration.model=hybrid");
     assert_int_equal(sunmc("calibrate --config " P " --set calibration.model=hybrid "
                            "$D/warp.csv --out $D/ch", out, sizeof out), 0);
-    must_have(out, "model psd_hybrid");
-    must_have(out, "the correction's spline");
+    test_must_have(out, "model psd_hybrid");
+    test_must_have(out, "the correction's spline");
     char p[700];
     snprintf(p, sizeof p, "%s/ch/params.ini", dir);
     assert_true(test_file_has(p, "[correction]"));
@@ -110,7 +98,7 @@ static void refuses_beyond_field(const char *model)
     assert_int_equal(sunmc(cmd, out, sizeof out), 0);
     snprintf(cmd, sizeof cmd, "compensate $D/c%s/params.ini $D/sp30/validation.csv", model);
     assert_int_equal(sunmc(cmd, out, sizeof out), 0);
-    must_have(out, "outside the calibrated field (the model would extrapolate)");
+    test_must_have(out, "outside the calibrated field (the model would extrapolate)");
     /* every row beyond the campaign's +-20 deg is '-', every row well inside compensated */
     int beyond = 0, inside = 0;
     for (const char *l = strchr(out, '\n'); l; l = strchr(l + 1, '\n')) {
@@ -176,7 +164,7 @@ static void test_inverting_sensor_compensated(void **state)
     assert_int_equal(sunmc("compensate $D/ca/params.ini $D/sa/validation.csv", out, sizeof out),
                      0);
     assert_null(strstr(out, "not compensated"));
-    must_have(out, "compensated_alpha_deg");
+    test_must_have(out, "compensated_alpha_deg");
 }
 
 static void test_threads_same(void **state)

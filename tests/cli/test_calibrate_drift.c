@@ -1,0 +1,99 @@
+/* test_calibrate_drift.c - issue 39 item 3: `calibrate` finds the
+ * campaigns of a lab file (its "# source:" blocks) and the drift between
+ * them.  A simulated PSD unit read three times on two beta lines, each
+ * repeat of each line a campaign:
+ *  - as read: the campaigns printed and in campaigns.tsv, no drift;
+ *  - one campaign's table angles 2 % too large (a table that lost its
+ *    scale): drift warned, that campaign named with a scale change near
+ *    -2 % (the fit, which sees it too, takes a little of it);
+ *  - a file without "# source:" lines: no campaigns.tsv. */
+#include "test_util.h"
+#include "test_tsv.h"
+
+#include <math.h>
+#include <unistd.h>
+
+static char dir[512];
+
+#define P "configs/psd.ini"
+
+static int sunmc(const char *args, char *out, size_t len)
+{
+    return test_sunmc_in(dir, args, out, len);
+}
+
+static int setup(void **state)
+{
+    if (test_private_dir(dir, sizeof dir, "caldrift") != 0)
+        return -1;
+    const char *steps[] = {
+        "simulate " P " --unit 3 --quiet --set campaign.repeats=3 --set campaign.beta_deg=-10,10 "
+        "--set campaign.alpha_step_deg=1 --out $D/s",
+        "true; awk -F, 'BEGIN{OFS=\",\"} /^#/{next} /^alpha/{print; next} "
+        "{k=(n++)%3; r[$2\",\"k]=r[$2\",\"k] $0 \"\\n\"} END{for (b=-10;b<=10;b+=20) "
+        "for (k=0;k<3;k++) {print \"# source: beta \" b \" repeat \" k; printf \"%s\", "
+        "r[b\",\"k]}}' $D/s/campaign.csv > $D/ok.csv",
+        "true; awk -F, 'BEGIN{OFS=\",\"} /^# source: beta 10 repeat 2/{d=1} /^#/{print; next} "
+        "/^alpha/{print; next} {if (d) $1=$1*1.02; print}' $D/ok.csv > $D/drift.csv"};
+    return test_sunmc_steps(dir, steps, 3);
+}
+
+static void test_campaigns_no_drift(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config " P " $D/ok.csv --out $D/c1", out, sizeof out), 0);
+    assert_non_null(strstr(out, "campaigns (the file's \"# source:\" blocks"));
+    assert_non_null(strstr(out, "6 of 6 campaigns repeat another's table line"));
+    assert_null(strstr(out, "drift between campaigns"));
+    char p[700];
+    snprintf(p, sizeof p, "%s/c1/campaigns.tsv", dir);
+    tsv *t = tsv_load(p);
+    assert_non_null(t);
+    assert_int_equal(t->nr, 6);
+    for (int r = 0; r < 6; r++) {
+        assert_int_equal((int)tsv_num(t, r, "rows"), 41);
+        assert_int_equal((int)tsv_num(t, r, "group_campaigns"), 3);
+        assert_true(fabs(tsv_num(t, r, "scale_change_pct")) < 0.3);
+    }
+    tsv_free(t);
+}
+
+static void test_drifted_campaign_named(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config " P " $D/drift.csv --out $D/c2", out, sizeof out),
+                     0);
+    const char *w = strstr(out, "drift between campaigns");
+    assert_non_null(w);
+    assert_non_null(strstr(w, "beta 10 repeat 2: zero"));
+    assert_null(strstr(w, "beta -10 repeat"));
+    char p[700];
+    snprintf(p, sizeof p, "%s/c2/campaigns.tsv", dir);
+    tsv *t = tsv_load(p);
+    assert_non_null(t);
+    double k = tsv_num(t, 5, "scale_change_pct");
+    assert_true(k < -1.4 && k > -2.2);
+    assert_string_equal(tsv_str(t, 5, "name"), "beta 10 repeat 2");
+    tsv_free(t);
+}
+
+static void test_no_sources_no_file(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config " P " $D/s/campaign.csv --out $D/c3", out,
+                           sizeof out), 0);
+    assert_null(strstr(out, "campaigns (the file's"));
+    char p[700];
+    snprintf(p, sizeof p, "%s/c3/campaigns.tsv", dir);
+    assert_int_not_equal(access(p, F_OK), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_campaigns_no_drift),
+        cmocka_unit_test(test_drifted_campaign_named),
+        cmocka_unit_test(test_no_sources_no_file),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
