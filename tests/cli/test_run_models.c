@@ -50,6 +50,16 @@ static void test_threads_ess(void **state)
 {
     same_at_threads("configs/ess_type_a.ini", "hybrid", 6);
     same_at_threads("configs/ess_type_a.ini", "table", 6);
+    /* readings beyond the campaign's +-61.95 deg are counted, no fit fails */
+    char out[4096];
+    assert_int_equal(sunmc("true; awk -F'\\t' 'NR == 1 {for (i = 1; i <= NF; i++) c[$i] = i; "
+                           "next} NR == 2 {print $c[\"fit_failures\"], $c[\"gross_errors\"]}' "
+                           "$D/hybrid_ess_type_a.ini_1/summary.tsv",
+                           out, sizeof out), 0);
+    long fails = -1, gross = -1;
+    assert_int_equal(sscanf(out, "%ld %ld", &fails, &gross), 2);
+    assert_int_equal(fails, 0);
+    assert_true(gross > 0);
 }
 
 static void test_threads_dss(void **state)
