@@ -51,7 +51,7 @@ typedef struct {
  * Each model refitted on the same cross-validation folds and scored on the
  * held-out points; the recommendation follows the paired difference of
  * the held-out squared errors, point by point. */
-#define CALREPORT_MAX_MODELS 4
+#define CALREPORT_MAX_MODELS 6
 
 typedef struct {
     char name[CALREPORT_NAME_MAX];    /* as calibration.model names it */
@@ -73,11 +73,20 @@ typedef struct {
     calreport_model m[CALREPORT_MAX_MODELS];
     int used, best;                   /* the model fitted, the one recommended */
     /* mean over the held-out points of e_used^2 - e_other^2 (arcsec^2), its
-     * standard error and the points, for two models */
+     * standard error and the points (n_paired 0: not printed); other: the
+     * model compared with (0 stands for 1 - used when n == 2) */
     double diff_arcsec2, diff_se_arcsec2;
     long n_paired;
+    int other;
     char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
 } calreport_models;
+
+/* The recommendation (calreport_models.c), m[0] the physical model: the
+ * lowest held-out error, keeping the simpler of two (fewer parameters)
+ * unless the other is lower by more than the fraction gain; "the physics
+ * does not describe this sensor" when m[0]'s held-out error is more than
+ * far times the best other model's.  Sets best and note. */
+void calreport_models_recommend(calreport_models *cm, double gain, double far);
 
 typedef struct {
     const char *sensor;               /* "ess", "dss" */

@@ -74,6 +74,10 @@ typedef struct lab_export {
     /* onboard_mc: the nominal model of config c (its table's size is
      * checked with the config, and a thread's table made for it). */
     void (*nominal)(const sunmc_config *c, void *model);
+    /* Can the model form (no --form table:STEP) be written?  Non-OK (a
+     * message naming the alternative) when not: an empirical model (a
+     * spline, a table) is exported as the table form only.  NULL: yes. */
+    int (*model_form)(const void *model, char *err, size_t errlen);
 } lab_export;
 
 typedef struct {
@@ -85,6 +89,12 @@ typedef struct {
     int use_float;              /* the default sunmc_real */
     double step;                /* table step in the axes' unit; 0: the model form */
 } lab_export_job;
+
+/* The model_form refusal of a model exported as its table form only
+ * (lab_export_form.c): names the model (family_model, as params.ini's
+ * model line) and the axes' unit of STEP. */
+int lab_export_table_only(const char *family, const char *model, const char *axes, char *err,
+                          size_t errlen);
 
 /* File names of the export (header, source, vectors, test program). */
 #define LAB_EXPORT_FILES 4

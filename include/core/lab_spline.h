@@ -21,7 +21,8 @@
  * at least one of them.  A reading outside it is an extrapolation the
  * calibration cannot stand behind: lab_spline_eval refuses it (SUNMC_EDOM).
  *
- * Basis: gsl_bspline (order 4); the penalised normal equations
+ * Basis: order 4 on uniform clamped knots (gsl_bspline_knots_uniform's),
+ * evaluated by the Cox-de Boor recursion in place; the penalised normal equations
  * (X^T W X + lambda D^T D) c = X^T W y by Cholesky (gsl_linalg), every
  * status checked. */
 #ifndef SUNMC_LAB_SPLINE_H
@@ -93,6 +94,25 @@ int lab_spline_eval(const lab_spline *s, const double *x, double *y);
  * rows outside their refit's field (not scored). */
 int lab_spline_choose(lab_spline *s, const lab_spline_data *d, const int *fold, int n_folds,
                       double *cv_rms, long *n_outside, char *err, size_t errlen);
+
+/* A workspace for fits of up to n rows: the normal equations at their
+ * largest (LAB_SPLINE_MAX_COEF^2, three of them) and the folds' weights.
+ * Allocated once per thread; the _ws calls then allocate nothing (the
+ * Monte Carlo fits every unit through them).  The calls without _ws
+ * allocate one for the call. */
+typedef struct lab_spline_ws lab_spline_ws;
+lab_spline_ws *lab_spline_ws_alloc(size_t n);
+void lab_spline_ws_free(lab_spline_ws *w);
+/* Its weights' buffer (n + 1 doubles), NULL when n is more than it takes. */
+double *lab_spline_ws_weights(lab_spline_ws *w, size_t n);
+int lab_spline_fit_ws(lab_spline *s, const lab_spline_data *d, double smooth, int want_edf,
+                      lab_spline_ws *w, char *err, size_t errlen);
+/* lab_spline_choose on w (d->n at most its n: SUNMC_EINPUT otherwise). */
+int lab_spline_choose_ws(lab_spline *s, const lab_spline_data *d, const int *fold, int n_folds,
+                         lab_spline_ws *w, double *cv_rms, long *n_outside, char *err,
+                         size_t errlen);
+/* Bytes of lab_spline_ws_alloc(n). */
+double lab_spline_ws_bytes(size_t n);
 
 /* params.ini: s into section (its keys: dims, outputs, breakpoints,
  * smoothing, edf_<j>, lo_<k>, hi_<k>, field_<row> (dims 2), c<j>_<block>),

@@ -70,11 +70,22 @@
 #include "dss_model.h"
 #include "dss_poly.h"
 #include "fit.h"
+#include "lab_spline.h"
+#include "lab_table.h"
 
 #include <stddef.h>
 
 /* The values of calibration.model. */
-enum dss_model_kind { DSS_MODEL_PHYSICAL = 0, DSS_MODEL_POLYNOMIAL = 1 };
+enum dss_model_kind { DSS_MODEL_PHYSICAL = 0, DSS_MODEL_POLYNOMIAL = 1, DSS_MODEL_SPLINE = 2,
+                      DSS_MODEL_HYBRID = 3, DSS_MODEL_TABLE = 4 };
+#define DSS_N_MODELS 5
+/* Does model k fit the physical model (alone, or under a correction)? */
+#define DSS_MODEL_HAS_PHYSICS(k) ((k) == DSS_MODEL_PHYSICAL || (k) == DSS_MODEL_HYBRID)
+/* Does model k fit core's spline (alone, under a table, or as a correction)? */
+#define DSS_MODEL_HAS_SPLINE(k) \
+    ((k) == DSS_MODEL_SPLINE || (k) == DSS_MODEL_HYBRID || (k) == DSS_MODEL_TABLE)
+/* The models' names as calibration.model gives them. */
+extern const char *const dss_model_names[DSS_N_MODELS];
 
 /* A calibrated DSS: what `compensate` needs. */
 typedef struct {
@@ -82,6 +93,10 @@ typedef struct {
     dss_model phys;    /* kind == DSS_MODEL_PHYSICAL */
     int sun_measured;  /* physical: sun_b1, sun_b2 are a measurement, not fitted */
     dss_poly poly;     /* kind == DSS_MODEL_POLYNOMIAL */
+    /* spline, table: alpha, beta (rad) of the spot (x, y px); hybrid: the
+     * physical model's error in them (dss_spline.c) */
+    lab_spline spline;
+    lab_table table;   /* kind == DSS_MODEL_TABLE: the spline at its nodes */
 } dss_calibration;
 
 /* Calibrated angles alpha, beta (rad) of a measured spot (px from the
@@ -141,6 +156,9 @@ typedef struct {
     double *jscratch;     /* physical: Jacobian column of a parameter held fixed */
     double *basis;        /* polynomial: n x n_terms design matrix */
     double *target;       /* polynomial: the current axis's targets, n */
+    double *sx;           /* spline models: 4 n (inputs and targets) */
+    int *fold;            /* spline models: n, the folds that choose the smoothing */
+    lab_spline_ws *sws;   /* spline models: their fits' workspace (nothing allocated per fit) */
 } dss_calib_workspace;
 
 /* Allocate for n readings of design d and model `kind` (poly_order for the
@@ -163,6 +181,27 @@ double dss_calib_bytes(size_t n, int kind, int poly_order);
  * polynomial, of the worse of its two fits).  SUNMC_OK, SUNMC_EFIT, or
  * SUNMC_EINPUT when fewer usable readings than parameters. */
 int dss_calibrate(dss_calib_workspace *cw, int max_iter, dss_calibration *out, fit_result *res);
+
+/* ---- spline, table and hybrid (dss_spline.c) ----
+ * spline: core's penalised B-spline (lab_spline.h) of alpha and beta
+ * (the recorded table's eq. 3-4, as the polynomial) over the spot (x, y
+ * px), a tensor product; table: core's look-up table of the same
+ * (lab_table.h), the spline at its nodes; hybrid: the physical model
+ * fitted first, and a spline of its error (its truth minus its angles)
+ * over the spot, zero where the physics is exact.  The smoothing (and
+ * the table's step) chosen by DSS_SPLINE_FOLDS interleaved folds of
+ * DSS_SPLINE_FOLD_BLOCK readings. */
+#define DSS_SPLINE_FOLDS 4
+#define DSS_SPLINE_FOLD_BLOCK 8
+/* Fewest usable readings a spline is fitted to. */
+#define DSS_SPLINE_MIN_ROWS 16
+/* Fit cal's spline (and table) to cw's readings (a hybrid's physical part
+ * already in cal).  SUNMC_OK, SUNMC_EINPUT (too few readings), SUNMC_EFIT. */
+int dss_spline_fit(dss_calib_workspace *cw, dss_calibration *cal, fit_result *res);
+/* The spline model's angles of spot (x, y): SUNMC_EDOM outside its field
+ * (or where a hybrid's physics has no angle). */
+int dss_spline_compensate(const dss_calibration *cal, double x_px, double y_px, double *alpha,
+                          double *beta);
 
 /* RMS (rad) over the readings with weight > 0 of the angle between the
  * calibrated direction of the reading's spot and the recorded table's truth

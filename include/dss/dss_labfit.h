@@ -21,6 +21,11 @@
 /* Model names written to params.ini. */
 #define DSS_CALFIT_MODEL_PHYSICAL "dss_physical"
 #define DSS_CALFIT_MODEL_POLYNOMIAL "dss_polynomial"
+#define DSS_CALFIT_MODEL_SPLINE "dss_spline"
+#define DSS_CALFIT_MODEL_HYBRID "dss_hybrid"
+#define DSS_CALFIT_MODEL_TABLE "dss_table"
+/* params.ini's model line of each calibration.model (enum dss_model_kind). */
+extern const char *const dss_calfit_models[DSS_N_MODELS];
 
 /* Fit cw (data and weights filled by the caller; allocated with c's model)
  * and fill cal and rep.  SUNMC_EINPUT (message in err) when the usable
@@ -50,5 +55,10 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
 
 /* The calibration a params.ini describes ("FILE:LINE: ..." messages). */
 int dss_params_load(const params_file *p, dss_calibration *cal, char *err, size_t errlen);
+
+/* The model comparison of `calibrate` (dss_calmodels.c): every model
+ * refitted on folds of the campaign's b1 lines, into rep->models with the
+ * recommendation. */
+void dss_labfit_compare(const sunmc_config *c, const dss_calib_workspace *cw, calreport *rep);
 
 #endif

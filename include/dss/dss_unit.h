@@ -60,6 +60,7 @@ size_t dss_unit_campaign(const sunmc_config *c, const dss_unit *u, long unit, do
  * fit's reciprocal condition number. */
 #define DSS_N_PAR_PHYSICAL (DSS_NP + 3)
 #define DSS_N_PAR_POLYNOMIAL 5
+#define DSS_N_PAR_SPLINE 5             /* spline and table (the hybrid: the physical's) */
 /* A unit's validation readings on c's validation grid (b1 varying
  * slowest; the table at exactly these angles): table angles rad, the
  * measured spot (px from the detector centre, one reading with centroid

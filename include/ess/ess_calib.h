@@ -93,7 +93,18 @@ typedef struct {
     ess_model model;      /* working model of the residual function */
     ess_alias_set alias;
     double *alias_work[2 * ESS_ALIAS_MAX_H + 2]; /* extended: ess_alias_check_set's */
+    int *fold;            /* spline models: n, the folds that choose the smoothing */
+    lab_spline_ws *sws;   /* spline models: their fits' workspace (nothing allocated per fit) */
 } ess_calib_workspace;
+
+/* The spline models' folds: ESS_SPLINE_FOLDS interleaved blocks of
+ * ESS_SPLINE_FOLD_BLOCK points; the fewest usable points a spline takes. */
+#define ESS_SPLINE_FOLDS 4
+#define ESS_SPLINE_FOLD_BLOCK 8
+#define ESS_SPLINE_MIN_ROWS 16
+/* Fit m's spline (and table) to cw's points, m's physics already in it
+ * (ess_spline.c).  SUNMC_OK, SUNMC_EINPUT (too few points), SUNMC_EFIT. */
+int ess_spline_fit(ess_calib_workspace *cw, ess_model *m);
 
 /* Prior rows of a model kind: two per fine-code term. */
 int ess_calib_prior_rows(int kind);

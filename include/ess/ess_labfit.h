@@ -23,6 +23,9 @@
 /* Model names written to params.ini: the paper's, the extended one. */
 #define ESS_CALFIT_MODEL "ess_eq12_finecode"
 #define ESS_CALFIT_MODEL_EXT "ess_extended"
+#define ESS_CALFIT_MODEL_SPLINE "ess_spline"
+#define ESS_CALFIT_MODEL_HYBRID "ess_hybrid"
+#define ESS_CALFIT_MODEL_TABLE "ess_table"
 /* params.ini [fixed] key of a measured sun-simulator tilt toward Y
  * (calibration.sun_y = measured; [parameters] then has no fit_sun_y_arcsec). */
 #define ESS_SUN_Y_MEASURED_KEY "sun_y_measured_arcsec"

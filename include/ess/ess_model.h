@@ -35,6 +35,8 @@
 #ifndef SUNMC_ESS_MODEL_H
 #define SUNMC_ESS_MODEL_H
 
+#include "lab_spline.h"
+#include "lab_table.h"
 #include "rotation.h"
 
 #include <stddef.h>
@@ -58,7 +60,14 @@ enum ess_param {
 };
 
 /* calibration.model (the key's enum order). */
-enum ess_model_kind { ESS_MODEL_PAPER = 0, ESS_MODEL_EXTENDED = 1 };
+enum ess_model_kind { ESS_MODEL_PAPER = 0, ESS_MODEL_EXTENDED = 1, ESS_MODEL_SPLINE = 2,
+                      ESS_MODEL_HYBRID = 3, ESS_MODEL_TABLE = 4 };
+#define ESS_N_MODELS 5
+/* Does model k fit core's spline (ess_spline.c)?  Its physics is then the
+ * paper's: fitted under a hybrid's correction, nominal (not fitted, its
+ * truth only) for spline and table; every physical function takes a kind
+ * other than ESS_MODEL_EXTENDED as the paper's. */
+#define ESS_MODEL_HAS_SPLINE(k) ((k) >= ESS_MODEL_SPLINE)
 
 /* Every parameter's name (params.ini, calibrate's report), paper's first. */
 extern const char *const ess_param_names[ESS_NP_MAX];
@@ -90,6 +99,10 @@ typedef struct {
     mat3 R, dR_y, dR_z;
     double v[3], dv[3];
     int invertible;      /* extended: ess_model_ext_invertible, for compensation */
+    /* spline, table: the true angle as a function of the raw one (1-D);
+     * hybrid: the paper model's error in it (ess_spline.c) */
+    lab_spline spline;
+    lab_table table;     /* table: the spline at its nodes */
 } ess_model;
 
 /* Identity model (a = 1, all else 0) for fine-code period theta0_rad: the
@@ -148,6 +161,9 @@ int ess_model_compensate(const ess_model *m, double raw_rad, double *alpha_rad);
 #define ESS_COMP_CHUNK 64
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
                                double *alpha_rad, int *status);
+/* The same by m's physics alone (a hybrid's without its correction). */
+int ess_model_phys_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
+                                    double *alpha_rad, int *status);
 
 /* ess_model_compensate_batch of n raws and of raw0, the same readings
  * without their noise: the paper model starts each raw0's iteration from
@@ -157,6 +173,19 @@ int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_r
 int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *raw_rad,
                                     const double *raw0_rad, double *alpha_rad,
                                     double *alpha0_rad, int *status, int *status0);
+
+/* ---- spline, table and hybrid (ess_spline.c) ----
+ * spline: core's penalised B-spline (lab_spline.h) of the true angle (the
+ * model's truth: eq. 14 with the roll and sun tilt as measured) over the
+ * raw one, one input (the sensor reads one axis); table: core's look-up
+ * table of the same (lab_table.h), the spline at its nodes; hybrid: the
+ * paper's model fitted first, and a spline of its error over the raw
+ * angle, zero where the physics is exact.  Its compensation: SUNMC_EDOM
+ * for a raw angle outside the calibrated field (not extrapolated). */
+int ess_spline_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
+                                double *alpha_rad, int *status);
+/* The true angle m assigns to turntable angles (alpha, beta) (rad). */
+double ess_model_truth(const ess_model *m, double alpha_rad, double beta_rad);
 
 /* Paper-style k (rad, >= 0) and t (rad) from ks, kc. */
 void ess_model_kt(const ess_model *m, double *k_rad, double *t_rad);

@@ -57,7 +57,11 @@ enum psd_polarity { PSD_POSITIVE = 0, PSD_INVERTED = 1 };
  * beta_outer: u = rot_y(-sa alpha) rot_x(sb beta) e_z (sa, sb the signs). */
 enum psd_table { PSD_TABLE_PROJECTED = 0, PSD_TABLE_ALPHA_OUTER = 1, PSD_TABLE_BETA_OUTER = 2 };
 enum psd_model { PSD_MODEL_PHYSICAL = 0, PSD_MODEL_POLYNOMIAL = 1, PSD_MODEL_SPLINE = 2,
-                 PSD_MODEL_HYBRID = 3 };
+                 PSD_MODEL_HYBRID = 3, PSD_MODEL_TABLE = 4 };
+#define PSD_N_MODELS 5
+/* Does model m fit core's spline (alone, under a table, or as a correction)? */
+#define PSD_MODEL_HAS_SPLINE(m) \
+    ((m) == PSD_MODEL_SPLINE || (m) == PSD_MODEL_HYBRID || (m) == PSD_MODEL_TABLE)
 /* Does model m fit the physical model (alone, or under a correction)? */
 #define PSD_MODEL_HAS_PHYSICS(m) ((m) == PSD_MODEL_PHYSICAL || (m) == PSD_MODEL_HYBRID)
 enum psd_poly_form { PSD_POLY_FULL = 0, PSD_POLY_FSS20 = 1 };

@@ -14,6 +14,7 @@
 #define PSD_CALFIT_MODEL_POLYNOMIAL "psd_polynomial"
 #define PSD_CALFIT_MODEL_SPLINE "psd_spline"
 #define PSD_CALFIT_MODEL_HYBRID "psd_hybrid"
+#define PSD_CALFIT_MODEL_TABLE "psd_table"
 #define PSD_LAB_POLY_WORK (PSD_POLY_MAX_TERMS * (PSD_POLY_MAX_TERMS + 2))
 
 /* What compensate reads from a params.ini (family_lab.model_size). */
@@ -47,6 +48,7 @@ typedef struct {
     /* spline and hybrid: the smoothing once chosen (0: choose it by the
      * cross-validation's folds, spline_fold, at the next fit) */
     double spline_smooth;
+    int table_log;              /* table: its nodes once chosen (log2 of the steps; 0: choose) */
     int *spline_fold;
     int spline_n_folds;
     calreport_models models; /* for models.tsv */

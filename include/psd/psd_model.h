@@ -26,6 +26,7 @@
 
 #include "fit.h"
 #include "lab_spline.h"
+#include "lab_table.h"
 #include "psd_sensor.h"
 
 #include <stddef.h>
@@ -91,6 +92,11 @@ typedef struct {
      * the folds fold[i] < n_folds (NULL: rows in PSD_SPLINE_AUTO_FOLDS
      * interleaved folds) */
     double smooth;
+    int table_log;                   /* table: nodes 2^table_log + 1 (> 0: fixed), else by the folds */
+    /* the spline models' thread workspace (lab_spline.h) and room for n
+     * fold indices; NULL: allocated for the fit (calibrate) */
+    lab_spline_ws *sws;
+    int *fold_buf;
     const int *fold;
     int n_folds;
 } psd_rows;
@@ -160,27 +166,38 @@ typedef struct {
     psd_phys phys;
     psd_poly poly;
     lab_spline spline;               /* spline: tan alpha, tan beta of the raw ratios;
-                                        hybrid: the physical model's error in them */
+                                        hybrid: the physical model's error in them;
+                                        table: the spline its nodes sample */
+    lab_table table;                 /* table: tan alpha, tan beta of the raw ratios */
 } psd_cal;
 
-/* ---- spline and hybrid (psd_spline.c) ----
+/* ---- spline, table and hybrid (psd_spline.c) ----
  * spline: core's penalised B-spline (lab_spline.h) of tan alpha and tan
  * beta over the raw ratios (x, y), as the polynomial; hybrid: the physical
  * model, and a spline of its error (true minus physical tan alpha, tan
  * beta) over its own (tan alpha, tan beta), zero where the physics is
  * exact.  One input per output (dims 1) when every row lies on an axis
- * (single-axis sweeps: alpha = 0 or beta = 0), else both (dims 2). */
+ * (single-axis sweeps: alpha = 0 or beta = 0), else both (dims 2).
+ * table: core's look-up table (lab_table.h) of tan alpha and tan beta over
+ * the raw ratios, its nodes the spline's values, its step chosen by the
+ * same folds. */
 #define PSD_SPLINE_AUTO_FOLDS 4
 /* Fewest rows a spline is fitted to (two breakpoints' worth). */
 #define PSD_SPLINE_MIN_ROWS 8
 /* The models' names as calibration.model gives them (enum psd_model). */
-extern const char *const psd_model_names[4];
-/* Fit k->spline to the rows (the physical part of a hybrid already in
- * k); work: 4 n doubles.  SUNMC_EFIT when it cannot be fitted. */
+extern const char *const psd_model_names[PSD_N_MODELS];
+/* Fit k->spline (and k->table for the table model) to the rows (the
+ * physical part of a hybrid already in k); work: 4 n doubles.  SUNMC_EFIT
+ * when it cannot be fitted. */
 int psd_spline_fit(psd_cal *k, const psd_rows *d, double *work);
-/* The spline's inputs of reading r: the raw ratios (spline), the physical
+/* The spline's inputs of reading r: the raw ratios (spline, table), the physical
  * model's tan alpha, tan beta (hybrid).  SUNMC_EDOM where there are none. */
 int psd_spline_inputs(const psd_cal *k, const double r[4], double x[2]);
+/* The fitted spline's (table's) outputs t at inputs x: SUNMC_EDOM outside
+ * the calibrated field. */
+int psd_spline_eval(const psd_cal *k, const double x[2], double t[2]);
+/* The table's nodes as log2 of its steps (nodes = 2^log + 1). */
+int psd_table_log(const lab_table *t);
 
 /* The nominal calibration of design d (no fit): the design's geometry,
  * equal gains, the nominal dark signal dark_fs (data in fractions of full

@@ -153,6 +153,9 @@ static void warn_stderr(const calreport *rep)
 {
     if (isatty(STDOUT_FILENO))
         return;
+    /* the report out first: one stream into the same pipe is not cut by
+     * the other (a report longer than the pipe's buffer was) */
+    fflush(stdout);
     for (int i = 0; i < rep->nw; i++)
         fprintf(stderr, "sunmc calibrate: WARNING: %s\n", rep->w[i].reason);
 }

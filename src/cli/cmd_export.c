@@ -37,7 +37,8 @@ static const char export_help[] =
     "                      the header; near the model's edge it refuses a reading in a cell\n"
     "                      with a node without an angle\n"
     "Exported: dss_physical, dss_polynomial, psd_physical, psd_polynomial, ess_eq12_finecode,\n"
-    "ess_extended.\n"
+    "ess_extended; the spline, table and hybrid models (dss_, ess_, psd_spline, psd_table)\n"
+    "as --form table:STEP only, over their calibrated field (psd_hybrid: not exported).\n"
     "DIR must not exist (export never overwrites).  --quiet: no 'wrote' line.\n";
 
 typedef struct {
@@ -140,6 +141,10 @@ static int load(const export_args *a, const params_file *pf, const family_lab **
         char why[SUNMC_ERRLEN];
         const params_entry *m = params_find(pf, "calibration", "model");
         if (fam->lab->export->supported(*model, why, sizeof why) != SUNMC_OK)
+            st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: %s", a->params,
+                            m ? m->line : 0, why);
+        else if (!(a->step > 0) && fam->lab->export->model_form &&
+                 fam->lab->export->model_form(*model, why, sizeof why) != SUNMC_OK)
             st = sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: %s", a->params,
                             m ? m->line : 0, why);
     }

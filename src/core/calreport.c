@@ -236,10 +236,11 @@ static void print_models(FILE *f, const calreport_models *m)
         else
             fprintf(f, "a refit failed\n");
     }
-    if (m->n == 2 && m->n_paired > 0)
+    int other = m->n == 2 && m->other == 0 ? 1 - m->used : m->other;
+    if (m->n >= 2 && m->n_paired > 0 && other != m->used)
         fprintf(f, "  held-out squared error, %s - %s: %+.4g arcsec^2 +- %.2g (standard error "
                    "over %ld points)\n",
-                m->m[m->used].name, m->m[1 - m->used].name, m->diff_arcsec2, m->diff_se_arcsec2,
+                m->m[m->used].name, m->m[other].name, m->diff_arcsec2, m->diff_se_arcsec2,
                 m->n_paired);
     if (m->n > 0)
         fprintf(f, "  used: %s; recommended: %s\n", m->m[m->used].name, m->m[m->best].name);

@@ -74,6 +74,17 @@ int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, si
     x->nominal(c, m);
     char why[SUNMC_ERRLEN];
     st = x->supported ? x->supported(m, why, sizeof why) : SUNMC_OK;
+    /* an empirical model (a spline or table fitted per unit) has no field
+     * before its fit, nor a float path: validated in double only */
+    if (st == SUNMC_OK && x->model_form && x->model_form(m, why, sizeof why) != SUNMC_OK) {
+        free(m);
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "%s = %s: calibration.model is an empirical model, fitted per unit: "
+                          "the Monte Carlo validates it in double only (a unit's calibration "
+                          "exports as `sunmc export --form table:STEP`, and `compensate "
+                          "--onboard table:STEP` measures that table)",
+                          key, c->onboard);
+    }
     lab_export_job j = {.lab = lab, .model = m, .step = s->step};
     long n[LAB_EXPORT_MAX_AXES], nodes;
     if (st == SUNMC_OK && s->form == LAB_ONBOARD_TABLE)
@@ -187,6 +198,9 @@ int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t err
     int st = x->supported ? x->supported(model, err, errlen) : SUNMC_OK;
     if (st != SUNMC_OK)
         return st;
+    if (o->spec.form == LAB_ONBOARD_FLOAT && x->model_form &&
+        x->model_form(model, err, errlen) != SUNMC_OK)
+        return SUNMC_EINPUT; /* an empirical model: its table form only */
     if (o->spec.form == LAB_ONBOARD_FLOAT)
         return x->eval_float ? SUNMC_OK
                              : sunmc_fail(err, errlen, SUNMC_EINPUT,

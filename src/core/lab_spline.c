@@ -3,7 +3,6 @@
 #include "lab_spline.h"
 #include "status.h"
 
-#include <gsl/gsl_bspline.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <math.h>
@@ -13,45 +12,44 @@
 /* Coefficients per input: nbreak + order - 2. */
 static int coef_per_input(int nbreak) { return nbreak + LAB_SPLINE_ORDER - 2; }
 
-/* One input's basis: order nonzero values b[] from index *start. */
-typedef struct {
-    gsl_bspline_workspace *bw[2];
-    gsl_vector *b;
-} basis_ws;
-
-static void basis_free(basis_ws *ws)
+/* Knot j of input k: the uniform breakpoints, the ends repeated
+ * LAB_SPLINE_ORDER times (gsl_bspline_knots_uniform's). */
+static double knot(const lab_spline *s, int k, int j)
 {
-    for (int k = 0; k < 2; k++)
-        if (ws->bw[k])
-            gsl_bspline_free(ws->bw[k]);
-    if (ws->b)
-        gsl_vector_free(ws->b);
-    memset(ws, 0, sizeof *ws);
+    int m = j - (LAB_SPLINE_ORDER - 1);
+    if (m <= 0)
+        return s->lo[k];
+    if (m >= s->nbreak - 1)
+        return s->hi[k];
+    return s->lo[k] + m * (s->hi[k] - s->lo[k]) / (s->nbreak - 1);
 }
 
-static int basis_alloc(basis_ws *ws, const lab_spline *s, int n_in)
+/* The ORDER nonzero basis functions of input k at x, from coefficient
+ * *start, by the Cox-de Boor recursion (The NURBS Book, A2.2): no
+ * workspace, nothing allocated (the evaluation runs per reading).  x is
+ * within the field (in_field, the fit's rows), else NaN-free nonsense: the
+ * callers check; a NaN x is refused. */
+static int basis_at(const lab_spline *s, int k, double x, double b[LAB_SPLINE_ORDER], int *start)
 {
-    memset(ws, 0, sizeof *ws);
-    ws->b = gsl_vector_alloc(LAB_SPLINE_ORDER);
-    int ok = ws->b != NULL;
-    for (int k = 0; k < n_in && ok; k++) {
-        ws->bw[k] = gsl_bspline_alloc(LAB_SPLINE_ORDER, (size_t)s->nbreak);
-        ok = ws->bw[k] &&
-             gsl_bspline_knots_uniform(s->lo[k], s->hi[k], ws->bw[k]) == GSL_SUCCESS;
-    }
-    if (!ok)
-        basis_free(ws);
-    return ok ? SUNMC_OK : SUNMC_ENOMEM;
-}
-
-static int basis_at(basis_ws *ws, int k, double x, double b[LAB_SPLINE_ORDER], int *start)
-{
-    size_t i0, i1;
-    if (gsl_bspline_eval_nonzero(x, ws->b, &i0, &i1, ws->bw[k]) != GSL_SUCCESS)
+    if (isnan(x))
         return SUNMC_EDOM;
-    for (int a = 0; a < LAB_SPLINE_ORDER; a++)
-        b[a] = gsl_vector_get(ws->b, (size_t)a);
-    *start = (int)i0;
+    int i = (int)((x - s->lo[k]) / (s->hi[k] - s->lo[k]) * (s->nbreak - 1));
+    i = i > s->nbreak - 2 ? s->nbreak - 2 : i < 0 ? 0 : i;
+    int span = i + LAB_SPLINE_ORDER - 1;
+    double left[LAB_SPLINE_ORDER], right[LAB_SPLINE_ORDER];
+    b[0] = 1.0;
+    for (int j = 1; j < LAB_SPLINE_ORDER; j++) {
+        left[j] = x - knot(s, k, span + 1 - j);
+        right[j] = knot(s, k, span + j) - x;
+        double saved = 0.0;
+        for (int r = 0; r < j; r++) {
+            double t = b[r] / (right[r + 1] + left[j - r]);
+            b[r] = saved + right[r + 1] * t;
+            saved = left[j - r] * t;
+        }
+        b[j] = saved;
+    }
+    *start = i;
     return SUNMC_OK;
 }
 
@@ -74,13 +72,13 @@ static int in_field(const lab_spline *s, const double *x)
 
 /* The design row of output j (dims 1: its input; dims 2: both): idx[],
  * val[] of its nonzeros; their count, or -1 outside. */
-static int design_row(const lab_spline *s, basis_ws *ws, int j, const double *x, int *idx,
+static int design_row(const lab_spline *s, int j, const double *x, int *idx,
                       double *val)
 {
     double b0[LAB_SPLINE_ORDER], b1[LAB_SPLINE_ORDER];
     int s0, s1;
     if (s->dims == 1) {
-        if (basis_at(ws, j, x[j], b0, &s0) != SUNMC_OK)
+        if (basis_at(s, j, x[j], b0, &s0) != SUNMC_OK)
             return -1;
         for (int a = 0; a < LAB_SPLINE_ORDER; a++) {
             idx[a] = s0 + a;
@@ -88,7 +86,7 @@ static int design_row(const lab_spline *s, basis_ws *ws, int j, const double *x,
         }
         return LAB_SPLINE_ORDER;
     }
-    if (basis_at(ws, 0, x[0], b0, &s0) != SUNMC_OK || basis_at(ws, 1, x[1], b1, &s1) != SUNMC_OK)
+    if (basis_at(s, 0, x[0], b0, &s0) != SUNMC_OK || basis_at(s, 1, x[1], b1, &s1) != SUNMC_OK)
         return -1;
     int p1 = coef_per_input(s->nbreak), m = 0;
     for (int a = 0; a < LAB_SPLINE_ORDER; a++)
@@ -105,13 +103,10 @@ int lab_spline_eval(const lab_spline *s, const double *x, double *y)
         y[j] = NAN;
     if (!in_field(s, x))
         return SUNMC_EDOM;
-    basis_ws ws;
-    if (basis_alloc(&ws, s, s->dims == 2 ? 2 : s->n_out) != SUNMC_OK)
-        return SUNMC_ENOMEM;
     int idx[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER], st = SUNMC_OK;
     double val[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER];
     for (int j = 0; j < s->n_out && st == SUNMC_OK; j++) {
-        int m = design_row(s, &ws, j, x, idx, val);
+        int m = design_row(s, j, x, idx, val);
         if (m < 0) {
             st = SUNMC_EDOM;
             break;
@@ -121,7 +116,6 @@ int lab_spline_eval(const lab_spline *s, const double *x, double *y)
             v += val[t] * s->coef[j][idx[t]];
         y[j] = v;
     }
-    basis_free(&ws);
     if (st != SUNMC_OK)
         for (int j = 0; j < s->n_out; j++)
             y[j] = NAN;
@@ -196,7 +190,17 @@ static void second_difference(const double g[3], double h, double d2[3])
 }
 
 /* P = sum over the inputs of D^T D (p x p). */
-static void penalty(const lab_spline *s, basis_ws *ws, gsl_matrix *P)
+/* Greville abscissa of coefficient j of input k: the mean of its
+ * ORDER - 1 inner knots. */
+static double greville(const lab_spline *s, int k, int j)
+{
+    double g = 0;
+    for (int t = 1; t < LAB_SPLINE_ORDER; t++)
+        g += knot(s, k, j + t);
+    return g / (LAB_SPLINE_ORDER - 1);
+}
+
+static void penalty(const lab_spline *s, gsl_matrix *P)
 {
     gsl_matrix_set_zero(P);
     int p1 = coef_per_input(s->nbreak), nd = s->dims == 2 ? 2 : 1;
@@ -205,7 +209,7 @@ static void penalty(const lab_spline *s, basis_ws *ws, gsl_matrix *P)
         for (int r = 0; r + 2 < p1; r++) {
             double g[3], d2[3];
             for (int t = 0; t < 3; t++)
-                g[t] = gsl_bspline_greville_abscissa((size_t)(r + t), ws->bw[dir]);
+                g[t] = greville(s, dir, r + t);
             second_difference(g, h, d2);
             for (int o = 0; o < (nd == 2 ? p1 : 1); o++) {
                 int at[3];
@@ -222,21 +226,83 @@ static void penalty(const lab_spline *s, basis_ws *ws, gsl_matrix *P)
 typedef struct {
     gsl_matrix *A, *P, *M;
     gsl_vector *r[LAB_SPLINE_MAX_OUT], *c;
+    gsl_matrix_view av, pv, mv;
+    gsl_vector_view rv[LAB_SPLINE_MAX_OUT], cv;
 } fit_ws;
 
-static void fit_ws_free(fit_ws *f)
+struct lab_spline_ws {
+    size_t n;                                /* rows it takes */
+    double *a, *p, *m;                       /* LAB_SPLINE_MAX_COEF^2 each */
+    double *r[LAB_SPLINE_MAX_OUT], *c;       /* LAB_SPLINE_MAX_COEF each */
+    double *wk;                              /* n + 1: the folds' weights */
+};
+
+lab_spline_ws *lab_spline_ws_alloc(size_t n)
 {
-    gsl_matrix_free(f->A);
-    gsl_matrix_free(f->P);
-    gsl_matrix_free(f->M);
+    lab_spline_ws *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    size_t p = LAB_SPLINE_MAX_COEF;
+    w->n = n;
+    w->a = malloc(p * p * sizeof *w->a);
+    w->p = malloc(p * p * sizeof *w->p);
+    w->m = malloc(p * p * sizeof *w->m);
+    w->c = malloc(p * sizeof *w->c);
+    w->wk = malloc((n + 1) * sizeof *w->wk);
+    int ok = w->a && w->p && w->m && w->c && w->wk;
     for (int j = 0; j < LAB_SPLINE_MAX_OUT; j++)
-        gsl_vector_free(f->r[j]);
-    gsl_vector_free(f->c);
+        ok &= (w->r[j] = malloc(p * sizeof *w->r[j])) != NULL;
+    if (!ok) {
+        lab_spline_ws_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+void lab_spline_ws_free(lab_spline_ws *w)
+{
+    if (!w)
+        return;
+    free(w->a);
+    free(w->p);
+    free(w->m);
+    free(w->c);
+    free(w->wk);
+    for (int j = 0; j < LAB_SPLINE_MAX_OUT; j++)
+        free(w->r[j]);
+    free(w);
+}
+
+double lab_spline_ws_bytes(size_t n)
+{
+    return sizeof(double) * (3.0 * LAB_SPLINE_MAX_COEF * LAB_SPLINE_MAX_COEF +
+                             (LAB_SPLINE_MAX_OUT + 1.0) * LAB_SPLINE_MAX_COEF + (double)n + 1.0);
+}
+
+double *lab_spline_ws_weights(lab_spline_ws *w, size_t n)
+{
+    return n <= w->n ? w->wk : NULL;
+}
+
+/* The system of p coefficients on w's buffers. */
+static void fit_ws_views(fit_ws *f, lab_spline_ws *w, size_t p)
+{
+    f->av = gsl_matrix_view_array(w->a, p, p);
+    f->pv = gsl_matrix_view_array(w->p, p, p);
+    f->mv = gsl_matrix_view_array(w->m, p, p);
+    f->cv = gsl_vector_view_array(w->c, p);
+    f->A = &f->av.matrix;
+    f->P = &f->pv.matrix;
+    f->M = &f->mv.matrix;
+    f->c = &f->cv.vector;
+    for (int j = 0; j < LAB_SPLINE_MAX_OUT; j++) {
+        f->rv[j] = gsl_vector_view_array(w->r[j], p);
+        f->r[j] = &f->rv[j].vector;
+    }
 }
 
 /* X^T W X (of output j's rows; dims 2: any output) into A, X^T W y_j into r[j]. */
-static int accumulate(const lab_spline *s, const lab_spline_data *d, basis_ws *ws, int j,
-                      fit_ws *f)
+static int accumulate(const lab_spline *s, const lab_spline_data *d, int j, fit_ws *f)
 {
     int idx[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER];
     double val[LAB_SPLINE_ORDER * LAB_SPLINE_ORDER], x[2];
@@ -249,7 +315,7 @@ static int accumulate(const lab_spline *s, const lab_spline_data *d, basis_ws *w
             continue;
         for (int k = 0; k < n_in; k++)
             x[k] = d->x[k][i];
-        int m = design_row(s, ws, j, x, idx, val);
+        int m = design_row(s, j, x, idx, val);
         if (m < 0)
             return SUNMC_EFIT;
         double w = d->w ? d->w[i] : 1.0;
@@ -280,10 +346,9 @@ static int edf_of(fit_ws *f, double *edf)
 }
 
 /* Solve for the outputs of group j (dims 1: output j; dims 2: all). */
-static int solve_group(lab_spline *s, const lab_spline_data *d, basis_ws *ws, int j,
-                       fit_ws *f, int want_edf)
+static int solve_group(lab_spline *s, const lab_spline_data *d, int j, fit_ws *f, int want_edf)
 {
-    int st = accumulate(s, d, ws, j, f);
+    int st = accumulate(s, d, j, f);
     double ta = 0, tp = 0;
     for (size_t q = 0; q < f->A->size1; q++) {
         ta += gsl_matrix_get(f->A, q, q);
@@ -325,8 +390,8 @@ static int check_data(const lab_spline_data *d, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
-int lab_spline_fit(lab_spline *s, const lab_spline_data *d, double smooth, int want_edf,
-                   char *err, size_t errlen)
+int lab_spline_fit_ws(lab_spline *s, const lab_spline_data *d, double smooth, int want_edf,
+                      lab_spline_ws *w, char *err, size_t errlen)
 {
     int st = check_data(d, err, errlen);
     if (st != SUNMC_OK)
@@ -344,28 +409,12 @@ int lab_spline_fit(lab_spline *s, const lab_spline_data *d, double smooth, int w
                               "to fit a curve to", k + 1, used);
     if (used < (long)(d->dims == 2 ? 3 : 2) * LAB_SPLINE_MIN_BREAK)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "spline: %ld rows used: too few", used);
-    basis_ws ws;
-    fit_ws f = {0};
-    size_t p = (size_t)s->n_coef;
-    st = basis_alloc(&ws, s, n_in);
-    if (st == SUNMC_OK) {
-        f.A = gsl_matrix_alloc(p, p);
-        f.P = gsl_matrix_alloc(p, p);
-        f.M = gsl_matrix_alloc(p, p);
-        f.c = gsl_vector_alloc(p);
-        for (int j = 0; j < LAB_SPLINE_MAX_OUT; j++)
-            f.r[j] = gsl_vector_alloc(p);
-        st = f.A && f.P && f.M && f.c && f.r[0] && f.r[1] ? SUNMC_OK : SUNMC_ENOMEM;
-    }
-    if (st == SUNMC_OK)
-        penalty(s, &ws, f.P);
+    fit_ws f;
+    fit_ws_views(&f, w, (size_t)s->n_coef);
+    penalty(s, f.P);
     int groups = d->dims == 2 ? 1 : d->n_out;
     for (int j = 0; j < groups && st == SUNMC_OK; j++)
-        st = solve_group(s, d, &ws, j, &f, want_edf);
-    fit_ws_free(&f);
-    basis_free(&ws);
-    if (st == SUNMC_ENOMEM)
-        return sunmc_fail(err, errlen, st, "spline: out of memory");
+        st = solve_group(s, d, j, &f, want_edf);
     if (st != SUNMC_OK)
         return sunmc_fail(err, errlen, SUNMC_EFIT,
                           "spline: the penalised normal equations are singular (%ld rows, %d "
@@ -373,25 +422,36 @@ int lab_spline_fit(lab_spline *s, const lab_spline_data *d, double smooth, int w
     return SUNMC_OK;
 }
 
+int lab_spline_fit(lab_spline *s, const lab_spline_data *d, double smooth, int want_edf,
+                   char *err, size_t errlen)
+{
+    lab_spline_ws *w = lab_spline_ws_alloc(d->n);
+    if (!w)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "spline: out of memory");
+    int st = lab_spline_fit_ws(s, d, smooth, want_edf, w, err, errlen);
+    lab_spline_ws_free(w);
+    return st;
+}
+
 /* ---- the smoothing by cross-validation ---- */
 
 static double grid_smooth(int k) { return pow(10.0, LAB_SPLINE_LOG_SMOOTH_MIN + 0.5 * k); }
 
 /* Pooled held-out sum of squares of smoothing grid value k over the folds. */
-static int score_smooth(const lab_spline_data *d, const int *fold, int n_folds, double *wk,
+static int score_smooth(const lab_spline_data *d, const int *fold, int n_folds, lab_spline_ws *w,
                         double smooth, double *sum2, long *cnt, long *outside)
 {
     lab_spline_data dk = *d;
-    dk.w = wk;
+    dk.w = w->wk;
     char e[SUNMC_ERRLEN];
     *sum2 = 0;
     *cnt = *outside = 0;
     int n_in = d->dims == 2 ? 2 : d->n_out;
     for (int f = 0; f < n_folds; f++) {
         for (size_t i = 0; i < d->n; i++)
-            wk[i] = fold[i] == f ? 0.0 : (d->w ? d->w[i] : 1.0);
+            w->wk[i] = fold[i] == f ? 0.0 : (d->w ? d->w[i] : 1.0);
         lab_spline s;
-        if (lab_spline_fit(&s, &dk, smooth, 0, e, sizeof e) != SUNMC_OK)
+        if (lab_spline_fit_ws(&s, &dk, smooth, 0, w, e, sizeof e) != SUNMC_OK)
             continue;
         for (size_t i = 0; i < d->n; i++) {
             if (fold[i] != f || !row_used(d, i))
@@ -411,19 +471,20 @@ static int score_smooth(const lab_spline_data *d, const int *fold, int n_folds, 
     return SUNMC_OK;
 }
 
-int lab_spline_choose(lab_spline *s, const lab_spline_data *d, const int *fold, int n_folds,
-                      double *cv_rms, long *n_outside, char *err, size_t errlen)
+int lab_spline_choose_ws(lab_spline *s, const lab_spline_data *d, const int *fold, int n_folds,
+                         lab_spline_ws *w, double *cv_rms, long *n_outside, char *err,
+                         size_t errlen)
 {
-    double *wk = malloc((d->n + 1) * sizeof *wk);
-    if (!wk)
-        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "spline: out of memory");
+    if (d->n > w->n)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT, "spline: %zu rows, the workspace takes %zu",
+                          d->n, w->n);
     int best = LAB_SPLINE_N_SMOOTH / 2;
     double best_rms = NAN;
     *n_outside = 0;
     for (int k = 0; k < LAB_SPLINE_N_SMOOTH && n_folds >= 2; k++) {
         double sum2;
         long cnt, out;
-        score_smooth(d, fold, n_folds, wk, grid_smooth(k), &sum2, &cnt, &out);
+        score_smooth(d, fold, n_folds, w, grid_smooth(k), &sum2, &cnt, &out);
         double rms = cnt ? sqrt(sum2 / (double)(cnt * d->n_out)) : NAN;
         if (isfinite(rms) && !(rms >= best_rms)) {
             best_rms = rms;
@@ -431,7 +492,17 @@ int lab_spline_choose(lab_spline *s, const lab_spline_data *d, const int *fold, 
             *n_outside = out;
         }
     }
-    free(wk);
     *cv_rms = best_rms;
-    return lab_spline_fit(s, d, grid_smooth(best), 1, err, errlen);
+    return lab_spline_fit_ws(s, d, grid_smooth(best), 1, w, err, errlen);
+}
+
+int lab_spline_choose(lab_spline *s, const lab_spline_data *d, const int *fold, int n_folds,
+                      double *cv_rms, long *n_outside, char *err, size_t errlen)
+{
+    lab_spline_ws *w = lab_spline_ws_alloc(d->n);
+    if (!w)
+        return sunmc_fail(err, errlen, SUNMC_ENOMEM, "spline: out of memory");
+    int st = lab_spline_choose_ws(s, d, fold, n_folds, w, cv_rms, n_outside, err, errlen);
+    lab_spline_ws_free(w);
+    return st;
 }

@@ -26,20 +26,20 @@ int dss_compensate(const dss_calibration *cal, double x_px, double y_px, double 
     if (cal->kind == DSS_MODEL_POLYNOMIAL) {
         return dss_poly_compensate(&cal->poly, x_px, y_px, alpha, beta);
     }
+    if (DSS_MODEL_HAS_SPLINE(cal->kind))
+        return dss_spline_compensate(cal, x_px, y_px, alpha, beta);
     return dss_model_compensate(&cal->phys, x_px, y_px, alpha, beta);
 }
 
 void dss_compensate_batch(const dss_calibration *cal, size_t n, const double *x_px,
                           const double *y_px, double *alpha, double *beta, int *status)
 {
-    if (cal->kind != DSS_MODEL_POLYNOMIAL) {
+    if (cal->kind == DSS_MODEL_PHYSICAL) {
         dss_model_compensate_batch(&cal->phys, n, x_px, y_px, alpha, beta, status);
         return;
     }
-    for (size_t i = 0; i < n; i++) {
-        dss_poly_compensate(&cal->poly, x_px[i], y_px[i], &alpha[i], &beta[i]);
-        status[i] = SUNMC_OK;
-    }
+    for (size_t i = 0; i < n; i++)
+        status[i] = dss_compensate(cal, x_px[i], y_px[i], &alpha[i], &beta[i]);
 }
 
 void dss_compensate_pair_batch(const dss_calibration *cal, size_t n, const double *x_px,
@@ -47,7 +47,7 @@ void dss_compensate_pair_batch(const dss_calibration *cal, size_t n, const doubl
                                double *alpha, double *beta, int *status, double *alpha0,
                                double *beta0, int *status0)
 {
-    if (cal->kind != DSS_MODEL_POLYNOMIAL) {
+    if (cal->kind == DSS_MODEL_PHYSICAL) {
         dss_model_compensate_pair_batch(&cal->phys, n, x_px, y_px, x0_px, y0_px, alpha, beta,
                                         status, alpha0, beta0, status0);
         return;
@@ -77,7 +77,7 @@ int dss_calib_free_params(const dss_design *d, int fit_index, int fix_sun, int f
 void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *alpha,
                      double *beta)
 {
-    if (cal->kind == DSS_MODEL_PHYSICAL)
+    if (DSS_MODEL_HAS_PHYSICS(cal->kind))
         dss_model_truth(&cal->phys, b1, b2, alpha, beta);
     else
         table_truth(b1, b2, alpha, beta);
@@ -86,7 +86,7 @@ void dss_calib_truth(const dss_calibration *cal, double b1, double b2, double *a
 void dss_calib_truth_batch(const dss_calibration *cal, size_t k, const double *b1,
                            const double *b2, double *alpha, double *beta)
 {
-    if (cal->kind == DSS_MODEL_PHYSICAL)
+    if (DSS_MODEL_HAS_PHYSICS(cal->kind))
         dss_truth_batch(cal->phys.mount, cal->phys.v0, k, b1, b2, alpha, beta);
     else
         dss_table_truth_batch(k, b1, b2, alpha, beta);
@@ -100,7 +100,10 @@ double dss_calib_bytes(size_t n, int kind, int poly_order)
         return cols + (double)sizeof(double) * (double)(nt + 1) * (double)n +
                fit_workspace_bytes(n, nt);
     }
-    return cols + fit_workspace_bytes(2 * n, DSS_NP);
+    double spline = 0;
+    if (DSS_MODEL_HAS_SPLINE(kind)) /* its rows, folds, and lab_spline_fit's three matrices */
+        spline = (4.0 * sizeof(double) + sizeof(int)) * (double)n + lab_spline_ws_bytes(n);
+    return cols + fit_workspace_bytes(2 * n, DSS_NP) + spline;
 }
 
 dss_calib_workspace *dss_calib_alloc(const dss_design *d, size_t n, int kind, int poly_order,
@@ -155,6 +158,12 @@ dss_calib_workspace *dss_calib_alloc_fix(const dss_design *d, size_t n, int kind
         ok &= (cw->jscratch = vm_alloc(2 * vm_pad(n))) != NULL;
         ok &= cw->fw != NULL;
     }
+    if (ok && DSS_MODEL_HAS_SPLINE(kind)) {
+        cw->sx = malloc((4 * n + 1) * sizeof *cw->sx);
+        cw->fold = malloc((n + 1) * sizeof *cw->fold);
+        cw->sws = lab_spline_ws_alloc(n);
+        ok = cw->sx && cw->fold && cw->sws;
+    }
     if (!ok) {
         dss_calib_free(cw);
         return NULL;
@@ -173,6 +182,9 @@ void dss_calib_free(dss_calib_workspace *cw)
     free(cw->weight);
     free(cw->basis);
     free(cw->target);
+    free(cw->sx);
+    free(cw->fold);
+    lab_spline_ws_free(cw->sws);
     for (int k = 0; k < 9; k++)
         free(cw->table.m[k]);
     free(cw->sw);
@@ -326,7 +338,18 @@ int dss_calibrate(dss_calib_workspace *cw, int max_iter, dss_calibration *out, f
     memset(out, 0, sizeof *out);
     if (cw->kind == DSS_MODEL_POLYNOMIAL)
         return calibrate_poly(cw, max_iter, out, res);
-    return calibrate_physical(cw, max_iter, out, res);
+    if (cw->kind == DSS_MODEL_SPLINE || cw->kind == DSS_MODEL_TABLE) {
+        out->kind = cw->kind;
+        return dss_spline_fit(cw, out, res);
+    }
+    int st = calibrate_physical(cw, max_iter, out, res);
+    if (cw->kind != DSS_MODEL_HYBRID)
+        return st;
+    out->kind = DSS_MODEL_HYBRID;
+    fit_result rs;
+    if (st == SUNMC_OK)
+        st = dss_spline_fit(cw, out, &rs);
+    return st;
 }
 
 double dss_calib_residual_rms(const dss_calib_workspace *cw, const dss_calibration *cal)
@@ -367,8 +390,8 @@ int dss_calib_correlation(dss_calib_workspace *cw, double *max_abs, int *i, int 
             double r = den > 0 ? fabs(gsl_matrix_get(C, a, b)) / den : GSL_NAN;
             if (r > best) {
                 best = r;
-                *i = cw->kind == DSS_MODEL_PHYSICAL ? cw->free_idx[a] : (int)a;
-                *j = cw->kind == DSS_MODEL_PHYSICAL ? cw->free_idx[b] : (int)b;
+                *i = DSS_MODEL_HAS_PHYSICS(cw->kind) ? cw->free_idx[a] : (int)a;
+                *j = DSS_MODEL_HAS_PHYSICS(cw->kind) ? cw->free_idx[b] : (int)b;
             }
         }
     if (best < 0)

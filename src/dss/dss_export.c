@@ -17,6 +17,9 @@
  * in at most 6 steps over a 2048 px detector at 3 mm (tests/cli/test_export.c
  * checks the result against compensate); the extra steps stay at the root. */
 /* DSS_EXPORT_NEWTON_STEPS: dss_export.h */
+/* A spline's table form spans its field shrunk by this factor about its
+ * middle: a node on the field's very edge may round outside it. */
+#define DSS_EXPORT_EDGE_IN (1 - 1e-12)
 
 static const char *const axis_names[] = {"x_px", "y_px", NULL};
 
@@ -24,11 +27,11 @@ static int supported(const void *model, char *err, size_t errlen)
 {
     const dss_calibration *cal = model;
     /* the generated physical model has no untilting step (dss_model_batch.c) */
-    if (cal->kind == DSS_MODEL_PHYSICAL && cal->phys.tilt)
+    if (DSS_MODEL_HAS_PHYSICS(cal->kind) && cal->phys.tilt)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "the detector tilt (calibration.fit_detector_tilt = on) is not in the "
                           "exported model: no export");
-    if (cal->kind == DSS_MODEL_PHYSICAL && !(cal->phys.half_px > 0))
+    if (DSS_MODEL_HAS_PHYSICS(cal->kind) && !(cal->phys.half_px > 0))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "design.detector_px is missing: the export needs the detector's side");
     if (cal->kind == DSS_MODEL_POLYNOMIAL && !(cal->poly.scale_rad > 0))
@@ -37,13 +40,33 @@ static int supported(const void *model, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
+/* The spline models: their table form only (lab_export.model_form). */
+static int model_form(const void *model, char *err, size_t errlen)
+{
+    const dss_calibration *cal = model;
+    if (DSS_MODEL_HAS_SPLINE(cal->kind))
+        return lab_export_table_only("dss", dss_model_names[cal->kind], "px of the spot's x_px, y_px",
+                                     err, errlen);
+    return SUNMC_OK;
+}
+
 /* The detector (physical model); the polynomial's params have no detector
  * side: the spots of its field, scale_rad on each axis. */
 static void axes_range(const void *model, double *lo, double *hi)
 {
     const dss_calibration *cal = model;
+    if (DSS_MODEL_HAS_SPLINE(cal->kind)) {
+        /* the calibrated field, just inside (its edge is refused by a hair) */
+        const double *l = cal->kind == DSS_MODEL_TABLE ? cal->table.lo : cal->spline.lo;
+        const double *h = cal->kind == DSS_MODEL_TABLE ? cal->table.hi : cal->spline.hi;
+        for (int k = 0; k < 2; k++) {
+            lo[k] = 0.5 * (l[k] + h[k]) - 0.5 * (h[k] - l[k]) * DSS_EXPORT_EDGE_IN;
+            hi[k] = 0.5 * (l[k] + h[k]) + 0.5 * (h[k] - l[k]) * DSS_EXPORT_EDGE_IN;
+        }
+        return;
+    }
     const dss_onboard *o = &cal->poly.onboard;
-    double half = cal->kind == DSS_MODEL_PHYSICAL
+    double half = DSS_MODEL_HAS_PHYSICS(cal->kind)
                       ? cal->phys.half_px
                       : o->h_mm * tan(cal->poly.scale_rad) / o->pixel_mm;
     lo[0] = lo[1] = -half;
@@ -210,6 +233,7 @@ const lab_export dss_export = {
     .n_axes = 2,
     .axis_names = axis_names,
     .supported = supported,
+    .model_form = model_form,
     .axes_range = axes_range,
     .raw_at = raw_at,
     .emit_axes = emit_axes,

@@ -101,9 +101,12 @@ const config_key dss_keys[] = {
      "the detector normal at table zero (v_sun = C^T z)"},
 
     /* [calibration] */
-    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial", OFF(cal_model),
-     "DSS calibration model: physical (dx, dy, h, refraction, c1-c3) or a 2-D "
-                     "polynomial of the angle errors"},
+    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0,
+     "physical|polynomial|spline|hybrid|table", OFF(cal_model),
+     "DSS calibration model: physical (dx, dy, h, refraction, c1-c3), a 2-D polynomial of the "
+     "angle errors, spline (a penalised B-spline of alpha, beta over the spot x, y), hybrid "
+     "(physical + a spline of its residual) or table (a look-up table of the spline); "
+     "docs/calibration.md"},
     {"calibration", "poly_order", KEY_INT, "", "3", 1, 7, NULL, OFF(poly_order),
      "order of the 2-D polynomial model"},
     {"calibration", "fit_glass_index", KEY_ENUM, "", "on", 0, 0, "off|on", OFF(fit_glass_index),
@@ -162,12 +165,20 @@ static int campaign_size_check(const dss_config *d, char *err, size_t errlen)
 {
     long nb = grid_count(d->cal_b_min_deg, d->cal_b_max_deg, d->cal_b_step_deg, 0);
     long n = nb * nb;
-    int phys = d->cal_model == DSS_MODEL_PHYSICAL;
+    int phys = d->cal_model == DSS_MODEL_PHYSICAL || d->cal_model == DSS_MODEL_HYBRID;
     int np = phys ? dss_calib_free_params(&d->design, d->fit_glass_index,
                                                 d->sun_mode == DSS_SUN_MEASURED, NULL)
                   : dss_poly_n_terms(d->poly_order);
-    if ((phys ? 2 * n : n) > np)
+    if (d->cal_model != DSS_MODEL_POLYNOMIAL && !phys)
+        np = DSS_SPLINE_MIN_ROWS - 1;
+    if ((phys ? 2 * n : n) > np && (!DSS_MODEL_HAS_SPLINE(d->cal_model) || n >= DSS_SPLINE_MIN_ROWS))
         return SUNMC_OK;
+    if (DSS_MODEL_HAS_SPLINE(d->cal_model))
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "campaign: %ld x %ld b grid = %ld readings, too few for the %s model: "
+                          "it needs at least %d (campaign.b_min_deg, campaign.b_max_deg, "
+                          "campaign.b_step_deg)",
+                          nb, nb, n, dss_model_names[d->cal_model], DSS_SPLINE_MIN_ROWS);
     return sunmc_fail(err, errlen, SUNMC_EINPUT,
                       "campaign: %ld x %ld b grid = %ld readings, too few for the %s model's %d "
                       "parameters (campaign.b_min_deg, campaign.b_max_deg, campaign.b_step_deg, "

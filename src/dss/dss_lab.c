@@ -236,13 +236,16 @@ typedef struct {
     dss_calib_workspace *cw;
     const int *line;
     dss_calibration cal;
+    calreport_models models; /* for models.tsv */
 } dss_cal;
 
 static int model_params(const sunmc_config *c)
 {
     const dss_config *dc = dss_cfg(c);
-    if (dc->cal_model != DSS_MODEL_PHYSICAL)
+    if (dc->cal_model == DSS_MODEL_POLYNOMIAL)
         return dss_poly_n_terms(dc->poly_order);
+    if (dc->cal_model == DSS_MODEL_SPLINE || dc->cal_model == DSS_MODEL_TABLE)
+        return DSS_SPLINE_MIN_ROWS - 1;
     return dc->design.fit_tilt ? DSS_NP : DSS_P_TX; /* the tilt's two only when fitted */
 }
 
@@ -287,6 +290,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
+    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -303,6 +307,13 @@ static int write_residuals(const void *p, FILE *f)
     return dss_labfit_write_residuals(f, k->cw, k->line, &k->cal);
 }
 
+/* models.tsv: the model comparison (calreport_write_models). */
+static const char *const extra_files[] = {"models.tsv", NULL};
+static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
+{
+    return calreport_write_models(f, &((const dss_cal *)p)->models);
+}
+
 /* ---- compensate ---- */
 
 static const char *const raw_columns[] = {"x_px", "y_px", NULL};
@@ -313,6 +324,10 @@ static const char *const comp_columns[] = {"compensated_alpha_deg", "compensated
 static const lab_params_model params_models[] = {
     {DSS_CALFIT_MODEL_PHYSICAL, "design parameters", "parameters", "fit_dx_px", NULL},
     {DSS_CALFIT_MODEL_POLYNOMIAL, "design parameters", "design", "order", NULL},
+    {DSS_CALFIT_MODEL_SPLINE, "spline", "spline", "breakpoints", NULL},
+    {DSS_CALFIT_MODEL_HYBRID, "design parameters correction", "correction", "breakpoints",
+     DSS_CALFIT_MODEL_PHYSICAL},
+    {DSS_CALFIT_MODEL_TABLE, "table", "table", "nodes", NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)
@@ -332,9 +347,13 @@ static int reading_check(const void *model, const double *raw)
     const dss_calibration *cal = model;
     if (isfinite(raw[2]) && raw[2] == 0)
         return LAB_NO_SIGNAL;
-    double half = cal->kind == DSS_MODEL_PHYSICAL ? cal->phys.half_px : 0;
+    double half = DSS_MODEL_HAS_PHYSICS(cal->kind) ? cal->phys.half_px : 0;
     if (half > 0 && !(fabs(raw[0]) <= half && fabs(raw[1]) <= half))
         return LAB_OUTSIDE_DETECTOR;
+    double a, b;
+    if (DSS_MODEL_HAS_SPLINE(cal->kind) &&
+        dss_spline_compensate(cal, raw[0], raw[1], &a, &b) != SUNMC_OK)
+        return LAB_OUTSIDE_FIELD;
     return LAB_READING_OK;
 }
 
@@ -382,8 +401,8 @@ const family_lab dss_lab = {
                     "read by `sunmc compensate`; units are in the key names",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
-    .extra_files = NULL,
-    .write_extra = NULL,
+    .extra_files = extra_files,
+    .write_extra = write_extra,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

@@ -123,9 +123,52 @@ static void angle_errors(const dss_calib_workspace *cw, const double *use,
     }
 }
 
+const char *const dss_calfit_models[DSS_N_MODELS] = {
+    DSS_CALFIT_MODEL_PHYSICAL, DSS_CALFIT_MODEL_POLYNOMIAL, DSS_CALFIT_MODEL_SPLINE,
+    DSS_CALFIT_MODEL_HYBRID, DSS_CALFIT_MODEL_TABLE};
+
+/* Parameters before the fit (a spline's: the fewest rows it is fitted to,
+ * less one; its effective degrees of freedom are known after). */
 static int n_params(const dss_calib_workspace *cw)
 {
-    return cw->kind == DSS_MODEL_PHYSICAL ? cw->n_free : dss_poly_n_terms(cw->poly_order);
+    return DSS_MODEL_HAS_PHYSICS(cw->kind)  ? cw->n_free
+           : cw->kind == DSS_MODEL_POLYNOMIAL ? dss_poly_n_terms(cw->poly_order)
+                                              : DSS_SPLINE_MIN_ROWS - 1;
+}
+
+/* The spline's (table's) summary as the report's parameters, its degrees
+ * of freedom from its effective ones, and what it is in words. */
+static void spline_report(const dss_calibration *cal, size_t n_res, calreport *rep)
+{
+    const lab_spline *s = &cal->spline;
+    const lab_table *t = &cal->table;
+    int tab = cal->kind == DSS_MODEL_TABLE, hyb = cal->kind == DSS_MODEL_HYBRID;
+    if (!hyb) {
+        const char *names[] = {"smoothing", "edf_alpha", "edf_beta", "table_nodes", "table_bytes"};
+        double v[] = {s->smooth, s->edf[0], s->edf[1], t->nodes, (double)lab_table_bytes(t)};
+        rep->np = tab ? 5 : 3;
+        for (int i = 0; i < rep->np; i++) {
+            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+            rep->value[i] = v[i];
+            rep->se[i] = NAN;
+        }
+        rep->dof = (int)n_res - (int)lround(s->edf[0]);
+    }
+    calreport_warn(rep, "nothing to do: compare the held-out error below with the other models'",
+                   "the %s's spline: %d breakpoints per input (a tensor product over the spot "
+                   "x, y), smoothing %.3g chosen by the held-out error of %d interleaved folds, "
+                   "%.1f effective degrees of freedom per angle; readings outside the calibrated "
+                   "field are refused by compensate, not extrapolated",
+                   hyb ? "correction" : "model", s->nbreak, s->smooth, DSS_SPLINE_FOLDS,
+                   s->edf[0]);
+    if (tab)
+        calreport_warn(rep, "nothing to do: compare the held-out error below with the other "
+                            "models'",
+                       "the look-up table: %d x %d nodes (steps %.4g and %.4g px), the spline's "
+                       "values at its nodes, the step the coarsest within %.0f %% of the best "
+                       "held-out error of the folds; %zu bytes as 32-bit floats",
+                       t->nodes, t->nodes, lab_table_step(t, 0), lab_table_step(t, 1),
+                       100 * LAB_TABLE_STEP_TOL, lab_table_bytes(t));
 }
 
 /* Cross-validation by grid quadrant (lab_cross_validate's hooks). */
@@ -404,8 +447,8 @@ static void band_stats(const sunmc_config *c, const dss_calib_workspace *cw,
 int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibration *cal,
                    calreport *rep, char *err, size_t errlen)
 {
-    int phys = cw->kind == DSS_MODEL_PHYSICAL;
-    calreport_init(rep, "dss", phys ? DSS_CALFIT_MODEL_PHYSICAL : DSS_CALFIT_MODEL_POLYNOMIAL);
+    int phys = DSS_MODEL_HAS_PHYSICS(cw->kind), spl = DSS_MODEL_HAS_SPLINE(cw->kind);
+    calreport_init(rep, "dss", dss_calfit_models[cw->kind]);
     rep->n_rows = cw->n;
     campaign_cost(c, cw->b2_rad, cw->b1_rad, (long)cw->n, DEG_PER_RAD, &rep->campaign);
     rep->n_angles = 2;
@@ -425,7 +468,7 @@ int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     int st = dss_prior_apply(c, cw, &prior, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 && cw->kind == DSS_MODEL_PHYSICAL)
+    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 && phys)
         calreport_warn(rep, "check the config's design values and tolerances against this sensor",
                        "calibration.priors = tolerances: the priors could not be formed (fewer "
                        "than two of the pilot's %d units could be fitted); fitted without them",
@@ -447,10 +490,17 @@ int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
     double cov_s[2 * DSS_POLY_MAX_TERMS * DSS_POLY_MAX_TERMS]; /* >= DSS_NP^2 */
     int have_cov = phys ? physical_covariance(cw, cal, &prior, rep, cov_s)
-                        : poly_covariance(cw, cal, rep, cov_s);
+                   : spl ? 0 : poly_covariance(cw, cal, rep, cov_s);
+    if (spl && rep->fit_ok) {
+        /* the covariance of a penalised fit is not the parameters' spread:
+         * none propagated (the hybrid's physical one would understate) */
+        have_cov = 0;
+        spline_report(cal, n_res, rep);
+    }
     calreport_check_priors(rep);
     band_stats(c, cw, cal, cov_s, have_cov, n_res, rep);
     cross_validate(c, cw, rep);
+    dss_labfit_compare(c, cw, rep);
     return SUNMC_OK;
 }
 
@@ -480,7 +530,11 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
 {
     int st = SUNMC_OK;
     char key[PARAMS_KEY_MAX], comment[PARAMS_COMMENT_MAX];
-    if (cal->kind == DSS_MODEL_PHYSICAL) {
+    if (cal->kind == DSS_MODEL_SPLINE)
+        return lab_spline_params_fill(&cal->spline, p, "spline");
+    if (cal->kind == DSS_MODEL_TABLE)
+        return lab_table_params_fill(&cal->table, p, "table");
+    if (DSS_MODEL_HAS_PHYSICS(cal->kind)) {
         const dss_model *m = &cal->phys;
         st = params_set_double(p, "design", "pixel_um", m->pixel_um, "detector pitch");
         if (st == SUNMC_OK && m->half_px > 0)
@@ -514,6 +568,8 @@ int dss_params_fill(params_file *p, const dss_calibration *cal, const calreport 
                                               : measured ? "measured, not fitted (calibration.sun)"
                                                          : "fixed");
         }
+        if (st == SUNMC_OK && cal->kind == DSS_MODEL_HYBRID)
+            st = lab_spline_params_fill(&cal->spline, p, "correction");
         return st;
     }
     const dss_poly *q = &cal->poly;
@@ -751,6 +807,20 @@ static int load_current(const params_file *p, dss_calibration *cal, char *err, s
     if (strcmp(model, DSS_CALFIT_MODEL_POLYNOMIAL) == 0) {
         cal->kind = DSS_MODEL_POLYNOMIAL;
         return load_poly(p, &cal->poly, err, errlen);
+    }
+    if (strcmp(model, DSS_CALFIT_MODEL_SPLINE) == 0) {
+        cal->kind = DSS_MODEL_SPLINE;
+        return lab_spline_params_load(p, "spline", &cal->spline, err, errlen);
+    }
+    if (strcmp(model, DSS_CALFIT_MODEL_TABLE) == 0) {
+        cal->kind = DSS_MODEL_TABLE;
+        return lab_table_params_load(p, "table", &cal->table, err, errlen);
+    }
+    if (strcmp(model, DSS_CALFIT_MODEL_HYBRID) == 0) {
+        st = load_physical(p, &cal->phys, err, errlen);
+        cal->kind = DSS_MODEL_HYBRID;
+        return st == SUNMC_OK ? lab_spline_params_load(p, "correction", &cal->spline, err, errlen)
+                              : st;
     }
     return sunmc_fail(err, errlen, SUNMC_EINPUT, "%s:%d: unknown dss model '%s'", p->path,
                       params_find(p, "calibration", "model")->line, model);

@@ -84,7 +84,8 @@ static int pilot_add(void *ctx, calib_prior *p, char *err, size_t errlen)
 {
     const sunmc_config *c0 = ((const pilot_ctx *)ctx)->c0;
     const dss_calib_workspace *cw = ((const pilot_ctx *)ctx)->cw;
-    dss_calib_workspace *pw = dss_calib_alloc_fix(&cw->design, cw->n, cw->kind, cw->poly_order,
+    /* a hybrid's prior is its physical part's */
+    dss_calib_workspace *pw = dss_calib_alloc_fix(&cw->design, cw->n, DSS_MODEL_PHYSICAL, cw->poly_order,
                                                   fits_index(cw), cw->fix_sun);
     if (!pw)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the priors' pilot");
@@ -111,7 +112,7 @@ static int pilot(const sunmc_config *c, const dss_calib_workspace *cw, calib_pri
     if (calib_prior_reset(p, cw->n_free) != SUNMC_OK)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->n_free);
     /* the pilot's inputs (prior_cache.h): made once per process */
-    int layout[5] = {cw->kind, cw->poly_order, fits_index(cw), cw->fix_sun, cw->n_free};
+    int layout[5] = {DSS_MODEL_PHYSICAL, cw->poly_order, fits_index(cw), cw->fix_sun, cw->n_free};
     const prior_key_part key[] = {{&c0, sizeof c0},
                                   {&cw->design, sizeof cw->design},
                                   {layout, sizeof layout},
@@ -130,7 +131,7 @@ int dss_prior_apply(const sunmc_config *c, dss_calib_workspace *cw, calib_prior 
                     size_t errlen)
 {
     calib_prior_reset(p, 0);
-    if (cw->kind != DSS_MODEL_PHYSICAL)
+    if (!DSS_MODEL_HAS_PHYSICS(cw->kind))
         return SUNMC_OK;
     fit_prior_clear(cw->fw);
     if (c->cal_priors != CONFIG_PRIORS_TOLERANCES)

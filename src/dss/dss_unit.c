@@ -35,6 +35,8 @@ static const char *const par_fit_quality[DSS_N_PAR_PHYSICAL - DSS_NP] = {
     "corr_max_abs", "corr_pair", "log10_rcond"};
 static const char *const par_polynomial[DSS_N_PAR_POLYNOMIAL] = {
     "poly_order", "poly_terms", "corr_max_abs", "corr_pair", "log10_rcond"};
+static const char *const par_spline[DSS_N_PAR_SPLINE] = {
+    "spline_breakpoints", "edf_alpha", "edf_beta", "table_nodes", "table_bytes"};
 
 void dss_unit_build(const sunmc_config *c, const dss_deviations *dev, dss_unit *u)
 {
@@ -106,6 +108,12 @@ static int shown_params(const dss_design *d)
 int dss_par_names(const sunmc_config *c, const char **names, int max)
 {
     int poly = dss_cfg(c)->cal_model == DSS_MODEL_POLYNOMIAL;
+    int model = dss_cfg(c)->cal_model;
+    if (model == DSS_MODEL_SPLINE || model == DSS_MODEL_TABLE) {
+        for (int i = 0; i < DSS_N_PAR_SPLINE && i < max; i++)
+            names[i] = par_spline[i];
+        return DSS_N_PAR_SPLINE;
+    }
     int np = shown_params(&dss_cfg(c)->design);
     int n = poly ? DSS_N_PAR_POLYNOMIAL : np + DSS_N_PAR_PHYSICAL - DSS_NP;
     for (int i = 0; i < n && i < max; i++)
@@ -120,6 +128,14 @@ int dss_par_values(const sunmc_config *c, const dss_calibration *cal, double cor
     const dss_config *dc = dss_cfg(c);
     double pair = (i >= 0 && j >= 0) ? (double)(i * CORR_PAIR_BASE + j) : NAN;
     double lrc = rcond > 0 ? log10(rcond) : NAN;
+    if (dc->cal_model == DSS_MODEL_SPLINE || dc->cal_model == DSS_MODEL_TABLE) {
+        int tab = dc->cal_model == DSS_MODEL_TABLE;
+        double v[DSS_N_PAR_SPLINE] = {cal->spline.nbreak, cal->spline.edf[0], cal->spline.edf[1],
+                                      tab ? cal->table.nodes : NAN,
+                                      tab ? (double)lab_table_bytes(&cal->table) : NAN};
+        memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
+        return DSS_N_PAR_SPLINE;
+    }
     if (dc->cal_model == DSS_MODEL_POLYNOMIAL) {
         double v[DSS_N_PAR_POLYNOMIAL] = {cal->poly.order, cal->poly.n_terms, corr, pair, lrc};
         memcpy(out, v, sizeof v < (size_t)max * sizeof *out ? sizeof v : (size_t)max * sizeof *out);
@@ -398,18 +414,23 @@ static void validation_chunk(const dss_unit *u, const dss_calibration *cal,
  * reading at a time would: before = seen with on-board angles (beyond 86
  * deg no spot falls on any detector of the config); after = those while
  * the fit is good and compensates them (the first that it cannot fails
- * the unit's fit and ends the after sums); after_sys = after's whose
- * noise-free twin compensates (none without the systematic pass, sys 0). */
-static void chunk_uses(const dss_val_chunk *v, size_t k, int sys, unit_result *res, int *use_b,
-                       int *use_a, int *use_s)
+ * the unit's fit and ends the after sums; a spline model's reading outside
+ * its calibrated field, field = 1, is a counted gross error instead: the
+ * model refuses to extrapolate, as compensate does); after_sys = after's
+ * whose noise-free twin compensates (none without the systematic pass, sys 0). */
+static void chunk_uses(const dss_val_chunk *v, size_t k, int sys, int field, unit_result *res,
+                       int *use_b, int *use_a, int *use_s)
 {
     for (size_t q = 0; q < k; q++) {
         use_b[q] = v->seen[q] && v->st_m[q] == SUNMC_OK;
         use_a[q] = use_s[q] = 0;
         if (!use_b[q] || res->fit_status != UNIT_FIT_OK)
             continue;
-        if (v->st_c[q] != SUNMC_OK) {
-            res->fit_status = UNIT_FIT_FAILED;
+        if (v->st_c[q] != SUNMC_OK || (field && sys && v->st_s[q] != SUNMC_OK)) {
+            if (field)
+                res->gross_val++;
+            else
+                res->fit_status = UNIT_FIT_FAILED;
             continue;
         }
         use_a[q] = 1;
@@ -469,7 +490,7 @@ static void dss_unit_score_validation(const sunmc_config *c, const dss_unit *u,
         for (size_t q = 0; q < k; q++)
             mask[q] = band_mask(&c->bands_deg, v.field[q]);
         band_count_chunk(points, nb, k, mask);
-        chunk_uses(&v, k, sys, res, use_b, use_a, use_s);
+        chunk_uses(&v, k, sys, DSS_MODEL_HAS_SPLINE(cal->kind), res, use_b, use_a, use_s);
         add_chunk(before, NULL, nb, k, mask, use_b, v.am, v.bm, v.a0, v.b0, v.tm);
         if (!fit_ok)
             continue;
@@ -605,13 +626,20 @@ static void dss_model_label(const sunmc_config *c, char *buf, size_t len)
     if (dc->cal_model == DSS_MODEL_POLYNOMIAL)
         snprintf(buf, len, "2-D polynomial of order %d in the alpha and beta errors",
                  dc->poly_order);
+    else if (dc->cal_model == DSS_MODEL_SPLINE)
+        snprintf(buf, len, "penalised cubic B-spline of alpha, beta over the spot x, y");
+    else if (dc->cal_model == DSS_MODEL_TABLE)
+        snprintf(buf, len, "look-up table of alpha, beta on a grid of the spot x, y (bilinear, "
+                           "the spline's values at its nodes)");
     else
-        snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s%s",
+        snprintf(buf, len, "physical: principal point, height, cover glass%s, mount c1-c3%s%s%s",
                  dc->fit_glass_index ? " (thickness and index)" : " (thickness)",
                  dc->design.mount == DSS_MOUNT_ALIGNED ? " (aligned lab)"
                  : dc->sun_mode == DSS_SUN_MEASURED    ? " (sun simulator measured)"
                                                        : ", sun simulator sun_b1, sun_b2",
-                 dc->design.fit_tilt ? ", detector tilt (calibration.fit_detector_tilt)" : "");
+                 dc->design.fit_tilt ? ", detector tilt (calibration.fit_detector_tilt)" : "",
+                 dc->cal_model == DSS_MODEL_HYBRID ? "; a spline of its residual over the spot"
+                                                   : "");
 }
 
 /* The random inputs besides the tolerances (family.h); encoder and centroid

@@ -212,7 +212,9 @@ double ess_calib_bytes(size_t n, int kind)
 {
     int arrays = ESS_CALIB_ARRAYS + (kind == ESS_MODEL_EXTENDED ? ESS_ALIAS_ARRAYS : 0);
     return (double)sizeof(ess_calib_workspace) + (double)sizeof(double) * arrays * (double)n +
-           fit_workspace_bytes(n + (size_t)ess_calib_prior_rows(kind), (size_t)ess_model_np(kind));
+           fit_workspace_bytes(n + (size_t)ess_calib_prior_rows(kind), (size_t)ess_model_np(kind)) +
+           (ESS_MODEL_HAS_SPLINE(kind) ? lab_spline_ws_bytes(n) + (double)(n + 1) * sizeof(int)
+                                       : 0.0);
 }
 
 ess_calib_workspace *ess_calib_alloc(size_t n)
@@ -248,6 +250,10 @@ ess_calib_workspace *ess_calib_alloc_fix(size_t n, int kind, int fix_sun_y)
     cw->fw = fit_workspace_alloc(n + (size_t)cw->n_prior_rows, (size_t)cw->np_fit);
     if (cw->fw && cw->fix_sun_y)
         ok &= (cw->jfull = vm_alloc(cw->fw->ld * (size_t)ess_model_np(kind))) != NULL;
+    if (ESS_MODEL_HAS_SPLINE(kind)) {
+        ok &= (cw->fold = malloc((n + 1) * sizeof *cw->fold)) != NULL;
+        ok &= (cw->sws = lab_spline_ws_alloc(n)) != NULL;
+    }
     if (!ok || !cw->fw) {
         ess_calib_free(cw);
         return NULL;
@@ -271,6 +277,8 @@ void ess_calib_free(ess_calib_workspace *cw)
     for (int k = 0; k < ESS_ALIAS_ARRAYS; k++)
         free(cw->alias_work[k]);
     free(cw->jfull);
+    free(cw->fold);
+    lab_spline_ws_free(cw->sws);
     fit_workspace_free(cw->fw);
     free(cw);
 }
@@ -341,6 +349,16 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
         cw->model.sun_y_fixed = 1;
         ess_model_prepare(&cw->model);
     }
+    if (cw->kind == ESS_MODEL_SPLINE || cw->kind == ESS_MODEL_TABLE) {
+        /* no physics fitted: the nominal model gives the truth, the spline
+         * the angle (no Jacobian: rcond 1, the penalty keeps it regular) */
+        *out = cw->model;
+        memset(res, 0, sizeof *res);
+        res->rcond = 1.0;
+        int st = ess_spline_fit(cw, out);
+        res->status = st == SUNMC_OK ? GSL_SUCCESS : GSL_EFAILED;
+        return st == SUNMC_OK ? SUNMC_OK : SUNMC_EFIT;
+    }
     cw->table.n = cw->n;
     ess_table_fill(&cw->table, cw->alpha_rad, cw->beta_rad);
     for (size_t i = 0; i < vm_pad(cw->n); i++)
@@ -357,6 +375,8 @@ int ess_calibrate(ess_calib_workspace *cw, double theta0_rad, double roll_rad,
     for (int j = 0; j < cw->np_fit; j++)
         out->p[ess_calib_param_of(cw, j)] = x[j];
     ess_model_prepare(out);
+    if (st == SUNMC_OK && cw->kind == ESS_MODEL_HYBRID && ess_spline_fit(cw, out) != SUNMC_OK)
+        st = SUNMC_EFIT;
     return st;
 }
 

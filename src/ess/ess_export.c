@@ -28,6 +28,8 @@
  * (ess_model_lane.h: ESS_EQ13_E_MAX, ESS_EQ13_AD_MAX), else directly. */
 /* ESS_EXPORT_E_MAX: ess_export.h */
 /* ESS_EXPORT_AD_MAX: ess_export.h */
+/* A spline's table form spans its field shrunk by this factor. */
+#define ESS_EXPORT_EDGE_IN (1 - 1e-12)
 
 static const char *const axis_names[] = {"output_deg", NULL};
 
@@ -41,11 +43,29 @@ static int supported(const void *model, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
+/* The spline models: their table form only (lab_export.model_form). */
+static int model_form(const void *model, char *err, size_t errlen)
+{
+    const ess_model *m = model;
+    static const char *const names[ESS_N_MODELS] = {"", "", "spline", "hybrid", "table"};
+    if (ESS_MODEL_HAS_SPLINE(m->kind))
+        return lab_export_table_only("ess", names[m->kind], "deg of output_deg", err, errlen);
+    return SUNMC_OK;
+}
+
+/* +-ESS_EXPORT_TABLE_DEG; a spline's calibrated field (just inside: its
+ * edge may round outside it). */
 static void axes_range(const void *model, double *lo, double *hi)
 {
-    (void)model;
+    const ess_model *m = model;
     lo[0] = -ESS_EXPORT_TABLE_DEG;
     hi[0] = ESS_EXPORT_TABLE_DEG;
+    if (ESS_MODEL_HAS_SPLINE(m->kind)) {
+        double l = (m->kind == ESS_MODEL_TABLE ? m->table.lo[0] : m->spline.lo[0]) * DEG_PER_RAD;
+        double h = (m->kind == ESS_MODEL_TABLE ? m->table.hi[0] : m->spline.hi[0]) * DEG_PER_RAD;
+        lo[0] = 0.5 * (l + h) - 0.5 * (h - l) * ESS_EXPORT_EDGE_IN;
+        hi[0] = 0.5 * (l + h) + 0.5 * (h - l) * ESS_EXPORT_EDGE_IN;
+    }
 }
 
 static void raw_at(const void *model, const double *q, double *raw)
@@ -201,6 +221,7 @@ const lab_export ess_export = {
     .n_axes = 1,
     .axis_names = axis_names,
     .supported = supported,
+    .model_form = model_form,
     .axes_range = axes_range,
     .raw_at = raw_at,
     .emit_helpers = emit_helpers,

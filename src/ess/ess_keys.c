@@ -5,6 +5,7 @@
  * Calibration for Encoded Sun Sensors", Sensors 2013 (the "ESS paper");
  * configs/ess_type_b.ini overrides what differs for type B.
  */
+#include "ess_calib.h"
 #include "ess_config.h"
 #include "ess_model.h"
 #include "family.h"
@@ -107,10 +108,13 @@ const config_key ess_keys[] = {
     {"calibration", "alias_threshold", KEY_DOUBLE, "", "0.2", 0, 1, NULL, OFF(alias_threshold),
      "smallest normalised eigenvalue of the fine-code (sin, cos) columns below which the "
      "campaign cannot resolve that direction; it is then regularised to 0"},
-    {"calibration", "model", KEY_ENUM, "", "paper", 0, 0, "paper|extended", OFF(cal_model),
-     "ESS calibration model: paper (eq. 12 + k sin(4 pi alpha + t), 8 parameters) or extended "
-     "(18: the fine period's 1st and 2nd harmonics, the 4th's incidence dependence and its "
-     "exact eq. 7 form; derived in src/ess/ess_model_ext.c)"},
+    {"calibration", "model", KEY_ENUM, "", "paper", 0, 0,
+     "paper|extended|spline|hybrid|table", OFF(cal_model),
+     "ESS calibration model: paper (eq. 12 + k sin(4 pi alpha + t), 8 parameters), extended "
+     "(18: the fine period's 1st, 2nd harmonics, the 4th's incidence dependence, eq. 7 "
+     "exact; src/ess/ess_model_ext.c), spline (the true angle as a penalised B-spline of "
+     "the measured one), hybrid (paper + a spline of its residual) or table (a look-up "
+     "table of the spline); docs/calibration.md"},
 
     /* [validation] */
     {"validation", "alpha_min_deg", KEY_DOUBLE, "deg", "-62", -89, 89, NULL, OFF(val_alpha_min_deg),
@@ -204,6 +208,8 @@ int ess_config_validate(const sunmc_config *c, char *err, size_t errlen)
     long na = grid_count(e->cal_alpha_min_deg, e->cal_alpha_max_deg, e->cal_alpha_step_deg, 0);
     long points = na * e->cal_beta_deg.n;
     int np = ess_model_np(e->cal_model) - (e->sun_y_mode == ESS_SUN_Y_MEASURED);
+    if (ESS_MODEL_HAS_SPLINE(e->cal_model) && np < ESS_SPLINE_MIN_ROWS - 1)
+        np = ESS_SPLINE_MIN_ROWS - 1;
     if (points <= np)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "campaign: %ld alpha x %d beta_deg = %ld points, fewer than the %d the "

@@ -237,8 +237,12 @@ static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
 {
     int kind = ess_cfg(c)->cal_model;
     int np = ess_model_np(kind) - (ess_cfg(c)->sun_y_mode == ESS_SUN_Y_MEASURED);
-    snprintf(why, len, "the ess %smodel has %d parameters: need at least %d rows",
-             kind == ESS_MODEL_EXTENDED ? "extended " : "", np, np + 1);
+    if (ESS_MODEL_HAS_SPLINE(kind) && np < ESS_SPLINE_MIN_ROWS - 1)
+        np = ESS_SPLINE_MIN_ROWS - 1;
+    static const char *const what[ESS_N_MODELS] = {"", "extended ", "spline ", "hybrid ",
+                                                    "table "};
+    snprintf(why, len, "the ess %smodel has %d parameters: need at least %d rows", what[kind], np,
+             np + 1);
     return (size_t)np + 1;
 }
 
@@ -319,6 +323,11 @@ static const char *const comp_columns[] = {"compensated_deg", NULL};
 static const lab_params_model params_models[] = {
     {ESS_CALFIT_MODEL, "design parameters fixed derived", NULL, NULL, NULL},
     {ESS_CALFIT_MODEL_EXT, "design parameters fixed derived", "parameters", "ks_cos4_deg", NULL},
+    {ESS_CALFIT_MODEL_SPLINE, "design parameters fixed derived spline", "spline", "breakpoints",
+     NULL},
+    {ESS_CALFIT_MODEL_HYBRID, "design parameters fixed derived correction", "correction",
+     "breakpoints", ESS_CALFIT_MODEL},
+    {ESS_CALFIT_MODEL_TABLE, "design parameters fixed derived table", "table", "nodes", NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static int params_load(const params_file *p, void *model, char *err, size_t errlen)

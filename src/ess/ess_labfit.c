@@ -369,9 +369,52 @@ static void ess_check_correlations(calreport *rep)
                                            (int)(sizeof causes / sizeof *causes));
 }
 
+static const char *const calfit_models[ESS_N_MODELS] = {
+    ESS_CALFIT_MODEL, ESS_CALFIT_MODEL_EXT, ESS_CALFIT_MODEL_SPLINE, ESS_CALFIT_MODEL_HYBRID,
+    ESS_CALFIT_MODEL_TABLE};
+/* The params.ini section of a spline model's spline (or table). */
+static const char *const spline_sections[ESS_N_MODELS] = {NULL, NULL, "spline", "correction",
+                                                          "table"};
+
 const char *ess_labfit_model_name(int kind)
 {
-    return kind == ESS_MODEL_EXTENDED ? ESS_CALFIT_MODEL_EXT : ESS_CALFIT_MODEL;
+    return calfit_models[kind >= 0 && kind < ESS_N_MODELS ? kind : ESS_MODEL_PAPER];
+}
+
+/* The spline's (table's) summary: the report's parameters for spline and
+ * table (nothing of the physics is fitted), and in words for all three. */
+static void spline_report(const ess_model *m, size_t n_used, calreport *rep)
+{
+    const lab_spline *s = &m->spline;
+    const lab_table *t = &m->table;
+    int tab = m->kind == ESS_MODEL_TABLE, hyb = m->kind == ESS_MODEL_HYBRID;
+    if (!hyb) {
+        const char *names[] = {"smoothing", "edf", "table_nodes", "table_step_deg", "table_bytes"};
+        double v[] = {s->smooth, s->edf[0], t->nodes, lab_table_step(t, 0) * DEG_PER_RAD,
+                      (double)lab_table_bytes(t)};
+        rep->np = tab ? 5 : 2;
+        for (int i = 0; i < rep->np; i++) {
+            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+            rep->value[i] = v[i];
+            rep->se[i] = NAN;
+        }
+        rep->dof = (int)n_used - (int)lround(s->edf[0]);
+    }
+    calreport_warn(rep, "nothing to do: compare the models' held-out errors below",
+                   "the %s's spline: %d breakpoints over the measured angle, smoothing %.3g "
+                   "chosen by the held-out error of %d interleaved folds, %.1f effective degrees "
+                   "of freedom; one input: what the true angle owes to beta (the incidence) it "
+                   "cannot follow; readings outside the calibrated field are refused by "
+                   "compensate, not extrapolated",
+                   hyb ? "correction" : "model", s->nbreak, s->smooth, ESS_SPLINE_FOLDS,
+                   s->edf[0]);
+    if (tab)
+        calreport_warn(rep, "nothing to do: compare the models' held-out errors below",
+                       "the look-up table: %d nodes (step %.4g deg of the measured angle), the "
+                       "spline's values at its nodes, the step the coarsest within %.0f %% of "
+                       "the best held-out error of the folds; %zu bytes as 32-bit floats",
+                       t->nodes, lab_table_step(t, 0) * DEG_PER_RAD, 100 * LAB_TABLE_STEP_TOL,
+                       lab_table_bytes(t));
 }
 
 int ess_labfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *line,
@@ -404,7 +447,8 @@ int ess_labfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
     int st = ess_prior_apply(c, cw, &prior, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 && 1)
+    if (c->cal_priors == CONFIG_PRIORS_TOLERANCES && prior.np == 0 &&
+        cw->kind != ESS_MODEL_SPLINE && cw->kind != ESS_MODEL_TABLE)
         calreport_warn(rep, "check the config's design values and tolerances against this sensor",
                        "calibration.priors = tolerances: the priors could not be formed (fewer "
                        "than two of the pilot's %d units could be fitted); fitted without them",
@@ -422,9 +466,16 @@ int ess_labfit_run(const sunmc_config *c, ess_calib_workspace *cw, const int *li
                        "parameters must not be used",
                        fit_reason(&rep->fit), rep->fit.status, rep->fit.iterations);
 
-    parameters(cw, &prior, res, rep);
-    ess_check_correlations(rep);
-    calreport_check_priors(rep);
+    if (cw->kind == ESS_MODEL_SPLINE || cw->kind == ESS_MODEL_TABLE) {
+        if (rep->fit_ok)
+            spline_report(&res->m, rep->n_used, rep);
+    } else {
+        parameters(cw, &prior, res, rep);
+        ess_check_correlations(rep);
+        calreport_check_priors(rep);
+        if (rep->fit_ok && cw->kind == ESS_MODEL_HYBRID)
+            spline_report(&res->m, rep->n_used, rep);
+    }
 
     int n_uncomp;
     band_stats(c, cw, res, rep, &n_uncomp);
@@ -511,6 +562,10 @@ int ess_params_fill(params_file *p, const ess_labfit_result *res, const calrepor
                                "fine-code amplitude (ESS paper eq. 9)");
     if (st == SUNMC_OK)
         st = params_set_double(p, "derived", "t_rad", t, "fine-code phase (ESS paper eq. 9)");
+    if (st == SUNMC_OK && res->m.kind == ESS_MODEL_TABLE)
+        st = lab_table_params_fill(&res->m.table, p, "table");
+    else if (st == SUNMC_OK && ESS_MODEL_HAS_SPLINE(res->m.kind))
+        st = lab_spline_params_fill(&res->m.spline, p, spline_sections[res->m.kind]);
     return st;
 }
 
@@ -602,14 +657,18 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
         st = params_get_text(p, "calibration", "model", &model, err, errlen);
     if (st != SUNMC_OK)
         return st;
-    int kind = strcmp(model, ESS_CALFIT_MODEL_EXT) == 0 ? ESS_MODEL_EXTENDED : ESS_MODEL_PAPER;
-    if (strcmp(sensor, "ess") != 0 ||
-        (kind == ESS_MODEL_PAPER && strcmp(model, ESS_CALFIT_MODEL) != 0)) {
+    int kind = -1;
+    for (int k = 0; k < ESS_N_MODELS; k++)
+        if (strcmp(model, calfit_models[k]) == 0)
+            kind = k;
+    if (strcmp(sensor, "ess") != 0 || kind < 0) {
         const params_entry *e = params_find(p, "calibration", "model");
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "%s:%d: sensor %s model %s: expected sensor ess, model %s or %s",
+                          "%s:%d: sensor %s model %s: expected sensor ess, model %s, %s, %s, %s "
+                          "or %s",
                           p->path, e->line, sensor, model, ESS_CALFIT_MODEL,
-                          ESS_CALFIT_MODEL_EXT);
+                          ESS_CALFIT_MODEL_EXT, ESS_CALFIT_MODEL_SPLINE, ESS_CALFIT_MODEL_HYBRID,
+                          ESS_CALFIT_MODEL_TABLE);
     }
     int np = ess_model_np(kind);
     /* a measured sun tilt is in [fixed]; [parameters] then lacks it */
@@ -646,5 +705,9 @@ int ess_params_load(const params_file *p, ess_model *m, char *err, size_t errlen
     if ((st = ess_params_invertible(p, m, err, errlen)) != SUNMC_OK)
         return st;
     ess_model_prepare(m);
+    if (kind == ESS_MODEL_TABLE)
+        return lab_table_params_load(p, "table", &m->table, err, errlen);
+    if (ESS_MODEL_HAS_SPLINE(kind))
+        return lab_spline_params_load(p, spline_sections[kind], &m->spline, err, errlen);
     return SUNMC_OK;
 }

@@ -481,6 +481,14 @@ VM_KERNEL ESS_CONTRACT static int compensate_chunk(const ess_model *m, double do
 int ess_model_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
                                double *alpha_rad, int *status)
 {
+    if (ESS_MODEL_HAS_SPLINE(m->kind))
+        return ess_spline_compensate_batch(m, n, raw_rad, alpha_rad, status);
+    return ess_model_phys_compensate_batch(m, n, raw_rad, alpha_rad, status);
+}
+
+int ess_model_phys_compensate_batch(const ess_model *m, size_t n, const double *raw_rad,
+                                    double *alpha_rad, int *status)
+{
     int ext = m->kind == ESS_MODEL_EXTENDED;
     if (ext ? !m->invertible : m->omega * hypot(m->p[ESS_P_KS], m->p[ESS_P_KC]) >= 1.0) {
         for (size_t i = 0; i < n; i++)
@@ -509,7 +517,7 @@ int ess_model_compensate_pair_batch(const ess_model *m, size_t n, const double *
                                     const double *raw0_rad, double *alpha_rad,
                                     double *alpha0_rad, int *status, int *status0)
 {
-    if (m->kind == ESS_MODEL_EXTENDED) {
+    if (m->kind == ESS_MODEL_EXTENDED || ESS_MODEL_HAS_SPLINE(m->kind)) {
         int st = ess_model_compensate_batch(m, n, raw_rad, alpha_rad, status);
         int st0 = ess_model_compensate_batch(m, n, raw0_rad, alpha0_rad, status0);
         return st != SUNMC_OK ? st : st0;

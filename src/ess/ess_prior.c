@@ -54,7 +54,9 @@ static int pilot_add(void *ctx, calib_prior *p, char *err, size_t errlen)
 {
     const sunmc_config *c0 = ((const pilot_ctx *)ctx)->c0;
     const ess_calib_workspace *cw = ((const pilot_ctx *)ctx)->cw;
-    ess_calib_workspace *pw = ess_calib_alloc_fix(cw->n, cw->kind, cw->fix_sun_y);
+    /* a hybrid's prior is its physics's: the paper model's */
+    int kind = cw->kind == ESS_MODEL_EXTENDED ? ESS_MODEL_EXTENDED : ESS_MODEL_PAPER;
+    ess_calib_workspace *pw = ess_calib_alloc_fix(cw->n, kind, cw->fix_sun_y);
     if (!pw)
         return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for the priors' pilot");
     memcpy(pw->alpha_rad, cw->alpha_rad, cw->n * sizeof *cw->alpha_rad);
@@ -80,7 +82,8 @@ int ess_prior_pilot(const sunmc_config *c, const ess_calib_workspace *cw, calib_
     if (calib_prior_reset(p, cw->np_fit) != SUNMC_OK)
         return sunmc_fail(err, errlen, SUNMC_EINPUT, "prior: %d parameters", cw->np_fit);
     /* the pilot's inputs (prior_cache.h): made once per process */
-    int layout[3] = {cw->kind, cw->fix_sun_y, cw->np_fit};
+    int layout[3] = {cw->kind == ESS_MODEL_EXTENDED ? ESS_MODEL_EXTENDED : ESS_MODEL_PAPER,
+                     cw->fix_sun_y, cw->np_fit};
     const prior_key_part key[] = {{&c0, sizeof c0},
                                   {layout, sizeof layout},
                                   {&cw->n, sizeof cw->n},
@@ -99,7 +102,9 @@ int ess_prior_apply(const sunmc_config *c, ess_calib_workspace *cw, calib_prior 
 {
     fit_prior_clear(cw->fw);
     calib_prior_reset(p, 0);
-    if (c->cal_priors != CONFIG_PRIORS_TOLERANCES)
+    /* spline and table fit no physics: no prior */
+    if (c->cal_priors != CONFIG_PRIORS_TOLERANCES || cw->kind == ESS_MODEL_SPLINE ||
+        cw->kind == ESS_MODEL_TABLE)
         return SUNMC_OK;
     return calib_prior_install(cw->fw, p, ess_prior_pilot(c, cw, p, err, errlen), err, errlen);
 }

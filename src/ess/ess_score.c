@@ -85,12 +85,14 @@ VM_KERNEL static void chunk_errors(size_t k, const double *comp, const double *t
  * at a time would: unseen ones none, gross ones counted (res->gross_val)
  * and left out; before = the rest; after = those while the fit is good
  * (fit_ok: w holds their compensations) and compensates them (the first
- * it cannot fails the unit's fit and ends the after sums); the
+ * it cannot fails the unit's fit and ends the after sums; a spline
+ * model's reading outside its calibrated field, field = 1, is a counted
+ * gross error instead: the model refuses to extrapolate); the
  * systematic part (sys) = after's whose noise-free reading is not gross
  * and compensates. */
 static void chunk_uses(const sunmc_config *c, const ess_val_readings *v, size_t i0, size_t k,
-                       int fit_ok, int sys, const ess_val_chunk *w, unit_result *res,
-                       ess_score_chunk *o)
+                       int fit_ok, int sys, int field, const ess_val_chunk *w,
+                       unit_result *res, ess_score_chunk *o)
 {
     double half_period = ess_half_period_rad(c);
     for (size_t q = 0; q < k; q++) {
@@ -103,8 +105,11 @@ static void chunk_uses(const sunmc_config *c, const ess_val_readings *v, size_t 
         }
         if (!fit_ok || res->fit_status != UNIT_FIT_OK)
             continue;
-        if (w->st_comp[q] != SUNMC_OK) {
-            res->fit_status = UNIT_FIT_FAILED;
+        if (w->st_comp[q] != SUNMC_OK || (field && sys && w->st_comp0[q] != SUNMC_OK)) {
+            if (field)
+                res->gross_val++;
+            else
+                res->fit_status = UNIT_FIT_FAILED;
             continue;
         }
         o->ma[q] = o->mb[q];
@@ -137,7 +142,7 @@ void ess_score_validation(const sunmc_config *c, const ess_model *m, const lab_o
             compensate_chunk(m, ob, v, i0, k, sys, &w);
         chunk_bands(&c->bands_deg, k, v->truth_rad + i0, v->raw_rad + i0, o.mb, o.eb);
         band_count_chunk(points, nb, k, o.mb);
-        chunk_uses(c, v, i0, k, fit_ok, sys, &w, res, &o);
+        chunk_uses(c, v, i0, k, fit_ok, sys, ESS_MODEL_HAS_SPLINE(m->kind), &w, res, &o);
         if (!fit_ok) {
             band_acc_add_chunk(&before, nb, k, o.mb, o.eb);
             continue;

@@ -217,13 +217,23 @@ static void ess_model_label(const sunmc_config *c, char *buf, size_t len)
     const char *fixed = ess_sun_y_measured(c) ? "roll and sun-simulator tilt toward Y fixed at "
                                                 "their measurements"
                                               : "roll fixed at its measurement";
-    if (ess_cfg(c)->cal_model == ESS_MODEL_EXTENDED)
+    int model = ess_cfg(c)->cal_model;
+    if (model == ESS_MODEL_SPLINE || model == ESS_MODEL_TABLE)
+        snprintf(buf, len, "%s of the true angle over the measured one (1-D; its fit_ columns "
+                           "are the nominal paper model's, which gives the truth), %s",
+                 model == ESS_MODEL_TABLE ? "look-up table (linear, the spline's values at its "
+                                            "nodes)"
+                                          : "penalised cubic B-spline",
+                 fixed);
+    else if (model == ESS_MODEL_EXTENDED)
         snprintf(buf, len, "extended: ESS paper eq. 12/13 (a, b, c; d = 1), the fine period's 1st "
                            "and 2nd harmonics, the 4th (eq. 7 exact) with cos^4, cos^8 incidence "
                            "terms + turntable installation, %s", fixed);
     else
         snprintf(buf, len, "ESS paper eq. 9/12/13 (a, b, c, k, t; d = 1) + turntable "
-                           "installation, %s", fixed);
+                           "installation, %s%s", fixed,
+                 model == ESS_MODEL_HYBRID ? "; a spline of its residual over the measured angle"
+                                           : "");
 }
 
 static int ess_dev_columns(const sunmc_config *c, const char **names, int max)

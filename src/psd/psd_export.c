@@ -28,9 +28,23 @@ static const double corner_sy[PSD_CHANNELS] = {-1, 1, -1, 1};
 
 static int supported(const void *model, char *err, size_t errlen)
 {
-    (void)model;
-    (void)err;
-    (void)errlen;
+    const psd_model_file *m = model;
+    if (m->cal.model == PSD_MODEL_HYBRID)
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "the psd_hybrid model cannot be exported: its correction reads the "
+                          "physical model's angles, which depend on the fitted darks and not on "
+                          "the raw ratios a table takes; calibrate with calibration.model = "
+                          "physical, or spline or table (then export --form table:STEP)");
+    return SUNMC_OK;
+}
+
+/* The spline and table: their table form only (lab_export.model_form). */
+static int model_form(const void *model, char *err, size_t errlen)
+{
+    const psd_model_file *m = model;
+    if (PSD_MODEL_HAS_SPLINE(m->cal.model))
+        return lab_export_table_only("psd", psd_model_names[m->cal.model],
+                                     "the raw ratios ratio_x, ratio_y", err, errlen);
     return SUNMC_OK;
 }
 
@@ -45,6 +59,15 @@ static int is_duo(const psd_model_file *m)
 static void axes_range(const void *model, double *lo, double *hi)
 {
     const psd_model_file *m = model;
+    if (PSD_MODEL_HAS_SPLINE(m->cal.model)) { /* the calibrated field, just inside */
+        for (int k = 0; k < 2; k++) {
+            double l = m->cal.model == PSD_MODEL_TABLE ? m->cal.table.lo[k] : m->cal.spline.lo[k];
+            double h = m->cal.model == PSD_MODEL_TABLE ? m->cal.table.hi[k] : m->cal.spline.hi[k];
+            lo[k] = 0.5 * (l + h) - 0.5 * (h - l) * PSD_EXPORT_EDGE_IN;
+            hi[k] = 0.5 * (l + h) + 0.5 * (h - l) * PSD_EXPORT_EDGE_IN;
+        }
+        return;
+    }
     double r = m->cal.model == PSD_MODEL_POLYNOMIAL
                    ? m->cal.poly.scale * (1 + PSD_POLY_RANGE_MARGIN) * PSD_EXPORT_EDGE_IN
                    : 1.0 + fabs(m->cfg.design.pincushion);
@@ -174,7 +197,7 @@ static void emit_check(const void *model, FILE *f)
     fputs("    if (!any)\n        return SUNMC_CAL_NO_SIGNAL;\n"
           "    if (!(sum > SR(0)))\n        return SUNMC_CAL_NEGATIVE_SUM;\n",
           f);
-    if (!phys) {
+    if (m->cal.model == PSD_MODEL_POLYNOMIAL) {
         put_ratios(m, f, "raw", "x", "y");
         fprintf(f, "    if (isfinite(x) && isfinite(y) &&\n"
                    "        (SR_FABS(x) > SR(%.17g) || SR_FABS(y) > SR(%.17g)))\n"
@@ -379,6 +402,7 @@ const lab_export psd_export = {
     .n_axes = 2,
     .axis_names = axis_names,
     .supported = supported,
+    .model_form = model_form,
     .axes_range = axes_range,
     .raw_at = raw_at,
     .emit_helpers = emit_helpers,

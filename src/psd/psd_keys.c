@@ -104,12 +104,12 @@ const config_key psd_keys[] = {
      OFF(cal_beta_deg), "campaign beta lines (the slow axis), one alpha scan each"},
 
     /* [calibration] */
-    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial|spline|hybrid",
+    {"calibration", "model", KEY_ENUM, "", "physical", 0, 0, "physical|polynomial|spline|hybrid|table",
      OFF(cal_model),
      "physical (aperture offsets and height, mount, channel gains and darks; psd_model.h), "
-     "the field's polynomial in the raw ratios, spline (a penalised cubic B-spline of the "
-     "angles in the raw ratios, its smoothing chosen by cross-validation) or hybrid (the "
-     "physical model and a spline of its residual)"},
+     "the field's polynomial in the raw ratios, spline (a penalised B-spline of the angles "
+     "in the raw ratios), hybrid (physical + a spline of its residual) or table (a look-up "
+     "table of the spline); docs/calibration.md"},
     {"calibration", "poly_order", KEY_INT, "", "5", 1, PSD_POLY_MAX_ORDER, NULL, OFF(poly_order),
      "polynomial model: total degree in (x, y)"},
     {"calibration", "poly_form", KEY_ENUM, "", "full", 0, 0, "full|fss20", OFF(poly_form),
@@ -213,7 +213,7 @@ static int grid_check(const psd_config *p, char *err, size_t errlen)
     int fr[PSD_NP];
     int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
     int np = phys ? psd_phys_free(&p->design, p->fit_tilt, fr)
-             : p->cal_model == PSD_MODEL_SPLINE ? PSD_SPLINE_MIN_ROWS
+             : p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_TABLE ? PSD_SPLINE_MIN_ROWS
                                                 : psd_poly_init(&q, p->poly_order, p->poly_form);
     long nr = phys ? 2 * n : n;
     if (p->cal_beta_deg.n < 2 || nr <= np)

@@ -151,8 +151,9 @@ static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
     int fr[PSD_NP];
     psd_poly q;
     int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
-    if (p->cal_model == PSD_MODEL_SPLINE) {
-        snprintf(why, len, "the spline model needs at least %d rows", PSD_SPLINE_MIN_ROWS);
+    if (p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_TABLE) {
+        snprintf(why, len, "the %s model needs at least %d rows", psd_model_names[p->cal_model],
+                 PSD_SPLINE_MIN_ROWS);
         return PSD_SPLINE_MIN_ROWS;
     }
     int np = phys ? psd_phys_free(&p->design, p->fit_tilt, fr)
@@ -177,11 +178,12 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         return SUNMC_ENOMEM;
     static const char *const model_lines[] = {PSD_CALFIT_MODEL_PHYSICAL,
                                               PSD_CALFIT_MODEL_POLYNOMIAL,
-                                              PSD_CALFIT_MODEL_SPLINE, PSD_CALFIT_MODEL_HYBRID};
+                                              PSD_CALFIT_MODEL_SPLINE, PSD_CALFIT_MODEL_HYBRID,
+                                              PSD_CALFIT_MODEL_TABLE};
     int model = psd_cfg(c)->cal_model;
     calreport_init(rep, "psd", model_lines[model]);
-    if (model == PSD_MODEL_SPLINE || model == PSD_MODEL_HYBRID) {
-        /* the smoothing: by the held-out error of calibrate's own folds */
+    if (PSD_MODEL_HAS_SPLINE(model)) {
+        /* the smoothing (and the table's step): by the held-out error of calibrate's own folds */
         double line[CALREPORT_MAX_FOLDS];
         int by_line;
         k->spline_fold = malloc((d->n + 1) * sizeof *k->spline_fold);
@@ -210,6 +212,7 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     }
     /* the folds' refits keep the smoothing chosen on every row */
     k->spline_smooth = st == SUNMC_OK ? k->cal.spline.smooth : 0.0;
+    k->table_log = st == SUNMC_OK && model == PSD_MODEL_TABLE ? psd_table_log(&k->cal.table) : 0;
     rep->fit = k->fr;
     rep->fit_ok = st == SUNMC_OK;
     if (rep->fit_ok) {
@@ -287,6 +290,8 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
     st |= params_set_text(pf, "campaign", "table_beta_sign", signs[pc->table_beta_sign], NULL);
     if (k->cal.model == PSD_MODEL_SPLINE)
         return st | lab_spline_params_fill(&k->cal.spline, pf, "spline");
+    if (k->cal.model == PSD_MODEL_TABLE)
+        return st | lab_table_params_fill(&k->cal.table, pf, "table");
     if (k->cal.model == PSD_MODEL_HYBRID)
         st |= lab_spline_params_fill(&k->cal.spline, pf, "correction");
     if (k->cal.model == PSD_MODEL_POLYNOMIAL) {
@@ -473,6 +478,10 @@ static int params_load(const params_file *p, void *model, char *err, size_t errl
         m->cal.model = PSD_MODEL_SPLINE;
         return lab_spline_params_load(p, "spline", &m->cal.spline, err, errlen);
     }
+    if (params_find(p, "table", "nodes")) {
+        m->cal.model = PSD_MODEL_TABLE;
+        return lab_table_params_load(p, "table", &m->cal.table, err, errlen);
+    }
     m->cal.model = PSD_MODEL_PHYSICAL;
     if (params_find(p, "correction", "breakpoints")) {
         m->cal.model = PSD_MODEL_HYBRID;
@@ -500,6 +509,7 @@ static const lab_params_model params_models[] = {
     {PSD_CALFIT_MODEL_SPLINE, "design campaign spline", "spline", "breakpoints", NULL},
     {PSD_CALFIT_MODEL_HYBRID, "design campaign parameters correction", "correction",
      "breakpoints", PSD_CALFIT_MODEL_PHYSICAL},
+    {PSD_CALFIT_MODEL_TABLE, "design campaign table", "table", "nodes", NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 
@@ -528,11 +538,11 @@ static int reading_check(const void *model, const double *raw)
         return LAB_NO_SIGNAL;
     if (!(sum > 0))
         return LAB_NEGATIVE_SUM;
-    int spl = m->cal.model == PSD_MODEL_SPLINE || m->cal.model == PSD_MODEL_HYBRID;
+    int spl = PSD_MODEL_HAS_SPLINE(m->cal.model);
     double in[2], t[2];
     if (spl && psd_spline_inputs(&m->cal, raw, in) != SUNMC_OK)
         return LAB_NO_INVERSE;
-    if (spl && lab_spline_eval(&m->cal.spline, in, t) != SUNMC_OK)
+    if (spl && psd_spline_eval(&m->cal, in, t) != SUNMC_OK)
         return LAB_OUTSIDE_FIELD;
     double x, y;
     if (m->cal.model == PSD_MODEL_POLYNOMIAL && psd_poly_ratios(&m->cfg.design, raw, &x, &y) == SUNMC_OK &&

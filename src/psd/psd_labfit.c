@@ -102,6 +102,7 @@ int psd_labcal_fit(psd_labcal *k, fit_result *fr)
 {
     psd_labcal_rows(k, &k->rows);
     k->rows.smooth = k->spline_smooth;
+    k->rows.table_log = k->table_log;
     k->rows.fold = k->spline_fold;
     k->rows.n_folds = k->spline_n_folds;
     return psd_unit_fit(k->c, k->fw, &k->rows, k->poly_work, &k->cal, fr);

@@ -1,6 +1,6 @@
 /* psd_labmodels.c - `sunmc calibrate`'s model comparison for the
- * four-channel sensor (issue 39): the physical, polynomial, spline and
- * hybrid models, each refitted on the same cross-validation folds as the
+ * four-channel sensor (issue 39): the physical, polynomial, spline, hybrid
+ * and table models, each refitted on the same cross-validation folds as the
  * calibration (beta lines or sweeps) and scored on the held-out rows, for
  * a single reading and for the mean of a point's repeats; the lowest
  * held-out error is recommended, and when the physical model's is far
@@ -22,8 +22,8 @@
  * when its held-out error is lower by more than this fraction. */
 #define PSD_COMPARE_GAIN 0.05
 
-static const int compared[CALREPORT_MAX_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
-                                                   PSD_MODEL_SPLINE, PSD_MODEL_HYBRID};
+static const int compared[PSD_N_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
+                                           PSD_MODEL_SPLINE, PSD_MODEL_HYBRID, PSD_MODEL_TABLE};
 
 /* Sums of one model's refits: in-sample, held-out rows, held-out points. */
 typedef struct {
@@ -65,8 +65,7 @@ static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f,
 static double spline_edf(const psd_labcal *k)
 {
     int m = k->cal.model;
-    return m == PSD_MODEL_SPLINE || m == PSD_MODEL_HYBRID ? k->cal.spline.edf[0] + k->cal.spline.edf[1]
-                                                          : 0.0;
+    return PSD_MODEL_HAS_SPLINE(m) ? k->cal.spline.edf[0] + k->cal.spline.edf[1] : 0.0;
 }
 
 /* Fit model to every row of k0 (the smoothing chosen on the folds), then
@@ -101,9 +100,13 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     fit_result fr;
     x->ok = psd_labcal_fit(k, &fr) == SUNMC_OK;
     k->spline_smooth = x->ok && spline_edf(k) > 0 ? k->cal.spline.smooth : 0.0;
+    k->table_log = x->ok && model == PSD_MODEL_TABLE ? psd_table_log(&k->cal.table) : 0;
     x->edf = spline_edf(k);
+    /* a table's parameters are its stored node values */
     x->np = (PSD_MODEL_HAS_PHYSICS(model) ? (int)k->fw->p : 0) +
-            (model == PSD_MODEL_POLYNOMIAL ? 2 * k->cal.poly.nt : 0) + (int)lround(x->edf);
+            (model == PSD_MODEL_POLYNOMIAL ? 2 * k->cal.poly.nt : 0) +
+            (model == PSD_MODEL_TABLE ? (int)(lab_table_bytes(&k->cal.table) / sizeof(float))
+                                      : (int)lround(x->edf));
     for (int f = 0; f < n_folds && x->ok; f++)
         x->ok = one_fold(k, k0, fold, f, &s);
     x->n_out = s.n_out;
@@ -127,53 +130,6 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     return SUNMC_OK;
 }
 
-/* The recommendation in words into cm->note. */
-static void recommend(calreport_models *cm)
-{
-    int best = -1, emp = -1;
-    for (int m = 0; m < cm->n; m++) {
-        const calreport_model *x = &cm->m[m];
-        if (!x->ok)
-            continue;
-        if (best < 0)
-            best = m;
-        /* the simpler of two, unless the other is clearly better */
-        const calreport_model *b = &cm->m[best];
-        int simpler = x->np < b->np;
-        double gain = simpler ? 1.0 + PSD_COMPARE_GAIN : 1.0 - PSD_COMPARE_GAIN;
-        if (x->rms_out_arcsec < b->rms_out_arcsec * gain)
-            best = m;
-        if (compared[m] != PSD_MODEL_PHYSICAL &&
-            (emp < 0 || x->rms_out_arcsec < cm->m[emp].rms_out_arcsec))
-            emp = m;
-    }
-    cm->best = best < 0 ? cm->used : best;
-    size_t at = 0;
-    const calreport_model *b = &cm->m[cm->best];
-    if (best < 0) {
-        snprintf(cm->note, sizeof cm->note, "no model could be refitted on every fold");
-        return;
-    }
-    at += (size_t)snprintf(cm->note, sizeof cm->note,
-                           "recommended %s: held out %.0f arcsec for a single reading",
-                           b->name, b->rms_out_arcsec);
-    if (b->per_point > 1 && at < sizeof cm->note)
-        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, ", %.0f for the mean of %.3g",
-                               b->rms_out_mean_arcsec, b->per_point);
-    if (at < sizeof cm->note)
-        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, "%s%s",
-                               cm->best != cm->used ? ": calibrate with --set calibration.model="
-                                                    : "",
-                               cm->best != cm->used ? b->name : "");
-    const calreport_model *ph = &cm->m[0];
-    if (emp >= 0 && ph->ok && ph->rms_out_arcsec > PSD_PHYSICS_FAR * cm->m[emp].rms_out_arcsec &&
-        at < sizeof cm->note)
-        snprintf(cm->note + at, sizeof cm->note - at,
-                 "; the physics does not describe this sensor: the physical model's held-out "
-                 "error is %.1f times the %s model's",
-                 ph->rms_out_arcsec / cm->m[emp].rms_out_arcsec, cm->m[emp].name);
-}
-
 void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
 {
     calreport_models *cm = &rep->models;
@@ -194,7 +150,7 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
         return;
     }
     cm->used = 0;
-    for (int m = 0; m < CALREPORT_MAX_MODELS; m++) {
+    for (int m = 0; m < PSD_N_MODELS; m++) {
         if (compared[m] == psd_cfg(k0->c)->cal_model)
             cm->used = m;
         if (score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m]) != SUNMC_OK) {
@@ -206,5 +162,5 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
         cm->n++;
     }
     free(fold);
-    recommend(cm);
+    calreport_models_recommend(cm, PSD_COMPARE_GAIN, PSD_PHYSICS_FAR);
 }

@@ -178,6 +178,19 @@ static int jacobian_covariance(fit_workspace *fw)
 static void report_parameters(psd_labcal *k, calreport *rep, const psd_point_stats *ps)
 {
     const psd_config *p = psd_cfg(k->c);
+    if (p->cal_model == PSD_MODEL_TABLE) {
+        static const char *const names[] = {"nodes", "step_x", "step_y", "bytes"};
+        const lab_table *t = &k->cal.table;
+        const double v[] = {t->nodes, lab_table_step(t, 0), lab_table_step(t, 1),
+                            (double)lab_table_bytes(t)};
+        rep->np = 4;
+        for (int i = 0; i < 4; i++) {
+            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+            rep->value[i] = v[i];
+            rep->se[i] = NAN;
+        }
+        return;
+    }
     if (p->cal_model == PSD_MODEL_SPLINE) {
         static const char *const names[] = {"smoothing", "edf_alpha", "edf_beta"};
         const double v[] = {k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]};
@@ -309,7 +322,7 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
     rep->n_rows = k->d->n;
     rep->n_used = (size_t)ps.rows;
     int phys = PSD_MODEL_HAS_PHYSICS(p->cal_model);
-    int spl = p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_HYBRID;
+    int spl = PSD_MODEL_HAS_SPLINE(p->cal_model);
     int np = phys ? (int)k->fw->p : p->cal_model == PSD_MODEL_POLYNOMIAL ? k->cal.poly.nt : 0;
     double edf = spl ? k->cal.spline.edf[0] + k->cal.spline.edf[1] : 0.0;
     rep->dof = 2 * (int)ps.points - (phys ? np : 2 * np) - (int)lround(edf);
@@ -339,6 +352,15 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
                        k->cal.spline.dims == 1 ? "one per axis: single-axis sweeps"
                                                : "tensor product of both",
                        k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]);
+    if (p->cal_model == PSD_MODEL_TABLE)
+        calreport_warn(rep, "nothing to do: compare the models' held-out errors (crossval.tsv)",
+                       "the look-up table: %d nodes per input (steps %.4g and %.4g in the raw "
+                       "ratios), the spline's values at its nodes, the step the coarsest within "
+                       "%.0f %% of the best held-out error of the folds; %zu bytes as 32-bit "
+                       "floats; readings outside its field are refused by compensate",
+                       k->cal.table.nodes, lab_table_step(&k->cal.table, 0),
+                       lab_table_step(&k->cal.table, 1), 100 * LAB_TABLE_STEP_TOL,
+                       lab_table_bytes(&k->cal.table));
     if (k->dropped)
         calreport_warn(rep, "keep the data within the linear field, or check the table "
                             "convention (campaign.table_order and signs)",

@@ -393,9 +393,9 @@ int psd_cal_angles(const psd_cal *k, const double r[4], double *alpha, double *b
 {
     if (k->model == PSD_MODEL_POLYNOMIAL)
         return psd_poly_eval(&k->poly, k->design, r, alpha, beta);
-    if (k->model == PSD_MODEL_SPLINE || k->model == PSD_MODEL_HYBRID) {
+    if (PSD_MODEL_HAS_SPLINE(k->model)) {
         double in[2], t[2];
-        if (psd_spline_inputs(k, r, in) != SUNMC_OK || lab_spline_eval(&k->spline, in, t) != SUNMC_OK)
+        if (psd_spline_inputs(k, r, in) != SUNMC_OK || psd_spline_eval(k, in, t) != SUNMC_OK)
             return SUNMC_EDOM;
         int hyb = k->model == PSD_MODEL_HYBRID;
         *alpha = atan(t[0] + (hyb ? in[0] : 0.0));

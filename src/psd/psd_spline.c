@@ -1,4 +1,4 @@
-/* psd_spline.c - the spline and hybrid models of the four-channel sensor
+/* psd_spline.c - the spline, table and hybrid models of the four-channel sensor
  * (psd_model.h): the family's side of core's lab_spline, its inputs and
  * outputs. */
 #include "psd_model.h"
@@ -12,11 +12,12 @@
 /* Rows per block of the interleaved folds (a point's repeats stay together). */
 #define PSD_SPLINE_FOLD_BLOCK 8
 
-const char *const psd_model_names[4] = {"physical", "polynomial", "spline", "hybrid"};
+const char *const psd_model_names[PSD_N_MODELS] = {"physical", "polynomial", "spline", "hybrid",
+                                                   "table"};
 
 int psd_spline_inputs(const psd_cal *k, const double r[4], double x[2])
 {
-    if (k->model == PSD_MODEL_SPLINE)
+    if (k->model != PSD_MODEL_HYBRID)
         return psd_poly_ratios(k->design, r, &x[0], &x[1]);
     double xr, yr, ut[3];
     if (psd_phys_observed(&k->phys, r, &xr, &yr) != SUNMC_OK ||
@@ -25,6 +26,20 @@ int psd_spline_inputs(const psd_cal *k, const double r[4], double x[2])
     x[0] = ut[0] / ut[2];
     x[1] = ut[1] / ut[2];
     return SUNMC_OK;
+}
+
+int psd_spline_eval(const psd_cal *k, const double x[2], double t[2])
+{
+    return k->model == PSD_MODEL_TABLE ? lab_table_eval(&k->table, x, t)
+                                       : lab_spline_eval(&k->spline, x, t);
+}
+
+int psd_table_log(const lab_table *t)
+{
+    int lg = 0;
+    while ((1 << lg) + 1 < t->nodes)
+        lg++;
+    return lg;
 }
 
 /* Inputs and targets of every row into x[2], y[2] (NaN where the row is
@@ -57,19 +72,36 @@ int psd_spline_fit(psd_cal *k, const psd_rows *d, double *work)
     lab_spline_data sd = {.n = n, .dims = on_axis ? 1 : 2, .n_out = 2, .x = {x[0], x[1]},
                           .y = {y[0], y[1]}, .w = d->w};
     char err[SUNMC_ERRLEN];
-    if (d->smooth > 0)
-        return lab_spline_fit(&k->spline, &sd, d->smooth, 1, err, sizeof err) == SUNMC_OK
-                   ? SUNMC_OK : SUNMC_EFIT;
-    int *fold = d->fold ? NULL : malloc((n + 1) * sizeof *fold);
-    if (!d->fold && !fold)
+    int tab = k->model == PSD_MODEL_TABLE;
+    /* the Monte Carlo's thread workspace, or one for this fit */
+    lab_spline_ws *w = d->sws ? d->sws : lab_spline_ws_alloc(n);
+    int *fold = d->fold || d->fold_buf ? d->fold_buf : malloc((n + 1) * sizeof *fold);
+    if (!w || (!d->fold && !fold)) {
+        if (!d->sws)
+            lab_spline_ws_free(w);
+        if (!d->fold_buf)
+            free(fold);
         return SUNMC_ENOMEM;
-    for (size_t i = 0; fold && i < n; i++)
+    }
+    for (size_t i = 0; !d->fold && i < n; i++)
         fold[i] = (int)((i / PSD_SPLINE_FOLD_BLOCK) % PSD_SPLINE_AUTO_FOLDS);
+    const int *use = d->fold ? d->fold : fold;
+    int nf = d->fold ? d->n_folds : PSD_SPLINE_AUTO_FOLDS;
     double rms;
     long outside;
-    int st = lab_spline_choose(&k->spline, &sd, d->fold ? d->fold : fold,
-                               d->fold ? d->n_folds : PSD_SPLINE_AUTO_FOLDS, &rms, &outside,
-                               err, sizeof err);
-    free(fold);
+    int st;
+    if (d->smooth > 0)
+        st = lab_spline_fit_ws(&k->spline, &sd, d->smooth, 1, w, err, sizeof err);
+    else
+        st = lab_spline_choose_ws(&k->spline, &sd, use, nf, w, &rms, &outside, err, sizeof err);
+    if (st == SUNMC_OK && tab && d->smooth > 0 && d->table_log > 0)
+        st = lab_table_sample(&k->table, &k->spline, d->table_log, err, sizeof err);
+    else if (st == SUNMC_OK && tab)
+        st = lab_table_choose_ws(&k->table, &k->spline, &sd, use, nf, w, &rms, &outside, err,
+                                 sizeof err);
+    if (!d->sws)
+        lab_spline_ws_free(w);
+    if (!d->fold_buf)
+        free(fold);
     return st == SUNMC_OK ? SUNMC_OK : SUNMC_EFIT;
 }

@@ -160,7 +160,7 @@ int psd_unit_fit(const sunmc_config *c, fit_workspace *fw, psd_rows *d, double *
         psd_poly_init(&k->poly, p->poly_order, p->poly_form);
         return psd_poly_fit(&k->poly, d, poly_work);
     }
-    if (p->cal_model == PSD_MODEL_SPLINE)
+    if (p->cal_model == PSD_MODEL_SPLINE || p->cal_model == PSD_MODEL_TABLE)
         return psd_spline_fit(k, d, d->scratch);
     psd_phys_start(d, k->p);
     int st = psd_phys_fit(fw, d, p->fit_tilt, k->p, fr);
@@ -179,6 +179,8 @@ typedef struct {
     double *rd; /* one unit's readings (psd_readings_bytes) */
     lab_onboard ob;     /* calibration.onboard: its table built once, reused */
     psd_model_file *mf; /* the unit's calibration as the lab's model (onboard) */
+    lab_spline_ws *sws; /* the spline models': their fits allocate nothing */
+    int *fold;          /* n: their folds */
 } psd_ws;
 
 /* A unit's readings (family.h: unit_read): for each validation it reads
@@ -205,6 +207,8 @@ static void psd_ws_free(void *ws)
     fit_workspace_free(w->fw_channels);
     lab_onboard_free(&w->ob);
     free(w->mf);
+    lab_spline_ws_free(w->sws);
+    free(w->fold);
     free(w);
 }
 
@@ -223,8 +227,13 @@ static void *psd_ws_alloc(const sunmc_config *c, char *err, size_t errlen)
                                              (size_t)psd_phys_free_channels(psd_cfg(c)->fit_tilt));
         w->rd = malloc(psd_readings_bytes(c));
         w->mf = malloc(sizeof *w->mf);
+        if (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model)) {
+            w->sws = lab_spline_ws_alloc((size_t)n);
+            w->fold = malloc(((size_t)n + 1) * sizeof *w->fold);
+        }
     }
-    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd || !w->mf) {
+    if (!w || !w->m[0] || !w->fw || !w->fw_channels || !w->rd || !w->mf ||
+        (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model) && (!w->sws || !w->fold))) {
         psd_ws_free(w);
         sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory for a PSD unit's workspace");
         return NULL;
@@ -249,7 +258,9 @@ static double psd_ws_bytes(const sunmc_config *c)
     return ((double)n * 16 + PSD_POLY_WORK) * sizeof(double) +
            fit_workspace_bytes(2 * (size_t)n, PSD_NP) +
            fit_workspace_bytes(PSD_RESIDUALS_PER_ROW * (size_t)n, PSD_NP) +
-           (double)psd_readings_bytes(c);
+           (double)psd_readings_bytes(c) +
+           (PSD_MODEL_HAS_SPLINE(psd_cfg(c)->cal_model)
+                ? lab_spline_ws_bytes((size_t)n) + (double)(n + 1) * sizeof(int) : 0.0);
 }
 
 /* The campaign of sensor s into w's rows; returns the rows seen. */
@@ -440,7 +451,8 @@ static int psd_unit_finish(const sunmc_config *c, long unit, void *ws, const voi
     unit_phase_end(res, UNIT_PHASE_CAMPAIGN, &t);
 
     psd_rows d = {.n = (size_t)w->n, .ut = w->ut, .w = w->w, .design = &p->design,
-                  .scratch = w->scratch, .fw_channels = w->fw_channels};
+                  .scratch = w->scratch, .fw_channels = w->fw_channels, .sws = w->sws,
+                  .fold_buf = w->fold};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = w->m[k];
     psd_cal k;
@@ -523,7 +535,8 @@ static int psd_curve_prepare(const sunmc_config *c, long unit, double dev_sign, 
     campaign(c, &cv->s, unit, cv->ws);
     psd_rows d = {.n = (size_t)cv->ws->n, .ut = cv->ws->ut, .w = cv->ws->w,
                   .design = &pc->design, .scratch = cv->ws->scratch,
-                  .fw_channels = cv->ws->fw_channels};
+                  .fw_channels = cv->ws->fw_channels, .sws = cv->ws->sws,
+                  .fold_buf = cv->ws->fold};
     for (int k = 0; k < PSD_CHANNELS; k++)
         d.m[k] = cv->ws->m[k];
     fit_result fr;
@@ -585,6 +598,9 @@ static void psd_model_label(const sunmc_config *c, char *buf, size_t len)
                  p->poly_form == PSD_POLY_FSS20 ? "FSScalibration's 20 terms" : "every term");
     else if (p->cal_model == PSD_MODEL_SPLINE)
         snprintf(buf, len, "penalised cubic B-spline of tan alpha, tan beta in the raw ratios");
+    else if (p->cal_model == PSD_MODEL_TABLE)
+        snprintf(buf, len, "look-up table of tan alpha, tan beta in the raw ratios "
+                           "((bi)linear, the spline's values at its nodes)");
     else
         snprintf(buf, len, "physical: aperture dx, dy, dh, mount tilt_x, tilt_y, rot_z, "
                            "channel gains and darks%s",

@@ -1,14 +1,14 @@
 /* test_calibrate_models.c - issue 39: `calibrate` of a four-channel sensor
  * compares its models on the same folds and recommends one, and the
- * spline and hybrid models reach compensate:
- *  - a simulated unit (the physics exact, noise only): four models in the
+ * spline, hybrid and table models reach compensate:
+ *  - a simulated unit (the physics exact, noise only): five models in the
  *    comparison and models.tsv, the physical one recommended, no word
  *    against the physics;
  *  - the same campaign with channel 1 warped by 30 % sin(alpha / 6 deg),
  *    which no geometry gives: the physical fit is refused, and the report
  *    says the physics does not describe the sensor and which model to use;
  *    calibrated with that model it is accepted;
- *  - a spline calibrated on +-20 deg compensates readings to +-30 deg:
+ *  - a spline (a table) calibrated on +-20 deg compensates readings to +-30 deg:
  *    those beyond its field are '-', counted as outside the calibrated
  *    field, those inside are compensated;
  *  - with 4 repeats per point, the held-out mean of a point's readings
@@ -17,7 +17,10 @@
  *  - an inverting sensor (aeroztark's layout) is compensated: its
  *    channels below the fitted darks are its signal (params.ini's
  *    design.polarity);
- *  - the comparison is the same at 1 and 2 threads. */
+ *  - the comparison is the same at 1 and 2 threads;
+ *  - a DSS's five models on folds of its b1 lines: the physical one
+ *    recommended on a simulated unit, the hybrid's held-out error within
+ *    10 % of it, the spline's and the table's far above (models.tsv). */
 #include "test_util.h"
 
 static char dir[512];
@@ -58,8 +61,9 @@ static void test_exact_physics_recommended(void **state)
     char p[700];
     snprintf(p, sizeof p, "%s/cp/models.tsv", dir);
     assert_true(test_file_has(p, "rms_out_mean_arcsec\n"));
-    const char *names[] = {"\nphysical\t", "\npolynomial\t", "\nspline\t", "\nhybrid\t"};
-    for (int k = 0; k < 4; k++)
+    const char *names[] = {"\nphysical\t", "\npolynomial\t", "\nspline\t", "\nhybrid\t",
+                           "\ntable\t"};
+    for (int k = 0; k < 5; k++)
         assert_true(test_file_has(p, names[k]));
 }
 
@@ -85,13 +89,15 @@ static void test_physics_does_not_describe(void **state)
     assert_true(test_file_has(p, "model = psd_hybrid"));
 }
 
-static void test_spline_refuses_beyond_field(void **state)
+static void refuses_beyond_field(const char *model)
 {
     static char out[65536];
-    assert_int_equal(sunmc("calibrate --config " P " --set calibration.model=spline "
-                           "$D/sp/campaign.csv --quiet --out $D/cs", out, sizeof out), 0);
-    assert_int_equal(sunmc("compensate $D/cs/params.ini $D/sp30/validation.csv", out, sizeof out),
-                     0);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "calibrate --config " P " --set calibration.model=%s "
+             "$D/sp/campaign.csv --quiet --out $D/c%s", model, model);
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+    snprintf(cmd, sizeof cmd, "compensate $D/c%s/params.ini $D/sp30/validation.csv", model);
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
     test_must_have(out, "outside the calibrated field (the model would extrapolate)");
     /* every row beyond the campaign's +-20 deg is '-', every row well inside compensated */
     int beyond = 0, inside = 0;
@@ -115,6 +121,9 @@ static void test_spline_refuses_beyond_field(void **state)
     }
     assert_true(beyond > 10 && inside > 10);
 }
+
+static void test_spline_refuses_beyond_field(void **state) { refuses_beyond_field("spline"); }
+static void test_table_refuses_beyond_field(void **state) { refuses_beyond_field("table"); }
 
 /* Row `model` of models.tsv: held-out and in-sample RMS, rows per point
  * and the held-out RMS of the points' means. */
@@ -173,15 +182,57 @@ static void test_threads_same(void **state)
     assert_string_equal(a, b);
 }
 
+/* A DSS models.tsv row: held-out RMS, used and recommended. */
+static double dss_row(const char *tsv, const char *model, int *used, int *rec)
+{
+    char key[64];
+    snprintf(key, sizeof key, "\n%s\t", model);
+    const char *r = strstr(tsv, key);
+    assert_non_null(r);
+    int np, ok, al;
+    long n;
+    double in, held;
+    assert_int_equal(sscanf(r + strlen(key), "%d\t%d\t%d\t%ld\t%lf\t%lf\t%d\t%d", &np, &ok,
+                            &al, &n, &in, &held, used, rec),
+                     8);
+    assert_int_equal(ok, 1);
+    assert_true(n > 400);
+    return held;
+}
+
+static void test_dss_compares_five(void **state)
+{
+    static char out[65536];
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "true; %s simulate configs/dss.ini --unit 3 --quiet --out $D/sd && %s calibrate "
+             "--config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd 2>/dev/null && "
+             "cat $D/cd/models.tsv",
+             test_sunmc(), test_sunmc());
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+    int u[5], r[5];
+    const char *names[5] = {"physical", "polynomial", "spline", "hybrid", "table"};
+    double h[5];
+    for (int m = 0; m < 5; m++)
+        h[m] = dss_row(out, names[m], &u[m], &r[m]);
+    assert_true(h[0] > 1.0 && h[0] < 20.0);
+    assert_true(fabs(h[3] - h[0]) < 0.1 * h[0]);
+    assert_true(h[2] > 3.0 * h[0] && h[4] > 3.0 * h[0]);
+    assert_int_equal(u[0] + r[0], 2);
+    assert_int_equal(u[1] + u[2] + u[3] + u[4] + r[1] + r[2] + r[3] + r[4], 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exact_physics_recommended),
         cmocka_unit_test(test_physics_does_not_describe),
         cmocka_unit_test(test_spline_refuses_beyond_field),
+        cmocka_unit_test(test_table_refuses_beyond_field),
         cmocka_unit_test(test_mean_of_repeats),
         cmocka_unit_test(test_inverting_sensor_compensated),
         cmocka_unit_test(test_threads_same),
+        cmocka_unit_test(test_dss_compares_five),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

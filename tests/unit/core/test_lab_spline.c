@@ -1,6 +1,7 @@
 /* test_lab_spline.c - issue 39: the family-neutral spline calibration
  * (lab_spline.h).  A cubic B-spline reproduces a polynomial of degree <= 3
- * (unpenalised; a straight line at any smoothing), a sine to a stated error;
+ * (unpenalised; a straight line at any smoothing), a sine to a stated error
+ * and to the cubic's order, h^4, as the knots double;
  * a reading outside the calibrated field is refused, also inside the range
  * but in a cell the data never visited; the smoothing chosen by the folds
  * follows the noise; params.ini round-trips bit for bit and refuses a
@@ -84,6 +85,30 @@ static void test_sine_to_stated_error(void **state)
     /* heavy smoothing flattens it: not the sine any more */
     assert_int_equal(lab_spline_fit(&s, &t.d, 1e4, 1, err, sizeof err), SUNMC_OK);
     assert_true(max_err(&s, wave, 1) > 0.1);
+}
+
+/* The knot spacing halved (rows 4 (nbreak + 2): 12 then 23 breakpoints
+ * over [-1, 1]), a cubic's error on the sine falls as h^4: about 16. */
+static void test_sine_order_as_knots_double(void **state)
+{
+    static double x[100], y[100], w[100];
+    double e[2];
+    const int rows[2] = {56, 100}, nbreak[2] = {12, 23};
+    for (int t = 0; t < 2; t++) {
+        for (int i = 0; i < rows[t]; i++) {
+            x[i] = -1.0 + 2.0 * i / (rows[t] - 1);
+            y[i] = sin(3.0 * x[i]);
+            w[i] = 1.0;
+        }
+        lab_spline_data d = {.n = (size_t)rows[t], .dims = 1, .n_out = 1, .x = {x}, .y = {y},
+                             .w = w};
+        lab_spline s;
+        char err[256];
+        assert_int_equal(lab_spline_fit(&s, &d, 1e-14, 0, err, sizeof err), SUNMC_OK);
+        assert_int_equal(s.nbreak, nbreak[t]);
+        e[t] = max_err(&s, wave, 1);
+    }
+    assert_true(e[0] / e[1] > 10.0 && e[0] / e[1] < 25.0);
 }
 
 static void test_outside_field_refused(void **state)
@@ -270,6 +295,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_polynomial_exact),
         cmocka_unit_test(test_sine_to_stated_error),
+        cmocka_unit_test(test_sine_order_as_knots_double),
         cmocka_unit_test(test_outside_field_refused),
         cmocka_unit_test(test_two_inputs_and_hole),
         cmocka_unit_test(test_choose_by_folds),

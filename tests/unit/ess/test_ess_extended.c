@@ -402,7 +402,7 @@ static double models_row(const char *dir, const char *model, int *used, int *rec
     char path[1024];
     snprintf(path, sizeof path, "%s/models.tsv", dir);
     tsv *t = tsv_load(path);
-    assert_int_equal(t->nr, 2);
+    assert_int_equal(t->nr, ESS_N_MODELS); /* paper, extended, spline, hybrid, table */
     double v = NAN;
     for (int r = 0; r < t->nr; r++)
         if (strcmp(tsv_str(t, r, "model"), model) == 0) {

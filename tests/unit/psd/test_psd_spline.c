@@ -139,6 +139,40 @@ static void test_spline_axes_and_grid(void **state)
     }
 }
 
+/* The table of the same spline at a fixed step: its nodes on the spline,
+ * its error within the spline's plus the interpolation's; a finer step
+ * errs less; beyond the field refused. */
+static void test_table_of_spline(void **state)
+{
+    static campaign cp;
+    for (int axes = 0; axes < 2; axes++) {
+        campaign_make(&cp, axes);
+        psd_cal k;
+        memset(&k, 0, sizeof k);
+        k.model = PSD_MODEL_TABLE;
+        k.design = &cp.d;
+        double e[2];
+        for (int t = 0; t < 2; t++) {
+            cp.rows.table_log = (axes ? 5 : 3) + t;
+            assert_int_equal(psd_spline_fit(&k, &cp.rows, cp.scratch), SUNMC_OK);
+            assert_int_equal(k.table.dims, axes ? 1 : 2);
+            assert_int_equal(k.table.nodes, (1 << cp.rows.table_log) + 1);
+            assert_int_equal(psd_table_log(&k.table), cp.rows.table_log);
+            e[t] = worst(&k, &cp);
+        }
+        assert_true(e[1] < e[0]);
+        assert_true(e[1] < (axes ? 60.0 : 300.0) * RAD_PER_ARCSEC);
+        double m[4], a, b, u[3];
+        psd_sensor s;
+        psd_deviations dev;
+        memset(&dev, 0, sizeof dev);
+        psd_sensor_build(&cp.d, &dev, &s);
+        sun_vector_of(0, -25 * RAD_PER_DEG, u);
+        assert_int_equal(psd_sensor_read(&s, u, m), SUNMC_OK);
+        assert_int_equal(psd_cal_angles(&k, m, &a, &b), SUNMC_EDOM);
+    }
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
@@ -146,6 +180,7 @@ int main(void)
         cmocka_unit_test(test_hybrid_zero_on_exact_physics),
         cmocka_unit_test(test_hybrid_corrects_wrong_height),
         cmocka_unit_test(test_spline_axes_and_grid),
+        cmocka_unit_test(test_table_of_spline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

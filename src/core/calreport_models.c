@@ -1,0 +1,51 @@
+/* calreport_models.c - the recommendation of a model comparison
+ * (calreport.h): what the PSD and the DSS say of their models' held-out
+ * errors, once. */
+#include "calreport.h"
+
+#include <stdio.h>
+
+void calreport_models_recommend(calreport_models *cm, double gain, double far)
+{
+    int best = -1, emp = -1;
+    for (int m = 0; m < cm->n; m++) {
+        const calreport_model *x = &cm->m[m];
+        if (!x->ok)
+            continue;
+        if (best < 0)
+            best = m;
+        /* the simpler of two, unless the other is clearly better */
+        const calreport_model *b = &cm->m[best];
+        int simpler = x->np < b->np;
+        double g = simpler ? 1.0 + gain : 1.0 - gain;
+        if (x->rms_out_arcsec < b->rms_out_arcsec * g)
+            best = m;
+        if (m != 0 && (emp < 0 || x->rms_out_arcsec < cm->m[emp].rms_out_arcsec))
+            emp = m;
+    }
+    cm->best = best < 0 ? cm->used : best;
+    size_t at = 0;
+    const calreport_model *b = &cm->m[cm->best];
+    if (best < 0) {
+        snprintf(cm->note, sizeof cm->note, "no model could be refitted on every fold");
+        return;
+    }
+    at += (size_t)snprintf(cm->note, sizeof cm->note,
+                           "recommended %s: held out %.0f arcsec for a single reading",
+                           b->name, b->rms_out_arcsec);
+    if (b->per_point > 1 && at < sizeof cm->note)
+        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, ", %.0f for the mean of %.3g",
+                               b->rms_out_mean_arcsec, b->per_point);
+    if (at < sizeof cm->note)
+        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, "%s%s",
+                               cm->best != cm->used ? ": calibrate with --set calibration.model="
+                                                    : "",
+                               cm->best != cm->used ? b->name : "");
+    const calreport_model *ph = &cm->m[0];
+    if (emp >= 0 && ph->ok && ph->rms_out_arcsec > far * cm->m[emp].rms_out_arcsec &&
+        at < sizeof cm->note)
+        snprintf(cm->note + at, sizeof cm->note - at,
+                 "; the physics does not describe this sensor: the physical model's held-out "
+                 "error is %.1f times the %s model's",
+                 ph->rms_out_arcsec / cm->m[emp].rms_out_arcsec, cm->m[emp].name);
+}
