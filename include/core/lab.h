@@ -152,6 +152,11 @@ typedef struct family_lab {
                        params_file *p);
     /* residuals.tsv: every data row with its residual and angle errors. */
     int (*write_residuals)(const void *cal, FILE *f);
+    /* Row i's error of the fitted calibration along the two table angles'
+     * directions (rad): what lab_drift compares between a file's
+     * campaigns.  Non-OK for a row the fit did not use or cannot read;
+     * NULL: no campaign report. */
+    int (*cal_row_error)(const void *cal, size_t i, double err_rad[2]);
     /* The family's further files (NULL-terminated, or NULL) and their writer. */
     const char *const *extra_files;
     int (*write_extra)(const void *cal, const sunmc_config *c, int k, FILE *f);
@@ -206,6 +211,11 @@ void lab_columns_free(lab_columns *d);
 /* The campaigns of d (read from d->path; d->line filled): source,
  * n_sources, source_name.  Called by lab_columns_read. */
 int lab_columns_sources(lab_columns *d, char *err, size_t errlen);
+/* The campaigns of d against the fitted cal (lab_drift.h) into rep->drift,
+ * and a warning when one drifted; nothing without lab->cal_row_error or
+ * with fewer than two campaigns. */
+void lab_drift_report(const family_lab *lab, const void *cal, const lab_columns *d,
+                      calreport *rep);
 
 /* Lab data a calibration must not be run on (exit 2, "FILE:LINE: ..."),
  * before the fit: table angles that look like radians (all within +-2 pi,

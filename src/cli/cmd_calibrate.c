@@ -236,6 +236,7 @@ static int calibrate(const cli_options *o, const config_state *cs, const family_
             calreport_warn(rep, "remove the repeated lines, or say how to count them with "
                                 "--duplicates",
                            "%s", dup_warn);
+        lab_drift_report(lab, cal, &d, rep);
         lab_check_fit(lab, c, &d, rep);
         lab_check_grid(lab, c, &d, rep);
         lab_check_measured(lab, cs, rep);

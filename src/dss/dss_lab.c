@@ -307,6 +307,20 @@ static int write_residuals(const void *p, FILE *f)
     return dss_labfit_write_residuals(f, k->cw, k->line, &k->cal);
 }
 
+/* Row i's alpha, beta errors (lab_drift), as residuals.tsv has them. */
+static int cal_row_error(const void *p, size_t i, double e[2])
+{
+    const dss_cal *k = p;
+    const dss_calib_workspace *cw = k->cw;
+    double a0, b0, a, b;
+    dss_calib_truth(&k->cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
+    if (!(cw->weight[i] > 0) || dss_compensate(&k->cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+        return SUNMC_EDOM;
+    e[0] = a - a0;
+    e[1] = b - b0;
+    return SUNMC_OK;
+}
+
 /* models.tsv: the model comparison (calreport_write_models). */
 static const char *const extra_files[] = {"models.tsv", NULL};
 static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
@@ -401,6 +415,7 @@ const family_lab dss_lab = {
                     "read by `sunmc compensate`; units are in the key names",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
+    .cal_row_error = cal_row_error,
     .extra_files = extra_files,
     .write_extra = write_extra,
     .cal_free = cal_free,

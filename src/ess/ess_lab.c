@@ -295,6 +295,20 @@ static int write_residuals(const void *p, FILE *f)
     return ess_labfit_write_residuals(f, k->cw, k->line, &k->res.m);
 }
 
+/* Row i's angle error (lab_drift): the ESS measures alpha only, so its
+ * error stands for both directions (a campaign sweeps alpha). */
+static int cal_row_error(const void *p, size_t i, double e[2])
+{
+    const ess_cal *k = p;
+    const ess_calib_workspace *cw = k->cw;
+    if (!(cw->weight[i] > 0) ||
+        ess_angle_error(&k->res.m, cw->alpha_rad[i], cw->beta_rad[i], cw->raw_rad[i], &e[0]) !=
+            SUNMC_OK)
+        return SUNMC_EDOM;
+    e[1] = e[0];
+    return SUNMC_OK;
+}
+
 static const char *const extra_files[] = {"field.tsv", "models.tsv", NULL};
 
 /* field.tsv: the propagated sigma over the campaign's alpha range (the
@@ -403,6 +417,7 @@ const family_lab ess_lab = {
                     "errors in the comments",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
+    .cal_row_error = cal_row_error,
     .extra_files = extra_files,
     .write_extra = write_extra,
     .cal_free = cal_free,

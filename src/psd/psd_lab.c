@@ -168,6 +168,17 @@ static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
 
 static void cal_free(void *p) { psd_labcal_free(p); }
 
+/* The fitted calibration's alpha, beta errors of row i (lab_drift). */
+static int cal_row_error(const void *p, size_t i, double e[2])
+{
+    const psd_labcal *k = p;
+    if (!(k->w[i] > 0) || !isfinite(k->err[3 * i]))
+        return SUNMC_EDOM;
+    e[0] = k->err[3 * i];
+    e[1] = k->err[3 * i + 1];
+    return SUNMC_OK;
+}
+
 static double cal_noise_arcsec(const sunmc_config *c);
 
 static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calreport *rep,
@@ -583,6 +594,7 @@ const family_lab psd_lab = {
     .params_title = "sunmc calibration of a four-channel analog sun sensor (psd)",
     .params_fill = params_fill,
     .write_residuals = write_residuals,
+    .cal_row_error = cal_row_error,
     .extra_files = extra_files,
     .write_extra = write_extra,
     .cal_free = cal_free,

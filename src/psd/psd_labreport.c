@@ -274,26 +274,6 @@ static void report_bands(psd_labcal *k, calreport *rep, const psd_point_stats *p
     }
 }
 
-/* Campaigns of the file (lab_drift.h), on the fitted calibration's errors. */
-static void report_drift(const psd_labcal *k, calreport *rep)
-{
-    lab_drift_input in = {.n = k->d->n,
-                          .angle_deg = {k->d->v[0], k->d->v[1]},
-                          .error_rad = {k->err, k->err + 1},
-                          .error_stride = 3,
-                          .weight = k->w,
-                          .source = k->d->source,
-                          .n_sources = k->d->n_sources,
-                          .source_name = (const char *const *)k->d->source_name};
-    if (lab_drift_analyse(&in, &rep->drift) >= 2 && rep->drift.drift)
-        calreport_warn(rep,
-                       "calibrate on one campaign (cut the file at its \"# source:\" lines) "
-                       "or find what moved (mount, lamp, table zero); no calibration removes "
-                       "a change between campaigns, and the cross-validation by sweep shows "
-                       "its cost (campaigns.tsv)",
-                       "drift between campaigns: %s", rep->drift.note);
-}
-
 /* Another table convention the data fit markedly better (psd_labconv.c). */
 void psd_labcal_report_conventions(const psd_labcal *k, calreport *rep)
 {
@@ -367,7 +347,6 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
                        "%zu rows could not be compensated by the fitted model (a saturated or "
                        "clipped spot: the ratios stop moving) and were left out of the fit",
                        k->dropped);
-    report_drift(k, rep);
     psd_labcal_report_conventions(k, rep);
     size_t min_rows = (size_t)np + 1 + (size_t)lround(edf / 2);
     cross_validate(k, rep, min_rows);
