@@ -386,6 +386,7 @@ const lab_export psd_export = {
     .emit_check = emit_check,
     .emit_model = emit_model,
     .axes_at = axes_at,
+    .eval_float = psd_export_eval_float,
     .onboard_mc = 1,
     .nominal = nominal,
     .iterations = "Loops: physical model: Newton in (tan alpha, tan beta), at most 40 steps, "
