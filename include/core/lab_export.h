@@ -68,6 +68,9 @@ typedef struct lab_export {
      * float as the generated code does it.  Returns enum lab_reading;
      * NULL: the family has no float path (the onboard float is refused). */
     int (*eval_float)(const void *model, const float *raw, float *deg);
+    /* Has eval_float this (supported) model?  Non-OK (message) when not;
+     * NULL: every model the export takes. */
+    int (*float_supported)(const void *model, char *err, size_t errlen);
     /* 1 when the family's Monte Carlo validates through lab_onboard
      * (calibration.onboard; its unit model is this model's type). */
     int onboard_mc;

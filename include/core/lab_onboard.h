@@ -82,7 +82,8 @@ const lab_onboard *lab_onboard_mc_unit(lab_onboard *o, const void *model, int *f
 /* Take model (lab_params_load's, or a Monte Carlo unit's fitted model of
  * the same type) for the evaluations that follow: the table form builds
  * its table.  Non-OK with a message: the family has no export or no
- * float path, the export does not take this model, a table beyond
+ * float path, the export (or its float path) does not take this model, a
+ * table beyond
  * LAB_EXPORT_MAX_NODES, no memory. */
 int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t errlen);
 

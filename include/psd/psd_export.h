@@ -6,4 +6,8 @@
 struct lab_export;
 extern const struct lab_export psd_export;
 
+/* The exported function with -DSUNMC_FLOAT, in process (lab_export.eval_float;
+ * psd_export_float.c): enum lab_reading, the angles in deg. */
+int psd_export_eval_float(const void *model, const float *raw, float *deg);
+
 #endif

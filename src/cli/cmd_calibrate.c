@@ -80,10 +80,11 @@ static const char compensate_tail[] =
     "  --set KEY=VALUE  changes a key of CONFIG (needs --config)\n"
     "  --out DIR        also writes DIR/accuracy.tsv (refused without truth columns)\n"
     "  --onboard FORM   compensates as `sunmc export`'s code does on board: double (the\n"
-    "                   default: the model), float (its -DSUNMC_FLOAT build; ESS, DSS), or\n"
-    "                   table:STEP (its table form, STEP in the reading axes' unit: ESS\n"
-    "                   output_deg, DSS px, PSD ratio); the accuracy is then the on-board\n"
-    "                   form's (docs/calibration.md, from the lab to the flight software)\n"
+    "                   default: the model), float (its -DSUNMC_FLOAT build; the PSD's\n"
+    "                   physical and polynomial models), or table:STEP (its table form,\n"
+    "                   STEP in the reading axes' unit: ESS output_deg, DSS px, PSD\n"
+    "                   ratio); the accuracy is then the on-board form's\n"
+    "                   (docs/calibration.md, from the lab to the flight software)\n"
     "Conventions of the raw columns and table angles: see `sunmc calibrate --help`.\n";
 
 /* Append printf-style text to buf (used bytes *n), truncating at len. */

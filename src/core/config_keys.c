@@ -102,7 +102,7 @@ const config_key config_keys[] = {
      "run.seed's own pilot stream, the same in every shard and thread)"},
     {"calibration", "onboard", KEY_STRING, "", "double", 0, 0, NULL, OFF(onboard),
      "the arithmetic each unit is validated through: double (the model), float (`sunmc "
-     "export`'s code built with -DSUNMC_FLOAT; ESS, DSS) or table:STEP (its table form, STEP in "
+     "export`'s code built with -DSUNMC_FLOAT; PSD: physical and polynomial models) or table:STEP (its table form, STEP in "
      "the reading axes' unit: ESS output_deg, DSS px, PSD channel ratio; at most 10^6 nodes); "
      "Table 1, the yield and `budget` (its ONBOARD_ part) then include the on-board error"},
 

@@ -85,6 +85,8 @@ int lab_onboard_config(const sunmc_config *c, lab_onboard_spec *s, char *err, si
                           "--onboard table:STEP` measures that table)",
                           key, c->onboard);
     }
+    if (st == SUNMC_OK && s->form == LAB_ONBOARD_FLOAT && x->float_supported)
+        st = x->float_supported(m, why, sizeof why);
     lab_export_job j = {.lab = lab, .model = m, .step = s->step};
     long n[LAB_EXPORT_MAX_AXES], nodes;
     if (st == SUNMC_OK && s->form == LAB_ONBOARD_TABLE)
@@ -198,14 +200,16 @@ int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t err
     int st = x->supported ? x->supported(model, err, errlen) : SUNMC_OK;
     if (st != SUNMC_OK)
         return st;
-    if (o->spec.form == LAB_ONBOARD_FLOAT && x->model_form &&
-        x->model_form(model, err, errlen) != SUNMC_OK)
-        return SUNMC_EINPUT; /* an empirical model: its table form only */
-    if (o->spec.form == LAB_ONBOARD_FLOAT)
-        return x->eval_float ? SUNMC_OK
-                             : sunmc_fail(err, errlen, SUNMC_EINPUT,
-                                          "this family's export has no float path in sunmc: "
-                                          "onboard float is not available");
+    if (o->spec.form == LAB_ONBOARD_FLOAT) {
+        if (!x->eval_float)
+            return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                              "this family's export has no float path in sunmc: onboard float "
+                              "is not available");
+        st = x->float_supported ? x->float_supported(model, err, errlen) : SUNMC_OK;
+        if (st == SUNMC_OK && x->model_form && x->model_form(model, err, errlen) != SUNMC_OK)
+            st = SUNMC_EINPUT; /* an empirical model: its table form only */
+        return st;
+    }
     if (!x->axes_at)
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "this family's export has no table path in sunmc: onboard table is "

@@ -48,6 +48,19 @@ static int model_form(const void *model, char *err, size_t errlen)
     return SUNMC_OK;
 }
 
+/* The float path (psd_export_float.c) has the physical and polynomial
+ * models. */
+static int float_supported(const void *model, char *err, size_t errlen)
+{
+    const psd_model_file *m = model;
+    if (m->cal.model == PSD_MODEL_PHYSICAL || m->cal.model == PSD_MODEL_POLYNOMIAL)
+        return SUNMC_OK;
+    return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                      "the PSD's %s model has no float path in sunmc (physical and "
+                      "polynomial have; use double or table:STEP)",
+                      psd_model_names[m->cal.model]);
+}
+
 static int is_duo(const psd_model_file *m)
 {
     return m->cfg.design.detector == PSD_LATERAL && m->cfg.design.lateral == PSD_DUO;
@@ -410,6 +423,8 @@ const lab_export psd_export = {
     .emit_check = emit_check,
     .emit_model = emit_model,
     .axes_at = axes_at,
+    .eval_float = psd_export_eval_float,
+    .float_supported = float_supported,
     .onboard_mc = 1,
     .nominal = nominal,
     .iterations = "Loops: physical model: Newton in (tan alpha, tan beta), at most 40 steps, "

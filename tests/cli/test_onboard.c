@@ -6,8 +6,10 @@
  * double model falls as step^2 (half the step, about a quarter); the
  * Monte Carlo key calibration.onboard: float moves the mean after-RMS by
  * less than its interval, a coarse table by more, budget lists the
- * ONBOARD_ row; and the refusals (FILE:LINE, exit 2; steps at and one past
- * the table's node limit). */
+ * ONBOARD_ row; the PSD's float error against its double model is
+ * bounded and its budget part near 0; and the refusals (FILE:LINE, exit
+ * 2; steps at and one past the table's node limit; the PSD's spline and
+ * hybrid have no float path). */
 #include "test_util.h"
 
 #include <math.h>
@@ -31,8 +33,15 @@ static int setup(void **state)
         "calibrate --config configs/dss.ini $D/sd/campaign.csv --quiet --out $D/cd",
         "calibrate --config configs/dss.ini --set calibration.model=polynomial "
         "$D/sd/campaign.csv --quiet --out $D/cl",
-        "simulate configs/psd.ini --unit 3 --quiet --out $D/sp",
-        "calibrate --config configs/psd.ini $D/sp/campaign.csv --quiet --out $D/cp"};
+        /* the PSD's validation made a grid of 900 readings (the compiled
+         * export's comparison wants more than 500) */
+        "simulate configs/psd.ini --unit 3 --quiet --set validation.alpha_step_deg=0.4 --set "
+        "validation.beta_deg=-19,-14,-9,-4,1,6,11,16,19 --out $D/sp",
+        "calibrate --config configs/psd.ini $D/sp/campaign.csv --quiet --out $D/cp",
+        "calibrate --config configs/psd.ini --set calibration.model=polynomial "
+        "$D/sp/campaign.csv --quiet --out $D/cq",
+        "calibrate --config configs/psd.ini --set calibration.model=spline "
+        "$D/sp/campaign.csv --quiet --out $D/cs"};
     char out[16384];
     for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
         if (sunmc(steps[i], out, sizeof out) != 0) {
@@ -94,7 +103,7 @@ static double export_vs_onboard(const char *cal, const char *sim, const char *xo
 
 /* Float: compensate --onboard float gives the compiled -DSUNMC_FLOAT
  * export's bits (a float ulp at 60 deg is 3.8e-6 deg; 1e-9 is none): the
- * ESS paper model, the DSS physical model and polynomial. */
+ * ESS paper model, the DSS and the PSD physical model and polynomial. */
 static void test_float_matches_compiled_export(void **state)
 {
     (void)state;
@@ -109,6 +118,52 @@ static void test_float_matches_compiled_export(void **state)
                               "$3 \",\" $4", 2, "$(NF-1) \",\" $NF", 2, &mismatch);
         assert_int_equal(mismatch, 0);
         assert_true(d <= 1e-9);
+    }
+    static const char *const psd[] = {"cp", "cq"};
+    for (int k = 0; k < 2; k++) {
+        d = export_vs_onboard(psd[k], "sp", "--precision float", "-DSUNMC_FLOAT", "float",
+                              "$3 \",\" $4 \",\" $5 \",\" $6", 4, "$7 \",\" $8", 2, &mismatch);
+        assert_int_equal(mismatch, 0);
+        assert_true(d <= 1e-9);
+    }
+}
+
+/* The largest |float - double| (arcsec) of compensate of params cal on the
+ * PSD unit's validation grid; *rows the readings with an angle in both,
+ * *mismatch those with an angle in one only. */
+static double psd_float_error(const char *cal, long *rows, long *mismatch)
+{
+    char cmd[2048], out[4096];
+    snprintf(cmd, sizeof cmd,
+             "compensate $D/%s/params.ini $D/sp/validation.csv 2>/dev/null | grep -v '^#' | "
+             "tail -n +2 | cut -d, -f7,8 > $D/d.txt && %s compensate $D/%s/params.ini "
+             "$D/sp/validation.csv --onboard float 2>/dev/null | grep -v '^#' | tail -n +2 | "
+             "cut -d, -f7,8 > $D/f.txt && paste -d, $D/d.txt $D/f.txt | awk -F, '{if (($1 == "
+             "\"-\") != ($3 == \"-\")) m++; else if ($1 != \"-\") {n++; for (k = 1; k <= 2; "
+             "k++) {d = $k - $(k+2); if (d < 0) d = -d; if (d > x) x = d}}} END {printf "
+             "\"%%.6g %%d %%d\\n\", 3600 * x, n, m}'",
+             cal, test_sunmc(), cal);
+    assert_int_equal(sunmc(cmd, out, sizeof out), 0);
+    double worst = NAN;
+    assert_int_equal(sscanf(out, "%lf %ld %ld", &worst, rows, mismatch), 3);
+    return worst;
+}
+
+/* The PSD's float error against its double model: a few float ulps of
+ * the ratios (6e-8 relative) through the Newton inversion or the
+ * polynomial, a few hundredths of an arcsec on the grid; bound 0.36
+ * arcsec (1e-4 deg), ten times what is seen, far below the unit's 200
+ * arcsec; not zero (the arithmetic is float). */
+static void test_psd_float_error_bounded(void **state)
+{
+    (void)state;
+    static const char *const psd[] = {"cp", "cq"};
+    for (int k = 0; k < 2; k++) {
+        long rows = 0, mismatch = -1;
+        double e = psd_float_error(psd[k], &rows, &mismatch);
+        assert_int_equal(mismatch, 0);
+        assert_true(rows > 200);
+        assert_true(e > 0 && e < 0.36);
     }
 }
 
@@ -198,11 +253,8 @@ static void test_mc_float_within_interval(void **state)
     (void)state;
     mc_check("configs/ess_type_a.ini", "table:0.1");
     mc_check("configs/dss.ini", "table:16");
-    /* the PSD: no float path; a coarse table (0.25 in the ratios) moves it */
-    double m0, lo0, hi0, s0, m2, lo2, hi2, s2;
-    mean_after("configs/psd.ini", "double", &m0, &lo0, &hi0, &s0);
-    mean_after("configs/psd.ini", "table:0.25", &m2, &lo2, &hi2, &s2);
-    assert_true(hi0 > lo0 && m2 - m0 > 0.5 * (hi0 - lo0));
+    /* the PSD: a coarse table is 0.25 in the ratios */
+    mc_check("configs/psd.ini", "table:0.25");
 }
 
 /* The same units for any thread count: each thread's table is built from
@@ -253,6 +305,28 @@ static void test_budget_onboard_row(void **state)
     assert_false(test_file_has(path, "ONBOARD"));
 }
 
+/* budget of the PSD through float: the ONBOARD_FLOAT row is there and its
+ * share of the mean square after is near 0 (below 0.1 %). */
+static void test_budget_psd_float(void **state)
+{
+    (void)state;
+    char out[65536];
+    assert_int_equal(sunmc("budget configs/psd.ini --units 10 --set calibration.onboard=float "
+                           "--out $D/bp",
+                           out, sizeof out),
+                     0);
+    assert_non_null(strstr(out, "on-board arithmetic (ONBOARD_FLOAT"));
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             "awk -F'\\t' '$2 == \"after_part\" && $3 == \"ONBOARD_FLOAT\" {print $13; n++} "
+             "END {if (n != 1) print \"none\"}' %s/bp/budget.tsv",
+             dir);
+    assert_int_equal(test_run(cmd, out, sizeof out), 0);
+    double part = NAN;
+    assert_int_equal(sscanf(out, "%lf", &part), 1);
+    assert_true(fabs(part) < 1e-3);
+}
+
 /* Refusals: exit 2, FILE:LINE for a config's key, nothing written. */
 static void test_onboard_refused(void **state)
 {
@@ -273,7 +347,11 @@ static void test_onboard_refused(void **state)
         "configs/ess_type_a.ini --units 2 --set calibration.onboard=Float",
         /* one past the node limit: 178 deg in 1000000 cells, 1000001 nodes */
         "configs/ess_type_a.ini --units 2 --set calibration.onboard=table:0.000178",
-        "configs/psd.ini --units 2 --set calibration.onboard=float",
+        /* the PSD's float path: the physical model and the polynomial */
+        "configs/psd.ini --units 2 --set calibration.model=spline --set "
+        "calibration.onboard=float",
+        "configs/psd.ini --units 2 --set calibration.model=hybrid --set "
+        "calibration.onboard=float",
         /* the DSS's detector, 2048 px, in more than 10^6 nodes */
         "configs/dss.ini --units 2 --set calibration.onboard=table:2",
         /* the export has no detector tilt: neither has its on-board form */
@@ -294,11 +372,12 @@ static void test_onboard_refused(void **state)
         assert_int_equal(sunmc(cmd, out, sizeof out), 2);
         assert_non_null(strstr(out, "--onboard"));
     }
-    assert_int_equal(sunmc("compensate $D/cp/params.ini $D/sp/validation.csv --onboard float "
+    assert_int_equal(sunmc("compensate $D/cs/params.ini $D/sp/validation.csv --onboard float "
                            "> $D/o.csv 2> $D/e.txt; rc=$?; cat $D/e.txt; exit $rc",
                            out, sizeof out),
                      2);
-    assert_non_null(strstr(out, "no float path"));
+    assert_non_null(strstr(out, "spline model has no float path"));
+    assert_non_null(strstr(out, "--onboard"));
 }
 
 /* The largest table: 178 deg in 999999 cells (1000000 nodes) is taken;
@@ -330,6 +409,8 @@ int main(void)
         cmocka_unit_test(test_mc_float_within_interval),
         cmocka_unit_test(test_mc_onboard_threads),
         cmocka_unit_test(test_budget_onboard_row),
+        cmocka_unit_test(test_budget_psd_float),
+        cmocka_unit_test(test_psd_float_error_bounded),
         cmocka_unit_test(test_onboard_refused),
         cmocka_unit_test(test_onboard_table_limits),
     };
