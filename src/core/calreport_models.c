@@ -5,6 +5,25 @@
 
 #include <stdio.h>
 
+/* Does x replace b as the recommendation?  A simpler x when it is not
+ * worse by more than gain; a more complex one when it is better by gain,
+ * for a single reading or -- when both estimate it -- for the mean of a
+ * point's readings: there the reading noise, common to every model, no
+ * longer hides what the calibration itself leaves (a flight that averages
+ * gets that gain; one that does not loses nothing by more than gain). */
+static int beats(const calreport_model *x, const calreport_model *b, double gain)
+{
+    int means = x->per_point > 1 && b->per_point > 1 && x->rms_out_mean_arcsec > 0 &&
+                b->rms_out_mean_arcsec > 0;
+    if (x->np < b->np)
+        return x->rms_out_arcsec < b->rms_out_arcsec * (1.0 + gain) &&
+               (!means || x->rms_out_mean_arcsec < b->rms_out_mean_arcsec * (1.0 + gain));
+    if (x->rms_out_arcsec < b->rms_out_arcsec * (1.0 - gain))
+        return 1;
+    return means && x->rms_out_mean_arcsec < b->rms_out_mean_arcsec * (1.0 - gain) &&
+           !(x->rms_out_arcsec > b->rms_out_arcsec);
+}
+
 void calreport_models_recommend(calreport_models *cm, double gain, double far)
 {
     int best = -1, emp = -1;
@@ -15,10 +34,7 @@ void calreport_models_recommend(calreport_models *cm, double gain, double far)
         if (best < 0)
             best = m;
         /* the simpler of two, unless the other is clearly better */
-        const calreport_model *b = &cm->m[best];
-        int simpler = x->np < b->np;
-        double g = simpler ? 1.0 + gain : 1.0 - gain;
-        if (x->rms_out_arcsec < b->rms_out_arcsec * g)
+        if (beats(x, &cm->m[best], gain))
             best = m;
         if (m != 0 && (emp < 0 || x->rms_out_arcsec < cm->m[emp].rms_out_arcsec))
             emp = m;
