@@ -87,9 +87,12 @@ const lab_onboard *lab_onboard_mc_unit(lab_onboard *o, const void *model, int *f
  * LAB_EXPORT_MAX_NODES, no memory. */
 int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t errlen);
 
-/* The prepared model's reading raw (compensate's raw columns) through the
- * on-board form: LAB_READING_OK and the angles in deg[n_comp], or why not
- * (enum lab_reading; deg NaN). */
+/* The prepared model's reading raw through the on-board form:
+ * LAB_READING_OK and the angles in deg[n_comp], or why not (enum
+ * lab_reading; deg NaN).  raw as family_lab.compensate gets it: the raw
+ * columns, then every optional column (NaN when absent) -- the family's
+ * hooks read them (ASan found the DSS's weight read past a 2-value
+ * array). */
 int lab_onboard_eval(const lab_onboard *o, const double *raw, double *deg);
 
 /* compensate through o: a copy of o's family_lab whose reading_check and
