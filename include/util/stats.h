@@ -112,6 +112,8 @@ int stats_ratio_acc_t(const stats_ratio_acc *r, double confidence, double *ratio
  * h = (n - 1) p (0-based), as R's default and numpy's "linear"; bit for bit
  * gsl_stats_quantile_from_sorted_data.  NaN for n = 0. */
 double stats_quantile_sorted(const double *sorted, size_t n, double p);
+/* The median of v[0..n-1] (n > 0), v sorted in place. */
+double stats_median_inplace(double *v, size_t n);
 
 /* Distribution-free confidence interval for the population p-quantile
  * x_p = F^-1(p) from order statistics of sorted[n] (ascending; any

@@ -1,6 +1,7 @@
 /* lab_drift.c - campaigns in one lab data file and how much they differ
  * (lab_drift.h). */
 #include "lab_drift.h"
+#include "stats.h"
 #include "status.h"
 #include "units.h"
 
@@ -9,18 +10,6 @@
 #include <string.h>
 
 #define PCT 100.0
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median_of(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static int row_used(const lab_drift_input *in, size_t i)
 {
@@ -56,7 +45,7 @@ static void campaign_shape(const lab_drift_input *in, int s, lab_campaign *c, do
     for (size_t i = 0; i < in->n; i++)
         if (campaign_of(in, i) == s && row_used(in, i))
             tmp[k++] = in->angle_deg[o][i];
-    c->fixed_deg = k ? median_of(tmp, k) : NAN;
+    c->fixed_deg = k ? stats_median_inplace(tmp, (size_t)k) : NAN;
 }
 
 /* The least-squares line of the swept angle's error, and the RMS about it. */
@@ -138,7 +127,7 @@ static void group_profile(const lab_drift_input *in, const lab_drift *d, int grp
             if (cnt[(size_t)j * LAB_DRIFT_BINS + b] > 0)
                 vals[k++] = sum[(size_t)j * LAB_DRIFT_BINS + b] / cnt[(size_t)j * LAB_DRIFT_BINS + b];
         if (k >= 2)
-            profile[b] = median_of(vals, k);
+            profile[b] = stats_median_inplace(vals, (size_t)k);
     }
 }
 

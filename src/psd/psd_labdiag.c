@@ -6,6 +6,7 @@
  * field's edge (a saturating or non-pinhole response), and rows may lie
  * far off it (outliers). */
 #include "psd_lab.h"
+#include "stats.h"
 #include "status.h"
 #include "units.h"
 
@@ -26,18 +27,6 @@
 #define PSD_DIAG_SCALE 1.4
 /* A map turned by more than this (deg) is named. */
 #define PSD_DIAG_TURN_DEG 5.0
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median_of(double *v, size_t n)
-{
-    qsort(v, n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* Row i's measured raw ratios q[0..1], the design's nominal ones p[0..1]
  * and its total angle (rad); non-OK when one is missing. */
@@ -121,7 +110,7 @@ static void compression(const psd_labcal *k, const psd_phys *nom, const double a
         }
         if (m < 3)
             continue;
-        double r = median_of(tmp, m);
+        double r = stats_median_inplace(tmp, m);
         g->outer_ratio = r;
         g->outer_deg = b * PSD_DIAG_BIN_DEG;
         if (r < PSD_DIAG_COMPRESSED && !isfinite(g->compressed_from_deg))
@@ -143,7 +132,7 @@ static void outliers(const psd_labcal *k, const psd_phys *nom, const double a[6]
     g->outliers = 0;
     if (m < PSD_DIAG_MIN_ROWS)
         return;
-    double med = median_of(tmp, m);
+    double med = stats_median_inplace(tmp, m);
     g->resid_median = med;
     for (size_t i = 0; i < k->d->n; i++) {
         double q[2], p[2], t;

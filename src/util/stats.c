@@ -392,3 +392,9 @@ int stats_sobol(const double *fA, const double *fB, const double *fAB, size_t n,
     free(ci);
     return st;
 }
+
+double stats_median_inplace(double *v, size_t n)
+{
+    gsl_sort(v, 1, n);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
