@@ -151,10 +151,20 @@ $(ALL_DEP): ;
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: FORCE all run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims docs-check bench \
+.PHONY: FORCE all programs run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims docs-check bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps fuzz-import
 
-all: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
+# `make` alone compiles on every core: without a -j of the caller's it
+# calls itself again with one (the two programs share no step to wait on,
+# and a clean build on one core takes about a minute).
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+all:
+	@case " $$MAKEFLAGS " in \
+	  *" -j"*|*jobserver*) $(MAKE) --no-print-directory programs ;; \
+	  *) $(MAKE) --no-print-directory -j$(JOBS) programs ;; \
+	esac
+
+programs: $(BUILD)/sunmc $(BUILD)/sunmc-baseline
 
 # Install system packages only when something is missing.
 deps:
