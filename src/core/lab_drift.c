@@ -297,7 +297,10 @@ int lab_drift_analyse(const lab_drift_input *in, lab_drift *out)
     for (int s = 0; s < out->n; s++) {
         lab_campaign *c = &out->c[s];
         const char *nm = in->source_name ? in->source_name[s] : "";
-        snprintf(c->name, sizeof c->name, "%s", nm ? nm : "");
+        if (out->truncated && s == out->n - 1) /* the rest, together: said so */
+            snprintf(c->name, sizeof c->name, "(campaigns %d to %d together)", s + 1, ns);
+        else
+            snprintf(c->name, sizeof c->name, "%s", nm ? nm : "");
         c->shift_arcsec = c->dzero_arcsec = c->dscale_pct = NAN;
         campaign_shape(in, s, c, tmp);
         campaign_line(in, s, c);

@@ -28,39 +28,57 @@
 /* A map turned by more than this (deg) is named. */
 #define PSD_DIAG_TURN_DEG 5.0
 
-/* Row i's measured raw ratios q[0..1], the design's nominal ones p[0..1]
- * and its total angle (rad); non-OK when one is missing. */
-static int row_ratios(const psd_labcal *k, const psd_phys *nom, size_t i, double q[2],
-                      double p[2], double *theta)
+/* Every row's measured raw ratios q, the design's nominal ones p and its
+ * total angle t (rad), computed once; t NaN where one is missing (a row
+ * of weight 0, a reading without ratios, a sun the design cannot see). */
+typedef struct {
+    size_t n;
+    double *q[2], *p[2], *t;
+} diag_rows;
+
+static int rows_fill(const psd_labcal *k, const psd_phys *nom, diag_rows *r)
 {
-    const double *ut = k->ut + 3 * i;
-    double r[4] = {k->d->v[2][i], k->d->v[3][i], k->d->v[4][i], k->d->v[5][i]};
+    size_t n = k->d->n;
+    double *buf = malloc((5 * n + 1) * sizeof *buf);
+    if (!buf)
+        return SUNMC_ENOMEM;
+    *r = (diag_rows){.n = n, .q = {buf, buf + n}, .p = {buf + 2 * n, buf + 3 * n}, .t = buf + 4 * n};
     const double z[3] = {0, 0, 1};
-    *theta = angle_between(ut, z);
-    if (!(k->d->v[6][i] > 0) || psd_poly_ratios(&psd_cfg(k->c)->design, r, &q[0], &q[1]) != SUNMC_OK ||
-        psd_phys_predicted(nom, ut, &p[0], &p[1]) != SUNMC_OK)
-        return SUNMC_EDOM;
-    return isfinite(q[0]) && isfinite(q[1]) && isfinite(p[0]) && isfinite(p[1]) ? SUNMC_OK
-                                                                             : SUNMC_EDOM;
+    for (size_t i = 0; i < n; i++) {
+        const double *ut = k->ut + 3 * i;
+        double m[4] = {k->d->v[2][i], k->d->v[3][i], k->d->v[4][i], k->d->v[5][i]};
+        int ok = k->d->v[6][i] > 0 &&
+                 psd_poly_ratios(&psd_cfg(k->c)->design, m, &r->q[0][i], &r->q[1][i]) ==
+                     SUNMC_OK &&
+                 psd_phys_predicted(nom, ut, &r->p[0][i], &r->p[1][i]) == SUNMC_OK &&
+                 isfinite(r->p[0][i]) && isfinite(r->p[1][i]);
+        r->t[i] = ok ? angle_between(ut, z) : NAN;
+    }
+    return SUNMC_OK;
+}
+
+/* Row i's residual about the map a (ratio units). */
+static double map_residual(const diag_rows *r, size_t i, const double a[6])
+{
+    return hypot(r->q[0][i] - a[0] * r->p[0][i] - a[1] * r->p[1][i] - a[2],
+                 r->q[1][i] - a[3] * r->p[0][i] - a[4] * r->p[1][i] - a[5]);
 }
 
 /* Least squares of q = Q p + c over the rows within theta_max: out a[6] =
  * Q00 Q01 c0 Q10 Q11 c1.  Non-OK when singular. */
-static int fit_map(const psd_labcal *k, const psd_phys *nom, double theta_max, double a[6],
-                   long *n_used)
+static int fit_map(const diag_rows *d, double theta_max, double a[6], long *n_used)
 {
     double ata[3][3] = {{0}}, atb[2][3] = {{0}};
     long n = 0;
-    for (size_t i = 0; i < k->d->n; i++) {
-        double q[2], p[2], t;
-        if (row_ratios(k, nom, i, q, p, &t) != SUNMC_OK || t > theta_max)
+    for (size_t i = 0; i < d->n; i++) {
+        if (!(d->t[i] <= theta_max))
             continue;
-        const double row[3] = {p[0], p[1], 1.0};
+        const double row[3] = {d->p[0][i], d->p[1][i], 1.0};
         for (int r = 0; r < 3; r++) {
             for (int c = 0; c < 3; c++)
                 ata[r][c] += row[r] * row[c];
-            atb[0][r] += row[r] * q[0];
-            atb[1][r] += row[r] * q[1];
+            atb[0][r] += row[r] * d->q[0][i];
+            atb[1][r] += row[r] * d->q[1][i];
         }
         n++;
     }
@@ -90,8 +108,8 @@ static int fit_map(const psd_labcal *k, const psd_phys *nom, double theta_max, d
 /* Per bin of the total angle from the inner field's edge outwards, the
  * median of the measured travel over the map's; the first bin below
  * PSD_DIAG_COMPRESSED. */
-static void compression(const psd_labcal *k, const psd_phys *nom, const double a[6],
-                        double theta_max, psd_data_diag *g, double *tmp)
+static void compression(const diag_rows *d, const double a[6], double theta_max,
+                        psd_data_diag *g, double *tmp)
 {
     g->compressed_from_deg = g->outer_ratio = g->outer_deg = NAN;
     for (int b = 0; b < PSD_DIAG_BINS; b++) {
@@ -99,14 +117,14 @@ static void compression(const psd_labcal *k, const psd_phys *nom, const double a
         if (lo < 0.5 * theta_max)
             continue;
         size_t m = 0;
-        for (size_t i = 0; i < k->d->n; i++) {
-            double q[2], p[2], t;
-            if (row_ratios(k, nom, i, q, p, &t) != SUNMC_OK || t < lo || t >= hi)
+        for (size_t i = 0; i < d->n; i++) {
+            if (!(d->t[i] >= lo && d->t[i] < hi))
                 continue;
-            double mx = a[0] * p[0] + a[1] * p[1], my = a[3] * p[0] + a[4] * p[1];
+            double mx = a[0] * d->p[0][i] + a[1] * d->p[1][i];
+            double my = a[3] * d->p[0][i] + a[4] * d->p[1][i];
             double den = hypot(mx, my);
             if (den > 0)
-                tmp[m++] = hypot(q[0] - a[2], q[1] - a[5]) / den;
+                tmp[m++] = hypot(d->q[0][i] - a[2], d->q[1][i] - a[5]) / den;
         }
         if (m < 3)
             continue;
@@ -119,33 +137,38 @@ static void compression(const psd_labcal *k, const psd_phys *nom, const double a
 }
 
 /* Rows of the inner field far off the map. */
-static void outliers(const psd_labcal *k, const psd_phys *nom, const double a[6],
+static void outliers(const psd_labcal *k, const diag_rows *d, const double a[6],
                      double theta_max, psd_data_diag *g, double *tmp)
 {
     size_t m = 0;
-    for (size_t i = 0; i < k->d->n; i++) {
-        double q[2], p[2], t;
-        if (row_ratios(k, nom, i, q, p, &t) == SUNMC_OK && t <= theta_max)
-            tmp[m++] = hypot(q[0] - a[0] * p[0] - a[1] * p[1] - a[2],
-                             q[1] - a[3] * p[0] - a[4] * p[1] - a[5]);
-    }
+    for (size_t i = 0; i < d->n; i++)
+        if (d->t[i] <= theta_max)
+            tmp[m++] = map_residual(d, i, a);
     g->outliers = 0;
     if (m < PSD_DIAG_MIN_ROWS)
         return;
     double med = stats_median_inplace(tmp, m);
     g->resid_median = med;
-    for (size_t i = 0; i < k->d->n; i++) {
-        double q[2], p[2], t;
-        if (row_ratios(k, nom, i, q, p, &t) != SUNMC_OK || t > theta_max)
+    for (size_t i = 0; i < d->n; i++) {
+        if (!(d->t[i] <= theta_max))
             continue;
-        double r = hypot(q[0] - a[0] * p[0] - a[1] * p[1] - a[2],
-                         q[1] - a[3] * p[0] - a[4] * p[1] - a[5]);
-        if (r > PSD_DIAG_OUTLIER * med) {
+        if (map_residual(d, i, a) > PSD_DIAG_OUTLIER * med) {
             if (g->outliers < PSD_DIAG_LINES)
                 g->outlier_line[g->outliers] = k->d->line[i];
             g->outliers++;
         }
     }
+}
+
+/* The map's shape: mirror, scale and turn (or, mirrored, its line). */
+static void map_shape(const double a[6], psd_data_diag *g)
+{
+    double det = a[0] * a[4] - a[1] * a[3];
+    g->mirrored = det < 0;
+    g->scale = sqrt(fabs(det));
+    /* the map's rotation (or, mirrored, twice its mirror line's angle) */
+    double phi = det >= 0 ? atan2(a[3] - a[1], a[0] + a[4]) : atan2(a[3] + a[1], a[0] - a[4]);
+    g->turn_deg = (det >= 0 ? phi : 0.5 * phi) * DEG_PER_RAD;
 }
 
 int psd_labcal_diagnose(const psd_labcal *k, psd_data_diag *g)
@@ -161,24 +184,22 @@ int psd_labcal_diagnose(const psd_labcal *k, psd_data_diag *g)
             tmax = fmax(tmax, angle_between(k->ut + 3 * i, z));
     double inner = 0.5 * tmax, a[6];
     g->inner_deg = inner * DEG_PER_RAD;
-    if (fit_map(k, &nom, inner, a, &g->rows) != SUNMC_OK)
-        return SUNMC_EFIT;
-    double det = a[0] * a[4] - a[1] * a[3];
-    g->mirrored = det < 0;
-    g->scale = sqrt(fabs(det));
-    /* the map's rotation (or, mirrored, twice its mirror line's angle) */
-    double phi = det >= 0 ? atan2(a[3] - a[1], a[0] + a[4]) : atan2(a[3] + a[1], a[0] - a[4]);
-    g->turn_deg = (det >= 0 ? phi : 0.5 * phi) * DEG_PER_RAD;
-    double *tmp = malloc((k->d->n + 1) * sizeof *tmp);
-    if (!tmp)
+    diag_rows d;
+    if (rows_fill(k, &nom, &d) != SUNMC_OK)
         return SUNMC_ENOMEM;
-    compression(k, &nom, a, inner, g, tmp);
-    outliers(k, &nom, a, inner, g, tmp);
+    double *tmp = malloc((d.n + 1) * sizeof *tmp);
+    int st = !tmp ? SUNMC_ENOMEM : fit_map(&d, inner, a, &g->rows);
+    if (st == SUNMC_OK) {
+        map_shape(a, g);
+        compression(&d, a, inner, g, tmp);
+        outliers(k, &d, a, inner, g, tmp);
+        g->defects = g->mirrored + (!g->mirrored && fabs(g->turn_deg) > PSD_DIAG_TURN_DEG) +
+                     (g->scale > PSD_DIAG_SCALE || g->scale * PSD_DIAG_SCALE < 1.0) +
+                     isfinite(g->compressed_from_deg) + (g->outliers > 0);
+    }
     free(tmp);
-    g->defects = g->mirrored + (!g->mirrored && fabs(g->turn_deg) > PSD_DIAG_TURN_DEG) +
-                 (g->scale > PSD_DIAG_SCALE || g->scale * PSD_DIAG_SCALE < 1.0) +
-                 isfinite(g->compressed_from_deg) + (g->outliers > 0);
-    return SUNMC_OK;
+    free(d.q[0]);
+    return st;
 }
 
 void psd_labcal_report_defects(const psd_labcal *k, calreport *rep)

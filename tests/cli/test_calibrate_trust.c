@@ -18,17 +18,11 @@ static int setup(void **state)
 {
     if (test_private_dir(dir, sizeof dir, "labtrust") != 0)
         return -1;
-    char out[16384];
     const char *steps[] = {
         "simulate " E " --unit 3 --quiet --out $D/le", "simulate " D " --unit 3 --quiet --out $D/ld",
         "calibrate --config " E " $D/le/campaign.csv --quiet --out $D/ce",
         "calibrate --config " D " $D/ld/campaign.csv --quiet --out $D/cd"};
-    for (int i = 0; i < 4; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, (int)(4));
 }
 
 static char *slurp(const char *args)

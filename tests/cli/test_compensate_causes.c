@@ -28,13 +28,7 @@ static int setup(void **state)
         "calibrate --config configs/psd_aeroztark.ini $D/sz/campaign.csv --quiet --out $D/cz",
         "simulate configs/psd_14og.ini --unit 2 --quiet --out $D/sq",
         "calibrate --config configs/psd_14og.ini $D/sq/campaign.csv --quiet --out $D/cq"};
-    char out[16384];
-    for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, (int)(sizeof steps / sizeof *steps));
 }
 
 /* compensate CAL's params.ini on text; every row of want_bad written '-'

@@ -63,13 +63,7 @@ static int setup(void **state)
         "calibrate --config configs/ess_type_a.ini --set calibration.model=extended "
         "$D/se/campaign.csv --quiet --out $D/cx",
         "compensate $D/cx/params.ini $D/se/validation.csv > $D/cx.csv 2> $D/cx.err && true"};
-    char out[16384];
-    for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, (int)(sizeof steps / sizeof *steps));
 }
 
 /* Column k of a CSV line (0-based) into buf. */

@@ -20,15 +20,9 @@ static int setup(void **state)
 {
     if (test_private_dir(dir, sizeof dir, "labweights") != 0)
         return -1;
-    char out[16384];
     const char *steps[] = {"simulate " P " --unit 1 --quiet --out $D/p",
                            "simulate " D " --unit 3 --quiet --out $D/d"};
-    for (int i = 0; i < 2; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, (int)(2));
 }
 
 /* $D/NAME.csv: SRC's campaign with the weight (last column) of its ROW-th

@@ -42,13 +42,7 @@ static int setup(void **state)
         "$D/sp/campaign.csv --quiet --out $D/cq",
         "calibrate --config configs/psd.ini --set calibration.model=spline "
         "$D/sp/campaign.csv --quiet --out $D/cs"};
-    char out[16384];
-    for (size_t i = 0; i < sizeof steps / sizeof *steps; i++)
-        if (sunmc(steps[i], out, sizeof out) != 0) {
-            fprintf(stderr, "%s: %s\n", steps[i], out);
-            return -1;
-        }
-    return 0;
+    return test_sunmc_steps(dir, steps, (int)(sizeof steps / sizeof *steps));
 }
 
 /* A program that runs the exported function on the readings of stdin (one

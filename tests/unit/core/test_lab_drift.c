@@ -174,6 +174,25 @@ static void test_nothing_to_compare(void **state)
         t.src[i] = t.src[i] > 1 ? 1 : t.src[i];
     assert_int_equal(lab_drift_analyse(&t.in, &d), 2);
     assert_int_equal(d.c[1].n, 2 * NR);
+    assert_string_equal(d.c[1].name, "two");
+    /* more campaigns than the report holds: the rest together, and named so */
+    for (int i = 0; i < N; i++)
+        t.src[i] = i % NR < NR / 2 ? 0 : LAB_DRIFT_MAX_CAMPAIGNS + 5;
+    static const char *many[LAB_DRIFT_MAX_CAMPAIGNS + 6];
+    for (int j = 0; j < LAB_DRIFT_MAX_CAMPAIGNS + 6; j++)
+        many[j] = "x";
+    t.in.source_name = many;
+    t.in.n_sources = LAB_DRIFT_MAX_CAMPAIGNS + 6;
+    assert_int_equal(lab_drift_analyse(&t.in, &d), LAB_DRIFT_MAX_CAMPAIGNS);
+    assert_true(d.truncated);
+    assert_string_equal(d.c[LAB_DRIFT_MAX_CAMPAIGNS - 1].name, "(campaigns 64 to 70 together)");
+    assert_int_equal(d.c[LAB_DRIFT_MAX_CAMPAIGNS - 1].n, N - NC * (NR / 2));
+    t.in.n_sources = LAB_DRIFT_MAX_CAMPAIGNS; /* exactly as many: none together */
+    for (int i = 0; i < N; i++)
+        t.src[i] = t.src[i] ? LAB_DRIFT_MAX_CAMPAIGNS - 1 : 0;
+    lab_drift_analyse(&t.in, &d);
+    assert_false(d.truncated);
+    assert_string_equal(d.c[LAB_DRIFT_MAX_CAMPAIGNS - 1].name, "x");
 }
 
 static void test_sources_of_a_csv(void **state)
