@@ -47,6 +47,10 @@ int dss_labfit_sigma(const dss_model *m, const double *cov, const int *free_idx,
                      double b1, double b2, double sigma_rad[2]);
 
 /* TSV: each reading with its compensated angles and errors (arcsec). */
+/* Row i's compensated angles (a, b; NaN where it has none: weight 0, no
+ * inverse) and its truth (a0, b0), rad; SUNMC_EDOM when no angles. */
+int dss_labfit_row(const dss_calib_workspace *cw, const dss_calibration *cal, size_t i,
+                   double *a, double *b, double *a0, double *b0);
 int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
                                const dss_calibration *cal);
 

@@ -311,10 +311,8 @@ static int write_residuals(const void *p, FILE *f)
 static int cal_row_error(const void *p, size_t i, double e[2])
 {
     const dss_cal *k = p;
-    const dss_calib_workspace *cw = k->cw;
     double a0, b0, a, b;
-    dss_calib_truth(&k->cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-    if (!(cw->weight[i] > 0) || dss_compensate(&k->cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
+    if (dss_labfit_row(k->cw, &k->cal, i, &a, &b, &a0, &b0) != SUNMC_OK)
         return SUNMC_EDOM;
     e[0] = a - a0;
     e[1] = b - b0;

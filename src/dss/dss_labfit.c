@@ -504,19 +504,27 @@ int dss_labfit_run(const sunmc_config *c, dss_calib_workspace *cw, dss_calibrati
     return SUNMC_OK;
 }
 
+int dss_labfit_row(const dss_calib_workspace *cw, const dss_calibration *cal, size_t i,
+                   double *a, double *b, double *a0, double *b0)
+{
+    dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], a0, b0);
+    /* weight 0: no spot (the lab file's convention), so no angle; the
+     * (0, 0) it carries is no reading of the boresight */
+    if (!(cw->weight[i] > 0) || dss_compensate(cal, cw->x_px[i], cw->y_px[i], a, b) != SUNMC_OK) {
+        *a = *b = NAN;
+        return SUNMC_EDOM;
+    }
+    return SUNMC_OK;
+}
+
 int dss_labfit_write_residuals(FILE *f, const dss_calib_workspace *cw, const int *line,
                                const dss_calibration *cal)
 {
     fprintf(f, "line\tb1_deg\tb2_deg\tx_px\ty_px\tweight\talpha_deg\tbeta_deg\t"
                "alpha_error_arcsec\tbeta_error_arcsec\n");
     for (size_t i = 0; i < cw->n; i++) {
-        double a0, b0, a = NAN, b = NAN;
-        dss_calib_truth(cal, cw->b1_rad[i], cw->b2_rad[i], &a0, &b0);
-        /* weight 0: no spot (the lab file's convention), so no angle; the
-         * (0, 0) it carries is no reading of the boresight */
-        if (!(cw->weight[i] > 0) ||
-            dss_compensate(cal, cw->x_px[i], cw->y_px[i], &a, &b) != SUNMC_OK)
-            a = b = NAN;
+        double a0, b0, a, b;
+        dss_labfit_row(cw, cal, i, &a, &b, &a0, &b0);
         tsv_printf(f, "%d\t%.10g\t%.10g\t%.10g\t%.10g\t%g\t%.10g\t%.10g\t%.6g\t%.6g\n",
                 line ? line[i] : (int)i + 1, cw->b1_rad[i] * DEG_PER_RAD,
                 cw->b2_rad[i] * DEG_PER_RAD, cw->x_px[i], cw->y_px[i], cw->weight[i],
