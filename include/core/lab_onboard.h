@@ -90,10 +90,12 @@ int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t err
 /* The prepared model's reading raw through the on-board form:
  * LAB_READING_OK and the angles in deg[n_comp], or why not (enum
  * lab_reading; deg NaN).  raw as family_lab.compensate gets it: the raw
- * columns, then every optional column (NaN when absent) -- the family's
- * hooks read them (ASan found the DSS's weight read past a 2-value
- * array). */
+ * columns, then every optional column (NaN when absent): the family's
+ * hooks read them. */
 int lab_onboard_eval(const lab_onboard *o, const double *raw, double *deg);
+/* The same for the raw columns alone (the Monte Carlo's readings), the
+ * optional ones NaN. */
+int lab_onboard_eval_raw(const lab_onboard *o, const double *raw, double *deg);
 
 /* compensate through o: a copy of o's family_lab whose reading_check and
  * compensate are o's (the model they get is the wrap itself; the optional

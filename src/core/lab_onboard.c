@@ -299,6 +299,16 @@ int lab_onboard_eval(const lab_onboard *o, const double *raw, double *deg)
     return why;
 }
 
+int lab_onboard_eval_raw(const lab_onboard *o, const double *raw, double *deg)
+{
+    /* the family's hooks read its optional columns after the raw ones
+     * (family_lab.opt_columns): absent here, NaN */
+    double full[LAB_MAX_COLUMNS];
+    for (int k = 0; k < LAB_MAX_COLUMNS; k++)
+        full[k] = k < o->n_raw ? raw[k] : NAN;
+    return lab_onboard_eval(o, full, deg);
+}
+
 /* ---- compensate through the on-board form ---- */
 
 static int wrap_check(const void *model, const double *raw)

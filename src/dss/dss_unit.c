@@ -362,9 +362,8 @@ static void onboard_chunk(const lab_onboard *ob, size_t k, const double *x, cons
                           double *a, double *b, int *st)
 {
     for (size_t q = 0; q < vm_pad(k); q++) {
-        /* x_px, y_px and the optional weight (absent: NaN) */
-        double raw[3] = {x[q], y[q], NAN}, deg[2];
-        int ok = lab_onboard_eval(ob, raw, deg) == LAB_READING_OK;
+        double raw[2] = {x[q], y[q]}, deg[2];
+        int ok = lab_onboard_eval_raw(ob, raw, deg) == LAB_READING_OK;
         st[q] = ok ? SUNMC_OK : SUNMC_EDOM;
         a[q] = ok ? deg[0] * RAD_PER_DEG : 0.0;
         b[q] = ok ? deg[1] * RAD_PER_DEG : 0.0;

@@ -38,7 +38,7 @@ static void onboard_chunk(const lab_onboard *ob, size_t k, const double *raw_rad
 {
     for (size_t q = 0; q < k; q++) {
         double raw_deg = raw_rad[q] * DEG_PER_RAD, deg;
-        int ok = lab_onboard_eval(ob, &raw_deg, &deg) == LAB_READING_OK;
+        int ok = lab_onboard_eval_raw(ob, &raw_deg, &deg) == LAB_READING_OK;
         st[q] = ok ? SUNMC_OK : SUNMC_EDOM;
         comp[q] = ok ? deg * RAD_PER_DEG : 0.0;
     }

@@ -292,9 +292,7 @@ static int errors(const psd_cal *k, const lab_onboard *ob, const double m[4],
                   const double ut[3], double e[3])
 {
     double a, b, ta, tb, uc[3], deg[2];
-    /* the four channels and the optional table angles (absent: NaN) */
-    const double raw[6] = {m[0], m[1], m[2], m[3], NAN, NAN};
-    if (ob && lab_onboard_eval(ob, raw, deg) != LAB_READING_OK)
+    if (ob && lab_onboard_eval_raw(ob, m, deg) != LAB_READING_OK)
         return SUNMC_EDOM;
     if (ob) {
         a = deg[0] * RAD_PER_DEG;
