@@ -7,6 +7,7 @@
  * above the best empirical one's, the report says the physics does not
  * describe this sensor. */
 #include "psd_lab.h"
+#include "fold_outliers.h"
 #include "status.h"
 #include "units.h"
 
@@ -25,11 +26,13 @@
 static const int compared[PSD_N_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
                                            PSD_MODEL_SPLINE, PSD_MODEL_HYBRID, PSD_MODEL_TABLE};
 
-/* Sums of one model's refits: in-sample, held-out rows, held-out points. */
+/* Sums of one model's refits: in-sample, held-out rows (per fold),
+ * held-out points. */
 typedef struct {
-    double in2, out2;
-    long n_in, n_out;
+    double in2, out2[CALREPORT_MAX_FOLDS];
+    long n_in, n_out[CALREPORT_MAX_FOLDS];
     double *pt;       /* 3 per point: held-out alpha and beta error sums, count */
+    int *pt_fold;     /* per point: the fold that held it out */
 } cv_sums;
 
 /* Refit k on the rows of k0 outside fold f and add its errors. */
@@ -51,14 +54,48 @@ static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f,
             s->n_in++;
             continue;
         }
-        s->out2 += e2;
-        s->n_out++;
+        s->out2[f] += e2;
+        s->n_out[f]++;
+        s->pt_fold[k0->point[i]] = f;
         double *p = s->pt + 3 * k0->point[i];
         p[0] += e[0];
         p[1] += e[1];
         p[2] += 1.0;
     }
     return 1;
+}
+
+/* The held-out estimates of s's sums into x: for a single reading and for
+ * a point's mean, the folds unlike the others left out (fold_outliers.h). */
+static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds, int repeats,
+                       calreport_model *x)
+{
+    double rms[CALREPORT_MAX_FOLDS], median;
+    unsigned char out[CALREPORT_MAX_FOLDS];
+    long n_out = 0;
+    for (int f = 0; f < n_folds; f++) {
+        rms[f] = s->n_out[f] ? sqrt(s->out2[f] / (double)s->n_out[f]) : NAN;
+        n_out += s->n_out[f];
+    }
+    x->n_outliers = fold_outliers_mark(rms, n_folds, out, &median);
+    if (!repeats) { /* lines across the field: never judged (lab.h, lab_folds) */
+        x->n_outliers = 0;
+        memset(out, 0, sizeof out);
+    }
+    x->n_out = n_out;
+    x->rms_in_arcsec = s->n_in ? sqrt(s->in2 / (double)s->n_in) * ARCSEC_PER_RAD : NAN;
+    x->rms_out_arcsec = fold_outliers_pool(s->out2, s->n_out, n_folds, out, ARCSEC_PER_RAD,
+                                           &x->rms_out_all_arcsec);
+    double m2 = 0;
+    long np = 0;
+    for (long g = 0; g < k0->n_points; g++) {
+        const double *p = s->pt + 3 * g;
+        if (p[2] > 0 && !out[s->pt_fold[g]]) {
+            m2 += (p[0] * p[0] + p[1] * p[1]) / (p[2] * p[2]);
+            np++;
+        }
+    }
+    x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
 }
 
 /* The spline's effective degrees of freedom, or 0. */
@@ -71,7 +108,7 @@ static double spline_edf(const psd_labcal *k)
 /* Fit model to every row of k0 (the smoothing chosen on the folds), then
  * hold out each fold in turn into x. */
 static int score_model(const psd_labcal *k0, int model, const int *fold, int n_folds,
-                       double per_point, calreport_model *x)
+                       int repeats, double per_point, calreport_model *x)
 {
     memset(x, 0, sizeof *x);
     snprintf(x->name, sizeof x->name, "%s", psd_model_names[model]);
@@ -85,10 +122,12 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     psd_labcal *k = psd_labcal_alloc(c, k0->d, err, sizeof err);
     cv_sums s = {0};
     s.pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s.pt);
+    s.pt_fold = calloc((size_t)k0->n_points + 1, sizeof *s.pt_fold);
     int *sf = malloc((n + 1) * sizeof *sf);
-    if (!k || !s.pt || !sf) {
+    if (!k || !s.pt || !s.pt_fold || !sf) {
         psd_labcal_free(k);
         free(s.pt);
+        free(s.pt_fold);
         free(sf);
         free(c);
         return SUNMC_ENOMEM;
@@ -109,23 +148,12 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
                                       : (int)lround(x->edf));
     for (int f = 0; f < n_folds && x->ok; f++)
         x->ok = one_fold(k, k0, fold, f, &s);
-    x->n_out = s.n_out;
-    x->rms_in_arcsec = s.n_in ? sqrt(s.in2 / (double)s.n_in) * ARCSEC_PER_RAD : NAN;
-    x->rms_out_arcsec = s.n_out ? sqrt(s.out2 / (double)s.n_out) * ARCSEC_PER_RAD : NAN;
-    double m2 = 0;
-    long np = 0;
-    for (long g = 0; g < k0->n_points; g++) {
-        const double *p = s.pt + 3 * g;
-        if (p[2] > 0) {
-            m2 += (p[0] * p[0] + p[1] * p[1]) / (p[2] * p[2]);
-            np++;
-        }
-    }
+    pool_model(k0, &s, n_folds, repeats, x);
     x->per_point = per_point;
-    x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
-    x->ok &= s.n_out > 0;
+    x->ok &= x->n_out > 0;
     psd_labcal_free(k);
     free(s.pt);
+    free(s.pt_fold);
     free(c);
     return SUNMC_OK;
 }
@@ -153,7 +181,7 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
     for (int m = 0; m < PSD_N_MODELS; m++) {
         if (compared[m] == psd_cfg(k0->c)->cal_model)
             cm->used = m;
-        if (score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m]) != SUNMC_OK) {
+        if (score_model(k0, compared[m], fold, n_folds, !by_line, ps.per_point, &cm->m[m]) != SUNMC_OK) {
             snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
             cm->n = 0;
             free(fold);

@@ -46,11 +46,28 @@ typedef struct {
 
 static int fold_of(const void *ctx, size_t i) { return ((const cv_ctx *)ctx)->fold[i]; }
 
+/* The campaign ("# source:" block) all of fold f's rows belong to, or -1. */
+static int fold_source(const cv_ctx *c, int f)
+{
+    const lab_columns *d = c->k->d;
+    int s = -1;
+    for (size_t i = 0; d->source && i < d->n; i++)
+        if (c->fold[i] == f) {
+            if (s >= 0 && d->source[i] != s)
+                return -1;
+            s = d->source[i];
+        }
+    return s;
+}
+
 static void fold_label(const void *ctx, int f, char *buf, size_t len)
 {
     const cv_ctx *c = ctx;
+    int s = c->by_line ? -1 : fold_source(c, f);
     if (c->by_line)
         snprintf(buf, len, "beta = %g deg", c->line[f]);
+    else if (s >= 0)
+        snprintf(buf, len, "%s", c->k->d->source_name[s]);
     else
         snprintf(buf, len, "sweep %d", f + 1);
 }
@@ -101,13 +118,33 @@ static int sweeps(const lab_columns *d, int *fold)
     return f + 1 < CALREPORT_MAX_FOLDS ? f + 1 : CALREPORT_MAX_FOLDS;
 }
 
+/* Folds none of whose rows is weighted (a campaign calibrate dropped)
+ * leave: their rows -1, the others renumbered (line[] with them, when
+ * the folds are lines). */
+static int weighted_folds(const psd_labcal *k, int *fold, int n_folds, double *line)
+{
+    int used[CALREPORT_MAX_FOLDS] = {0}, to[CALREPORT_MAX_FOLDS], n = 0;
+    for (size_t i = 0; i < k->d->n; i++)
+        if (fold[i] >= 0 && k->w[i] > 0)
+            used[fold[i]] = 1;
+    for (int f = 0; f < n_folds; f++) {
+        to[f] = used[f] ? n : -1;
+        if (used[f] && line)
+            line[n] = line[f];
+        n += used[f];
+    }
+    for (size_t i = 0; i < k->d->n; i++)
+        fold[i] = fold[i] >= 0 ? to[fold[i]] : -1;
+    return n;
+}
+
 int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_FOLDS],
                      int *by_line)
 {
     int nl = distinct(k->d, 1, line, CALREPORT_MAX_FOLDS);
     *by_line = nl >= 2;
     if (!*by_line)
-        return sweeps(k->d, fold);
+        return weighted_folds(k, fold, sweeps(k->d, fold), NULL);
     /* each beta line in turn; from 4 lines on, the outermost two are
      * never held out (a refit without them would extrapolate, which a
      * calibration's user does not do) */
@@ -120,7 +157,7 @@ int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_F
             if (line[f] == k->d->v[1][i])
                 fold[i] = f;
     }
-    return n_folds;
+    return weighted_folds(k, fold, n_folds, line);
 }
 
 static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
@@ -134,7 +171,7 @@ static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
         return;
     }
     lab_folds folds = {.n_folds = c.n_folds, .min_fit_rows = min_rows, .fold_of = fold_of,
-                       .label = fold_label, .refit = refit};
+                       .label = fold_label, .refit = refit, .repeats = !c.by_line};
     lab_cross_validate(rep, k->w, k->d->n, &folds, &c);
     k->cal = c.keep;
     psd_labcal_errors(k);
