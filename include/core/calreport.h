@@ -83,6 +83,14 @@ typedef struct {
     long n_paired;
     int other;
     char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
+    /* Repeat campaigns unlike the others (fold_outliers.h), judged on the
+     * folds of the model that describes the data best (the lowest held-out
+     * error over every fold: a model that does not describe them makes
+     * any campaign look odd); every model's estimate, and the
+     * calibration's, leave them out.  judge: that model (-1: none judged). */
+    int judge, n_fold_outliers;
+    unsigned char fold_outlier[CALREPORT_MAX_FOLDS];
+    double judge_fold_arcsec[CALREPORT_MAX_FOLDS], judge_median_arcsec;
 } calreport_models;
 
 /* The recommendation (calreport_models.c), m[0] the physical model: the
@@ -208,6 +216,9 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
  * the others (fold_outliers.h): each one's held-out error against the
  * median fold's, and the estimate with them. */
 void calreport_check_fold_outliers(calreport *r);
+/* The outlying folds' names, each with the judging model's held-out error
+ * in arcsec: "NAME (RMS), ..." into buf[len]. */
+void calreport_outlier_names(const calreport *r, char *buf, size_t len);
 
 /* Held-out error above this multiple of the in-sample one is flagged. */
 #define CALREPORT_CV_RATIO_WARN 3.0

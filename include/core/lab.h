@@ -292,12 +292,12 @@ typedef struct {
      * condition number of the refit's Jacobian at its solution (*cond; NaN
      * when the model has none).  Returns 1 when the refit converged. */
     int (*refit)(void *ctx, const double *held, double sum2[2], long n[2], double *cond);
-    /* The folds are repeats (sweeps of the same table line, not lines
-     * across the field): one whose held-out error is far above the others'
-     * is a campaign unlike them, left out of the estimate and named
-     * (fold_outliers.h).  Folds over different angles are never judged so:
-     * an edge line's larger error is the field's, not a bad campaign's. */
-    int repeats;
+    /* Folds left out of the pooled estimate (1 each): repeat campaigns the
+     * family judged unlike the others (fold_outliers.h; the PSD on its best
+     * model's folds, calreport_models), or NULL: none.  Folds over
+     * different angles are never judged so: an edge line's larger error is
+     * the field's, not a bad campaign's. */
+    const unsigned char *outlier;
 } lab_folds;
 
 /* Hold out each fold in turn (weight[i] = 0 for its rows, restored after),

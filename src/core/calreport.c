@@ -158,28 +158,47 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
                 pair_warning(r, threshold, i, j);
 }
 
+/* The folds marked outliers, each with the judging model's held-out
+ * error (or its own): "NAME (RMS), ..." into buf. */
+static void outlier_names(const calreport *r, char *buf, size_t len)
+{
+    const calreport_models *cm = &r->models;
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < r->n_folds && at < len; k++)
+        if (r->fold[k].outlier)
+            at += (size_t)snprintf(buf + at, len - at, "%s%s (%.0f)", at ? ", " : "",
+                                   r->fold[k].label,
+                                   cm->judge >= 0 ? cm->judge_fold_arcsec[k]
+                                                  : r->fold[k].rms_out_arcsec);
+}
+
 void calreport_check_fold_outliers(calreport *r)
 {
     if (r->cv_n_outliers == 0)
         return;
-    char names[CALREPORT_TEXT_MAX / 2] = "";
-    size_t at = 0;
-    for (int k = 0; k < r->n_folds && at < sizeof names; k++)
-        if (r->fold[k].outlier)
-            at += (size_t)snprintf(names + at, sizeof names - at, "%s%s (%.0f)", at ? ", " : "",
-                                   r->fold[k].label, r->fold[k].rms_out_arcsec);
+    char names[CALREPORT_TEXT_MAX / 2];
+    outlier_names(r, names, sizeof names);
+    const calreport_models *cm = &r->models;
     int one = r->cv_n_outliers == 1;
     calreport_warn(r,
                    "look at the campaign's set-up and data (the light, the mounting, the "
                    "table's zero); the estimate stands for a campaign like the others, the one "
                    "with it for a run that can go as wrong; to calibrate without it, delete its "
                    "rows from the file",
-                   "%d of %d held-out repeat campaigns %s unlike the others, held out above %g "
-                   "times the median one's %.0f arcsec: %s; the estimate leaves %s out: %.2f "
-                   "arcsec (%.2f with %s)",
-                   r->cv_n_outliers, r->n_folds, one ? "is" : "are", FOLD_OUTLIER_RATIO,
-                   r->cv_median_fold_arcsec, names, one ? "it" : "them", r->cv_rms_out_arcsec,
-                   r->cv_rms_out_all_arcsec, one ? "it" : "them");
+                   "%d of %d held-out repeat campaigns %s unlike the others: the %s model (the "
+                   "best held out) leaves above %g times its median campaign's %.0f arcsec on "
+                   "%s; the estimate leaves %s out: %.2f arcsec (%.2f with %s)",
+                   r->cv_n_outliers, r->n_folds, one ? "is" : "are",
+                   cm->judge >= 0 ? cm->m[cm->judge].name : "used", FOLD_OUTLIER_RATIO,
+                   cm->judge >= 0 ? cm->judge_median_arcsec : r->cv_median_fold_arcsec, names,
+                   one ? "it" : "them", r->cv_rms_out_arcsec, r->cv_rms_out_all_arcsec,
+                   one ? "it" : "them");
+}
+
+void calreport_outlier_names(const calreport *r, char *buf, size_t len)
+{
+    outlier_names(r, buf, len);
 }
 
 void calreport_check_crossval(calreport *r, double ratio)

@@ -153,7 +153,8 @@ static void one_fold(calreport *rep, int k, double *weight, const double *saved,
 
 /* The pooled estimates of the folds' sums: in-sample over every fold,
  * held out with and without the outlying parts (fold_outliers.h). */
-static void pool_folds(calreport *rep, int repeats, double (*sum2)[2], long (*cnt)[2])
+static void pool_folds(calreport *rep, const unsigned char *outlier, double (*sum2)[2],
+                       long (*cnt)[2])
 {
     double rms[CALREPORT_MAX_FOLDS], in2[CALREPORT_MAX_FOLDS], out2[CALREPORT_MAX_FOLDS], all;
     long n_in[CALREPORT_MAX_FOLDS], n_out[CALREPORT_MAX_FOLDS];
@@ -166,13 +167,13 @@ static void pool_folds(calreport *rep, int repeats, double (*sum2)[2], long (*cn
         out2[k] = ok ? sum2[k][1] : 0.0;
         n_out[k] = ok ? cnt[k][1] : 0;
     }
-    rep->cv_n_outliers = fold_outliers_mark(rms, rep->n_folds, out, &rep->cv_median_fold_arcsec);
-    if (!repeats) {
-        rep->cv_n_outliers = 0;
-        memset(out, 0, sizeof out);
-    }
-    for (int k = 0; k < rep->n_folds; k++)
+    fold_outliers_mark(rms, rep->n_folds, out, &rep->cv_median_fold_arcsec); /* its median */
+    rep->cv_n_outliers = 0;
+    for (int k = 0; k < rep->n_folds; k++) {
+        out[k] = outlier ? outlier[k] : 0;
         rep->fold[k].outlier = out[k];
+        rep->cv_n_outliers += out[k];
+    }
     if (rep->n_folds == 0)
         return;
     rep->cv_rms_in_arcsec = fold_outliers_pool(in2, n_in, rep->n_folds, none, ARCSEC_PER_RAD, &all);
@@ -197,7 +198,7 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
     memcpy(weight, saved, n * sizeof *saved);
     free(saved);
     free(held);
-    pool_folds(rep, f->repeats, sum2, cnt);
+    pool_folds(rep, f->outlier, sum2, cnt);
     calreport_check_fold_outliers(rep);
     calreport_check_crossval(rep, CALREPORT_CV_RATIO_WARN);
     calreport_check_fold_condition(rep, CALREPORT_FOLD_COND_WARN);

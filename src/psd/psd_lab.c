@@ -189,11 +189,13 @@ static double cal_noise_arcsec(const sunmc_config *c);
  * numbers. */
 static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
 {
-    char names[CALREPORT_TEXT_MAX / 2] = "";
-    size_t at = 0;
+    char names[CALREPORT_TEXT_MAX / 2], judge[CALREPORT_NAME_MAX];
+    calreport_outlier_names(rep, names, sizeof names);
+    const calreport_models *cm = &rep->models;
+    snprintf(judge, sizeof judge, "%s", cm->judge >= 0 ? cm->m[cm->judge].name : "used");
     int *fold = malloc((k->d->n + 1) * sizeof *fold), by_line, n_out = rep->cv_n_outliers;
     double line[CALREPORT_MAX_FOLDS], all = rep->cv_rms_out_all_arcsec;
-    double median = rep->cv_median_fold_arcsec;
+    double median = cm->judge >= 0 ? cm->judge_median_arcsec : rep->cv_median_fold_arcsec;
     if (!fold)
         return SUNMC_ENOMEM;
     int n_folds = psd_labcal_folds(k, fold, line, &by_line);
@@ -206,9 +208,6 @@ static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
                 aside += k->w[i] > 0;
                 k->w[i] = 0.0;
             }
-        if (at < sizeof names)
-            at += (size_t)snprintf(names + at, sizeof names - at, "%s%s (%.0f)", at ? ", " : "",
-                                   rep->fold[f].label, rep->fold[f].rms_out_arcsec);
     }
     free(fold);
     int st = psd_labcal_fit(k, &k->fr);
@@ -224,10 +223,10 @@ static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
                    "look at the campaign's set-up and data (the light, the mounting, the "
                    "table's zero); to keep it in the calibration, set "
                    "calibration.outlier_campaigns = keep",
-                   "dropped from the calibration: %d repeat campaign%s the others predicted "
-                   "above %g times the median one's %.0f arcsec, held out: %s; with %s, the "
-                   "estimate was %.2f arcsec",
-                   n_out, n_out > 1 ? "s" : "", FOLD_OUTLIER_RATIO, median, names,
+                   "dropped from the calibration: %d repeat campaign%s unlike the others: the "
+                   "%s model (the best held out) left above %g times its median campaign's "
+                   "%.0f arcsec on %s; with %s, the estimate was %.2f arcsec",
+                   n_out, n_out > 1 ? "s" : "", judge, FOLD_OUTLIER_RATIO, median, names,
                    n_out > 1 ? "them" : "it", all);
     return SUNMC_OK;
 }

@@ -66,21 +66,15 @@ static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f,
 }
 
 /* The held-out estimates of s's sums into x: for a single reading and for
- * a point's mean, the folds unlike the others left out (fold_outliers.h). */
-static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds, int repeats,
-                       calreport_model *x)
+ * a point's mean, the folds marked in out[] left out (fold_outliers.h). */
+static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds,
+                       const unsigned char *out, calreport_model *x)
 {
-    double rms[CALREPORT_MAX_FOLDS], median;
-    unsigned char out[CALREPORT_MAX_FOLDS];
     long n_out = 0;
+    x->n_outliers = 0;
     for (int f = 0; f < n_folds; f++) {
-        rms[f] = s->n_out[f] ? sqrt(s->out2[f] / (double)s->n_out[f]) : NAN;
         n_out += s->n_out[f];
-    }
-    x->n_outliers = fold_outliers_mark(rms, n_folds, out, &median);
-    if (!repeats) { /* lines across the field: never judged (lab.h, lab_folds) */
-        x->n_outliers = 0;
-        memset(out, 0, sizeof out);
+        x->n_outliers += out[f];
     }
     x->n_out = n_out;
     x->rms_in_arcsec = s->n_in ? sqrt(s->in2 / (double)s->n_in) * ARCSEC_PER_RAD : NAN;
@@ -98,6 +92,39 @@ static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds, int 
     x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
 }
 
+/* The repeat campaigns unlike the others, on the folds of the model with
+ * the lowest held-out error over every fold (the one that describes the
+ * data: under one that does not, any campaign can look odd); none when
+ * the folds are lines across the field (lab.h, lab_folds). */
+static void judge_folds(calreport_models *cm, const cv_sums *s, int n_folds, int repeats)
+{
+    cm->judge = -1;
+    double best = INFINITY;
+    for (int m = 0; m < cm->n; m++) {
+        double all, sum2 = 0;
+        long cnt = 0;
+        for (int f = 0; f < n_folds; f++) {
+            sum2 += s[m].out2[f];
+            cnt += s[m].n_out[f];
+        }
+        all = cnt ? sum2 / (double)cnt : NAN;
+        if (cm->m[m].ok && all < best) {
+            best = all;
+            cm->judge = m;
+        }
+    }
+    if (!repeats || cm->judge < 0) {
+        cm->judge = -1;
+        return;
+    }
+    const cv_sums *j = &s[cm->judge];
+    for (int f = 0; f < n_folds; f++)
+        cm->judge_fold_arcsec[f] =
+            j->n_out[f] ? sqrt(j->out2[f] / (double)j->n_out[f]) * ARCSEC_PER_RAD : NAN;
+    cm->n_fold_outliers = fold_outliers_mark(cm->judge_fold_arcsec, n_folds, cm->fold_outlier,
+                                             &cm->judge_median_arcsec);
+}
+
 /* The spline's effective degrees of freedom, or 0. */
 static double spline_edf(const psd_labcal *k)
 {
@@ -108,7 +135,7 @@ static double spline_edf(const psd_labcal *k)
 /* Fit model to every row of k0 (the smoothing chosen on the folds), then
  * hold out each fold in turn into x. */
 static int score_model(const psd_labcal *k0, int model, const int *fold, int n_folds,
-                       int repeats, double per_point, calreport_model *x)
+                       double per_point, calreport_model *x, cv_sums *s)
 {
     memset(x, 0, sizeof *x);
     snprintf(x->name, sizeof x->name, "%s", psd_model_names[model]);
@@ -120,14 +147,11 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     char err[SUNMC_ERRLEN];
     size_t n = k0->d->n;
     psd_labcal *k = psd_labcal_alloc(c, k0->d, err, sizeof err);
-    cv_sums s = {0};
-    s.pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s.pt);
-    s.pt_fold = calloc((size_t)k0->n_points + 1, sizeof *s.pt_fold);
+    s->pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s->pt);
+    s->pt_fold = calloc((size_t)k0->n_points + 1, sizeof *s->pt_fold);
     int *sf = malloc((n + 1) * sizeof *sf);
-    if (!k || !s.pt || !s.pt_fold || !sf) {
+    if (!k || !s->pt || !s->pt_fold || !sf) {
         psd_labcal_free(k);
-        free(s.pt);
-        free(s.pt_fold);
         free(sf);
         free(c);
         return SUNMC_ENOMEM;
@@ -147,13 +171,13 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
             (model == PSD_MODEL_TABLE ? (int)(lab_table_bytes(&k->cal.table) / sizeof(float))
                                       : (int)lround(x->edf));
     for (int f = 0; f < n_folds && x->ok; f++)
-        x->ok = one_fold(k, k0, fold, f, &s);
-    pool_model(k0, &s, n_folds, repeats, x);
+        x->ok = one_fold(k, k0, fold, f, s);
+    long held = 0;
+    for (int f = 0; f < n_folds; f++)
+        held += s->n_out[f];
+    x->ok &= held > 0;
     x->per_point = per_point;
-    x->ok &= x->n_out > 0;
     psd_labcal_free(k);
-    free(s.pt);
-    free(s.pt_fold);
     free(c);
     return SUNMC_OK;
 }
@@ -178,17 +202,32 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
         return;
     }
     cm->used = 0;
-    for (int m = 0; m < PSD_N_MODELS; m++) {
+    cm->judge = -1;
+    cv_sums *s = calloc(PSD_N_MODELS, sizeof *s);
+    int st = s ? SUNMC_OK : SUNMC_ENOMEM;
+    for (int m = 0; m < PSD_N_MODELS && st == SUNMC_OK; m++) {
         if (compared[m] == psd_cfg(k0->c)->cal_model)
             cm->used = m;
-        if (score_model(k0, compared[m], fold, n_folds, !by_line, ps.per_point, &cm->m[m]) != SUNMC_OK) {
-            snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
-            cm->n = 0;
-            free(fold);
-            return;
-        }
-        cm->n++;
+        st = score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m], &s[m]);
+        cm->n += st == SUNMC_OK;
     }
+    if (st == SUNMC_OK) {
+        judge_folds(cm, s, n_folds, !by_line);
+        for (int m = 0; m < cm->n; m++)
+            pool_model(k0, &s[m], n_folds, cm->fold_outlier, &cm->m[m]);
+    }
+    for (int m = 0; s && m < PSD_N_MODELS; m++) {
+        free(s[m].pt);
+        free(s[m].pt_fold);
+    }
+    free(s);
     free(fold);
+    if (st != SUNMC_OK) {
+        snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
+        cm->n = 0;
+        cm->judge = -1;
+        cm->n_fold_outliers = 0;
+        return;
+    }
     calreport_models_recommend(cm, PSD_COMPARE_GAIN, PSD_PHYSICS_FAR);
 }

@@ -170,8 +170,10 @@ static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
                  "one beta line and one sweep: nothing to hold out");
         return;
     }
+    const calreport_models *cm = &rep->models;
     lab_folds folds = {.n_folds = c.n_folds, .min_fit_rows = min_rows, .fold_of = fold_of,
-                       .label = fold_label, .refit = refit, .repeats = !c.by_line};
+                       .label = fold_label, .refit = refit,
+                       .outlier = cm->n_fold_outliers > 0 ? cm->fold_outlier : NULL};
     lab_cross_validate(rep, k->w, k->d->n, &folds, &c);
     k->cal = c.keep;
     psd_labcal_errors(k);
@@ -386,7 +388,8 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
                        k->dropped);
     psd_labcal_report_conventions(k, rep);
     size_t min_rows = (size_t)np + 1 + (size_t)lround(edf / 2);
-    cross_validate(k, rep, min_rows);
+    /* the comparison first: its best model judges the campaigns (fold_outliers.h) */
     psd_labcal_compare(k, rep);
+    cross_validate(k, rep, min_rows);
     k->models = rep->models;
 }

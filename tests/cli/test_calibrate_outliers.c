@@ -84,7 +84,8 @@ static void test_outlier_dropped(void **state)
     assert_int_equal(sunmc("calibrate --config " P " $D/bad.csv --out $D/c1", out, sizeof out), 0);
     const char *w = strstr(out, "dropped from the calibration: 1 repeat campaign");
     assert_non_null(w);
-    test_must_have(w, "held out: sweep 4 (");
+    test_must_have(w, "the spline model (the best held out) left above 2 times");
+    test_must_have(w, " on sweep 4 (");
     test_must_have(out, "data: 246 rows, 205 used (41 of campaigns unlike the others set aside)");
     char p[700];
     snprintf(p, sizeof p, "%s/c1/crossval.tsv", dir);
