@@ -236,7 +236,6 @@ typedef struct {
     dss_calib_workspace *cw;
     const int *line;
     dss_calibration cal;
-    calreport_models models; /* for models.tsv */
 } dss_cal;
 
 static int model_params(const sunmc_config *c)
@@ -290,7 +289,6 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
-    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -317,13 +315,6 @@ static int cal_row_error(const void *p, size_t i, double e[2])
     e[0] = a - a0;
     e[1] = b - b0;
     return SUNMC_OK;
-}
-
-/* models.tsv: the model comparison (calreport_write_models). */
-static const char *const extra_files[] = {"models.tsv", NULL};
-static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
-{
-    return calreport_write_models(f, &((const dss_cal *)p)->models);
 }
 
 /* ---- compensate ---- */
@@ -414,8 +405,7 @@ const family_lab dss_lab = {
     .params_fill = params_fill,
     .write_residuals = write_residuals,
     .cal_row_error = cal_row_error,
-    .extra_files = extra_files,
-    .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

@@ -230,7 +230,6 @@ typedef struct {
     ess_calib_workspace *cw;
     const int *line;
     ess_labfit_result res;
-    calreport_models models; /* for models.tsv */
 } ess_cal;
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
@@ -277,7 +276,6 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
-    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -309,15 +307,13 @@ static int cal_row_error(const void *p, size_t i, double e[2])
     return SUNMC_OK;
 }
 
-static const char *const extra_files[] = {"field.tsv", "models.tsv", NULL};
+static const char *const extra_files[] = {"field.tsv", NULL};
 
 /* field.tsv: the propagated sigma over the campaign's alpha range (the
- * config's, widened to the data's); models.tsv: the model comparison. */
+ * config's, widened to the data's). */
 static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
 {
     const ess_cal *k = p;
-    if (which == 1)
-        return calreport_write_models(f, &k->models);
     const ess_config *ec = ess_cfg(c);
     double amin = ec->cal_alpha_min_deg, amax = ec->cal_alpha_max_deg;
     for (size_t i = 0; i < k->cw->n; i++) {
@@ -420,6 +416,7 @@ const family_lab ess_lab = {
     .cal_row_error = cal_row_error,
     .extra_files = extra_files,
     .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

@@ -351,5 +351,4 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
     size_t min_rows = (size_t)np + 1 + (size_t)lround(edf / 2);
     cross_validate(k, rep, min_rows);
     psd_labcal_compare(k, rep);
-    k->models = rep->models;
 }
