@@ -68,10 +68,13 @@ typedef struct lab_export {
      * statements compute them, in double; non-OK where they give no number. */
     int (*axes_at)(const void *model, const double *raw, double *q);
     /* The exported function built with -DSUNMC_FLOAT, in process: the
-     * reading check, the model and the angles in deg, each operation in
-     * float as the generated code does it.  Returns enum lab_reading;
-     * NULL: the family has no float path (the onboard float is refused). */
-    int (*eval_float)(const void *model, const float *raw, float *deg);
+     * reading check and the model, each operation in float as the
+     * generated code does it, into ang_rad (sunmc_model's angles, rad, one
+     * per comp_column); core then makes the function's last step
+     * (lab_onboard.c: an angle of 1e29 or more is none, the rest in deg).
+     * Returns enum lab_reading; NULL: the family has no float path (the
+     * onboard float is refused). */
+    int (*eval_float)(const void *model, const float *raw, float *ang_rad);
     /* Has eval_float this (supported) model?  Non-OK (message) when not;
      * NULL: every model the export takes. */
     int (*float_supported)(const void *model, char *err, size_t errlen);

@@ -272,14 +272,21 @@ static int eval_table(const lab_onboard *o, const double *raw, double *deg)
     return table_lookup(o, q, deg);
 }
 
+/* The float path: the family's check and model (lab_export.eval_float),
+ * then the exported function's last step as write_function emits it
+ * (lab_export.c), in float: an angle at or beyond LAB_ONBOARD_NO_ANGLE
+ * is none, the others turned into deg. */
 static int eval_float(const lab_onboard *o, const double *raw, double *deg)
 {
-    float in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS];
+    float in[LAB_MAX_COLUMNS], ang[LAB_MAX_COLUMNS];
     for (int k = 0; k < o->n_raw; k++)
         in[k] = (float)raw[k];
-    int why = o->lab->export->eval_float(o->model, in, out);
+    int why = o->lab->export->eval_float(o->model, in, ang);
     for (int k = 0; why == LAB_READING_OK && k < o->n_comp; k++)
-        deg[k] = (double)out[k];
+        if (!(fabsf(ang[k]) < (float)LAB_ONBOARD_NO_ANGLE))
+            why = LAB_NO_INVERSE;
+    for (int k = 0; why == LAB_READING_OK && k < o->n_comp; k++)
+        deg[k] = (double)(ang[k] * (float)DEG_PER_RAD);
     return why;
 }
 
