@@ -204,6 +204,13 @@ typedef struct family_lab {
     const struct lab_export *export;
 } family_lab;
 
+/* truth.csv's head for a family that writes its simulated unit's
+ * deviations as comments (lab_sim.c): "# sunmc VERSION simulate: truth of
+ * unit U of CONFIG, seed S", then "# NAME = VALUE" for each of the n_dev
+ * deviations, values (%.17g) in the units of their names. */
+void lab_sim_truth_head(FILE *f, const sunmc_config *c, const lab_unit_ref *ref,
+                        const char *const *dev_names, const double *dev_values, int n_dev);
+
 /* Read columns names (NULL-terminated, "weight" last) of the CSV at path,
  * every value checked, then at least min_rows rows (why: the reason, for
  * the message).  Messages "FILE:LINE: ...".  d is freed with

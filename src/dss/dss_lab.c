@@ -112,12 +112,9 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
                 s->sun_meas_arcsec[0], s->sun_meas_arcsec[1]);
     write_conventions(fc, c);
     fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
-    fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
-            ref->unit, ref->config, c->seed);
     double dv[DSS_N_DEV];
     dss_deviations_values(&s->dev, dv);
-    for (int i = 0; i < DSS_N_DEV; i++)
-        fprintf(ft, "# %s = %.17g\n", dss_deviation_names[i], dv[i]);
+    lab_sim_truth_head(ft, c, ref, dss_deviation_names, dv, DSS_N_DEV);
     write_conventions(ft, c);
     fprintf(ft, "b1_deg,b2_deg,truth_alpha_deg,truth_beta_deg,seen\n");
     for (size_t i = 0; i < s->n; i++) {

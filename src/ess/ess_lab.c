@@ -97,12 +97,9 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
                 s->sun_y_meas_arcsec);
     write_conventions(fc);
     fprintf(fc, "alpha_deg,beta_deg,output_deg,weight\n");
-    fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
-            ref->unit, ref->config, c->seed);
     double dv[ESS_N_DEV];
     ess_deviations_values(&s->dev, dv);
-    for (int i = 0; i < ESS_N_DEV; i++)
-        fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
+    lab_sim_truth_head(ft, c, ref, ess_deviation_names, dv, ESS_N_DEV);
     write_conventions(ft);
     fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,seen\n");
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
