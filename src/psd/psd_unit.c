@@ -570,11 +570,8 @@ static int psd_curve_eval(const sunmc_config *c, const void *p, double a0_deg, d
 static long psd_curve_axis(const sunmc_config *c, int axis, double *v, long max)
 {
     const psd_config *p = psd_cfg(c);
-    if (axis == 1) {
-        for (int j = 0; j < p->val_beta_deg.n && j < max; j++)
-            v[j] = p->val_beta_deg.v[j];
-        return p->val_beta_deg.n;
-    }
+    if (axis == 1)
+        return list_values(&p->val_beta_deg, v, max);
     long na = alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg);
     for (long i = 0; i < na && i < max; i++) {
         double a, b;
