@@ -516,14 +516,11 @@ static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
     dss_val_readings v = dss_rd_view(&w->val, rd, 0);
     dss_unit_read_validation(c, &u, unit, &v);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        dss_deviations_at_temp(c, &dev, T, &dev_t);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        dss_deviations_at_temp(c, &dev, thermal_read_temp_c(c, k), &dev_t);
         dss_unit_build_amp(c, &dev_t, w->amp_px, &u);
         dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
-        v = dss_rd_view(&w->val, rd, k++);
+        v = dss_rd_view(&w->val, rd, k);
         dss_unit_read_validation(c, &u, unit, &v);
     }
     return SUNMC_OK;

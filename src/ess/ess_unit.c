@@ -349,13 +349,10 @@ static int ess_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     ess_unit_build(c, &dev, &u);
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
     ess_unit_read_validation(c, &u, unit, &v);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        ess_deviations_at_temp(c, &dev, T, &dev_t);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        ess_deviations_at_temp(c, &dev, thermal_read_temp_c(c, k), &dev_t);
         ess_unit_build(c, &dev_t, &u);
-        v = ess_rd_view(&w->val, rd, k++);
+        v = ess_rd_view(&w->val, rd, k);
         ess_unit_read_validation(c, &u, unit, &v);
     }
     return SUNMC_OK;

@@ -406,12 +406,9 @@ static int psd_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     psd_sensor_build(&p->design, &dev, &s);
     size_t block = (size_t)psd_validation_points(c) * PSD_RD_POINT;
     read_validation(c, &s, unit, rd);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        psd_sensor_at_temp(c, &s, T, &sT);
-        read_validation(c, &sT, unit, (double *)rd + (size_t)k++ * block);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        psd_sensor_at_temp(c, &s, thermal_read_temp_c(c, k), &sT);
+        read_validation(c, &sT, unit, (double *)rd + (size_t)k * block);
     }
     return SUNMC_OK;
 }
