@@ -167,6 +167,12 @@ typedef struct {
 /* Zero r and set its family names. */
 void calreport_init(calreport *r, const char *sensor, const char *model);
 
+/* r's parameter rows: the n (at most CALREPORT_MAX_PAR) named values
+ * with no standard error (se NaN), replacing any; for the figures of an
+ * empirical model (a spline's smoothing and effective degrees of freedom,
+ * a table's nodes), in the units of their names. */
+void calreport_set_values(calreport *r, const char *const *names, const double *values, int n);
+
 /* Add a warning (formatted reason, formatted action); dropped when full. */
 void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

@@ -23,6 +23,16 @@ void calreport_init(calreport *r, const char *sensor, const char *model)
     r->cv_median_fold_arcsec = NAN;
 }
 
+void calreport_set_values(calreport *r, const char *const *names, const double *values, int n)
+{
+    r->np = n;
+    for (int i = 0; i < n; i++) {
+        snprintf(r->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+        r->value[i] = values[i];
+        r->se[i] = NAN;
+    }
+}
+
 void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
 {
     if (r->nw >= CALREPORT_MAX_WARN)

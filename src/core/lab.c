@@ -246,6 +246,8 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
     while (lab->extra_files && lab->extra_files[n - LAB_CAL_FILES] && n < OUT_MAX_FILES - 2)
         names[n] = lab->extra_files[n - LAB_CAL_FILES], n++;
     int n_family = n, drift = rep->drift.n >= 2;
+    if (lab->cal_models_tsv)
+        names[n++] = "models.tsv";
     if (drift)
         names[n++] = "campaigns.tsv";
     FILE *f[OUT_MAX_FILES] = {NULL};
@@ -261,8 +263,10 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
             calreport_write_folds(f[3], rep);
             for (int k = LAB_CAL_FILES; k < n_family; k++)
                 lab->write_extra(cal, c, k - LAB_CAL_FILES, f[k]);
+            if (lab->cal_models_tsv)
+                calreport_write_models(f[n_family], &rep->models);
             if (drift)
-                lab_drift_write(f[n_family], &rep->drift);
+                lab_drift_write(f[n - 1], &rep->drift);
             st = out_commit(&os, err, errlen);
         } else {
             out_abort(&os);

@@ -381,14 +381,6 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
     return st;
 }
 
-/* models.tsv: the model comparison (calreport_write_models). */
-static const char *const extra_files[] = {"models.tsv", NULL};
-
-static int write_extra(const void *p, const sunmc_config *c, int k, FILE *f)
-{
-    return calreport_write_models(f, &((const psd_labcal *)p)->models);
-}
-
 static int write_residuals(const void *p, FILE *f)
 {
     const psd_labcal *k = p;
@@ -650,8 +642,7 @@ const family_lab psd_lab = {
     .params_fill = params_fill,
     .write_residuals = write_residuals,
     .cal_row_error = cal_row_error,
-    .extra_files = extra_files,
-    .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

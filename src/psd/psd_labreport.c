@@ -222,23 +222,13 @@ static void report_parameters(psd_labcal *k, calreport *rep, const psd_point_sta
         const lab_table *t = &k->cal.table;
         const double v[] = {t->nodes, lab_table_step(t, 0), lab_table_step(t, 1),
                             (double)lab_table_bytes(t)};
-        rep->np = 4;
-        for (int i = 0; i < 4; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, 4);
         return;
     }
     if (p->cal_model == PSD_MODEL_SPLINE) {
         static const char *const names[] = {"smoothing", "edf_alpha", "edf_beta"};
         const double v[] = {k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]};
-        rep->np = 3;
-        for (int i = 0; i < 3; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, 3);
         return;
     }
     if (p->cal_model == PSD_MODEL_POLYNOMIAL) {
@@ -391,5 +381,4 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
     /* the comparison first: its best model judges the campaigns (fold_outliers.h) */
     psd_labcal_compare(k, rep);
     cross_validate(k, rep, min_rows);
-    k->models = rep->models;
 }
