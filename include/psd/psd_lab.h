@@ -45,6 +45,9 @@ typedef struct {
     psd_rows rows;       /* the fit's view of the data (and its variable scales) */
     fit_result fr;
     size_t dropped;      /* rows the fitted model could not read (weight set 0) */
+    /* n, or NULL: rows of campaigns set aside as unlike the others
+     * (weight 0 in the fit, but their errors still the drift report's) */
+    unsigned char *aside;
     /* spline and hybrid: the smoothing once chosen (0: choose it by the
      * cross-validation's folds, spline_fold, at the next fit) */
     double spline_smooth;

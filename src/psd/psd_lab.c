@@ -173,7 +173,8 @@ static void cal_free(void *p) { psd_labcal_free(p); }
 static int cal_row_error(const void *p, size_t i, double e[2])
 {
     const psd_labcal *k = p;
-    if (!(k->w[i] > 0) || !isfinite(k->err[3 * i]))
+    /* a campaign set aside is still compared with the others */
+    if (!(k->w[i] > 0 || (k->aside && k->aside[i])) || !isfinite(k->err[3 * i]))
         return SUNMC_EDOM;
     e[0] = k->err[3 * i];
     e[1] = k->err[3 * i + 1];
@@ -196,8 +197,12 @@ static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
     int *fold = malloc((k->d->n + 1) * sizeof *fold), by_line, n_out = rep->cv_n_outliers;
     double line[CALREPORT_MAX_FOLDS], all = rep->cv_rms_out_all_arcsec;
     double median = cm->judge >= 0 ? cm->judge_median_arcsec : rep->cv_median_fold_arcsec;
-    if (!fold)
+    free(k->aside);
+    k->aside = calloc(k->d->n + 1, 1);
+    if (!fold || !k->aside) {
+        free(fold);
         return SUNMC_ENOMEM;
+    }
     int n_folds = psd_labcal_folds(k, fold, line, &by_line);
     size_t aside = 0;
     for (int f = 0; f < n_folds && f < rep->n_folds; f++) {
@@ -206,6 +211,7 @@ static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
         for (size_t i = 0; i < k->d->n; i++)
             if (fold[i] == f) {
                 aside += k->w[i] > 0;
+                k->aside[i] = k->w[i] > 0;
                 k->w[i] = 0.0;
             }
     }

@@ -25,6 +25,7 @@ void psd_labcal_free(psd_labcal *k)
         return;
     free(k->ut);
     free(k->spline_fold);
+    free(k->aside);
     fit_workspace_free(k->fw);
     fit_workspace_free(k->fw_channels);
     free(k);

@@ -6,7 +6,8 @@
  *  - sweep 4's table angles 3 % too large (a table that lost its scale,
  *    as kenscl's beta sweep of 19.11.2021 16.55 is off beyond 40 deg): by
  *    default the sweep is named and dropped from the calibration, its
- *    rows weighted 0, the estimate of the first pass said beside it;
+ *    rows weighted 0, the estimate of the first pass said beside it, and
+ *    the drift report still compares it (its table's -3 % found);
  *  - calibration.outlier_campaigns = keep: the sweep stays in the fit,
  *    named, and left out of the estimate only: the estimate is the pooled
  *    RMS of the other five folds (from crossval.tsv, in closed form), the
@@ -102,6 +103,17 @@ static void test_outlier_dropped(void **state)
     for (int r = 0; r < t->nr; r++)
         zero += tsv_num(t, r, "weight") == 0;
     assert_int_equal(zero, 41);
+    tsv_free(t);
+    /* the dropped sweep still in the drift report: its table's 3 % */
+    snprintf(p, sizeof p, "%s/c1/campaigns.tsv", dir);
+    t = tsv_load(p);
+    assert_non_null(t);
+    assert_int_equal(t->nr, 6);
+    assert_string_equal(tsv_str(t, 4, "name"), "sweep 4");
+    assert_int_equal((int)tsv_num(t, 4, "rows"), 41);
+    double k = tsv_num(t, 4, "scale_change_pct");
+    if (!(k < -2.5 && k > -3.5))
+        fail_msg("sweep 4's scale change %g %%, want about -3", k);
     tsv_free(t);
     /* the first pass's estimate, with the sweep, is the larger */
     double was = atof(strstr(w, "the estimate was ") + strlen("the estimate was "));
