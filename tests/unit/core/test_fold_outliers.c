@@ -43,8 +43,13 @@ static void test_fewest_and_most(void **state)
     /* five scored of six: judged, the unscored part never marked */
     const double gap[] = {1, 1, NAN, 1, 1, 5};
     assert_int_equal(mark(gap, 6, out, &median), 1);
+    assert_true(median == 1.0); /* of the five scored */
     assert_int_equal(out[2], 0);
     assert_int_equal(out[5], 1);
+    /* four scored among NaNs: not judged, however far one lies */
+    const double few[] = {NAN, 1, NAN, 1, 1, 50};
+    assert_int_equal(mark(few, 6, out, &median), 0);
+    assert_true(isnan(median));
     /* a quarter marked: 2 of 8 */
     const double quarter[] = {1, 1, 1, 1, 1, 1, 3, 3};
     assert_int_equal(mark(quarter, 8, out, &median), 2);
