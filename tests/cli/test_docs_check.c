@@ -176,6 +176,13 @@ static void slow_marks_tier(void **state)
     assert_int_equal(check_page_as("check-slow", "--slow", CMD "\ntol 1%\n10 @ ^spec_arcsec =",
                                    "spec 10", out, sizeof out), 0);
     assert_non_null(strstr(out, "1 numbers in 1 checks, 0 failed"));
+    /* DOCS_CHECK_SLOW=1 runs both kinds */
+    setenv("DOCS_CHECK_SLOW", "1", 1);
+    int slow_rc = check_page_as("check-slow", "", failing, "spec 10", out, sizeof out);
+    int plain_rc = check_page_as("check", "", failing, "spec 10", out, sizeof out);
+    unsetenv("DOCS_CHECK_SLOW");
+    assert_int_equal(slow_rc, 1);
+    assert_int_equal(plain_rc, 1);
     /* --slow leaves an ordinary mark's command alone, text still held */
     assert_int_equal(check_page_as("check", "--slow", failing, "spec 10", out, sizeof out), 0);
     assert_int_equal(check_page_as("check", "--slow", failing, "spec 12", out, sizeof out), 1);
