@@ -127,4 +127,14 @@ int band_check_coverage(const band_list *bands, const band_acc *acc, double max_
 /* Count of alpha grid points from lo to hi in steps (with offset from lo). */
 long grid_count(double lo, double hi, double step, double offset);
 
+/* The points of that grid (deg, as the keys give them): v[j] = lo +
+ * offset + j step for the first max of them (none when max <= 0);
+ * returns grid_count's count, which may exceed max.  For the axes of
+ * `sunmc curve` (family_curve.axis). */
+long grid_values(double lo, double hi, double step, double offset, double *v, long max);
+
+/* A key's list of angles (deg) into v, the first max of them; returns the
+ * list's count, which may exceed max (family_curve.axis). */
+long list_values(const double_list *l, double *v, long max);
+
 #endif

@@ -45,6 +45,7 @@ typedef struct {
     double rms_in_arcsec;             /* refit's residual on the points it used */
     double rms_out_arcsec;            /* its error on the held-out points */
     double cond;                      /* condition number of the refit's Jacobian (NaN: none) */
+    int outlier;                      /* unlike the others: out of the estimate (fold_outliers.h) */
 } calreport_fold;
 
 /* ---- model comparison (a family with several calibration models) ----
@@ -59,7 +60,10 @@ typedef struct {
     int ok;                           /* every fold's refit converged */
     int aliased;                      /* the campaign aliased some of its terms (held at 0) */
     long n_out;                       /* held-out points scored */
-    double rms_in_arcsec, rms_out_arcsec; /* pooled over the folds */
+    double rms_in_arcsec, rms_out_arcsec; /* pooled over the folds (held out: the folds
+                                             unlike the others left out, fold_outliers.h) */
+    double rms_out_all_arcsec;        /* held out, every fold */
+    int n_outliers;                   /* folds left out of rms_out_arcsec and the means */
     /* A flight reading averaged over per_point repeats (the data's rows
      * per point; 0: not estimated): the held-out RMS of the points' mean
      * errors, each point's held-out rows averaged first. */
@@ -79,6 +83,14 @@ typedef struct {
     long n_paired;
     int other;
     char note[CALREPORT_TEXT_MAX];    /* the recommendation in words, or why there is none */
+    /* Repeat campaigns unlike the others (fold_outliers.h), judged on the
+     * folds of the model that describes the data best (the lowest held-out
+     * error over every fold: a model that does not describe them makes
+     * any campaign look odd); every model's estimate, and the
+     * calibration's, leave them out.  judge: that model (-1: none judged). */
+    int judge, n_fold_outliers;
+    unsigned char fold_outlier[CALREPORT_MAX_FOLDS];
+    double judge_fold_arcsec[CALREPORT_MAX_FOLDS], judge_median_arcsec;
 } calreport_models;
 
 /* The recommendation (calreport_models.c), m[0] the physical model: the
@@ -95,6 +107,8 @@ typedef struct {
     /* data */
     size_t n_rows;                    /* rows in the file */
     size_t n_used;                    /* rows with weight > 0 after gross-error checks */
+    size_t n_set_aside;               /* rows of campaigns dropped as unlike the others
+                                         (calibration.outlier_campaigns): not gross errors */
     int dof;                          /* degrees of freedom of the residual variance */
     campaign_info campaign;           /* the data's table angles in file order: cost, span */
 
@@ -140,7 +154,10 @@ typedef struct {
     int n_folds;
     calreport_fold fold[CALREPORT_MAX_FOLDS];
     double cv_rms_in_arcsec;          /* pooled over folds */
-    double cv_rms_out_arcsec;
+    double cv_rms_out_arcsec;         /* held out, the outlying folds left out: the estimate */
+    double cv_rms_out_all_arcsec;     /* held out, every fold */
+    double cv_median_fold_arcsec;     /* the median fold's held-out RMS (NaN: not judged) */
+    int cv_n_outliers;                /* folds left out of the estimate */
     char cv_note[CALREPORT_TEXT_MAX]; /* why there is no cross-validation, else "" */
 
     calreport_models models;          /* model comparison (models.n = 0: none) */
@@ -149,6 +166,12 @@ typedef struct {
 
 /* Zero r and set its family names. */
 void calreport_init(calreport *r, const char *sensor, const char *model);
+
+/* r's parameter rows: the n (at most CALREPORT_MAX_PAR) named values
+ * with no standard error (se NaN), replacing any; for the figures of an
+ * empirical model (a spline's smoothing and effective degrees of freedom,
+ * a table's nodes), in the units of their names. */
+void calreport_set_values(calreport *r, const char *const *names, const double *values, int n);
 
 /* Add a warning (formatted reason, formatted action); dropped when full. */
 void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
@@ -194,6 +217,14 @@ typedef struct {
  * generic warning of its own. */
 void calreport_check_correlations_explained(calreport *r, double threshold,
                                             const calreport_corr_cause *causes, int n_causes);
+
+/* Warn, naming them, when folds were left out of the estimate as unlike
+ * the others (fold_outliers.h): each one's held-out error against the
+ * median fold's, and the estimate with them. */
+void calreport_check_fold_outliers(calreport *r);
+/* The outlying folds' names, each with the judging model's held-out error
+ * in arcsec: "NAME (RMS), ..." into buf[len]. */
+void calreport_outlier_names(const calreport *r, char *buf, size_t len);
 
 /* Held-out error above this multiple of the in-sample one is flagged. */
 #define CALREPORT_CV_RATIO_WARN 3.0

@@ -83,6 +83,7 @@ enum config_sampling {
 
 /* calibration.priors (the key's enum order). */
 enum config_priors { CONFIG_PRIORS_OFF = 0, CONFIG_PRIORS_TOLERANCES = 1 };
+enum config_outliers { CONFIG_OUTLIERS_KEEP = 0, CONFIG_OUTLIERS_DROP = 1 };
 
 typedef struct {
     /* [sensor] */
@@ -111,6 +112,7 @@ typedef struct {
     double max_residual_ratio;          /* [calibration] calibrate: residual / noise refused above */
     int cal_priors;                     /* [calibration] enum config_priors: off | tolerances */
     int prior_units;                    /* [calibration] pilot units of the priors */
+    int cal_outlier_campaigns;          /* [calibration] enum config_outliers: keep | drop */
 
     /* [environment]: temperatures and materials (docs/temperature.md) */
     double cal_temp_c;                  /* the lab's temperature: campaign and fit */

@@ -256,6 +256,17 @@ void unit_result_set_stat(unit_result *r, const sunmc_config *c, int angle, cons
 int unit_read_finish(const sunmc_config *c, long unit, void *ws, void *rd, int held,
                      unit_result *r);
 
+/* A layout of a unit's readings (readings_bytes, unit_read) for a
+ * validation grid of n points: per validation read (thermal_n_reads) one
+ * block of n_arrays arrays of n doubles, then n ints (a flag per point,
+ * e.g. seen or a status) padded to whole doubles so that every block
+ * starts aligned.  unit_rd_bytes: the readings' bytes for config c;
+ * unit_rd_block: block k of rd, its array j at + j n; unit_rd_flags: the
+ * flags of that block. */
+size_t unit_rd_bytes(const sunmc_config *c, size_t n, int n_arrays);
+double *unit_rd_block(const void *rd, size_t n, int n_arrays, int k);
+int *unit_rd_flags(double *block, size_t n, int n_arrays);
+
 /* Fill r's noise-free after RMS (rms_after_sys) of measured angle `angle`;
  * NaN in every band when the unit's fit failed or after_sys is NULL (the
  * pass skipped: c->no_systematic).  Sets the angle's rms_after_mf NaN

@@ -160,6 +160,9 @@ typedef struct family_lab {
     /* The family's further files (NULL-terminated, or NULL) and their writer. */
     const char *const *extra_files;
     int (*write_extra)(const void *cal, const sunmc_config *c, int k, FILE *f);
+    /* 1: calibrate also writes models.tsv, the model comparison cal_run
+     * left in rep->models (calreport_write_models), after extra_files. */
+    int cal_models_tsv;
     void (*cal_free)(void *cal);
 
     /* ---- compensate: apply params.ini to raw readings. ---- */
@@ -200,6 +203,13 @@ typedef struct family_lab {
     /* ---- export: the model as C code (lab_export.h); NULL: none. ---- */
     const struct lab_export *export;
 } family_lab;
+
+/* truth.csv's head for a family that writes its simulated unit's
+ * deviations as comments (lab_sim.c): "# sunmc VERSION simulate: truth of
+ * unit U of CONFIG, seed S", then "# NAME = VALUE" for each of the n_dev
+ * deviations, values (%.17g) in the units of their names. */
+void lab_sim_truth_head(FILE *f, const sunmc_config *c, const lab_unit_ref *ref,
+                        const char *const *dev_names, const double *dev_values, int n_dev);
 
 /* Read columns names (NULL-terminated, "weight" last) of the CSV at path,
  * every value checked, then at least min_rows rows (why: the reason, for
@@ -292,6 +302,12 @@ typedef struct {
      * condition number of the refit's Jacobian at its solution (*cond; NaN
      * when the model has none).  Returns 1 when the refit converged. */
     int (*refit)(void *ctx, const double *held, double sum2[2], long n[2], double *cond);
+    /* Folds left out of the pooled estimate (1 each): repeat campaigns the
+     * family judged unlike the others (fold_outliers.h; the PSD on its best
+     * model's folds, calreport_models), or NULL: none.  Folds over
+     * different angles are never judged so: an edge line's larger error is
+     * the field's, not a bad campaign's. */
+    const unsigned char *outlier;
 } lab_folds;
 
 /* Hold out each fold in turn (weight[i] = 0 for its rows, restored after),
@@ -301,7 +317,8 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
 
 /* Write a calibration's files into out_dir, all or nothing: params.ini
  * (header and the family's sections), residuals.tsv, bands.tsv,
- * crossval.tsv and lab->extra_files. */
+ * crossval.tsv, lab->extra_files and, with lab->cal_models_tsv,
+ * models.tsv (rep->models). */
 int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_config *c,
                           const calreport *rep, const char *data, const char *config,
                           size_t rows, const char *out_dir, char *err, size_t errlen);

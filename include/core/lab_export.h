@@ -43,6 +43,10 @@ typedef struct lab_export {
     int (*supported)(const void *model, char *err, size_t errlen);
     /* The range of the axes the unit's readings take. */
     void (*axes_range)(const void *model, double *lo, double *hi);
+    /* 1 when the axes are the raw reading's first n_axes columns
+     * themselves (q[a] = raw[a]): core then gives raw_at, emit_axes and
+     * axes_at (lab_export_axes.c), and the family leaves them NULL. */
+    int axes_are_raw;
     /* The raw reading (compensate's raw columns) at axes values q. */
     void (*raw_at)(const void *model, const double *q, double *raw);
     /* Static functions the model calls (NULL: none; not in the table form). */
@@ -64,10 +68,13 @@ typedef struct lab_export {
      * statements compute them, in double; non-OK where they give no number. */
     int (*axes_at)(const void *model, const double *raw, double *q);
     /* The exported function built with -DSUNMC_FLOAT, in process: the
-     * reading check, the model and the angles in deg, each operation in
-     * float as the generated code does it.  Returns enum lab_reading;
-     * NULL: the family has no float path (the onboard float is refused). */
-    int (*eval_float)(const void *model, const float *raw, float *deg);
+     * reading check and the model, each operation in float as the
+     * generated code does it, into ang_rad (sunmc_model's angles, rad, one
+     * per comp_column); core then makes the function's last step
+     * (lab_onboard.c: an angle of 1e29 or more is none, the rest in deg).
+     * Returns enum lab_reading; NULL: the family has no float path (the
+     * onboard float is refused). */
+    int (*eval_float)(const void *model, const float *raw, float *ang_rad);
     /* Has eval_float this (supported) model?  Non-OK (message) when not;
      * NULL: every model the export takes. */
     int (*float_supported)(const void *model, char *err, size_t errlen);
@@ -98,6 +105,18 @@ typedef struct {
  * model line) and the axes' unit of STEP. */
 int lab_export_table_only(const char *family, const char *model, const char *axes, char *err,
                           size_t errlen);
+
+/* The reading axes of x whichever gives them (lab_export_axes.c): the
+ * family's hooks, or with x->axes_are_raw the identity on the first
+ * x->n_axes raw columns (the units of compensate's raw columns, e.g. deg,
+ * px).  raw_at: raw[0 .. n_axes-1] at axes q[0 .. n_axes-1] (no other
+ * column written); axes_at: q from raw, non-OK where the family gives no
+ * number; emit_axes: the C statements "q[a] = raw[a];"; has_axes: 1 when
+ * axes_at is there (lab_onboard's table path), 0 when not. */
+void lab_export_raw_at(const lab_export *x, const void *model, const double *q, double *raw);
+int lab_export_axes_at(const lab_export *x, const void *model, const double *raw, double *q);
+void lab_export_emit_axes(const lab_export *x, const void *model, FILE *f);
+int lab_export_has_axes(const lab_export *x);
 
 /* File names of the export (header, source, vectors, test program). */
 #define LAB_EXPORT_FILES 4

@@ -6,6 +6,12 @@
  * penalty on the second differences of neighbouring coefficients.
  *
  *   dims 1: output j is a spline of input j alone (single-axis sweeps);
+ *           with `cross` (two outputs), plus a coarse spline of the other
+ *           input (LAB_SPLINE_CROSS_BREAK breakpoints, pinned to 0 at its
+ *           field's low end): an additive model, output j = f_j(x_j) +
+ *           g_j(x_other), whose g takes up the cross-talk of the other
+ *           axis a single-axis sweep moves (kenscl's ADPD2140: its alpha
+ *           ratio moves by a tenth of its travel along a beta sweep);
  *   dims 2: every output is a tensor-product spline of inputs 0 and 1,
  *           penalised along each input.
  *
@@ -37,14 +43,18 @@
 #define LAB_SPLINE_MAX_BREAK1 300               /* breakpoints per input, dims 1 */
 #define LAB_SPLINE_MAX_BREAK2 11                /* dims 2 */
 #define LAB_SPLINE_MIN_BREAK 2
+/* dims 1 with cross: the other input's breakpoints (its cross-talk is
+ * smooth: 11 leave kenscl's held-out error where 300 do). */
+#define LAB_SPLINE_CROSS_BREAK 11
+/* its coefficients: one per basis function but the pinned first */
+#define LAB_SPLINE_CROSS_COEF (LAB_SPLINE_CROSS_BREAK + LAB_SPLINE_ORDER - 3)
 /* Data rows per coefficient the knot count aims at (before the penalty). */
 #define LAB_SPLINE_ROWS_PER_COEF 4
-#define LAB_SPLINE_MAX_COEF ((LAB_SPLINE_MAX_BREAK1 + LAB_SPLINE_ORDER - 2) > \
-                             (LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2) *  \
-                                 (LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2) \
-                                 ? (LAB_SPLINE_MAX_BREAK1 + LAB_SPLINE_ORDER - 2) \
-                                 : (LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2) * \
-                                       (LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2))
+#define LAB_SPLINE_MAX_COEF1 (LAB_SPLINE_MAX_BREAK1 + LAB_SPLINE_ORDER - 2 + LAB_SPLINE_CROSS_COEF)
+#define LAB_SPLINE_MAX_COEF2 ((LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2) * \
+                              (LAB_SPLINE_MAX_BREAK2 + LAB_SPLINE_ORDER - 2))
+#define LAB_SPLINE_MAX_COEF \
+    (LAB_SPLINE_MAX_COEF1 > LAB_SPLINE_MAX_COEF2 ? LAB_SPLINE_MAX_COEF1 : LAB_SPLINE_MAX_COEF2)
 #define LAB_SPLINE_MAX_CELLS ((LAB_SPLINE_MAX_BREAK2 - 1) * (LAB_SPLINE_MAX_BREAK2 - 1))
 /* The smoothing grid: lambda = 10^(LAB_SPLINE_LOG_SMOOTH_MIN + k / 2) times
  * the ratio of the data's and the penalty's traces, k < LAB_SPLINE_N_SMOOTH. */
@@ -55,6 +65,7 @@
 
 typedef struct {
     int dims, n_out;
+    int cross;                          /* dims 1, two outputs: the other input's term */
     int nbreak;                         /* breakpoints per input */
     double lo[2], hi[2];                /* the calibrated field per input */
     double smooth;                      /* the penalty's relative weight */
@@ -65,10 +76,11 @@ typedef struct {
 } lab_spline;
 
 /* Rows of a fit: inputs x[k][i] (k < dims), outputs y[j][i] (j < n_out),
- * weights w[i] (rows with w <= 0 or a value not finite are left out). */
+ * weights w[i] (rows with w <= 0 or a value not finite are left out);
+ * cross: dims 1 and two outputs only (the header's additive model). */
 typedef struct {
     size_t n;
-    int dims, n_out;
+    int dims, n_out, cross;
     const double *x[2];
     const double *y[LAB_SPLINE_MAX_OUT];
     const double *w;
@@ -114,7 +126,8 @@ int lab_spline_choose_ws(lab_spline *s, const lab_spline_data *d, const int *fol
 /* Bytes of lab_spline_ws_alloc(n). */
 double lab_spline_ws_bytes(size_t n);
 
-/* params.ini: s into section (its keys: dims, outputs, breakpoints,
+/* params.ini: s into section (its keys: dims, outputs, cross (written
+ * only when on; absent reads as off), breakpoints,
  * smoothing, edf_<j>, lo_<k>, hi_<k>, field_<row> (dims 2), c<j>_<block>),
  * and read back strictly: every key known, every count in range, every
  * value a number ("FILE:LINE: ..."). */

@@ -59,4 +59,10 @@ void thermal_validate_all(const sunmc_config *c, unit_result *r, thermal_validat
  * slots of a family's readings, family.h: unit_read). */
 int thermal_n_reads(const sunmc_config *c);
 
+/* The temperature (C) of read k, 1 <= k < thermal_n_reads: the k-th
+ * operating temperature other than the lab's, in that order (read 0 is
+ * the lab's, at calibration_temp_c).  A family's unit_read fills slot k
+ * of its readings at it. */
+double thermal_read_temp_c(const sunmc_config *c, int k);
+
 #endif

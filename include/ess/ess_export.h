@@ -13,7 +13,8 @@
 struct lab_export;
 extern const struct lab_export ess_export;
 
-/* The exported function with -DSUNMC_FLOAT, in process (lab_export.eval_float). */
-int ess_export_eval_float(const void *model, const float *raw, float *deg);
+/* The exported function's check and model with -DSUNMC_FLOAT, in process
+ * (lab_export.eval_float): enum lab_reading, the angle in rad. */
+int ess_export_eval_float(const void *model, const float *raw, float *ang_rad);
 
 #endif

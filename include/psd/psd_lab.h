@@ -51,7 +51,6 @@ typedef struct {
     int table_log;              /* table: its nodes once chosen (log2 of the steps; 0: choose) */
     int *spline_fold;
     int spline_n_folds;
-    calreport_models models; /* for models.tsv */
 } psd_labcal;
 
 psd_labcal *psd_labcal_alloc(const sunmc_config *c, const lab_columns *d, char *err,

@@ -124,10 +124,12 @@ static void lab_help(int calibrate, char *buf, size_t len)
         help_add(buf, len, &n, "  %s: ", sensor_family_at(i)->name);
         if (calibrate) {
             help_columns(buf, len, &n, lab->cal_columns);
-            for (int k = 0; lab->extra_files && lab->extra_files[k]; k++)
+            int k = 0; /* the family's files, then models.tsv (lab_write_calibration) */
+            for (; lab->extra_files && lab->extra_files[k]; k++)
                 help_add(buf, len, &n, "%s%s", k ? ", " : "   (--out adds ", lab->extra_files[k]);
-            help_add(buf, len, &n, "%s\n%s", lab->extra_files ? ")" : "",
-                     lab->cal_help ? lab->cal_help : "");
+            if (lab->cal_models_tsv)
+                help_add(buf, len, &n, "%s%s", k++ ? ", " : "   (--out adds ", "models.tsv");
+            help_add(buf, len, &n, "%s\n%s", k ? ")" : "", lab->cal_help ? lab->cal_help : "");
         } else {
             help_columns(buf, len, &n, lab->raw_columns);
             help_add(buf, len, &n, " -> ");

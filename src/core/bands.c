@@ -16,6 +16,21 @@ long grid_count(double lo, double hi, double step, double offset)
     return (long)floor(span / step + GRID_EPS) + 1;
 }
 
+long grid_values(double lo, double hi, double step, double offset, double *v, long max)
+{
+    long n = grid_count(lo, hi, step, offset);
+    for (long j = 0; j < n && j < max; j++)
+        v[j] = lo + offset + (double)j * step;
+    return n;
+}
+
+long list_values(const double_list *l, double *v, long max)
+{
+    for (long j = 0; j < l->n && j < max; j++)
+        v[j] = l->v[j];
+    return l->n;
+}
+
 void band_acc_reset(band_acc *b)
 {
     memset(b, 0, sizeof *b);

@@ -1,5 +1,6 @@
 /* calreport.c - standard errors, correlations and the printed fit report. */
 #include "calreport.h"
+#include "fold_outliers.h"
 #include "registry.h"
 #include "report.h"
 #include "status.h"
@@ -18,6 +19,18 @@ void calreport_init(calreport *r, const char *sensor, const char *model)
     r->model = model;
     r->cv_rms_in_arcsec = NAN;
     r->cv_rms_out_arcsec = NAN;
+    r->cv_rms_out_all_arcsec = NAN;
+    r->cv_median_fold_arcsec = NAN;
+}
+
+void calreport_set_values(calreport *r, const char *const *names, const double *values, int n)
+{
+    r->np = n;
+    for (int i = 0; i < n; i++) {
+        snprintf(r->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
+        r->value[i] = values[i];
+        r->se[i] = NAN;
+    }
 }
 
 void calreport_warn(calreport *r, const char *action, const char *fmt, ...)
@@ -155,6 +168,49 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
                 pair_warning(r, threshold, i, j);
 }
 
+/* The folds marked outliers, each with the judging model's held-out
+ * error (or its own): "NAME (RMS), ..." into buf. */
+static void outlier_names(const calreport *r, char *buf, size_t len)
+{
+    const calreport_models *cm = &r->models;
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < r->n_folds && at < len; k++)
+        if (r->fold[k].outlier)
+            at += (size_t)snprintf(buf + at, len - at, "%s%s (%.0f)", at ? ", " : "",
+                                   r->fold[k].label,
+                                   cm->judge >= 0 ? cm->judge_fold_arcsec[k]
+                                                  : r->fold[k].rms_out_arcsec);
+}
+
+void calreport_check_fold_outliers(calreport *r)
+{
+    if (r->cv_n_outliers == 0)
+        return;
+    char names[CALREPORT_TEXT_MAX / 2];
+    outlier_names(r, names, sizeof names);
+    const calreport_models *cm = &r->models;
+    int one = r->cv_n_outliers == 1;
+    calreport_warn(r,
+                   "look at the campaign's set-up and data (the light, the mounting, the "
+                   "table's zero); the estimate stands for a campaign like the others, the one "
+                   "with it for a run that can go as wrong; to calibrate without it, delete its "
+                   "rows from the file",
+                   "%d of %d held-out repeat campaigns %s unlike the others: the %s model (the "
+                   "best held out) leaves above %g times its median campaign's %.0f arcsec on "
+                   "%s; the estimate leaves %s out: %.2f arcsec (%.2f with %s)",
+                   r->cv_n_outliers, r->n_folds, one ? "is" : "are",
+                   cm->judge >= 0 ? cm->m[cm->judge].name : "used", FOLD_OUTLIER_RATIO,
+                   cm->judge >= 0 ? cm->judge_median_arcsec : r->cv_median_fold_arcsec, names,
+                   one ? "it" : "them", r->cv_rms_out_arcsec, r->cv_rms_out_all_arcsec,
+                   one ? "it" : "them");
+}
+
+void calreport_outlier_names(const calreport *r, char *buf, size_t len)
+{
+    outlier_names(r, buf, len);
+}
+
 void calreport_check_crossval(calreport *r, double ratio)
 {
     if (!(r->cv_rms_out_arcsec > ratio * r->cv_rms_in_arcsec))
@@ -252,7 +308,13 @@ static void print_models(FILE *f, const calreport_models *m)
 static void print_header(FILE *f, const calreport *r)
 {
     fprintf(f, "calibration: sensor family %s, model %s\n", r->sensor, r->model);
-    fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used, r->dof);
+    if (r->n_set_aside)
+        fprintf(f, "data: %zu rows, %zu used (%zu of campaigns unlike the others set aside), %d "
+                   "degrees of freedom\n",
+                r->n_rows, r->n_used, r->n_set_aside, r->dof);
+    else
+        fprintf(f, "data: %zu rows, %zu used, %d degrees of freedom\n", r->n_rows, r->n_used,
+                r->dof);
     if (r->campaign.known)
         fprintf(f,
                 "campaign: %ld points on %ld lines, %ld readings: %.2f turntable hours (the "
@@ -347,12 +409,19 @@ static void print_crossval(FILE *f, const calreport *r)
     for (int k = 0; k < r->n_folds; k++) {
         const calreport_fold *fo = &r->fold[k];
         if (fo->ok)
-            fprintf(f, "  held out %-20s %6zu points: in-sample %8.2f  held-out %8.2f\n",
-                    fo->label, fo->n_out, fo->rms_in_arcsec, fo->rms_out_arcsec);
+            fprintf(f, "  held out %-20s %6zu points: in-sample %8.2f  held-out %8.2f%s\n",
+                    fo->label, fo->n_out, fo->rms_in_arcsec, fo->rms_out_arcsec,
+                    fo->outlier ? "  (unlike the others: not in the estimate)" : "");
         else
             fprintf(f, "  held out %-20s %6zu points: refit failed\n", fo->label, fo->n_out);
     }
-    if (r->n_folds > 0)
+    if (r->n_folds > 0 && r->cv_n_outliers > 0)
+        fprintf(f, "  pooled: in-sample %.2f, held-out %.2f (the honest accuracy estimate, "
+                   "%d part%s unlike the others left out; %.2f with %s)\n",
+                r->cv_rms_in_arcsec, r->cv_rms_out_arcsec, r->cv_n_outliers,
+                r->cv_n_outliers > 1 ? "s" : "", r->cv_rms_out_all_arcsec,
+                r->cv_n_outliers > 1 ? "them" : "it");
+    else if (r->n_folds > 0)
         fprintf(f, "  pooled: in-sample %.2f, held-out %.2f (the honest accuracy estimate)\n",
                 r->cv_rms_in_arcsec, r->cv_rms_out_arcsec);
 }
@@ -463,7 +532,8 @@ int calreport_write_bands(FILE *f, const calreport *r)
 
 int calreport_write_folds(FILE *f, const calreport *r)
 {
-    fprintf(f, "fold\theld_out\tpoints\tok\trms_in_arcsec\trms_out_arcsec\trefit_condition\n");
+    fprintf(f, "fold\theld_out\tpoints\tok\trms_in_arcsec\trms_out_arcsec\trefit_condition\t"
+               "outlier\n");
     for (int k = 0; k < r->n_folds; k++) {
         const calreport_fold *fo = &r->fold[k];
         char label[CALREPORT_NAME_MAX];
@@ -471,8 +541,8 @@ int calreport_write_folds(FILE *f, const calreport *r)
         for (char *s = label; *s; s++)
             if (*s == ' ' || *s == '\t')
                 *s = '_';
-        tsv_printf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\t%.6g\n", k + 1, label, fo->n_out, fo->ok,
-                fo->rms_in_arcsec, fo->rms_out_arcsec, fo->cond);
+        tsv_printf(f, "%d\t%s\t%zu\t%d\t%.6g\t%.6g\t%.6g\t%d\n", k + 1, label, fo->n_out,
+                   fo->ok, fo->rms_in_arcsec, fo->rms_out_arcsec, fo->cond, fo->outlier);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }
@@ -481,13 +551,14 @@ int calreport_write_models(FILE *f, const calreport_models *m)
 {
     fprintf(f, "model\tparameters\tok\taliased\theld_out_points\trms_in_arcsec\t"
                "rms_out_arcsec\tused\trecommended\treadings_per_point\t"
-               "rms_out_mean_arcsec\n");
+               "rms_out_mean_arcsec\toutlier_folds\trms_out_all_arcsec\n");
     for (int k = 0; k < m->n; k++) {
         const calreport_model *x = &m->m[k];
-        tsv_printf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\t%.6g\t%.6g\n", x->name, x->np,
-                x->ok, x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec, k == m->used,
-                k == m->best, x->per_point > 0 ? x->per_point : NAN,
-                x->per_point > 0 ? x->rms_out_mean_arcsec : NAN);
+        tsv_printf(f, "%s\t%d\t%d\t%d\t%ld\t%.6g\t%.6g\t%d\t%d\t%.6g\t%.6g\t%d\t%.6g\n", x->name,
+                   x->np, x->ok, x->aliased, x->n_out, x->rms_in_arcsec, x->rms_out_arcsec,
+                   k == m->used, k == m->best, x->per_point > 0 ? x->per_point : NAN,
+                   x->per_point > 0 ? x->rms_out_mean_arcsec : NAN, x->n_outliers,
+                   x->rms_out_all_arcsec);
     }
     return ferror(f) ? SUNMC_EIO : SUNMC_OK;
 }

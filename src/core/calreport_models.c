@@ -52,6 +52,11 @@ void calreport_models_recommend(calreport_models *cm, double gain, double far)
     if (b->per_point > 1 && at < sizeof cm->note)
         at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, ", %.0f for the mean of %.3g",
                                b->rms_out_mean_arcsec, b->per_point);
+    if (b->n_outliers > 0 && at < sizeof cm->note)
+        at += (size_t)snprintf(cm->note + at, sizeof cm->note - at,
+                               " (%d held-out part%s unlike the others left out; %.0f with %s)",
+                               b->n_outliers, b->n_outliers > 1 ? "s" : "",
+                               b->rms_out_all_arcsec, b->n_outliers > 1 ? "them" : "it");
     if (at < sizeof cm->note)
         at += (size_t)snprintf(cm->note + at, sizeof cm->note - at, "%s%s",
                                cm->best != cm->used ? ": calibrate with --set calibration.model="

@@ -97,6 +97,12 @@ const config_key config_keys[] = {
      "sigma over a pilot of calibration.prior_units units drawn from the tolerances and "
      "fitted without noise: what the lab knows before the campaign), as extra residual rows "
      "weighted by the reading noise"},
+    {"calibration", "outlier_campaigns", KEY_ENUM, "", "drop", 0, 0, "keep|drop",
+     OFF(cal_outlier_campaigns),
+     "`calibrate`, data of repeat campaigns (single-axis sweeps, each table line swept "
+     "again and again): a campaign the others predict more than 2 times worse than the median "
+     "one (at most a quarter of them) is named and dropped from the calibration (drop), or "
+     "kept in it and left out of the accuracy estimate only (keep)"},
     {"calibration", "prior_units", KEY_INT, "", "48", 8, 100000, NULL, OFF(prior_units),
      "calibration.priors = tolerances: units of the pilot that sets the priors (drawn from "
      "run.seed's own pilot stream, the same in every shard and thread)"},

@@ -2,6 +2,7 @@
  * header, the cross-validation skeleton, a calibration's files and the
  * compensated CSV (lab.h). */
 #include "lab.h"
+#include "fold_outliers.h"
 #include "lab_accuracy.h"
 #include "csv.h"
 #include "tsvnum.h"
@@ -126,9 +127,9 @@ int lab_params_header(params_file *p, const char *data, const char *config, size
 /* ---- cross-validation ---- */
 
 /* Fold k: hold its rows out (held = their weights, weight = 0), refit the
- * rest and score both parts; adds to the pooled sums. */
+ * rest and score both parts into sum2[2], cnt[2] (in-sample, held out). */
 static void one_fold(calreport *rep, int k, double *weight, const double *saved, double *held,
-                     size_t n, const lab_folds *f, void *ctx, double pool[2], long pool_n[2])
+                     size_t n, const lab_folds *f, void *ctx, double sum2[2], long cnt[2])
 {
     calreport_fold *fo = &rep->fold[rep->n_folds++];
     f->label(ctx, k, fo->label, sizeof fo->label);
@@ -141,8 +142,6 @@ static void one_fold(calreport *rep, int k, double *weight, const double *saved,
         fo->n_out += held[i] > 0;
         left += weight[i] > 0;
     }
-    double sum2[2] = {0, 0};
-    long cnt[2] = {0, 0};
     fo->cond = NAN;
     fo->ok = fo->n_out > 0 && left > f->min_fit_rows && f->refit(ctx, held, sum2, cnt, &fo->cond);
     fo->rms_in_arcsec = fo->rms_out_arcsec = NAN;
@@ -150,10 +149,36 @@ static void one_fold(calreport *rep, int k, double *weight, const double *saved,
         return;
     fo->rms_in_arcsec = cnt[0] ? sqrt(sum2[0] / (double)cnt[0]) * ARCSEC_PER_RAD : NAN;
     fo->rms_out_arcsec = cnt[1] ? sqrt(sum2[1] / (double)cnt[1]) * ARCSEC_PER_RAD : NAN;
-    for (int j = 0; j < 2; j++) {
-        pool[j] += sum2[j];
-        pool_n[j] += cnt[j];
+}
+
+/* The pooled estimates of the folds' sums: in-sample over every fold,
+ * held out with and without the outlying parts (fold_outliers.h). */
+static void pool_folds(calreport *rep, const unsigned char *outlier, double (*sum2)[2],
+                       long (*cnt)[2])
+{
+    double rms[CALREPORT_MAX_FOLDS], in2[CALREPORT_MAX_FOLDS], out2[CALREPORT_MAX_FOLDS], all;
+    long n_in[CALREPORT_MAX_FOLDS], n_out[CALREPORT_MAX_FOLDS];
+    unsigned char out[CALREPORT_MAX_FOLDS], none[CALREPORT_MAX_FOLDS] = {0};
+    for (int k = 0; k < rep->n_folds; k++) {
+        int ok = rep->fold[k].ok;
+        rms[k] = ok ? rep->fold[k].rms_out_arcsec : NAN;
+        in2[k] = ok ? sum2[k][0] : 0.0;
+        n_in[k] = ok ? cnt[k][0] : 0;
+        out2[k] = ok ? sum2[k][1] : 0.0;
+        n_out[k] = ok ? cnt[k][1] : 0;
     }
+    fold_outliers_mark(rms, rep->n_folds, out, &rep->cv_median_fold_arcsec); /* its median */
+    rep->cv_n_outliers = 0;
+    for (int k = 0; k < rep->n_folds; k++) {
+        out[k] = outlier ? outlier[k] : 0;
+        rep->fold[k].outlier = out[k];
+        rep->cv_n_outliers += out[k];
+    }
+    if (rep->n_folds == 0)
+        return;
+    rep->cv_rms_in_arcsec = fold_outliers_pool(in2, n_in, rep->n_folds, none, ARCSEC_PER_RAD, &all);
+    rep->cv_rms_out_arcsec = fold_outliers_pool(out2, n_out, rep->n_folds, out, ARCSEC_PER_RAD,
+                                                &rep->cv_rms_out_all_arcsec);
 }
 
 void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_folds *f, void *ctx)
@@ -166,17 +191,15 @@ void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_fold
         return;
     }
     memcpy(saved, weight, n * sizeof *saved);
-    double pool[2] = {0, 0};
-    long pool_n[2] = {0, 0};
+    double sum2[CALREPORT_MAX_FOLDS][2] = {{0}};
+    long cnt[CALREPORT_MAX_FOLDS][2] = {{0}};
     for (int k = 0; k < f->n_folds && k < CALREPORT_MAX_FOLDS; k++)
-        one_fold(rep, k, weight, saved, held, n, f, ctx, pool, pool_n);
+        one_fold(rep, k, weight, saved, held, n, f, ctx, sum2[k], cnt[k]);
     memcpy(weight, saved, n * sizeof *saved);
     free(saved);
     free(held);
-    if (pool_n[0])
-        rep->cv_rms_in_arcsec = sqrt(pool[0] / (double)pool_n[0]) * ARCSEC_PER_RAD;
-    if (pool_n[1])
-        rep->cv_rms_out_arcsec = sqrt(pool[1] / (double)pool_n[1]) * ARCSEC_PER_RAD;
+    pool_folds(rep, f->outlier, sum2, cnt);
+    calreport_check_fold_outliers(rep);
     calreport_check_crossval(rep, CALREPORT_CV_RATIO_WARN);
     calreport_check_fold_condition(rep, CALREPORT_FOLD_COND_WARN);
 }
@@ -223,6 +246,8 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
     while (lab->extra_files && lab->extra_files[n - LAB_CAL_FILES] && n < OUT_MAX_FILES - 2)
         names[n] = lab->extra_files[n - LAB_CAL_FILES], n++;
     int n_family = n, drift = rep->drift.n >= 2;
+    if (lab->cal_models_tsv)
+        names[n++] = "models.tsv";
     if (drift)
         names[n++] = "campaigns.tsv";
     FILE *f[OUT_MAX_FILES] = {NULL};
@@ -238,8 +263,10 @@ int lab_write_calibration(const family_lab *lab, const void *cal, const sunmc_co
             calreport_write_folds(f[3], rep);
             for (int k = LAB_CAL_FILES; k < n_family; k++)
                 lab->write_extra(cal, c, k - LAB_CAL_FILES, f[k]);
+            if (lab->cal_models_tsv)
+                calreport_write_models(f[n_family], &rep->models);
             if (drift)
-                lab_drift_write(f[n_family], &rep->drift);
+                lab_drift_write(f[n - 1], &rep->drift);
             st = out_commit(&os, err, errlen);
         } else {
             out_abort(&os);

@@ -390,7 +390,8 @@ void lab_check_fit(const family_lab *lab, const sunmc_config *c, const lab_colum
     for (size_t i = 0; i < d->n; i++)
         zero += !(d->v[weight_col(d)][i] > 0);
     size_t offered = d->n - zero;
-    size_t dropped = offered > rep->n_used ? offered - rep->n_used : 0;
+    size_t kept = rep->n_used + rep->n_set_aside;
+    size_t dropped = offered > kept ? offered - kept : 0;
     double noise = lab->cal_noise_arcsec ? lab->cal_noise_arcsec(c) : 0;
     double limit = c->max_residual_ratio * fmax(noise, LAB_NOISE_FLOOR_ARCSEC);
     /* The weights are scaled to a median of 1 (normalise_weights): sigma

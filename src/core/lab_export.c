@@ -261,7 +261,7 @@ static int write_table(FILE *f, const lab_export_job *j, const long n[LAB_EXPORT
                 q[0] = hi[0];
             if (i1 == n[1] - 1 && x->n_axes == 2)
                 q[1] = hi[1];
-            x->raw_at(j->model, q, raw);
+            lab_export_raw_at(x, j->model, q, raw);
             int st = lab_export_reference(j->lab, j->model, raw, deg);
             fputs("    {", f);
             for (int k = 0; k < n_comp; k++) {
@@ -285,7 +285,7 @@ static void write_lookup(FILE *f, const lab_export_job *j, int n_raw, int n_comp
                "    sunmc_real q[%d];\n    long i[2] = {0, 0};\n    sunmc_real u[2] = "
                "{SR(0), SR(0)};\n    int a, k;\n",
             n_raw, n_comp, x->n_axes);
-    x->emit_axes(j->model, f);
+    lab_export_emit_axes(x, j->model, f);
     fprintf(f, "    for (a = 0; a < %d; a++) {\n", x->n_axes);
     fputs("        long na = a == 0 ? SUNMC_N0 : ", f);
     fputs(two ? "SUNMC_N1;\n" : "1;\n", f);
@@ -392,7 +392,7 @@ static void write_vectors(FILE *f, const lab_export_job *j)
                                    : lo[a] - (hi[a] - lo[a]) * margin +
                                          w * ii[a] / (double)(m - 1);
             }
-            x->raw_at(j->model, q, raw);
+            lab_export_raw_at(x, j->model, q, raw);
             int st = lab_export_reference(lab, j->model, raw, deg);
             for (int k = 0; k < n_raw; k++)
                 fprintf(f, "%.17g,", raw[k]);

@@ -181,7 +181,7 @@ static int build_table(lab_onboard *o, char *err, size_t errlen)
                 q[0] = hi[0];
             if (i1 == o->n[1] - 1 && x->n_axes == 2)
                 q[1] = hi[1];
-            x->raw_at(o->model, q, raw);
+            lab_export_raw_at(x, o->model, q, raw);
             int ok = lab_export_reference(o->lab, o->model, raw, deg) == LAB_READING_OK;
             for (int k = 0; k < o->n_comp; k++)
                 t[k] = ok ? deg[k] : LAB_ONBOARD_NO_NODE;
@@ -210,7 +210,7 @@ int lab_onboard_prepare(lab_onboard *o, const void *model, char *err, size_t err
             st = SUNMC_EINPUT; /* an empirical model: its table form only */
         return st;
     }
-    if (!x->axes_at)
+    if (!lab_export_has_axes(x))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
                           "this family's export has no table path in sunmc: onboard table is "
                           "not available");
@@ -267,19 +267,26 @@ static int eval_table(const lab_onboard *o, const double *raw, double *deg)
     if (why != LAB_READING_OK)
         return why;
     double q[LAB_EXPORT_MAX_AXES];
-    if (lab->export->axes_at(o->model, raw, q) != SUNMC_OK)
+    if (lab_export_axes_at(lab->export, o->model, raw, q) != SUNMC_OK)
         return LAB_NO_INVERSE;
     return table_lookup(o, q, deg);
 }
 
+/* The float path: the family's check and model (lab_export.eval_float),
+ * then the exported function's last step as write_function emits it
+ * (lab_export.c), in float: an angle at or beyond LAB_ONBOARD_NO_ANGLE
+ * is none, the others turned into deg. */
 static int eval_float(const lab_onboard *o, const double *raw, double *deg)
 {
-    float in[LAB_MAX_COLUMNS], out[LAB_MAX_COLUMNS];
+    float in[LAB_MAX_COLUMNS], ang[LAB_MAX_COLUMNS];
     for (int k = 0; k < o->n_raw; k++)
         in[k] = (float)raw[k];
-    int why = o->lab->export->eval_float(o->model, in, out);
+    int why = o->lab->export->eval_float(o->model, in, ang);
     for (int k = 0; why == LAB_READING_OK && k < o->n_comp; k++)
-        deg[k] = (double)out[k];
+        if (!(fabsf(ang[k]) < (float)LAB_ONBOARD_NO_ANGLE))
+            why = LAB_NO_INVERSE;
+    for (int k = 0; why == LAB_READING_OK && k < o->n_comp; k++)
+        deg[k] = (double)(ang[k] * (float)DEG_PER_RAD);
     return why;
 }
 

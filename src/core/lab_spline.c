@@ -12,35 +12,39 @@
 /* Coefficients per input: nbreak + order - 2. */
 static int coef_per_input(int nbreak) { return nbreak + LAB_SPLINE_ORDER - 2; }
 
-/* Knot j of input k: the uniform breakpoints, the ends repeated
+/* Knot j of input k over nb uniform breakpoints, the ends repeated
  * LAB_SPLINE_ORDER times (gsl_bspline_knots_uniform's). */
-static double knot(const lab_spline *s, int k, int j)
+static double knot(const lab_spline *s, int k, int nb, int j)
 {
     int m = j - (LAB_SPLINE_ORDER - 1);
     if (m <= 0)
         return s->lo[k];
-    if (m >= s->nbreak - 1)
+    if (m >= nb - 1)
         return s->hi[k];
-    return s->lo[k] + m * (s->hi[k] - s->lo[k]) / (s->nbreak - 1);
+    return s->lo[k] + m * (s->hi[k] - s->lo[k]) / (nb - 1);
 }
+
+/* The cross term's coefficients of output j start here (after its own). */
+static int cross_at(const lab_spline *s) { return coef_per_input(s->nbreak); }
 
 /* The ORDER nonzero basis functions of input k at x, from coefficient
  * *start, by the Cox-de Boor recursion (The NURBS Book, A2.2): no
  * workspace, nothing allocated (the evaluation runs per reading).  x is
  * within the field (in_field, the fit's rows), else NaN-free nonsense: the
  * callers check; a NaN x is refused. */
-static int basis_at(const lab_spline *s, int k, double x, double b[LAB_SPLINE_ORDER], int *start)
+static int basis_at(const lab_spline *s, int k, int nb, double x, double b[LAB_SPLINE_ORDER],
+                    int *start)
 {
     if (isnan(x))
         return SUNMC_EDOM;
-    int i = (int)((x - s->lo[k]) / (s->hi[k] - s->lo[k]) * (s->nbreak - 1));
-    i = i > s->nbreak - 2 ? s->nbreak - 2 : i < 0 ? 0 : i;
+    int i = (int)((x - s->lo[k]) / (s->hi[k] - s->lo[k]) * (nb - 1));
+    i = i > nb - 2 ? nb - 2 : i < 0 ? 0 : i;
     int span = i + LAB_SPLINE_ORDER - 1;
     double left[LAB_SPLINE_ORDER], right[LAB_SPLINE_ORDER];
     b[0] = 1.0;
     for (int j = 1; j < LAB_SPLINE_ORDER; j++) {
-        left[j] = x - knot(s, k, span + 1 - j);
-        right[j] = knot(s, k, span + j) - x;
+        left[j] = x - knot(s, k, nb, span + 1 - j);
+        right[j] = knot(s, k, nb, span + j) - x;
         double saved = 0.0;
         for (int r = 0; r < j; r++) {
             double t = b[r] / (right[r + 1] + left[j - r]);
@@ -70,23 +74,41 @@ static int in_field(const lab_spline *s, const double *x)
     return s->cell[c[0] * nc + c[1]];
 }
 
-/* The design row of output j (dims 1: its input; dims 2: both): idx[],
- * val[] of its nonzeros; their count, or -1 outside. */
+/* dims 1: output j's row, its own input's basis and (cross) the other's
+ * coarse one but its pinned first function; the nonzeros' count or -1. */
+static int design_row1(const lab_spline *s, int j, const double *x, int *idx, double *val)
+{
+    double b0[LAB_SPLINE_ORDER], b1[LAB_SPLINE_ORDER];
+    int s0, s1, m = 0;
+    if (basis_at(s, j, s->nbreak, x[j], b0, &s0) != SUNMC_OK)
+        return -1;
+    for (int a = 0; a < LAB_SPLINE_ORDER; a++, m++) {
+        idx[m] = s0 + a;
+        val[m] = b0[a];
+    }
+    if (!s->cross)
+        return m;
+    if (basis_at(s, 1 - j, LAB_SPLINE_CROSS_BREAK, x[1 - j], b1, &s1) != SUNMC_OK)
+        return -1;
+    for (int a = 0; a < LAB_SPLINE_ORDER; a++)
+        if (s1 + a > 0) {
+            idx[m] = cross_at(s) + s1 + a - 1;
+            val[m++] = b1[a];
+        }
+    return m;
+}
+
+/* The design row of output j (dims 1: its input, and the cross term;
+ * dims 2: both): idx[], val[] of its nonzeros; their count, or -1 outside. */
 static int design_row(const lab_spline *s, int j, const double *x, int *idx,
                       double *val)
 {
     double b0[LAB_SPLINE_ORDER], b1[LAB_SPLINE_ORDER];
     int s0, s1;
-    if (s->dims == 1) {
-        if (basis_at(s, j, x[j], b0, &s0) != SUNMC_OK)
-            return -1;
-        for (int a = 0; a < LAB_SPLINE_ORDER; a++) {
-            idx[a] = s0 + a;
-            val[a] = b0[a];
-        }
-        return LAB_SPLINE_ORDER;
-    }
-    if (basis_at(s, 0, x[0], b0, &s0) != SUNMC_OK || basis_at(s, 1, x[1], b1, &s1) != SUNMC_OK)
+    if (s->dims == 1)
+        return design_row1(s, j, x, idx, val);
+    if (basis_at(s, 0, s->nbreak, x[0], b0, &s0) != SUNMC_OK ||
+        basis_at(s, 1, s->nbreak, x[1], b1, &s1) != SUNMC_OK)
         return -1;
     int p1 = coef_per_input(s->nbreak), m = 0;
     for (int a = 0; a < LAB_SPLINE_ORDER; a++)
@@ -160,7 +182,7 @@ static long set_field(lab_spline *s, const lab_spline_data *d)
     int nb = (int)(d->dims == 2 ? sqrt(per) : per) - (LAB_SPLINE_ORDER - 2);
     s->nbreak = nb > maxb ? maxb : nb < LAB_SPLINE_MIN_BREAK ? LAB_SPLINE_MIN_BREAK : nb;
     int p1 = coef_per_input(s->nbreak);
-    s->n_coef = d->dims == 2 ? p1 * p1 : p1;
+    s->n_coef = d->dims == 2 ? p1 * p1 : p1 + (s->cross ? LAB_SPLINE_CROSS_COEF : 0);
     memset(s->cell, 0, sizeof s->cell);
     if (d->dims == 2 && used > 0 && s->hi[0] > s->lo[0] && s->hi[1] > s->lo[1]) {
         int nc = s->nbreak - 1;
@@ -192,12 +214,30 @@ static void second_difference(const double g[3], double h, double d2[3])
 /* P = sum over the inputs of D^T D (p x p). */
 /* Greville abscissa of coefficient j of input k: the mean of its
  * ORDER - 1 inner knots. */
-static double greville(const lab_spline *s, int k, int j)
+static double greville(const lab_spline *s, int k, int nb, int j)
 {
     double g = 0;
     for (int t = 1; t < LAB_SPLINE_ORDER; t++)
-        g += knot(s, k, j + t);
+        g += knot(s, k, nb, j + t);
     return g / (LAB_SPLINE_ORDER - 1);
+}
+
+/* The cross term's second differences (dims 1): its coefficients from
+ * cross_at, the pinned first one left out (the differences that would
+ * take it are not penalised), on input k's coarse knots. */
+static void penalty_cross(const lab_spline *s, int k, gsl_matrix *P)
+{
+    int pc = LAB_SPLINE_CROSS_COEF + 1, at0 = cross_at(s) - 1;
+    double h = (s->hi[k] - s->lo[k]) / (LAB_SPLINE_CROSS_BREAK - 1);
+    for (int r = 1; r + 2 < pc; r++) {
+        double g[3], d2[3];
+        for (int t = 0; t < 3; t++)
+            g[t] = greville(s, k, LAB_SPLINE_CROSS_BREAK, r + t);
+        second_difference(g, h, d2);
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                *gsl_matrix_ptr(P, (size_t)(at0 + r + a), (size_t)(at0 + r + b)) += d2[a] * d2[b];
+    }
 }
 
 static void penalty(const lab_spline *s, gsl_matrix *P)
@@ -209,7 +249,7 @@ static void penalty(const lab_spline *s, gsl_matrix *P)
         for (int r = 0; r + 2 < p1; r++) {
             double g[3], d2[3];
             for (int t = 0; t < 3; t++)
-                g[t] = greville(s, dir, r + t);
+                g[t] = greville(s, dir, s->nbreak, r + t);
             second_difference(g, h, d2);
             for (int o = 0; o < (nd == 2 ? p1 : 1); o++) {
                 int at[3];
@@ -221,6 +261,8 @@ static void penalty(const lab_spline *s, gsl_matrix *P)
             }
         }
     }
+    if (s->cross)
+        penalty_cross(s, 0, P);
 }
 
 typedef struct {
@@ -383,10 +425,11 @@ static int solve_group(lab_spline *s, const lab_spline_data *d, int j, fit_ws *f
 static int check_data(const lab_spline_data *d, char *err, size_t errlen)
 {
     if (d->dims < 1 || d->dims > 2 || d->n_out < 1 || d->n_out > LAB_SPLINE_MAX_OUT ||
-        (d->dims == 1 && d->n_out > 2))
+        (d->dims == 1 && d->n_out > 2) || (d->cross && (d->dims != 1 || d->n_out != 2)))
         return sunmc_fail(err, errlen, SUNMC_EINPUT,
-                          "spline: %d inputs and %d outputs: 1 or 2 inputs, 1 or 2 outputs",
-                          d->dims, d->n_out);
+                          "spline: %d inputs and %d outputs%s: 1 or 2 inputs, 1 or 2 outputs "
+                          "(the cross term: 1 input per output, 2 outputs)",
+                          d->dims, d->n_out, d->cross ? " with the cross term" : "");
     return SUNMC_OK;
 }
 
@@ -399,6 +442,7 @@ int lab_spline_fit_ws(lab_spline *s, const lab_spline_data *d, double smooth, in
     memset(s, 0, sizeof *s);
     s->dims = d->dims;
     s->n_out = d->n_out;
+    s->cross = d->cross;
     s->smooth = smooth;
     long used = set_field(s, d);
     int n_in = d->dims == 2 ? 2 : d->n_out;

@@ -27,6 +27,9 @@ int lab_spline_params_fill(const lab_spline *s, params_file *p, const char *sect
     int st = params_set_double(p, section, "dims", s->dims,
                                "1: output j of input j; 2: tensor product of both inputs");
     st |= params_set_double(p, section, "outputs", s->n_out, NULL);
+    if (s->cross)
+        st |= params_set_double(p, section, "cross", 1,
+                                "plus a spline of the other input (an additive model)");
     st |= params_set_double(p, section, "breakpoints", s->nbreak, "uniform, per input");
     st |= params_set_double(p, section, "smoothing", s->smooth,
                             "chosen by the held-out error of calibrate's folds");
@@ -68,8 +71,8 @@ static int keys_known(const params_file *p, const char *section, const lab_splin
     char buf[MAX_KEYS][KEY_LEN];
     const char *names[MAX_KEYS];
     int n = 0;
-    static const char *const fixed[] = {"dims", "outputs", "breakpoints", "smoothing"};
-    for (; n < 4; n++)
+    static const char *const fixed[] = {"dims", "outputs", "breakpoints", "smoothing", "cross"};
+    for (; n < 4 + (s->cross ? 1 : 0); n++)
         names[n] = fixed[n];
     for (int j = 0; j < s->n_out; j++)
         snprintf(buf[n], KEY_LEN, "edf_%d", j), names[n] = buf[n], n++;
@@ -133,6 +136,23 @@ static int load_coef(const params_file *p, const char *section, lab_spline *s, i
     return st;
 }
 
+/* cross: absent (off, as before the key existed) or 1, for dims 1 with
+ * two outputs only. */
+static int load_cross(const params_file *p, const char *section, lab_spline *s, char *err,
+                      size_t errlen)
+{
+    if (!params_find(p, section, "cross"))
+        return SUNMC_OK;
+    const params_range r[] = {{section, "cross", 1, 1, "", NULL}};
+    int st = params_check_ranges(p, r, 1, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_get_int(p, section, "cross", &s->cross, err, errlen);
+    if (st == SUNMC_OK)
+        st = params_require(p, section, "cross", s->dims == 1 && s->n_out == 2,
+                            "only with dims = 1 and outputs = 2", err, errlen);
+    return st;
+}
+
 int lab_spline_params_load(const params_file *p, const char *section, lab_spline *s, char *err,
                            size_t errlen)
 {
@@ -154,10 +174,12 @@ int lab_spline_params_load(const params_file *p, const char *section, lab_spline
                             errlen);
     if (st == SUNMC_OK)
         st = params_get_double(p, section, "smoothing", &s->smooth, err, errlen);
+    if (st == SUNMC_OK)
+        st = load_cross(p, section, s, err, errlen);
     if (st != SUNMC_OK)
         return st;
     int p1 = s->nbreak + LAB_SPLINE_ORDER - 2;
-    s->n_coef = s->dims == 2 ? p1 * p1 : p1;
+    s->n_coef = s->dims == 2 ? p1 * p1 : p1 + (s->cross ? LAB_SPLINE_CROSS_COEF : 0);
     st = keys_known(p, section, s, err, errlen);
     char key[KEY_LEN];
     for (int j = 0; j < s->n_out && st == SUNMC_OK; j++) {

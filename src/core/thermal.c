@@ -88,3 +88,11 @@ int thermal_n_reads(const sunmc_config *c)
         n += thermal_temp_c(c, t) != c->cal_temp_c;
     return n;
 }
+
+double thermal_read_temp_c(const sunmc_config *c, int k)
+{
+    for (int t = 0, j = 0; t < thermal_n_temps(c); t++)
+        if (thermal_temp_c(c, t) != c->cal_temp_c && ++j == k)
+            return thermal_temp_c(c, t);
+    return c->cal_temp_c; /* read 0, or none: the lab's */
+}

@@ -4,8 +4,10 @@
 #include "family.h"
 #include "verdict.h"
 #include "status.h"
+#include "thermal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 #include <time.h>
 
@@ -86,6 +88,27 @@ void unit_phase_end(unit_result *r, int phase, double *t)
     double now = unit_clock();
     r->phase_s[phase] += now - *t;
     *t = now;
+}
+
+static size_t unit_rd_block_bytes(size_t n, int n_arrays)
+{
+    size_t flags = (n * sizeof(int) + sizeof(double) - 1) / sizeof(double) * sizeof(double);
+    return (size_t)n_arrays * n * sizeof(double) + flags;
+}
+
+size_t unit_rd_bytes(const sunmc_config *c, size_t n, int n_arrays)
+{
+    return (size_t)thermal_n_reads(c) * unit_rd_block_bytes(n, n_arrays);
+}
+
+double *unit_rd_block(const void *rd, size_t n, int n_arrays, int k)
+{
+    return (double *)(uintptr_t)rd + (size_t)k * (unit_rd_block_bytes(n, n_arrays) / sizeof(double));
+}
+
+int *unit_rd_flags(double *block, size_t n, int n_arrays)
+{
+    return (int *)(void *)(block + (size_t)n_arrays * n);
 }
 
 int unit_read_finish(const sunmc_config *c, long unit, void *ws, void *rd, int held,

@@ -120,6 +120,7 @@ static int score_model(const sunmc_config *c0, const dss_calib_workspace *cw, co
     }
     x->rms_in_arcsec = n_in ? sqrt(in2 / (double)n_in) * ARCSEC_PER_RAD : NAN;
     x->rms_out_arcsec = x->n_out ? sqrt(out2 / (double)x->n_out) * ARCSEC_PER_RAD : NAN;
+    x->rms_out_all_arcsec = x->rms_out_arcsec; /* interleaved folds: no campaign to judge */
     x->ok &= x->n_out > 0;
     dss_calib_free(w);
     free(c);

@@ -27,11 +27,8 @@ static long dss_curve_axis(const sunmc_config *c, int axis, double *values_deg, 
 {
     const dss_config *dc = dss_cfg(c);
     (void)axis; /* both axes span the same validation grid */
-    long n =
-        grid_count(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg, dc->val_b_offset_deg);
-    for (long j = 0; j < n && j < max; j++)
-        values_deg[j] = dc->val_b_min_deg + dc->val_b_offset_deg + (double)j * dc->val_b_step_deg;
-    return n;
+    return grid_values(dc->val_b_min_deg, dc->val_b_max_deg, dc->val_b_step_deg,
+                       dc->val_b_offset_deg, values_deg, max);
 }
 
 static void dss_curve_free(void *cv);

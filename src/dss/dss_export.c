@@ -73,13 +73,6 @@ static void axes_range(const void *model, double *lo, double *hi)
     hi[0] = hi[1] = half;
 }
 
-static void raw_at(const void *model, const double *q, double *raw)
-{
-    (void)model;
-    raw[0] = q[0];
-    raw[1] = q[1];
-}
-
 /* The nominal calibration of c: the design's physical model, the
  * polynomial's zero correction over the field (its table's range). */
 static void nominal(const sunmc_config *c, void *model)
@@ -91,20 +84,6 @@ static void nominal(const sunmc_config *c, void *model)
     dss_model_init(&cal->phys, &dc->design);
     dss_onboard_init(&ob, &dc->design);
     dss_poly_init(&cal->poly, dc->poly_order, &ob, dc->design.fov_deg * RAD_PER_DEG);
-}
-
-static int axes_at(const void *model, const double *raw, double *q)
-{
-    (void)model;
-    q[0] = raw[0];
-    q[1] = raw[1];
-    return SUNMC_OK;
-}
-
-static void emit_axes(const void *model, FILE *f)
-{
-    (void)model;
-    fputs("    q[0] = raw[0];\n    q[1] = raw[1];\n", f);
 }
 
 /* reading_check of dss_lab.c: a spot beyond the detector (the polynomial:
@@ -235,11 +214,9 @@ const lab_export dss_export = {
     .supported = supported,
     .model_form = model_form,
     .axes_range = axes_range,
-    .raw_at = raw_at,
-    .emit_axes = emit_axes,
+    .axes_are_raw = 1, /* the axes are the raw columns (lab_export_axes.c) */
     .emit_check = emit_check,
     .emit_model = emit_model,
-    .axes_at = axes_at,
     .eval_float = dss_export_eval_float,
     .onboard_mc = 1,
     .nominal = nominal,

@@ -124,11 +124,11 @@ static int physical_angles(const dss_model *m, float dx, float dy, float r, floa
     return LAB_READING_OK;
 }
 
-/* sunmc_check, sunmc_model and sunmc_NAME_cal in float. */
-int dss_export_eval_float(const void *model, const float *raw, float *deg)
+/* sunmc_check and sunmc_model in float: the angles in rad
+ * (lab_onboard.c makes sunmc_NAME_cal's last step). */
+int dss_export_eval_float(const void *model, const float *raw, float *ang)
 {
     const dss_calibration *cal = model;
-    float ang[2];
     int st;
     if (cal->kind == DSS_MODEL_POLYNOMIAL) {
         st = polynomial(&cal->poly, raw, ang);
@@ -143,12 +143,5 @@ int dss_export_eval_float(const void *model, const float *raw, float *deg)
         if (st == LAB_READING_OK)
             st = physical_angles(m, dx, dy, r, T, ang);
     }
-    if (st != LAB_READING_OK)
-        return st;
-    for (int k = 0; k < 2; k++)
-        if (!(SR_FABS(ang[k]) < SR(1e29)))
-            return LAB_NO_INVERSE;
-    for (int k = 0; k < 2; k++)
-        deg[k] = ang[k] * SR(DEG_PER_RAD);
-    return LAB_READING_OK;
+    return st;
 }

@@ -112,12 +112,9 @@ static void write_campaign(const dss_sim *s, const sunmc_config *c, const lab_un
                 s->sun_meas_arcsec[0], s->sun_meas_arcsec[1]);
     write_conventions(fc, c);
     fprintf(fc, "b1_deg,b2_deg,x_px,y_px,weight\n");
-    fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
-            ref->unit, ref->config, c->seed);
     double dv[DSS_N_DEV];
     dss_deviations_values(&s->dev, dv);
-    for (int i = 0; i < DSS_N_DEV; i++)
-        fprintf(ft, "# %s = %.17g\n", dss_deviation_names[i], dv[i]);
+    lab_sim_truth_head(ft, c, ref, dss_deviation_names, dv, DSS_N_DEV);
     write_conventions(ft, c);
     fprintf(ft, "b1_deg,b2_deg,truth_alpha_deg,truth_beta_deg,seen\n");
     for (size_t i = 0; i < s->n; i++) {
@@ -236,7 +233,6 @@ typedef struct {
     dss_calib_workspace *cw;
     const int *line;
     dss_calibration cal;
-    calreport_models models; /* for models.tsv */
 } dss_cal;
 
 static int model_params(const sunmc_config *c)
@@ -290,7 +286,6 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
-    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -317,13 +312,6 @@ static int cal_row_error(const void *p, size_t i, double e[2])
     e[0] = a - a0;
     e[1] = b - b0;
     return SUNMC_OK;
-}
-
-/* models.tsv: the model comparison (calreport_write_models). */
-static const char *const extra_files[] = {"models.tsv", NULL};
-static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
-{
-    return calreport_write_models(f, &((const dss_cal *)p)->models);
 }
 
 /* ---- compensate ---- */
@@ -414,8 +402,7 @@ const family_lab dss_lab = {
     .params_fill = params_fill,
     .write_residuals = write_residuals,
     .cal_row_error = cal_row_error,
-    .extra_files = extra_files,
-    .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

@@ -146,12 +146,7 @@ static void spline_report(const dss_calibration *cal, size_t n_res, calreport *r
     if (!hyb) {
         const char *names[] = {"smoothing", "edf_alpha", "edf_beta", "table_nodes", "table_bytes"};
         double v[] = {s->smooth, s->edf[0], s->edf[1], t->nodes, (double)lab_table_bytes(t)};
-        rep->np = tab ? 5 : 3;
-        for (int i = 0; i < rep->np; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, tab ? 5 : 3);
         rep->dof = (int)n_res - (int)lround(s->edf[0]);
     }
     calreport_warn(rep, "nothing to do: compare the held-out error below with the other models'",

@@ -164,18 +164,15 @@ static int dss_dev_columns(const sunmc_config *c, const char **names, int max)
     return DSS_N_DEV;
 }
 
-/* A unit's readings (family.h: unit_read): for each validation it reads
- * (thermal_n_reads), the spots with and without noise, the truths and the
- * seen flags of the validation grid's n points, one block each. */
-static size_t dss_rd_block_bytes(size_t n)
-{
-    size_t seen = (n * sizeof(int) + sizeof(double) - 1) / sizeof(double) * sizeof(double);
-    return 6 * n * sizeof(double) + seen;
-}
+/* A unit's readings (family.h: unit_read, unit_rd_block): for each
+ * validation it reads (thermal_n_reads), the spots with and without noise,
+ * the truths and the seen flags of the validation grid's n points, one
+ * block each. */
+#define DSS_RD_ARRAYS 6
 
 static size_t dss_readings_bytes(const sunmc_config *c)
 {
-    return (size_t)thermal_n_reads(c) * dss_rd_block_bytes(dss_validation_size(c));
+    return unit_rd_bytes(c, dss_validation_size(c), DSS_RD_ARRAYS);
 }
 
 /* Block k of readings rd as validation readings (the table angles of
@@ -183,14 +180,14 @@ static size_t dss_readings_bytes(const sunmc_config *c)
 static dss_val_readings dss_rd_view(const dss_val_readings *grid, const void *rd, int k)
 {
     dss_val_readings v = *grid;
-    double *b = (double *)(uintptr_t)rd + (size_t)k * (dss_rd_block_bytes(grid->n) / sizeof(double));
+    double *b = unit_rd_block(rd, grid->n, DSS_RD_ARRAYS, k);
     v.x_px = b;
     v.y_px = b + grid->n;
     v.x0_px = b + 2 * grid->n;
     v.y0_px = b + 3 * grid->n;
     v.truth_alpha_rad = b + 4 * grid->n;
     v.truth_beta_rad = b + 5 * grid->n;
-    v.seen = (int *)(void *)(b + 6 * grid->n);
+    v.seen = unit_rd_flags(b, grid->n, DSS_RD_ARRAYS);
     return v;
 }
 
@@ -519,14 +516,11 @@ static int dss_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
     dss_val_readings v = dss_rd_view(&w->val, rd, 0);
     dss_unit_read_validation(c, &u, unit, &v);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        dss_deviations_at_temp(c, &dev, T, &dev_t);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        dss_deviations_at_temp(c, &dev, thermal_read_temp_c(c, k), &dev_t);
         dss_unit_build_amp(c, &dev_t, w->amp_px, &u);
         dss_unit_set_pattern(c, (uint64_t)c->seed, unit, &u);
-        v = dss_rd_view(&w->val, rd, k++);
+        v = dss_rd_view(&w->val, rd, k);
         dss_unit_read_validation(c, &u, unit, &v);
     }
     return SUNMC_OK;

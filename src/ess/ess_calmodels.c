@@ -86,6 +86,7 @@ static void score_model(const sunmc_config *c, const ess_calib_workspace *cw, co
     }
     x->rms_in_arcsec = n_in ? sqrt(sum_in / (double)n_in) * ARCSEC_PER_RAD : NAN;
     x->rms_out_arcsec = x->n_out ? sqrt(sum_out / (double)x->n_out) * ARCSEC_PER_RAD : NAN;
+    x->rms_out_all_arcsec = x->rms_out_arcsec; /* beta lines across the field: not judged */
 }
 
 /* The paired difference e_a^2 - e_b^2 over the points both scored: its

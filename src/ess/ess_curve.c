@@ -23,17 +23,10 @@ typedef struct {
 static long ess_curve_axis(const sunmc_config *c, int axis, double *values_deg, long max)
 {
     const ess_config *ec = ess_cfg(c);
-    if (axis == 1) {
-        for (long i = 0; i < ec->val_beta_deg.n && i < max; i++)
-            values_deg[i] = ec->val_beta_deg.v[i];
-        return ec->val_beta_deg.n;
-    }
-    long n = grid_count(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
-                        ec->val_alpha_offset_deg);
-    for (long j = 0; j < n && j < max; j++)
-        values_deg[j] =
-            ec->val_alpha_min_deg + ec->val_alpha_offset_deg + (double)j * ec->val_alpha_step_deg;
-    return n;
+    if (axis == 1)
+        return list_values(&ec->val_beta_deg, values_deg, max);
+    return grid_values(ec->val_alpha_min_deg, ec->val_alpha_max_deg, ec->val_alpha_step_deg,
+                       ec->val_alpha_offset_deg, values_deg, max);
 }
 
 static void ess_curve_free(void *cv);

@@ -68,30 +68,11 @@ static void axes_range(const void *model, double *lo, double *hi)
     }
 }
 
-static void raw_at(const void *model, const double *q, double *raw)
-{
-    (void)model;
-    raw[0] = q[0];
-}
-
 /* The nominal model of c: the paper's a = 1, no fine-code term. */
 static void nominal(const sunmc_config *c, void *model)
 {
     ess_model_init_kind(model, ess_cfg(c)->cal_model, ess_cfg(c)->design.theta0_deg * RAD_PER_DEG,
                         0.0);
-}
-
-static int axes_at(const void *model, const double *raw, double *q)
-{
-    (void)model;
-    q[0] = raw[0];
-    return SUNMC_OK;
-}
-
-static void emit_axes(const void *model, FILE *f)
-{
-    (void)model;
-    fputs("    q[0] = raw[0];\n", f);
 }
 
 /* reading_check of ess_lab.c: no output at or beyond +-90 deg. */
@@ -223,12 +204,10 @@ const lab_export ess_export = {
     .supported = supported,
     .model_form = model_form,
     .axes_range = axes_range,
-    .raw_at = raw_at,
+    .axes_are_raw = 1, /* the axes are the raw columns (lab_export_axes.c) */
     .emit_helpers = emit_helpers,
-    .emit_axes = emit_axes,
     .emit_check = emit_check,
     .emit_model = emit_model,
-    .axes_at = axes_at,
     .eval_float = ess_export_eval_float,
     .onboard_mc = 1,
     .nominal = nominal,

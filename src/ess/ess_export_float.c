@@ -108,8 +108,9 @@ static float paper_solve(const ess_model *m, float r)
     return x;
 }
 
-/* sunmc_check, sunmc_model (emit_model) and sunmc_NAME_cal in float. */
-int ess_export_eval_float(const void *model, const float *raw, float *deg)
+/* sunmc_check and sunmc_model (emit_model) in float: the angle in rad
+ * (lab_onboard.c makes sunmc_NAME_cal's last step). */
+int ess_export_eval_float(const void *model, const float *raw, float *ang_rad)
 {
     const ess_model *m = model;
     const double *p = m->p;
@@ -128,8 +129,6 @@ int ess_export_eval_float(const void *model, const float *raw, float *deg)
         ang = SR_ATAN((b - td) / (c * td - a));
     if (!(SR_FABS(ang) < SR(90.0 * RAD_PER_DEG)))
         return LAB_NO_INVERSE;
-    if (!(SR_FABS(ang) < SR(1e29)))
-        return LAB_NO_INVERSE;
-    deg[0] = ang * SR(DEG_PER_RAD);
+    ang_rad[0] = ang;
     return LAB_READING_OK;
 }

@@ -97,12 +97,9 @@ static void write_campaign(const ess_sim *s, const sunmc_config *c, const lab_un
                 s->sun_y_meas_arcsec);
     write_conventions(fc);
     fprintf(fc, "alpha_deg,beta_deg,output_deg,weight\n");
-    fprintf(ft, "# sunmc %s simulate: truth of unit %ld of %s, seed %ld\n", SUNMC_VERSION,
-            ref->unit, ref->config, c->seed);
     double dv[ESS_N_DEV];
     ess_deviations_values(&s->dev, dv);
-    for (int i = 0; i < ESS_N_DEV; i++)
-        fprintf(ft, "# %s = %.17g\n", ess_deviation_names[i], dv[i]);
+    lab_sim_truth_head(ft, c, ref, ess_deviation_names, dv, ESS_N_DEV);
     write_conventions(ft);
     fprintf(ft, "alpha_deg,beta_deg,alpha_true_deg,beta_true_deg,incidence_deg,output_deg,seen\n");
     long na = grid_count(ec->cal_alpha_min_deg, ec->cal_alpha_max_deg, ec->cal_alpha_step_deg, 0);
@@ -230,7 +227,6 @@ typedef struct {
     ess_calib_workspace *cw;
     const int *line;
     ess_labfit_result res;
-    calreport_models models; /* for models.tsv */
 } ess_cal;
 
 static size_t cal_min_rows(const sunmc_config *c, char *why, size_t len)
@@ -277,7 +273,6 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
         cal_free(k);
         return st;
     }
-    k->models = rep->models;
     *out = k;
     return SUNMC_OK;
 }
@@ -309,15 +304,13 @@ static int cal_row_error(const void *p, size_t i, double e[2])
     return SUNMC_OK;
 }
 
-static const char *const extra_files[] = {"field.tsv", "models.tsv", NULL};
+static const char *const extra_files[] = {"field.tsv", NULL};
 
 /* field.tsv: the propagated sigma over the campaign's alpha range (the
- * config's, widened to the data's); models.tsv: the model comparison. */
+ * config's, widened to the data's). */
 static int write_extra(const void *p, const sunmc_config *c, int which, FILE *f)
 {
     const ess_cal *k = p;
-    if (which == 1)
-        return calreport_write_models(f, &k->models);
     const ess_config *ec = ess_cfg(c);
     double amin = ec->cal_alpha_min_deg, amax = ec->cal_alpha_max_deg;
     for (size_t i = 0; i < k->cw->n; i++) {
@@ -420,6 +413,7 @@ const family_lab ess_lab = {
     .cal_row_error = cal_row_error,
     .extra_files = extra_files,
     .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

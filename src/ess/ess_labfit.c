@@ -392,12 +392,7 @@ static void spline_report(const ess_model *m, size_t n_used, calreport *rep)
         const char *names[] = {"smoothing", "edf", "table_nodes", "table_step_deg", "table_bytes"};
         double v[] = {s->smooth, s->edf[0], t->nodes, lab_table_step(t, 0) * DEG_PER_RAD,
                       (double)lab_table_bytes(t)};
-        rep->np = tab ? 5 : 2;
-        for (int i = 0; i < rep->np; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, tab ? 5 : 2);
         rep->dof = (int)n_used - (int)lround(s->edf[0]);
     }
     calreport_warn(rep, "nothing to do: compare the models' held-out errors below",

@@ -251,18 +251,15 @@ static int ess_par_columns(const sunmc_config *c, const char **names, int max)
     return n;
 }
 
-/* A unit's readings (family.h: unit_read): for each validation it reads
- * (thermal_n_reads), the raw readings with and without noise, the truths
- * and the statuses of the validation grid's n points, one block each. */
-static size_t ess_rd_block_bytes(size_t n)
-{
-    size_t st = (n * sizeof(int) + sizeof(double) - 1) / sizeof(double) * sizeof(double);
-    return 3 * n * sizeof(double) + st;
-}
+/* A unit's readings (family.h: unit_read, unit_rd_block): for each
+ * validation it reads (thermal_n_reads), the raw readings with and without
+ * noise, the truths and the statuses of the validation grid's n points,
+ * one block each. */
+#define ESS_RD_ARRAYS 3
 
 static size_t ess_readings_bytes(const sunmc_config *c)
 {
-    return (size_t)thermal_n_reads(c) * ess_rd_block_bytes(ess_validation_size(c));
+    return unit_rd_bytes(c, ess_validation_size(c), ESS_RD_ARRAYS);
 }
 
 /* Block k of readings rd as validation readings (the grid's angles and
@@ -270,11 +267,11 @@ static size_t ess_readings_bytes(const sunmc_config *c)
 static ess_val_readings ess_rd_view(const ess_val_readings *grid, const void *rd, int k)
 {
     ess_val_readings v = *grid;
-    unsigned char *b = (unsigned char *)(uintptr_t)rd + (size_t)k * ess_rd_block_bytes(grid->n);
-    v.raw_rad = (double *)(void *)b;
-    v.raw0_rad = v.raw_rad + grid->n;
-    v.truth_rad = v.raw0_rad + grid->n;
-    v.status = (int *)(void *)(v.truth_rad + grid->n);
+    double *b = unit_rd_block(rd, grid->n, ESS_RD_ARRAYS, k);
+    v.raw_rad = b;
+    v.raw0_rad = b + grid->n;
+    v.truth_rad = b + 2 * grid->n;
+    v.status = unit_rd_flags(b, grid->n, ESS_RD_ARRAYS);
     return v;
 }
 
@@ -352,13 +349,10 @@ static int ess_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     ess_unit_build(c, &dev, &u);
     ess_val_readings v = ess_rd_view(&w->val, rd, 0);
     ess_unit_read_validation(c, &u, unit, &v);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        ess_deviations_at_temp(c, &dev, T, &dev_t);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        ess_deviations_at_temp(c, &dev, thermal_read_temp_c(c, k), &dev_t);
         ess_unit_build(c, &dev_t, &u);
-        v = ess_rd_view(&w->val, rd, k++);
+        v = ess_rd_view(&w->val, rd, k);
         ess_unit_read_validation(c, &u, unit, &v);
     }
     return SUNMC_OK;

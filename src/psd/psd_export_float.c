@@ -292,25 +292,17 @@ static int check(const psd_model_file *m, const float *raw)
     return LAB_READING_OK;
 }
 
-/* sunmc_check, sunmc_model and sunmc_NAME_cal in float: the physical
- * and polynomial models (the only ones psd_export.c emits a model for;
+/* sunmc_check and sunmc_model in float, the angles in rad (lab_onboard.c
+ * makes sunmc_NAME_cal's last step): the physical and polynomial models
+ * (the only ones psd_export.c emits a model for;
  * psd_export_float_supported refuses the others first). */
-int psd_export_eval_float(const void *model, const float *raw, float *deg)
+int psd_export_eval_float(const void *model, const float *raw, float *ang)
 {
     const psd_model_file *m = model;
-    float ang[2];
     int st = check(m, raw);
     if (st != LAB_READING_OK)
         return st;
-    st = m->cal.model == PSD_MODEL_POLYNOMIAL ? polynomial(m, raw, ang)
-         : m->cal.model == PSD_MODEL_PHYSICAL ? physical(m, raw, ang)
-                                              : LAB_NO_INVERSE;
-    if (st != LAB_READING_OK)
-        return st;
-    for (int k = 0; k < 2; k++)
-        if (!(SR_FABS(ang[k]) < SR(1e29)))
-            return LAB_NO_INVERSE;
-    for (int k = 0; k < 2; k++)
-        deg[k] = ang[k] * SR(DEG_PER_RAD);
-    return LAB_READING_OK;
+    return m->cal.model == PSD_MODEL_POLYNOMIAL ? polynomial(m, raw, ang)
+           : m->cal.model == PSD_MODEL_PHYSICAL ? physical(m, raw, ang)
+                                                : LAB_NO_INVERSE;
 }

@@ -2,6 +2,7 @@
  * unit's campaign as a lab records it, calibrate a lab's data
  * (psd_labfit.c, psd_labreport.c), compensate raw readings. */
 #include "psd_lab.h"
+#include "fold_outliers.h"
 #include "psd_export.h"
 #include "status.h"
 #include "tsvnum.h"
@@ -181,6 +182,55 @@ static int cal_row_error(const void *p, size_t i, double e[2])
 
 static double cal_noise_arcsec(const sunmc_config *c);
 
+/* Repeat campaigns the cross-validation found unlike the others
+ * (fold_outliers.h) leave the calibration (calibration.outlier_campaigns =
+ * drop): their rows weighted 0, the model refitted and reported again
+ * (their folds gone), and a warning naming them with the first pass's
+ * numbers. */
+static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
+{
+    char names[CALREPORT_TEXT_MAX / 2], judge[CALREPORT_NAME_MAX];
+    calreport_outlier_names(rep, names, sizeof names);
+    const calreport_models *cm = &rep->models;
+    snprintf(judge, sizeof judge, "%s", cm->judge >= 0 ? cm->m[cm->judge].name : "used");
+    int *fold = malloc((k->d->n + 1) * sizeof *fold), by_line, n_out = rep->cv_n_outliers;
+    double line[CALREPORT_MAX_FOLDS], all = rep->cv_rms_out_all_arcsec;
+    double median = cm->judge >= 0 ? cm->judge_median_arcsec : rep->cv_median_fold_arcsec;
+    if (!fold)
+        return SUNMC_ENOMEM;
+    int n_folds = psd_labcal_folds(k, fold, line, &by_line);
+    size_t aside = 0;
+    for (int f = 0; f < n_folds && f < rep->n_folds; f++) {
+        if (!rep->fold[f].outlier)
+            continue;
+        for (size_t i = 0; i < k->d->n; i++)
+            if (fold[i] == f) {
+                aside += k->w[i] > 0;
+                k->w[i] = 0.0;
+            }
+    }
+    free(fold);
+    int st = psd_labcal_fit(k, &k->fr);
+    if (st == SUNMC_OK)
+        psd_labcal_errors(k);
+    calreport_init(rep, "psd", model_line);
+    rep->n_set_aside = aside;
+    rep->fit = k->fr;
+    rep->fit_ok = st == SUNMC_OK;
+    if (rep->fit_ok)
+        psd_labcal_report(k, rep);
+    calreport_warn(rep,
+                   "look at the campaign's set-up and data (the light, the mounting, the "
+                   "table's zero); to keep it in the calibration, set "
+                   "calibration.outlier_campaigns = keep",
+                   "dropped from the calibration: %d repeat campaign%s unlike the others: the "
+                   "%s model (the best held out) left above %g times its median campaign's "
+                   "%.0f arcsec on %s; with %s, the estimate was %.2f arcsec",
+                   n_out, n_out > 1 ? "s" : "", judge, FOLD_OUTLIER_RATIO, median, names,
+                   n_out > 1 ? "them" : "it", all);
+    return SUNMC_OK;
+}
+
 static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calreport *rep,
                    char *err, size_t errlen)
 {
@@ -228,6 +278,11 @@ static int cal_run(const sunmc_config *c, const lab_columns *d, void **out, calr
     rep->fit_ok = st == SUNMC_OK;
     if (rep->fit_ok) {
         psd_labcal_report(k, rep);
+        if (rep->cv_n_outliers > 0 && c->cal_outlier_campaigns == CONFIG_OUTLIERS_DROP &&
+            drop_outliers(k, rep, model_lines[model]) != SUNMC_OK) {
+            psd_labcal_free(k);
+            return sunmc_fail(err, errlen, SUNMC_ENOMEM, "out of memory");
+        }
     } else {
         rep->n_rows = d->n;
         psd_labcal_report_conventions(k, rep);
@@ -324,14 +379,6 @@ static int params_fill(const void *p, const sunmc_config *c, const calreport *re
         st |= params_set_double(pf, "parameters", psd_param_names[j],
                                 k->cal.p[j] * psd_param_scale[j], NULL);
     return st;
-}
-
-/* models.tsv: the model comparison (calreport_write_models). */
-static const char *const extra_files[] = {"models.tsv", NULL};
-
-static int write_extra(const void *p, const sunmc_config *c, int k, FILE *f)
-{
-    return calreport_write_models(f, &((const psd_labcal *)p)->models);
 }
 
 static int write_residuals(const void *p, FILE *f)
@@ -595,8 +642,7 @@ const family_lab psd_lab = {
     .params_fill = params_fill,
     .write_residuals = write_residuals,
     .cal_row_error = cal_row_error,
-    .extra_files = extra_files,
-    .write_extra = write_extra,
+    .cal_models_tsv = 1,
     .cal_free = cal_free,
     .raw_columns = raw_columns,
     .comp_columns = comp_columns,

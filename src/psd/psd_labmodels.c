@@ -7,6 +7,7 @@
  * above the best empirical one's, the report says the physics does not
  * describe this sensor. */
 #include "psd_lab.h"
+#include "fold_outliers.h"
 #include "status.h"
 #include "units.h"
 
@@ -25,11 +26,13 @@
 static const int compared[PSD_N_MODELS] = {PSD_MODEL_PHYSICAL, PSD_MODEL_POLYNOMIAL,
                                            PSD_MODEL_SPLINE, PSD_MODEL_HYBRID, PSD_MODEL_TABLE};
 
-/* Sums of one model's refits: in-sample, held-out rows, held-out points. */
+/* Sums of one model's refits: in-sample, held-out rows (per fold),
+ * held-out points. */
 typedef struct {
-    double in2, out2;
-    long n_in, n_out;
+    double in2, out2[CALREPORT_MAX_FOLDS];
+    long n_in, n_out[CALREPORT_MAX_FOLDS];
     double *pt;       /* 3 per point: held-out alpha and beta error sums, count */
+    int *pt_fold;     /* per point: the fold that held it out */
 } cv_sums;
 
 /* Refit k on the rows of k0 outside fold f and add its errors. */
@@ -51,14 +54,75 @@ static int one_fold(psd_labcal *k, const psd_labcal *k0, const int *fold, int f,
             s->n_in++;
             continue;
         }
-        s->out2 += e2;
-        s->n_out++;
+        s->out2[f] += e2;
+        s->n_out[f]++;
+        s->pt_fold[k0->point[i]] = f;
         double *p = s->pt + 3 * k0->point[i];
         p[0] += e[0];
         p[1] += e[1];
         p[2] += 1.0;
     }
     return 1;
+}
+
+/* The held-out estimates of s's sums into x: for a single reading and for
+ * a point's mean, the folds marked in out[] left out (fold_outliers.h). */
+static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds,
+                       const unsigned char *out, calreport_model *x)
+{
+    long n_out = 0;
+    x->n_outliers = 0;
+    for (int f = 0; f < n_folds; f++) {
+        n_out += s->n_out[f];
+        x->n_outliers += out[f];
+    }
+    x->n_out = n_out;
+    x->rms_in_arcsec = s->n_in ? sqrt(s->in2 / (double)s->n_in) * ARCSEC_PER_RAD : NAN;
+    x->rms_out_arcsec = fold_outliers_pool(s->out2, s->n_out, n_folds, out, ARCSEC_PER_RAD,
+                                           &x->rms_out_all_arcsec);
+    double m2 = 0;
+    long np = 0;
+    for (long g = 0; g < k0->n_points; g++) {
+        const double *p = s->pt + 3 * g;
+        if (p[2] > 0 && !out[s->pt_fold[g]]) {
+            m2 += (p[0] * p[0] + p[1] * p[1]) / (p[2] * p[2]);
+            np++;
+        }
+    }
+    x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
+}
+
+/* The repeat campaigns unlike the others, on the folds of the model with
+ * the lowest held-out error over every fold (the one that describes the
+ * data: under one that does not, any campaign can look odd); none when
+ * the folds are lines across the field (lab.h, lab_folds). */
+static void judge_folds(calreport_models *cm, const cv_sums *s, int n_folds, int repeats)
+{
+    cm->judge = -1;
+    double best = INFINITY;
+    for (int m = 0; m < cm->n; m++) {
+        double all, sum2 = 0;
+        long cnt = 0;
+        for (int f = 0; f < n_folds; f++) {
+            sum2 += s[m].out2[f];
+            cnt += s[m].n_out[f];
+        }
+        all = cnt ? sum2 / (double)cnt : NAN;
+        if (cm->m[m].ok && all < best) {
+            best = all;
+            cm->judge = m;
+        }
+    }
+    if (!repeats || cm->judge < 0) {
+        cm->judge = -1;
+        return;
+    }
+    const cv_sums *j = &s[cm->judge];
+    for (int f = 0; f < n_folds; f++)
+        cm->judge_fold_arcsec[f] =
+            j->n_out[f] ? sqrt(j->out2[f] / (double)j->n_out[f]) * ARCSEC_PER_RAD : NAN;
+    cm->n_fold_outliers = fold_outliers_mark(cm->judge_fold_arcsec, n_folds, cm->fold_outlier,
+                                             &cm->judge_median_arcsec);
 }
 
 /* The spline's effective degrees of freedom, or 0. */
@@ -71,7 +135,7 @@ static double spline_edf(const psd_labcal *k)
 /* Fit model to every row of k0 (the smoothing chosen on the folds), then
  * hold out each fold in turn into x. */
 static int score_model(const psd_labcal *k0, int model, const int *fold, int n_folds,
-                       double per_point, calreport_model *x)
+                       double per_point, calreport_model *x, cv_sums *s)
 {
     memset(x, 0, sizeof *x);
     snprintf(x->name, sizeof x->name, "%s", psd_model_names[model]);
@@ -83,12 +147,11 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
     char err[SUNMC_ERRLEN];
     size_t n = k0->d->n;
     psd_labcal *k = psd_labcal_alloc(c, k0->d, err, sizeof err);
-    cv_sums s = {0};
-    s.pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s.pt);
+    s->pt = calloc(3 * (size_t)k0->n_points + 1, sizeof *s->pt);
+    s->pt_fold = calloc((size_t)k0->n_points + 1, sizeof *s->pt_fold);
     int *sf = malloc((n + 1) * sizeof *sf);
-    if (!k || !s.pt || !sf) {
+    if (!k || !s->pt || !s->pt_fold || !sf) {
         psd_labcal_free(k);
-        free(s.pt);
         free(sf);
         free(c);
         return SUNMC_ENOMEM;
@@ -108,24 +171,13 @@ static int score_model(const psd_labcal *k0, int model, const int *fold, int n_f
             (model == PSD_MODEL_TABLE ? (int)(lab_table_bytes(&k->cal.table) / sizeof(float))
                                       : (int)lround(x->edf));
     for (int f = 0; f < n_folds && x->ok; f++)
-        x->ok = one_fold(k, k0, fold, f, &s);
-    x->n_out = s.n_out;
-    x->rms_in_arcsec = s.n_in ? sqrt(s.in2 / (double)s.n_in) * ARCSEC_PER_RAD : NAN;
-    x->rms_out_arcsec = s.n_out ? sqrt(s.out2 / (double)s.n_out) * ARCSEC_PER_RAD : NAN;
-    double m2 = 0;
-    long np = 0;
-    for (long g = 0; g < k0->n_points; g++) {
-        const double *p = s.pt + 3 * g;
-        if (p[2] > 0) {
-            m2 += (p[0] * p[0] + p[1] * p[1]) / (p[2] * p[2]);
-            np++;
-        }
-    }
+        x->ok = one_fold(k, k0, fold, f, s);
+    long held = 0;
+    for (int f = 0; f < n_folds; f++)
+        held += s->n_out[f];
+    x->ok &= held > 0;
     x->per_point = per_point;
-    x->rms_out_mean_arcsec = np ? sqrt(m2 / (double)np) * ARCSEC_PER_RAD : NAN;
-    x->ok &= s.n_out > 0;
     psd_labcal_free(k);
-    free(s.pt);
     free(c);
     return SUNMC_OK;
 }
@@ -150,17 +202,32 @@ void psd_labcal_compare(const psd_labcal *k0, calreport *rep)
         return;
     }
     cm->used = 0;
-    for (int m = 0; m < PSD_N_MODELS; m++) {
+    cm->judge = -1;
+    cv_sums *s = calloc(PSD_N_MODELS, sizeof *s);
+    int st = s ? SUNMC_OK : SUNMC_ENOMEM;
+    for (int m = 0; m < PSD_N_MODELS && st == SUNMC_OK; m++) {
         if (compared[m] == psd_cfg(k0->c)->cal_model)
             cm->used = m;
-        if (score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m]) != SUNMC_OK) {
-            snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
-            cm->n = 0;
-            free(fold);
-            return;
-        }
-        cm->n++;
+        st = score_model(k0, compared[m], fold, n_folds, ps.per_point, &cm->m[m], &s[m]);
+        cm->n += st == SUNMC_OK;
     }
+    if (st == SUNMC_OK) {
+        judge_folds(cm, s, n_folds, !by_line);
+        for (int m = 0; m < cm->n; m++)
+            pool_model(k0, &s[m], n_folds, cm->fold_outlier, &cm->m[m]);
+    }
+    for (int m = 0; s && m < PSD_N_MODELS; m++) {
+        free(s[m].pt);
+        free(s[m].pt_fold);
+    }
+    free(s);
     free(fold);
+    if (st != SUNMC_OK) {
+        snprintf(cm->note, sizeof cm->note, "no model comparison: out of memory");
+        cm->n = 0;
+        cm->judge = -1;
+        cm->n_fold_outliers = 0;
+        return;
+    }
     calreport_models_recommend(cm, PSD_COMPARE_GAIN, PSD_PHYSICS_FAR);
 }

@@ -46,11 +46,28 @@ typedef struct {
 
 static int fold_of(const void *ctx, size_t i) { return ((const cv_ctx *)ctx)->fold[i]; }
 
+/* The campaign ("# source:" block) all of fold f's rows belong to, or -1. */
+static int fold_source(const cv_ctx *c, int f)
+{
+    const lab_columns *d = c->k->d;
+    int s = -1;
+    for (size_t i = 0; d->source && i < d->n; i++)
+        if (c->fold[i] == f) {
+            if (s >= 0 && d->source[i] != s)
+                return -1;
+            s = d->source[i];
+        }
+    return s;
+}
+
 static void fold_label(const void *ctx, int f, char *buf, size_t len)
 {
     const cv_ctx *c = ctx;
+    int s = c->by_line ? -1 : fold_source(c, f);
     if (c->by_line)
         snprintf(buf, len, "beta = %g deg", c->line[f]);
+    else if (s >= 0)
+        snprintf(buf, len, "%s", c->k->d->source_name[s]);
     else
         snprintf(buf, len, "sweep %d", f + 1);
 }
@@ -101,13 +118,33 @@ static int sweeps(const lab_columns *d, int *fold)
     return f + 1 < CALREPORT_MAX_FOLDS ? f + 1 : CALREPORT_MAX_FOLDS;
 }
 
+/* Folds none of whose rows is weighted (a campaign calibrate dropped)
+ * leave: their rows -1, the others renumbered (line[] with them, when
+ * the folds are lines). */
+static int weighted_folds(const psd_labcal *k, int *fold, int n_folds, double *line)
+{
+    int used[CALREPORT_MAX_FOLDS] = {0}, to[CALREPORT_MAX_FOLDS], n = 0;
+    for (size_t i = 0; i < k->d->n; i++)
+        if (fold[i] >= 0 && k->w[i] > 0)
+            used[fold[i]] = 1;
+    for (int f = 0; f < n_folds; f++) {
+        to[f] = used[f] ? n : -1;
+        if (used[f] && line)
+            line[n] = line[f];
+        n += used[f];
+    }
+    for (size_t i = 0; i < k->d->n; i++)
+        fold[i] = fold[i] >= 0 ? to[fold[i]] : -1;
+    return n;
+}
+
 int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_FOLDS],
                      int *by_line)
 {
     int nl = distinct(k->d, 1, line, CALREPORT_MAX_FOLDS);
     *by_line = nl >= 2;
     if (!*by_line)
-        return sweeps(k->d, fold);
+        return weighted_folds(k, fold, sweeps(k->d, fold), NULL);
     /* each beta line in turn; from 4 lines on, the outermost two are
      * never held out (a refit without them would extrapolate, which a
      * calibration's user does not do) */
@@ -120,7 +157,7 @@ int psd_labcal_folds(const psd_labcal *k, int *fold, double line[CALREPORT_MAX_F
             if (line[f] == k->d->v[1][i])
                 fold[i] = f;
     }
-    return n_folds;
+    return weighted_folds(k, fold, n_folds, line);
 }
 
 static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
@@ -133,8 +170,10 @@ static void cross_validate(psd_labcal *k, calreport *rep, size_t min_rows)
                  "one beta line and one sweep: nothing to hold out");
         return;
     }
+    const calreport_models *cm = &rep->models;
     lab_folds folds = {.n_folds = c.n_folds, .min_fit_rows = min_rows, .fold_of = fold_of,
-                       .label = fold_label, .refit = refit};
+                       .label = fold_label, .refit = refit,
+                       .outlier = cm->n_fold_outliers > 0 ? cm->fold_outlier : NULL};
     lab_cross_validate(rep, k->w, k->d->n, &folds, &c);
     k->cal = c.keep;
     psd_labcal_errors(k);
@@ -183,23 +222,13 @@ static void report_parameters(psd_labcal *k, calreport *rep, const psd_point_sta
         const lab_table *t = &k->cal.table;
         const double v[] = {t->nodes, lab_table_step(t, 0), lab_table_step(t, 1),
                             (double)lab_table_bytes(t)};
-        rep->np = 4;
-        for (int i = 0; i < 4; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, 4);
         return;
     }
     if (p->cal_model == PSD_MODEL_SPLINE) {
         static const char *const names[] = {"smoothing", "edf_alpha", "edf_beta"};
         const double v[] = {k->cal.spline.smooth, k->cal.spline.edf[0], k->cal.spline.edf[1]};
-        rep->np = 3;
-        for (int i = 0; i < 3; i++) {
-            snprintf(rep->name[i], CALREPORT_NAME_MAX, "%s", names[i]);
-            rep->value[i] = v[i];
-            rep->se[i] = NAN;
-        }
+        calreport_set_values(rep, names, v, 3);
         return;
     }
     if (p->cal_model == PSD_MODEL_POLYNOMIAL) {
@@ -349,7 +378,7 @@ void psd_labcal_report(psd_labcal *k, calreport *rep)
                        k->dropped);
     psd_labcal_report_conventions(k, rep);
     size_t min_rows = (size_t)np + 1 + (size_t)lround(edf / 2);
-    cross_validate(k, rep, min_rows);
+    /* the comparison first: its best model judges the campaigns (fold_outliers.h) */
     psd_labcal_compare(k, rep);
-    k->models = rep->models;
+    cross_validate(k, rep, min_rows);
 }

@@ -69,10 +69,12 @@ int psd_spline_fit(psd_cal *k, const psd_rows *d, double *work)
     size_t n = d->n;
     double *x[2] = {work, work + n}, *y[2] = {work + 2 * n, work + 3 * n};
     int on_axis = spline_rows(k, d, x, y);
-    lab_spline_data sd = {.n = n, .dims = on_axis ? 1 : 2, .n_out = 2, .x = {x[0], x[1]},
-                          .y = {y[0], y[1]}, .w = d->w};
     char err[SUNMC_ERRLEN];
     int tab = k->model == PSD_MODEL_TABLE;
+    /* single-axis sweeps: each angle of its ratio plus the other ratio's
+     * cross-talk (lab_spline.h), but for the table, one line per axis */
+    lab_spline_data sd = {.n = n, .dims = on_axis ? 1 : 2, .n_out = 2, .cross = on_axis && !tab,
+                          .x = {x[0], x[1]}, .y = {y[0], y[1]}, .w = d->w};
     /* the Monte Carlo's thread workspace, or one for this fit */
     lab_spline_ws *w = d->sws ? d->sws : lab_spline_ws_alloc(n);
     int *fold = d->fold || d->fold_buf ? d->fold_buf : malloc((n + 1) * sizeof *fold);

@@ -406,12 +406,9 @@ static int psd_unit_take_readings(const sunmc_config *c, long unit, void *ws, vo
     psd_sensor_build(&p->design, &dev, &s);
     size_t block = (size_t)psd_validation_points(c) * PSD_RD_POINT;
     read_validation(c, &s, unit, rd);
-    for (int t = 0, k = 1; t < thermal_n_temps(c); t++) {
-        double T = thermal_temp_c(c, t);
-        if (T == c->cal_temp_c)
-            continue;
-        psd_sensor_at_temp(c, &s, T, &sT);
-        read_validation(c, &sT, unit, (double *)rd + (size_t)k++ * block);
+    for (int k = 1; k < thermal_n_reads(c); k++) {
+        psd_sensor_at_temp(c, &s, thermal_read_temp_c(c, k), &sT);
+        read_validation(c, &sT, unit, (double *)rd + (size_t)k * block);
     }
     return SUNMC_OK;
 }
@@ -570,11 +567,8 @@ static int psd_curve_eval(const sunmc_config *c, const void *p, double a0_deg, d
 static long psd_curve_axis(const sunmc_config *c, int axis, double *v, long max)
 {
     const psd_config *p = psd_cfg(c);
-    if (axis == 1) {
-        for (int j = 0; j < p->val_beta_deg.n && j < max; j++)
-            v[j] = p->val_beta_deg.v[j];
-        return p->val_beta_deg.n;
-    }
+    if (axis == 1)
+        return list_values(&p->val_beta_deg, v, max);
     long na = alpha_n(p->val_alpha_max_deg, p->val_alpha_step_deg, p->val_alpha_offset_deg);
     for (long i = 0; i < na && i < max; i++) {
         double a, b;

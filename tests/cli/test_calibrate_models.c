@@ -60,7 +60,7 @@ static void test_exact_physics_recommended(void **state)
     assert_null(strstr(out, "does not describe"));
     char p[700];
     snprintf(p, sizeof p, "%s/cp/models.tsv", dir);
-    assert_true(test_file_has(p, "rms_out_mean_arcsec\n"));
+    assert_true(test_file_has(p, "rms_out_mean_arcsec\toutlier_folds\trms_out_all_arcsec\n"));
     const char *names[] = {"\nphysical\t", "\npolynomial\t", "\nspline\t", "\nhybrid\t",
                            "\ntable\t"};
     for (int k = 0; k < 5; k++)

@@ -127,10 +127,10 @@ static void order_must_be_whole(void **state)
 {
     (void)state;
     refused("cq", "sed 's/^order = 3/order = 2.5/' $IN > $OUT",
-            "edited.ini:32: key polynomial.order: '2.5' is not a whole number");
+            "edited.ini:31: key polynomial.order: '2.5' is not a whole number");
     /* whole numbers are written as digits: 3.0 and 3e0 are not */
     refused("cq", "sed 's/^order = 3/order = 3.0/' $IN > $OUT",
-            "edited.ini:32: key polynomial.order: '3.0' is not a whole number");
+            "edited.ini:31: key polynomial.order: '3.0' is not a whole number");
     refused("cdp", "sed 's/^order  *= 3 /order = 3e0 /' $IN > $OUT",
             "key design.order: '3e0' is not a whole number");
     refused("cdp", "sed 's/^order  *= 3 /order = 2.5 /' $IN > $OUT",

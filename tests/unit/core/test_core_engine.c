@@ -34,6 +34,50 @@ static void grid_counts(void **state)
     assert_int_equal(grid_count(-62, 62, 0.7, 0), 178);
 }
 
+/* The points a curve's axis takes (grid_values): lo + offset + j step,
+ * the count beyond the room given, nothing written past it. */
+static void grid_value_points(void **state)
+{
+    (void)state;
+    double v[6] = {-1, -1, -1, -1, -1, -1};
+    /* 0.1, 0.3, 0.5, 0.7, 0.9: all five with room for five */
+    assert_int_equal(grid_values(0, 1, 0.2, 0.1, v, 5), 5);
+    for (int j = 0; j < 5; j++)
+        assert_true(v[j] == 0 + 0.1 + (double)j * 0.2);
+    assert_true(v[5] == -1);
+    /* one short of room: four written, the count still five */
+    v[4] = -1;
+    assert_int_equal(grid_values(0, 1, 0.2, 0.1, v, 4), 5);
+    assert_true(v[4] == -1);
+    /* no room: nothing written, the count told */
+    v[0] = -1;
+    assert_int_equal(grid_values(-60, 60, 0.3, 0, v, 0), 401);
+    assert_true(v[0] == -1);
+    /* the end point 0.3 of 0.3 / 0.1 = 2.9999999999999996 is a point */
+    assert_int_equal(grid_values(0, 0.3, 0.1, 0, v, 6), 4);
+    assert_true(v[3] == 3 * 0.1);
+    /* a reversed range: none */
+    assert_int_equal(grid_values(5, 4, 1, 0, v, 6), 0);
+}
+
+/* A key's list of angles (list_values): every value in order, the count
+ * beyond the room given, nothing written past it. */
+static void list_value_points(void **state)
+{
+    (void)state;
+    double_list l = {.n = 3, .v = {-20, 0, 35}};
+    double v[4] = {9, 9, 9, 9};
+    assert_int_equal(list_values(&l, v, 4), 3);
+    assert_true(v[0] == -20 && v[1] == 0 && v[2] == 35 && v[3] == 9);
+    v[2] = 9;
+    assert_int_equal(list_values(&l, v, 2), 3);
+    assert_true(v[1] == 0 && v[2] == 9);
+    l.n = CONFIG_LIST_MAX;
+    v[0] = 9;
+    assert_int_equal(list_values(&l, v, 0), CONFIG_LIST_MAX);
+    assert_true(v[0] == 9);
+}
+
 /* ---- bands ---- */
 
 static band_list three_bands(void)
@@ -264,7 +308,10 @@ static void mc_failures(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(grid_counts),        cmocka_unit_test(band_edges),
+        cmocka_unit_test(grid_counts),
+        cmocka_unit_test(grid_value_points),
+        cmocka_unit_test(list_value_points),
+        cmocka_unit_test(band_edges),
         cmocka_unit_test(band_rms),           cmocka_unit_test(unit_rms),
         cmocka_unit_test(mc_every_unit_once), cmocka_unit_test(mc_failures),
     };

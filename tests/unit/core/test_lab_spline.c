@@ -205,6 +205,87 @@ static void test_refusals(void **state)
     assert_int_equal(s.nbreak, LAB_SPLINE_MIN_BREAK);
 }
 
+/* The cross term (dims 1, two outputs): single-axis sweeps whose other
+ * ratio moves with the swept one (cross-talk), outputs y0 = F0(x0) +
+ * G0(x1), y1 = F1(x1) + G1(x0).  With the term, a cubic F and a linear G
+ * are reproduced (the term's penalty leaves a line free at any smoothing);
+ * without it, the cross-talk stays in the error. */
+#define NX 160
+typedef struct {
+    double x[2][NX], y[2][NX], w[NX];
+    lab_spline_data d;
+} datax;
+
+static double f0(double x) { return 0.1 + 0.5 * x - 0.7 * x * x + 0.4 * x * x * x; }
+static double f1(double x) { return -0.2 + 0.8 * x + 0.3 * x * x * x; }
+static double g0(double x) { return 0.3 * x; }
+static double g1(double x) { return 0.1 - 0.2 * x; }
+
+static void make_cross(datax *t, int cubic_f)
+{
+    memset(t, 0, sizeof *t);
+    for (int i = 0; i < NX; i++) {
+        double u = -1.0 + 2.0 * (i % (NX / 2)) / (NX / 2 - 1);
+        int beta = i >= NX / 2; /* the first half an alpha sweep, then a beta sweep */
+        t->x[0][i] = beta ? 0.15 * u * u : u;
+        t->x[1][i] = beta ? u : 0.2 * u * u - 0.05;
+        double a = cubic_f ? f0(t->x[0][i]) : 0.1 + 0.5 * t->x[0][i];
+        double b = cubic_f ? f1(t->x[1][i]) : -0.2 + 0.8 * t->x[1][i];
+        t->y[0][i] = a + g0(t->x[1][i]);
+        t->y[1][i] = b + g1(t->x[0][i]);
+        t->w[i] = 1.0;
+    }
+    t->d = (lab_spline_data){.n = NX, .dims = 1, .n_out = 2, .cross = 1,
+                             .x = {t->x[0], t->x[1]}, .y = {t->y[0], t->y[1]}, .w = t->w};
+}
+
+static double rows_err(const lab_spline *s, const datax *t)
+{
+    double m = 0;
+    for (int i = 0; i < NX; i++) {
+        double x[2] = {t->x[0][i], t->x[1][i]}, y[2];
+        assert_int_equal(lab_spline_eval(s, x, y), SUNMC_OK);
+        m = fmax(m, fmax(fabs(y[0] - t->y[0][i]), fabs(y[1] - t->y[1][i])));
+    }
+    return m;
+}
+
+static void test_cross_term(void **state)
+{
+    static datax t;
+    char err[256];
+    lab_spline s;
+    make_cross(&t, 1);
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1e-12, 1, err, sizeof err), SUNMC_OK);
+    assert_int_equal(s.cross, 1);
+    assert_int_equal(s.n_coef, s.nbreak + LAB_SPLINE_ORDER - 2 + LAB_SPLINE_CROSS_COEF);
+    assert_true(rows_err(&s, &t) < 1e-8);
+    /* off the sweeps, the additive model's value: F0(0.5) + G0(0.5) */
+    double x[2] = {0.5, 0.5}, y[2];
+    assert_int_equal(lab_spline_eval(&s, x, y), SUNMC_OK);
+    assert_true(fabs(y[0] - f0(0.5) - g0(0.5)) < 1e-6);
+    assert_true(fabs(y[1] - f1(0.5) - g1(0.5)) < 1e-6);
+    /* lines at the largest smoothing: F and G straight, both free */
+    make_cross(&t, 0);
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1e6, 1, err, sizeof err), SUNMC_OK);
+    assert_true(rows_err(&s, &t) < 1e-8);
+    /* without the term the other input's share is an error */
+    make_cross(&t, 1);
+    t.d.cross = 0;
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1e-12, 1, err, sizeof err), SUNMC_OK);
+    assert_int_equal(s.cross, 0);
+    assert_true(rows_err(&s, &t) > 1e-2);
+    /* only for one input per output and two outputs */
+    t.d.cross = 1;
+    t.d.n_out = 1;
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1, 0, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "cross term"));
+    t.d.n_out = 2;
+    t.d.dims = 2;
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1, 0, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "cross term"));
+}
+
 static void roundtrip(const lab_spline *s)
 {
     params_file p;
@@ -223,6 +304,7 @@ static void roundtrip(const lab_spline *s)
     assert_memory_equal(back.cell, s->cell, sizeof s->cell);
     assert_true(back.lo[0] == s->lo[0] && back.hi[0] == s->hi[0] && back.edf[0] == s->edf[0]);
     assert_int_equal(back.n_coef, s->n_coef);
+    assert_int_equal(back.cross, s->cross);
 }
 
 /* Write the spline's params with the line of key replaced by `to`;
@@ -287,6 +369,16 @@ static void test_params_roundtrip(void **state)
     line[at] = '\0';
     damaged(&s, "field_0", line, "field_0");
     damaged(&s, "breakpoints", "breakpoints = 12", "breakpoints");
+    /* the cross term: written when on, its coefficients counted; 1 only,
+     * and only for dims 1 with two outputs */
+    static datax t2;
+    make_cross(&t2, 1);
+    assert_int_equal(lab_spline_fit(&s, &t2.d, 1e-3, 1, err, sizeof err), SUNMC_OK);
+    roundtrip(&s);
+    damaged(&s, "cross", "cross = 2", "cross");
+    damaged(&s, "cross", "cross = 0", "cross");
+    damaged(&s, "outputs", "outputs = 1", "cross");
+    damaged(&s, "c1_3", "c1_3 = 1", "c1_3"); /* 52 coefficients: 4 blocks, the last short */
 }
 
 int main(void)
@@ -301,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_choose_by_folds),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_params_roundtrip),
+        cmocka_unit_test(test_cross_term),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
