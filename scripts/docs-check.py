@@ -35,7 +35,8 @@ which runs only these) or DOCS_CHECK_SLOW=1 (both kinds); otherwise its
 text is still held to the mark (the command on the page, each value quoted)
 and the summary counts it as not run.  A number the machine decides (a
 timing) is marked `<!-- machine: WHY -->` and is not checked;
-`<!-- unchecked: WHY -->` is counted and not checked (no page should need it).  The commands run in a temporary folder whose entries
+`<!-- unchecked: WHY -->` is counted and not checked (for numbers of data
+that are not committed: psd.md's public data).  The commands run in a temporary folder whose entries
 link to the repository's (so `runs/...` is written there, never in your
 tree), page by page, in page order; $SUNMC, when set, is the binary
 `build/sunmc` names.  Exit 0 when every number is within its tolerance,
