@@ -8,6 +8,7 @@
 #   make figures    regenerate the papers' figures into build/figures/
 #   make claims     check the papers' claims, rewrite docs/claims.md
 #   make docs-check re-run the docs' commands, compare the numbers the pages quote
+#   make docs-check-slow  the same for the marks whose commands take minutes
 #   make install PREFIX=/usr/local DESTDIR=
 #   make fuzz [FUZZ_SECONDS=60]  run each libFuzzer harness of tests/fuzz/ (clang; not in make test)
 #                   and the importers' fuzz loop (make fuzz-import alone: no clang)
@@ -151,7 +152,7 @@ $(ALL_DEP): ;
 # Test objects are kept: a change in the library only relinks the suites.
 .SECONDARY: $(TEST_OBJ) $(ASAN_TEST_OBJ) $(TEST_HELP_OBJ) $(ASAN_TEST_HELP_OBJ)
 
-.PHONY: FORCE all programs run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims docs-check bench \
+.PHONY: FORCE all programs run test test-plain test-fast test-asan test-mpi deps clean install man plots figures claims docs-check docs-check-slow bench \
         reference golden mutate mutate-build mutate-tests fuzz fuzz-build fuzz-deps fuzz-import
 
 # `make` alone compiles on every core: without a -j of the caller's it
@@ -326,8 +327,14 @@ figures: $(BUILD)/sunmc
 # `make docs-check` re-runs the commands of the docs whose numbers the pages
 # quote (marked `<!-- check: ... -->`, scripts/docs-check.py) and fails when
 # a quoted number differs from the printed one beyond the page's tolerance.
+# `make docs-check-slow` runs the marks too slow for that
+# (`<!-- check-slow: ... -->`, minutes each; not in `make test` or CI's time);
+# DOCS_CHECK_SLOW=1 make docs-check runs both.
 docs-check: $(BUILD)/sunmc
 	SUNMC=$(BUILD)/sunmc /usr/bin/python3 scripts/docs-check.py
+
+docs-check-slow: $(BUILD)/sunmc
+	SUNMC=$(BUILD)/sunmc /usr/bin/python3 scripts/docs-check.py --slow
 
 # `make claims` checks the papers' claims row by row and rewrites docs/claims.md.
 claims: $(BUILD)/sunmc

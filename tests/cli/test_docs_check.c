@@ -12,20 +12,27 @@
 
 #define CMD "build/sunmc config configs/dss.ini"
 
-/* Write a page: the command on it, a mark with MARK_BODY, then TEXT; run the
- * checker on it; return its exit status, its stderr in out. */
-static int check_page(const char *mark_body, const char *text, char *out, size_t len)
+/* Write a page: the command on it, a mark of KIND with MARK_BODY, then
+ * TEXT; run the checker with ARGS on it; return its exit status, its
+ * stderr in out. */
+static int check_page_as(const char *kind, const char *args, const char *mark_body,
+                         const char *text, char *out, size_t len)
 {
     const char *page = test_tmp("page.md");
     FILE *f = fopen(page, "w");
     assert_non_null(f);
-    fprintf(f, "# A page\n\n    " CMD "\n    " CMD " --nonsense\n\n<!-- check: %s -->\n%s\n\n## Next\n\nunmarked 99\n",
-            mark_body, text);
+    fprintf(f, "# A page\n\n    " CMD "\n    " CMD " --nonsense\n\n<!-- %s: %s -->\n%s\n\n## Next\n\nunmarked 99\n",
+            kind, mark_body, text);
     fclose(f);
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "SUNMC=%s /usr/bin/python3 scripts/docs-check.py %s", test_sunmc(),
-             page);
+    snprintf(cmd, sizeof cmd, "SUNMC=%s /usr/bin/python3 scripts/docs-check.py %s %s", test_sunmc(),
+             args, page);
     return test_run(cmd, out, len);
+}
+
+static int check_page(const char *mark_body, const char *text, char *out, size_t len)
+{
+    return check_page_as("check", "", mark_body, text, out, len);
 }
 
 /* The printed number quoted: exit 0 and the count of what was checked. */
@@ -148,6 +155,39 @@ static void runs_stay_out_of_the_tree(void **state)
     assert_int_not_equal(system(cmd), 0);
 }
 
+/* A check-slow mark: `make docs-check` does not run its command (a failing
+ * one passes) but still holds its text to the mark (a changed number
+ * fails); --slow runs it (the moved number and the failing command fail)
+ * and skips the ordinary marks. */
+static void slow_marks_tier(void **state)
+{
+    char out[4096];
+    const char *failing = CMD " --nonsense\ntol 1%\n10 @ ^spec_arcsec =";
+    assert_int_equal(check_page_as("check-slow", "", failing, "spec 10", out, sizeof out), 0);
+    assert_non_null(strstr(out, "0 numbers in 0 checks, 0 failed; 1 numbers in 1 checks not run here"));
+    assert_int_equal(check_page_as("check-slow", "", CMD "\ntol 1%\n10 @ ^spec_arcsec =",
+                                   "spec 11", out, sizeof out), 1);
+    assert_non_null(strstr(out, "10 is marked but the text after the mark does not quote it"));
+    assert_int_equal(check_page_as("check-slow", "--slow", CMD "\ntol 1%\n11 @ ^spec_arcsec =",
+                                   "spec 11", out, sizeof out), 1);
+    assert_non_null(strstr(out, "the page says 11, the command prints 10"));
+    assert_int_equal(check_page_as("check-slow", "--slow", failing, "spec 10", out, sizeof out), 1);
+    assert_non_null(strstr(out, "--nonsense: exited 2"));
+    assert_int_equal(check_page_as("check-slow", "--slow", CMD "\ntol 1%\n10 @ ^spec_arcsec =",
+                                   "spec 10", out, sizeof out), 0);
+    assert_non_null(strstr(out, "1 numbers in 1 checks, 0 failed"));
+    /* DOCS_CHECK_SLOW=1 runs both kinds */
+    setenv("DOCS_CHECK_SLOW", "1", 1);
+    int slow_rc = check_page_as("check-slow", "", failing, "spec 10", out, sizeof out);
+    int plain_rc = check_page_as("check", "", failing, "spec 10", out, sizeof out);
+    unsetenv("DOCS_CHECK_SLOW");
+    assert_int_equal(slow_rc, 1);
+    assert_int_equal(plain_rc, 1);
+    /* --slow leaves an ordinary mark's command alone, text still held */
+    assert_int_equal(check_page_as("check", "--slow", failing, "spec 10", out, sizeof out), 0);
+    assert_int_equal(check_page_as("check", "--slow", failing, "spec 12", out, sizeof out), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -156,6 +196,7 @@ int main(void)
         cmocka_unit_test(number_not_in_text_fails), cmocka_unit_test(number_marked_twice),
         cmocka_unit_test(command_problems_fail),
         cmocka_unit_test(malformed_marks_exit_2), cmocka_unit_test(runs_stay_out_of_the_tree),
+        cmocka_unit_test(slow_marks_tier),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
