@@ -30,6 +30,10 @@ int lab_table_sample(lab_table *t, const lab_spline *s, int log_nodes, char *err
                           "table: %d inputs and 2^%d + 1 nodes per input: 1 or 2 inputs, "
                           "from 2^%d + 1 to 2^%d + 1 nodes", s->dims, log_nodes,
                           LAB_TABLE_MIN_LOG, max_log(s->dims));
+    if (s->cross) /* a line per axis has no room for the other input's term */
+        return sunmc_fail(err, errlen, SUNMC_EINPUT,
+                          "table: a spline with the other input's cross term cannot be "
+                          "tabulated one line per input");
     static const lab_table zero;
     *t = zero;
     t->dims = s->dims;

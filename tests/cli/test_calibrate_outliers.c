@@ -44,8 +44,12 @@ static int setup(void **state)
         "simulate " P " --unit 3 --quiet --set campaign.beta_deg=-20,-15,-10,-5,0,5,10,15,20 "
         "--set campaign.alpha_step_deg=2 --out $D/l",
         "true; awk -F, 'BEGIN{OFS=\",\"} /^#/||/^alpha/{print; next} {if ($2==-15) "
-        "$1=$1*1.03; print}' $D/l/campaign.csv > $D/lines.csv"};
-    return test_sunmc_steps(dir, steps, 5);
+        "$1=$1*1.03; print}' $D/l/campaign.csv > $D/lines.csv",
+        /* one alpha sweep on the axis (beta = 0): the spline and table per axis */
+        "simulate " P " --unit 3 --quiet --set campaign.beta_deg=-10,0 --set campaign.repeats=2 "
+        "--set campaign.alpha_step_deg=1 --out $D/a",
+        "true; awk -F, '/^#/||/^alpha/{print; next} $2==0{print}' $D/a/campaign.csv > $D/axis.csv"};
+    return test_sunmc_steps(dir, steps, 7);
 }
 
 /* The value of params.ini's key at path (NaN: no such line). */
@@ -197,6 +201,23 @@ static void test_lines_never_judged(void **state)
     assert_true(worst > 2.0 * other); /* far out, and still not judged */
 }
 
+/* Single-axis rows: the spline takes the other ratio's cross term, the
+ * table (one line per axis) does not and still calibrates. */
+static void test_axis_spline_and_table(void **state)
+{
+    static char out[65536];
+    assert_int_equal(sunmc("calibrate --config " P " $D/axis.csv --out $D/c4", out, sizeof out), 0);
+    test_must_have(out, "one per axis: single-axis sweeps");
+    char p[700];
+    snprintf(p, sizeof p, "%s/c4/params.ini", dir);
+    assert_true(test_file_has(p, "\ncross "));
+    assert_int_equal(sunmc("calibrate --config " P " --set calibration.model=table $D/axis.csv "
+                           "--out $D/c5",
+                           out, sizeof out),
+                     0);
+    test_must_have(out, "the look-up table:");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -204,6 +225,7 @@ int main(void)
         cmocka_unit_test(test_outlier_dropped),
         cmocka_unit_test(test_outlier_kept),
         cmocka_unit_test(test_lines_never_judged),
+        cmocka_unit_test(test_axis_spline_and_table),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

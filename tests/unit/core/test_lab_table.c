@@ -71,6 +71,23 @@ static void test_line_exact(void **state)
     assert_true(fabs(lab_table_step(&tb, 0) - 1.0) < 1e-12);
 }
 
+/* A spline with the other input's cross term (lab_spline.h) has no
+ * per-input table: refused, not tabulated with the term at nonsense. */
+static void test_cross_spline_refused(void **state)
+{
+    static data1 t;
+    char err[256];
+    lab_spline s;
+    lab_table tb;
+    make1(&t, 2, line, 0.0);
+    for (int i = 0; i < N1; i++) /* the other input moves on its own */
+        t.x[1][i] = sin(3.0 * t.x[0][i]);
+    t.d.cross = 1;
+    assert_int_equal(lab_spline_fit(&s, &t.d, 1e3, 0, err, sizeof err), SUNMC_OK);
+    assert_int_equal(lab_table_sample(&tb, &s, LAB_TABLE_MIN_LOG, err, sizeof err), SUNMC_EINPUT);
+    assert_non_null(strstr(err, "cross term"));
+}
+
 /* The step halves, the error quarters: linear interpolation's h^2 f''/8. */
 static void test_error_falls_as_step_squared(void **state)
 {
@@ -320,6 +337,7 @@ int main(void)
     gsl_set_error_handler_off();
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_line_exact),
+        cmocka_unit_test(test_cross_spline_refused),
         cmocka_unit_test(test_error_falls_as_step_squared),
         cmocka_unit_test(test_outside_field_refused),
         cmocka_unit_test(test_two_inputs_and_hole),
