@@ -156,7 +156,6 @@ typedef struct {
     double cv_rms_in_arcsec;          /* pooled over folds */
     double cv_rms_out_arcsec;         /* held out, the outlying folds left out: the estimate */
     double cv_rms_out_all_arcsec;     /* held out, every fold */
-    double cv_median_fold_arcsec;     /* the median fold's held-out RMS (NaN: not judged) */
     int cv_n_outliers;                /* folds left out of the estimate */
     char cv_note[CALREPORT_TEXT_MAX]; /* why there is no cross-validation, else "" */
 
@@ -222,9 +221,12 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
  * the others (fold_outliers.h): each one's held-out error against the
  * median fold's, and the estimate with them. */
 void calreport_check_fold_outliers(calreport *r);
-/* The outlying folds' names, each with the judging model's held-out error
- * in arcsec: "NAME (RMS), ..." into buf[len]. */
-void calreport_outlier_names(const calreport *r, char *buf, size_t len);
+/* Which folds are unlike the others and by whose judgement, into
+ * buf[len]: "the MODEL model (the best held out) VERB above R times its
+ * median campaign's M arcsec on NAME (RMS), ..." (each fold with the
+ * judging model's held-out error; "held out: NAME (RMS), ..." with the
+ * fold's own when no compared model judged). */
+void calreport_outlier_text(const calreport *r, const char *verb, char *buf, size_t len);
 
 /* Held-out error above this multiple of the in-sample one is flagged. */
 #define CALREPORT_CV_RATIO_WARN 3.0

@@ -20,7 +20,6 @@ void calreport_init(calreport *r, const char *sensor, const char *model)
     r->cv_rms_in_arcsec = NAN;
     r->cv_rms_out_arcsec = NAN;
     r->cv_rms_out_all_arcsec = NAN;
-    r->cv_median_fold_arcsec = NAN;
 }
 
 void calreport_set_values(calreport *r, const char *const *names, const double *values, int n)
@@ -168,47 +167,42 @@ void calreport_check_correlations_explained(calreport *r, double threshold,
                 pair_warning(r, threshold, i, j);
 }
 
-/* The folds marked outliers, each with the judging model's held-out
- * error (or its own): "NAME (RMS), ..." into buf. */
-static void outlier_names(const calreport *r, char *buf, size_t len)
+void calreport_outlier_text(const calreport *r, const char *verb, char *buf, size_t len)
 {
     const calreport_models *cm = &r->models;
-    size_t at = 0;
-    buf[0] = '\0';
-    for (int k = 0; k < r->n_folds && at < len; k++)
-        if (r->fold[k].outlier)
-            at += (size_t)snprintf(buf + at, len - at, "%s%s (%.0f)", at ? ", " : "",
+    size_t at = cm->judge >= 0
+                    ? (size_t)snprintf(buf, len,
+                                       "the %s model (the best held out) %s above %g times its "
+                                       "median campaign's %.0f arcsec on ",
+                                       cm->m[cm->judge].name, verb, FOLD_OUTLIER_RATIO,
+                                       cm->judge_median_arcsec)
+                    : (size_t)snprintf(buf, len, "held out: ");
+    for (int k = 0, first = 1; k < r->n_folds && at < len; k++)
+        if (r->fold[k].outlier) {
+            at += (size_t)snprintf(buf + at, len - at, "%s%s (%.0f)", first ? "" : ", ",
                                    r->fold[k].label,
                                    cm->judge >= 0 ? cm->judge_fold_arcsec[k]
                                                   : r->fold[k].rms_out_arcsec);
+            first = 0;
+        }
 }
 
 void calreport_check_fold_outliers(calreport *r)
 {
     if (r->cv_n_outliers == 0)
         return;
-    char names[CALREPORT_TEXT_MAX / 2];
-    outlier_names(r, names, sizeof names);
-    const calreport_models *cm = &r->models;
+    char text[CALREPORT_TEXT_MAX / 2];
+    calreport_outlier_text(r, "leaves", text, sizeof text);
     int one = r->cv_n_outliers == 1;
     calreport_warn(r,
                    "look at the campaign's set-up and data (the light, the mounting, the "
                    "table's zero); the estimate stands for a campaign like the others, the one "
                    "with it for a run that can go as wrong; to calibrate without it, delete its "
                    "rows from the file",
-                   "%d of %d held-out repeat campaigns %s unlike the others: the %s model (the "
-                   "best held out) leaves above %g times its median campaign's %.0f arcsec on "
-                   "%s; the estimate leaves %s out: %.2f arcsec (%.2f with %s)",
-                   r->cv_n_outliers, r->n_folds, one ? "is" : "are",
-                   cm->judge >= 0 ? cm->m[cm->judge].name : "used", FOLD_OUTLIER_RATIO,
-                   cm->judge >= 0 ? cm->judge_median_arcsec : r->cv_median_fold_arcsec, names,
-                   one ? "it" : "them", r->cv_rms_out_arcsec, r->cv_rms_out_all_arcsec,
-                   one ? "it" : "them");
-}
-
-void calreport_outlier_names(const calreport *r, char *buf, size_t len)
-{
-    outlier_names(r, buf, len);
+                   "%d of %d held-out repeat campaigns %s unlike the others: %s; the estimate "
+                   "leaves %s out: %.2f arcsec (%.2f with %s)",
+                   r->cv_n_outliers, r->n_folds, one ? "is" : "are", text, one ? "it" : "them",
+                   r->cv_rms_out_arcsec, r->cv_rms_out_all_arcsec, one ? "it" : "them");
 }
 
 void calreport_check_crossval(calreport *r, double ratio)

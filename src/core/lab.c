@@ -156,29 +156,25 @@ static void one_fold(calreport *rep, int k, double *weight, const double *saved,
 static void pool_folds(calreport *rep, const unsigned char *outlier, double (*sum2)[2],
                        long (*cnt)[2])
 {
-    double rms[CALREPORT_MAX_FOLDS], in2[CALREPORT_MAX_FOLDS], out2[CALREPORT_MAX_FOLDS], all;
-    long n_in[CALREPORT_MAX_FOLDS], n_out[CALREPORT_MAX_FOLDS];
-    unsigned char out[CALREPORT_MAX_FOLDS], none[CALREPORT_MAX_FOLDS] = {0};
-    for (int k = 0; k < rep->n_folds; k++) {
-        int ok = rep->fold[k].ok;
-        rms[k] = ok ? rep->fold[k].rms_out_arcsec : NAN;
-        in2[k] = ok ? sum2[k][0] : 0.0;
-        n_in[k] = ok ? cnt[k][0] : 0;
-        out2[k] = ok ? sum2[k][1] : 0.0;
-        n_out[k] = ok ? cnt[k][1] : 0;
-    }
-    fold_outliers_mark(rms, rep->n_folds, out, &rep->cv_median_fold_arcsec); /* its median */
+    double in2 = 0, out2[CALREPORT_MAX_FOLDS];
+    long n_in = 0, n_out[CALREPORT_MAX_FOLDS];
+    unsigned char out[CALREPORT_MAX_FOLDS];
     rep->cv_n_outliers = 0;
     for (int k = 0; k < rep->n_folds; k++) {
+        int ok = rep->fold[k].ok; /* a failed refit's sums are 0 */
+        in2 += ok ? sum2[k][0] : 0.0;
+        n_in += ok ? cnt[k][0] : 0;
+        out2[k] = ok ? sum2[k][1] : 0.0;
+        n_out[k] = ok ? cnt[k][1] : 0;
         out[k] = outlier ? outlier[k] : 0;
         rep->fold[k].outlier = out[k];
         rep->cv_n_outliers += out[k];
     }
-    if (rep->n_folds == 0)
-        return;
-    rep->cv_rms_in_arcsec = fold_outliers_pool(in2, n_in, rep->n_folds, none, ARCSEC_PER_RAD, &all);
-    rep->cv_rms_out_arcsec = fold_outliers_pool(out2, n_out, rep->n_folds, out, ARCSEC_PER_RAD,
-                                                &rep->cv_rms_out_all_arcsec);
+    if (n_in)
+        rep->cv_rms_in_arcsec = sqrt(in2 / (double)n_in) * ARCSEC_PER_RAD;
+    if (rep->n_folds > 0)
+        rep->cv_rms_out_arcsec = fold_outliers_pool(out2, n_out, rep->n_folds, out,
+                                                    ARCSEC_PER_RAD, &rep->cv_rms_out_all_arcsec);
 }
 
 void lab_cross_validate(calreport *rep, double *weight, size_t n, const lab_folds *f, void *ctx)

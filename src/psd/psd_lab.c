@@ -2,7 +2,6 @@
  * unit's campaign as a lab records it, calibrate a lab's data
  * (psd_labfit.c, psd_labreport.c), compensate raw readings. */
 #include "psd_lab.h"
-#include "fold_outliers.h"
 #include "psd_export.h"
 #include "status.h"
 #include "tsvnum.h"
@@ -190,13 +189,10 @@ static double cal_noise_arcsec(const sunmc_config *c);
  * numbers. */
 static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
 {
-    char names[CALREPORT_TEXT_MAX / 2], judge[CALREPORT_NAME_MAX];
-    calreport_outlier_names(rep, names, sizeof names);
-    const calreport_models *cm = &rep->models;
-    snprintf(judge, sizeof judge, "%s", cm->judge >= 0 ? cm->m[cm->judge].name : "used");
+    char text[CALREPORT_TEXT_MAX / 2];
+    calreport_outlier_text(rep, "left", text, sizeof text);
     int *fold = malloc((k->d->n + 1) * sizeof *fold), by_line, n_out = rep->cv_n_outliers;
     double line[CALREPORT_MAX_FOLDS], all = rep->cv_rms_out_all_arcsec;
-    double median = cm->judge >= 0 ? cm->judge_median_arcsec : rep->cv_median_fold_arcsec;
     free(k->aside);
     k->aside = calloc(k->d->n + 1, 1);
     if (!fold || !k->aside) {
@@ -229,11 +225,9 @@ static int drop_outliers(psd_labcal *k, calreport *rep, const char *model_line)
                    "look at the campaign's set-up and data (the light, the mounting, the "
                    "table's zero); to keep it in the calibration, set "
                    "calibration.outlier_campaigns = keep",
-                   "dropped from the calibration: %d repeat campaign%s unlike the others: the "
-                   "%s model (the best held out) left above %g times its median campaign's "
-                   "%.0f arcsec on %s; with %s, the estimate was %.2f arcsec",
-                   n_out, n_out > 1 ? "s" : "", judge, FOLD_OUTLIER_RATIO, median, names,
-                   n_out > 1 ? "them" : "it", all);
+                   "dropped from the calibration: %d repeat campaign%s unlike the others: %s; "
+                   "with %s, the estimate was %.2f arcsec",
+                   n_out, n_out > 1 ? "s" : "", text, n_out > 1 ? "them" : "it", all);
     return SUNMC_OK;
 }
 

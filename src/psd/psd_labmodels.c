@@ -98,16 +98,12 @@ static void pool_model(const psd_labcal *k0, const cv_sums *s, int n_folds,
  * the folds are lines across the field (lab.h, lab_folds). */
 static void judge_folds(calreport_models *cm, const cv_sums *s, int n_folds, int repeats)
 {
+    static const unsigned char none[CALREPORT_MAX_FOLDS];
     cm->judge = -1;
     double best = INFINITY;
     for (int m = 0; m < cm->n; m++) {
-        double all, sum2 = 0;
-        long cnt = 0;
-        for (int f = 0; f < n_folds; f++) {
-            sum2 += s[m].out2[f];
-            cnt += s[m].n_out[f];
-        }
-        all = cnt ? sum2 / (double)cnt : NAN;
+        double all;
+        fold_outliers_pool(s[m].out2, s[m].n_out, n_folds, none, 1.0, &all);
         if (cm->m[m].ok && all < best) {
             best = all;
             cm->judge = m;
